@@ -1,0 +1,32 @@
+//! The error type of relief-core: invalid data or parameters, arranged by cause.
+
+use thiserror::Error;
+
+/// What can be wrong with data or parameters handed to relief-core.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum CoreError {
+    /// A grid has no samples, or its sample count does not match its dimensions.
+    #[error("invalid grid: {0}")]
+    Grid(String),
+    /// A sample is NaN or infinite.
+    #[error("non-finite sample {value} at column {col}, row {row}")]
+    NonFiniteSample {
+        /// Column of the offending sample.
+        col: usize,
+        /// Row of the offending sample.
+        row: usize,
+        /// The value found.
+        value: f32,
+    },
+    /// A geometric parameter (spacing, scale, origin) is out of range.
+    #[error("invalid {name}: {reason}")]
+    Parameter {
+        /// Which parameter.
+        name: &'static str,
+        /// Why it was refused.
+        reason: String,
+    },
+    /// The camera cannot be built from the values given.
+    #[error("invalid camera: {0}")]
+    Camera(String),
+}

@@ -1,0 +1,208 @@
+//! The height field: a grid of elevation samples placed in the world.
+
+use crate::{Aabb, CoreError, Ray, Surface};
+use glam::{DVec2, DVec3};
+
+/// Where a grid sits in the world: horizontal spacing, origin and vertical scale.
+///
+/// Texel (col, row) covers `[col, col+1) x [row, row+1)` in grid units; its sample sits at the
+/// world point `(origin.x + (col + 0.5) * dx, origin.y + (row + 0.5) * dy, value * z_scale)`.
+/// Row 0 is the southernmost row.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridGeometry {
+    /// World size of a texel along x (east), > 0.
+    pub dx: f64,
+    /// World size of a texel along y (north), > 0.
+    pub dy: f64,
+    /// World z of a sample = value * z_scale; > 0.
+    pub z_scale: f64,
+    /// World (x, y) of the grid's south-west corner.
+    pub origin: DVec2,
+}
+
+impl GridGeometry {
+    /// Spacing 1, scale 1, origin at zero.
+    pub fn unit() -> Self {
+        GridGeometry { dx: 1.0, dy: 1.0, z_scale: 1.0, origin: DVec2::ZERO }
+    }
+
+    /// Checks that every value is finite and spacings and scale are positive.
+    pub fn validate(&self) -> Result<(), CoreError> {
+        let positive = |name: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(CoreError::Parameter { name, reason: format!("{v} is not a finite number > 0") })
+            }
+        };
+        positive("spacing dx", self.dx)?;
+        positive("spacing dy", self.dy)?;
+        positive("z scale", self.z_scale)?;
+        if !self.origin.is_finite() {
+            return Err(CoreError::Parameter {
+                name: "origin",
+                reason: format!("{} is not finite", self.origin),
+            });
+        }
+        Ok(())
+    }
+
+    /// Maps a world ray into grid space: x, y in texel units from the grid corner, z in sample
+    /// units. The parameter `t` means the same point in both spaces.
+    #[inline]
+    pub fn ray_to_grid(&self, ray: &Ray) -> Ray {
+        let scale = DVec3::new(1.0 / self.dx, 1.0 / self.dy, 1.0 / self.z_scale);
+        Ray {
+            origin: (ray.origin - self.origin.extend(0.0)) * scale,
+            dir: ray.dir * scale,
+            t_min: ray.t_min,
+            t_max: ray.t_max,
+        }
+    }
+
+    /// Maps a grid-space point to the world.
+    #[inline]
+    pub fn point_to_world(&self, p: DVec3) -> DVec3 {
+        DVec3::new(p.x * self.dx, p.y * self.dy, p.z * self.z_scale) + self.origin.extend(0.0)
+    }
+
+    /// Maps a grid-space surface normal to a unit world normal.
+    #[inline]
+    pub fn normal_to_world(&self, n: DVec3) -> DVec3 {
+        DVec3::new(n.x / self.dx, n.y / self.dy, n.z / self.z_scale).normalize()
+    }
+}
+
+/// A rectangular grid of finite elevation samples, row 0 southernmost, with its geometry.
+///
+/// Samples are stored as `f32`, row-major (`index = col + row * width`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightField {
+    width: usize,
+    height: usize,
+    samples: Vec<f32>,
+    geometry: GridGeometry,
+    min: f32,
+    max: f32,
+}
+
+impl HeightField {
+    /// Builds a height field, checking that the grid is non-empty, the sample count matches,
+    /// every sample is finite and the geometry is valid.
+    pub fn new(
+        width: usize,
+        height: usize,
+        samples: Vec<f32>,
+        geometry: GridGeometry,
+    ) -> Result<Self, CoreError> {
+        if width == 0 || height == 0 {
+            return Err(CoreError::Grid(format!("{width} x {height} has no samples")));
+        }
+        if width.checked_mul(height) != Some(samples.len()) {
+            return Err(CoreError::Grid(format!(
+                "{width} x {height} needs {} samples, got {}",
+                width as u128 * height as u128,
+                samples.len()
+            )));
+        }
+        geometry.validate()?;
+        let (mut min, mut max) = (f32::INFINITY, f32::NEG_INFINITY);
+        for (i, &v) in samples.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(CoreError::NonFiniteSample { col: i % width, row: i / width, value: v });
+            }
+            min = min.min(v);
+            max = max.max(v);
+        }
+        Ok(HeightField { width, height, samples, geometry, min, max })
+    }
+
+    /// Number of columns.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Number of rows.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// The sample at (col, row). Panics if out of range.
+    #[inline]
+    pub fn sample(&self, col: usize, row: usize) -> f32 {
+        self.samples[col + row * self.width]
+    }
+
+    /// All samples, row-major, row 0 southernmost.
+    pub fn samples(&self) -> &[f32] {
+        &self.samples
+    }
+
+    /// The grid's placement in the world.
+    pub fn geometry(&self) -> &GridGeometry {
+        &self.geometry
+    }
+
+    /// The same samples placed with another geometry.
+    pub fn with_geometry(mut self, geometry: GridGeometry) -> Result<Self, CoreError> {
+        geometry.validate()?;
+        self.geometry = geometry;
+        Ok(self)
+    }
+
+    /// Smallest sample value.
+    pub fn min_sample(&self) -> f32 {
+        self.min
+    }
+
+    /// Largest sample value.
+    pub fn max_sample(&self) -> f32 {
+        self.max
+    }
+
+    /// The solid's bounds in grid space for a surface: x, y in texel units, z in sample units.
+    ///
+    /// `boxes` span the whole grid; `triangles` span the sample centres, from 0.5 to size - 0.5.
+    pub fn grid_bounds(&self, surface: Surface) -> Aabb {
+        let inset = match surface {
+            Surface::Boxes => 0.0,
+            Surface::Triangles => 0.5,
+        };
+        Aabb::new(
+            DVec3::new(inset, inset, self.min as f64),
+            DVec3::new(self.width as f64 - inset, self.height as f64 - inset, self.max as f64),
+        )
+    }
+
+    /// The solid's bounds in world coordinates for a surface.
+    pub fn world_bounds(&self, surface: Surface) -> Aabb {
+        let b = self.grid_bounds(surface);
+        Aabb::new(self.geometry.point_to_world(b.min), self.geometry.point_to_world(b.max))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refuses_bad_grids() {
+        let g = GridGeometry::unit();
+        assert!(HeightField::new(0, 3, vec![], g).is_err());
+        assert!(HeightField::new(2, 2, vec![0.0; 3], g).is_err());
+        let nan = HeightField::new(2, 1, vec![0.0, f32::NAN], g).unwrap_err();
+        assert!(matches!(nan, CoreError::NonFiniteSample { col: 1, row: 0, .. }));
+        let bad = GridGeometry { dx: 0.0, ..g };
+        assert!(HeightField::new(1, 1, vec![0.0], bad).is_err());
+    }
+
+    #[test]
+    fn grid_and_world_spaces_agree() {
+        let g = GridGeometry { dx: 2.0, dy: 3.0, z_scale: 0.5, origin: DVec2::new(10.0, 20.0) };
+        let ray = Ray::new(DVec3::new(12.0, 26.0, 4.0), DVec3::new(1.0, 1.0, 1.0));
+        let grid = g.ray_to_grid(&ray);
+        assert_eq!(grid.origin, DVec3::new(1.0, 2.0, 8.0));
+        let p = grid.at(2.0);
+        assert!((g.point_to_world(p) - ray.at(2.0)).length() < 1e-12);
+    }
+}

@@ -1,0 +1,32 @@
+//! relief-core: the data every part of relief shares and the invariants that hold for it.
+//!
+//! - [`HeightField`]: a grid of elevation samples with its georeference (spacing, origin, z scale);
+//! - [`Surface`]: how a height field's samples become a surface (`boxes` or `triangles`);
+//! - [`Ray`], [`Aabb`]: geometry used by the tracers;
+//! - [`Camera`]: the pinhole camera of relief's conventions, with automatic framing.
+//!
+//! ```
+//! use relief_core::{HeightField, GridGeometry, Surface};
+//! let field = HeightField::new(2, 2, vec![0.0, 1.0, 2.0, 3.0], GridGeometry::unit()).unwrap();
+//! assert_eq!(field.sample(1, 1), 3.0);
+//! let bounds = field.world_bounds(Surface::Boxes);
+//! assert_eq!(bounds.max.z, 3.0);
+//! ```
+#![deny(missing_docs)]
+
+mod aabb;
+mod camera;
+mod error;
+mod height_field;
+mod ray;
+mod surface;
+
+pub use aabb::{Aabb, BoxFace, Clip};
+pub use camera::Camera;
+pub use error::CoreError;
+pub use height_field::{GridGeometry, HeightField};
+pub use ray::Ray;
+pub use surface::Surface;
+
+/// Re-exported vector types used throughout relief's public API.
+pub use glam::{DVec2, DVec3};

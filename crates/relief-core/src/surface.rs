@@ -1,0 +1,53 @@
+//! The two surfaces a height field can stand for, as relief's conventions define them.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// How a height field's samples define a surface.
+///
+/// - `Boxes` (Dick et al. 2009): texel (col, row) is a flat-topped column over its footprint
+///   `[col, col+1) x [row, row+1)`.
+/// - `Triangles` (Baboud et al. 2011): vertices at the texel centres; each square between four
+///   neighbouring samples is split along the diagonal whose two end heights have the smaller sum
+///   (`(c,r)-(c+1,r+1)` on ties).
+///
+/// Both stand for a solid: the region between the lowest sample and the surface, over the
+/// surface's footprint. A tracer returns the first point of a ray inside that solid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Surface {
+    /// Flat-topped columns, one per texel.
+    #[default]
+    Boxes,
+    /// Two triangles per square between four samples, split along the lower diagonal.
+    Triangles,
+}
+
+impl Surface {
+    /// Both surfaces, in a fixed order.
+    pub const ALL: [Surface; 2] = [Surface::Boxes, Surface::Triangles];
+
+    /// The name used on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Surface::Boxes => "boxes",
+            Surface::Triangles => "triangles",
+        }
+    }
+}
+
+impl fmt::Display for Surface {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Surface {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "boxes" => Ok(Surface::Boxes),
+            "triangles" => Ok(Surface::Triangles),
+            other => Err(format!("unknown surface '{other}' (expected boxes or triangles)")),
+        }
+    }
+}

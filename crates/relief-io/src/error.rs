@@ -1,0 +1,66 @@
+//! The error type of relief-io: what went wrong reading or writing a file, arranged by cause.
+
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Why a file could not be read or written. Every variant names the file.
+#[derive(Debug, Error)]
+pub enum IoError {
+    /// The operating system refused an operation (missing file, permissions, a directory, ...).
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file concerned.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The file is not a well-formed file of its kind (wrong magic, truncated, a header that
+    /// disagrees with the data, ...).
+    #[error("{}: malformed file: {reason}", path.display())]
+    Format {
+        /// The file concerned.
+        path: PathBuf,
+        /// What is malformed.
+        reason: String,
+    },
+    /// The file is well formed but uses a feature relief does not read (a dtype, a number of
+    /// dimensions, ...).
+    #[error("{}: unsupported {what}", path.display())]
+    Unsupported {
+        /// The file concerned.
+        path: PathBuf,
+        /// The feature found.
+        what: String,
+    },
+    /// The values read or to be written are not acceptable (non-finite heights, a buffer whose
+    /// length does not match its dimensions, ...).
+    #[error("{}: invalid data: {reason}", path.display())]
+    InvalidData {
+        /// The file concerned.
+        path: PathBuf,
+        /// What is wrong with the values.
+        reason: String,
+    },
+}
+
+impl IoError {
+    /// An [`IoError::Io`] for `path`.
+    pub(crate) fn io(path: &std::path::Path, source: std::io::Error) -> Self {
+        IoError::Io { path: path.to_path_buf(), source }
+    }
+
+    /// An [`IoError::Format`] for `path`.
+    pub(crate) fn format(path: &std::path::Path, reason: impl Into<String>) -> Self {
+        IoError::Format { path: path.to_path_buf(), reason: reason.into() }
+    }
+
+    /// An [`IoError::Unsupported`] for `path`.
+    pub(crate) fn unsupported(path: &std::path::Path, what: impl Into<String>) -> Self {
+        IoError::Unsupported { path: path.to_path_buf(), what: what.into() }
+    }
+
+    /// An [`IoError::InvalidData`] for `path`.
+    pub(crate) fn invalid_data(path: &std::path::Path, reason: impl Into<String>) -> Self {
+        IoError::InvalidData { path: path.to_path_buf(), reason: reason.into() }
+    }
+}

@@ -1,0 +1,212 @@
+//! The G-buffer: what every renderer writes per pixel and the deferred shading pass reads.
+
+use crate::ShadeError;
+
+/// One pixel of a [`GBuffer`]: the first surface seen through it, or a miss.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GBufferPixel {
+    /// Distance from the eye to the hit along the pixel's unit ray; `+inf` for a miss.
+    pub distance: f32,
+    /// World position of the hit.
+    pub position: [f32; 3],
+    /// Unit world geometric normal of the hit, facing the eye; zeros for a miss.
+    pub normal: [f32; 3],
+    /// Material weights (`[1, 0, 0, 0]` for a height field hit; zeros for a miss).
+    pub material: [f32; 4],
+    /// Texture coordinates of the hit over the terrain's world footprint, in `[0, 1]`.
+    pub uv: [f32; 2],
+    /// World width of the pixel at the hit: `distance * 2 tan(fov / 2) / height`; 0 for a miss.
+    pub footprint: f32,
+}
+
+impl GBufferPixel {
+    /// A pixel that sees no surface.
+    pub const MISS: GBufferPixel = GBufferPixel {
+        distance: f32::INFINITY,
+        position: [0.0; 3],
+        normal: [0.0; 3],
+        material: [0.0; 4],
+        uv: [0.0; 2],
+        footprint: 0.0,
+    };
+
+    /// The material weights of a height field hit: one material.
+    pub const HEIGHT_FIELD_MATERIAL: [f32; 4] = [1.0, 0.0, 0.0, 0.0];
+
+    /// Whether the pixel sees a surface (its distance is finite).
+    pub fn is_hit(&self) -> bool {
+        self.distance.is_finite()
+    }
+}
+
+/// Per-pixel surface attributes of a `width x height` image as a struct of arrays.
+///
+/// Every array is row-major with `width * height` entries, index `i + j * width` for column `i`
+/// from the left and row `j` from the top (row 0 is the image's top row).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GBuffer {
+    /// Image width in pixels.
+    pub width: usize,
+    /// Image height in pixels.
+    pub height: usize,
+    /// Distance from the eye to the hit along the pixel's unit ray; `+inf` for a miss.
+    pub distance: Vec<f32>,
+    /// World position of the hit.
+    pub position: Vec<[f32; 3]>,
+    /// Unit world geometric normal; zeros on a miss.
+    pub normal: Vec<[f32; 3]>,
+    /// Material weights; `[1, 0, 0, 0]` on height field hits, zeros on a miss.
+    pub material: Vec<[f32; 4]>,
+    /// Texture coordinates over the terrain's world footprint.
+    pub uv: Vec<[f32; 2]>,
+    /// World width of the pixel at the hit.
+    pub footprint: Vec<f32>,
+}
+
+impl GBuffer {
+    /// A `width x height` G-buffer in which every pixel is a miss.
+    ///
+    /// Fails when the size is zero or the buffer cannot be allocated.
+    pub fn new(width: usize, height: usize) -> Result<Self, ShadeError> {
+        if width == 0 || height == 0 {
+            return Err(ShadeError::parameter(
+                "G-buffer size",
+                format!("{width} x {height} has no pixels"),
+            ));
+        }
+        let n = width.checked_mul(height).ok_or_else(|| {
+            ShadeError::Limits(format!("a {width} x {height} G-buffer has too many pixels"))
+        })?;
+        let m = GBufferPixel::MISS;
+        Ok(GBuffer {
+            width,
+            height,
+            distance: filled(n, m.distance)?,
+            position: filled(n, m.position)?,
+            normal: filled(n, m.normal)?,
+            material: filled(n, m.material)?,
+            uv: filled(n, m.uv)?,
+            footprint: filled(n, m.footprint)?,
+        })
+    }
+
+    /// Number of pixels, `width * height`.
+    pub fn len(&self) -> usize {
+        self.width * self.height
+    }
+
+    /// Whether the buffer has no pixels (never true for a buffer from [`GBuffer::new`]).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Checks that every array holds `width * height` entries (the fields are public, so a
+    /// buffer assembled by hand may not).
+    pub fn validate(&self) -> Result<(), ShadeError> {
+        let n = self.width.checked_mul(self.height).ok_or_else(|| {
+            ShadeError::Mismatch(format!("{} x {} overflows", self.width, self.height))
+        })?;
+        let lengths = [
+            ("distance", self.distance.len()),
+            ("position", self.position.len()),
+            ("normal", self.normal.len()),
+            ("material", self.material.len()),
+            ("uv", self.uv.len()),
+            ("footprint", self.footprint.len()),
+        ];
+        for (name, len) in lengths {
+            if len != n {
+                return Err(ShadeError::Mismatch(format!(
+                    "G-buffer {name} has {len} entries, {} x {} needs {n}",
+                    self.width, self.height
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The pixel at `index` (`i + j * width`), or `None` past the end.
+    pub fn pixel(&self, index: usize) -> Option<GBufferPixel> {
+        Some(GBufferPixel {
+            distance: *self.distance.get(index)?,
+            position: *self.position.get(index)?,
+            normal: *self.normal.get(index)?,
+            material: *self.material.get(index)?,
+            uv: *self.uv.get(index)?,
+            footprint: *self.footprint.get(index)?,
+        })
+    }
+
+    /// Writes `pixel` at `index` (`i + j * width`).
+    pub fn set_pixel(&mut self, index: usize, pixel: &GBufferPixel) -> Result<(), ShadeError> {
+        self.validate()?;
+        if index >= self.len() {
+            return Err(ShadeError::parameter(
+                "pixel index",
+                format!("{index} is past the {} pixels of the G-buffer", self.len()),
+            ));
+        }
+        self.distance[index] = pixel.distance;
+        self.position[index] = pixel.position;
+        self.normal[index] = pixel.normal;
+        self.material[index] = pixel.material;
+        self.uv[index] = pixel.uv;
+        self.footprint[index] = pixel.footprint;
+        Ok(())
+    }
+
+    /// The depth image in `(H, W)` order, row 0 the top row (`+inf` for misses), as the `.npy`
+    /// depth output stores it.
+    pub fn depth_hw(&self) -> Vec<f32> {
+        self.distance.clone()
+    }
+
+    /// The normals as a flat `(H, W, 3)` array, row 0 the top row.
+    pub fn normals_hw3(&self) -> Vec<f32> {
+        self.normal.iter().flatten().copied().collect()
+    }
+}
+
+/// A vector of `n` copies of `value`, or an error when it cannot be allocated.
+fn filled<T: Copy>(n: usize, value: T) -> Result<Vec<T>, ShadeError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|e| {
+        ShadeError::Limits(format!("cannot allocate a G-buffer plane of {n} pixels: {e}"))
+    })?;
+    v.resize(n, value);
+    Ok(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn new_buffer_is_all_misses_and_pixels_round_trip() {
+        let mut g = GBuffer::new(3, 2).unwrap();
+        assert_eq!(g.len(), 6);
+        assert!((0..6).all(|k| g.pixel(k) == Some(GBufferPixel::MISS)));
+        let p = GBufferPixel {
+            distance: 2.5,
+            position: [1.0, 2.0, 3.0],
+            normal: [0.0, 0.0, 1.0],
+            material: GBufferPixel::HEIGHT_FIELD_MATERIAL,
+            uv: [0.25, 0.75],
+            footprint: 0.1,
+        };
+        g.set_pixel(4, &p).unwrap();
+        assert_eq!(g.pixel(4), Some(p));
+        assert_eq!(g.depth_hw()[4], 2.5);
+        assert_eq!(&g.normals_hw3()[12..15], &[0.0, 0.0, 1.0]);
+        assert!(g.set_pixel(6, &p).is_err());
+        assert_eq!(g.pixel(6), None);
+    }
+
+    #[test]
+    fn refuses_empty_and_inconsistent_buffers() {
+        assert!(GBuffer::new(0, 4).is_err());
+        let mut g = GBuffer::new(2, 2).unwrap();
+        g.uv.pop();
+        assert!(matches!(g.validate(), Err(ShadeError::Mismatch(_))));
+    }
+}

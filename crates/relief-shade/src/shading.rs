@@ -1,0 +1,165 @@
+//! The terrain's reflectance: a Lambertian diffuse term plus an optional GGX specular lobe,
+//! and the light they reflect from the sun and from the sky.
+
+use std::f64::consts::PI;
+
+use relief_core::DVec3;
+
+use crate::ShadeError;
+
+/// Reflectance at normal incidence of common dielectrics (rock, soil, vegetation, water).
+pub const DIELECTRIC_F0: f64 = 0.04;
+
+/// A GGX (Trowbridge-Reitz) microfacet specular lobe with the height-correlated Smith
+/// visibility term and Schlick's Fresnel approximation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GgxSpecular {
+    /// Perceptual roughness in `[0, 1]`; the GGX `alpha` is its square.
+    pub roughness: f64,
+    /// Reflectance at normal incidence, in `[0, 1]`.
+    pub f0: f64,
+}
+
+impl Default for GgxSpecular {
+    /// A rough dielectric, as terrain is: roughness 0.7, F0 0.04.
+    fn default() -> Self {
+        GgxSpecular { roughness: 0.7, f0: DIELECTRIC_F0 }
+    }
+}
+
+/// Smallest GGX alpha used, so that a roughness of 0 stays finite.
+const MIN_ALPHA: f64 = 1e-3;
+
+/// Smallest cosine of the view angle used, so that grazing views stay finite.
+const MIN_COS_VIEW: f64 = 1e-4;
+
+impl GgxSpecular {
+    /// Checks that roughness and F0 are within `[0, 1]`.
+    pub fn validate(&self) -> Result<(), ShadeError> {
+        for (name, v) in [("GGX roughness", self.roughness), ("GGX F0", self.f0)] {
+            if !(0.0..=1.0).contains(&v) {
+                return Err(ShadeError::parameter(name, format!("{v} is not between 0 and 1")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The BRDF value `D G F / (4 (n.l) (n.v))` for unit `normal`, unit direction `to_eye`
+    /// and unit direction `to_light`; 0 when the light is behind the surface.
+    pub fn brdf(&self, normal: DVec3, to_eye: DVec3, to_light: DVec3) -> f64 {
+        let n_l = normal.dot(to_light);
+        if n_l <= 0.0 {
+            return 0.0;
+        }
+        let n_v = normal.dot(to_eye).max(MIN_COS_VIEW);
+        let half = (to_eye + to_light).normalize_or_zero();
+        let n_h = normal.dot(half).max(0.0);
+        let v_h = to_eye.dot(half).clamp(0.0, 1.0);
+        let alpha = (self.roughness * self.roughness).max(MIN_ALPHA);
+        let a2 = alpha * alpha;
+        let d_denom = n_h * n_h * (a2 - 1.0) + 1.0;
+        let distribution = a2 / (PI * d_denom * d_denom);
+        let visibility = 0.5
+            / (n_l * (n_v * n_v * (1.0 - a2) + a2).sqrt()
+                + n_v * (n_l * n_l * (1.0 - a2) + a2).sqrt());
+        let fresnel = self.f0 + (1.0 - self.f0) * (1.0 - v_h).powi(5);
+        distribution * visibility * fresnel
+    }
+}
+
+/// Radiance reflected towards the eye from a distant light of irradiance `irradiance` in the
+/// direction `to_light` (unit), seen through `visibility` in `[0, 1]`:
+///
+/// `(albedo / π + f_ggx) · E · max(n.l, 0) · visibility`, the GGX term only when `specular`
+/// is given. `normal` and `to_eye` are unit vectors.
+pub fn direct_lighting(
+    albedo: DVec3,
+    normal: DVec3,
+    to_eye: DVec3,
+    to_light: DVec3,
+    irradiance: f64,
+    visibility: f64,
+    specular: Option<&GgxSpecular>,
+) -> DVec3 {
+    let n_l = normal.dot(to_light);
+    if n_l <= 0.0 || visibility <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let specular = specular.map_or(0.0, |s| s.brdf(normal, to_eye, to_light));
+    (albedo / PI + DVec3::splat(specular)) * (irradiance * n_l * visibility)
+}
+
+/// Radiance a Lambertian surface reflects from a uniform sky of radiance `sky` over the upper
+/// hemisphere: `albedo · sky · (1 + n.z) / 2` (the ground below the horizon reflects nothing).
+pub fn ambient_lighting(albedo: DVec3, normal: DVec3, sky: DVec3) -> DVec3 {
+    albedo * sky * (0.5 + 0.5 * normal.z.clamp(-1.0, 1.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lambertian_plane_reflects_rho_e_cos_over_pi() {
+        let rho = DVec3::new(0.2, 0.5, 0.8);
+        let n = DVec3::new(0.3, -0.4, 1.0).normalize();
+        let e = 3.0;
+        for theta_deg in [0.0, 10.0, 30.0, 45.0, 60.0, 85.0] {
+            let theta: f64 = f64::to_radians(theta_deg);
+            // A light direction at angle theta from the (tilted) normal.
+            let tangent = n.any_orthonormal_vector();
+            let l = n * theta.cos() + tangent * theta.sin();
+            let got = direct_lighting(rho, n, n, l, e, 1.0, None);
+            let want = rho * e * theta.cos() / PI;
+            assert!(((got - want) / want).abs().max_element() < 1e-12, "θ={theta_deg}: {got}");
+        }
+        let behind = direct_lighting(rho, n, n, -n, e, 1.0, None);
+        assert_eq!(behind, DVec3::ZERO);
+        assert_eq!(direct_lighting(rho, n, n, n, e, 0.0, None), DVec3::ZERO);
+    }
+
+    #[test]
+    fn ggx_matches_its_closed_form_at_normal_incidence_and_is_reciprocal() {
+        let s = GgxSpecular::default();
+        let a2 = s.roughness.powi(4);
+        let at_normal = s.brdf(DVec3::Z, DVec3::Z, DVec3::Z);
+        assert!((at_normal - s.f0 / (4.0 * PI * a2)).abs() < 1e-12 * at_normal);
+        let (v, l) = (DVec3::new(0.5, 0.1, 0.8).normalize(), DVec3::new(-0.2, 0.7, 0.4).normalize());
+        assert!((s.brdf(DVec3::Z, v, l) - s.brdf(DVec3::Z, l, v)).abs() < 1e-12);
+        assert_eq!(s.brdf(DVec3::Z, v, -DVec3::Z), 0.0);
+    }
+
+    #[test]
+    fn ggx_reflects_less_than_it_receives() {
+        // Directional albedo ∫ f cos dω by midpoint quadrature, for several view angles.
+        for roughness in [0.3, 0.7, 1.0] {
+            let s = GgxSpecular { roughness, f0: 1.0 };
+            for view_deg in [0.0_f64, 45.0, 80.0] {
+                let v = DVec3::new(view_deg.to_radians().sin(), 0.0, view_deg.to_radians().cos());
+                let (nt, np) = (400, 400);
+                let mut sum = 0.0;
+                for a in 0..nt {
+                    let th = (a as f64 + 0.5) / nt as f64 * PI / 2.0;
+                    for b in 0..np {
+                        let ph = (b as f64 + 0.5) / np as f64 * 2.0 * PI;
+                        let l = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
+                        sum += s.brdf(DVec3::Z, v, l) * th.cos() * th.sin();
+                    }
+                }
+                let albedo = sum * (PI / 2.0 / nt as f64) * (2.0 * PI / np as f64);
+                assert!(albedo > 0.3 && albedo <= 1.01, "roughness {roughness}, view {view_deg}: {albedo}");
+            }
+        }
+    }
+
+    #[test]
+    fn sky_light_fades_on_overhangs() {
+        let rho = DVec3::splat(0.5);
+        let sky = DVec3::new(0.1, 0.2, 0.3);
+        assert_eq!(ambient_lighting(rho, DVec3::Z, sky), rho * sky);
+        assert_eq!(ambient_lighting(rho, DVec3::X, sky), rho * sky * 0.5);
+        assert_eq!(ambient_lighting(rho, -DVec3::Z, sky), DVec3::ZERO);
+        assert!(GgxSpecular { roughness: 1.5, f0: 0.04 }.validate().is_err());
+        assert!(GgxSpecular { roughness: f64::NAN, f0: 0.04 }.validate().is_err());
+    }
+}

@@ -1,0 +1,289 @@
+//! The traversal grid of a surface and the exact ray test inside one of its cells.
+//!
+//! Both surfaces are traversed on a grid of unit cells in "cell space":
+//! - `boxes`: a cell is a texel; cell space is grid space.
+//! - `triangles`: a cell is the square between four samples (Baboud's inter-texel); cell space
+//!   is grid space shifted by half a texel, so cell (i, j) spans `[i, i+1] x [j, j+1]` and has
+//!   the samples (i, j), (i+1, j), (i, j+1), (i+1, j+1) at its corners.
+//!
+//! Every tracer walks cells in its own way but computes a cell's ray segment from the cell's
+//! integer bounds ([`CellGrid::segment`]) and tests it with [`CellGrid::intersect_cell`], so two
+//! tracers that reach the same cell compute bit-identical hits.
+
+use crate::Hit;
+use relief_core::{Aabb, BoxFace, Clip, DVec3, HeightField, Ray, Surface};
+
+/// How a ray enters the part of a cell it is tested against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Entry {
+    /// The ray starts inside the cell (at its `t_min`).
+    Start,
+    /// The ray enters the solid's bounding box through a face perpendicular to `axis` (0, 1, 2).
+    OuterFace(usize),
+    /// The ray crosses from the neighbouring cell along `axis` (0 = x, 1 = y).
+    Neighbour(usize),
+}
+
+/// A cell's part of a ray: `t_enter <= t <= t_exit`, entered as `entry`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    /// Parameter where the ray enters the cell (within the clipped range).
+    pub t_enter: f64,
+    /// Parameter where the ray leaves the cell (within the clipped range).
+    pub t_exit: f64,
+    /// Parameter where the ray crosses the cell's far x boundary (may exceed the clip).
+    pub t_next_x: f64,
+    /// Parameter where the ray crosses the cell's far y boundary (may exceed the clip).
+    pub t_next_y: f64,
+    /// How the ray enters.
+    pub entry: Entry,
+    /// Height of the ray at `t_enter`, exact when it enters through the bottom or top face.
+    pub z_enter: f64,
+}
+
+/// A surface of a height field seen as a grid of cells, with the exact per-cell ray test.
+#[derive(Debug, Clone)]
+pub struct CellGrid {
+    surface: Surface,
+    samples_width: usize,
+    cells_x: usize,
+    cells_y: usize,
+    shift: f64,
+    bounds: Aabb,
+}
+
+impl CellGrid {
+    /// The cell grid of `surface` over `field`.
+    pub fn new(field: &HeightField, surface: Surface) -> Self {
+        let (w, h) = (field.width(), field.height());
+        let (cells_x, cells_y, shift) = match surface {
+            Surface::Boxes => (w, h, 0.0),
+            Surface::Triangles => (w - 1, h - 1, 0.5),
+        };
+        let bounds = Aabb::new(
+            DVec3::new(0.0, 0.0, field.min_sample() as f64),
+            DVec3::new(cells_x as f64, cells_y as f64, field.max_sample() as f64),
+        );
+        CellGrid { surface, samples_width: w, cells_x, cells_y, shift, bounds }
+    }
+
+    /// The surface this grid stands for.
+    pub fn surface(&self) -> Surface {
+        self.surface
+    }
+
+    /// Number of cells along x.
+    pub fn cells_x(&self) -> usize {
+        self.cells_x
+    }
+
+    /// Number of cells along y.
+    pub fn cells_y(&self) -> usize {
+        self.cells_y
+    }
+
+    /// Whether the grid has no cells (a `triangles` surface of a single row or column).
+    pub fn is_empty(&self) -> bool {
+        self.cells_x == 0 || self.cells_y == 0
+    }
+
+    /// The solid's bounds in cell space.
+    pub fn bounds(&self) -> &Aabb {
+        &self.bounds
+    }
+
+    /// Highest point of the surface over cell (cx, cy): the texel for boxes, the highest of the
+    /// four corners for triangles.
+    pub fn cell_max(&self, samples: &[f32], cx: usize, cy: usize) -> f32 {
+        let w = self.samples_width;
+        let i = cx + cy * w;
+        match self.surface {
+            Surface::Boxes => samples[i],
+            Surface::Triangles => {
+                samples[i].max(samples[i + 1]).max(samples[i + w]).max(samples[i + w + 1])
+            }
+        }
+    }
+
+    /// Maps a world ray into cell space (same parameter `t`).
+    pub fn to_cell_space(&self, field: &HeightField, world_ray: &Ray) -> Ray {
+        let grid_ray = field.geometry().ray_to_grid(world_ray);
+        Ray { origin: grid_ray.origin - DVec3::new(self.shift, self.shift, 0.0), ..grid_ray }
+    }
+
+    /// The world hit for a cell-space hit at `t` with grid-space `normal` (zero: started inside).
+    pub fn world_hit(&self, field: &HeightField, world_ray: &Ray, t: f64, normal: DVec3) -> Hit {
+        let normal = if normal == DVec3::ZERO {
+            -world_ray.dir.normalize()
+        } else {
+            field.geometry().normal_to_world(normal)
+        };
+        Hit { t, position: world_ray.at(t), normal }
+    }
+
+    /// Clips a cell-space ray to the solid's bounds; `None` if it misses them or the grid has
+    /// no cells.
+    pub fn clip(&self, cell_ray: &Ray) -> Option<Clip> {
+        if self.is_empty() {
+            return None;
+        }
+        self.bounds.clip(cell_ray)
+    }
+
+    /// The cell containing the ray's entry point (half-open cells, clamped into the grid).
+    pub fn entry_cell(&self, cell_ray: &Ray, clip: &Clip) -> (usize, usize) {
+        let p = cell_ray.at(clip.t_enter);
+        let clamp = |v: f64, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
+        (clamp(p.x, self.cells_x), clamp(p.y, self.cells_y))
+    }
+
+    /// The part of the clipped ray inside cell (cx, cy), from the cell's integer bounds.
+    #[inline]
+    pub fn segment(&self, ray: &Ray, clip: &Clip, cx: usize, cy: usize) -> Segment {
+        let (x_in, x_out) = axis_span(ray.origin.x, ray.dir.x, cx as f64);
+        let (y_in, y_out) = axis_span(ray.origin.y, ray.dir.y, cy as f64);
+        let (mut t_enter, mut entry) = (clip.t_enter, outer_entry(clip.face));
+        if x_in > t_enter {
+            t_enter = x_in;
+            entry = Entry::Neighbour(0);
+        }
+        if y_in > t_enter {
+            t_enter = y_in;
+            entry = Entry::Neighbour(1);
+        }
+        let z_enter = match entry {
+            Entry::OuterFace(2) if ray.dir.z > 0.0 => self.bounds.min.z,
+            Entry::OuterFace(2) => self.bounds.max.z,
+            _ => ray.origin.z + t_enter * ray.dir.z,
+        };
+        Segment {
+            t_enter,
+            t_exit: clip.t_exit.min(x_out).min(y_out),
+            t_next_x: x_out,
+            t_next_y: y_out,
+            entry,
+            z_enter,
+        }
+    }
+
+    /// The exact first point of the cell-space `ray` inside the solid over cell (cx, cy), within
+    /// `seg`. Returns the parameter and the normal in grid space (zero when the ray starts inside).
+    #[inline]
+    pub fn intersect_cell(
+        &self,
+        samples: &[f32],
+        ray: &Ray,
+        cx: usize,
+        cy: usize,
+        seg: &Segment,
+    ) -> Option<(f64, DVec3)> {
+        if seg.t_enter > seg.t_exit {
+            return None;
+        }
+        match self.surface {
+            Surface::Boxes => {
+                let top = samples[cx + cy * self.samples_width] as f64;
+                box_column(ray, top, seg)
+            }
+            Surface::Triangles => self.two_triangles(samples, ray, cx, cy, seg),
+        }
+    }
+
+    fn two_triangles(
+        &self,
+        samples: &[f32],
+        ray: &Ray,
+        cx: usize,
+        cy: usize,
+        seg: &Segment,
+    ) -> Option<(f64, DVec3)> {
+        let w = self.samples_width;
+        let i = cx + cy * w;
+        let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
+        let (c, d) = (samples[i + w] as f64, samples[i + w + 1] as f64);
+        // The surface over the cell is the larger of the two triangles' planes
+        // z = p0 + pu * u + pv * v (u, v local coordinates), since the split takes the lower
+        // diagonal. The solid is below both planes' maximum.
+        let planes = if a + d <= b + c {
+            [(a, b - a, d - b), (a, d - c, c - a)]
+        } else {
+            [(a, b - a, c - a), (b + c - d, d - c, d - b)]
+        };
+        let (u0, v0) = (ray.origin.x - cx as f64, ray.origin.y - cy as f64);
+        let mut best: Option<(f64, DVec3)> = None;
+        for (p0, pu, pv) in planes {
+            // Height of the ray above the plane: f(t) = f0 + t * slope.
+            let f0 = ray.origin.z - (p0 + pu * u0 + pv * v0);
+            let slope = ray.dir.z - pu * ray.dir.x - pv * ray.dir.y;
+            let normal = DVec3::new(-pu, -pv, 1.0);
+            let (u, v) = (u0 + seg.t_enter * ray.dir.x, v0 + seg.t_enter * ray.dir.y);
+            let f_enter = seg.z_enter - (p0 + pu * u + pv * v);
+            let candidate = if f_enter <= 0.0 {
+                let n = match seg.entry {
+                    Entry::Neighbour(_) => normal,
+                    entry => entry_normal(entry, ray),
+                };
+                Some((seg.t_enter, n))
+            } else if slope < 0.0 {
+                let t = -f0 / slope;
+                (t <= seg.t_exit).then_some((t.max(seg.t_enter), normal))
+            } else {
+                None
+            };
+            if let Some(c) = candidate {
+                if best.is_none_or(|b| c.0 < b.0) {
+                    best = Some(c);
+                }
+            }
+        }
+        best
+    }
+}
+
+/// Exact test of a flat-topped column of height `top` over a segment.
+#[inline]
+fn box_column(ray: &Ray, top: f64, seg: &Segment) -> Option<(f64, DVec3)> {
+    if seg.z_enter <= top {
+        return Some((seg.t_enter, entry_normal(seg.entry, ray)));
+    }
+    if ray.dir.z < 0.0 {
+        let t = (top - ray.origin.z) / ray.dir.z;
+        if t <= seg.t_exit {
+            return Some((t.max(seg.t_enter), DVec3::Z));
+        }
+    }
+    None
+}
+
+/// The normal of the face crossed on entry (zero: the ray starts inside).
+#[inline]
+fn entry_normal(entry: Entry, ray: &Ray) -> DVec3 {
+    let axis = match entry {
+        Entry::Start => return DVec3::ZERO,
+        Entry::OuterFace(axis) | Entry::Neighbour(axis) => axis,
+    };
+    let mut n = DVec3::ZERO;
+    n[axis] = -ray.dir[axis].signum();
+    n
+}
+
+fn outer_entry(face: BoxFace) -> Entry {
+    match face {
+        BoxFace::Inside => Entry::Start,
+        BoxFace::X => Entry::OuterFace(0),
+        BoxFace::Y => Entry::OuterFace(1),
+        BoxFace::Z => Entry::OuterFace(2),
+    }
+}
+
+/// Parameters where a ray enters and leaves the slab `[lo, lo + 1]` along one axis.
+#[inline]
+fn axis_span(o: f64, d: f64, lo: f64) -> (f64, f64) {
+    if d > 0.0 {
+        ((lo - o) / d, (lo + 1.0 - o) / d)
+    } else if d < 0.0 {
+        ((lo + 1.0 - o) / d, (lo - o) / d)
+    } else {
+        (f64::NEG_INFINITY, f64::INFINITY)
+    }
+}

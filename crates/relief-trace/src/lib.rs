@@ -1,0 +1,33 @@
+//! relief-trace: exact intersection of rays with terrain, behind one trait.
+//!
+//! Every tracer implements [`Tracer`]: `intersect` finds the first point of a ray inside the
+//! terrain's solid, `occluded` answers whether there is any (for shadow rays). Tracers of a
+//! [`relief_core::HeightField`]:
+//!
+//! - [`NaiveTracer`]: cell-by-cell traversal (Amanatides-Woo), the reference;
+//! - [`MipmapTracer`]: max-mipmap quadtree traversal (Dick et al. 2009, section 3.2).
+//!
+//! Both are exact for both [`relief_core::Surface`]s and agree with each other to rounding.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use relief_core::{GridGeometry, HeightField, Ray, Surface, DVec3};
+//! use relief_trace::{build_tracer, TracerKind};
+//! let field = Arc::new(HeightField::new(2, 2, vec![1.0; 4], GridGeometry::unit()).unwrap());
+//! let tracer = build_tracer(field, Surface::Boxes, TracerKind::Mipmap);
+//! let hit = tracer.intersect(&Ray::new(DVec3::new(1.0, 1.0, 5.0), -DVec3::Z)).unwrap();
+//! assert_eq!(hit.t, 4.0);
+//! ```
+#![deny(missing_docs)]
+
+mod cell_grid;
+mod max_mipmap;
+mod mipmap_tracer;
+mod naive_tracer;
+mod tracer;
+
+pub use cell_grid::CellGrid;
+pub use max_mipmap::MaxMipmap;
+pub use mipmap_tracer::MipmapTracer;
+pub use naive_tracer::NaiveTracer;
+pub use tracer::{build_tracer, Hit, Tracer, TracerKind};

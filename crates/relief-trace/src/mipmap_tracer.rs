@@ -1,0 +1,159 @@
+//! Max-mipmap quadtree traversal of a height field (Dick et al. 2009, section 3.2).
+
+use crate::cell_grid::CellGrid;
+use crate::{Hit, MaxMipmap, Tracer};
+use relief_core::{HeightField, Ray, Surface};
+use std::sync::Arc;
+
+/// Exact ray casting through a [`MaxMipmap`]: the ray skips every node whose maximum it passes
+/// above, descends into nodes it may hit, and climbs again only when it leaves the parent node.
+///
+/// The traversal runs in a mirrored index space where the ray's x and y directions are
+/// non-negative (Dick's mirroring), over a grid padded to a power of two. Node and cell bounds
+/// come from integer indices, never from accumulated positions, and the final test in a cell is
+/// the same exact test the [`crate::NaiveTracer`] uses, so both return the same hits.
+#[derive(Debug, Clone)]
+pub struct MipmapTracer {
+    field: Arc<HeightField>,
+    grid: CellGrid,
+    mipmap: MaxMipmap,
+}
+
+impl MipmapTracer {
+    /// Builds the max mipmap of `surface` over `field`.
+    pub fn new(field: Arc<HeightField>, surface: Surface) -> Self {
+        let grid = CellGrid::new(&field, surface);
+        let mipmap = MaxMipmap::build(&grid, field.samples());
+        MipmapTracer { field, grid, mipmap }
+    }
+
+    /// The pyramid this tracer walks.
+    pub fn mipmap(&self) -> &MaxMipmap {
+        &self.mipmap
+    }
+}
+
+/// Index mirroring along one axis at one pyramid level: `padded` is the padded grid size
+/// (a power of two), `flip` whether the ray runs towards negative coordinates.
+#[derive(Clone, Copy)]
+struct Mirror {
+    padded: usize,
+    flip: bool,
+}
+
+impl Mirror {
+    /// The original index of mirrored node `m` of `level` (the map is its own inverse);
+    /// `None` outside the padded grid.
+    #[inline]
+    fn index(self, m: usize, level: usize) -> Option<usize> {
+        let n = self.padded >> level;
+        if m >= n {
+            None
+        } else if self.flip {
+            Some(n - 1 - m)
+        } else {
+            Some(m)
+        }
+    }
+
+    /// The original coordinate of the mirrored boundary `m << level`.
+    #[inline]
+    fn boundary(self, m: usize, level: usize) -> f64 {
+        let b = m << level;
+        if self.flip {
+            self.padded as f64 - b as f64
+        } else {
+            b as f64
+        }
+    }
+}
+
+impl Tracer for MipmapTracer {
+    fn name(&self) -> &'static str {
+        "mipmap"
+    }
+
+    fn surface(&self) -> Surface {
+        self.grid.surface()
+    }
+
+    fn intersect_counted(&self, world_ray: &Ray, steps: &mut u32) -> Option<Hit> {
+        let ray = self.grid.to_cell_space(&self.field, world_ray);
+        let clip = self.grid.clip(&ray)?;
+        let samples = self.field.samples();
+        let top = self.mipmap.top_level();
+        let padded = 1usize << top;
+        let mx = Mirror { padded, flip: ray.dir.x < 0.0 };
+        let my = Mirror { padded, flip: ray.dir.y < 0.0 };
+        let time_to = |coord: f64, origin: f64, dir: f64| {
+            if dir == 0.0 {
+                f64::INFINITY
+            } else {
+                (coord - origin) / dir
+            }
+        };
+        // Mirrored level-0 index of a point's cell, clamped into the mirrored node `m` of `level`.
+        let cell_of = |v: f64, cells: usize, mirror: Mirror, m: usize, level: usize| {
+            let c = (v.floor().max(0.0) as usize).min(cells - 1);
+            let mirrored = mirror.index(c, 0).unwrap_or(0);
+            mirrored.clamp(m << level, ((m + 1) << level) - 1)
+        };
+
+        let (cx, cy) = self.grid.entry_cell(&ray, &clip);
+        let mut level = top;
+        let mut nx = mx.index(cx, 0)? >> top;
+        let mut ny = my.index(cy, 0)? >> top;
+        let mut t = clip.t_enter;
+        loop {
+            *steps += 1;
+            let tx = time_to(mx.boundary(nx + 1, level), ray.origin.x, ray.dir.x);
+            let ty = time_to(my.boundary(ny + 1, level), ray.origin.y, ray.dir.y);
+            let t_leave = tx.min(ty).min(clip.t_exit);
+            let (ox, oy) = (mx.index(nx, level)?, my.index(ny, level)?);
+            if level == 0 {
+                if ox >= self.grid.cells_x() || oy >= self.grid.cells_y() {
+                    return None;
+                }
+                let seg = self.grid.segment(&ray, &clip, ox, oy);
+                if let Some((t_hit, n)) = self.grid.intersect_cell(samples, &ray, ox, oy, &seg) {
+                    return Some(self.grid.world_hit(&self.field, world_ray, t_hit, n));
+                }
+            } else {
+                let node_max = self.mipmap.get(level, ox, oy)? as f64;
+                let z_in = ray.origin.z + t * ray.dir.z;
+                let z_out = ray.origin.z + t_leave * ray.dir.z;
+                // A hair of slack keeps the coarse test conservative; level 0 decides exactly.
+                let slack = 1e-9 * (1.0 + node_max.abs() + z_in.abs());
+                if z_in.min(z_out) <= node_max + slack {
+                    if ray.dir.z < 0.0 && z_in > node_max {
+                        t = ((node_max - ray.origin.z) / ray.dir.z).clamp(t, t_leave);
+                    }
+                    let p = ray.at(t);
+                    let parent = level;
+                    level -= 1;
+                    nx = cell_of(p.x, self.grid.cells_x(), mx, nx, parent) >> level;
+                    ny = cell_of(p.y, self.grid.cells_y(), my, ny, parent) >> level;
+                    continue;
+                }
+            }
+            if t_leave >= clip.t_exit {
+                return None;
+            }
+            t = t_leave;
+            let (mut cross_x, mut cross_y) = (tx == t_leave, ty == t_leave);
+            nx += cross_x as usize;
+            ny += cross_y as usize;
+            // Climb while the step left the parent node as well.
+            while level < top {
+                let (leave_x, leave_y) = (cross_x && nx % 2 == 0, cross_y && ny % 2 == 0);
+                if !(leave_x || leave_y) {
+                    break;
+                }
+                (cross_x, cross_y) = (leave_x, leave_y);
+                level += 1;
+                nx >>= 1;
+                ny >>= 1;
+            }
+        }
+    }
+}

@@ -1,0 +1,98 @@
+//! The tracer trait every acceleration scheme implements, and the hit it returns.
+
+use relief_core::{DVec3, HeightField, Ray, Surface};
+use std::fmt;
+use std::str::FromStr;
+use std::sync::Arc;
+
+use crate::{MipmapTracer, NaiveTracer};
+
+/// The first point of a ray inside the terrain's solid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the hit: the distance from the origin when the direction is unit.
+    pub t: f64,
+    /// World position of the hit.
+    pub position: DVec3,
+    /// Unit geometric normal of the face hit, in world space, facing against the ray. A ray that
+    /// starts inside the solid gets the reversed ray direction.
+    pub normal: DVec3,
+}
+
+/// Exact ray intersection with one surface of a terrain.
+///
+/// The terrain stands for a solid (see [`Surface`]); `intersect` returns the smallest `t` in the
+/// ray's `[t_min, t_max]` at which the ray is inside it. A ray that starts inside hits at `t_min`.
+pub trait Tracer: Send + Sync {
+    /// Short name for reports (e.g. `mipmap`).
+    fn name(&self) -> &'static str;
+
+    /// The surface this tracer intersects.
+    fn surface(&self) -> Surface;
+
+    /// The first hit, counting traversal steps (visited cells or nodes) into `steps`.
+    fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit>;
+
+    /// Whether any point of the ray within its range is inside the solid, counting steps.
+    fn occluded_counted(&self, ray: &Ray, steps: &mut u32) -> bool {
+        self.intersect_counted(ray, steps).is_some()
+    }
+
+    /// The first hit.
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        self.intersect_counted(ray, &mut 0)
+    }
+
+    /// Whether the ray is blocked within its range (for shadow rays).
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.occluded_counted(ray, &mut 0)
+    }
+}
+
+/// The height-field tracers relief offers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum TracerKind {
+    /// Cell-by-cell traversal: simple and slow, the reference.
+    Naive,
+    /// Max-mipmap quadtree traversal.
+    #[default]
+    Mipmap,
+}
+
+impl TracerKind {
+    /// Every kind, in a fixed order.
+    pub const ALL: [TracerKind; 2] = [TracerKind::Naive, TracerKind::Mipmap];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            TracerKind::Naive => "naive",
+            TracerKind::Mipmap => "mipmap",
+        }
+    }
+}
+
+impl fmt::Display for TracerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for TracerKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "naive" => Ok(TracerKind::Naive),
+            "mipmap" => Ok(TracerKind::Mipmap),
+            other => Err(format!("unknown tracer '{other}' (expected naive or mipmap)")),
+        }
+    }
+}
+
+/// Builds a tracer of `kind` for `surface` of `field` (for the mipmap, this builds the pyramid).
+pub fn build_tracer(field: Arc<HeightField>, surface: Surface, kind: TracerKind) -> Box<dyn Tracer> {
+    match kind {
+        TracerKind::Naive => Box::new(NaiveTracer::new(field, surface)),
+        TracerKind::Mipmap => Box::new(MipmapTracer::new(field, surface)),
+    }
+}

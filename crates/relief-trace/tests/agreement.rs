@@ -1,0 +1,52 @@
+//! Property tests: the max-mipmap tracer agrees with the naive tracer, and the naive tracer with
+//! an independent brute-force tracer, on random terrains and rays of every kind, for both
+//! surfaces, for first hits and for shadow rays.
+
+mod common;
+
+use common::reference::first_hit;
+use common::scenes::{agree, ray_for, terrain, ALL_KINDS};
+use proptest::prelude::*;
+use relief_core::Surface;
+use relief_trace::{MipmapTracer, NaiveTracer, Tracer};
+use std::sync::Arc;
+
+const RAYS_PER_KIND: usize = 6;
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 160, ..ProptestConfig::default() })]
+
+    #[test]
+    fn mipmap_naive_and_brute_force_agree(
+        field in terrain(),
+        numbers in prop::collection::vec(prop::array::uniform8(0.001f64..0.999), ALL_KINDS.len() * RAYS_PER_KIND),
+        t_max_fraction in prop_oneof![0.05f64..0.95, 1.05f64..1.5],
+    ) {
+        let field = Arc::new(field);
+        for surface in Surface::ALL {
+            let naive = NaiveTracer::new(field.clone(), surface);
+            let mipmap = MipmapTracer::new(field.clone(), surface);
+            for (i, u) in numbers.iter().enumerate() {
+                let kind = ALL_KINDS[i % ALL_KINDS.len()];
+                let ray = ray_for(&field, kind, *u);
+                let n = naive.intersect(&ray);
+                let m = mipmap.intersect(&ray);
+                let b = first_hit(&field, surface, &ray);
+                prop_assert!(agree(n.map(|h| h.t), m.map(|h| h.t), 1e-5),
+                    "{surface} {kind:?} {ray:?}: naive {n:?} mipmap {m:?}");
+                prop_assert!(agree(n.map(|h| h.t), b, 1e-5),
+                    "{surface} {kind:?} {ray:?}: naive {n:?} brute force {b:?}");
+                if let (Some(hn), Some(hm)) = (n, m) {
+                    prop_assert!((hn.normal - hm.normal).length() < 1e-6 || (hn.t - hm.t).abs() > 0.0,
+                        "{surface} {kind:?}: normals differ for the same hit {hn:?} {hm:?}");
+                }
+                // Shadow rays: a finite range, judged against the brute force's first hit.
+                let reach = b.or(n.map(|h| h.t)).unwrap_or(1.0).max(1e-3);
+                let shadow = ray.with_range(ray.t_min, reach * t_max_fraction);
+                let expected = first_hit(&field, surface, &shadow).is_some();
+                prop_assert_eq!(naive.occluded(&shadow), expected, "naive shadow {:?} {:?}", kind, shadow);
+                prop_assert_eq!(mipmap.occluded(&shadow), expected, "mipmap shadow {:?} {:?}", kind, shadow);
+            }
+        }
+    }
+}

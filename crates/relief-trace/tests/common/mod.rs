@@ -1,0 +1,5 @@
+//! Shared test support: an independent brute-force tracer and random terrains and rays.
+#![allow(dead_code)]
+
+pub mod reference;
+pub mod scenes;
