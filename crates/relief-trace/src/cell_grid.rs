@@ -130,11 +130,16 @@ impl CellGrid {
         self.bounds.clip(cell_ray)
     }
 
-    /// The cell containing the ray's entry point (half-open cells, clamped into the grid).
-    pub fn entry_cell(&self, cell_ray: &Ray, clip: &Clip) -> (usize, usize) {
-        let p = cell_ray.at(clip.t_enter);
-        let clamp = |v: f64, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
-        (clamp(p.x, self.cells_x), clamp(p.y, self.cells_y))
+    /// The cell containing the ray's point at `t` (half-open cells, clamped into the grid).
+    ///
+    /// The index is chosen so that the cell's own integer bounds put `t` inside its span along
+    /// the ray: a point that rounds onto a cell boundary goes to the cell whose segment holds it,
+    /// so even a zero-length clip (a flat terrain hit from above) lands in a cell that tests it.
+    pub fn cell_at(&self, ray: &Ray, t: f64) -> (usize, usize) {
+        (
+            axis_cell(ray.origin.x, ray.dir.x, t, self.cells_x),
+            axis_cell(ray.origin.y, ray.dir.y, t, self.cells_y),
+        )
     }
 
     /// The part of the clipped ray inside cell (cx, cy), from the cell's integer bounds.
@@ -273,6 +278,22 @@ fn outer_entry(face: BoxFace) -> Entry {
         BoxFace::X => Entry::OuterFace(0),
         BoxFace::Y => Entry::OuterFace(1),
         BoxFace::Z => Entry::OuterFace(2),
+    }
+}
+
+/// The index along one axis of the cell whose span along the ray holds `t`.
+#[inline]
+fn axis_cell(o: f64, d: f64, t: f64, cells: usize) -> usize {
+    let c = ((o + t * d).floor().max(0.0) as usize).min(cells - 1);
+    let (t_in, t_out) = axis_span(o, d, c as f64);
+    let towards_low = if d > 0.0 { t_in > t } else { t_out < t };
+    let towards_high = if d > 0.0 { t_out < t } else { t_in > t };
+    if d != 0.0 && towards_low && c > 0 {
+        c - 1
+    } else if d != 0.0 && towards_high && c + 1 < cells {
+        c + 1
+    } else {
+        c
     }
 }
 

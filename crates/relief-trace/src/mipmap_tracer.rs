@@ -92,14 +92,13 @@ impl Tracer for MipmapTracer {
                 (coord - origin) / dir
             }
         };
-        // Mirrored level-0 index of a point's cell, clamped into the mirrored node `m` of `level`.
-        let cell_of = |v: f64, cells: usize, mirror: Mirror, m: usize, level: usize| {
-            let c = (v.floor().max(0.0) as usize).min(cells - 1);
+        // Mirrored level-0 index of a cell, clamped into the mirrored node `m` of `level`.
+        let descend = |c: usize, mirror: Mirror, m: usize, level: usize| {
             let mirrored = mirror.index(c, 0).unwrap_or(0);
             mirrored.clamp(m << level, ((m + 1) << level) - 1)
         };
 
-        let (cx, cy) = self.grid.entry_cell(&ray, &clip);
+        let (cx, cy) = self.grid.cell_at(&ray, clip.t_enter);
         let mut level = top;
         let mut nx = mx.index(cx, 0)? >> top;
         let mut ny = my.index(cy, 0)? >> top;
@@ -128,11 +127,11 @@ impl Tracer for MipmapTracer {
                     if ray.dir.z < 0.0 && z_in > node_max {
                         t = ((node_max - ray.origin.z) / ray.dir.z).clamp(t, t_leave);
                     }
-                    let p = ray.at(t);
+                    let (cx, cy) = self.grid.cell_at(&ray, t);
                     let parent = level;
                     level -= 1;
-                    nx = cell_of(p.x, self.grid.cells_x(), mx, nx, parent) >> level;
-                    ny = cell_of(p.y, self.grid.cells_y(), my, ny, parent) >> level;
+                    nx = descend(cx, mx, nx, parent) >> level;
+                    ny = descend(cy, my, ny, parent) >> level;
                     continue;
                 }
             }

@@ -36,7 +36,7 @@ impl Tracer for NaiveTracer {
         let ray = self.grid.to_cell_space(&self.field, world_ray);
         let clip = self.grid.clip(&ray)?;
         let samples = self.field.samples();
-        let (mut cx, mut cy) = self.grid.entry_cell(&ray, &clip);
+        let (mut cx, mut cy) = self.grid.cell_at(&ray, clip.t_enter);
         let (step_x, step_y) = (ray.dir.x.signum() as isize, ray.dir.y.signum() as isize);
         loop {
             *steps += 1;
