@@ -38,7 +38,9 @@ impl Camera {
             return bad("eye, target and up must be finite".into());
         }
         if !(fov_deg.is_finite() && fov_deg > 0.0 && fov_deg < 180.0) {
-            return bad(format!("field of view {fov_deg} must be between 0 and 180 degrees"));
+            return bad(format!(
+                "field of view {fov_deg} must be between 0 and 180 degrees"
+            ));
         }
         if width == 0 || height == 0 {
             return bad(format!("image size {width}x{height} has no pixels"));
@@ -55,7 +57,18 @@ impl Camera {
         let right = side.normalize();
         let true_up = right.cross(forward);
         let tan_half = (fov_deg.to_radians() / 2.0).tan();
-        Ok(Camera { eye, target, up, fov_deg, width, height, forward, right, true_up, tan_half })
+        Ok(Camera {
+            eye,
+            target,
+            up,
+            fov_deg,
+            width,
+            height,
+            forward,
+            right,
+            true_up,
+            tan_half,
+        })
     }
 
     /// A three-quarter view from the south-west at 30 degrees elevation that fits `bounds`
@@ -77,26 +90,70 @@ impl Camera {
     ) -> Result<Self, CoreError> {
         let (az, el) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
         let towards_eye = DVec3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin());
-        let center = bounds.center();
-        let up = if el.cos().abs() < 1e-6 { DVec3::Y } else { DVec3::Z };
-        // Orientation first, from a provisional eye; the distance follows from the corners.
-        let probe = Camera::look_at(center + towards_eye, center, up, fov_deg, width, height)?;
-        let tan_v = probe.tan_half;
+        let up = if el.cos().abs() < 1e-6 {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        };
+        let corners: [DVec3; 8] = std::array::from_fn(|k| {
+            DVec3::new(
+                if k & 1 == 0 {
+                    bounds.min.x
+                } else {
+                    bounds.max.x
+                },
+                if k & 2 == 0 {
+                    bounds.min.y
+                } else {
+                    bounds.max.y
+                },
+                if k & 4 == 0 {
+                    bounds.min.z
+                } else {
+                    bounds.max.z
+                },
+            )
+        });
+        // Orientation is fixed by the direction; find the distance at which every corner fits,
+        // then move the target so the box's image is centred, and fit again.
+        let mut target = bounds.center();
+        let mut camera = Camera::look_at(target + towards_eye, target, up, fov_deg, width, height)?;
+        let tan_v = camera.tan_half;
         let tan_h = tan_v * width as f64 / height as f64;
-        let mut distance: f64 = 0.0;
-        for k in 0..8 {
-            let corner = DVec3::new(
-                if k & 1 == 0 { bounds.min.x } else { bounds.max.x },
-                if k & 2 == 0 { bounds.min.y } else { bounds.max.y },
-                if k & 4 == 0 { bounds.min.z } else { bounds.max.z },
-            ) - center;
-            let depth = corner.dot(probe.forward);
-            let needed_x = corner.dot(probe.right).abs() / tan_h - depth;
-            let needed_y = corner.dot(probe.true_up).abs() / tan_v - depth;
-            distance = distance.max(needed_x).max(needed_y);
+        for _ in 0..4 {
+            let mut distance: f64 = 0.0;
+            for corner in corners {
+                let c = corner - target;
+                let depth = c.dot(camera.forward);
+                let needed_x = c.dot(camera.right).abs() / tan_h - depth;
+                let needed_y = c.dot(camera.true_up).abs() / tan_v - depth;
+                distance = distance.max(needed_x).max(needed_y);
+            }
+            let distance = (distance * 1.05).max(1e-3 * bounds.diagonal().max(1e-9));
+            camera = Camera::look_at(
+                target + towards_eye * distance,
+                target,
+                up,
+                fov_deg,
+                width,
+                height,
+            )?;
+            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+            for corner in corners {
+                let v = corner - camera.eye;
+                let depth = v.dot(camera.forward);
+                let p = DVec3::new(
+                    v.dot(camera.right) / depth,
+                    v.dot(camera.true_up) / depth,
+                    0.0,
+                );
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+            let mid = 0.5 * (lo + hi) * distance;
+            target += camera.right * mid.x + camera.true_up * mid.y;
         }
-        let distance = (distance * 1.05).max(1e-3 * bounds.diagonal().max(1e-9));
-        Camera::look_at(center + towards_eye * distance, center, up, fov_deg, width, height)
+        Ok(camera)
     }
 
     /// The ray through the centre of pixel (i, j), with a unit direction.

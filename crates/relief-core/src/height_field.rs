@@ -23,7 +23,12 @@ pub struct GridGeometry {
 impl GridGeometry {
     /// Spacing 1, scale 1, origin at zero.
     pub fn unit() -> Self {
-        GridGeometry { dx: 1.0, dy: 1.0, z_scale: 1.0, origin: DVec2::ZERO }
+        GridGeometry {
+            dx: 1.0,
+            dy: 1.0,
+            z_scale: 1.0,
+            origin: DVec2::ZERO,
+        }
     }
 
     /// Checks that every value is finite and spacings and scale are positive.
@@ -32,7 +37,10 @@ impl GridGeometry {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(CoreError::Parameter { name, reason: format!("{v} is not a finite number > 0") })
+                Err(CoreError::Parameter {
+                    name,
+                    reason: format!("{v} is not a finite number > 0"),
+                })
             }
         };
         positive("spacing dx", self.dx)?;
@@ -96,7 +104,9 @@ impl HeightField {
         geometry: GridGeometry,
     ) -> Result<Self, CoreError> {
         if width == 0 || height == 0 {
-            return Err(CoreError::Grid(format!("{width} x {height} has no samples")));
+            return Err(CoreError::Grid(format!(
+                "{width} x {height} has no samples"
+            )));
         }
         if width.checked_mul(height) != Some(samples.len()) {
             return Err(CoreError::Grid(format!(
@@ -109,12 +119,23 @@ impl HeightField {
         let (mut min, mut max) = (f32::INFINITY, f32::NEG_INFINITY);
         for (i, &v) in samples.iter().enumerate() {
             if !v.is_finite() {
-                return Err(CoreError::NonFiniteSample { col: i % width, row: i / width, value: v });
+                return Err(CoreError::NonFiniteSample {
+                    col: i % width,
+                    row: i / width,
+                    value: v,
+                });
             }
             min = min.min(v);
             max = max.max(v);
         }
-        Ok(HeightField { width, height, samples, geometry, min, max })
+        Ok(HeightField {
+            width,
+            height,
+            samples,
+            geometry,
+            min,
+            max,
+        })
     }
 
     /// Number of columns.
@@ -170,14 +191,21 @@ impl HeightField {
         };
         Aabb::new(
             DVec3::new(inset, inset, self.min as f64),
-            DVec3::new(self.width as f64 - inset, self.height as f64 - inset, self.max as f64),
+            DVec3::new(
+                self.width as f64 - inset,
+                self.height as f64 - inset,
+                self.max as f64,
+            ),
         )
     }
 
     /// The solid's bounds in world coordinates for a surface.
     pub fn world_bounds(&self, surface: Surface) -> Aabb {
         let b = self.grid_bounds(surface);
-        Aabb::new(self.geometry.point_to_world(b.min), self.geometry.point_to_world(b.max))
+        Aabb::new(
+            self.geometry.point_to_world(b.min),
+            self.geometry.point_to_world(b.max),
+        )
     }
 }
 
@@ -191,14 +219,22 @@ mod tests {
         assert!(HeightField::new(0, 3, vec![], g).is_err());
         assert!(HeightField::new(2, 2, vec![0.0; 3], g).is_err());
         let nan = HeightField::new(2, 1, vec![0.0, f32::NAN], g).unwrap_err();
-        assert!(matches!(nan, CoreError::NonFiniteSample { col: 1, row: 0, .. }));
+        assert!(matches!(
+            nan,
+            CoreError::NonFiniteSample { col: 1, row: 0, .. }
+        ));
         let bad = GridGeometry { dx: 0.0, ..g };
         assert!(HeightField::new(1, 1, vec![0.0], bad).is_err());
     }
 
     #[test]
     fn grid_and_world_spaces_agree() {
-        let g = GridGeometry { dx: 2.0, dy: 3.0, z_scale: 0.5, origin: DVec2::new(10.0, 20.0) };
+        let g = GridGeometry {
+            dx: 2.0,
+            dy: 3.0,
+            z_scale: 0.5,
+            origin: DVec2::new(10.0, 20.0),
+        };
         let ray = Ray::new(DVec3::new(12.0, 26.0, 4.0), DVec3::new(1.0, 1.0, 1.0));
         let grid = g.ray_to_grid(&ray);
         assert_eq!(grid.origin, DVec3::new(1.0, 2.0, 8.0));

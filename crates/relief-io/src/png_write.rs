@@ -22,7 +22,14 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
 pub fn write_png_gray16(path: &Path, width: u32, height: u32, gray: &[u16]) -> Result<(), IoError> {
     check_size(path, width, height, 1, gray.len(), "values")?;
     let bytes: Vec<u8> = gray.iter().flat_map(|v| v.to_be_bytes()).collect();
-    write_png(path, width, height, ColorType::Grayscale, BitDepth::Sixteen, &bytes)
+    write_png(
+        path,
+        width,
+        height,
+        ColorType::Grayscale,
+        BitDepth::Sixteen,
+        &bytes,
+    )
 }
 
 /// Checks that the image has pixels and that `len` is `width * height * per_pixel`.
@@ -35,7 +42,10 @@ fn check_size(
     unit: &str,
 ) -> Result<(), IoError> {
     if width == 0 || height == 0 {
-        return Err(IoError::invalid_data(path, format!("image of {width} x {height} pixels is empty")));
+        return Err(IoError::invalid_data(
+            path,
+            format!("image of {width} x {height} pixels is empty"),
+        ));
     }
     let needed = u64::from(width) * u64::from(height) * per_pixel;
     if needed != len as u64 {

@@ -1,1 +1,55 @@
-//! placeholder
+//! relief-shade: turns a tracer's view of a terrain into an image.
+//!
+//! 1. [`render_gbuffer`] traces one ray per pixel into a [`GBuffer`] (distance, position,
+//!    normal, material weights, texture coordinates, pixel footprint), tile by tile in parallel.
+//! 2. [`shade`] lights the G-buffer in one deferred pass: a [`Sun`] with shadow rays, a
+//!    Lambert + GGX BRDF ([`direct_lighting`]), ambient light and aerial perspective from the
+//!    [`Sky`], albedo from a [`HypsometricRamp`] or an [`RgbTexture`].
+//! 3. [`tonemap_to_srgb8`] maps the linear radiance to 8-bit sRGB.
+//!
+//! Every step gives the same result whatever the number of threads.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use relief_core::{Camera, GridGeometry, HeightField, Surface};
+//! use relief_trace::{build_tracer, TracerKind};
+//! use relief_shade::{render_gbuffer, shade, tonemap_to_srgb8, ShadingParams};
+//!
+//! let samples = (0..64).map(|k| ((k % 8) as f32 * 0.7).sin() + (k / 8) as f32 * 0.2).collect();
+//! let field = Arc::new(HeightField::new(8, 8, samples, GridGeometry::unit()).unwrap());
+//! let bounds = field.world_bounds(Surface::Triangles);
+//! let tracer = build_tracer(field, Surface::Triangles, TracerKind::Mipmap);
+//! let camera = Camera::frame(&bounds, 64, 48).unwrap();
+//! let (gbuffer, _primary) = render_gbuffer(&*tracer, &camera, &bounds, &|_| {}).unwrap();
+//! let params = ShadingParams::for_terrain(&bounds).unwrap();
+//! let (radiance, _shadow) = shade(&gbuffer, &*tracer, &camera, &params).unwrap();
+//! let rgb = tonemap_to_srgb8(&radiance, params.exposure).unwrap();
+//! assert_eq!(rgb.len(), 64 * 48 * 3);
+//! ```
+#![deny(missing_docs)]
+
+mod albedo;
+mod colour_ramp;
+mod deferred;
+mod error;
+mod gbuffer;
+mod render;
+mod shading;
+mod sky;
+mod stats;
+mod sun;
+mod texture;
+mod tonemap;
+
+pub use albedo::Albedo;
+pub use colour_ramp::{hypsometric_colour, HypsometricRamp};
+pub use deferred::{shade, ShadingParams};
+pub use error::ShadeError;
+pub use gbuffer::{GBuffer, GBufferPixel};
+pub use render::{render_gbuffer, TILE_SIZE};
+pub use shading::{ambient_lighting, direct_lighting, GgxSpecular, DIELECTRIC_F0};
+pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGONAL};
+pub use stats::TraceStats;
+pub use sun::{light_visibility, shadow_ray, sun_direction, Sun, SHADOW_BIAS};
+pub use texture::RgbTexture;
+pub use tonemap::{aces_filmic, linear_to_srgb, srgb_to_linear, tonemap_to_srgb8};

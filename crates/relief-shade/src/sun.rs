@@ -21,7 +21,11 @@ pub struct Sun {
 impl Default for Sun {
     /// The cartographers' light: from the north-west, 45 degrees up, `E = 3`.
     fn default() -> Self {
-        Sun { azimuth_deg: 315.0, elevation_deg: 45.0, irradiance: 3.0 }
+        Sun {
+            azimuth_deg: 315.0,
+            elevation_deg: 45.0,
+            irradiance: 3.0,
+        }
     }
 }
 
@@ -30,7 +34,10 @@ impl Sun {
     /// finite and non-negative.
     pub fn validate(&self) -> Result<(), ShadeError> {
         if !self.azimuth_deg.is_finite() {
-            return Err(ShadeError::parameter("sun azimuth", format!("{} is not finite", self.azimuth_deg)));
+            return Err(ShadeError::parameter(
+                "sun azimuth",
+                format!("{} is not finite", self.azimuth_deg),
+            ));
         }
         if !(self.elevation_deg.is_finite() && (-90.0..=90.0).contains(&self.elevation_deg)) {
             return Err(ShadeError::parameter(
@@ -124,10 +131,29 @@ mod tests {
     #[test]
     fn refuses_impossible_suns() {
         assert!(Sun::default().validate().is_ok());
-        assert!(Sun { elevation_deg: 91.0, ..Sun::default() }.validate().is_err());
-        assert!(Sun { azimuth_deg: f64::NAN, ..Sun::default() }.validate().is_err());
-        assert!(Sun { irradiance: -1.0, ..Sun::default() }.validate().is_err());
-        assert!(!Sun { elevation_deg: -5.0, ..Sun::default() }.is_up());
+        assert!(Sun {
+            elevation_deg: 91.0,
+            ..Sun::default()
+        }
+        .validate()
+        .is_err());
+        assert!(Sun {
+            azimuth_deg: f64::NAN,
+            ..Sun::default()
+        }
+        .validate()
+        .is_err());
+        assert!(Sun {
+            irradiance: -1.0,
+            ..Sun::default()
+        }
+        .validate()
+        .is_err());
+        assert!(!Sun {
+            elevation_deg: -5.0,
+            ..Sun::default()
+        }
+        .is_up());
     }
 
     #[test]

@@ -64,7 +64,14 @@ impl CellGrid {
             DVec3::new(0.0, 0.0, field.min_sample() as f64),
             DVec3::new(cells_x as f64, cells_y as f64, field.max_sample() as f64),
         );
-        CellGrid { surface, samples_width: w, cells_x, cells_y, shift, bounds }
+        CellGrid {
+            surface,
+            samples_width: w,
+            cells_x,
+            cells_y,
+            shift,
+            bounds,
+        }
     }
 
     /// The surface this grid stands for.
@@ -99,16 +106,20 @@ impl CellGrid {
         let i = cx + cy * w;
         match self.surface {
             Surface::Boxes => samples[i],
-            Surface::Triangles => {
-                samples[i].max(samples[i + 1]).max(samples[i + w]).max(samples[i + w + 1])
-            }
+            Surface::Triangles => samples[i]
+                .max(samples[i + 1])
+                .max(samples[i + w])
+                .max(samples[i + w + 1]),
         }
     }
 
     /// Maps a world ray into cell space (same parameter `t`).
     pub fn to_cell_space(&self, field: &HeightField, world_ray: &Ray) -> Ray {
         let grid_ray = field.geometry().ray_to_grid(world_ray);
-        Ray { origin: grid_ray.origin - DVec3::new(self.shift, self.shift, 0.0), ..grid_ray }
+        Ray {
+            origin: grid_ray.origin - DVec3::new(self.shift, self.shift, 0.0),
+            ..grid_ray
+        }
     }
 
     /// The world hit for a cell-space hit at `t` with grid-space `normal` (zero: started inside).
@@ -118,7 +129,11 @@ impl CellGrid {
         } else {
             field.geometry().normal_to_world(normal)
         };
-        Hit { t, position: world_ray.at(t), normal }
+        Hit {
+            t,
+            position: world_ray.at(t),
+            normal,
+        }
     }
 
     /// Clips a cell-space ray to the solid's bounds; `None` if it misses them or the grid has

@@ -26,12 +26,20 @@ impl MaxMipmap {
     /// Builds the pyramid of `grid` over the height field's `samples`.
     pub fn build(grid: &CellGrid, samples: &[f32]) -> Self {
         let (mut nx, mut ny) = (grid.cells_x(), grid.cells_y());
-        let mut levels = vec![Level { offset: 0, nodes_x: nx, nodes_y: ny }];
+        let mut levels = vec![Level {
+            offset: 0,
+            nodes_x: nx,
+            nodes_y: ny,
+        }];
         let mut total = nx * ny;
         while nx > 1 || ny > 1 {
             nx = nx.div_ceil(2);
             ny = ny.div_ceil(2);
-            levels.push(Level { offset: total, nodes_x: nx, nodes_y: ny });
+            levels.push(Level {
+                offset: total,
+                nodes_x: nx,
+                nodes_y: ny,
+            });
             total += nx * ny;
         }
         let mut values = Vec::with_capacity(total);
@@ -45,7 +53,12 @@ impl MaxMipmap {
             for y in 0..coarse.nodes_y {
                 for x in 0..coarse.nodes_x {
                     let mut m = f32::NEG_INFINITY;
-                    for (fx, fy) in [(2 * x, 2 * y), (2 * x + 1, 2 * y), (2 * x, 2 * y + 1), (2 * x + 1, 2 * y + 1)] {
+                    for (fx, fy) in [
+                        (2 * x, 2 * y),
+                        (2 * x + 1, 2 * y),
+                        (2 * x, 2 * y + 1),
+                        (2 * x + 1, 2 * y + 1),
+                    ] {
                         if fx < fine.nodes_x && fy < fine.nodes_y {
                             m = m.max(values[fine.offset + fx + fy * fine.nodes_x]);
                         }

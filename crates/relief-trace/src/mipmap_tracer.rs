@@ -24,7 +24,11 @@ impl MipmapTracer {
     pub fn new(field: Arc<HeightField>, surface: Surface) -> Self {
         let grid = CellGrid::new(&field, surface);
         let mipmap = MaxMipmap::build(&grid, field.samples());
-        MipmapTracer { field, grid, mipmap }
+        MipmapTracer {
+            field,
+            grid,
+            mipmap,
+        }
     }
 
     /// The pyramid this tracer walks.
@@ -83,8 +87,14 @@ impl Tracer for MipmapTracer {
         let samples = self.field.samples();
         let top = self.mipmap.top_level();
         let padded = 1usize << top;
-        let mx = Mirror { padded, flip: ray.dir.x < 0.0 };
-        let my = Mirror { padded, flip: ray.dir.y < 0.0 };
+        let mx = Mirror {
+            padded,
+            flip: ray.dir.x < 0.0,
+        };
+        let my = Mirror {
+            padded,
+            flip: ray.dir.y < 0.0,
+        };
         let time_to = |coord: f64, origin: f64, dir: f64| {
             if dir == 0.0 {
                 f64::INFINITY

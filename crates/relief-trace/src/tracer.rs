@@ -84,13 +84,19 @@ impl FromStr for TracerKind {
         match s {
             "naive" => Ok(TracerKind::Naive),
             "mipmap" => Ok(TracerKind::Mipmap),
-            other => Err(format!("unknown tracer '{other}' (expected naive or mipmap)")),
+            other => Err(format!(
+                "unknown tracer '{other}' (expected naive or mipmap)"
+            )),
         }
     }
 }
 
 /// Builds a tracer of `kind` for `surface` of `field` (for the mipmap, this builds the pyramid).
-pub fn build_tracer(field: Arc<HeightField>, surface: Surface, kind: TracerKind) -> Box<dyn Tracer> {
+pub fn build_tracer(
+    field: Arc<HeightField>,
+    surface: Surface,
+    kind: TracerKind,
+) -> Box<dyn Tracer> {
     match kind {
         TracerKind::Naive => Box::new(NaiveTracer::new(field, surface)),
         TracerKind::Mipmap => Box::new(MipmapTracer::new(field, surface)),

@@ -18,7 +18,11 @@ fn boxes(field: &HeightField, ray: &Ray) -> Option<f64> {
     let mut best: Option<f64> = None;
     for row in 0..field.height() {
         for col in 0..field.width() {
-            let lo = DVec3::new(g.origin.x + col as f64 * g.dx, g.origin.y + row as f64 * g.dy, zmin);
+            let lo = DVec3::new(
+                g.origin.x + col as f64 * g.dx,
+                g.origin.y + row as f64 * g.dy,
+                zmin,
+            );
             let hi = DVec3::new(
                 g.origin.x + (col + 1) as f64 * g.dx,
                 g.origin.y + (row + 1) as f64 * g.dy,
@@ -40,7 +44,10 @@ fn slab(lo: DVec3, hi: DVec3, ray: &Ray) -> Option<f64> {
                 return None;
             }
         } else {
-            let (p, q) = ((lo[a] - ray.origin[a]) / ray.dir[a], (hi[a] - ray.origin[a]) / ray.dir[a]);
+            let (p, q) = (
+                (lo[a] - ray.origin[a]) / ray.dir[a],
+                (hi[a] - ray.origin[a]) / ray.dir[a],
+            );
             t0 = t0.max(p.min(q));
             t1 = t1.min(p.max(q));
         }
@@ -125,12 +132,15 @@ fn triangles(field: &HeightField, ray: &Ray) -> Option<f64> {
         wall(vertex(field, c, 0), vertex(field, c + 1, 0));
         wall(vertex(field, c, h - 1), vertex(field, c + 1, h - 1));
     }
-    let corners = [(0, 0), (w - 1, 0), (w - 1, h - 1), (0, h - 1)].map(|(c, r)| floor(vertex(field, c, r)));
+    let corners =
+        [(0, 0), (w - 1, 0), (w - 1, h - 1), (0, h - 1)].map(|(c, r)| floor(vertex(field, c, r)));
     tris.push([corners[0], corners[1], corners[2]]);
     tris.push([corners[0], corners[2], corners[3]]);
     tris.iter()
         .filter_map(|t| moller_trumbore(t, ray))
-        .fold(None, |best: Option<f64>, t| Some(best.map_or(t, |b| b.min(t))))
+        .fold(None, |best: Option<f64>, t| {
+            Some(best.map_or(t, |b| b.min(t)))
+        })
 }
 
 fn moller_trumbore(tri: &[DVec3; 3], ray: &Ray) -> Option<f64> {

@@ -1,0 +1,89 @@
+//! `relief render`: trace, shade and write a picture (and optionally depth and normals).
+
+use super::check_output;
+use crate::args::RenderArgs;
+use crate::{input, progress};
+use anyhow::{Context, Result};
+use relief_core::{Camera, HeightField, Surface};
+use relief_shade::{
+    render_gbuffer, shade, tonemap_to_srgb8, Albedo, RgbTexture, ShadingParams, Sun,
+};
+use relief_trace::build_tracer;
+
+/// Runs `relief render`.
+pub fn run(args: &RenderArgs) -> Result<()> {
+    for path in [
+        Some(&args.output),
+        args.depth.as_ref(),
+        args.normals.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        check_output(path)?;
+    }
+    let field = input::load(&args.input)?;
+    let camera = camera(args, &field, args.surface)?;
+    let params = shading(args, &field)?;
+    let tracer = build_tracer(field.clone(), args.surface, args.tracer);
+
+    let pixels = camera.width() as u64 * camera.height() as u64;
+    let bar = progress::bar(pixels, "tracing");
+    let bounds = field.world_bounds(args.surface);
+    let (gbuffer, _) = render_gbuffer(tracer.as_ref(), &camera, &bounds, &|n| bar.inc(n))?;
+    bar.finish_and_clear();
+    let (radiance, _) = shade(&gbuffer, tracer.as_ref(), &camera, &params)?;
+    let rgb = tonemap_to_srgb8(&radiance, params.exposure)?;
+
+    relief_io::write_png_rgb8(&args.output, camera.width(), camera.height(), &rgb)?;
+    let (h, w) = (camera.height() as usize, camera.width() as usize);
+    if let Some(path) = &args.depth {
+        relief_io::write_npy_f32(path, &[h, w], &gbuffer.depth_hw())?;
+    }
+    if let Some(path) = &args.normals {
+        relief_io::write_npy_f32(path, &[h, w, 3], &gbuffer.normals_hw3())?;
+    }
+    eprintln!(
+        "wrote {} ({w}x{h}, {} {} tracer)",
+        args.output.display(),
+        args.surface,
+        args.tracer
+    );
+    Ok(())
+}
+
+/// The camera given on the command line, or a three-quarter view framing the terrain.
+fn camera(args: &RenderArgs, field: &HeightField, surface: Surface) -> Result<Camera> {
+    let (w, h) = args.size;
+    let camera = match (args.eye, args.target) {
+        (Some(eye), Some(target)) => Camera::look_at(eye, target, args.up, args.fov, w, h)?,
+        _ => {
+            let bounds = field.world_bounds(surface);
+            Camera::frame_from(&bounds, 225.0, 30.0, args.fov, w, h)?
+        }
+    };
+    Ok(camera)
+}
+
+/// Lights and materials from the command line, fitted to the terrain.
+fn shading(args: &RenderArgs, field: &HeightField) -> Result<ShadingParams> {
+    let bounds = field.world_bounds(Surface::Boxes);
+    let mut params = ShadingParams::for_terrain(&bounds)?;
+    let (azimuth_deg, elevation_deg) = args.sun;
+    params.sun = Sun {
+        azimuth_deg,
+        elevation_deg,
+        ..params.sun
+    };
+    params.shadows = !args.no_shadows;
+    params.exposure = args.exposure;
+    if let Some(path) = &args.texture {
+        let image = relief_io::read_png_rgb(path)?;
+        let rgb: Vec<u8> = image.pixels.iter().flatten().copied().collect();
+        let texture = RgbTexture::from_srgb8(image.width as usize, image.height as usize, &rgb)
+            .with_context(|| format!("texture {}", path.display()))?;
+        params.albedo = Albedo::Texture(texture);
+    }
+    params.validate()?;
+    Ok(params)
+}

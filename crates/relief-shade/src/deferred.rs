@@ -1,0 +1,179 @@
+//! The deferred shading pass: one parallel sweep over a G-buffer that lights every pixel.
+
+use rayon::prelude::*;
+use relief_core::{Aabb, Camera, DVec3};
+use relief_trace::Tracer;
+
+use crate::error::non_negative;
+use crate::sky::validate_fog_density;
+use crate::{
+    aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, light_visibility,
+    Albedo, GBuffer, GgxSpecular, HypsometricRamp, ShadeError, Sky, Sun, TraceStats,
+};
+
+/// Everything the deferred pass needs besides the G-buffer: lights, materials, atmosphere.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShadingParams {
+    /// The sun: direction and irradiance `E`.
+    pub sun: Sun,
+    /// The sky: background gradient, ambient light and fog colour.
+    pub sky: Sky,
+    /// The terrain's diffuse albedo.
+    pub albedo: Albedo,
+    /// Whether to trace a shadow ray towards the sun from every lit pixel.
+    pub shadows: bool,
+    /// The GGX specular lobe, or `None` for a purely Lambertian terrain.
+    pub specular: Option<GgxSpecular>,
+    /// Aerial perspective: fog density per world unit (0 for none); see
+    /// [`fog_density_for_scene`].
+    pub fog_density: f64,
+    /// Exposure to tone-map the result with (see [`crate::tonemap_to_srgb8`]).
+    pub exposure: f64,
+}
+
+impl Default for ShadingParams {
+    /// Default sun and sky, a uniform grey albedo of 0.3, shadows, rough GGX specular, no fog,
+    /// exposure 1. [`ShadingParams::for_terrain`] fits the ramp and fog to a terrain instead.
+    fn default() -> Self {
+        ShadingParams {
+            sun: Sun::default(),
+            sky: Sky::default(),
+            albedo: Albedo::Uniform([0.3; 3]),
+            shadows: true,
+            specular: Some(GgxSpecular::default()),
+            fog_density: 0.0,
+            exposure: 1.0,
+        }
+    }
+}
+
+impl ShadingParams {
+    /// The defaults, with the hypsometric ramp spanning the elevations of `bounds` and fog
+    /// scaled to its diagonal (30% at twice the diagonal).
+    ///
+    /// Fails when `bounds` is not finite or its z range is inverted.
+    pub fn for_terrain(bounds: &Aabb) -> Result<Self, ShadeError> {
+        Ok(ShadingParams {
+            albedo: Albedo::Hypsometric(HypsometricRamp::new(bounds.min.z, bounds.max.z)?),
+            fog_density: fog_density_for_scene(bounds.diagonal()),
+            ..ShadingParams::default()
+        })
+    }
+
+    /// Checks every parameter.
+    pub fn validate(&self) -> Result<(), ShadeError> {
+        self.sun.validate()?;
+        self.sky.validate()?;
+        self.albedo.validate()?;
+        if let Some(specular) = &self.specular {
+            specular.validate()?;
+        }
+        validate_fog_density(self.fog_density)?;
+        non_negative("exposure", self.exposure)
+    }
+}
+
+/// Shades every pixel of `gbuffer`, which `camera` saw, into linear radiance (row-major,
+/// row 0 the top row), and counts the shadow rays traced through `tracer`.
+///
+/// A hit pixel gets [`direct_lighting`] from the sun (its visibility from a shadow ray when
+/// `params.shadows`), plus [`ambient_lighting`] from the sky, then [`aerial_perspective`]
+/// towards the sky colour along the view ray. A miss gets the sky's colour along its ray.
+/// Rows are shaded in parallel; the result does not depend on the thread count.
+///
+/// The hit point is rebuilt from the eye and the stored distance in `f64` rather than read
+/// from the `f32` positions, which lose precision far from the world origin.
+///
+/// Fails when a parameter is invalid or the G-buffer does not match the camera's image size.
+pub fn shade(
+    gbuffer: &GBuffer,
+    tracer: &dyn Tracer,
+    camera: &Camera,
+    params: &ShadingParams,
+) -> Result<(Vec<[f32; 3]>, TraceStats), ShadeError> {
+    params.validate()?;
+    gbuffer.validate()?;
+    let (width, height) = (camera.width() as usize, camera.height() as usize);
+    if (gbuffer.width, gbuffer.height) != (width, height) {
+        return Err(ShadeError::Mismatch(format!(
+            "G-buffer is {} x {} but the camera's image is {width} x {height}",
+            gbuffer.width, gbuffer.height
+        )));
+    }
+    let mut radiance = Vec::new();
+    radiance.try_reserve_exact(gbuffer.len()).map_err(|e| {
+        ShadeError::Limits(format!(
+            "cannot allocate {} shaded pixels: {e}",
+            gbuffer.len()
+        ))
+    })?;
+    radiance.resize(gbuffer.len(), [0.0f32; 3]);
+    let pass = ShadingPass {
+        gbuffer,
+        tracer,
+        camera,
+        params,
+        to_sun: params.sun.direction(),
+        sky_ambient: params.sky.ambient(),
+    };
+    let stats = radiance
+        .par_chunks_mut(width)
+        .enumerate()
+        .map(|(j, row)| {
+            let mut stats = TraceStats::default();
+            for (i, out) in row.iter_mut().enumerate() {
+                *out = pass.pixel(i, j, &mut stats).as_vec3().to_array();
+            }
+            stats
+        })
+        .reduce(TraceStats::default, TraceStats::merge);
+    Ok((radiance, stats))
+}
+
+/// The per-pass constants of [`shade`].
+struct ShadingPass<'a> {
+    gbuffer: &'a GBuffer,
+    tracer: &'a dyn Tracer,
+    camera: &'a Camera,
+    params: &'a ShadingParams,
+    to_sun: DVec3,
+    sky_ambient: DVec3,
+}
+
+impl ShadingPass<'_> {
+    /// Radiance of pixel (i, j), counting its shadow ray (if any) into `stats`.
+    #[inline]
+    fn pixel(&self, i: usize, j: usize, stats: &mut TraceStats) -> DVec3 {
+        let (g, p) = (self.gbuffer, self.params);
+        let k = i + j * g.width;
+        // (i, j) lies inside the camera's u32 image.
+        let ray = self.camera.ray(i as u32, j as u32);
+        let sky = p.sky.radiance(ray.dir);
+        let distance = g.distance[k] as f64;
+        if !distance.is_finite() {
+            return sky;
+        }
+        let position = ray.at(distance);
+        let normal = DVec3::from(g.normal[k].map(f64::from)).normalize_or_zero();
+        let albedo = p.albedo.at(position, normal, g.uv[k]);
+        let lit = p.sun.is_up() && p.sun.irradiance > 0.0 && normal.dot(self.to_sun) > 0.0;
+        let visibility = match (lit, p.shadows) {
+            (false, _) => 0.0,
+            (true, false) => 1.0,
+            (true, true) => {
+                light_visibility(self.tracer, position, normal, distance, self.to_sun, stats)
+            }
+        };
+        let direct = direct_lighting(
+            albedo,
+            normal,
+            -ray.dir,
+            self.to_sun,
+            p.sun.irradiance,
+            visibility,
+            p.specular.as_ref(),
+        );
+        let surface = direct + ambient_lighting(albedo, normal, self.sky_ambient);
+        aerial_perspective(surface, sky, distance, p.fog_density)
+    }
+}

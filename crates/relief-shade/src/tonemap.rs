@@ -1,0 +1,137 @@
+//! From linear radiance to 8-bit sRGB: exposure, a filmic curve and the sRGB transfer function.
+
+use rayon::prelude::*;
+
+use crate::error::non_negative;
+use crate::ShadeError;
+
+/// The sRGB encoding of a linear value in `[0, 1]` (IEC 61966-2-1; values outside are clamped,
+/// NaN gives 0).
+pub fn linear_to_srgb(linear: f32) -> f32 {
+    // Evaluated in f64 so that the f32 result is the correctly rounded curve (1 maps to 1).
+    let x = clamp_unit(linear) as f64;
+    let encoded = if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    };
+    encoded as f32
+}
+
+/// The linear value of an sRGB-encoded value in `[0, 1]` (clamped, NaN gives 0).
+pub fn srgb_to_linear(encoded: f32) -> f32 {
+    let x = clamp_unit(encoded) as f64;
+    let linear = if x <= 0.040_45 {
+        x / 12.92
+    } else {
+        ((x + 0.055) / 1.055).powf(2.4)
+    };
+    linear as f32
+}
+
+/// The ACES filmic curve as fitted by Narkowicz (2015): maps `[0, inf)` monotonically onto
+/// `[0, 1]`, with 0 to 0, a gentle toe and a soft shoulder reaching white at about 7.2.
+/// Negative or NaN input gives 0.
+pub fn aces_filmic(x: f32) -> f32 {
+    let x = if x > 0.0 { x } else { 0.0 };
+    if x >= 7.5 {
+        // Past white (the fit exceeds 1 from about 7.24 on); also keeps x² from overflowing.
+        return 1.0;
+    }
+    let (a, b, c, d, e) = (2.51, 0.03, 2.43, 0.59, 0.14);
+    clamp_unit((x * (a * x + b)) / (x * (c * x + d) + e))
+}
+
+/// Tone-maps linear radiance to interleaved 8-bit sRGB (`R, G, B` per pixel, same order):
+/// each channel is multiplied by `exposure`, passed through [`aces_filmic`] and encoded with
+/// [`linear_to_srgb`], then rounded to the nearest of 0..=255.
+///
+/// Fails when `exposure` is negative or not finite. Negative or NaN radiance gives 0.
+pub fn tonemap_to_srgb8(radiance: &[[f32; 3]], exposure: f64) -> Result<Vec<u8>, ShadeError> {
+    non_negative("exposure", exposure)?;
+    let exposure = exposure as f32;
+    let mut out = vec![0u8; radiance.len() * 3];
+    out.par_chunks_mut(3)
+        .zip(radiance.par_iter())
+        .for_each(|(rgb, pixel)| {
+            for (o, &channel) in rgb.iter_mut().zip(pixel) {
+                *o = (linear_to_srgb(aces_filmic(channel * exposure)) * 255.0).round() as u8;
+            }
+        });
+    Ok(out)
+}
+
+fn clamp_unit(x: f32) -> f32 {
+    if x > 0.0 {
+        x.min(1.0)
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_round_trips() {
+        for k in 0..=1000 {
+            let x = k as f32 / 1000.0;
+            assert!((srgb_to_linear(linear_to_srgb(x)) - x).abs() < 1e-6, "{x}");
+            assert!((linear_to_srgb(srgb_to_linear(x)) - x).abs() < 1e-6, "{x}");
+        }
+        // Known points of the standard curve.
+        assert!((srgb_to_linear(0.5) - 0.214_041).abs() < 1e-6);
+        assert!((linear_to_srgb(0.0031308) - 0.040_45).abs() < 1e-5);
+        assert_eq!(linear_to_srgb(1.0), 1.0);
+        assert_eq!(linear_to_srgb(f32::NAN), 0.0);
+        // Every 8-bit code survives decoding and re-encoding.
+        for code in 0..=255u8 {
+            let back = (linear_to_srgb(srgb_to_linear(code as f32 / 255.0)) * 255.0).round();
+            assert_eq!(back as u8, code);
+        }
+    }
+
+    #[test]
+    fn tonemap_is_monotonic_and_maps_black_to_black() {
+        let ramp: Vec<[f32; 3]> = (0..4000).map(|k| [k as f32 * 0.005; 3]).collect();
+        let bytes = tonemap_to_srgb8(&ramp, 1.0).unwrap();
+        assert_eq!(&bytes[..3], &[0, 0, 0]);
+        assert!(bytes.windows(6).step_by(3).all(|w| w[3] >= w[0]));
+        assert!(
+            *bytes.last().unwrap() >= 250,
+            "bright radiance approaches white"
+        );
+        let mut prev = 0.0;
+        for k in 1..3500 {
+            let y = aces_filmic(k as f32 * 0.002);
+            assert!(
+                y > prev && y < 1.0,
+                "strictly increasing below white at {k}"
+            );
+            prev = y;
+        }
+        for x in [7.0, 7.3, 7.5, 8.0, 1e20, f32::MAX, f32::INFINITY] {
+            let y = aces_filmic(x);
+            assert!(y >= prev && y <= 1.0, "non-decreasing up to white at {x}");
+            prev = y;
+        }
+        assert_eq!(aces_filmic(1e30), 1.0);
+        assert_eq!(aces_filmic(0.0), 0.0);
+    }
+
+    #[test]
+    fn exposure_scales_and_bad_exposure_is_refused() {
+        let px = [[0.1f32, 0.2, 0.4]];
+        assert_eq!(tonemap_to_srgb8(&px, 0.0).unwrap(), vec![0, 0, 0]);
+        let dim = tonemap_to_srgb8(&px, 1.0).unwrap();
+        let bright = tonemap_to_srgb8(&px, 2.0).unwrap();
+        assert!(dim.iter().zip(&bright).all(|(a, b)| b > a));
+        assert!(tonemap_to_srgb8(&px, -1.0).is_err());
+        assert!(tonemap_to_srgb8(&px, f64::NAN).is_err());
+        assert_eq!(
+            tonemap_to_srgb8(&[[f32::NAN, -1.0, f32::INFINITY]], 1.0).unwrap(),
+            vec![0, 0, 255]
+        );
+    }
+}
