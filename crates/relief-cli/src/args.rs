@@ -36,6 +36,9 @@ pub struct InputArgs {
     /// Texel spacing DX[,DY] in world units (default 1).
     #[arg(long, value_parser = parse_spacing)]
     pub spacing: Option<(f64, f64)>,
+    /// The array's row 0 is its north edge (as in most north-up rasters): flip the rows.
+    #[arg(long)]
+    pub north_up: bool,
     /// Multiply sample values by this to get world heights.
     #[arg(long, default_value_t = 1.0)]
     pub z_scale: f64,

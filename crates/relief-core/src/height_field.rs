@@ -171,6 +171,15 @@ impl HeightField {
         Ok(self)
     }
 
+    /// The same grid with its rows in reverse order: turns a north-up array (row 0 north)
+    /// into relief's convention (row 0 south).
+    pub fn flip_rows(mut self) -> Self {
+        let w = self.width;
+        let rows: Vec<&[f32]> = self.samples.chunks_exact(w).rev().collect();
+        self.samples = rows.concat();
+        self
+    }
+
     /// Smallest sample value.
     pub fn min_sample(&self) -> f32 {
         self.min
@@ -225,6 +234,18 @@ mod tests {
         ));
         let bad = GridGeometry { dx: 0.0, ..g };
         assert!(HeightField::new(1, 1, vec![0.0], bad).is_err());
+    }
+
+    #[test]
+    fn flipping_rows_reverses_them() {
+        let f = HeightField::new(
+            2,
+            3,
+            vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0],
+            GridGeometry::unit(),
+        );
+        let f = f.unwrap().flip_rows();
+        assert_eq!(f.samples(), &[4.0, 5.0, 2.0, 3.0, 0.0, 1.0]);
     }
 
     #[test]

@@ -50,3 +50,37 @@ proptest! {
         }
     }
 }
+
+/// A whole camera image, as `relief render --depth` computes it, against the brute force:
+/// every pixel agrees to 1e-4 relative but a handful of exact grazing ties at silhouettes.
+#[test]
+fn camera_depth_image_matches_the_brute_force() {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::TestRunner;
+    let mut runner = TestRunner::deterministic();
+    for _ in 0..6 {
+        let field = Arc::new(terrain().new_tree(&mut runner).unwrap().current());
+        for surface in Surface::ALL {
+            let bounds = field.world_bounds(surface);
+            let camera = relief_core::Camera::frame(&bounds, 48, 32).unwrap();
+            let mipmap = MipmapTracer::new(field.clone(), surface);
+            let mut wrong = Vec::new();
+            for j in 0..32 {
+                for i in 0..48 {
+                    let ray = camera.ray(i, j);
+                    let got = mipmap.intersect(&ray).map(|h| h.t as f32 as f64);
+                    let want = first_hit(&field, surface, &ray);
+                    if !agree(got, want, 1e-4) {
+                        wrong.push((i, j, got, want));
+                    }
+                }
+            }
+            assert!(
+                wrong.len() <= 2,
+                "{surface} on {}x{}: {wrong:?}",
+                field.width(),
+                field.height()
+            );
+        }
+    }
+}
