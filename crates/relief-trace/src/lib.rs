@@ -31,3 +31,8 @@ pub use max_mipmap::MaxMipmap;
 pub use mipmap_tracer::MipmapTracer;
 pub use naive_tracer::NaiveTracer;
 pub use tracer::{build_tracer, Hit, Tracer, TracerKind};
+
+/// The README's library example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeDoctests;

@@ -60,6 +60,20 @@ impl Mirror {
         }
     }
 
+    /// The child at `level` of mirrored node `m` (one level up) that holds the ray's point at
+    /// `t`: the upper child once the ray has reached the boundary between the two.
+    #[inline]
+    fn child(self, m: usize, level: usize, origin: f64, dir: f64, t: f64) -> usize {
+        let upper = 2 * m + 1;
+        let mid = self.boundary(upper, level);
+        let reached = if dir == 0.0 { origin >= mid } else { t >= (mid - origin) / dir };
+        if reached {
+            upper
+        } else {
+            upper - 1
+        }
+    }
+
     /// The original coordinate of the mirrored boundary `m << level`.
     #[inline]
     fn boundary(self, m: usize, level: usize) -> f64 {
@@ -102,12 +116,6 @@ impl Tracer for MipmapTracer {
                 (coord - origin) / dir
             }
         };
-        // Mirrored level-0 index of a cell, clamped into the mirrored node `m` of `level`.
-        let descend = |c: usize, mirror: Mirror, m: usize, level: usize| {
-            let mirrored = mirror.index(c, 0).unwrap_or(0);
-            mirrored.clamp(m << level, ((m + 1) << level) - 1)
-        };
-
         let (cx, cy) = self.grid.cell_at(&ray, clip.t_enter);
         let mut level = top;
         let mut nx = mx.index(cx, 0)? >> top;
@@ -137,11 +145,9 @@ impl Tracer for MipmapTracer {
                     if ray.dir.z < 0.0 && z_in > node_max {
                         t = ((node_max - ray.origin.z) / ray.dir.z).clamp(t, t_leave);
                     }
-                    let (cx, cy) = self.grid.cell_at(&ray, t);
-                    let parent = level;
                     level -= 1;
-                    nx = descend(cx, mx, nx, parent) >> level;
-                    ny = descend(cy, my, ny, parent) >> level;
+                    nx = mx.child(nx, level, ray.origin.x, ray.dir.x, t);
+                    ny = my.child(ny, level, ray.origin.y, ray.dir.y, t);
                     continue;
                 }
             }
