@@ -18,7 +18,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a height field to a PNG (and optionally its depth and normals as .npy).
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// Write a synthetic terrain.
     #[command(subcommand)]
     Generate(GenerateCommand),

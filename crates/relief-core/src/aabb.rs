@@ -59,8 +59,7 @@ impl Aabb {
         let mut t_enter = ray.t_min;
         let mut t_exit = ray.t_max;
         let mut face = BoxFace::Inside;
-        let faces = [BoxFace::X, BoxFace::Y, BoxFace::Z];
-        for axis in 0..3 {
+        for (axis, face_of_axis) in [BoxFace::X, BoxFace::Y, BoxFace::Z].into_iter().enumerate() {
             let (o, d) = (ray.origin[axis], ray.dir[axis]);
             let (lo, hi) = (self.min[axis], self.max[axis]);
             if d == 0.0 {
@@ -75,7 +74,7 @@ impl Aabb {
             }
             if ta > t_enter {
                 t_enter = ta;
-                face = faces[axis];
+                face = face_of_axis;
             }
             t_exit = t_exit.min(tb);
         }

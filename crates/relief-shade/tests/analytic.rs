@@ -10,10 +10,13 @@ use relief_shade::{
 };
 use relief_trace::{build_tracer, Tracer, TracerKind};
 
-const EYE_HEIGHT: f64 = 10.0;
+const EYE_HEIGHT: f64 = 6.0;
 const PLANE_HEIGHT: f64 = 2.0;
 const FOV_DEG: f64 = 20.0;
-const SIZE: u32 = 8;
+// Several tiles, the last ones partial, so that the scatter of tiles is checked too.
+const WIDTH: u32 = 37;
+const HEIGHT: u32 = 21;
+const PIXELS: u64 = WIDTH as u64 * HEIGHT as u64;
 
 /// The 4 x 4 field of height 2 from the brief and a camera straight above its centre whose
 /// every pixel sees the plane, for both surfaces.
@@ -28,8 +31,8 @@ fn flat_scene(surface: Surface, kind: TracerKind) -> (Box<dyn Tracer>, Camera, r
         DVec3::new(2.0, 2.0, 0.0),
         DVec3::Y,
         FOV_DEG,
-        SIZE,
-        SIZE,
+        WIDTH,
+        HEIGHT,
     )
     .unwrap();
     (tracer, camera, bounds)
@@ -58,16 +61,20 @@ fn flat_field_from_above_has_closed_form_depths() {
         for kind in [TracerKind::Naive, TracerKind::Mipmap] {
             let (tracer, camera, bounds) = flat_scene(surface, kind);
             let (g, stats) = render_gbuffer(&*tracer, &camera, &bounds, &|_| {}).unwrap();
-            assert_eq!((g.width, g.height), (SIZE as usize, SIZE as usize));
-            assert_eq!((stats.rays, stats.hits), (64, 64), "{surface} {kind}");
-            for j in 0..SIZE as usize {
-                for i in 0..SIZE as usize {
-                    let n = SIZE as f64;
+            assert_eq!((g.width, g.height), (WIDTH as usize, HEIGHT as usize));
+            assert_eq!(
+                (stats.rays, stats.hits),
+                (PIXELS, PIXELS),
+                "{surface} {kind}"
+            );
+            let (w, h) = (WIDTH as f64, HEIGHT as f64);
+            for j in 0..HEIGHT as usize {
+                for i in 0..WIDTH as usize {
                     // Looking down (forward = -z) with up = +y: right = forward x up = +x.
-                    let sx = (2.0 * (i as f64 + 0.5) / n - 1.0) * t;
-                    let sy = (1.0 - 2.0 * (j as f64 + 0.5) / n) * t;
+                    let sx = (2.0 * (i as f64 + 0.5) / w - 1.0) * t * w / h;
+                    let sy = (1.0 - 2.0 * (j as f64 + 0.5) / h) * t;
                     let want = (EYE_HEIGHT - PLANE_HEIGHT) * (1.0 + sx * sx + sy * sy).sqrt();
-                    let k = i + j * SIZE as usize;
+                    let k = i + j * WIDTH as usize;
                     let got = g.distance[k] as f64;
                     assert!(
                         (got - want).abs() <= 1e-6 * want,
@@ -88,12 +95,12 @@ fn flat_field_from_above_has_closed_form_depths() {
                         (g.uv[k][0] as f64 - uv[0]).abs() < 1e-6
                             && (g.uv[k][1] as f64 - uv[1]).abs() < 1e-6
                     );
-                    let footprint = want * 2.0 * t / n;
+                    let footprint = want * 2.0 * t / h;
                     assert!((g.footprint[k] as f64 - footprint).abs() <= 1e-6 * footprint);
                 }
             }
             assert_eq!(g.depth_hw(), g.distance);
-            assert_eq!(g.normals_hw3().len(), 64 * 3);
+            assert_eq!(g.normals_hw3().len(), 3 * PIXELS as usize);
         }
     }
 }
@@ -144,7 +151,7 @@ fn lambertian_plane_lit_at_theta_shades_to_rho_e_cos_over_pi() {
                 irradiance: e,
             };
             let (radiance, shadow) = shade(&g, &*tracer, &camera, &lambert_only(rho, sun)).unwrap();
-            assert_eq!(shadow.rays, 64, "every pixel casts a shadow ray");
+            assert_eq!(shadow.rays, PIXELS, "every pixel casts a shadow ray");
             assert_eq!(shadow.hits, 0, "a flat plane does not shadow itself");
             for px in &radiance {
                 for c in 0..3 {

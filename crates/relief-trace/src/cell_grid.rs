@@ -301,7 +301,11 @@ fn outer_entry(face: BoxFace) -> Entry {
 fn axis_cell(o: f64, d: f64, t: f64, cells: usize) -> usize {
     // Truncation is the floor for non-negative values; NaN and negatives go to cell 0.
     let v = o + t * d;
-    let c = if v >= 0.0 { (v as usize).min(cells - 1) } else { 0 };
+    let c = if v >= 0.0 {
+        (v as usize).min(cells - 1)
+    } else {
+        0
+    };
     let (t_in, t_out) = axis_span(o, d, c as f64);
     let towards_low = if d > 0.0 { t_in > t } else { t_out < t };
     let towards_high = if d > 0.0 { t_out < t } else { t_in > t };

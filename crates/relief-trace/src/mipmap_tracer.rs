@@ -66,7 +66,11 @@ impl Mirror {
     fn child(self, m: usize, level: usize, origin: f64, dir: f64, t: f64) -> usize {
         let upper = 2 * m + 1;
         let mid = self.boundary(upper, level);
-        let reached = if dir == 0.0 { origin >= mid } else { t >= (mid - origin) / dir };
+        let reached = if dir == 0.0 {
+            origin >= mid
+        } else {
+            t >= (mid - origin) / dir
+        };
         if reached {
             upper
         } else {
@@ -160,7 +164,10 @@ impl Tracer for MipmapTracer {
             ny += cross_y as usize;
             // Climb while the step left the parent node as well.
             while level < top {
-                let (leave_x, leave_y) = (cross_x && nx % 2 == 0, cross_y && ny % 2 == 0);
+                let (leave_x, leave_y) = (
+                    cross_x && nx.is_multiple_of(2),
+                    cross_y && ny.is_multiple_of(2),
+                );
                 if !(leave_x || leave_y) {
                     break;
                 }

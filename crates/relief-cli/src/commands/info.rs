@@ -7,7 +7,7 @@ use anyhow::Result;
 pub fn run(args: &InfoArgs) -> Result<()> {
     let field = relief_io::read_npy_height_field(&args.input)?;
     let g = field.geometry();
-    let samples_bytes = field.samples().len() * std::mem::size_of::<f32>();
+    let samples_bytes = std::mem::size_of_val(field.samples());
     // The max mipmap adds a third of the samples (1/4 + 1/16 + ...).
     let mipmap_bytes = samples_bytes / 3;
     println!("file:      {}", args.input.display());
