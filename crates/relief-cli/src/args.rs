@@ -151,15 +151,11 @@ pub struct BenchArgs {
 fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != N {
-        return Err(format!(
-            "expected {N} comma-separated numbers for {what}, got '{s}'"
-        ));
+        return Err(format!("expected {N} comma-separated numbers for {what}, got '{s}'"));
     }
     let mut out = [0.0; N];
     for (o, p) in out.iter_mut().zip(&parts) {
-        *o = p
-            .parse::<f64>()
-            .map_err(|_| format!("'{p}' is not a number"))?;
+        *o = p.parse::<f64>().map_err(|_| format!("'{p}' is not a number"))?;
         if !o.is_finite() {
             return Err(format!("'{p}' is not a finite number"));
         }
@@ -174,9 +170,7 @@ fn parse_vec3(s: &str) -> Result<DVec3, String> {
 fn parse_sun(s: &str) -> Result<(f64, f64), String> {
     let [azimuth, elevation] = parse_numbers::<2>(s, "AZIMUTH,ELEVATION")?;
     if !(-90.0..=90.0).contains(&elevation) {
-        return Err(format!(
-            "sun elevation {elevation} is outside -90..90 degrees"
-        ));
+        return Err(format!("sun elevation {elevation} is outside -90..90 degrees"));
     }
     Ok((azimuth, elevation))
 }
@@ -195,16 +189,13 @@ fn parse_spacing(s: &str) -> Result<(f64, f64), String> {
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("expected WxH, got '{s}'"))?;
-    let parse = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|&n| (1..=32768).contains(&n))
-            .ok_or_else(|| format!("'{v}' in '{s}' is not an image dimension between 1 and 32768"))
-    };
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got '{s}'"))?;
+    let parse =
+        |v: &str| {
+            v.trim().parse::<u32>().ok().filter(|&n| (1..=32768).contains(&n)).ok_or_else(|| {
+                format!("'{v}' in '{s}' is not an image dimension between 1 and 32768")
+            })
+        };
     Ok((parse(w)?, parse(h)?))
 }
 

@@ -12,21 +12,10 @@ pub fn load(args: &InputArgs) -> Result<Arc<HeightField>> {
         Some(path) => relief_io::read_npy_height_field(path)?,
         None => fbm(args.fbm_size, args.seed)?,
     };
-    let field = if args.north_up {
-        field.flip_rows()
-    } else {
-        field
-    };
+    let field = if args.north_up { field.flip_rows() } else { field };
     let (dx, dy) = args.spacing.unwrap_or((1.0, 1.0));
-    let geometry = GridGeometry {
-        dx,
-        dy,
-        z_scale: args.z_scale,
-        ..*field.geometry()
-    };
-    Ok(Arc::new(
-        field.with_geometry(geometry).context("invalid placement")?,
-    ))
+    let geometry = GridGeometry { dx, dy, z_scale: args.z_scale, ..*field.geometry() };
+    Ok(Arc::new(field.with_geometry(geometry).context("invalid placement")?))
 }
 
 /// The seeded fBm terrain of `size` x `size` samples.

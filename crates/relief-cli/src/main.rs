@@ -16,11 +16,7 @@ fn main() -> ExitCode {
         Err(e) => {
             // Help and version are not errors; everything else is bad usage (exit code 2).
             let _ = e.print();
-            return if e.use_stderr() {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
-            };
+            return if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
         }
     };
     match commands::run(cli) {

@@ -5,10 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn relief(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args(args)
-        .output()
-        .expect("relief runs")
+    Command::new(env!("CARGO_BIN_EXE_relief")).args(args).output().expect("relief runs")
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -34,13 +31,7 @@ fn read_f32_npy(path: &Path) -> (Vec<usize>, Vec<f32>) {
     let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
     let header = std::str::from_utf8(&bytes[10..10 + header_len]).unwrap();
     assert!(header.contains("'descr': '<f4'"), "{header}");
-    let shape_text = header
-        .split("'shape': (")
-        .nth(1)
-        .unwrap()
-        .split(')')
-        .next()
-        .unwrap();
+    let shape_text = header.split("'shape': (").nth(1).unwrap().split(')').next().unwrap();
     let shape = shape_text
         .split(',')
         .filter(|s| !s.trim().is_empty())
@@ -57,20 +48,14 @@ fn read_f32_npy(path: &Path) -> (Vec<usize>, Vec<f32>) {
 fn assert_refused(out: &Output, mentions: &str) {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(
-        stderr.contains(mentions),
-        "stderr should mention '{mentions}': {stderr}"
-    );
+    assert!(stderr.contains(mentions), "stderr should mention '{mentions}': {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
 #[test]
 fn default_render_writes_png_depth_and_normals() {
-    let (png, depth, normals) = (
-        scratch("default.png"),
-        scratch("default-depth.npy"),
-        scratch("default-n.npy"),
-    );
+    let (png, depth, normals) =
+        (scratch("default.png"), scratch("default-depth.npy"), scratch("default-n.npy"));
     let out = relief(&[
         "render",
         "--fbm-size",
@@ -84,11 +69,7 @@ fn default_render_writes_png_depth_and_normals() {
         "--normals",
         normals.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(png_size(&png), (64, 40));
     let (shape, d) = read_f32_npy(&depth);
     assert_eq!(shape, [40, 64]);
@@ -98,11 +79,7 @@ fn default_render_writes_png_depth_and_normals() {
     for (k, normal) in n.chunks_exact(3).enumerate() {
         let length = normal.iter().map(|c| c * c).sum::<f32>().sqrt();
         let expected = if d[k].is_finite() { 1.0 } else { 0.0 };
-        assert!(
-            (length - expected).abs() < 1e-5,
-            "pixel {k}: normal {normal:?}, depth {}",
-            d[k]
-        );
+        assert!((length - expected).abs() < 1e-5, "pixel {k}: normal {normal:?}, depth {}", d[k]);
     }
 }
 
@@ -137,11 +114,7 @@ fn depth_file_matches_the_closed_form_on_a_flat_terrain() {
         "--depth",
         depth.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let d = read_npy(&depth);
     let t = (15f64.to_radians()).tan();
     for j in 0..24 {
@@ -151,10 +124,7 @@ fn depth_file_matches_the_closed_form_on_a_flat_terrain() {
             let sy = (1.0 - 2.0 * (j as f64 + 0.5) / 24.0) * t;
             let want = 100.0 * (1.0 + sx * sx + sy * sy).sqrt();
             let got = d.sample(i, j) as f64;
-            assert!(
-                (got - want).abs() <= 1e-5 * want,
-                "pixel ({i},{j}): {got} vs {want}"
-            );
+            assert!((got - want).abs() <= 1e-5 * want, "pixel ({i},{j}): {got} vs {want}");
         }
     }
 }
@@ -165,15 +135,7 @@ fn renders_are_identical_whatever_the_thread_count() {
         let png = scratch(name);
         let out = Command::new(env!("CARGO_BIN_EXE_relief"))
             .env("RAYON_NUM_THREADS", threads)
-            .args([
-                "render",
-                "--fbm-size",
-                "96",
-                "--size",
-                "48x32",
-                "-o",
-                png.to_str().unwrap(),
-            ])
+            .args(["render", "--fbm-size", "96", "--size", "48x32", "-o", png.to_str().unwrap()])
             .output()
             .unwrap();
         assert!(out.status.success());
@@ -186,16 +148,8 @@ fn renders_are_identical_whatever_the_thread_count() {
 fn generate_is_deterministic_and_readable() {
     let (a, b) = (scratch("a.npy"), scratch("b.npy"));
     for p in [&a, &b] {
-        let out = relief(&[
-            "generate",
-            "fbm",
-            "--size",
-            "33",
-            "--seed",
-            "5",
-            "-o",
-            p.to_str().unwrap(),
-        ]);
+        let out =
+            relief(&["generate", "fbm", "--size", "33", "--seed", "5", "-o", p.to_str().unwrap()]);
         assert!(out.status.success());
     }
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
@@ -207,35 +161,19 @@ fn generate_is_deterministic_and_readable() {
 #[test]
 fn bad_input_is_refused_with_exit_code_2_and_no_output() {
     let png = scratch("never.png");
-    let missing = relief(&[
-        "render",
-        "/nonexistent/relief.npy",
-        "-o",
-        png.to_str().unwrap(),
-    ]);
+    let missing = relief(&["render", "/nonexistent/relief.npy", "-o", png.to_str().unwrap()]);
     assert_refused(&missing, "/nonexistent/relief.npy");
     let truncated = scratch("truncated.npy");
     std::fs::write(&truncated, b"\x93NUMPY\x01\x00\x10\x00{'descr'").unwrap();
     assert_refused(
-        &relief(&[
-            "render",
-            truncated.to_str().unwrap(),
-            "-o",
-            png.to_str().unwrap(),
-        ]),
+        &relief(&["render", truncated.to_str().unwrap(), "-o", png.to_str().unwrap()]),
         "truncated.npy",
     );
     assert!(!png.exists(), "a refused render must not leave an output");
 
     assert_refused(&relief(&["render", "--size", "0x10"]), "--size");
-    assert_refused(
-        &relief(&["render", "--eye", "1,2,3", "--target", "1,2,3"]),
-        "camera",
-    );
-    assert_refused(
-        &relief(&["render", "--fov", "190", "--fbm-size", "16"]),
-        "field of view",
-    );
+    assert_refused(&relief(&["render", "--eye", "1,2,3", "--target", "1,2,3"]), "camera");
+    assert_refused(&relief(&["render", "--fov", "190", "--fbm-size", "16"]), "field of view");
     assert_refused(&relief(&["render", "--spacing", "0"]), "spacing");
     assert_refused(&relief(&["render", "--surface", "spheres"]), "spheres");
     assert_refused(
@@ -243,19 +181,10 @@ fn bad_input_is_refused_with_exit_code_2_and_no_output() {
         "does not exist",
     );
     assert_refused(
-        &relief(&[
-            "render",
-            "--fbm-size",
-            "16",
-            "-o",
-            std::env::temp_dir().to_str().unwrap(),
-        ]),
+        &relief(&["render", "--fbm-size", "16", "-o", std::env::temp_dir().to_str().unwrap()]),
         "directory",
     );
-    assert_refused(
-        &relief(&["info", std::env::temp_dir().to_str().unwrap()]),
-        "",
-    );
+    assert_refused(&relief(&["info", std::env::temp_dir().to_str().unwrap()]), "");
 }
 
 #[test]
@@ -267,10 +196,7 @@ fn georeferenced_origin_is_kept_in_world_space() {
         10,
         10,
         samples,
-        GridGeometry {
-            origin: DVec2::ZERO,
-            ..GridGeometry::unit()
-        },
+        GridGeometry { origin: DVec2::ZERO, ..GridGeometry::unit() },
     )
     .unwrap();
     relief_io::write_height_field_npy(&input, &field).unwrap();
@@ -298,10 +224,6 @@ fn georeferenced_origin_is_kept_in_world_space() {
         "--depth",
         depth.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(read_npy(&depth).sample(0, 0), 44.0);
 }

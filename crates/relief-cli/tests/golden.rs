@@ -21,24 +21,11 @@ fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
 fn default_pipeline_matches_the_golden_image() {
     let out_path = std::env::temp_dir().join(format!("relief-golden-{}.png", std::process::id()));
     let out = Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args([
-            "render",
-            "--fbm-size",
-            "64",
-            "--seed",
-            "7",
-            "--size",
-            "96x64",
-            "-o",
-        ])
+        .args(["render", "--fbm-size", "64", "--seed", "7", "--size", "96x64", "-o"])
         .arg(&out_path)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join(GOLDEN);
     if std::env::var_os("RELIEF_BLESS").is_some() {
         std::fs::copy(&out_path, &golden).unwrap();
@@ -48,11 +35,7 @@ fn default_pipeline_matches_the_golden_image() {
     let (w, h, got) = decode(&out_path);
     let (gw, gh, want) = decode(&golden);
     assert_eq!((w, h), (gw, gh));
-    let diffs: Vec<u32> = got
-        .iter()
-        .zip(&want)
-        .map(|(a, b)| a.abs_diff(*b) as u32)
-        .collect();
+    let diffs: Vec<u32> = got.iter().zip(&want).map(|(a, b)| a.abs_diff(*b) as u32).collect();
     let mean = diffs.iter().sum::<u32>() as f64 / diffs.len() as f64;
     let max = diffs.iter().copied().max().unwrap_or(0);
     assert!(

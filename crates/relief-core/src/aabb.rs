@@ -78,11 +78,7 @@ impl Aabb {
             }
             t_exit = t_exit.min(tb);
         }
-        (t_enter <= t_exit).then_some(Clip {
-            t_enter,
-            t_exit,
-            face,
-        })
+        (t_enter <= t_exit).then_some(Clip { t_enter, t_exit, face })
     }
 }
 

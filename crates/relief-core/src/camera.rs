@@ -38,9 +38,7 @@ impl Camera {
             return bad("eye, target and up must be finite".into());
         }
         if !(fov_deg.is_finite() && fov_deg > 0.0 && fov_deg < 180.0) {
-            return bad(format!(
-                "field of view {fov_deg} must be between 0 and 180 degrees"
-            ));
+            return bad(format!("field of view {fov_deg} must be between 0 and 180 degrees"));
         }
         if width == 0 || height == 0 {
             return bad(format!("image size {width}x{height} has no pixels"));
@@ -57,18 +55,7 @@ impl Camera {
         let right = side.normalize();
         let true_up = right.cross(forward);
         let tan_half = (fov_deg.to_radians() / 2.0).tan();
-        Ok(Camera {
-            eye,
-            target,
-            up,
-            fov_deg,
-            width,
-            height,
-            forward,
-            right,
-            true_up,
-            tan_half,
-        })
+        Ok(Camera { eye, target, up, fov_deg, width, height, forward, right, true_up, tan_half })
     }
 
     /// A three-quarter view from the south-west at 30 degrees elevation that fits `bounds`
@@ -90,28 +77,12 @@ impl Camera {
     ) -> Result<Self, CoreError> {
         let (az, el) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
         let towards_eye = DVec3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin());
-        let up = if el.cos().abs() < 1e-6 {
-            DVec3::Y
-        } else {
-            DVec3::Z
-        };
+        let up = if el.cos().abs() < 1e-6 { DVec3::Y } else { DVec3::Z };
         let corners: [DVec3; 8] = std::array::from_fn(|k| {
             DVec3::new(
-                if k & 1 == 0 {
-                    bounds.min.x
-                } else {
-                    bounds.max.x
-                },
-                if k & 2 == 0 {
-                    bounds.min.y
-                } else {
-                    bounds.max.y
-                },
-                if k & 4 == 0 {
-                    bounds.min.z
-                } else {
-                    bounds.max.z
-                },
+                if k & 1 == 0 { bounds.min.x } else { bounds.max.x },
+                if k & 2 == 0 { bounds.min.y } else { bounds.max.y },
+                if k & 4 == 0 { bounds.min.z } else { bounds.max.z },
             )
         });
         // Orientation is fixed by the direction; find the distance at which every corner fits,
@@ -142,11 +113,7 @@ impl Camera {
             for corner in corners {
                 let v = corner - camera.eye;
                 let depth = v.dot(camera.forward);
-                let p = DVec3::new(
-                    v.dot(camera.right) / depth,
-                    v.dot(camera.true_up) / depth,
-                    0.0,
-                );
+                let p = DVec3::new(v.dot(camera.right) / depth, v.dot(camera.true_up) / depth, 0.0);
                 lo = lo.min(p);
                 hi = hi.max(p);
             }

@@ -23,12 +23,7 @@ pub struct GridGeometry {
 impl GridGeometry {
     /// Spacing 1, scale 1, origin at zero.
     pub fn unit() -> Self {
-        GridGeometry {
-            dx: 1.0,
-            dy: 1.0,
-            z_scale: 1.0,
-            origin: DVec2::ZERO,
-        }
+        GridGeometry { dx: 1.0, dy: 1.0, z_scale: 1.0, origin: DVec2::ZERO }
     }
 
     /// Checks that every value is finite and spacings and scale are positive.
@@ -83,12 +78,15 @@ impl GridGeometry {
 
 /// A rectangular grid of finite elevation samples, row 0 southernmost, with its geometry.
 ///
-/// Samples are stored as `f32`, row-major (`index = col + row * width`).
+/// Samples are stored as `f32`, row-major (`index = col + row * width`). A field may have
+/// holes (voids of the source data kept as empty texels, see [`HeightField::with_holes`]):
+/// no surface stands above or around them, and their stored value is the lowest valid sample.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeightField {
     width: usize,
     height: usize,
     samples: Vec<f32>,
+    holes: Option<Vec<bool>>,
     geometry: GridGeometry,
     min: f32,
     max: f32,
@@ -104,9 +102,7 @@ impl HeightField {
         geometry: GridGeometry,
     ) -> Result<Self, CoreError> {
         if width == 0 || height == 0 {
-            return Err(CoreError::Grid(format!(
-                "{width} x {height} has no samples"
-            )));
+            return Err(CoreError::Grid(format!("{width} x {height} has no samples")));
         }
         if width.checked_mul(height) != Some(samples.len()) {
             return Err(CoreError::Grid(format!(
@@ -128,14 +124,49 @@ impl HeightField {
             min = min.min(v);
             max = max.max(v);
         }
-        Ok(HeightField {
-            width,
-            height,
-            samples,
-            geometry,
-            min,
-            max,
-        })
+        Ok(HeightField { width, height, samples, holes: None, geometry, min, max })
+    }
+
+    /// The same field with the texels flagged in `holes` (row-major, one flag per sample) kept
+    /// empty. The value range then covers the other samples only. Fails when the mask's length
+    /// does not match or when every sample is a hole.
+    pub fn with_holes(mut self, holes: Vec<bool>) -> Result<Self, CoreError> {
+        if holes.len() != self.samples.len() {
+            return Err(CoreError::Grid(format!(
+                "hole mask has {} flags for {} samples",
+                holes.len(),
+                self.samples.len()
+            )));
+        }
+        let valid = || self.samples.iter().zip(&holes).filter(|(_, &h)| !h).map(|(&v, _)| v);
+        let min = valid().fold(f32::INFINITY, f32::min);
+        let max = valid().fold(f32::NEG_INFINITY, f32::max);
+        if min > max {
+            return Err(CoreError::Grid("every sample is a hole".into()));
+        }
+        for (v, _) in self.samples.iter_mut().zip(&holes).filter(|(_, &h)| h) {
+            *v = min;
+        }
+        self.holes = holes.contains(&true).then_some(holes);
+        self.min = min;
+        self.max = max;
+        Ok(self)
+    }
+
+    /// Whether texel (col, row) is a hole. Panics if out of range.
+    #[inline]
+    pub fn is_hole(&self, col: usize, row: usize) -> bool {
+        self.holes.as_ref().is_some_and(|h| h[col + row * self.width])
+    }
+
+    /// The hole flags, row-major, or `None` when the field has no holes.
+    pub fn holes(&self) -> Option<&[bool]> {
+        self.holes.as_deref()
+    }
+
+    /// Number of holes.
+    pub fn hole_count(&self) -> usize {
+        self.holes.as_ref().map_or(0, |h| h.iter().filter(|&&x| x).count())
     }
 
     /// Number of columns.
@@ -177,15 +208,19 @@ impl HeightField {
         let w = self.width;
         let rows: Vec<&[f32]> = self.samples.chunks_exact(w).rev().collect();
         self.samples = rows.concat();
+        if let Some(holes) = &self.holes {
+            let rows: Vec<&[bool]> = holes.chunks_exact(w).rev().collect();
+            self.holes = Some(rows.concat());
+        }
         self
     }
 
-    /// Smallest sample value.
+    /// Smallest sample value (holes aside).
     pub fn min_sample(&self) -> f32 {
         self.min
     }
 
-    /// Largest sample value.
+    /// Largest sample value (holes aside).
     pub fn max_sample(&self) -> f32 {
         self.max
     }
@@ -200,21 +235,14 @@ impl HeightField {
         };
         Aabb::new(
             DVec3::new(inset, inset, self.min as f64),
-            DVec3::new(
-                self.width as f64 - inset,
-                self.height as f64 - inset,
-                self.max as f64,
-            ),
+            DVec3::new(self.width as f64 - inset, self.height as f64 - inset, self.max as f64),
         )
     }
 
     /// The solid's bounds in world coordinates for a surface.
     pub fn world_bounds(&self, surface: Surface) -> Aabb {
         let b = self.grid_bounds(surface);
-        Aabb::new(
-            self.geometry.point_to_world(b.min),
-            self.geometry.point_to_world(b.max),
-        )
+        Aabb::new(self.geometry.point_to_world(b.min), self.geometry.point_to_world(b.max))
     }
 }
 
@@ -228,34 +256,36 @@ mod tests {
         assert!(HeightField::new(0, 3, vec![], g).is_err());
         assert!(HeightField::new(2, 2, vec![0.0; 3], g).is_err());
         let nan = HeightField::new(2, 1, vec![0.0, f32::NAN], g).unwrap_err();
-        assert!(matches!(
-            nan,
-            CoreError::NonFiniteSample { col: 1, row: 0, .. }
-        ));
+        assert!(matches!(nan, CoreError::NonFiniteSample { col: 1, row: 0, .. }));
         let bad = GridGeometry { dx: 0.0, ..g };
         assert!(HeightField::new(1, 1, vec![0.0], bad).is_err());
     }
 
     #[test]
+    fn holes_are_left_out_of_the_range() {
+        let f = HeightField::new(2, 2, vec![5.0, 1.0, 2.0, 9.0], GridGeometry::unit()).unwrap();
+        let f = f.with_holes(vec![false, true, false, false]).unwrap();
+        assert_eq!((f.min_sample(), f.max_sample(), f.hole_count()), (2.0, 9.0, 1));
+        assert!(f.is_hole(1, 0) && !f.is_hole(0, 1));
+        assert_eq!(f.sample(1, 0), 2.0);
+        let flipped = f.clone().flip_rows();
+        assert!(flipped.is_hole(1, 1) && !flipped.is_hole(1, 0));
+        let all = HeightField::new(1, 1, vec![0.0], GridGeometry::unit()).unwrap();
+        assert!(all.with_holes(vec![true]).is_err());
+        let none = HeightField::new(1, 1, vec![0.0], GridGeometry::unit()).unwrap();
+        assert!(none.with_holes(vec![false]).unwrap().holes().is_none());
+    }
+
+    #[test]
     fn flipping_rows_reverses_them() {
-        let f = HeightField::new(
-            2,
-            3,
-            vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0],
-            GridGeometry::unit(),
-        );
+        let f = HeightField::new(2, 3, vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0], GridGeometry::unit());
         let f = f.unwrap().flip_rows();
         assert_eq!(f.samples(), &[4.0, 5.0, 2.0, 3.0, 0.0, 1.0]);
     }
 
     #[test]
     fn grid_and_world_spaces_agree() {
-        let g = GridGeometry {
-            dx: 2.0,
-            dy: 3.0,
-            z_scale: 0.5,
-            origin: DVec2::new(10.0, 20.0),
-        };
+        let g = GridGeometry { dx: 2.0, dy: 3.0, z_scale: 0.5, origin: DVec2::new(10.0, 20.0) };
         let ray = Ray::new(DVec3::new(12.0, 26.0, 4.0), DVec3::new(1.0, 1.0, 1.0));
         let grid = g.ray_to_grid(&ray);
         assert_eq!(grid.origin, DVec3::new(1.0, 2.0, 8.0));

@@ -20,21 +20,12 @@ pub struct Ray {
 impl Ray {
     /// A ray over `[0, +inf)`.
     pub fn new(origin: DVec3, dir: DVec3) -> Self {
-        Ray {
-            origin,
-            dir,
-            t_min: 0.0,
-            t_max: f64::INFINITY,
-        }
+        Ray { origin, dir, t_min: 0.0, t_max: f64::INFINITY }
     }
 
     /// The same ray restricted to `[t_min, t_max]`.
     pub fn with_range(self, t_min: f64, t_max: f64) -> Self {
-        Ray {
-            t_min,
-            t_max,
-            ..self
-        }
+        Ray { t_min, t_max, ..self }
     }
 
     /// The point at parameter `t`.

@@ -47,9 +47,7 @@ impl FromStr for Surface {
         match s {
             "boxes" => Ok(Surface::Boxes),
             "triangles" => Ok(Surface::Triangles),
-            other => Err(format!(
-                "unknown surface '{other}' (expected boxes or triangles)"
-            )),
+            other => Err(format!("unknown surface '{other}' (expected boxes or triangles)")),
         }
     }
 }

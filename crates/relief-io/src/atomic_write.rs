@@ -49,10 +49,7 @@ fn fill(
 /// A fresh hidden name beside `path`: `.<name>.<pid>.<n>.tmp`.
 fn temp_path(path: &Path) -> Result<PathBuf, IoError> {
     let name = path.file_name().ok_or_else(|| {
-        IoError::io(
-            path,
-            Error::new(ErrorKind::InvalidInput, "path does not name a file"),
-        )
+        IoError::io(path, Error::new(ErrorKind::InvalidInput, "path does not name a file"))
     })?;
     let n = NEXT_TEMP.fetch_add(1, Ordering::Relaxed);
     let mut temp_name = std::ffi::OsString::from(".");
@@ -70,10 +67,8 @@ mod tests {
     fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
         let dir = TestDir::new("atomic");
         let path = dir.path().join("out.bin");
-        write_atomically(&path, |w| {
-            w.write_all(b"old").map_err(|e| IoError::io(&path, e))
-        })
-        .unwrap();
+        write_atomically(&path, |w| w.write_all(b"old").map_err(|e| IoError::io(&path, e)))
+            .unwrap();
         let err = write_atomically(&path, |w| {
             w.write_all(b"half").map_err(|e| IoError::io(&path, e))?;
             Err(IoError::invalid_data(&path, "stop"))

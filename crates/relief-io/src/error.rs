@@ -46,33 +46,21 @@ pub enum IoError {
 impl IoError {
     /// An [`IoError::Io`] for `path`.
     pub(crate) fn io(path: &std::path::Path, source: std::io::Error) -> Self {
-        IoError::Io {
-            path: path.to_path_buf(),
-            source,
-        }
+        IoError::Io { path: path.to_path_buf(), source }
     }
 
     /// An [`IoError::Format`] for `path`.
     pub(crate) fn format(path: &std::path::Path, reason: impl Into<String>) -> Self {
-        IoError::Format {
-            path: path.to_path_buf(),
-            reason: reason.into(),
-        }
+        IoError::Format { path: path.to_path_buf(), reason: reason.into() }
     }
 
     /// An [`IoError::Unsupported`] for `path`.
     pub(crate) fn unsupported(path: &std::path::Path, what: impl Into<String>) -> Self {
-        IoError::Unsupported {
-            path: path.to_path_buf(),
-            what: what.into(),
-        }
+        IoError::Unsupported { path: path.to_path_buf(), what: what.into() }
     }
 
     /// An [`IoError::InvalidData`] for `path`.
     pub(crate) fn invalid_data(path: &std::path::Path, reason: impl Into<String>) -> Self {
-        IoError::InvalidData {
-            path: path.to_path_buf(),
-            reason: reason.into(),
-        }
+        IoError::InvalidData { path: path.to_path_buf(), reason: reason.into() }
     }
 }

@@ -15,10 +15,7 @@ pub(crate) fn open_input(path: &Path) -> Result<(File, u64), IoError> {
         return Err(IoError::io(path, Error::from(ErrorKind::IsADirectory)));
     }
     if !meta.is_file() {
-        return Err(IoError::io(
-            path,
-            Error::new(ErrorKind::InvalidInput, "not a regular file"),
-        ));
+        return Err(IoError::io(path, Error::new(ErrorKind::InvalidInput, "not a regular file")));
     }
     Ok((file, meta.len()))
 }

@@ -130,12 +130,7 @@ pub(crate) fn read_header(
         Problem::Malformed(reason) => IoError::format(path, format!("header: {reason}")),
         Problem::Unsupported(what) => IoError::unsupported(path, what),
     })?;
-    Ok(NpyHeader {
-        dtype,
-        fortran_order,
-        shape,
-        data_offset: preamble_len + header_len,
-    })
+    Ok(NpyHeader { dtype, fortran_order, shape, data_offset: preamble_len + header_len })
 }
 
 /// The version 1.0 preamble and header of a little-endian f32, C-order array of `shape`,
@@ -148,10 +143,7 @@ pub(crate) fn f32_header(shape: &[usize]) -> Option<Vec<u8>> {
     };
     let mut dict = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': {tuple}, }}");
     let unpadded = MAGIC.len() + 4 + dict.len() + 1;
-    dict.extend(std::iter::repeat_n(
-        ' ',
-        unpadded.next_multiple_of(64) - unpadded,
-    ));
+    dict.extend(std::iter::repeat_n(' ', unpadded.next_multiple_of(64) - unpadded));
     dict.push('\n');
     let len = u16::try_from(dict.len()).ok()?;
     let mut out = Vec::with_capacity(10 + dict.len());
@@ -192,10 +184,7 @@ fn parse_dict(text: &[u8]) -> Result<(Dtype, bool, Vec<u64>), Problem> {
     }
     cur.skip_space();
     if cur.pos != text.len() {
-        return malformed(format!(
-            "unexpected text after the dictionary at byte {}",
-            cur.pos
-        ));
+        return malformed(format!("unexpected text after the dictionary at byte {}", cur.pos));
     }
     let missing = |key: &str| Problem::Malformed(format!("key '{key}' missing"));
     Ok((
@@ -242,10 +231,7 @@ impl Cursor<'_> {
                 self.pos,
                 b.escape_ascii()
             )),
-            None => malformed(format!(
-                "expected '{}', found the end of the header",
-                byte as char
-            )),
+            None => malformed(format!("expected '{}', found the end of the header", byte as char)),
         }
     }
 
@@ -288,9 +274,7 @@ impl Cursor<'_> {
 
     fn descr(&mut self) -> Result<Dtype, Problem> {
         if self.peek() == Some(b'[') {
-            return Err(Problem::Unsupported(
-                "structured dtype (a list of fields)".into(),
-            ));
+            return Err(Problem::Unsupported("structured dtype (a list of fields)".into()));
         }
         let descr = self.string()?;
         parse_descr(&descr).ok_or(Problem::Unsupported(format!("dtype '{descr}'")))
@@ -377,13 +361,7 @@ mod tests {
     fn parses_numpy_written_headers() {
         let dict = "{'descr': '>i2', 'fortran_order': True, 'shape': (3, 4), }   \n";
         let h = header(dict).unwrap();
-        assert_eq!(
-            h.dtype,
-            Dtype {
-                kind: ScalarKind::I16,
-                big_endian: true
-            }
-        );
+        assert_eq!(h.dtype, Dtype { kind: ScalarKind::I16, big_endian: true });
         assert!(h.fortran_order);
         assert_eq!(h.shape, vec![3, 4]);
         assert_eq!(h.data_offset, 10 + dict.len() as u64);
@@ -396,31 +374,17 @@ mod tests {
         let format = |d: &str| matches!(header(d), Err(IoError::Format { .. }));
         let unsupported = |d: &str| matches!(header(d), Err(IoError::Unsupported { .. }));
         assert!(format("{'descr': '<f4', 'fortran_order': False}"));
-        assert!(format(
-            "{'descr': '<f4', 'fortran_order': False, 'shape': (1, 2)"
-        ));
-        assert!(format(
-            "{'descr': '<f4', 'fortran_order': 0, 'shape': (1, 2)}"
-        ));
-        assert!(format(
-            "{'descr': '<f4', 'descr': '<f4', 'fortran_order': False, 'shape': ()}"
-        ));
+        assert!(format("{'descr': '<f4', 'fortran_order': False, 'shape': (1, 2)"));
+        assert!(format("{'descr': '<f4', 'fortran_order': 0, 'shape': (1, 2)}"));
+        assert!(format("{'descr': '<f4', 'descr': '<f4', 'fortran_order': False, 'shape': ()}"));
         assert!(format(
             "{'descr': '<f4', 'fortran_order': False, 'shape': (99999999999999999999,)}"
         ));
-        assert!(format(
-            "{'descr': '<f4', 'fortran_order': False, 'shape': ((1,),)}"
-        ));
-        assert!(format(
-            "{'descr': '<f4', 'fortran_order': False, 'shape': (1,)} x"
-        ));
+        assert!(format("{'descr': '<f4', 'fortran_order': False, 'shape': ((1,),)}"));
+        assert!(format("{'descr': '<f4', 'fortran_order': False, 'shape': (1,)} x"));
         assert!(format("{'descr': '<f4"));
-        assert!(unsupported(
-            "{'descr': '<c8', 'fortran_order': False, 'shape': (1, 2)}"
-        ));
-        assert!(unsupported(
-            "{'descr': [('a', '<f4')], 'fortran_order': False, 'shape': (1,)}"
-        ));
+        assert!(unsupported("{'descr': '<c8', 'fortran_order': False, 'shape': (1, 2)}"));
+        assert!(unsupported("{'descr': [('a', '<f4')], 'fortran_order': False, 'shape': (1,)}"));
     }
 
     #[test]
@@ -439,13 +403,7 @@ mod tests {
             assert_eq!(bytes.last(), Some(&b'\n'));
             let h = read_header(Path::new("t.npy"), &mut &bytes[..], bytes.len() as u64).unwrap();
             assert_eq!(h.shape, shape.iter().map(|&d| d as u64).collect::<Vec<_>>());
-            assert_eq!(
-                h.dtype,
-                Dtype {
-                    kind: ScalarKind::F32,
-                    big_endian: false
-                }
-            );
+            assert_eq!(h.dtype, Dtype { kind: ScalarKind::F32, big_endian: false });
             assert_eq!(h.data_offset, bytes.len() as u64);
         }
     }

@@ -29,24 +29,16 @@ pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
         ref shape => {
             return Err(IoError::unsupported(
                 path,
-                format!(
-                    "{}-dimensional array of shape {shape:?}; need 2 dimensions",
-                    shape.len()
-                ),
+                format!("{}-dimensional array of shape {shape:?}; need 2 dimensions", shape.len()),
             ))
         }
     };
     if rows == 0 || cols == 0 {
-        return Err(IoError::format(
-            path,
-            format!("array of shape ({rows}, {cols}) is empty"),
-        ));
+        return Err(IoError::format(path, format!("array of shape ({rows}, {cols}) is empty")));
     }
     let size = header.dtype.size();
     let data_len = file_len - header.data_offset;
-    let needed = rows
-        .checked_mul(cols)
-        .and_then(|n| n.checked_mul(size as u64));
+    let needed = rows.checked_mul(cols).and_then(|n| n.checked_mul(size as u64));
     if needed != Some(data_len) {
         return Err(IoError::format(
             path,
@@ -57,16 +49,10 @@ pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
         ));
     }
     let (Ok(rows), Ok(cols)) = (usize::try_from(rows), usize::try_from(cols)) else {
-        return Err(IoError::unsupported(
-            path,
-            format!("shape ({rows}, {cols}) on this machine"),
-        ));
+        return Err(IoError::unsupported(path, format!("shape ({rows}, {cols}) on this machine")));
     };
     let Some(count) = rows.checked_mul(cols) else {
-        return Err(IoError::unsupported(
-            path,
-            format!("shape ({rows}, {cols}) on this machine"),
-        ));
+        return Err(IoError::unsupported(path, format!("shape ({rows}, {cols}) on this machine")));
     };
     let mut samples = decode(path, &mut reader, header.dtype, count)?;
     if header.fortran_order {
@@ -75,12 +61,7 @@ pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
     if let Some(i) = samples.iter().position(|v| !v.is_finite()) {
         return Err(IoError::invalid_data(
             path,
-            format!(
-                "sample at column {}, row {} is {} as f32",
-                i % cols,
-                i / cols,
-                samples[i]
-            ),
+            format!("sample at column {}, row {} is {} as f32", i % cols, i / cols, samples[i]),
         ));
     }
     HeightField::new(cols, rows, samples, GridGeometry::unit())
@@ -209,11 +190,7 @@ mod tests {
             // values are row-major for shape (2, 3): row r = grid row r.
             let expected: Vec<f32> = values.iter().map(|&v| v as f32).collect();
             let column_major: Vec<f64> = (0..6).map(|k| values[(k % 2) * 3 + k / 2]).collect();
-            for (order, big) in [
-                ("<", false),
-                (">", true),
-                ("|", cfg!(target_endian = "big")),
-            ] {
+            for (order, big) in [("<", false), (">", true), ("|", cfg!(target_endian = "big"))] {
                 if order == "|" && !code.ends_with('1') {
                     continue;
                 }
@@ -239,39 +216,21 @@ mod tests {
         let is_unsupported =
             |r: Result<HeightField, IoError>| matches!(r, Err(IoError::Unsupported { .. }));
         // Truncated data, and too much data for the shape.
-        assert!(is_format(read_bytes(
-            &dir,
-            &npy("<f4", false, "(2, 3)", &six[..20])
-        )));
-        assert!(is_format(read_bytes(
-            &dir,
-            &npy("<f4", false, "(2, 2)", &six)
-        )));
+        assert!(is_format(read_bytes(&dir, &npy("<f4", false, "(2, 3)", &six[..20]))));
+        assert!(is_format(read_bytes(&dir, &npy("<f4", false, "(2, 2)", &six))));
         // Truncated preamble, wrong magic, empty array.
         assert!(is_format(read_bytes(&dir, b"\x93NUM")));
         let mut wrong_magic = npy("<f4", false, "(2, 3)", &six);
         wrong_magic[1] = b'X';
         assert!(is_format(read_bytes(&dir, &wrong_magic)));
-        assert!(is_format(read_bytes(
-            &dir,
-            &npy("<f4", false, "(0, 3)", &[])
-        )));
+        assert!(is_format(read_bytes(&dir, &npy("<f4", false, "(0, 3)", &[]))));
         // Shapes whose byte count overflows.
         let huge = "(18446744073709551615, 18446744073709551615)";
         assert!(is_format(read_bytes(&dir, &npy("<f4", false, huge, &six))));
         // Wrong number of dimensions, unsupported dtype.
-        assert!(is_unsupported(read_bytes(
-            &dir,
-            &npy("<f4", false, "(1, 2, 3)", &six)
-        )));
-        assert!(is_unsupported(read_bytes(
-            &dir,
-            &npy("<f4", false, "(6,)", &six)
-        )));
-        assert!(is_unsupported(read_bytes(
-            &dir,
-            &npy("<f2", false, "(2, 3)", &six[..12])
-        )));
+        assert!(is_unsupported(read_bytes(&dir, &npy("<f4", false, "(1, 2, 3)", &six))));
+        assert!(is_unsupported(read_bytes(&dir, &npy("<f4", false, "(6,)", &six))));
+        assert!(is_unsupported(read_bytes(&dir, &npy("<f2", false, "(2, 3)", &six[..12]))));
     }
 
     #[test]
@@ -285,10 +244,7 @@ mod tests {
         assert!(matches!(err, IoError::InvalidData { .. }), "{err}");
         assert!(err.to_string().contains("column 1, row 1"), "{err}");
         // A finite f64 beyond f32's range is refused too.
-        let data: Vec<u8> = [0.0f64, 1e300]
-            .iter()
-            .flat_map(|x| x.to_le_bytes())
-            .collect();
+        let data: Vec<u8> = [0.0f64, 1e300].iter().flat_map(|x| x.to_le_bytes()).collect();
         let err = read_bytes(&dir, &npy("<f8", false, "(1, 2)", &data)).unwrap_err();
         assert!(err.to_string().contains("column 1, row 0"), "{err}");
     }
@@ -316,10 +272,7 @@ mod tests {
         let good = npy(">i2", true, "(2, 3)", &data);
         assert!(read_bytes(&dir, &good).is_ok());
         for len in 0..good.len() {
-            assert!(
-                read_bytes(&dir, &good[..len]).is_err(),
-                "prefix of {len} bytes accepted"
-            );
+            assert!(read_bytes(&dir, &good[..len]).is_err(), "prefix of {len} bytes accepted");
         }
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         for _ in 0..2000 {

@@ -17,17 +17,11 @@ pub fn write_npy_f32(path: &Path, shape: &[usize], data: &[f32]) -> Result<(), I
     if count != Some(data.len()) {
         return Err(IoError::invalid_data(
             path,
-            format!(
-                "shape {shape:?} does not hold the {} values given",
-                data.len()
-            ),
+            format!("shape {shape:?} does not hold the {} values given", data.len()),
         ));
     }
     let header = f32_header(shape).ok_or_else(|| {
-        IoError::invalid_data(
-            path,
-            format!("shape {shape:?} is too long for a .npy header"),
-        )
+        IoError::invalid_data(path, format!("shape {shape:?} is too long for a .npy header"))
     })?;
     write_atomically(path, |w| {
         w.write_all(&header).map_err(|e| IoError::io(path, e))?;

@@ -61,36 +61,22 @@ pub fn read_png_rgb(path: &Path) -> Result<RgbImage, IoError> {
         ColorType::Rgb => 3,
         ColorType::Rgba => 4,
         ColorType::Indexed => {
-            return Err(IoError::unsupported(
-                path,
-                "palette image that did not expand to RGB",
-            ))
+            return Err(IoError::unsupported(path, "palette image that did not expand to RGB"))
         }
     };
     let line = frame.line_size;
     let mut pixels = Vec::with_capacity(width as usize * height as usize);
     for row in buf.chunks_exact(line.max(1)).take(height as usize) {
-        pixels.extend(
-            row.chunks_exact(channels)
-                .take(width as usize)
-                .map(|p| match *p {
-                    [g] | [g, _] => [g, g, g],
-                    [r, g, b] | [r, g, b, _] => [r, g, b],
-                    _ => [0, 0, 0],
-                }),
-        );
+        pixels.extend(row.chunks_exact(channels).take(width as usize).map(|p| match *p {
+            [g] | [g, _] => [g, g, g],
+            [r, g, b] | [r, g, b, _] => [r, g, b],
+            _ => [0, 0, 0],
+        }));
     }
     if pixels.len() != width as usize * height as usize {
-        return Err(IoError::format(
-            path,
-            "decoded frame is smaller than the image",
-        ));
+        return Err(IoError::format(path, "decoded frame is smaller than the image"));
     }
-    Ok(RgbImage {
-        width,
-        height,
-        pixels,
-    })
+    Ok(RgbImage { width, height, pixels })
 }
 
 #[cfg(test)]
@@ -138,50 +124,20 @@ mod tests {
         let dir = TestDir::new("png-kinds");
         let path = dir.path().join("kind.png");
         let expected = vec![[10, 10, 10], [200, 200, 200]];
-        encode(
-            &path,
-            (2, 1),
-            ColorType::Grayscale,
-            BitDepth::Eight,
-            None,
-            &[10, 200],
-        );
+        encode(&path, (2, 1), ColorType::Grayscale, BitDepth::Eight, None, &[10, 200]);
         assert_eq!(read_png_rgb(&path).unwrap().pixels, expected);
         let ga = [10, 255, 200, 0];
-        encode(
-            &path,
-            (2, 1),
-            ColorType::GrayscaleAlpha,
-            BitDepth::Eight,
-            None,
-            &ga,
-        );
+        encode(&path, (2, 1), ColorType::GrayscaleAlpha, BitDepth::Eight, None, &ga);
         assert_eq!(read_png_rgb(&path).unwrap().pixels, expected);
         let rgba = [1, 2, 3, 255, 4, 5, 6, 0];
         encode(&path, (2, 1), ColorType::Rgba, BitDepth::Eight, None, &rgba);
-        assert_eq!(
-            read_png_rgb(&path).unwrap().pixels,
-            vec![[1, 2, 3], [4, 5, 6]]
-        );
+        assert_eq!(read_png_rgb(&path).unwrap().pixels, vec![[1, 2, 3], [4, 5, 6]]);
         let palette = Some(vec![9, 8, 7, 1, 2, 3]);
         // Two 1-bit indices, 1 then 0, packed into one byte.
-        encode(
-            &path,
-            (2, 1),
-            ColorType::Indexed,
-            BitDepth::One,
-            palette,
-            &[0b1000_0000],
-        );
-        assert_eq!(
-            read_png_rgb(&path).unwrap().pixels,
-            vec![[1, 2, 3], [9, 8, 7]]
-        );
+        encode(&path, (2, 1), ColorType::Indexed, BitDepth::One, palette, &[0b1000_0000]);
+        assert_eq!(read_png_rgb(&path).unwrap().pixels, vec![[1, 2, 3], [9, 8, 7]]);
         write_png_gray16(&path, 2, 1, &[0x1234, 0xff00]).unwrap();
-        assert_eq!(
-            read_png_rgb(&path).unwrap().pixels,
-            vec![[0x12; 3], [0xff; 3]]
-        );
+        assert_eq!(read_png_rgb(&path).unwrap().pixels, vec![[0x12; 3], [0xff; 3]]);
     }
 
     #[test]
@@ -194,17 +150,11 @@ mod tests {
         for len in [0, 7, 20, good.len() / 2, good.len() - 13] {
             std::fs::write(&path, &good[..len]).unwrap();
             let err = read_png_rgb(&path).unwrap_err();
-            assert!(
-                matches!(err, IoError::Format { .. }),
-                "prefix of {len}: {err}"
-            );
+            assert!(matches!(err, IoError::Format { .. }), "prefix of {len}: {err}");
         }
         std::fs::write(&path, b"not a png at all").unwrap();
         assert!(matches!(read_png_rgb(&path), Err(IoError::Format { .. })));
-        assert!(matches!(
-            read_png_rgb(&dir.path().join("absent.png")),
-            Err(IoError::Io { .. })
-        ));
+        assert!(matches!(read_png_rgb(&dir.path().join("absent.png")), Err(IoError::Io { .. })));
         assert!(matches!(read_png_rgb(dir.path()), Err(IoError::Io { .. })));
     }
 
@@ -221,10 +171,7 @@ mod tests {
         std::fs::write(&path, &bytes).unwrap();
         let err = read_png_rgb(&path).unwrap_err();
         assert!(matches!(err, IoError::Format { .. }), "{err}");
-        assert!(
-            err.to_string().contains("16384 x 16384 pixels cannot fit"),
-            "{err}"
-        );
+        assert!(err.to_string().contains("16384 x 16384 pixels cannot fit"), "{err}");
     }
 
     /// The CRC-32 of PNG chunks.
@@ -233,11 +180,7 @@ mod tests {
         for &b in bytes {
             crc ^= u32::from(b);
             for _ in 0..8 {
-                crc = if crc & 1 != 0 {
-                    (crc >> 1) ^ 0xedb8_8320
-                } else {
-                    crc >> 1
-                };
+                crc = if crc & 1 != 0 { (crc >> 1) ^ 0xedb8_8320 } else { crc >> 1 };
             }
         }
         !crc
@@ -249,10 +192,7 @@ mod tests {
         let path = dir.path().join("x.png");
         let err = write_png_rgb8(&path, 2, 2, &[0; 11]).unwrap_err();
         assert!(matches!(err, IoError::InvalidData { .. }), "{err}");
-        assert!(matches!(
-            write_png_gray16(&path, 0, 2, &[]),
-            Err(IoError::InvalidData { .. })
-        ));
+        assert!(matches!(write_png_gray16(&path, 0, 2, &[]), Err(IoError::InvalidData { .. })));
         assert!(!path.exists());
     }
 }

@@ -22,14 +22,7 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
 pub fn write_png_gray16(path: &Path, width: u32, height: u32, gray: &[u16]) -> Result<(), IoError> {
     check_size(path, width, height, 1, gray.len(), "values")?;
     let bytes: Vec<u8> = gray.iter().flat_map(|v| v.to_be_bytes()).collect();
-    write_png(
-        path,
-        width,
-        height,
-        ColorType::Grayscale,
-        BitDepth::Sixteen,
-        &bytes,
-    )
+    write_png(path, width, height, ColorType::Grayscale, BitDepth::Sixteen, &bytes)
 }
 
 /// Checks that the image has pixels and that `len` is `width * height * per_pixel`.

@@ -26,11 +26,7 @@ const ROCK: [u8; 3] = [104, 100, 96];
 /// ~10%. Stops are interpolated in sRGB, which looks even, then converted to linear.
 pub fn hypsometric_colour(t: f64) -> DVec3 {
     let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
-    let k = STOPS
-        .iter()
-        .position(|&(s, _)| s >= t)
-        .unwrap_or(STOPS.len() - 1)
-        .max(1);
+    let k = STOPS.iter().position(|&(s, _)| s >= t).unwrap_or(STOPS.len() - 1).max(1);
     let ((t0, c0), (t1, c1)) = (STOPS[k - 1], STOPS[k]);
     let w = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
     let srgb = srgb8(c0).lerp(srgb8(c1), w);
@@ -51,11 +47,7 @@ pub struct HypsometricRamp {
 impl HypsometricRamp {
     /// The ramp over `[min_z, max_z]` with steep rock on, checked.
     pub fn new(min_z: f64, max_z: f64) -> Result<Self, ShadeError> {
-        let ramp = HypsometricRamp {
-            min_z,
-            max_z,
-            steep_rock: true,
-        };
+        let ramp = HypsometricRamp { min_z, max_z, steep_rock: true };
         ramp.validate()?;
         Ok(ramp)
     }
@@ -66,10 +58,7 @@ impl HypsometricRamp {
         if !(self.min_z.is_finite() && self.max_z.is_finite() && self.min_z <= self.max_z) {
             return Err(ShadeError::parameter(
                 "hypsometric range",
-                format!(
-                    "[{}, {}] is not a finite, ordered range",
-                    self.min_z, self.max_z
-                ),
+                format!("[{}, {}] is not a finite, ordered range", self.min_z, self.max_z),
             ));
         }
         Ok(())
@@ -79,11 +68,7 @@ impl HypsometricRamp {
     /// component `normal_z`.
     pub fn albedo(&self, z: f64, normal_z: f64) -> DVec3 {
         let extent = self.max_z - self.min_z;
-        let t = if extent > 0.0 {
-            (z - self.min_z) / extent
-        } else {
-            0.0
-        };
+        let t = if extent > 0.0 { (z - self.min_z) / extent } else { 0.0 };
         let colour = hypsometric_colour(t);
         if !self.steep_rock {
             return colour;
@@ -121,10 +106,7 @@ mod tests {
         assert!(mid.x > mid.y && mid.y > mid.z, "middle is brown: {mid}");
         let top = hypsometric_colour(0.95);
         assert!(top.min_element() > 0.8, "the top tenth is snow: {top}");
-        assert!(
-            hypsometric_colour(0.85).max_element() < 0.35,
-            "below the snow is rock"
-        );
+        assert!(hypsometric_colour(0.85).max_element() < 0.35, "below the snow is rock");
         assert_eq!(hypsometric_colour(-3.0), low);
         assert_eq!(hypsometric_colour(f64::NAN), low);
         assert_eq!(hypsometric_colour(7.0), hypsometric_colour(1.0));
@@ -144,10 +126,7 @@ mod tests {
         let snow_flat = ramp.albedo(199.0, 1.0);
         let snow_cliff = ramp.albedo(199.0, 0.2);
         assert!(snow_cliff.max_element() < 0.5 * snow_flat.min_element());
-        let smooth = HypsometricRamp {
-            steep_rock: false,
-            ..ramp
-        };
+        let smooth = HypsometricRamp { steep_rock: false, ..ramp };
         assert_eq!(smooth.albedo(199.0, 0.2), snow_flat);
         assert!(HypsometricRamp::new(2.0, 1.0).is_err());
         assert!(HypsometricRamp::new(f64::NAN, 1.0).is_err());

@@ -102,10 +102,7 @@ pub fn shade(
     }
     let mut radiance = Vec::new();
     radiance.try_reserve_exact(gbuffer.len()).map_err(|e| {
-        ShadeError::Limits(format!(
-            "cannot allocate {} shaded pixels: {e}",
-            gbuffer.len()
-        ))
+        ShadeError::Limits(format!("cannot allocate {} shaded pixels: {e}", gbuffer.len()))
     })?;
     radiance.resize(gbuffer.len(), [0.0f32; 3]);
     let pass = ShadingPass {

@@ -24,10 +24,7 @@ pub enum ShadeError {
 impl ShadeError {
     /// A [`ShadeError::Parameter`] for `name`.
     pub(crate) fn parameter(name: &'static str, reason: impl Into<String>) -> Self {
-        ShadeError::Parameter {
-            name,
-            reason: reason.into(),
-        }
+        ShadeError::Parameter { name, reason: reason.into() }
     }
 }
 
@@ -36,10 +33,7 @@ pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<(), ShadeEr
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(ShadeError::parameter(
-            name,
-            format!("{value} is not a finite number >= 0"),
-        ))
+        Err(ShadeError::parameter(name, format!("{value} is not a finite number >= 0")))
     }
 }
 
@@ -48,9 +42,6 @@ pub(crate) fn non_negative_colour(name: &'static str, c: [f32; 3]) -> Result<(),
     if c.iter().all(|v| v.is_finite() && *v >= 0.0) {
         Ok(())
     } else {
-        Err(ShadeError::parameter(
-            name,
-            format!("{c:?} must have finite channels >= 0"),
-        ))
+        Err(ShadeError::parameter(name, format!("{c:?} must have finite channels >= 0")))
     }
 }

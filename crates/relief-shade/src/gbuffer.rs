@@ -171,9 +171,7 @@ impl GBuffer {
 fn filled<T: Copy>(n: usize, value: T) -> Result<Vec<T>, ShadeError> {
     let mut v = Vec::new();
     v.try_reserve_exact(n).map_err(|e| {
-        ShadeError::Limits(format!(
-            "cannot allocate a G-buffer plane of {n} pixels: {e}"
-        ))
+        ShadeError::Limits(format!("cannot allocate a G-buffer plane of {n} pixels: {e}"))
     })?;
     v.resize(n, value);
     Ok(v)

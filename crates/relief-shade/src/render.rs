@@ -106,11 +106,7 @@ impl PixelTracer<'_> {
         stats.record(steps, hit.is_some());
         match hit {
             None => GBufferPixel::MISS,
-            Some(Hit {
-                t,
-                position,
-                normal,
-            }) => GBufferPixel {
+            Some(Hit { t, position, normal }) => GBufferPixel {
                 // The camera's directions are unit, so t is the distance from the eye.
                 distance: t as f32,
                 position: position.as_vec3().to_array(),
@@ -139,20 +135,14 @@ impl UvMap {
         };
         UvMap {
             min: bounds.min,
-            inv_extent: [
-                inv(bounds.min.x, bounds.max.x),
-                inv(bounds.min.y, bounds.max.y),
-            ],
+            inv_extent: [inv(bounds.min.x, bounds.max.x), inv(bounds.min.y, bounds.max.y)],
         }
     }
 
     #[inline]
     fn at(&self, p: DVec3) -> [f32; 2] {
         let coord = |x: f64, lo: f64, inv: Option<f64>| inv.map_or(0.5, |s| (x - lo) * s) as f32;
-        [
-            coord(p.x, self.min.x, self.inv_extent[0]),
-            coord(p.y, self.min.y, self.inv_extent[1]),
-        ]
+        [coord(p.x, self.min.x, self.inv_extent[0]), coord(p.y, self.min.y, self.inv_extent[1])]
     }
 }
 

@@ -23,10 +23,7 @@ pub struct GgxSpecular {
 impl Default for GgxSpecular {
     /// A rough dielectric, as terrain is: roughness 0.7, F0 0.04.
     fn default() -> Self {
-        GgxSpecular {
-            roughness: 0.7,
-            f0: DIELECTRIC_F0,
-        }
+        GgxSpecular { roughness: 0.7, f0: DIELECTRIC_F0 }
     }
 }
 
@@ -41,10 +38,7 @@ impl GgxSpecular {
     pub fn validate(&self) -> Result<(), ShadeError> {
         for (name, v) in [("GGX roughness", self.roughness), ("GGX F0", self.f0)] {
             if !(0.0..=1.0).contains(&v) {
-                return Err(ShadeError::parameter(
-                    name,
-                    format!("{v} is not between 0 and 1"),
-                ));
+                return Err(ShadeError::parameter(name, format!("{v} is not between 0 and 1")));
             }
         }
         Ok(())
@@ -117,10 +111,7 @@ mod tests {
             let l = n * theta.cos() + tangent * theta.sin();
             let got = direct_lighting(rho, n, n, l, e, 1.0, None);
             let want = rho * e * theta.cos() / PI;
-            assert!(
-                ((got - want) / want).abs().max_element() < 1e-12,
-                "θ={theta_deg}: {got}"
-            );
+            assert!(((got - want) / want).abs().max_element() < 1e-12, "θ={theta_deg}: {got}");
         }
         let behind = direct_lighting(rho, n, n, -n, e, 1.0, None);
         assert_eq!(behind, DVec3::ZERO);
@@ -133,10 +124,8 @@ mod tests {
         let a2 = s.roughness.powi(4);
         let at_normal = s.brdf(DVec3::Z, DVec3::Z, DVec3::Z);
         assert!((at_normal - s.f0 / (4.0 * PI * a2)).abs() < 1e-12 * at_normal);
-        let (v, l) = (
-            DVec3::new(0.5, 0.1, 0.8).normalize(),
-            DVec3::new(-0.2, 0.7, 0.4).normalize(),
-        );
+        let (v, l) =
+            (DVec3::new(0.5, 0.1, 0.8).normalize(), DVec3::new(-0.2, 0.7, 0.4).normalize());
         assert!((s.brdf(DVec3::Z, v, l) - s.brdf(DVec3::Z, l, v)).abs() < 1e-12);
         assert_eq!(s.brdf(DVec3::Z, v, -DVec3::Z), 0.0);
     }
@@ -147,11 +136,7 @@ mod tests {
         for roughness in [0.3, 0.7, 1.0] {
             let s = GgxSpecular { roughness, f0: 1.0 };
             for view_deg in [0.0_f64, 45.0, 80.0] {
-                let v = DVec3::new(
-                    view_deg.to_radians().sin(),
-                    0.0,
-                    view_deg.to_radians().cos(),
-                );
+                let v = DVec3::new(view_deg.to_radians().sin(), 0.0, view_deg.to_radians().cos());
                 let (nt, np) = (400, 400);
                 let mut sum = 0.0;
                 for a in 0..nt {
@@ -178,17 +163,7 @@ mod tests {
         assert_eq!(ambient_lighting(rho, DVec3::Z, sky), rho * sky);
         assert_eq!(ambient_lighting(rho, DVec3::X, sky), rho * sky * 0.5);
         assert_eq!(ambient_lighting(rho, -DVec3::Z, sky), DVec3::ZERO);
-        assert!(GgxSpecular {
-            roughness: 1.5,
-            f0: 0.04
-        }
-        .validate()
-        .is_err());
-        assert!(GgxSpecular {
-            roughness: f64::NAN,
-            f0: 0.04
-        }
-        .validate()
-        .is_err());
+        assert!(GgxSpecular { roughness: 1.5, f0: 0.04 }.validate().is_err());
+        assert!(GgxSpecular { roughness: f64::NAN, f0: 0.04 }.validate().is_err());
     }
 }

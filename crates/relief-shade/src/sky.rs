@@ -22,11 +22,7 @@ pub struct Sky {
 impl Default for Sky {
     /// A clear day: pale horizon, blue zenith, and sky light about a sixth of the default sun's.
     fn default() -> Self {
-        Sky {
-            zenith: [0.16, 0.30, 0.62],
-            horizon: [0.58, 0.68, 0.82],
-            ambient: [0.10, 0.13, 0.19],
-        }
+        Sky { zenith: [0.16, 0.30, 0.62], horizon: [0.58, 0.68, 0.82], ambient: [0.10, 0.13, 0.19] }
     }
 }
 
@@ -42,11 +38,7 @@ impl Sky {
     /// the horizon, blending to the zenith colour as `sqrt(dir.z)` (a light band near the
     /// horizon that deepens quickly upwards).
     pub fn radiance(&self, dir: DVec3) -> DVec3 {
-        let up = if dir.z > 0.0 {
-            dir.z.min(1.0).sqrt()
-        } else {
-            0.0
-        };
+        let up = if dir.z > 0.0 { dir.z.min(1.0).sqrt() } else { 0.0 };
         colour(self.horizon).lerp(colour(self.zenith), up)
     }
 
@@ -108,12 +100,7 @@ mod tests {
         assert!(
             mid.element_sum() < horizon.element_sum() && mid.element_sum() > zenith.element_sum()
         );
-        assert!(Sky {
-            ambient: [0.0, -1.0, 0.0],
-            ..sky
-        }
-        .validate()
-        .is_err());
+        assert!(Sky { ambient: [0.0, -1.0, 0.0], ..sky }.validate().is_err());
     }
 
     #[test]
@@ -124,14 +111,8 @@ mod tests {
         let fog = DVec3::ONE;
         let seen = aerial_perspective(surface, fog, 2.0 * diagonal, density);
         assert!((seen - DVec3::splat(0.3)).abs().max_element() < 1e-12);
-        assert_eq!(
-            aerial_perspective(DVec3::ONE, DVec3::ZERO, 0.0, density),
-            DVec3::ONE
-        );
-        assert_eq!(
-            aerial_perspective(DVec3::ONE, DVec3::ZERO, 1e9, 0.0),
-            DVec3::ONE
-        );
+        assert_eq!(aerial_perspective(DVec3::ONE, DVec3::ZERO, 0.0, density), DVec3::ONE);
+        assert_eq!(aerial_perspective(DVec3::ONE, DVec3::ZERO, 1e9, 0.0), DVec3::ONE);
         assert_eq!(fog_density_for_scene(0.0), 0.0);
         assert_eq!(fog_density_for_scene(f64::NAN), 0.0);
         // Farther is foggier.

@@ -57,15 +57,7 @@ mod tests {
         let mut b = TraceStats::default();
         b.record(9, true);
         let m = a.merge(b);
-        assert_eq!(
-            m,
-            TraceStats {
-                rays: 3,
-                hits: 2,
-                total_steps: 17,
-                max_steps: 9
-            }
-        );
+        assert_eq!(m, TraceStats { rays: 3, hits: 2, total_steps: 17, max_steps: 9 });
         assert_eq!(m, b.merge(a));
         assert!((m.mean_steps() - 17.0 / 3.0).abs() < 1e-12);
         assert_eq!(TraceStats::default().mean_steps(), 0.0);

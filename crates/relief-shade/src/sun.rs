@@ -21,11 +21,7 @@ pub struct Sun {
 impl Default for Sun {
     /// The cartographers' light: from the north-west, 45 degrees up, `E = 3`.
     fn default() -> Self {
-        Sun {
-            azimuth_deg: 315.0,
-            elevation_deg: 45.0,
-            irradiance: 3.0,
-        }
+        Sun { azimuth_deg: 315.0, elevation_deg: 45.0, irradiance: 3.0 }
     }
 }
 
@@ -131,29 +127,10 @@ mod tests {
     #[test]
     fn refuses_impossible_suns() {
         assert!(Sun::default().validate().is_ok());
-        assert!(Sun {
-            elevation_deg: 91.0,
-            ..Sun::default()
-        }
-        .validate()
-        .is_err());
-        assert!(Sun {
-            azimuth_deg: f64::NAN,
-            ..Sun::default()
-        }
-        .validate()
-        .is_err());
-        assert!(Sun {
-            irradiance: -1.0,
-            ..Sun::default()
-        }
-        .validate()
-        .is_err());
-        assert!(!Sun {
-            elevation_deg: -5.0,
-            ..Sun::default()
-        }
-        .is_up());
+        assert!(Sun { elevation_deg: 91.0, ..Sun::default() }.validate().is_err());
+        assert!(Sun { azimuth_deg: f64::NAN, ..Sun::default() }.validate().is_err());
+        assert!(Sun { irradiance: -1.0, ..Sun::default() }.validate().is_err());
+        assert!(!Sun { elevation_deg: -5.0, ..Sun::default() }.is_up());
     }
 
     #[test]

@@ -23,29 +23,16 @@ impl RgbTexture {
         if width == 0 || height == 0 || width.checked_mul(height) != Some(pixels.len()) {
             return Err(ShadeError::parameter(
                 "texture",
-                format!(
-                    "{width} x {height} does not match its {} pixels",
-                    pixels.len()
-                ),
+                format!("{width} x {height} does not match its {} pixels", pixels.len()),
             ));
         }
-        if let Some(k) = pixels
-            .iter()
-            .position(|p| !p.iter().all(|c| c.is_finite() && *c >= 0.0))
-        {
+        if let Some(k) = pixels.iter().position(|p| !p.iter().all(|c| c.is_finite() && *c >= 0.0)) {
             return Err(ShadeError::parameter(
                 "texture",
-                format!(
-                    "pixel {k} {:?} has a negative or non-finite channel",
-                    pixels[k]
-                ),
+                format!("pixel {k} {:?} has a negative or non-finite channel", pixels[k]),
             ));
         }
-        Ok(RgbTexture {
-            width,
-            height,
-            pixels,
-        })
+        Ok(RgbTexture { width, height, pixels })
     }
 
     /// A texture from interleaved 8-bit sRGB pixels (`R, G, B`, row 0 the top row), decoded to
@@ -54,16 +41,11 @@ impl RgbTexture {
         if width.checked_mul(height).and_then(|n| n.checked_mul(3)) != Some(rgb.len()) {
             return Err(ShadeError::parameter(
                 "texture",
-                format!(
-                    "{width} x {height} RGB needs 3 bytes per pixel, got {} bytes",
-                    rgb.len()
-                ),
+                format!("{width} x {height} RGB needs 3 bytes per pixel, got {} bytes", rgb.len()),
             ));
         }
         let decode = |b: u8| srgb_to_linear(b as f32 / 255.0);
-        let pixels = rgb
-            .chunks_exact(3)
-            .map(|p| [decode(p[0]), decode(p[1]), decode(p[2])]);
+        let pixels = rgb.chunks_exact(3).map(|p| [decode(p[0]), decode(p[1]), decode(p[2])]);
         Self::new(width, height, pixels.collect())
     }
 
@@ -113,25 +95,12 @@ mod tests {
     #[test]
     fn row_zero_is_north_and_interpolation_is_linear() {
         // 2 x 2: top row (north) red, green; bottom row (south) blue, white.
-        let px = vec![
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 1.0, 1.0],
-        ];
+        let px = vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
         let t = RgbTexture::new(2, 2, px).unwrap();
-        assert_eq!(
-            t.sample_bilinear(0.25, 0.75),
-            DVec3::X,
-            "north-west texel centre"
-        );
+        assert_eq!(t.sample_bilinear(0.25, 0.75), DVec3::X, "north-west texel centre");
         assert_eq!(t.sample_bilinear(0.75, 0.75), DVec3::Y, "north-east");
         assert_eq!(t.sample_bilinear(0.25, 0.25), DVec3::Z, "south-west");
-        assert_eq!(
-            t.sample_bilinear(0.0, 1.0),
-            DVec3::X,
-            "clamped at the corner"
-        );
+        assert_eq!(t.sample_bilinear(0.0, 1.0), DVec3::X, "clamped at the corner");
         assert_eq!(t.sample_bilinear(0.5, 0.75), DVec3::new(0.5, 0.5, 0.0));
         assert_eq!(t.sample_bilinear(0.5, 0.5), DVec3::new(0.5, 0.5, 0.5));
         assert_eq!(t.sample_bilinear(-5.0, 9.0), DVec3::X);

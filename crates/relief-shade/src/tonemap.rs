@@ -10,22 +10,14 @@ use crate::ShadeError;
 pub fn linear_to_srgb(linear: f32) -> f32 {
     // Evaluated in f64 so that the f32 result is the correctly rounded curve (1 maps to 1).
     let x = clamp_unit(linear) as f64;
-    let encoded = if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    };
+    let encoded = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
     encoded as f32
 }
 
 /// The linear value of an sRGB-encoded value in `[0, 1]` (clamped, NaN gives 0).
 pub fn srgb_to_linear(encoded: f32) -> f32 {
     let x = clamp_unit(encoded) as f64;
-    let linear = if x <= 0.040_45 {
-        x / 12.92
-    } else {
-        ((x + 0.055) / 1.055).powf(2.4)
-    };
+    let linear = if x <= 0.040_45 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) };
     linear as f32
 }
 
@@ -51,13 +43,11 @@ pub fn tonemap_to_srgb8(radiance: &[[f32; 3]], exposure: f64) -> Result<Vec<u8>,
     non_negative("exposure", exposure)?;
     let exposure = exposure as f32;
     let mut out = vec![0u8; radiance.len() * 3];
-    out.par_chunks_mut(3)
-        .zip(radiance.par_iter())
-        .for_each(|(rgb, pixel)| {
-            for (o, &channel) in rgb.iter_mut().zip(pixel) {
-                *o = (linear_to_srgb(aces_filmic(channel * exposure)) * 255.0).round() as u8;
-            }
-        });
+    out.par_chunks_mut(3).zip(radiance.par_iter()).for_each(|(rgb, pixel)| {
+        for (o, &channel) in rgb.iter_mut().zip(pixel) {
+            *o = (linear_to_srgb(aces_filmic(channel * exposure)) * 255.0).round() as u8;
+        }
+    });
     Ok(out)
 }
 
@@ -98,17 +88,11 @@ mod tests {
         let bytes = tonemap_to_srgb8(&ramp, 1.0).unwrap();
         assert_eq!(&bytes[..3], &[0, 0, 0]);
         assert!(bytes.windows(6).step_by(3).all(|w| w[3] >= w[0]));
-        assert!(
-            *bytes.last().unwrap() >= 250,
-            "bright radiance approaches white"
-        );
+        assert!(*bytes.last().unwrap() >= 250, "bright radiance approaches white");
         let mut prev = 0.0;
         for k in 1..3500 {
             let y = aces_filmic(k as f32 * 0.002);
-            assert!(
-                y > prev && y < 1.0,
-                "strictly increasing below white at {k}"
-            );
+            assert!(y > prev && y < 1.0, "strictly increasing below white at {k}");
             prev = y;
         }
         for x in [7.0, 7.3, 7.5, 8.0, 1e20, f32::MAX, f32::INFINITY] {

@@ -42,10 +42,7 @@ fn flat_scene(surface: Surface, kind: TracerKind) -> (Box<dyn Tracer>, Camera, r
 fn lambert_only(rho: [f32; 3], sun: Sun) -> ShadingParams {
     ShadingParams {
         sun,
-        sky: Sky {
-            ambient: [0.0; 3],
-            ..Sky::default()
-        },
+        sky: Sky { ambient: [0.0; 3], ..Sky::default() },
         albedo: Albedo::Uniform(rho),
         shadows: true,
         specular: None,
@@ -62,11 +59,7 @@ fn flat_field_from_above_has_closed_form_depths() {
             let (tracer, camera, bounds) = flat_scene(surface, kind);
             let (g, stats) = render_gbuffer(&*tracer, &camera, &bounds, &|_| {}).unwrap();
             assert_eq!((g.width, g.height), (WIDTH as usize, HEIGHT as usize));
-            assert_eq!(
-                (stats.rays, stats.hits),
-                (PIXELS, PIXELS),
-                "{surface} {kind}"
-            );
+            assert_eq!((stats.rays, stats.hits), (PIXELS, PIXELS), "{surface} {kind}");
             let (w, h) = (WIDTH as f64, HEIGHT as f64);
             for j in 0..HEIGHT as usize {
                 for i in 0..WIDTH as usize {
@@ -124,16 +117,10 @@ fn pixels_that_miss_the_terrain_are_misses() {
         let p = g.pixel(k).unwrap();
         if !p.is_hit() {
             assert_eq!(p.distance, f32::INFINITY);
-            assert_eq!(
-                (p.normal, p.material, p.footprint),
-                ([0.0; 3], [0.0; 4], 0.0)
-            );
+            assert_eq!((p.normal, p.material, p.footprint), ([0.0; 3], [0.0; 4], 0.0));
         }
     }
-    assert!(
-        (0..6).all(|k| !g.pixel(k).unwrap().is_hit()),
-        "top row is sky"
-    );
+    assert!((0..6).all(|k| !g.pixel(k).unwrap().is_hit()), "top row is sky");
 }
 
 #[test]
@@ -145,11 +132,7 @@ fn lambertian_plane_lit_at_theta_shades_to_rho_e_cos_over_pi() {
         for surface in Surface::ALL {
             let (tracer, camera, bounds) = flat_scene(surface, TracerKind::Mipmap);
             let (g, _) = render_gbuffer(&*tracer, &camera, &bounds, &|_| {}).unwrap();
-            let sun = Sun {
-                azimuth_deg: 200.0,
-                elevation_deg: 90.0 - theta_deg,
-                irradiance: e,
-            };
+            let sun = Sun { azimuth_deg: 200.0, elevation_deg: 90.0 - theta_deg, irradiance: e };
             let (radiance, shadow) = shade(&g, &*tracer, &camera, &lambert_only(rho, sun)).unwrap();
             assert_eq!(shadow.rays, PIXELS, "every pixel casts a shadow ray");
             assert_eq!(shadow.hits, 0, "a flat plane does not shadow itself");
@@ -197,28 +180,13 @@ fn points_behind_a_spike_are_in_its_shadow() {
         let (tracer, _) = spike(surface);
         let mut stats = TraceStats::default();
         let mut vis = |x: f64, y: f64| {
-            light_visibility(
-                &*tracer,
-                DVec3::new(x, y, 0.0),
-                DVec3::Z,
-                10.0,
-                to_sun,
-                &mut stats,
-            )
+            light_visibility(&*tracer, DVec3::new(x, y, 0.0), DVec3::Z, 10.0, to_sun, &mut stats)
         };
-        assert_eq!(
-            vis(3.5, 4.5),
-            0.0,
-            "{surface}: west of the spike is in shadow"
-        );
+        assert_eq!(vis(3.5, 4.5), 0.0, "{surface}: west of the spike is in shadow");
         assert_eq!(vis(2.6, 4.5), 0.0, "{surface}: farther west too");
         assert_eq!(vis(6.5, 4.5), 1.0, "{surface}: east of the spike is lit");
         assert_eq!(vis(4.5, 7.5), 1.0, "{surface}: north of the spike is lit");
-        assert_eq!(
-            vis(3.5, 1.5),
-            1.0,
-            "{surface}: south-west, beside the shadow, is lit"
-        );
+        assert_eq!(vis(3.5, 1.5), 1.0, "{surface}: south-west, beside the shadow, is lit");
         assert_eq!((stats.rays, stats.hits), (5, 2));
     }
 }
@@ -236,11 +204,7 @@ fn shading_pass_darkens_the_spikes_shadow() {
     )
     .unwrap();
     let (g, _) = render_gbuffer(&*tracer, &camera, &bounds, &|_| {}).unwrap();
-    let sun = Sun {
-        azimuth_deg: 90.0,
-        elevation_deg: 30.0,
-        irradiance: 3.0,
-    };
+    let sun = Sun { azimuth_deg: 90.0, elevation_deg: 30.0, irradiance: 3.0 };
     let params = lambert_only([0.5; 3], sun);
     let (radiance, shadow) = shade(&g, &*tracer, &camera, &params).unwrap();
     // The pixel looking at ground point (x, y) on this camera.
@@ -256,26 +220,12 @@ fn shading_pass_darkens_the_spikes_shadow() {
     };
     let lit = 0.5 * 3.0 * 30f64.to_radians().sin() / PI;
     assert_eq!(at(3.0, 4.5), [0.0; 3], "in the shadow: no ambient, no sun");
-    assert!(
-        (at(6.5, 4.5)[0] as f64 - lit).abs() < 1e-6 * lit,
-        "east of the spike is lit"
-    );
-    assert!(
-        (at(4.5, 1.5)[0] as f64 - lit).abs() < 1e-6 * lit,
-        "south of the spike is lit"
-    );
+    assert!((at(6.5, 4.5)[0] as f64 - lit).abs() < 1e-6 * lit, "east of the spike is lit");
+    assert!((at(4.5, 1.5)[0] as f64 - lit).abs() < 1e-6 * lit, "south of the spike is lit");
     assert!(shadow.hits > 0 && shadow.hits < shadow.rays);
     // Without shadows the same pixel is lit.
-    let (no_shadows, none) = shade(
-        &g,
-        &*tracer,
-        &camera,
-        &ShadingParams {
-            shadows: false,
-            ..params
-        },
-    )
-    .unwrap();
+    let (no_shadows, none) =
+        shade(&g, &*tracer, &camera, &ShadingParams { shadows: false, ..params }).unwrap();
     assert_eq!(none.rays, 0);
     assert!(
         no_shadows.iter().filter(|p| p[0] == 0.0).count()

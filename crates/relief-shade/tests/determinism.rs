@@ -18,12 +18,7 @@ fn terrain() -> Arc<HeightField> {
             3.0 * (x * 0.31).sin() * (y * 0.23).cos() + 0.1 * x + ((x * 7.0 + y * 13.0) % 5.0) * 0.2
         })
         .collect();
-    let geometry = GridGeometry {
-        dx: 30.0,
-        dy: 30.0,
-        z_scale: 40.0,
-        ..GridGeometry::unit()
-    };
+    let geometry = GridGeometry { dx: 30.0, dy: 30.0, z_scale: 40.0, ..GridGeometry::unit() };
     Arc::new(HeightField::new(w, h, samples, geometry).unwrap())
 }
 
@@ -33,10 +28,7 @@ fn render(
     surface: Surface,
     albedo: Option<Albedo>,
 ) -> (GBuffer, Vec<[f32; 3]>, Vec<u8>, [TraceStats; 2]) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
         let field = terrain();
         let bounds = field.world_bounds(surface);
@@ -66,13 +58,7 @@ fn bits(v: &[[f32; 3]]) -> Vec<u32> {
 #[test]
 fn one_and_two_threads_give_identical_renders() {
     let checker: Vec<u8> = (0..8 * 8)
-        .flat_map(|k| {
-            if (k % 8 + k / 8) % 2 == 0 {
-                [200, 180, 120]
-            } else {
-                [40, 90, 40]
-            }
-        })
+        .flat_map(|k| if (k % 8 + k / 8) % 2 == 0 { [200, 180, 120] } else { [40, 90, 40] })
         .collect();
     let texture = Albedo::Texture(RgbTexture::from_srgb8(8, 8, &checker).unwrap());
     for (surface, albedo) in [(Surface::Triangles, None), (Surface::Boxes, Some(texture))] {
@@ -81,24 +67,14 @@ fn one_and_two_threads_give_identical_renders() {
         let dist_bits = |g: &GBuffer| g.distance.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(dist_bits(&g1), dist_bits(&g2));
         assert_eq!(
-            g1.normals_hw3()
-                .iter()
-                .map(|x| x.to_bits())
-                .collect::<Vec<_>>(),
-            g2.normals_hw3()
-                .iter()
-                .map(|x| x.to_bits())
-                .collect::<Vec<_>>()
+            g1.normals_hw3().iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+            g2.normals_hw3().iter().map(|x| x.to_bits()).collect::<Vec<_>>()
         );
         assert_eq!(bits(&r1), bits(&r2));
         assert_eq!(b1, b2);
         assert_eq!(s1, s2);
         // A real scene: some sky, some terrain, some shadow.
-        assert!(
-            s1[0].hits > 0 && s1[0].hits < s1[0].rays,
-            "{surface}: {:?}",
-            s1[0]
-        );
+        assert!(s1[0].hits > 0 && s1[0].hits < s1[0].rays, "{surface}: {:?}", s1[0]);
         assert!(s1[1].hits > 0, "{surface}: some pixels are in shadow");
         assert!(r1.iter().flatten().all(|c| c.is_finite() && *c >= 0.0));
     }
@@ -114,34 +90,16 @@ fn shading_refuses_bad_parameters_and_mismatched_buffers() {
     let ok = ShadingParams::for_terrain(&bounds).unwrap();
     assert!(shade(&g, &*tracer, &camera, &ok).is_ok());
     let bad = [
-        ShadingParams {
-            fog_density: -1.0,
-            ..ok.clone()
-        },
-        ShadingParams {
-            exposure: f64::NAN,
-            ..ok.clone()
-        },
-        ShadingParams {
-            albedo: Albedo::Uniform([0.1, f32::INFINITY, 0.1]),
-            ..ok.clone()
-        },
+        ShadingParams { fog_density: -1.0, ..ok.clone() },
+        ShadingParams { exposure: f64::NAN, ..ok.clone() },
+        ShadingParams { albedo: Albedo::Uniform([0.1, f32::INFINITY, 0.1]), ..ok.clone() },
     ];
     for params in &bad {
-        assert!(matches!(
-            shade(&g, &*tracer, &camera, params),
-            Err(ShadeError::Parameter { .. })
-        ));
+        assert!(matches!(shade(&g, &*tracer, &camera, params), Err(ShadeError::Parameter { .. })));
     }
     let other = Camera::frame(&bounds, 6, 8).unwrap();
-    assert!(matches!(
-        shade(&g, &*tracer, &other, &ok),
-        Err(ShadeError::Mismatch(_))
-    ));
+    assert!(matches!(shade(&g, &*tracer, &other, &ok), Err(ShadeError::Mismatch(_))));
     let mut broken = g.clone();
     broken.normal.truncate(3);
-    assert!(matches!(
-        shade(&broken, &*tracer, &camera, &ok),
-        Err(ShadeError::Mismatch(_))
-    ));
+    assert!(matches!(shade(&broken, &*tracer, &camera, &ok), Err(ShadeError::Mismatch(_))));
 }

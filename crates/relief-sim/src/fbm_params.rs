@@ -44,16 +44,10 @@ impl FbmParams {
     pub fn validate(&self) -> Result<(), CoreError> {
         let refuse = |name, reason: String| Err(CoreError::Parameter { name, reason });
         if !(1..=MAX_OCTAVES).contains(&self.octaves) {
-            return refuse(
-                "octaves",
-                format!("{} is not in 1..={MAX_OCTAVES}", self.octaves),
-            );
+            return refuse("octaves", format!("{} is not in 1..={MAX_OCTAVES}", self.octaves));
         }
         if !(self.lacunarity.is_finite() && self.lacunarity > 1.0) {
-            return refuse(
-                "lacunarity",
-                format!("{} is not a finite number > 1", self.lacunarity),
-            );
+            return refuse("lacunarity", format!("{} is not a finite number > 1", self.lacunarity));
         }
         if !(self.gain > 0.0 && self.gain <= 1.0) {
             return refuse("gain", format!("{} is not in (0, 1]", self.gain));
@@ -67,10 +61,7 @@ impl FbmParams {
         }
         // Heights are stored as f32: keep the total well inside its range.
         if !(self.amplitude.is_finite() && self.amplitude > 0.0 && self.amplitude <= 1e30) {
-            return refuse(
-                "amplitude",
-                format!("{} is not in (0, 1e30]", self.amplitude),
-            );
+            return refuse("amplitude", format!("{} is not in (0, 1e30]", self.amplitude));
         }
         Ok(())
     }

@@ -40,21 +40,11 @@ impl Terrain {
         let octaves = (0..params.octaves)
             .map(|k| {
                 let frequency = params.lacunarity.powi(k as i32) / params.wavelength;
-                layer(
-                    u64::from(k),
-                    frequency,
-                    params.amplitude * params.gain.powi(k as i32),
-                )
+                layer(u64::from(k), frequency, params.amplitude * params.gain.powi(k as i32))
             })
             .collect();
-        let style = std::env::var("STYLE")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(0);
-        let warp = std::env::var("WARP")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(0.0);
+        let style = std::env::var("STYLE").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
+        let warp = std::env::var("WARP").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0);
         Terrain {
             octaves,
             style,
@@ -136,9 +126,7 @@ pub fn fbm_terrain(
 ) -> Result<HeightField, CoreError> {
     params.validate()?;
     if width == 0 || height == 0 {
-        return Err(CoreError::Grid(format!(
-            "{width} x {height} has no samples"
-        )));
+        return Err(CoreError::Grid(format!("{width} x {height} has no samples")));
     }
     let count = width
         .checked_mul(height)
@@ -149,16 +137,13 @@ pub fn fbm_terrain(
         .map_err(|_| CoreError::Grid(format!("cannot allocate {width} x {height} samples")))?;
     heights.resize(count, 0.0);
     let terrain = Terrain::new(seed, params);
-    heights
-        .par_chunks_mut(width)
-        .enumerate()
-        .for_each(|(row, out)| {
-            let mut caches = vec![CellCache::default(); terrain.octaves.len() + 2];
-            let y = row as f64 + 0.5;
-            for (col, h) in out.iter_mut().enumerate() {
-                *h = terrain.sample(col as f64 + 0.5, y, &mut caches);
-            }
-        });
+    heights.par_chunks_mut(width).enumerate().for_each(|(row, out)| {
+        let mut caches = vec![CellCache::default(); terrain.octaves.len() + 2];
+        let y = row as f64 + 0.5;
+        for (col, h) in out.iter_mut().enumerate() {
+            *h = terrain.sample(col as f64 + 0.5, y, &mut caches);
+        }
+    });
     let min = heights.iter().copied().fold(f64::INFINITY, f64::min);
     let samples = heights.iter().map(|&h| (h - min) as f32).collect();
     HeightField::new(width, height, samples, GridGeometry::unit())

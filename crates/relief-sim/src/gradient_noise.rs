@@ -30,10 +30,7 @@ impl GradientNoise {
             let angle = (k as f64 + 0.5) * std::f64::consts::TAU / DIRECTIONS as f64;
             [angle.cos(), angle.sin()]
         });
-        GradientNoise {
-            seed: mix64(seed),
-            gradients,
-        }
+        GradientNoise { seed: mix64(seed), gradients }
     }
 
     /// The unit gradient at lattice point `(ix, iy)`.
@@ -109,11 +106,7 @@ impl GradientNoise {
         let top_x = lerp(g01[0], g11[0], u) + du * (n11 - n01);
         let bottom_y = lerp(g00[1], g10[1], u);
         let top_y = lerp(g01[1], g11[1], u);
-        [
-            n,
-            lerp(bottom_x, top_x, v),
-            lerp(bottom_y, top_y, v) + dv * (top - bottom),
-        ]
+        [n, lerp(bottom_x, top_x, v), lerp(bottom_y, top_y, v) + dv * (top - bottom)]
     }
 }
 
@@ -152,10 +145,7 @@ mod tests {
             max = max.max(noise.eval(x, y, &mut cache).abs());
             assert_eq!(noise.eval(x.floor(), y.floor(), &mut cache), 0.0);
         }
-        assert!(
-            max > 0.3 && max <= std::f64::consts::FRAC_1_SQRT_2 + 1e-12,
-            "max {max}"
-        );
+        assert!(max > 0.3 && max <= std::f64::consts::FRAC_1_SQRT_2 + 1e-12, "max {max}");
     }
 
     #[test]

@@ -50,6 +50,8 @@ pub struct CellGrid {
     cells_y: usize,
     shift: f64,
     bounds: Aabb,
+    /// Cells with no surface (over a hole of the field), row-major; `None` when there are none.
+    empty_cells: Option<Vec<bool>>,
 }
 
 impl CellGrid {
@@ -64,14 +66,22 @@ impl CellGrid {
             DVec3::new(0.0, 0.0, field.min_sample() as f64),
             DVec3::new(cells_x as f64, cells_y as f64, field.max_sample() as f64),
         );
-        CellGrid {
-            surface,
-            samples_width: w,
-            cells_x,
-            cells_y,
-            shift,
-            bounds,
-        }
+        let empty_cells = field.holes().map(|holes| match surface {
+            Surface::Boxes => holes.to_vec(),
+            Surface::Triangles => (0..cells_x * cells_y)
+                .map(|k| {
+                    let i = k % cells_x + (k / cells_x) * w;
+                    holes[i] || holes[i + 1] || holes[i + w] || holes[i + w + 1]
+                })
+                .collect(),
+        });
+        CellGrid { surface, samples_width: w, cells_x, cells_y, shift, bounds, empty_cells }
+    }
+
+    /// Whether cell (cx, cy) has no surface (it lies over a hole of the field).
+    #[inline]
+    pub fn is_empty_cell(&self, cx: usize, cy: usize) -> bool {
+        self.empty_cells.as_ref().is_some_and(|e| e[cx + cy * self.cells_x])
     }
 
     /// The surface this grid stands for.
@@ -100,26 +110,25 @@ impl CellGrid {
     }
 
     /// Highest point of the surface over cell (cx, cy): the texel for boxes, the highest of the
-    /// four corners for triangles.
+    /// four corners for triangles; minus infinity over a hole.
     pub fn cell_max(&self, samples: &[f32], cx: usize, cy: usize) -> f32 {
+        if self.is_empty_cell(cx, cy) {
+            return f32::NEG_INFINITY;
+        }
         let w = self.samples_width;
         let i = cx + cy * w;
         match self.surface {
             Surface::Boxes => samples[i],
-            Surface::Triangles => samples[i]
-                .max(samples[i + 1])
-                .max(samples[i + w])
-                .max(samples[i + w + 1]),
+            Surface::Triangles => {
+                samples[i].max(samples[i + 1]).max(samples[i + w]).max(samples[i + w + 1])
+            }
         }
     }
 
     /// Maps a world ray into cell space (same parameter `t`).
     pub fn to_cell_space(&self, field: &HeightField, world_ray: &Ray) -> Ray {
         let grid_ray = field.geometry().ray_to_grid(world_ray);
-        Ray {
-            origin: grid_ray.origin - DVec3::new(self.shift, self.shift, 0.0),
-            ..grid_ray
-        }
+        Ray { origin: grid_ray.origin - DVec3::new(self.shift, self.shift, 0.0), ..grid_ray }
     }
 
     /// The world hit for a cell-space hit at `t` with grid-space `normal` (zero: started inside).
@@ -129,11 +138,7 @@ impl CellGrid {
         } else {
             field.geometry().normal_to_world(normal)
         };
-        Hit {
-            t,
-            position: world_ray.at(t),
-            normal,
-        }
+        Hit { t, position: world_ray.at(t), normal }
     }
 
     /// Clips a cell-space ray to the solid's bounds; `None` if it misses them or the grid has
@@ -197,7 +202,7 @@ impl CellGrid {
         cy: usize,
         seg: &Segment,
     ) -> Option<(f64, DVec3)> {
-        if seg.t_enter > seg.t_exit {
+        if seg.t_enter > seg.t_exit || self.is_empty_cell(cx, cy) {
             return None;
         }
         match self.surface {
@@ -239,8 +244,10 @@ impl CellGrid {
             let (u, v) = (u0 + seg.t_enter * ray.dir.x, v0 + seg.t_enter * ray.dir.y);
             let f_enter = seg.z_enter - (p0 + pu * u + pv * v);
             let candidate = if f_enter <= 0.0 {
+                // Below the surface on entry: through an outer wall, from the start, or past
+                // the wall of a hole; from a solid neighbour only by rounding, on the surface.
                 let n = match seg.entry {
-                    Entry::Neighbour(_) => normal,
+                    Entry::Neighbour(axis) if !self.behind_is_empty(ray, cx, cy, axis) => normal,
                     entry => entry_normal(entry, ray),
                 };
                 Some((seg.t_enter, n))
@@ -257,6 +264,26 @@ impl CellGrid {
             }
         }
         best
+    }
+}
+
+impl CellGrid {
+    /// Whether the cell the ray comes from, across the boundary along `axis`, is empty.
+    fn behind_is_empty(&self, ray: &Ray, cx: usize, cy: usize, axis: usize) -> bool {
+        if self.empty_cells.is_none() {
+            return false;
+        }
+        let back = |c: usize, d: f64, n: usize| {
+            if d > 0.0 {
+                c.checked_sub(1)
+            } else {
+                Some(c + 1).filter(|&c| c < n)
+            }
+        };
+        match axis {
+            0 => back(cx, ray.dir.x, self.cells_x).is_none_or(|bx| self.is_empty_cell(bx, cy)),
+            _ => back(cy, ray.dir.y, self.cells_y).is_none_or(|by| self.is_empty_cell(cx, by)),
+        }
     }
 }
 
@@ -301,11 +328,7 @@ fn outer_entry(face: BoxFace) -> Entry {
 fn axis_cell(o: f64, d: f64, t: f64, cells: usize) -> usize {
     // Truncation is the floor for non-negative values; NaN and negatives go to cell 0.
     let v = o + t * d;
-    let c = if v >= 0.0 {
-        (v as usize).min(cells - 1)
-    } else {
-        0
-    };
+    let c = if v >= 0.0 { (v as usize).min(cells - 1) } else { 0 };
     let (t_in, t_out) = axis_span(o, d, c as f64);
     let towards_low = if d > 0.0 { t_in > t } else { t_out < t };
     let towards_high = if d > 0.0 { t_out < t } else { t_in > t };

@@ -26,20 +26,12 @@ impl MaxMipmap {
     /// Builds the pyramid of `grid` over the height field's `samples`.
     pub fn build(grid: &CellGrid, samples: &[f32]) -> Self {
         let (mut nx, mut ny) = (grid.cells_x(), grid.cells_y());
-        let mut levels = vec![Level {
-            offset: 0,
-            nodes_x: nx,
-            nodes_y: ny,
-        }];
+        let mut levels = vec![Level { offset: 0, nodes_x: nx, nodes_y: ny }];
         let mut total = nx * ny;
         while nx > 1 || ny > 1 {
             nx = nx.div_ceil(2);
             ny = ny.div_ceil(2);
-            levels.push(Level {
-                offset: total,
-                nodes_x: nx,
-                nodes_y: ny,
-            });
+            levels.push(Level { offset: total, nodes_x: nx, nodes_y: ny });
             total += nx * ny;
         }
         let mut values = Vec::with_capacity(total);

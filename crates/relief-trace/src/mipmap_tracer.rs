@@ -24,11 +24,7 @@ impl MipmapTracer {
     pub fn new(field: Arc<HeightField>, surface: Surface) -> Self {
         let grid = CellGrid::new(&field, surface);
         let mipmap = MaxMipmap::build(&grid, field.samples());
-        MipmapTracer {
-            field,
-            grid,
-            mipmap,
-        }
+        MipmapTracer { field, grid, mipmap }
     }
 
     /// The pyramid this tracer walks.
@@ -66,11 +62,7 @@ impl Mirror {
     fn child(self, m: usize, level: usize, origin: f64, dir: f64, t: f64) -> usize {
         let upper = 2 * m + 1;
         let mid = self.boundary(upper, level);
-        let reached = if dir == 0.0 {
-            origin >= mid
-        } else {
-            t >= (mid - origin) / dir
-        };
+        let reached = if dir == 0.0 { origin >= mid } else { t >= (mid - origin) / dir };
         if reached {
             upper
         } else {
@@ -105,14 +97,8 @@ impl Tracer for MipmapTracer {
         let samples = self.field.samples();
         let top = self.mipmap.top_level();
         let padded = 1usize << top;
-        let mx = Mirror {
-            padded,
-            flip: ray.dir.x < 0.0,
-        };
-        let my = Mirror {
-            padded,
-            flip: ray.dir.y < 0.0,
-        };
+        let mx = Mirror { padded, flip: ray.dir.x < 0.0 };
+        let my = Mirror { padded, flip: ray.dir.y < 0.0 };
         let time_to = |coord: f64, origin: f64, dir: f64| {
             if dir == 0.0 {
                 f64::INFINITY
@@ -164,10 +150,8 @@ impl Tracer for MipmapTracer {
             ny += cross_y as usize;
             // Climb while the step left the parent node as well.
             while level < top {
-                let (leave_x, leave_y) = (
-                    cross_x && nx.is_multiple_of(2),
-                    cross_y && ny.is_multiple_of(2),
-                );
+                let (leave_x, leave_y) =
+                    (cross_x && nx.is_multiple_of(2), cross_y && ny.is_multiple_of(2));
                 if !(leave_x || leave_y) {
                     break;
                 }

@@ -50,14 +50,10 @@ impl Tracer for NaiveTracer {
             }
             // Through a corner, step both axes at once.
             if seg.t_next_x == t_next {
-                cx = cx
-                    .checked_add_signed(step_x)
-                    .filter(|&c| c < self.grid.cells_x())?;
+                cx = cx.checked_add_signed(step_x).filter(|&c| c < self.grid.cells_x())?;
             }
             if seg.t_next_y == t_next {
-                cy = cy
-                    .checked_add_signed(step_y)
-                    .filter(|&c| c < self.grid.cells_y())?;
+                cy = cy.checked_add_signed(step_y).filter(|&c| c < self.grid.cells_y())?;
             }
         }
     }

@@ -84,9 +84,7 @@ impl FromStr for TracerKind {
         match s {
             "naive" => Ok(TracerKind::Naive),
             "mipmap" => Ok(TracerKind::Mipmap),
-            other => Err(format!(
-                "unknown tracer '{other}' (expected naive or mipmap)"
-            )),
+            other => Err(format!("unknown tracer '{other}' (expected naive or mipmap)")),
         }
     }
 }

@@ -16,10 +16,7 @@ fn field(
 
 fn assert_close(got: Option<f64>, want: f64, what: &str) {
     let got = got.unwrap_or_else(|| panic!("{what}: missed, expected {want}"));
-    assert!(
-        (got - want).abs() <= 1e-9 * want.abs().max(1.0),
-        "{what}: got {got}, expected {want}"
-    );
+    assert!((got - want).abs() <= 1e-9 * want.abs().max(1.0), "{what}: got {got}, expected {want}");
 }
 
 fn every_tracer(
@@ -37,34 +34,21 @@ fn every_tracer(
 
 #[test]
 fn flat_plane_is_hit_at_the_closed_form_distance() {
-    let g = GridGeometry {
-        dx: 2.0,
-        dy: 3.0,
-        z_scale: 0.5,
-        origin: DVec2::new(-10.0, 5.0),
-    };
+    let g = GridGeometry { dx: 2.0, dy: 3.0, z_scale: 0.5, origin: DVec2::new(-10.0, 5.0) };
     let f = field(40, 30, g, |_, _| 10.0); // world height 5
     let dir = DVec3::new(0.3, 0.2, -1.0).normalize();
     let ray = Ray::new(DVec3::new(20.0, 40.0, 25.0), dir);
     every_tracer(&Surface::ALL, f, |t, name| {
         let hit = t.intersect(&ray);
         assert_close(hit.map(|h| h.t), 20.0 / -dir.z, name);
-        assert!(
-            (hit.unwrap().normal - DVec3::Z).length() < 1e-12,
-            "{name}: normal"
-        );
+        assert!((hit.unwrap().normal - DVec3::Z).length() < 1e-12, "{name}: normal");
     });
 }
 
 #[test]
 fn tilted_plane_matches_the_triangles_surface_exactly() {
     // Samples of z = 0.25 x (world) lie on one plane: the triangles reproduce it.
-    let g = GridGeometry {
-        dx: 1.5,
-        dy: 1.0,
-        z_scale: 1.0,
-        origin: DVec2::ZERO,
-    };
+    let g = GridGeometry { dx: 1.5, dy: 1.0, z_scale: 1.0, origin: DVec2::ZERO };
     let f = field(50, 20, g, |c, _| (0.25 * (c as f64 + 0.5) * 1.5) as f32);
     let o = DVec3::new(10.0, 10.0, 40.0);
     let dir = DVec3::new(0.6, 0.1, -0.8).normalize();
@@ -74,23 +58,13 @@ fn tilted_plane_matches_the_triangles_surface_exactly() {
         let hit = t.intersect(&Ray::new(o, dir)).unwrap();
         assert_close(Some(hit.t), want, name);
         let n = DVec3::new(-0.25, 0.0, 1.0).normalize();
-        assert!(
-            (hit.normal - n).length() < 1e-9,
-            "{name}: normal {}",
-            hit.normal
-        );
+        assert!((hit.normal - n).length() < 1e-9, "{name}: normal {}", hit.normal);
     });
 }
 
 #[test]
 fn single_spike_blocks_a_horizontal_ray_at_its_wall() {
-    let f = field(9, 9, GridGeometry::unit(), |c, r| {
-        if (c, r) == (4, 4) {
-            10.0
-        } else {
-            0.0
-        }
-    });
+    let f = field(9, 9, GridGeometry::unit(), |c, r| if (c, r) == (4, 4) { 10.0 } else { 0.0 });
     let along_x = Ray::new(DVec3::new(-3.0, 4.5, 5.0), DVec3::X);
     let down = Ray::new(DVec3::new(4.5, 4.5, 30.0), -DVec3::Z);
     let beside = Ray::new(DVec3::new(-3.0, 3.5, 5.0), DVec3::X);
@@ -99,10 +73,7 @@ fn single_spike_blocks_a_horizontal_ray_at_its_wall() {
         assert_close(Some(hit.t), 7.0, name);
         assert_eq!(hit.normal, -DVec3::X, "{name}");
         assert_close(t.intersect(&down).map(|h| h.t), 20.0, name);
-        assert!(
-            t.intersect(&beside).is_none(),
-            "{name}: ray beside the spike"
-        );
+        assert!(t.intersect(&beside).is_none(), "{name}: ray beside the spike");
     });
     // Triangles: the spike is a pyramid of four faces rising from the neighbouring samples.
     // Along row y = 4.5 (through the apex) the face rises by 10 per texel from x = 3.5.
@@ -129,10 +100,6 @@ fn pyramid_face_is_hit_at_the_closed_form_distance() {
     });
     // Boxes: the texel under the ray is a flat column at its own sample.
     every_tracer(&[Surface::Boxes], f, |t, name| {
-        assert_close(
-            t.intersect(&down).map(|h| h.t),
-            100.0 - (40.0 - 4.0 * 6.0),
-            name,
-        );
+        assert_close(t.intersect(&down).map(|h| h.t), 100.0 - (40.0 - 4.0 * 6.0), name);
     });
 }

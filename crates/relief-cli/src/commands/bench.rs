@@ -86,27 +86,13 @@ fn views(field: &HeightField, w: u32, h: u32) -> Result<Vec<(&'static str, Camer
         bounds.min.y + 0.2 * size.y,
         ground + 0.03 * size.x.max(size.y),
     );
-    let target = DVec3::new(
-        bounds.min.x + 0.8 * size.x,
-        bounds.min.y + 0.8 * size.y,
-        ground,
-    );
+    let target = DVec3::new(bounds.min.x + 0.8 * size.x, bounds.min.y + 0.8 * size.y, ground);
     let flight = Camera::look_at(eye, target, DVec3::Z, 60.0, w, h)?;
     let centre = bounds.center();
     let above = DVec3::new(centre.x, centre.y, bounds.max.z + 1.2 * size.x.max(size.y));
-    let top_down = Camera::look_at(
-        above,
-        DVec3::new(centre.x, centre.y, bounds.min.z),
-        DVec3::Y,
-        45.0,
-        w,
-        h,
-    )?;
-    Ok(vec![
-        ("three-quarter", overview),
-        ("flight", flight),
-        ("top-down", top_down),
-    ])
+    let top_down =
+        Camera::look_at(above, DVec3::new(centre.x, centre.y, bounds.min.z), DVec3::Y, 45.0, w, h)?;
+    Ok(vec![("three-quarter", overview), ("flight", flight), ("top-down", top_down)])
 }
 
 /// Traces a shadow ray towards `sun` from every hit of `gbuffer`, in parallel by rows.

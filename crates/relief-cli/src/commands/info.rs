@@ -13,15 +13,8 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     println!("file:      {}", args.input.display());
     println!("format:    NumPy .npy");
     println!("size:      {} x {} samples", field.width(), field.height());
-    println!(
-        "spacing:   {} x {} (grid units; set with --spacing)",
-        g.dx, g.dy
-    );
-    println!(
-        "values:    {} .. {}",
-        field.min_sample(),
-        field.max_sample()
-    );
+    println!("spacing:   {} x {} (grid units; set with --spacing)", g.dx, g.dy);
+    println!("values:    {} .. {}", field.min_sample(), field.max_sample());
     println!(
         "memory:    {:.1} MiB samples + {:.1} MiB max mipmap to render",
         samples_bytes as f64 / 1048576.0,

@@ -24,10 +24,7 @@ fn check_output(path: &Path) -> Result<()> {
     if path.is_dir() {
         bail!("output {} is a directory", path.display());
     }
-    let parent = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
+    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if !parent.is_dir() {
         bail!("output folder {} does not exist", parent.display());
     }

@@ -12,13 +12,8 @@ use relief_trace::build_tracer;
 
 /// Runs `relief render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
-    for path in [
-        Some(&args.output),
-        args.depth.as_ref(),
-        args.normals.as_ref(),
-    ]
-    .into_iter()
-    .flatten()
+    for path in
+        [Some(&args.output), args.depth.as_ref(), args.normals.as_ref()].into_iter().flatten()
     {
         check_output(path)?;
     }
@@ -43,12 +38,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let Some(path) = &args.normals {
         relief_io::write_npy_f32(path, &[h, w, 3], &gbuffer.normals_hw3())?;
     }
-    eprintln!(
-        "wrote {} ({w}x{h}, {} {} tracer)",
-        args.output.display(),
-        args.surface,
-        args.tracer
-    );
+    eprintln!("wrote {} ({w}x{h}, {} {} tracer)", args.output.display(), args.surface, args.tracer);
     Ok(())
 }
 
@@ -70,11 +60,7 @@ fn shading(args: &RenderArgs, field: &HeightField) -> Result<ShadingParams> {
     let bounds = field.world_bounds(Surface::Boxes);
     let mut params = ShadingParams::for_terrain(&bounds)?;
     let (azimuth_deg, elevation_deg) = args.sun;
-    params.sun = Sun {
-        azimuth_deg,
-        elevation_deg,
-        ..params.sun
-    };
+    params.sun = Sun { azimuth_deg, elevation_deg, ..params.sun };
     params.shadows = !args.no_shadows;
     params.exposure = args.exposure;
     if let Some(path) = &args.texture {

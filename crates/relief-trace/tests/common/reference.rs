@@ -18,11 +18,11 @@ fn boxes(field: &HeightField, ray: &Ray) -> Option<f64> {
     let mut best: Option<f64> = None;
     for row in 0..field.height() {
         for col in 0..field.width() {
-            let lo = DVec3::new(
-                g.origin.x + col as f64 * g.dx,
-                g.origin.y + row as f64 * g.dy,
-                zmin,
-            );
+            if field.is_hole(col, row) {
+                continue;
+            }
+            let lo =
+                DVec3::new(g.origin.x + col as f64 * g.dx, g.origin.y + row as f64 * g.dy, zmin);
             let hi = DVec3::new(
                 g.origin.x + (col + 1) as f64 * g.dx,
                 g.origin.y + (row + 1) as f64 * g.dy,
@@ -44,10 +44,8 @@ fn slab(lo: DVec3, hi: DVec3, ray: &Ray) -> Option<f64> {
                 return None;
             }
         } else {
-            let (p, q) = (
-                (lo[a] - ray.origin[a]) / ray.dir[a],
-                (hi[a] - ray.origin[a]) / ray.dir[a],
-            );
+            let (p, q) =
+                ((lo[a] - ray.origin[a]) / ray.dir[a], (hi[a] - ray.origin[a]) / ray.dir[a]);
             t0 = t0.max(p.min(q));
             t1 = t1.min(p.max(q));
         }
@@ -76,6 +74,18 @@ fn square_triangles(field: &HeightField, c: usize, r: usize) -> [[DVec3; 3]; 2] 
     }
 }
 
+/// Whether the square with lower-left sample (c, r) exists: inside the grid, no corner a hole.
+fn square_exists(field: &HeightField, c: isize, r: isize) -> bool {
+    let (w, h) = (field.width() as isize, field.height() as isize);
+    c >= 0
+        && r >= 0
+        && c + 1 < w
+        && r + 1 < h
+        && [(0, 0), (1, 0), (0, 1), (1, 1)]
+            .iter()
+            .all(|(i, j)| !field.is_hole((c + i) as usize, (r + j) as usize))
+}
+
 /// Surface height above world (x, y) by barycentric interpolation in the triangle containing it.
 fn surface_height(field: &HeightField, x: f64, y: f64) -> Option<f64> {
     let g = field.geometry();
@@ -86,6 +96,9 @@ fn surface_height(field: &HeightField, x: f64, y: f64) -> Option<f64> {
     }
     let c = (gx.floor() as usize).min(cells_x - 1);
     let r = (gy.floor() as usize).min(cells_y - 1);
+    if !square_exists(field, c as isize, r as isize) {
+        return None;
+    }
     let mut best: Option<f64> = None;
     for tri in square_triangles(field, c, r) {
         let [a, b, cc] = tri;
@@ -113,34 +126,36 @@ fn triangles(field: &HeightField, ray: &Ray) -> Option<f64> {
             return Some(ray.t_min);
         }
     }
+    let floor = |p: DVec3| DVec3::new(p.x, p.y, zmin);
     let mut tris: Vec<[DVec3; 3]> = Vec::new();
     for r in 0..h - 1 {
         for c in 0..w - 1 {
+            let (ci, ri) = (c as isize, r as isize);
+            if !square_exists(field, ci, ri) {
+                continue;
+            }
             tris.extend(square_triangles(field, c, r));
+            let v = |i: usize, j: usize| vertex(field, c + i, r + j);
+            // The bottom, and a wall under every edge with no square beyond it.
+            tris.push([floor(v(0, 0)), floor(v(1, 0)), floor(v(1, 1))]);
+            tris.push([floor(v(0, 0)), floor(v(1, 1)), floor(v(0, 1))]);
+            let edges = [
+                ((-1, 0), v(0, 0), v(0, 1)),
+                ((1, 0), v(1, 0), v(1, 1)),
+                ((0, -1), v(0, 0), v(1, 0)),
+                ((0, 1), v(0, 1), v(1, 1)),
+            ];
+            for ((di, dj), a, b) in edges {
+                if !square_exists(field, ci + di, ri + dj) {
+                    tris.push([floor(a), floor(b), b]);
+                    tris.push([floor(a), b, a]);
+                }
+            }
         }
     }
-    let floor = |p: DVec3| DVec3::new(p.x, p.y, zmin);
-    let mut wall = |a: DVec3, b: DVec3| {
-        tris.push([floor(a), floor(b), b]);
-        tris.push([floor(a), b, a]);
-    };
-    for r in 0..h - 1 {
-        wall(vertex(field, 0, r), vertex(field, 0, r + 1));
-        wall(vertex(field, w - 1, r), vertex(field, w - 1, r + 1));
-    }
-    for c in 0..w - 1 {
-        wall(vertex(field, c, 0), vertex(field, c + 1, 0));
-        wall(vertex(field, c, h - 1), vertex(field, c + 1, h - 1));
-    }
-    let corners =
-        [(0, 0), (w - 1, 0), (w - 1, h - 1), (0, h - 1)].map(|(c, r)| floor(vertex(field, c, r)));
-    tris.push([corners[0], corners[1], corners[2]]);
-    tris.push([corners[0], corners[2], corners[3]]);
     tris.iter()
         .filter_map(|t| moller_trumbore(t, ray))
-        .fold(None, |best: Option<f64>, t| {
-            Some(best.map_or(t, |b| b.min(t)))
-        })
+        .fold(None, |best: Option<f64>, t| Some(best.map_or(t, |b| b.min(t))))
 }
 
 fn moller_trumbore(tri: &[DVec3; 3], ray: &Ray) -> Option<f64> {

@@ -65,12 +65,8 @@ pub fn terrain() -> impl Strategy<Value = HeightField> {
                     (v + off) as f32
                 })
                 .collect();
-            let geometry = GridGeometry {
-                dx,
-                dy,
-                z_scale: zs,
-                origin: DVec2::new(off * 3.0, -off),
-            };
+            let geometry =
+                GridGeometry { dx, dy, z_scale: zs, origin: DVec2::new(off * 3.0, -off) };
             HeightField::new(w, h, samples, geometry).unwrap()
         })
 }
@@ -96,11 +92,7 @@ pub fn ray_for(field: &HeightField, kind: RayKind, u: [f64; 8]) -> Ray {
     let inside = DVec3::new(
         lerp(b.min.x, b.max.x, u[0]),
         lerp(b.min.y, b.max.y, u[1]),
-        lerp(
-            b.min.z - 0.5 * size.z - 0.1,
-            b.max.z + 0.5 * size.z + 0.1,
-            u[2],
-        ),
+        lerp(b.min.z - 0.5 * size.z - 0.1, b.max.z + 0.5 * size.z + 0.1, u[2]),
     );
     let height = size.z.max(1.0);
     let random_dir = || {
@@ -112,11 +104,8 @@ pub fn ray_for(field: &HeightField, kind: RayKind, u: [f64; 8]) -> Ray {
     let (origin, dir) = match kind {
         RayKind::FromAbove => {
             let o = DVec3::new(inside.x, inside.y, b.max.z + height * (0.1 + 2.0 * u[5]));
-            let target = DVec3::new(
-                lerp(b.min.x, b.max.x, u[6]),
-                lerp(b.min.y, b.max.y, u[7]),
-                b.min.z,
-            );
+            let target =
+                DVec3::new(lerp(b.min.x, b.max.x, u[6]), lerp(b.min.y, b.max.y, u[7]), b.min.z);
             (o, (target - o).normalize())
         }
         RayKind::InsideBox => (inside, random_dir()),
@@ -139,32 +128,21 @@ pub fn ray_for(field: &HeightField, kind: RayKind, u: [f64; 8]) -> Ray {
                 lerp(b.min.z, b.max.z, 0.5 + 0.5 * u[2]),
             );
             let phi = (u[4] - 0.5) * 1.2;
-            (
-                o,
-                DVec3::new(phi.cos(), phi.sin(), (u[3] - 0.5) * 0.02).normalize(),
-            )
+            (o, DVec3::new(phi.cos(), phi.sin(), (u[3] - 0.5) * 0.02).normalize())
         }
         RayKind::AxisAligned => {
             let dir = [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y][(u[5] * 4.0) as usize % 4];
             (inside - dir * size.length() * u[6], dir)
         }
-        RayKind::VerticalDown => (
-            DVec3::new(inside.x, inside.y, b.max.z + height * u[5]),
-            -DVec3::Z,
-        ),
-        RayKind::VerticalUp => (
-            DVec3::new(inside.x, inside.y, b.min.z - height * u[5]),
-            DVec3::Z,
-        ),
+        RayKind::VerticalDown => {
+            (DVec3::new(inside.x, inside.y, b.max.z + height * u[5]), -DVec3::Z)
+        }
+        RayKind::VerticalUp => (DVec3::new(inside.x, inside.y, b.min.z - height * u[5]), DVec3::Z),
         RayKind::FromOutside => {
             let angle = u[5] * std::f64::consts::TAU;
             let c = b.center();
             let r = size.length().max(1.0);
-            let o = c + DVec3::new(
-                angle.cos() * r,
-                angle.sin() * r,
-                (u[6] - 0.3) * height * 2.0,
-            );
+            let o = c + DVec3::new(angle.cos() * r, angle.sin() * r, (u[6] - 0.3) * height * 2.0);
             ((o), (inside - o).normalize())
         }
     };
