@@ -103,3 +103,33 @@ fn pyramid_face_is_hit_at_the_closed_form_distance() {
         assert_close(t.intersect(&down).map(|h| h.t), 100.0 - (40.0 - 4.0 * 6.0), name);
     });
 }
+
+#[test]
+fn rays_pass_through_holes_and_hit_their_walls() {
+    // A 9 x 9 plateau at height 4 (one corner sample at 0, so walls reach down to 0) with a
+    // 3 x 3 hole in the middle (texels 3..6).
+    let f = field(9, 9, GridGeometry::unit(), |c, r| if c + r == 0 { 0.0 } else { 4.0 });
+    let holes = (0..81).map(|k| (3..6).contains(&(k % 9)) && (3..6).contains(&(k / 9))).collect();
+    let f = Arc::new(Arc::try_unwrap(f).unwrap().with_holes(holes).unwrap());
+    let down_the_hole = Ray::new(DVec3::new(4.5, 4.5, 10.0), -DVec3::Z);
+    let into_the_wall = Ray::new(DVec3::new(4.5, 4.5, 3.0), DVec3::X);
+    let across_the_hole =
+        Ray::new(DVec3::new(4.5, 4.5, 5.0), DVec3::new(1.0, 0.0, -1.0).normalize());
+    every_tracer(&[Surface::Boxes], f.clone(), |t, name| {
+        assert!(t.intersect(&down_the_hole).is_none(), "{name}: the hole has no floor");
+        let wall = t.intersect(&into_the_wall).unwrap();
+        assert_close(Some(wall.t), 1.5, name);
+        assert_eq!(wall.normal, -DVec3::X, "{name}");
+        // Sinks into the hole and meets its east wall at x = 6, z = 3.5.
+        let hit = t.intersect(&across_the_hole).unwrap();
+        assert_close(Some(hit.t), 1.5 * 2f64.sqrt(), name);
+        assert_eq!(hit.normal, -DVec3::X, "{name}");
+    });
+    // Triangles: squares touching a hole sample are empty too; the hole spans 2.5..6.5.
+    every_tracer(&[Surface::Triangles], f, |t, name| {
+        assert!(t.intersect(&down_the_hole).is_none(), "{name}: the hole has no floor");
+        let wall = t.intersect(&into_the_wall).unwrap();
+        assert_close(Some(wall.t), 2.0, name);
+        assert_eq!(wall.normal, -DVec3::X, "{name}");
+    });
+}

@@ -67,7 +67,20 @@ pub fn terrain() -> impl Strategy<Value = HeightField> {
                 .collect();
             let geometry =
                 GridGeometry { dx, dy, z_scale: zs, origin: DVec2::new(off * 3.0, -off) };
-            HeightField::new(w, h, samples, geometry).unwrap()
+            let field = HeightField::new(w, h, samples, geometry).unwrap();
+            // Holes in two cases out of five: scattered texels or a rectangle.
+            let (x0, y0) = ((a * w as f64) as usize, (b * h as f64) as usize);
+            let (x1, y1) =
+                (x0 + 1 + (c * w as f64 / 2.0) as usize, y0 + 1 + (b * h as f64 / 3.0) as usize);
+            let holes: Vec<bool> = match seed % 5 {
+                0 => (0..w * h).map(|_| next() < 0.15).collect(),
+                1 => (0..w * h)
+                    .map(|i| (x0..x1).contains(&(i % w)) && (y0..y1).contains(&(i / w)))
+                    .collect(),
+                _ => return field,
+            };
+            // Every sample a hole is refused: keep the field whole then.
+            field.clone().with_holes(holes).unwrap_or(field)
         })
 }
 
