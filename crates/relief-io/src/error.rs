@@ -41,6 +41,24 @@ pub enum IoError {
         /// What is wrong with the values.
         reason: String,
     },
+    /// The raster would need more memory than the user's budget allows; refused before
+    /// allocating.
+    #[error(
+        "{}: {width} x {height} samples need {} MiB, over the {} MiB memory limit (raise it with --max-memory)",
+        path.display(), needed / 1048576, limit / 1048576
+    )]
+    Limits {
+        /// The file concerned.
+        path: PathBuf,
+        /// Raster width in samples.
+        width: u64,
+        /// Raster height in samples.
+        height: u64,
+        /// Bytes reading it would need.
+        needed: u64,
+        /// The budget in bytes.
+        limit: u64,
+    },
 }
 
 impl IoError {

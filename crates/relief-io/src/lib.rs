@@ -24,17 +24,26 @@
 
 mod atomic_write;
 mod error;
+mod geodesy;
 mod input_file;
 mod npy_header;
 mod npy_read;
 mod npy_write;
 mod png_read;
 mod png_write;
+mod raster;
 #[cfg(test)]
 mod test_dir;
+mod void_fill;
 
 pub use error::IoError;
+pub use geodesy::metres_per_degree;
 pub use npy_read::read_npy_height_field;
 pub use npy_write::{write_height_field_npy, write_npy_f32};
 pub use png_read::{read_png_rgb, RgbImage};
 pub use png_write::{write_png_gray16, write_png_rgb8};
+pub use raster::{
+    default_memory_limit, DegreeSpacing, Format, PngEncoding, Raster, RasterInfo, ReadOptions,
+    VoidPolicy, BYTES_PER_SAMPLE,
+};
+pub use void_fill::fill_voids;

@@ -95,6 +95,35 @@ impl Terrain {
                     sy += gy;
                     sum += o.amplitude * n / (1.0 + sx * sx + sy * sy);
                 }
+                6 | 7 => {
+                    let gx = o.cos * du + o.sin * dv;
+                    let gy = -o.sin * du + o.cos * dv;
+                    sx += gx;
+                    sy += gy;
+                    let m = if weight > if self.style == 6 { 0.3 } else { 0.6 } {
+                        0.5 * (0.7 - 2.0 * n.abs())
+                    } else {
+                        n
+                    };
+                    sum += o.amplitude * m / (1.0 + sx * sx + sy * sy);
+                    weight *= 0.5;
+                }
+                4 | 5 => {
+                    // Sharp ridges in the coarse octaves, eroded detail.
+                    let gx = o.cos * du + o.sin * dv;
+                    let gy = -o.sin * du + o.cos * dv;
+                    let ridged = self.style == 4 || weight > 0.5;
+                    let (m, mx, my) = if ridged {
+                        let sg = if n >= 0.0 { 1.0 } else { -1.0 };
+                        (0.5 - n.abs(), -sg * gx, -sg * gy)
+                    } else {
+                        (n, gx, gy)
+                    };
+                    sx += mx;
+                    sy += my;
+                    sum += o.amplitude * m / (1.0 + sx * sx + sy * sy);
+                    weight *= 0.5;
+                }
                 _ => {
                     let r = 1.0 - n.abs() * std::f64::consts::SQRT_2;
                     let s = r * r * weight;

@@ -1,0 +1,254 @@
+//! A raster as read from a file, before its voids are resolved, and the options of reading.
+
+use crate::void_fill::fill_voids;
+use crate::IoError;
+use relief_core::{GridGeometry, HeightField};
+use std::fmt;
+use std::path::Path;
+
+/// The file formats relief reads and writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// NumPy `.npy` array.
+    Npy,
+    /// NumPy `.npz` archive of arrays.
+    Npz,
+    /// GeoTIFF (`.tif`, `.tiff`).
+    GeoTiff,
+    /// SRTM height tile (`.hgt`).
+    Hgt,
+    /// ESRI ASCII grid (`.asc`).
+    Asc,
+    /// 16-bit greyscale PNG: the sample is the grey value.
+    Png16,
+    /// Mapbox terrain-RGB PNG tile: height = -10000 + (R * 65536 + G * 256 + B) / 10.
+    TerrainRgb,
+    /// Terrarium PNG tile: height = R * 256 + G + B / 256 - 32768.
+    Terrarium,
+}
+
+impl Format {
+    /// A human-readable name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Npy => "NumPy .npy",
+            Format::Npz => "NumPy .npz",
+            Format::GeoTiff => "GeoTIFF",
+            Format::Hgt => "SRTM .hgt",
+            Format::Asc => "ESRI ASCII grid",
+            Format::Png16 => "16-bit greyscale PNG",
+            Format::TerrainRgb => "Mapbox terrain-RGB PNG",
+            Format::Terrarium => "Terrarium PNG",
+        }
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// How a PNG's pixels encode heights.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PngEncoding {
+    /// 16-bit (or 8-bit) grey: the sample is the grey value.
+    #[default]
+    Grey,
+    /// Mapbox terrain-RGB.
+    TerrainRgb,
+    /// Terrarium.
+    Terrarium,
+}
+
+/// A georeference given in degrees, converted to metres at the raster's latitude.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DegreeSpacing {
+    /// Pixel width in degrees of longitude.
+    pub dlon: f64,
+    /// Pixel height in degrees of latitude.
+    pub dlat: f64,
+    /// Latitude (degrees) at which the conversion to metres was made: the raster's centre.
+    pub latitude: f64,
+}
+
+/// What a reader learned about a file besides its samples.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RasterInfo {
+    /// The file's format.
+    pub format: Format,
+    /// The stored sample type, e.g. `int16` or `float32`.
+    pub sample_type: String,
+    /// Whether spacing and origin came from the file (else they are 1 and 0, grid units).
+    pub georeferenced: bool,
+    /// Set when the georeference was in degrees and was converted to metres.
+    pub from_degrees: Option<DegreeSpacing>,
+    /// The value the file declares for missing samples, if any.
+    pub nodata: Option<f64>,
+}
+
+/// A grid of samples as a reader found it: row 0 southernmost (north-up files are flipped),
+/// voids (the file's nodata) as NaN, every other sample finite.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Raster {
+    /// Columns.
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+    /// `width * height` samples, row-major, row 0 south, NaN for a void.
+    pub samples: Vec<f32>,
+    /// Spacing and origin (metres when georeferenced), z scale 1.
+    pub geometry: GridGeometry,
+    /// What the file said about itself.
+    pub info: RasterInfo,
+}
+
+/// What to do with voids (nodata samples) when a raster becomes a height field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VoidPolicy {
+    /// Fill each void from the nearest valid sample, then smooth the filled area.
+    #[default]
+    Fill,
+    /// Keep voids as holes: empty texels that the tracers see through.
+    Hole,
+}
+
+/// Options of every reader.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReadOptions {
+    /// Largest number of bytes a raster may need in memory; larger ones are refused before
+    /// anything is allocated.
+    pub max_memory: u64,
+    /// The array to read from an `.npz` archive (default: the first).
+    pub array: Option<String>,
+    /// How PNG pixels encode heights.
+    pub png_encoding: PngEncoding,
+}
+
+impl Default for ReadOptions {
+    /// Half the machine's memory (or 4 GiB where it cannot be read), first array, grey PNG.
+    fn default() -> Self {
+        ReadOptions {
+            max_memory: default_memory_limit(),
+            array: None,
+            png_encoding: PngEncoding::Grey,
+        }
+    }
+}
+
+/// Bytes per sample a raster needs while being read: the f32 samples plus a margin for the
+/// reader's decoding buffers and the void mask.
+pub const BYTES_PER_SAMPLE: u64 = 5;
+
+impl ReadOptions {
+    /// Refuses a `width x height` raster whose samples would exceed the memory budget, and a
+    /// raster with no samples.
+    pub fn check_size(&self, path: &Path, width: u64, height: u64) -> Result<(), IoError> {
+        if width == 0 || height == 0 {
+            return Err(IoError::format(
+                path,
+                format!("raster of {width} x {height} samples is empty"),
+            ));
+        }
+        let needed = width.saturating_mul(height).saturating_mul(BYTES_PER_SAMPLE);
+        if needed > self.max_memory || usize::try_from(width.saturating_mul(height)).is_err() {
+            return Err(IoError::Limits {
+                path: path.to_path_buf(),
+                width,
+                height,
+                needed,
+                limit: self.max_memory,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Half of the machine's physical memory (from /proc/meminfo), or 4 GiB if unknown.
+pub fn default_memory_limit() -> u64 {
+    let total = std::fs::read_to_string("/proc/meminfo").ok().and_then(|text| {
+        let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+        line.split_whitespace().nth(1)?.parse::<u64>().ok()
+    });
+    total.map_or(4 << 30, |kib| kib * 1024 / 2)
+}
+
+impl Raster {
+    /// Number of voids.
+    pub fn void_count(&self) -> usize {
+        self.samples.iter().filter(|v| v.is_nan()).count()
+    }
+
+    /// Smallest and largest valid sample; `None` when every sample is a void.
+    pub fn value_range(&self) -> Option<(f32, f32)> {
+        let valid = self.samples.iter().copied().filter(|v| !v.is_nan());
+        valid.fold(None, |r, v| {
+            Some(r.map_or((v, v), |(lo, hi): (f32, f32)| (lo.min(v), hi.max(v))))
+        })
+    }
+
+    /// The height field of this raster, with its voids resolved by `voids`. `path` names the
+    /// file in errors (a raster of nothing but voids, for one).
+    pub fn into_height_field(self, path: &Path, voids: VoidPolicy) -> Result<HeightField, IoError> {
+        let Raster { width, height, mut samples, geometry, .. } = self;
+        let holes: Vec<bool> = samples.iter().map(|v| v.is_nan()).collect();
+        let has_voids = holes.contains(&true);
+        if has_voids && holes.iter().all(|&h| h) {
+            return Err(IoError::invalid_data(path, "every sample is a void (nodata)"));
+        }
+        let invalid = |e: relief_core::CoreError| IoError::invalid_data(path, e.to_string());
+        match voids {
+            VoidPolicy::Fill => {
+                if has_voids {
+                    fill_voids(width, height, &mut samples);
+                }
+                HeightField::new(width, height, samples, geometry).map_err(invalid)
+            }
+            VoidPolicy::Hole => {
+                for v in samples.iter_mut().filter(|v| v.is_nan()) {
+                    *v = 0.0;
+                }
+                let field = HeightField::new(width, height, samples, geometry).map_err(invalid)?;
+                if has_voids {
+                    field.with_holes(holes).map_err(invalid)
+                } else {
+                    Ok(field)
+                }
+            }
+        }
+    }
+}
+
+/// Marks samples equal to `nodata` as voids (NaN) and refuses any other non-finite sample,
+/// naming its column and row in the file's own order (`row_from_top` tells that order).
+pub(crate) fn mark_voids(
+    path: &Path,
+    samples: &mut [f32],
+    width: usize,
+    nodata: Option<f64>,
+    row_from_top: bool,
+) -> Result<(), IoError> {
+    let nodata_f32 = nodata.map(|v| v as f32);
+    let height = samples.len() / width.max(1);
+    for (i, v) in samples.iter_mut().enumerate() {
+        let is_void = match nodata_f32 {
+            Some(nd) if nd.is_nan() => v.is_nan(),
+            Some(nd) => *v == nd,
+            None => false,
+        };
+        if is_void {
+            *v = f32::NAN;
+        } else if !v.is_finite() {
+            let (col, row) = (i % width, i / width);
+            let row = if row_from_top { height - 1 - row } else { row };
+            return Err(IoError::invalid_data(
+                path,
+                format!(
+                    "sample at column {col}, row {row} is {v}{}",
+                    if nodata.is_none() { " and the file declares no nodata value" } else { "" }
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
