@@ -72,4 +72,42 @@ const RELIEF_FRACTION: f64 = 0.15;
 
 /// Typical total relief (max - min) of a terrain per unit of first-octave amplitude, measured
 /// on grids made with [`FbmParams::for_size`].
-pub(crate) const RELIEF_PER_AMPLITUDE: f64 = 1.0;
+pub(crate) const RELIEF_PER_AMPLITUDE: f64 = 0.87;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn for_size_follows_the_documented_rules() {
+        let p = FbmParams::for_size(4096, 1024);
+        assert!((p.wavelength - 4096.0 / 3.0).abs() < 1e-9);
+        let finest = p.wavelength / p.lacunarity.powi(p.octaves as i32 - 1);
+        assert!((2.0..4.0).contains(&finest), "finest octave {finest} texels");
+        assert_eq!((p.gain, p.lacunarity), (0.5, 2.0));
+        assert_eq!(FbmParams::for_size(1 << 30, 1).octaves, 14);
+        for (w, h) in [(0, 0), (1, 1), (1, 7), (3, 2)] {
+            FbmParams::for_size(w, h).validate().unwrap();
+        }
+    }
+
+    #[test]
+    fn validate_names_the_field_out_of_range() {
+        let good = FbmParams::for_size(64, 64);
+        let cases: [(&str, FbmParams); 7] = [
+            ("octaves", FbmParams { octaves: 0, ..good }),
+            ("octaves", FbmParams { octaves: MAX_OCTAVES + 1, ..good }),
+            ("lacunarity", FbmParams { lacunarity: 1.0, ..good }),
+            ("gain", FbmParams { gain: f64::NAN, ..good }),
+            ("wavelength", FbmParams { wavelength: 0.0, ..good }),
+            ("amplitude", FbmParams { amplitude: f64::INFINITY, ..good }),
+            ("amplitude", FbmParams { amplitude: -1.0, ..good }),
+        ];
+        for (name, params) in cases {
+            match params.validate() {
+                Err(CoreError::Parameter { name: found, .. }) => assert_eq!(found, name),
+                other => panic!("{params:?} gave {other:?}, expected an error on {name}"),
+            }
+        }
+    }
+}

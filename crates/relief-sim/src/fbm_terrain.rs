@@ -1,152 +1,203 @@
 //! Seeded fBm terrain: the generator of synthetic mountain height fields.
+//!
+//! The terrain is a sum of gradient-noise octaves in the style of Inigo Quilez's "eroded"
+//! fBm: each octave is damped by the slope accumulated by the octaves above it, so steep
+//! flanks stay smooth and detail gathers on ridges and valley floors. The first octave is
+//! ridged (crests where its noise crosses zero) to give mountain chains, and the whole
+//! domain is warped by a low-frequency noise so that features meander instead of following
+//! the lattice.
 
-use crate::gradient_noise::{mix64, CellCache, GradientNoise};
+use crate::gradient_noise::{mix64, CellCache, GradientNoise, NoiseBatch};
 use crate::FbmParams;
 use rayon::prelude::*;
 use relief_core::{CoreError, GridGeometry, HeightField};
+
+/// Domain-warp displacement in units of the first octave's wavelength.
+const WARP: f64 = 0.3;
+
+/// Wavelength of the warp noise in units of the first octave's wavelength.
+const WARP_WAVELENGTH: f64 = 2.0;
+
+/// The largest lattice coordinate the finest octave may reach: far below 2^53, so lattice
+/// coordinates keep a fractional part with enough precision for smooth noise.
+const MAX_LATTICE_COORDINATE: f64 = (1u64 << 40) as f64;
+
+/// Samples evaluated together along a row: small enough that a block's working arrays stay
+/// in the first-level cache.
+const BLOCK: usize = 256;
 
 /// One noise layer: its lattice, orientation, frequency and amplitude.
 #[derive(Debug, Clone)]
 struct Octave {
     noise: GradientNoise,
-    /// Rotation (cos, sin) of the layer relative to the grid, so lattices do not align.
+    /// Cosine of the layer's rotation relative to the grid (layers are rotated so that their
+    /// lattices do not line up).
     cos: f64,
+    /// Sine of that rotation.
     sin: f64,
+    /// Lattice cells per texel.
     frequency: f64,
-    amplitude: f64,
+    /// Sample units per unit of noise.
+    amplitude: f32,
 }
 
-/// Everything needed to evaluate the terrain at a point.
+impl Octave {
+    /// Layer `index` of the terrain seeded with `seed`.
+    fn new(seed: u64, index: u64, frequency: f64, amplitude: f64) -> Self {
+        let angle = index as f64 * 1.1;
+        Octave {
+            noise: GradientNoise::new(mix64(seed ^ index.wrapping_mul(0x2545_f491_4f6c_dd1d))),
+            cos: angle.cos(),
+            sin: angle.sin(),
+            frequency,
+            amplitude: amplitude as f32,
+        }
+    }
+
+    /// The layer's noise at the grid points of `s.xs`, `s.ys` into `s.n`, with its gradient
+    /// in lattice axes into `s.du`, `s.dv`.
+    fn eval(&self, s: &mut Scratch, cache: &mut CellCache) {
+        let len = s.xs.len();
+        let (c, sn, f) = (self.cos, self.sin, self.frequency);
+        for ((u, v), (&x, &y)) in s.us.iter_mut().zip(&mut s.vs).zip(s.xs.iter().zip(&s.ys)) {
+            let (x, y) = (x * f, y * f);
+            (*u, *v) = (c * x - sn * y, sn * x + c * y);
+        }
+        self.noise.locate(&s.us[..len], &s.vs[..len], cache, &mut s.batch);
+        s.batch.evaluate(&mut s.n, &mut s.du, &mut s.dv);
+    }
+}
+
+/// The terrain function: warp layers and octaves.
 struct Terrain {
     octaves: Vec<Octave>,
-    style: u32,
-    warp: f64,
-    warp_x: Octave,
-    warp_y: Octave,
+    warp: [Octave; 2],
+    /// Warp displacement in texels per unit of warp noise.
+    warp_distance: f64,
+}
+
+/// One thread's working memory: a block's coordinates, noise and running sums, and a cell
+/// cache per layer.
+#[derive(Default)]
+struct Scratch {
+    caches: Vec<CellCache>,
+    batch: NoiseBatch,
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    us: Vec<f64>,
+    vs: Vec<f64>,
+    warp_x: Vec<f32>,
+    n: Vec<f32>,
+    du: Vec<f32>,
+    dv: Vec<f32>,
+    sum: Vec<f32>,
+    slope_x: Vec<f32>,
+    slope_y: Vec<f32>,
 }
 
 impl Terrain {
     fn new(seed: u64, params: &FbmParams) -> Self {
-        let layer = |k: u64, frequency: f64, amplitude: f64| {
-            let angle = k as f64 * 1.1;
-            Octave {
-                noise: GradientNoise::new(mix64(seed ^ k.wrapping_mul(0x2545_f491_4f6c_dd1d))),
-                cos: angle.cos(),
-                sin: angle.sin(),
-                frequency,
-                amplitude,
-            }
-        };
         let octaves = (0..params.octaves)
             .map(|k| {
                 let frequency = params.lacunarity.powi(k as i32) / params.wavelength;
-                layer(u64::from(k), frequency, params.amplitude * params.gain.powi(k as i32))
+                let amplitude = params.amplitude * params.gain.powi(k as i32);
+                Octave::new(seed, u64::from(k), frequency, amplitude)
             })
             .collect();
-        let style = std::env::var("STYLE").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
-        let warp = std::env::var("WARP").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0);
+        let warp_frequency = 1.0 / (WARP_WAVELENGTH * params.wavelength);
         Terrain {
             octaves,
-            style,
-            warp: warp * params.wavelength,
-            warp_x: layer(100, 0.5 / params.wavelength, 1.0),
-            warp_y: layer(101, 0.5 / params.wavelength, 1.0),
+            warp: [
+                Octave::new(seed, u64::from(u32::MAX) + 1, warp_frequency, 1.0),
+                Octave::new(seed, u64::from(u32::MAX) + 2, warp_frequency, 1.0),
+            ],
+            warp_distance: WARP * params.wavelength,
         }
     }
 
-    fn sample(&self, x: f64, y: f64, caches: &mut [CellCache]) -> f64 {
-        let (mut x, mut y) = (x, y);
-        let n = caches.len();
-        if self.warp > 0.0 {
-            let (a, b) = caches.split_at_mut(n - 1);
-            let wx = self.warp_x.noise.eval(
-                x * self.warp_x.frequency,
-                y * self.warp_x.frequency,
-                &mut a[n - 2],
-            );
-            let wy = self.warp_y.noise.eval(
-                x * self.warp_y.frequency + 5.3,
-                y * self.warp_y.frequency,
-                &mut b[0],
-            );
-            x += self.warp * wx;
-            y += self.warp * wy;
-        }
-        let mut sum = 0.0;
-        let mut weight = 1.0;
-        let (mut sx, mut sy) = (0.0, 0.0);
-        for (o, cache) in self.octaves.iter().zip(caches.iter_mut()) {
-            let (u, v) = (x * o.frequency, y * o.frequency);
-            let (ru, rv) = (o.cos * u - o.sin * v, o.sin * u + o.cos * v);
-            let [n, du, dv] = o.noise.eval_with_gradient(ru, rv, cache);
-            match self.style {
-                0 => sum += o.amplitude * n,
-                1 => {
-                    let r = 1.0 - n.abs() * std::f64::consts::SQRT_2;
-                    let s = r * r * weight;
-                    weight = (s * 2.0).clamp(0.0, 1.0);
-                    sum += o.amplitude * s;
-                }
-                2 => {
-                    // Gradient damping (erosion-like): back-rotate the gradient.
-                    let gx = o.cos * du + o.sin * dv;
-                    let gy = -o.sin * du + o.cos * dv;
-                    sx += gx;
-                    sy += gy;
-                    sum += o.amplitude * n / (1.0 + sx * sx + sy * sy);
-                }
-                6 | 7 => {
-                    let gx = o.cos * du + o.sin * dv;
-                    let gy = -o.sin * du + o.cos * dv;
-                    sx += gx;
-                    sy += gy;
-                    let m = if weight > if self.style == 6 { 0.3 } else { 0.6 } {
-                        0.5 * (0.7 - 2.0 * n.abs())
-                    } else {
-                        n
-                    };
-                    sum += o.amplitude * m / (1.0 + sx * sx + sy * sy);
-                    weight *= 0.5;
-                }
-                4 | 5 => {
-                    // Sharp ridges in the coarse octaves, eroded detail.
-                    let gx = o.cos * du + o.sin * dv;
-                    let gy = -o.sin * du + o.cos * dv;
-                    let ridged = self.style == 4 || weight > 0.5;
-                    let (m, mx, my) = if ridged {
-                        let sg = if n >= 0.0 { 1.0 } else { -1.0 };
-                        (0.5 - n.abs(), -sg * gx, -sg * gy)
-                    } else {
-                        (n, gx, gy)
-                    };
-                    sx += mx;
-                    sy += my;
-                    sum += o.amplitude * m / (1.0 + sx * sx + sy * sy);
-                    weight *= 0.5;
-                }
-                _ => {
-                    let r = 1.0 - n.abs() * std::f64::consts::SQRT_2;
-                    let s = r * r * weight;
-                    weight = (s * 2.0).clamp(0.0, 1.0);
-                    let gx = o.cos * du + o.sin * dv;
-                    let gy = -o.sin * du + o.cos * dv;
-                    sx += gx;
-                    sy += gy;
-                    sum += o.amplitude * s / (1.0 + 0.5 * (sx * sx + sy * sy));
-                }
+    /// Working memory for [`Terrain::row`].
+    fn scratch(&self) -> Scratch {
+        Scratch { caches: vec![CellCache::default(); self.octaves.len() + 2], ..Scratch::default() }
+    }
+
+    /// Fills `out` with the (unshifted) heights of grid row `row` and returns their minimum.
+    fn row(&self, row: usize, out: &mut [f32], s: &mut Scratch) -> f32 {
+        let mut min = f32::INFINITY;
+        let mut caches = std::mem::take(&mut s.caches);
+        let (warp_caches, caches_rest) = caches.split_at_mut(2);
+        for (b, block) in out.chunks_mut(BLOCK).enumerate() {
+            let len = block.len();
+            for v in [&mut s.xs, &mut s.ys, &mut s.us, &mut s.vs] {
+                v.resize(len, 0.0);
+            }
+            for v in [&mut s.warp_x, &mut s.n, &mut s.du, &mut s.dv] {
+                v.resize(len, 0.0);
+            }
+            for v in [&mut s.sum, &mut s.slope_x, &mut s.slope_y] {
+                v.clear();
+                v.resize(len, 0.0);
+            }
+            for (i, (x, y)) in s.xs.iter_mut().zip(&mut s.ys).enumerate() {
+                (*x, *y) = ((b * BLOCK + i) as f64 + 0.5, row as f64 + 0.5);
+            }
+            // Warp the domain: both warp layers see the unwarped points.
+            self.warp[0].eval(s, &mut warp_caches[0]);
+            s.warp_x.copy_from_slice(&s.n);
+            self.warp[1].eval(s, &mut warp_caches[1]);
+            let d = self.warp_distance;
+            for (i, (x, y)) in s.xs.iter_mut().zip(&mut s.ys).enumerate() {
+                *x += d * f64::from(s.warp_x[i]);
+                *y += d * f64::from(s.n[i]);
+            }
+            for (k, (octave, cache)) in self.octaves.iter().zip(caches_rest.iter_mut()).enumerate()
+            {
+                octave.eval(s, cache);
+                accumulate(octave, k == 0, s);
+            }
+            for (h, &v) in block.iter_mut().zip(&s.sum) {
+                *h = v;
+                min = min.min(v);
             }
         }
-        sum
+        s.caches = caches;
+        min
     }
 }
 
-/// A `width x height` height field of seeded fBm mountains with [`GridGeometry::unit`].
+/// Adds one octave's noise (in `s.n`, gradient in `s.du`, `s.dv`) to the running sums:
+/// the slope accumulates the octave's gradient turned back into grid axes, and the octave's
+/// contribution is divided by 1 + |slope|^2 (eroded fBm). A `ridged` octave contributes
+/// `0.35 - |n|`, whose crests run where the noise crosses zero.
+fn accumulate(octave: &Octave, ridged: bool, s: &mut Scratch) {
+    let len = s.sum.len();
+    let (c, sn, a) = (octave.cos as f32, octave.sin as f32, octave.amplitude);
+    let (n, du, dv) = (&s.n[..len], &s.du[..len], &s.dv[..len]);
+    let (sum, sx, sy) = (&mut s.sum[..len], &mut s.slope_x[..len], &mut s.slope_y[..len]);
+    for i in 0..len {
+        sx[i] += c * du[i] + sn * dv[i];
+        sy[i] += c * dv[i] - sn * du[i];
+        let value = if ridged { 0.35 - n[i].abs() } else { n[i] };
+        sum[i] += a * value / (1.0 + sx[i] * sx[i] + sy[i] * sy[i]);
+    }
+}
+
+/// A `width x height` height field of seeded fBm mountains with [`GridGeometry::unit`]
+/// (sample (col, row) is the terrain at the texel centre (col + 0.5, row + 0.5)).
 ///
-/// The same `seed` and `params` give the same samples, bit for bit, whatever the number of
-/// threads. Samples are finite and at least 0, the lowest exactly 0.
+/// The same `width`, `height`, `seed` and `params` give the same samples, bit for bit,
+/// whatever the number of threads. Samples are finite and at least 0, the lowest exactly 0.
 ///
 /// Errors: [`CoreError::Parameter`] when `params` are out of range (see
-/// [`FbmParams::validate`]), [`CoreError::Grid`] when the grid is empty or too large.
+/// [`FbmParams::validate`]) or their finest octave is too fine for the grid's size;
+/// [`CoreError::Grid`] when the grid is empty or cannot be allocated.
+///
+/// ```
+/// use relief_sim::{fbm_terrain, FbmParams};
+/// let field = fbm_terrain(64, 32, 7, &FbmParams::for_size(64, 32))?;
+/// assert_eq!((field.width(), field.height()), (64, 32));
+/// assert_eq!(field.min_sample(), 0.0);
+/// # Ok::<(), relief_core::CoreError>(())
+/// ```
 pub fn fbm_terrain(
     width: usize,
     height: usize,
@@ -160,20 +211,108 @@ pub fn fbm_terrain(
     let count = width
         .checked_mul(height)
         .ok_or_else(|| CoreError::Grid(format!("{width} x {height} samples overflow")))?;
-    let mut heights: Vec<f64> = Vec::new();
-    heights
+    let finest = params.lacunarity.powi(params.octaves as i32 - 1);
+    let reach = (width.max(height) as f64 / params.wavelength + WARP) * finest;
+    if reach > MAX_LATTICE_COORDINATE {
+        return Err(CoreError::Parameter {
+            name: "octaves",
+            reason: format!(
+                "the finest of {} octaves at lacunarity {} is too fine for a {width} x {height} grid",
+                params.octaves, params.lacunarity
+            ),
+        });
+    }
+    let mut samples: Vec<f32> = Vec::new();
+    samples
         .try_reserve_exact(count)
         .map_err(|_| CoreError::Grid(format!("cannot allocate {width} x {height} samples")))?;
-    heights.resize(count, 0.0);
+    samples.resize(count, 0.0);
     let terrain = Terrain::new(seed, params);
-    heights.par_chunks_mut(width).enumerate().for_each(|(row, out)| {
-        let mut caches = vec![CellCache::default(); terrain.octaves.len() + 2];
-        let y = row as f64 + 0.5;
-        for (col, h) in out.iter_mut().enumerate() {
-            *h = terrain.sample(col as f64 + 0.5, y, &mut caches);
-        }
-    });
-    let min = heights.iter().copied().fold(f64::INFINITY, f64::min);
-    let samples = heights.iter().map(|&h| (h - min) as f32).collect();
+    // Each row is computed from its own coordinates alone, so the split between threads
+    // cannot change any value; the minimum is exact whatever the order of reduction.
+    let min = samples
+        .par_chunks_mut(width)
+        .enumerate()
+        .map_init(|| terrain.scratch(), |scratch, (row, out)| terrain.row(row, out, scratch))
+        .reduce(|| f32::INFINITY, f32::min);
+    samples.par_iter_mut().for_each(|h| *h -= min);
     HeightField::new(width, height, samples, GridGeometry::unit())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn terrain(width: usize, height: usize, seed: u64) -> HeightField {
+        fbm_terrain(width, height, seed, &FbmParams::for_size(width, height)).unwrap()
+    }
+
+    #[test]
+    fn same_seed_same_samples_other_seed_other_samples() {
+        let a = terrain(300, 200, 42);
+        assert_eq!(a.samples(), terrain(300, 200, 42).samples());
+        let b = terrain(300, 200, 43);
+        let differing = a.samples().iter().zip(b.samples()).filter(|(x, y)| x != y).count();
+        assert!(differing > 300 * 200 * 9 / 10, "only {differing} samples differ");
+    }
+
+    #[test]
+    fn thread_count_does_not_change_any_bit() {
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| terrain(700, 90, 5))
+        };
+        let (one, two) = (run(1), run(2));
+        let bits = |f: &HeightField| f.samples().iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&one), bits(&two));
+    }
+
+    #[test]
+    fn samples_are_finite_non_negative_and_start_at_zero() {
+        for (w, h) in [(1, 1), (1, 50), (50, 1), (257, 3)] {
+            let field = terrain(w, h, 9);
+            assert_eq!((field.width(), field.height()), (w, h));
+            assert!(field.samples().iter().all(|v| v.is_finite() && *v >= 0.0));
+            assert_eq!(field.min_sample(), 0.0);
+        }
+        // A row of more than one sample has some relief.
+        assert!(terrain(1, 50, 9).max_sample() > 0.0);
+    }
+
+    #[test]
+    fn relief_is_about_the_documented_fraction_of_the_longer_side() {
+        for (w, h) in [(128, 128), (256, 96)] {
+            for seed in 0..6 {
+                let field = terrain(w, h, seed);
+                let fraction = f64::from(field.max_sample()) / w.max(h) as f64;
+                assert!((0.07..0.3).contains(&fraction), "{w}x{h} seed {seed}: {fraction}");
+            }
+        }
+    }
+
+    #[test]
+    fn looks_like_mountains_not_noise() {
+        // Neighbouring samples are strongly correlated: the mean step between neighbours is
+        // far smaller than the total relief.
+        let field = terrain(256, 256, 3);
+        let s = field.samples();
+        let steps: f64 = s.windows(2).map(|p| f64::from((p[1] - p[0]).abs())).sum();
+        let mean_step = steps / (s.len() - 1) as f64;
+        assert!(mean_step < 0.05 * f64::from(field.max_sample()), "mean step {mean_step}");
+    }
+
+    #[test]
+    fn bad_sizes_and_parameters_are_errors() {
+        let p = FbmParams::for_size(16, 16);
+        assert!(matches!(fbm_terrain(0, 16, 1, &p), Err(CoreError::Grid(_))));
+        assert!(matches!(fbm_terrain(usize::MAX, 3, 1, &p), Err(CoreError::Grid(_))));
+        assert!(matches!(fbm_terrain(1 << 31, 1 << 31, 1, &p), Err(CoreError::Grid(_))));
+        let bad = FbmParams { gain: 2.0, ..p };
+        assert!(matches!(fbm_terrain(16, 16, 1, &bad), Err(CoreError::Parameter { .. })));
+        let too_fine = FbmParams { octaves: 32, lacunarity: 1e3, ..p };
+        assert!(matches!(
+            fbm_terrain(16, 16, 1, &too_fine),
+            Err(CoreError::Parameter { name: "octaves", .. })
+        ));
+    }
 }
