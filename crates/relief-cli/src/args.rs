@@ -1,6 +1,6 @@
 //! Command-line arguments of every subcommand.
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use relief_core::{DVec3, Surface};
 use relief_trace::TracerKind;
 use std::path::PathBuf;
@@ -22,18 +22,61 @@ pub enum Command {
     /// Write a synthetic terrain.
     #[command(subcommand)]
     Generate(GenerateCommand),
-    /// Describe a height-field file.
+    /// Describe a height file.
     Info(InfoArgs),
+    /// Convert a height file to another format (by the output's extension).
+    Convert(ConvertArgs),
     /// Measure the tracers on fixed views of the seeded fBm terrain.
     Bench(BenchArgs),
+}
+
+/// How height files are read.
+#[derive(Debug, Args)]
+pub struct ReadArgs {
+    /// Voids (nodata): fill them from their surroundings, or keep them as holes.
+    #[arg(long, value_enum, default_value = "fill")]
+    pub voids: Voids,
+    /// Memory a raster may take, e.g. 512M, 8G (default: half the machine's memory).
+    #[arg(long, value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
+    /// How a PNG encodes heights.
+    #[arg(long, value_enum, default_value = "grey")]
+    pub png_encoding: PngHeights,
+    /// The array to read from an .npz archive (default: the first).
+    #[arg(long)]
+    pub array: Option<String>,
+}
+
+/// `--voids`.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum Voids {
+    /// Nearest valid sample, then smoothed.
+    Fill,
+    /// Empty texels the rays pass through.
+    Hole,
+}
+
+/// `--png-encoding`.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum PngHeights {
+    /// 16- or 8-bit grey values.
+    Grey,
+    /// Mapbox terrain-RGB tiles.
+    TerrainRgb,
+    /// Terrarium tiles.
+    Terrarium,
 }
 
 /// Where the height field comes from and how it is placed in the world.
 #[derive(Debug, Args)]
 pub struct InputArgs {
-    /// Height-field file (.npy). Without one, the seeded fBm terrain is used.
+    /// Height file: .tif/.tiff (GeoTIFF), .hgt (SRTM), .asc (ESRI ASCII grid), .png (16-bit grey,
+    /// terrain-RGB, Terrarium), .npy or .npz. Without one, the seeded fBm terrain is used.
     pub input: Option<PathBuf>,
-    /// Texel spacing DX[,DY] in world units (default 1).
+    /// How to read it.
+    #[command(flatten)]
+    pub read: ReadArgs,
+    /// Texel spacing DX[,DY] in world units (default: from the file's georeference, else 1).
     #[arg(long, value_parser = parse_spacing)]
     pub spacing: Option<(f64, f64)>,
     /// The array's row 0 is its north edge (as in most north-up rasters): flip the rows.
@@ -124,8 +167,51 @@ pub struct FbmArgs {
 /// `relief info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// Height-field file.
+    /// Height file.
     pub input: PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub read: ReadArgs,
+}
+
+/// `relief convert`.
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    /// Height file to read.
+    pub input: PathBuf,
+    /// File to write: .tif (float32 GeoTIFF), .hgt, .asc, .png (16-bit grey) or .npy.
+    pub output: PathBuf,
+    /// How to read the input (voids are kept as nodata unless --voids fill is given).
+    #[command(flatten)]
+    pub read: ConvertReadArgs,
+}
+
+/// Reading options of `relief convert`: as for the other commands, but voids stay voids.
+#[derive(Debug, Args)]
+pub struct ConvertReadArgs {
+    /// Voids (nodata): keep them as the output's nodata, or fill them.
+    #[arg(long, value_enum, default_value = "hole")]
+    pub voids: Voids,
+    /// Memory a raster may take, e.g. 512M, 8G (default: half the machine's memory).
+    #[arg(long, value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
+    /// How a PNG encodes heights.
+    #[arg(long, value_enum, default_value = "grey")]
+    pub png_encoding: PngHeights,
+    /// The array to read from an .npz archive (default: the first).
+    #[arg(long)]
+    pub array: Option<String>,
+}
+
+impl From<&ConvertReadArgs> for ReadArgs {
+    fn from(a: &ConvertReadArgs) -> Self {
+        ReadArgs {
+            voids: a.voids,
+            max_memory: a.max_memory,
+            png_encoding: a.png_encoding,
+            array: a.array.clone(),
+        }
+    }
 }
 
 /// `relief bench`.
@@ -188,6 +274,28 @@ fn parse_spacing(s: &str) -> Result<(f64, f64), String> {
     Ok((values[0], values[1]))
 }
 
+fn parse_bytes(s: &str) -> Result<u64, String> {
+    let s = s.trim();
+    let (digits, unit) = match s.find(|c: char| !c.is_ascii_digit() && c != '.') {
+        Some(i) => s.split_at(i),
+        None => (s, ""),
+    };
+    let factor: u64 = match unit.to_ascii_uppercase().trim_end_matches("IB").trim_end_matches('B') {
+        "" => 1,
+        "K" => 1 << 10,
+        "M" => 1 << 20,
+        "G" => 1 << 30,
+        "T" => 1 << 40,
+        _ => return Err(format!("'{s}': expected a size like 512M or 8G")),
+    };
+    let value: f64 =
+        digits.parse().map_err(|_| format!("'{s}': expected a size like 512M or 8G"))?;
+    if !(value.is_finite() && value > 0.0) {
+        return Err(format!("'{s}' must be a positive size"));
+    }
+    Ok((value * factor as f64) as u64)
+}
+
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got '{s}'"))?;
     let parse =
@@ -212,5 +320,9 @@ mod tests {
         assert!(parse_spacing("-1").is_err());
         assert!(parse_vec3("1,2").is_err() && parse_vec3("1,2,nan").is_err());
         assert!(parse_sun("10,95").is_err());
+        assert_eq!(parse_bytes("512M"), Ok(512 << 20));
+        assert_eq!(parse_bytes("2GiB"), Ok(2 << 30));
+        assert_eq!(parse_bytes("1000"), Ok(1000));
+        assert!(parse_bytes("12Q").is_err() && parse_bytes("-1G").is_err());
     }
 }

@@ -1,21 +1,48 @@
 //! Loading the height field a command works on: a file, or the seeded fBm terrain.
 
-use crate::args::InputArgs;
+use crate::args::{InputArgs, PngHeights, ReadArgs, Voids};
 use anyhow::{Context, Result};
 use relief_core::{GridGeometry, HeightField};
+use relief_io::{PngEncoding, Raster, ReadOptions, VoidPolicy};
 use relief_sim::{fbm_terrain, FbmParams};
+use std::path::Path;
 use std::sync::Arc;
 
 /// Reads `args.input` (or generates the default terrain) and applies spacing and z scale.
 pub fn load(args: &InputArgs) -> Result<Arc<HeightField>> {
     let field = match &args.input {
-        Some(path) => relief_io::read_npy_height_field(path)?,
+        Some(path) => read(path, &args.read)?.1,
         None => fbm(args.fbm_size, args.seed)?,
     };
     let field = if args.north_up { field.flip_rows() } else { field };
-    let (dx, dy) = args.spacing.unwrap_or((1.0, 1.0));
+    let (dx, dy) = args.spacing.unwrap_or((field.geometry().dx, field.geometry().dy));
     let geometry = GridGeometry { dx, dy, z_scale: args.z_scale, ..*field.geometry() };
     Ok(Arc::new(field.with_geometry(geometry).context("invalid placement")?))
+}
+
+/// Reads the height file at `path` as a raster and as a height field with its voids resolved.
+pub fn read(path: &Path, args: &ReadArgs) -> Result<(relief_io::RasterInfo, HeightField, usize)> {
+    let raster: Raster = relief_io::read_raster(path, &read_options(args))?;
+    let (info, voids) = (raster.info.clone(), raster.void_count());
+    let policy = match args.voids {
+        Voids::Fill => VoidPolicy::Fill,
+        Voids::Hole => VoidPolicy::Hole,
+    };
+    Ok((info, raster.into_height_field(path, policy)?, voids))
+}
+
+/// The reader options the command line asks for.
+pub fn read_options(args: &ReadArgs) -> ReadOptions {
+    let defaults = ReadOptions::default();
+    ReadOptions {
+        max_memory: args.max_memory.unwrap_or(defaults.max_memory),
+        array: args.array.clone(),
+        png_encoding: match args.png_encoding {
+            PngHeights::Grey => PngEncoding::Grey,
+            PngHeights::TerrainRgb => PngEncoding::TerrainRgb,
+            PngHeights::Terrarium => PngEncoding::Terrarium,
+        },
+    }
 }
 
 /// The seeded fBm terrain of `size` x `size` samples.

@@ -1,7 +1,15 @@
 //! relief-io: reading and writing the files relief consumes and produces.
 //!
-//! - [`read_npy_height_field`]: a 2D NumPy `.npy` grid (integer or float dtypes, either byte
-//!   order, C or Fortran order) as a [`HeightField`](relief_core::HeightField);
+//! - [`read_raster`]: any height file, by extension, as a [`Raster`] (row 0 south, voids as
+//!   NaN, geometry in metres when the file is georeferenced, degrees converted at the raster's
+//!   latitude); [`Raster::into_height_field`] fills the voids or keeps them as holes. Readers:
+//!   [`read_geotiff`], [`read_hgt`] (SRTM tiles), [`read_asc`] (ESRI ASCII grids),
+//!   [`read_png_height`] (greyscale, terrain-RGB and Terrarium PNGs), [`read_npy`],
+//!   [`read_npz`] (NumPy), and [`read_npy_height_field`] for a plain `.npy` grid;
+//! - [`write_height_field`]: a height field by extension, through [`write_geotiff`],
+//!   [`write_hgt`], [`write_asc`], [`write_png16_height`] or [`write_height_field_npy`];
+//! - [`ReadOptions`]: the memory budget (refused before allocating), the `.npz` array, the PNG
+//!   encoding;
 //! - [`write_npy_f32`], [`write_height_field_npy`]: little-endian f32 `.npy` arrays (depth
 //!   images, normals, height fields);
 //! - [`write_png_rgb8`], [`write_png_gray16`], [`read_png_rgb`]: PNG images.
@@ -22,28 +30,47 @@
 //! ```
 #![deny(missing_docs)]
 
+mod asc;
 mod atomic_write;
 mod error;
 mod geodesy;
+mod geokeys;
+mod geotiff_read;
+mod geotiff_write;
+mod hgt;
 mod input_file;
 mod npy_header;
+mod npy_raster;
 mod npy_read;
 mod npy_write;
+mod npz;
+mod png_height;
 mod png_read;
 mod png_write;
 mod raster;
+mod read;
 #[cfg(test)]
 mod test_dir;
 mod void_fill;
+mod write;
 
+pub use asc::{read_asc, write_asc};
 pub use error::IoError;
 pub use geodesy::metres_per_degree;
+pub use geotiff_read::read_geotiff;
+pub use geotiff_write::write_geotiff;
+pub use hgt::{hgt_tile_corner, read_hgt, write_hgt, HGT_VOID};
+pub use npy_raster::read_npy;
 pub use npy_read::read_npy_height_field;
 pub use npy_write::{write_height_field_npy, write_npy_f32};
+pub use npz::read_npz;
+pub use png_height::{read_png_height, write_png16_height};
 pub use png_read::{read_png_rgb, RgbImage};
 pub use png_write::{write_png_gray16, write_png_rgb8};
 pub use raster::{
     default_memory_limit, DegreeSpacing, Format, PngEncoding, Raster, RasterInfo, ReadOptions,
     VoidPolicy, BYTES_PER_SAMPLE,
 };
+pub use read::{format_of, read_raster, read_raster_from_bytes};
 pub use void_fill::fill_voids;
+pub use write::write_height_field;

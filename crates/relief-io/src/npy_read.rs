@@ -1,10 +1,10 @@
-//! Reading a 2D NumPy `.npy` array as a height field.
+//! Reading a 2D NumPy `.npy` array: the streaming decoder shared by `.npy` and `.npz` readers.
 
-use crate::input_file::open_input;
 use crate::npy_header::{read_header, Dtype, ScalarKind};
+use crate::raster::{ReadOptions, VoidPolicy};
 use crate::IoError;
-use relief_core::{GridGeometry, HeightField};
-use std::io::{BufReader, ErrorKind, Read};
+use relief_core::HeightField;
+use std::io::{ErrorKind, Read};
 use std::path::Path;
 
 /// Bytes decoded at a time; a multiple of every element size.
@@ -14,16 +14,44 @@ const CHUNK: usize = 1 << 16;
 ///
 /// Array row `r` becomes grid row `r` (no flip) and array column `c` grid column `c`.
 /// Elements may be int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32 or
-/// float64, little- or big-endian, in C or Fortran order; they are converted to f32.
+/// float64, little- or big-endian, in C or Fortran order; they are converted to f32. The
+/// default [`ReadOptions`] apply (see [`read_npy`](crate::read_npy) for the raster with options).
 ///
 /// Errors: [`IoError::Io`] when the file cannot be read, [`IoError::Format`] for a malformed or
 /// truncated file, an empty array, or a shape that disagrees with the data length,
-/// [`IoError::Unsupported`] for other dtypes or a number of dimensions other than 2, and
-/// [`IoError::InvalidData`] naming the first NaN or infinite sample.
+/// [`IoError::Unsupported`] for other dtypes or a number of dimensions other than 2,
+/// [`IoError::Limits`] for an array over the memory budget, and [`IoError::InvalidData`]
+/// naming the first NaN or infinite sample.
+///
+/// [`GridGeometry::unit`]: relief_core::GridGeometry::unit
 pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
-    let (file, file_len) = open_input(path)?;
-    let mut reader = BufReader::new(file);
-    let header = read_header(path, &mut reader, file_len)?;
+    crate::npy_raster::read_npy(path, &ReadOptions::default())?
+        .into_height_field(path, VoidPolicy::Fill)
+}
+
+/// A 2D array decoded to f32, row-major whatever the file's memory order.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct NpyArray {
+    /// Rows (the first dimension).
+    pub rows: usize,
+    /// Columns (the second dimension).
+    pub cols: usize,
+    /// `rows * cols` elements, row-major, as f32 (not yet checked for being finite).
+    pub samples: Vec<f32>,
+    /// The stored element type.
+    pub dtype: Dtype,
+}
+
+/// Reads a 2D `.npy` array of `len` bytes from `reader`, streaming: the header's shape must
+/// agree with `len` and pass [`ReadOptions::check_size`] before the samples are allocated,
+/// and exactly the data bytes are read (nothing past them). `path` names the file in errors.
+pub(crate) fn read_npy_array_from<R: Read>(
+    mut reader: R,
+    len: u64,
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<NpyArray, IoError> {
+    let header = read_header(path, &mut reader, len)?;
     let (rows, cols) = match header.shape[..] {
         [rows, cols] => (rows, cols),
         ref shape => {
@@ -37,7 +65,7 @@ pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
         return Err(IoError::format(path, format!("array of shape ({rows}, {cols}) is empty")));
     }
     let size = header.dtype.size();
-    let data_len = file_len - header.data_offset;
+    let data_len = len.saturating_sub(header.data_offset);
     let needed = rows.checked_mul(cols).and_then(|n| n.checked_mul(size as u64));
     if needed != Some(data_len) {
         return Err(IoError::format(
@@ -48,43 +76,54 @@ pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
             ),
         ));
     }
+    options.check_size(path, cols, rows)?;
     let (Ok(rows), Ok(cols)) = (usize::try_from(rows), usize::try_from(cols)) else {
         return Err(IoError::unsupported(path, format!("shape ({rows}, {cols}) on this machine")));
     };
-    let Some(count) = rows.checked_mul(cols) else {
-        return Err(IoError::unsupported(path, format!("shape ({rows}, {cols}) on this machine")));
-    };
-    let mut samples = decode(path, &mut reader, header.dtype, count)?;
-    if header.fortran_order {
-        samples = transpose(&samples, rows, cols);
-    }
-    if let Some(i) = samples.iter().position(|v| !v.is_finite()) {
-        return Err(IoError::invalid_data(
-            path,
-            format!("sample at column {}, row {} is {} as f32", i % cols, i / cols, samples[i]),
-        ));
-    }
-    HeightField::new(cols, rows, samples, GridGeometry::unit())
-        .map_err(|e| IoError::invalid_data(path, e.to_string()))
+    let samples = decode(path, &mut reader, header.dtype, rows, cols, header.fortran_order)?;
+    Ok(NpyArray { rows, cols, samples, dtype: header.dtype })
 }
 
-/// Reads `count` elements of `dtype` from `reader` as f32, in file order.
+/// Reads the `rows * cols` elements of `dtype` from `reader` as f32 into row-major order.
+/// When `fortran` says the file stores the array column by column, each chunk is scattered to
+/// its row-major places, so no second copy of the array is made.
 fn decode(
     path: &Path,
     reader: &mut impl Read,
     dtype: Dtype,
-    count: usize,
+    rows: usize,
+    cols: usize,
+    fortran: bool,
 ) -> Result<Vec<f32>, IoError> {
     let size = dtype.size();
+    let count = rows * cols;
     let mut samples = vec![0f32; count];
     let mut bytes = vec![0u8; CHUNK];
-    for out in samples.chunks_mut(CHUNK / size) {
-        let chunk = &mut bytes[..out.len() * size];
+    let mut read_chunk = |chunk: &mut [u8]| {
         reader.read_exact(chunk).map_err(|e| match e.kind() {
             ErrorKind::UnexpectedEof => IoError::format(path, "truncated in the data"),
             _ => IoError::io(path, e),
-        })?;
-        convert(chunk, dtype, out);
+        })
+    };
+    if !fortran {
+        for out in samples.chunks_mut(CHUNK / size) {
+            let chunk = &mut bytes[..out.len() * size];
+            read_chunk(chunk)?;
+            convert(chunk, dtype, out);
+        }
+    } else {
+        let mut column_major = vec![0f32; CHUNK / size];
+        let mut done = 0;
+        while done < count {
+            let n = (count - done).min(column_major.len());
+            let chunk = &mut bytes[..n * size];
+            read_chunk(chunk)?;
+            convert(chunk, dtype, &mut column_major[..n]);
+            for (k, &v) in (done..).zip(&column_major[..n]) {
+                samples[k / rows + (k % rows) * cols] = v;
+            }
+            done += n;
+        }
     }
     Ok(samples)
 }
@@ -120,21 +159,11 @@ fn convert(bytes: &[u8], dtype: Dtype, out: &mut [f32]) {
     }
 }
 
-/// Reorders column-major samples of a `rows x cols` array into row-major order.
-fn transpose(column_major: &[f32], rows: usize, cols: usize) -> Vec<f32> {
-    let mut row_major = vec![0f32; column_major.len()];
-    for (c, column) in column_major.chunks_exact(rows).enumerate() {
-        for (r, &v) in column.iter().enumerate() {
-            row_major[c + r * cols] = v;
-        }
-    }
-    row_major
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::test_dir::TestDir;
+    use relief_core::GridGeometry;
 
     /// A version 1.0 `.npy` file with the given header fields and raw data.
     fn npy(descr: &str, fortran: bool, shape: &str, data: &[u8]) -> Vec<u8> {

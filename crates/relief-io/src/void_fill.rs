@@ -62,8 +62,8 @@ mod tests {
             (0..11).map(|i| if (3..8).contains(&i) { f32::NAN } else { i as f32 }).collect();
         fill_voids(11, 1, &mut s);
         assert!(s.iter().all(|v| v.is_finite()));
-        for i in 3..8 {
-            assert!((s[i] - i as f32).abs() < 0.5, "sample {i} is {}", s[i]);
+        for (i, v) in s.iter().enumerate().take(8).skip(3) {
+            assert!((v - i as f32).abs() < 0.5, "sample {i} is {v}");
         }
         assert_eq!(s[2], 2.0, "valid samples stay");
     }

@@ -1,24 +1,39 @@
-//! `relief info`: what a height-field file holds and what rendering it costs.
+//! `relief info`: what a height file holds and what rendering it costs.
 
 use crate::args::InfoArgs;
+use crate::input;
 use anyhow::Result;
 
 /// Runs `relief info`.
 pub fn run(args: &InfoArgs) -> Result<()> {
-    let field = relief_io::read_npy_height_field(&args.input)?;
-    let g = field.geometry();
-    let samples_bytes = std::mem::size_of_val(field.samples());
-    // The max mipmap adds a third of the samples (1/4 + 1/16 + ...).
-    let mipmap_bytes = samples_bytes / 3;
-    println!("file:      {}", args.input.display());
-    println!("format:    NumPy .npy");
-    println!("size:      {} x {} samples", field.width(), field.height());
-    println!("spacing:   {} x {} (grid units; set with --spacing)", g.dx, g.dy);
-    println!("values:    {} .. {}", field.min_sample(), field.max_sample());
-    println!(
-        "memory:    {:.1} MiB samples + {:.1} MiB max mipmap to render",
-        samples_bytes as f64 / 1048576.0,
-        mipmap_bytes as f64 / 1048576.0
-    );
+    let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
+    let info = &raster.info;
+    let g = &raster.geometry;
+    let samples = raster.samples.len() as f64;
+    println!("file:        {}", args.input.display());
+    println!("format:      {}", info.format);
+    println!("size:        {} x {} samples ({})", raster.width, raster.height, info.sample_type);
+    let unit = if info.georeferenced { "m" } else { "grid units, set with --spacing" };
+    match &info.from_degrees {
+        Some(deg) => println!(
+            "spacing:     {:.3} x {:.3} m (from {:.3}\" x {:.3}\" at latitude {:.3}°)",
+            g.dx,
+            g.dy,
+            deg.dlon * 3600.0,
+            deg.dlat * 3600.0,
+            deg.latitude
+        ),
+        None => println!("spacing:     {} x {} ({unit})", g.dx, g.dy),
+    }
+    println!("origin:      {}, {} (south-west corner, {unit})", g.origin.x, g.origin.y);
+    match raster.value_range() {
+        Some((lo, hi)) => println!("values:      {lo} .. {hi}"),
+        None => println!("values:      none (every sample is a void)"),
+    }
+    let nodata = info.nodata.map_or("none declared".to_string(), |v| v.to_string());
+    println!("nodata:      {} voids (nodata value: {nodata})", raster.void_count());
+    // Samples as f32, a hole flag each, and the max mipmap (a third of the samples) per surface.
+    let render_mib = samples * (4.0 + 1.0 + 4.0 / 3.0) / 1048576.0;
+    println!("to render:   about {render_mib:.1} MiB");
     Ok(())
 }

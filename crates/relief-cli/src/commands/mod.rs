@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 mod bench;
+mod convert;
 mod generate;
 mod info;
 mod render;
@@ -15,6 +16,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::run(&args),
         Command::Generate(GenerateCommand::Fbm(args)) => generate::run(&args),
         Command::Info(args) => info::run(&args),
+        Command::Convert(args) => convert::run(&args),
         Command::Bench(args) => bench::run(&args),
     }
 }

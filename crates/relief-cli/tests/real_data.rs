@@ -1,0 +1,190 @@
+//! End-to-end tests on real elevation data and every format: info, render, convert, limits.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const JACKSBORO: &str = "../relief-io/tests/fixtures/jacksboro_fault_dem.tif";
+
+fn fixture() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(JACKSBORO)
+}
+
+fn relief(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_relief")).args(args).output().expect("relief runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("relief-real-data-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn stdout_of(out: &Output) -> String {
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(out.status.success(), "{}\n{}", text, String::from_utf8_lossy(&out.stderr));
+    text
+}
+
+/// The number after `key` on its line of `relief info`'s output.
+fn numbers_on(text: &str, key: &str) -> Vec<f64> {
+    let line =
+        text.lines().find(|l| l.starts_with(key)).unwrap_or_else(|| panic!("no {key} in {text}"));
+    line[key.len()..]
+        .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .filter_map(|s| s.parse().ok())
+        .collect()
+}
+
+#[test]
+fn info_reports_the_jacksboro_dem() {
+    let text = stdout_of(&relief(&["info", fixture().to_str().unwrap()]));
+    assert!(text.contains("GeoTIFF"), "{text}");
+    assert!(text.contains("int16"), "{text}");
+    assert_eq!(numbers_on(&text, "size:")[..2], [403.0, 344.0]);
+    let spacing = numbers_on(&text, "spacing:");
+    assert!((spacing[0] - 74.5).abs() < 0.3 && (spacing[1] - 92.5).abs() < 0.3, "{text}");
+    assert!(text.contains("from 3.000\" x 3.000\""), "{text}");
+    assert_eq!(numbers_on(&text, "values:"), [236.0, 1076.0]);
+}
+
+#[test]
+fn renders_the_jacksboro_dem_with_its_own_georeference() {
+    let (png, depth) = (scratch("jacksboro.png"), scratch("jacksboro-depth.npy"));
+    let out = relief(&[
+        "render",
+        fixture().to_str().unwrap(),
+        "--size",
+        "80x45",
+        "-o",
+        png.to_str().unwrap(),
+        "--depth",
+        depth.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+}
+
+#[test]
+fn converts_between_every_format_and_back() {
+    let source = fixture();
+    let tif = scratch("back.tif");
+    for ext in ["asc", "npy", "tif"] {
+        let out_path = scratch(&format!("jacksboro.{ext}"));
+        let out = relief(&["convert", source.to_str().unwrap(), out_path.to_str().unwrap()]);
+        assert!(out.status.success(), "{ext}: {}", String::from_utf8_lossy(&out.stderr));
+        let back = relief(&["convert", out_path.to_str().unwrap(), tif.to_str().unwrap()]);
+        assert!(back.status.success(), "{ext}: {}", String::from_utf8_lossy(&back.stderr));
+        let text = stdout_of(&relief(&["info", tif.to_str().unwrap()]));
+        assert_eq!(numbers_on(&text, "size:")[..2], [403.0, 344.0], "{ext}: {text}");
+        assert_eq!(numbers_on(&text, "values:"), [236.0, 1076.0], "{ext}: {text}");
+    }
+    // PNG (16-bit grey) keeps the integer heights; .hgt needs a 1201 or 3601 square tile.
+    let png = scratch("jacksboro16.png");
+    assert!(relief(&["convert", source.to_str().unwrap(), png.to_str().unwrap()]).status.success());
+    let text = stdout_of(&relief(&["info", png.to_str().unwrap()]));
+    assert_eq!(numbers_on(&text, "values:"), [236.0, 1076.0]);
+    let hgt = relief(&["convert", source.to_str().unwrap(), scratch("x.hgt").to_str().unwrap()]);
+    assert_eq!(hgt.status.code(), Some(2));
+}
+
+#[test]
+fn hgt_tiles_round_trip_through_the_cli() {
+    // A 1201 x 1201 tile with a void, written as .asc by hand, converted to .hgt and back.
+    let asc = scratch("tile.asc");
+    let mut text = String::from(
+        "ncols 1201\nnrows 1201\nxllcorner 0\nyllcorner 0\ncellsize 90\nNODATA_value -32768\n",
+    );
+    for r in 0..1201 {
+        let row: Vec<String> =
+            (0..1201)
+                .map(|c| {
+                    if (r, c) == (600, 600) {
+                        "-32768".into()
+                    } else {
+                        ((r + c) % 700).to_string()
+                    }
+                })
+                .collect();
+        text.push_str(&row.join(" "));
+        text.push('\n');
+    }
+    std::fs::write(&asc, text).unwrap();
+    let hgt = scratch("N36W085.hgt");
+    let out = relief(&["convert", asc.to_str().unwrap(), hgt.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let info = stdout_of(&relief(&["info", hgt.to_str().unwrap()]));
+    assert!(info.contains("SRTM"), "{info}");
+    assert_eq!(numbers_on(&info, "nodata:")[0], 1.0, "{info}");
+    assert!(info.contains("latitude 36.5"), "{info}");
+}
+
+#[test]
+fn voids_become_holes_or_are_filled() {
+    let asc = scratch("voids.asc");
+    let mut text = String::from(
+        "ncols 20\nnrows 10\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n",
+    );
+    for r in 0..10 {
+        let row: Vec<&str> =
+            (0..20).map(|c| if (3..8).contains(&c) && r > 2 { "-9999" } else { "5" }).collect();
+        text.push_str(&row.join(" "));
+        text.push('\n');
+    }
+    std::fs::write(&asc, text).unwrap();
+    for voids in ["fill", "hole"] {
+        let depth = scratch(&format!("voids-{voids}.npy"));
+        let out = relief(&[
+            "render",
+            asc.to_str().unwrap(),
+            "--voids",
+            voids,
+            "--eye",
+            "5.5,5,30",
+            "--target",
+            "5.5,5,0",
+            "--up",
+            "0,1,0",
+            "--fov",
+            "1",
+            "--size",
+            "1x1",
+            "--surface",
+            "boxes",
+            "-o",
+            scratch("voids.png").to_str().unwrap(),
+            "--depth",
+            depth.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let bytes = std::fs::read(&depth).unwrap();
+        let d = f32::from_le_bytes(bytes[bytes.len() - 4..].try_into().unwrap());
+        match voids {
+            "fill" => assert_eq!(d, 25.0, "filled voids take the surrounding height"),
+            _ => assert_eq!(d, f32::INFINITY, "a hole lets the ray through"),
+        }
+    }
+}
+
+#[test]
+fn a_raster_over_the_memory_limit_is_refused_before_reading() {
+    let out = relief(&["info", fixture().to_str().unwrap(), "--max-memory", "100K"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("memory limit") && stderr.contains("--max-memory"), "{stderr}");
+}
+
+#[test]
+fn unknown_and_broken_files_are_refused() {
+    let odd = scratch("terrain.xyz");
+    std::fs::write(&odd, "1 2 3").unwrap();
+    let out = relief(&["info", odd.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("file type"));
+    let bytes = std::fs::read(fixture()).unwrap();
+    let cut = scratch("cut.tif");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let png = scratch("cut.png");
+    let out = relief(&["render", cut.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!png.exists());
+}

@@ -1,0 +1,661 @@
+//! Reading a single-band GeoTIFF as a [`Raster`]: the `tiff` crate decodes strips and tiles
+//! (compression, predictors, byte order); placement, nodata and row order are read here.
+
+use crate::geokeys::{model_placement, GeoKeys, ModelTags, Placement};
+use crate::input_file::open_input;
+use crate::raster::mark_voids;
+use crate::{Format, IoError, Raster, RasterInfo, ReadOptions};
+use std::fmt::Display;
+use std::io::{BufReader, ErrorKind, Read, Seek, SeekFrom};
+use std::path::Path;
+use tiff::decoder::{ChunkType, Decoder, DecodingResult, Limits};
+use tiff::tags::{CompressionMethod, Tag};
+use tiff::TiffError;
+
+/// Reads the first image of the GeoTIFF at `path` as a [`Raster`].
+///
+/// The image must have one sample per pixel of type int8, uint8, int16, uint16, int32,
+/// uint32, int64, uint64, float32 or float64, in strips or tiles, uncompressed or compressed
+/// with LZW, Deflate or PackBits, with or without the horizontal or floating-point predictor.
+/// It is decoded one strip or tile at a time into the f32 samples, so reading needs the
+/// samples plus one decoded strip or tile; larger rasters than `options.max_memory` allows are
+/// refused before anything is allocated.
+///
+/// Placement, from ModelPixelScale + ModelTiepoint or a ModelTransformation without rotation
+/// (PixelIsPoint rasters are shifted by half a pixel so sample centres land right):
+/// - projected rasters keep their coordinates, taken as metres (feet are converted when
+///   ProjLinearUnitsGeoKey says so); the origin is the raster's south-west corner;
+/// - geographic rasters (GTModelTypeGeoKey 2, degrees) are converted to metres at the latitude
+///   φ of the raster's centre, with `(m_lon, m_lat)` =
+///   [`metres_per_degree`](crate::metres_per_degree)`(φ)`: spacing
+///   `(dlon * m_lon, dlat * m_lat)` and origin `(west_lon * m_lon, south_lat * m_lat)`, a local
+///   equirectangular frame that is exact in spacing at φ; [`RasterInfo::from_degrees`] keeps
+///   the degrees;
+/// - without a georeference the spacing is 1 and the origin 0, and
+///   [`RasterInfo::georeferenced`] is false.
+///
+/// Row 0 of the result is the southernmost row: north-up files (the usual kind, and any TIFF
+/// without a georeference, whose first row is its top) are flipped, south-up ones (negative
+/// ModelPixelScale y, or a transformation whose y grows with the row) are not. Samples equal
+/// to GDAL_NODATA become NaN voids; GDAL's sparse strips and tiles (no bytes) are nodata.
+///
+/// Errors: [`IoError::Io`] when the file cannot be read; [`IoError::Format`] for a file that is
+/// not a TIFF, is truncated, or whose header disagrees with itself or the file's length;
+/// [`IoError::Unsupported`] for several bands, other sample types, other compressions, a
+/// rotated or sheared georeference, a geocentric model; [`IoError::Limits`] for a raster over
+/// the memory budget; [`IoError::InvalidData`] for a NaN or infinite sample that is not the
+/// nodata value, naming its column and row (row 0 = the file's first row).
+pub fn read_geotiff(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
+    let (file, _) = open_input(path)?;
+    read_geotiff_from(BufReader::new(file), path, options)
+}
+
+/// [`read_geotiff`] from any seekable reader (a file, or bytes in memory when fuzzing); `path`
+/// only names the source in errors.
+pub(crate) fn read_geotiff_from<R: Read + Seek>(
+    mut reader: R,
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<Raster, IoError> {
+    let file_len = check_magic(&mut reader, path)?;
+    let mut decoder =
+        Decoder::new(reader).map_err(|e| tiff_error(path, "", e))?.with_limits(limits(options));
+    let (width, height) = decoder.dimensions().map_err(|e| tiff_error(path, "", e))?;
+    options.check_size(path, width.into(), height.into())?;
+    // check_size guarantees that width * height fits in usize.
+    let (width, height) = (width as usize, height as usize);
+    let (sample_type, compression) = check_layout(&mut decoder, path)?;
+    let nodata = read_nodata(&mut decoder, path)?;
+    let placement = read_placement(&mut decoder, path, width, height)?;
+    let chunks =
+        ChunkGrid::read(&mut decoder, path, file_len, (sample_type, compression), width, height)?;
+
+    let needed = (width as u64 * height as u64 * 4).saturating_add(chunks.stored_bytes);
+    if needed > options.max_memory {
+        return Err(IoError::Limits {
+            path: path.to_path_buf(),
+            width: width as u64,
+            height: height as u64,
+            needed,
+            limit: options.max_memory,
+        });
+    }
+    let fill = nodata.map_or(0.0, |v| v as f32);
+    let mut samples = decode_chunks(&mut decoder, path, &chunks, sample_type, fill, width)?;
+    if placement.north_up {
+        flip_rows(&mut samples, width);
+    }
+    mark_voids(path, &mut samples, width, nodata, placement.north_up)?;
+    Ok(Raster {
+        width,
+        height,
+        samples,
+        geometry: placement.geometry,
+        info: RasterInfo {
+            format: Format::GeoTiff,
+            sample_type: sample_type.name().to_string(),
+            georeferenced: placement.georeferenced,
+            from_degrees: placement.from_degrees,
+            nodata,
+        },
+    })
+}
+
+/// Decodes every chunk of a `width`-sample-wide image into f32 samples in the file's row
+/// order, one chunk at a time; sparse chunks become `fill`.
+fn decode_chunks<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+    chunks: &ChunkGrid,
+    sample_type: SampleType,
+    fill: f32,
+    width: usize,
+) -> Result<Vec<f32>, IoError> {
+    let height = chunks.raster_height;
+    let mut samples = vec![0f32; width * height];
+    let mut buffer = vec![0u8; chunks.largest_decoded_bytes(sample_type, width)];
+    let mut padded = DecodingResult::U8(Vec::new());
+    for index in 0..chunks.count {
+        let region = chunks.region(index, width);
+        let out = |row: usize| (region.y + row) * width + region.x;
+        if chunks.sparse[index] {
+            // GDAL's sparse files omit blocks that hold nothing but nodata (or zeros).
+            for row in 0..region.height {
+                samples[out(row)..][..region.width].fill(fill);
+            }
+            continue;
+        }
+        let index_u32 = u32::try_from(index).map_err(|_| {
+            IoError::unsupported(path, format!("{} {index} (index beyond u32)", chunks.name()))
+        })?;
+        let chunk_error = |e| tiff_error(path, &format!("{} {index}", chunks.name()), e);
+        let row_bytes = region.width * sample_type.size();
+        let padded_view;
+        let (bytes, stride) = if region.width == chunks.chunk_width {
+            let bytes = &mut buffer[..row_bytes * region.height];
+            decoder.read_chunk_bytes(index_u32, bytes).map_err(chunk_error)?;
+            (&*bytes, row_bytes)
+        } else {
+            // A tile cut by the raster's east edge. Decoded row by row, tiff 0.11.3 fails on
+            // some valid LZW tiles ("no lzw end code found"): decode whole stored rows
+            // instead, padding included (the crate takes this output width in bytes).
+            let stride = chunks.chunk_width * sample_type.size();
+            decoder.read_chunk_to_buffer(&mut padded, index_u32, stride).map_err(chunk_error)?;
+            padded_view = padded.as_buffer(0);
+            (padded_view.as_bytes(), stride)
+        };
+        for row in 0..region.height {
+            let raw = bytes.get(row * stride..row * stride + row_bytes).ok_or_else(|| {
+                IoError::format(path, format!("{} {index} decoded short", chunks.name()))
+            })?;
+            convert(raw, sample_type, &mut samples[out(row)..][..region.width]);
+        }
+    }
+    Ok(samples)
+}
+
+/// Checks the byte-order mark and version of a TIFF or BigTIFF header; returns the length of
+/// the source and leaves it at its start.
+fn check_magic<R: Read + Seek>(reader: &mut R, path: &Path) -> Result<u64, IoError> {
+    let io = |e| IoError::io(path, e);
+    let len = reader.seek(SeekFrom::End(0)).map_err(io)?;
+    reader.seek(SeekFrom::Start(0)).map_err(io)?;
+    if len < 8 {
+        return Err(IoError::format(
+            path,
+            format!("{len} bytes is too short for a TIFF header (8 bytes)"),
+        ));
+    }
+    let mut magic = [0u8; 4];
+    reader.read_exact(&mut magic).map_err(io)?;
+    reader.seek(SeekFrom::Start(0)).map_err(io)?;
+    match magic {
+        [b'I', b'I', 42 | 43, 0] | [b'M', b'M', 0, 42 | 43] => Ok(len),
+        _ => Err(IoError::format(
+            path,
+            format!("not a TIFF file: starts with {magic:02x?}, not \"II*\\0\" or \"MM\\0*\""),
+        )),
+    }
+}
+
+/// The `tiff` crate's limits from the memory budget.
+fn limits(options: &ReadOptions) -> Limits {
+    let budget = usize::try_from(options.max_memory).unwrap_or(usize::MAX);
+    let mut limits = Limits::default();
+    limits.decoding_buffer_size = budget;
+    limits.intermediate_buffer_size = budget;
+    limits.ifd_value_size = budget;
+    limits
+}
+
+/// Maps errors of the `tiff` crate reading `context` (a tag name, "strip 3") to [`IoError`]s.
+fn tag_error<'a>(path: &'a Path, context: &'a str) -> impl Fn(TiffError) -> IoError + Copy + 'a {
+    move |e| tiff_error(path, context, e)
+}
+
+/// An error of the `tiff` crate as an [`IoError`]; `context` (e.g. "strip 3") leads the reason.
+fn tiff_error(path: &Path, context: &str, error: TiffError) -> IoError {
+    let reason = |what: &dyn Display| {
+        if context.is_empty() {
+            what.to_string()
+        } else {
+            format!("{context}: {what}")
+        }
+    };
+    match error {
+        TiffError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
+            IoError::format(path, reason(&format_args!("truncated ({e})")))
+        }
+        TiffError::IoError(e) if e.kind() == ErrorKind::InvalidData => {
+            IoError::format(path, reason(&format_args!("corrupt data ({e})")))
+        }
+        TiffError::IoError(e) => IoError::io(path, e),
+        TiffError::UnsupportedError(e) => IoError::unsupported(path, reason(&e)),
+        TiffError::LimitsExceeded => {
+            IoError::format(path, reason(&"a value is larger than the memory limit allows"))
+        }
+        other => IoError::format(path, reason(&other)),
+    }
+}
+
+/// The sample types relief reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SampleType {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    I64,
+    U64,
+    F32,
+    F64,
+}
+
+impl SampleType {
+    /// From SampleFormat (1 unsigned, 2 signed, 3 float) and BitsPerSample.
+    fn from_tags(format: u16, bits: u16) -> Option<SampleType> {
+        Some(match (format, bits) {
+            (1, 8) => SampleType::U8,
+            (1, 16) => SampleType::U16,
+            (1, 32) => SampleType::U32,
+            (1, 64) => SampleType::U64,
+            (2, 8) => SampleType::I8,
+            (2, 16) => SampleType::I16,
+            (2, 32) => SampleType::I32,
+            (2, 64) => SampleType::I64,
+            (3, 32) => SampleType::F32,
+            (3, 64) => SampleType::F64,
+            _ => return None,
+        })
+    }
+
+    /// Bytes per sample.
+    fn size(self) -> usize {
+        match self {
+            SampleType::I8 | SampleType::U8 => 1,
+            SampleType::I16 | SampleType::U16 => 2,
+            SampleType::I32 | SampleType::U32 | SampleType::F32 => 4,
+            SampleType::I64 | SampleType::U64 | SampleType::F64 => 8,
+        }
+    }
+
+    /// The name [`RasterInfo::sample_type`] reports.
+    fn name(self) -> &'static str {
+        match self {
+            SampleType::I8 => "int8",
+            SampleType::U8 => "uint8",
+            SampleType::I16 => "int16",
+            SampleType::U16 => "uint16",
+            SampleType::I32 => "int32",
+            SampleType::U32 => "uint32",
+            SampleType::I64 => "int64",
+            SampleType::U64 => "uint64",
+            SampleType::F32 => "float32",
+            SampleType::F64 => "float64",
+        }
+    }
+}
+
+/// Converts native-endian samples (as the decoder leaves them) to f32.
+fn convert(bytes: &[u8], sample_type: SampleType, out: &mut [f32]) {
+    macro_rules! each {
+        ($t:ty) => {{
+            const N: usize = std::mem::size_of::<$t>();
+            for (o, b) in out.iter_mut().zip(bytes.chunks_exact(N)) {
+                let mut raw = [0u8; N];
+                raw.copy_from_slice(b);
+                *o = <$t>::from_ne_bytes(raw) as f32;
+            }
+        }};
+    }
+    match sample_type {
+        SampleType::I8 => each!(i8),
+        SampleType::U8 => each!(u8),
+        SampleType::I16 => each!(i16),
+        SampleType::U16 => each!(u16),
+        SampleType::I32 => each!(i32),
+        SampleType::U32 => each!(u32),
+        SampleType::I64 => each!(i64),
+        SampleType::U64 => each!(u64),
+        SampleType::F32 => each!(f32),
+        SampleType::F64 => each!(f64),
+    }
+}
+
+/// Refuses several bands, unread sample types, photometric interpretations that would alter
+/// values, and compressions the build does not decode; returns the sample type and the
+/// compression's TIFF code.
+fn check_layout<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+) -> Result<(SampleType, u16), IoError> {
+    let tag_error = |name| tag_error(path, name);
+    let bands = decoder
+        .find_tag_unsigned::<u16>(Tag::SamplesPerPixel)
+        .map_err(tag_error("SamplesPerPixel"))?
+        .unwrap_or(1);
+    if bands != 1 {
+        return Err(IoError::unsupported(
+            path,
+            format!("image of {bands} bands (samples per pixel); relief reads single-band rasters"),
+        ));
+    }
+    let first = |values: Option<Vec<u16>>, default: u16| {
+        values.and_then(|v| v.first().copied()).unwrap_or(default)
+    };
+    let format = first(
+        decoder.find_tag_unsigned_vec(Tag::SampleFormat).map_err(tag_error("SampleFormat"))?,
+        1,
+    );
+    let bits = first(
+        decoder.find_tag_unsigned_vec(Tag::BitsPerSample).map_err(tag_error("BitsPerSample"))?,
+        1,
+    );
+    let sample_type = SampleType::from_tags(format, bits).ok_or_else(|| {
+        let kind = match format {
+            1 => "unsigned integer",
+            2 => "signed integer",
+            3 => "floating-point",
+            4 => "untyped (SampleFormat 4)",
+            5 => "complex integer",
+            6 => "complex floating-point",
+            _ => "unknown-format",
+        };
+        IoError::unsupported(path, format!("{bits}-bit {kind} samples"))
+    })?;
+    let photometric = decoder
+        .find_tag_unsigned::<u16>(Tag::PhotometricInterpretation)
+        .map_err(tag_error("PhotometricInterpretation"))?;
+    if photometric != Some(1) {
+        // The decoder would invert WhiteIsZero samples; other interpretations are colour.
+        return Err(IoError::unsupported(
+            path,
+            format!("photometric interpretation {photometric:?}; relief reads BlackIsZero (1)"),
+        ));
+    }
+    let compression = decoder
+        .find_tag_unsigned::<u16>(Tag::Compression)
+        .map_err(tag_error("Compression"))?
+        .unwrap_or(1);
+    match CompressionMethod::from_u16_exhaustive(compression) {
+        CompressionMethod::None
+        | CompressionMethod::LZW
+        | CompressionMethod::Deflate
+        | CompressionMethod::OldDeflate
+        | CompressionMethod::PackBits => Ok((sample_type, compression)),
+        other => Err(IoError::unsupported(
+            path,
+            format!(
+                "compression {other:?} (TIFF code {compression}); relief reads uncompressed, \
+                 LZW, Deflate and PackBits"
+            ),
+        )),
+    }
+}
+
+/// GDAL_NODATA: ASCII text such as "-32768" or "nan", maybe padded with NULs or spaces.
+fn read_nodata<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+) -> Result<Option<f64>, IoError> {
+    let tag_error = tag_error(path, "GDAL_NODATA");
+    let Some(value) = decoder.find_tag(Tag::GdalNodata).map_err(tag_error)? else {
+        return Ok(None);
+    };
+    let text = value.into_string().map_err(tag_error)?;
+    let text = text.trim_matches(|c: char| c == '\0' || c.is_whitespace());
+    if text.is_empty() {
+        return Ok(None);
+    }
+    text.parse::<f64>()
+        .map(Some)
+        .map_err(|_| IoError::format(path, format!("GDAL_NODATA {text:?} is not a number")))
+}
+
+/// The `f64` values of `tag`, if present.
+fn f64_values<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+    tag: Tag,
+    name: &str,
+) -> Result<Option<Vec<f64>>, IoError> {
+    let Some(value) = decoder.find_tag(tag).map_err(tag_error(path, name))? else {
+        return Ok(None);
+    };
+    value.into_f64_vec().map(Some).map_err(tag_error(path, name))
+}
+
+/// Reads the georeference of a `width x height` raster.
+fn read_placement<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+    width: usize,
+    height: usize,
+) -> Result<Placement, IoError> {
+    let scale = f64_values(decoder, path, Tag::ModelPixelScaleTag, "ModelPixelScaleTag")?;
+    let ties = f64_values(decoder, path, Tag::ModelTiepointTag, "ModelTiepointTag")?;
+    let transform =
+        f64_values(decoder, path, Tag::ModelTransformationTag, "ModelTransformationTag")?;
+    let keys_error = tag_error(path, "GeoKeyDirectoryTag");
+    let keys = match decoder.find_tag(Tag::GeoKeyDirectoryTag).map_err(keys_error)? {
+        Some(value) => GeoKeys::parse(path, &value.into_u16_vec().map_err(keys_error)?)?,
+        None => GeoKeys::default(),
+    };
+    model_placement(path, &ModelTags { scale, ties, transform }, &keys, (width, height))
+}
+
+/// The strips or tiles of an image, checked against the file before anything is decoded.
+struct ChunkGrid {
+    kind: ChunkType,
+    /// Stored chunk width: the raster's width for strips, the tile width for tiles.
+    chunk_width: usize,
+    /// Stored chunk height: rows per strip (at most the raster's height), or the tile height.
+    chunk_height: usize,
+    /// Chunks per row of chunks.
+    across: usize,
+    count: usize,
+    /// Chunks stored with no bytes (GDAL's sparse files): filled with nodata.
+    sparse: Vec<bool>,
+    /// Bytes of the largest stored chunk once decoded, padding included.
+    stored_bytes: u64,
+    /// Rows of the raster.
+    raster_height: usize,
+}
+
+/// The part of the raster a chunk covers, in the file's rows (row 0 first in the file).
+struct Region {
+    x: usize,
+    y: usize,
+    width: usize,
+    height: usize,
+}
+
+impl ChunkGrid {
+    /// Reads the chunk layout of a `width x height` image of `(sample type, compression)`
+    /// and checks every chunk's bytes lie within the `file_len`-byte file, and that
+    /// uncompressed chunks hold all their samples.
+    fn read<R: Read + Seek>(
+        decoder: &mut Decoder<R>,
+        path: &Path,
+        file_len: u64,
+        (sample_type, compression): (SampleType, u16),
+        width: usize,
+        height: usize,
+    ) -> Result<ChunkGrid, IoError> {
+        let kind = decoder.get_chunk_type();
+        let (chunk_width, chunk_height) = decoder.chunk_dimensions();
+        let (chunk_width, chunk_height) = (chunk_width as usize, chunk_height as usize);
+        let (offsets_tag, counts_tag, name) = match kind {
+            ChunkType::Strip => (Tag::StripOffsets, Tag::StripByteCounts, "strip"),
+            ChunkType::Tile => (Tag::TileOffsets, Tag::TileByteCounts, "tile"),
+        };
+        let mut u64_values = |tag: Tag, tag_name: &'static str| -> Result<Vec<u64>, IoError> {
+            let error = tag_error(path, tag_name);
+            let value = decoder.find_tag(tag).map_err(error)?;
+            value.map_or(Ok(Vec::new()), |v| v.into_u64_vec().map_err(error))
+        };
+        let offsets = u64_values(offsets_tag, "chunk offsets")?;
+        let counts = u64_values(counts_tag, "chunk byte counts")?;
+        let size = sample_type.size() as u64;
+        let grid = match kind {
+            ChunkType::Strip => {
+                let rows = chunk_height.min(height);
+                ChunkGrid {
+                    kind,
+                    chunk_width: width,
+                    chunk_height: rows,
+                    across: 1,
+                    count: height.div_ceil(rows),
+                    sparse: Vec::new(),
+                    stored_bytes: (width * rows) as u64 * size,
+                    raster_height: height,
+                }
+            }
+            ChunkType::Tile => {
+                let across = width.div_ceil(chunk_width);
+                ChunkGrid {
+                    kind,
+                    chunk_width,
+                    chunk_height,
+                    across,
+                    count: across * height.div_ceil(chunk_height),
+                    sparse: Vec::new(),
+                    stored_bytes: (chunk_width as u64)
+                        .saturating_mul(chunk_height as u64)
+                        .saturating_mul(size),
+                    raster_height: height,
+                }
+            }
+        };
+        if offsets.len() != grid.count || counts.len() != grid.count {
+            return Err(IoError::format(
+                path,
+                format!(
+                    "{} offsets and {} byte counts for {} {name}s",
+                    offsets.len(),
+                    counts.len(),
+                    grid.count
+                ),
+            ));
+        }
+        let mut sparse = Vec::with_capacity(grid.count);
+        for (index, (&offset, &count)) in offsets.iter().zip(&counts).enumerate() {
+            sparse.push(count == 0);
+            if count == 0 {
+                continue;
+            }
+            if offset.checked_add(count).is_none_or(|end| end > file_len) {
+                return Err(IoError::format(
+                    path,
+                    format!(
+                        "truncated: {name} {index} claims bytes {offset}..{} of a {file_len}-byte \
+                         file",
+                        offset.saturating_add(count)
+                    ),
+                ));
+            }
+            // The decoder reads whole stored rows of an uncompressed chunk.
+            let rows = grid.region(index, width).height as u64;
+            let needed = (rows * grid.chunk_width as u64).saturating_mul(size);
+            if compression == 1 && count < needed {
+                return Err(IoError::format(
+                    path,
+                    format!(
+                        "uncompressed {name} {index} holds {count} bytes; its {} x {} samples \
+                         need {needed}",
+                        grid.chunk_width.min(width),
+                        rows
+                    ),
+                ));
+            }
+        }
+        Ok(ChunkGrid { sparse, ..grid })
+    }
+
+    /// "strip" or "tile".
+    fn name(&self) -> &'static str {
+        match self.kind {
+            ChunkType::Strip => "strip",
+            ChunkType::Tile => "tile",
+        }
+    }
+
+    /// The region chunk `index` (< count) covers in a `width`-sample-wide raster, edge chunks
+    /// cut to the raster.
+    fn region(&self, index: usize, width: usize) -> Region {
+        let x = index % self.across * self.chunk_width;
+        let y = index / self.across * self.chunk_height;
+        Region {
+            x,
+            y,
+            width: self.chunk_width.min(width - x),
+            height: self.chunk_height.min(self.raster_height - y),
+        }
+    }
+
+    /// Bytes of the largest chunk's samples once decoded, padding excluded, in a
+    /// `width`-sample-wide raster.
+    fn largest_decoded_bytes(&self, sample_type: SampleType, width: usize) -> usize {
+        self.chunk_width.min(width) * self.chunk_height.min(self.raster_height) * sample_type.size()
+    }
+}
+
+/// Reverses the order of the rows of a row-major grid in place.
+fn flip_rows(samples: &mut [f32], width: usize) {
+    let height = samples.len() / width;
+    for row in 0..height / 2 {
+        let (top, bottom) = samples.split_at_mut((height - 1 - row) * width);
+        top[row * width..][..width].swap_with_slice(&mut bottom[..width]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Cursor;
+
+    const JACKSBORO: &[u8] = include_bytes!("../tests/fixtures/jacksboro_fault_dem.tif");
+
+    fn read(bytes: &[u8]) -> Result<Raster, IoError> {
+        read_geotiff_from(Cursor::new(bytes), Path::new("memory.tif"), &ReadOptions::default())
+    }
+
+    #[test]
+    fn reads_from_memory() {
+        let raster = read(JACKSBORO).unwrap();
+        assert_eq!((raster.width, raster.height), (403, 344));
+        assert_eq!(raster.value_range(), Some((236.0, 1076.0)));
+    }
+
+    #[test]
+    fn flips_rows_in_place() {
+        for height in 1..6 {
+            let mut grid: Vec<f32> = (0..3 * height).map(|v| v as f32).collect();
+            flip_rows(&mut grid, 3);
+            for row in 0..height {
+                let want: Vec<f32> = (0..3).map(|c| (c + 3 * (height - 1 - row)) as f32).collect();
+                assert_eq!(grid[row * 3..][..3], want[..], "height {height}");
+            }
+        }
+    }
+
+    #[test]
+    fn every_corruption_of_the_header_and_data_gives_an_error_not_a_panic() {
+        // Every single-byte change in the header and the first IFD, to three values.
+        for at in 0..448 {
+            for value in [0x00, 0xff, JACKSBORO[at].wrapping_add(1)] {
+                let mut bad = JACKSBORO.to_vec();
+                bad[at] = value;
+                let _ = read(&bad);
+            }
+        }
+        // Random changes anywhere, a few bytes at a time.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..300 {
+            let mut bad = JACKSBORO.to_vec();
+            for _ in 0..4 {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                let at = (state % bad.len() as u64) as usize;
+                bad[at] = (state >> 32) as u8;
+            }
+            let _ = read(&bad);
+        }
+    }
+
+    #[test]
+    fn sample_types_from_tags() {
+        assert_eq!(SampleType::from_tags(2, 16), Some(SampleType::I16));
+        assert_eq!(SampleType::from_tags(3, 64), Some(SampleType::F64));
+        assert_eq!(SampleType::from_tags(3, 16), None);
+        assert_eq!(SampleType::from_tags(1, 12), None);
+        assert_eq!(SampleType::from_tags(6, 32), None);
+        let mut out = [0f32; 2];
+        let bytes: Vec<u8> = [-2i16, 300].iter().flat_map(|v| v.to_ne_bytes()).collect();
+        convert(&bytes, SampleType::I16, &mut out);
+        assert_eq!(out, [-2.0, 300.0]);
+    }
+}

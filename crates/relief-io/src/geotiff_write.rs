@@ -1,0 +1,224 @@
+//! Writing a height field as a GeoTIFF: float32 samples, north-up, Deflate with the
+//! floating-point predictor, placed by ModelPixelScale and ModelTiepoint, holes as NaN nodata.
+
+use crate::atomic_write::write_atomically;
+use crate::geokeys::PROJECTED_METRES;
+use crate::IoError;
+use relief_core::HeightField;
+use std::io::{Seek, Write};
+use std::path::Path;
+use tiff::encoder::compression::{CompressionAlgorithm, Deflate, DeflateLevel};
+use tiff::encoder::{TiffEncoder, TiffKind, TiffKindBig, TiffKindStandard};
+use tiff::tags::{CompressionMethod, Predictor, Tag};
+use tiff::TiffError;
+
+/// Uncompressed bytes per strip the writer aims at.
+const STRIP_BYTES: usize = 1 << 18;
+/// Rasters whose samples alone reach this size are written as BigTIFF, whose offsets may pass
+/// 4 GiB.
+const BIG_TIFF_FROM: u64 = 3 << 30;
+
+/// Writes `field` to `path` as a GeoTIFF that GDAL, QGIS and [`read_geotiff`] read back.
+///
+/// The file holds one band of float32 samples, `value * z_scale` (metres when the field's
+/// geometry is in metres), north-up: its first row is the field's last (northernmost) row.
+/// Strips are Deflate-compressed with the floating-point predictor. The placement is a
+/// ModelPixelScale of `(dx, dy)` and a ModelTiepoint putting the north-west corner at
+/// `(origin.x, origin.y + height * dy)`, with a GeoKey directory saying projected, PixelIsArea,
+/// user-defined CRS in metres. Holes are written as NaN, declared by GDAL_NODATA "nan", so they
+/// read back as voids. Large rasters are written as BigTIFF.
+///
+/// The file is written beside `path` and renamed into place, so a failure leaves no partial
+/// file. Errors: [`IoError::Io`] when writing fails, [`IoError::Unsupported`] for a side
+/// longer than 2^32 - 1 samples, [`IoError::InvalidData`] when `value * z_scale` overflows f32.
+///
+/// [`read_geotiff`]: crate::read_geotiff
+pub fn write_geotiff(path: &Path, field: &HeightField) -> Result<(), IoError> {
+    let samples_bytes = field.width() as u64 * field.height() as u64 * 4;
+    let big = samples_bytes >= BIG_TIFF_FROM;
+    write_atomically(path, |out| write_geotiff_to(out, path, field, big))
+}
+
+/// Writes `field` as a GeoTIFF (a BigTIFF when `big`) to `out`; `path` names it in errors.
+fn write_geotiff_to<W: Write + Seek>(
+    out: W,
+    path: &Path,
+    field: &HeightField,
+    big: bool,
+) -> Result<(), IoError> {
+    let error = |e| encoding_error(path, e);
+    if big {
+        encode(TiffEncoder::<W, TiffKindBig>::new_big(out).map_err(error)?, path, field)
+    } else {
+        encode(TiffEncoder::<W, TiffKindStandard>::new(out).map_err(error)?, path, field)
+    }
+}
+
+/// An error of the `tiff` encoder as an [`IoError`].
+fn encoding_error(path: &Path, error: TiffError) -> IoError {
+    match error {
+        TiffError::IoError(e) => IoError::io(path, e),
+        other => IoError::invalid_data(path, format!("encoding the GeoTIFF: {other}")),
+    }
+}
+
+/// Writes the one image of the file: its strips, then its directory.
+fn encode<W: Write + Seek, K: TiffKind>(
+    mut tiff: TiffEncoder<W, K>,
+    path: &Path,
+    field: &HeightField,
+) -> Result<(), IoError> {
+    let error = |e| encoding_error(path, e);
+    let (width, height) = (field.width(), field.height());
+    let (Ok(width_u32), Ok(height_u32)) = (u32::try_from(width), u32::try_from(height)) else {
+        return Err(IoError::unsupported(
+            path,
+            format!("{width} x {height} samples in a GeoTIFF (at most 2^32 - 1 a side)"),
+        ));
+    };
+    let geometry = field.geometry();
+    let rows_per_strip = (STRIP_BYTES / (width * 4)).clamp(1, height);
+    let mut directory = tiff.image_directory().map_err(error)?;
+    let (mut offsets, mut byte_counts) = (Vec::new(), Vec::new());
+    let mut values = vec![0f32; width];
+    let mut strip = Vec::with_capacity(rows_per_strip * width * 4);
+    let mut packed = Vec::new();
+    for first in (0..height).step_by(rows_per_strip) {
+        strip.clear();
+        for file_row in first..(first + rows_per_strip).min(height) {
+            let row = height - 1 - file_row;
+            for (col, value) in values.iter_mut().enumerate() {
+                *value = if field.is_hole(col, row) {
+                    f32::NAN
+                } else {
+                    (f64::from(field.sample(col, row)) * geometry.z_scale) as f32
+                };
+                if value.is_infinite() {
+                    return Err(IoError::invalid_data(
+                        path,
+                        format!(
+                            "sample at column {col}, row {row} times z scale {} overflows f32",
+                            geometry.z_scale
+                        ),
+                    ));
+                }
+            }
+            predict_floats(&values, &mut strip);
+        }
+        packed.clear();
+        Deflate::with_level(DeflateLevel::Balanced)
+            .write_to(&mut packed, &strip)
+            .map_err(|e| IoError::io(path, e))?;
+        let offset = directory.write_data(&packed[..]).map_err(error)?;
+        offsets.push(K::convert_offset(offset).map_err(error)?);
+        byte_counts.push(K::convert_offset(packed.len() as u64).map_err(error)?);
+    }
+    let d = &mut directory;
+    d.write_tag(Tag::ImageWidth, width_u32).map_err(error)?;
+    d.write_tag(Tag::ImageLength, height_u32).map_err(error)?;
+    d.write_tag(Tag::BitsPerSample, 32u16).map_err(error)?;
+    d.write_tag(Tag::Compression, CompressionMethod::Deflate.to_u16()).map_err(error)?;
+    // BlackIsZero: plain values, as for any single-band raster.
+    d.write_tag(Tag::PhotometricInterpretation, 1u16).map_err(error)?;
+    d.write_tag(Tag::StripOffsets, K::convert_slice(&offsets)).map_err(error)?;
+    d.write_tag(Tag::SamplesPerPixel, 1u16).map_err(error)?;
+    // rows_per_strip <= height, which fits in u32.
+    d.write_tag(Tag::RowsPerStrip, rows_per_strip as u32).map_err(error)?;
+    d.write_tag(Tag::StripByteCounts, K::convert_slice(&byte_counts)).map_err(error)?;
+    // Chunky: the only layout of one band.
+    d.write_tag(Tag::PlanarConfiguration, 1u16).map_err(error)?;
+    d.write_tag(Tag::Predictor, Predictor::FloatingPoint.to_u16()).map_err(error)?;
+    // IEEE floating point.
+    d.write_tag(Tag::SampleFormat, 3u16).map_err(error)?;
+    let north = geometry.origin.y + height as f64 * geometry.dy;
+    d.write_tag(Tag::ModelPixelScaleTag, &[geometry.dx, geometry.dy, 0.0][..]).map_err(error)?;
+    let tiepoint = [0.0, 0.0, 0.0, geometry.origin.x, north, 0.0];
+    d.write_tag(Tag::ModelTiepointTag, &tiepoint[..]).map_err(error)?;
+    d.write_tag(Tag::GeoKeyDirectoryTag, &PROJECTED_METRES[..]).map_err(error)?;
+    d.write_tag(Tag::GdalNodata, "nan").map_err(error)?;
+    directory.finish().map_err(error)
+}
+
+/// Appends one row of f32 values encoded with TIFF's floating-point predictor (predictor 3):
+/// the bytes of every value split into planes, most significant plane first, then each byte
+/// replaced by its difference from the byte before it.
+fn predict_floats(values: &[f32], out: &mut Vec<u8>) {
+    let n = values.len();
+    let start = out.len();
+    out.resize(start + 4 * n, 0);
+    let row = &mut out[start..];
+    for (i, value) in values.iter().enumerate() {
+        for (plane, byte) in value.to_bits().to_be_bytes().into_iter().enumerate() {
+            row[plane * n + i] = byte;
+        }
+    }
+    for j in (1..row.len()).rev() {
+        row[j] = row[j].wrapping_sub(row[j - 1]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geotiff_read::read_geotiff_from;
+    use crate::ReadOptions;
+    use relief_core::{DVec2, GridGeometry};
+    use std::io::Cursor;
+
+    fn field() -> HeightField {
+        let (w, h) = (37, 23);
+        let samples = (0..w * h).map(|i| ((i * 7919) % 1000) as f32 * 0.25 - 100.0).collect();
+        let geometry =
+            GridGeometry { dx: 30.0, dy: 20.0, z_scale: 2.0, origin: DVec2::new(-500.0, 7.5) };
+        let holes = (0..w * h).map(|i| i % 17 == 3).collect();
+        HeightField::new(w, h, samples, geometry).unwrap().with_holes(holes).unwrap()
+    }
+
+    #[test]
+    fn floating_point_predictor_of_a_row() {
+        let mut out = vec![9];
+        predict_floats(&[1.0, 1.0], &mut out);
+        // 1.0 = 3f 80 00 00: planes [3f 3f][80 80][00 00][00 00], then differences.
+        assert_eq!(out, [9, 0x3f, 0, 0x41, 0, 0x80, 0, 0, 0]);
+    }
+
+    #[test]
+    fn standard_and_big_tiff_read_back_with_z_scale_applied() {
+        let field = field();
+        let path = Path::new("memory.tif");
+        for big in [false, true] {
+            let mut bytes = Cursor::new(Vec::new());
+            write_geotiff_to(&mut bytes, path, &field, big).unwrap();
+            let bytes = bytes.into_inner();
+            assert_eq!(&bytes[..4], if big { b"II+\0" } else { b"II*\0" });
+            let raster =
+                read_geotiff_from(Cursor::new(bytes), path, &ReadOptions::default()).unwrap();
+            assert_eq!((raster.width, raster.height), (37, 23));
+            let g = raster.geometry;
+            assert_eq!((g.dx, g.dy, g.z_scale), (30.0, 20.0, 1.0));
+            assert!((g.origin - DVec2::new(-500.0, 7.5)).length() < 1e-9, "{}", g.origin);
+            assert_eq!(raster.info.sample_type, "float32");
+            assert!(raster.info.nodata.is_some_and(f64::is_nan));
+            for row in 0..23 {
+                for col in 0..37 {
+                    let got = raster.samples[col + row * 37];
+                    if field.is_hole(col, row) {
+                        assert!(got.is_nan(), "({col}, {row}) {got}");
+                    } else {
+                        assert_eq!(got, field.sample(col, row) * 2.0, "({col}, {row})");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn overflowing_z_scale_is_invalid_data() {
+        let geometry = GridGeometry { z_scale: 1e300, ..GridGeometry::unit() };
+        let field = HeightField::new(2, 1, vec![0.0, 1.0], geometry).unwrap();
+        let err = write_geotiff_to(Cursor::new(Vec::new()), Path::new("x.tif"), &field, false)
+            .unwrap_err();
+        assert!(matches!(err, IoError::InvalidData { .. }), "{err}");
+        assert!(err.to_string().contains("column 1, row 0"), "{err}");
+    }
+}

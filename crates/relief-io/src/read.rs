@@ -1,0 +1,72 @@
+//! Reading any supported height file: the format follows the file name's extension.
+
+use crate::{Format, IoError, PngEncoding, Raster, ReadOptions};
+use std::io::Cursor;
+use std::path::Path;
+
+/// The format a path's extension names, with the PNG encoding from `options`.
+pub fn format_of(path: &Path, options: &ReadOptions) -> Result<Format, IoError> {
+    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    Ok(match extension.as_deref() {
+        Some("npy") => Format::Npy,
+        Some("npz") => Format::Npz,
+        Some("tif" | "tiff") => Format::GeoTiff,
+        Some("hgt") => Format::Hgt,
+        Some("asc") => Format::Asc,
+        Some("png") => match options.png_encoding {
+            PngEncoding::Grey => Format::Png16,
+            PngEncoding::TerrainRgb => Format::TerrainRgb,
+            PngEncoding::Terrarium => Format::Terrarium,
+        },
+        _ => {
+            return Err(IoError::unsupported(
+                path,
+                "file type: expected .tif, .tiff, .hgt, .asc, .png, .npy or .npz",
+            ))
+        }
+    })
+}
+
+/// Reads the height raster at `path`, in the format its extension names.
+pub fn read_raster(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
+    match format_of(path, options)? {
+        Format::Npy => crate::npy_raster::read_npy(path, options),
+        Format::Npz => crate::npz::read_npz(path, options),
+        Format::GeoTiff => crate::geotiff_read::read_geotiff(path, options),
+        Format::Hgt => crate::hgt::read_hgt(path, options),
+        Format::Asc => crate::asc::read_asc(path, options),
+        Format::Png16 | Format::TerrainRgb | Format::Terrarium => {
+            crate::png_height::read_png_height(path, options)
+        }
+    }
+}
+
+/// Reads a raster of `format` from bytes in memory; `path` names it in errors (the `.hgt`
+/// reader takes its georeference from the name). Used by the fuzz targets.
+pub fn read_raster_from_bytes(
+    bytes: &[u8],
+    format: Format,
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<Raster, IoError> {
+    let len = bytes.len() as u64;
+    let reader = Cursor::new(bytes);
+    match format {
+        Format::Npy => crate::npy_raster::read_npy_from(reader, len, path, options),
+        Format::Npz => crate::npz::read_npz_from(reader, len, path, options),
+        Format::GeoTiff => crate::geotiff_read::read_geotiff_from(reader, path, options),
+        Format::Hgt => crate::hgt::read_hgt_from(reader, len, path, options),
+        Format::Asc => crate::asc::read_asc_from(reader, len, path, options),
+        Format::Png16 | Format::TerrainRgb | Format::Terrarium => {
+            let options = ReadOptions {
+                png_encoding: match format {
+                    Format::TerrainRgb => PngEncoding::TerrainRgb,
+                    Format::Terrarium => PngEncoding::Terrarium,
+                    _ => PngEncoding::Grey,
+                },
+                ..options.clone()
+            };
+            crate::png_height::read_png_height_from(reader, len, path, &options)
+        }
+    }
+}

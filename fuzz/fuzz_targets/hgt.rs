@@ -1,0 +1,15 @@
+//! Fuzzes the Hgt reader: any bytes give a raster or an error, never a panic or a hang.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use relief_io::{read_raster_from_bytes, Format, ReadOptions, VoidPolicy};
+use std::path::Path;
+
+fuzz_target!(|data: &[u8]| {
+    let options = ReadOptions { max_memory: 64 << 20, ..ReadOptions::default() };
+    let path = Path::new("N36W085.hgt");
+    if let Ok(raster) = read_raster_from_bytes(data, Format::Hgt, path, &options) {
+        let _ = raster.clone().into_height_field(path, VoidPolicy::Fill);
+        let _ = raster.into_height_field(path, VoidPolicy::Hole);
+    }
+});
