@@ -68,7 +68,9 @@ impl Aabb {
                 }
                 continue;
             }
-            let (mut ta, mut tb) = ((lo - o) / d, (hi - o) / d);
+            // Multiplying by the reciprocal, as the tracers do, keeps crossings bit-identical.
+            let inv = 1.0 / d;
+            let (mut ta, mut tb) = ((lo - o) * inv, (hi - o) * inv);
             if ta > tb {
                 std::mem::swap(&mut ta, &mut tb);
             }

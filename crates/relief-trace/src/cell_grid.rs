@@ -12,6 +12,46 @@
 
 use crate::Hit;
 use relief_core::{Aabb, BoxFace, Clip, DVec3, HeightField, Ray, Surface};
+use std::ops::Deref;
+
+/// A ray in cell space with its reciprocal direction: every crossing parameter is then one
+/// subtraction and one multiplication, computed the same way by every tracer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellRay {
+    /// The ray in cell space.
+    pub ray: Ray,
+    /// Component-wise `1 / dir` (infinite where `dir` is zero).
+    pub inv_dir: DVec3,
+}
+
+impl Deref for CellRay {
+    type Target = Ray;
+    fn deref(&self) -> &Ray {
+        &self.ray
+    }
+}
+
+impl CellRay {
+    /// Parameter where the ray crosses `x = coord` (infinite when it runs parallel).
+    #[inline]
+    pub fn time_to_x(&self, coord: f64) -> f64 {
+        if self.ray.dir.x == 0.0 {
+            f64::INFINITY
+        } else {
+            (coord - self.ray.origin.x) * self.inv_dir.x
+        }
+    }
+
+    /// Parameter where the ray crosses `y = coord` (infinite when it runs parallel).
+    #[inline]
+    pub fn time_to_y(&self, coord: f64) -> f64 {
+        if self.ray.dir.y == 0.0 {
+            f64::INFINITY
+        } else {
+            (coord - self.ray.origin.y) * self.inv_dir.y
+        }
+    }
+}
 
 /// How a ray enters the part of a cell it is tested against.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,6 +79,8 @@ pub struct Segment {
     pub entry: Entry,
     /// Height of the ray at `t_enter`, exact when it enters through the bottom or top face.
     pub z_enter: f64,
+    /// Height of the ray at `t_exit`, exact when it leaves through the bottom or top face.
+    pub z_exit: f64,
 }
 
 /// A surface of a height field seen as a grid of cells, with the exact per-cell ray test.
@@ -126,9 +168,11 @@ impl CellGrid {
     }
 
     /// Maps a world ray into cell space (same parameter `t`).
-    pub fn to_cell_space(&self, field: &HeightField, world_ray: &Ray) -> Ray {
+    pub fn to_cell_space(&self, field: &HeightField, world_ray: &Ray) -> CellRay {
         let grid_ray = field.geometry().ray_to_grid(world_ray);
-        Ray { origin: grid_ray.origin - DVec3::new(self.shift, self.shift, 0.0), ..grid_ray }
+        let ray =
+            Ray { origin: grid_ray.origin - DVec3::new(self.shift, self.shift, 0.0), ..grid_ray };
+        CellRay { ray, inv_dir: DVec3::ONE / ray.dir }
     }
 
     /// The world hit for a cell-space hit at `t` with grid-space `normal` (zero: started inside).
@@ -143,7 +187,7 @@ impl CellGrid {
 
     /// Clips a cell-space ray to the solid's bounds; `None` if it misses them or the grid has
     /// no cells.
-    pub fn clip(&self, cell_ray: &Ray) -> Option<Clip> {
+    pub fn clip(&self, cell_ray: &CellRay) -> Option<Clip> {
         if self.is_empty() {
             return None;
         }
@@ -155,18 +199,18 @@ impl CellGrid {
     /// The index is chosen so that the cell's own integer bounds put `t` inside its span along
     /// the ray: a point that rounds onto a cell boundary goes to the cell whose segment holds it,
     /// so even a zero-length clip (a flat terrain hit from above) lands in a cell that tests it.
-    pub fn cell_at(&self, ray: &Ray, t: f64) -> (usize, usize) {
+    pub fn cell_at(&self, ray: &CellRay, t: f64) -> (usize, usize) {
         (
-            axis_cell(ray.origin.x, ray.dir.x, t, self.cells_x),
-            axis_cell(ray.origin.y, ray.dir.y, t, self.cells_y),
+            axis_cell(ray.origin.x, ray.dir.x, ray.inv_dir.x, t, self.cells_x),
+            axis_cell(ray.origin.y, ray.dir.y, ray.inv_dir.y, t, self.cells_y),
         )
     }
 
     /// The part of the clipped ray inside cell (cx, cy), from the cell's integer bounds.
     #[inline]
-    pub fn segment(&self, ray: &Ray, clip: &Clip, cx: usize, cy: usize) -> Segment {
-        let (x_in, x_out) = axis_span(ray.origin.x, ray.dir.x, cx as f64);
-        let (y_in, y_out) = axis_span(ray.origin.y, ray.dir.y, cy as f64);
+    pub fn segment(&self, ray: &CellRay, clip: &Clip, cx: usize, cy: usize) -> Segment {
+        let (x_in, x_out) = axis_span(ray.origin.x, ray.dir.x, ray.inv_dir.x, cx as f64);
+        let (y_in, y_out) = axis_span(ray.origin.y, ray.dir.y, ray.inv_dir.y, cy as f64);
         let (mut t_enter, mut entry) = (clip.t_enter, outer_entry(clip.face));
         if x_in > t_enter {
             t_enter = x_in;
@@ -181,14 +225,16 @@ impl CellGrid {
             Entry::OuterFace(2) => self.bounds.max.z,
             _ => ray.origin.z + t_enter * ray.dir.z,
         };
-        Segment {
-            t_enter,
-            t_exit: clip.t_exit.min(x_out).min(y_out),
-            t_next_x: x_out,
-            t_next_y: y_out,
-            entry,
-            z_enter,
-        }
+        let t_exit = clip.t_exit.min(x_out).min(y_out);
+        // Where the ray leaves the box through its bottom or top, take that face's height
+        // itself: a surface lying on the face (a flat floor) is then met, not missed by rounding.
+        let z_face = if ray.dir.z < 0.0 { self.bounds.min.z } else { self.bounds.max.z };
+        let z_exit = if ray.dir.z != 0.0 && t_exit == (z_face - ray.origin.z) * ray.inv_dir.z {
+            z_face
+        } else {
+            ray.origin.z + t_exit * ray.dir.z
+        };
+        Segment { t_enter, t_exit, t_next_x: x_out, t_next_y: y_out, entry, z_enter, z_exit }
     }
 
     /// The exact first point of the cell-space `ray` inside the solid over cell (cx, cy), within
@@ -197,7 +243,7 @@ impl CellGrid {
     pub fn intersect_cell(
         &self,
         samples: &[f32],
-        ray: &Ray,
+        ray: &CellRay,
         cx: usize,
         cy: usize,
         seg: &Segment,
@@ -217,7 +263,7 @@ impl CellGrid {
     fn two_triangles(
         &self,
         samples: &[f32],
-        ray: &Ray,
+        ray: &CellRay,
         cx: usize,
         cy: usize,
         seg: &Segment,
@@ -235,14 +281,14 @@ impl CellGrid {
             [(a, b - a, c - a), (b + c - d, d - c, d - b)]
         };
         let (u0, v0) = (ray.origin.x - cx as f64, ray.origin.y - cy as f64);
+        let local = |t: f64| (u0 + t * ray.dir.x, v0 + t * ray.dir.y);
+        let ((u_in, v_in), (u_out, v_out)) = (local(seg.t_enter), local(seg.t_exit));
         let mut best: Option<(f64, DVec3)> = None;
         for (p0, pu, pv) in planes {
-            // Height of the ray above the plane: f(t) = f0 + t * slope.
-            let f0 = ray.origin.z - (p0 + pu * u0 + pv * v0);
-            let slope = ray.dir.z - pu * ray.dir.x - pv * ray.dir.y;
+            // Height of the ray above the plane, linear along the ray, at both ends.
+            let f_enter = seg.z_enter - (p0 + pu * u_in + pv * v_in);
+            let f_exit = seg.z_exit - (p0 + pu * u_out + pv * v_out);
             let normal = DVec3::new(-pu, -pv, 1.0);
-            let (u, v) = (u0 + seg.t_enter * ray.dir.x, v0 + seg.t_enter * ray.dir.y);
-            let f_enter = seg.z_enter - (p0 + pu * u + pv * v);
             let candidate = if f_enter <= 0.0 {
                 // Below the surface on entry: through an outer wall, from the start, or past
                 // the wall of a hole; from a solid neighbour only by rounding, on the surface.
@@ -251,9 +297,10 @@ impl CellGrid {
                     entry => entry_normal(entry, ray),
                 };
                 Some((seg.t_enter, n))
-            } else if slope < 0.0 {
-                let t = -f0 / slope;
-                (t <= seg.t_exit).then_some((t.max(seg.t_enter), normal))
+            } else if f_exit <= 0.0 {
+                let along = f_enter / (f_enter - f_exit);
+                let t = seg.t_enter + along * (seg.t_exit - seg.t_enter);
+                Some((t.clamp(seg.t_enter, seg.t_exit), normal))
             } else {
                 None
             };
@@ -289,15 +336,13 @@ impl CellGrid {
 
 /// Exact test of a flat-topped column of height `top` over a segment.
 #[inline]
-fn box_column(ray: &Ray, top: f64, seg: &Segment) -> Option<(f64, DVec3)> {
+fn box_column(ray: &CellRay, top: f64, seg: &Segment) -> Option<(f64, DVec3)> {
     if seg.z_enter <= top {
         return Some((seg.t_enter, entry_normal(seg.entry, ray)));
     }
-    if ray.dir.z < 0.0 {
-        let t = (top - ray.origin.z) / ray.dir.z;
-        if t <= seg.t_exit {
-            return Some((t.max(seg.t_enter), DVec3::Z));
-        }
+    if ray.dir.z < 0.0 && seg.z_exit <= top {
+        let t = (top - ray.origin.z) * ray.inv_dir.z;
+        return Some((t.clamp(seg.t_enter, seg.t_exit), DVec3::Z));
     }
     None
 }
@@ -325,11 +370,11 @@ fn outer_entry(face: BoxFace) -> Entry {
 
 /// The index along one axis of the cell whose span along the ray holds `t`.
 #[inline]
-fn axis_cell(o: f64, d: f64, t: f64, cells: usize) -> usize {
+fn axis_cell(o: f64, d: f64, inv: f64, t: f64, cells: usize) -> usize {
     // Truncation is the floor for non-negative values; NaN and negatives go to cell 0.
     let v = o + t * d;
     let c = if v >= 0.0 { (v as usize).min(cells - 1) } else { 0 };
-    let (t_in, t_out) = axis_span(o, d, c as f64);
+    let (t_in, t_out) = axis_span(o, d, inv, c as f64);
     let towards_low = if d > 0.0 { t_in > t } else { t_out < t };
     let towards_high = if d > 0.0 { t_out < t } else { t_in > t };
     if d != 0.0 && towards_low && c > 0 {
@@ -343,11 +388,11 @@ fn axis_cell(o: f64, d: f64, t: f64, cells: usize) -> usize {
 
 /// Parameters where a ray enters and leaves the slab `[lo, lo + 1]` along one axis.
 #[inline]
-fn axis_span(o: f64, d: f64, lo: f64) -> (f64, f64) {
+fn axis_span(o: f64, d: f64, inv: f64, lo: f64) -> (f64, f64) {
     if d > 0.0 {
-        ((lo - o) / d, (lo + 1.0 - o) / d)
+        ((lo - o) * inv, (lo + 1.0 - o) * inv)
     } else if d < 0.0 {
-        ((lo + 1.0 - o) / d, (lo - o) / d)
+        ((lo + 1.0 - o) * inv, (lo - o) * inv)
     } else {
         (f64::NEG_INFINITY, f64::INFINITY)
     }

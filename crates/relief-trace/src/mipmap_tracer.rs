@@ -59,10 +59,10 @@ impl Mirror {
     /// The child at `level` of mirrored node `m` (one level up) that holds the ray's point at
     /// `t`: the upper child once the ray has reached the boundary between the two.
     #[inline]
-    fn child(self, m: usize, level: usize, origin: f64, dir: f64, t: f64) -> usize {
+    fn child(self, m: usize, level: usize, origin: f64, dir: f64, inv_dir: f64, t: f64) -> usize {
         let upper = 2 * m + 1;
         let mid = self.boundary(upper, level);
-        let reached = if dir == 0.0 { origin >= mid } else { t >= (mid - origin) / dir };
+        let reached = if dir == 0.0 { origin >= mid } else { t >= (mid - origin) * inv_dir };
         if reached {
             upper
         } else {
@@ -99,13 +99,6 @@ impl Tracer for MipmapTracer {
         let padded = 1usize << top;
         let mx = Mirror { padded, flip: ray.dir.x < 0.0 };
         let my = Mirror { padded, flip: ray.dir.y < 0.0 };
-        let time_to = |coord: f64, origin: f64, dir: f64| {
-            if dir == 0.0 {
-                f64::INFINITY
-            } else {
-                (coord - origin) / dir
-            }
-        };
         let (cx, cy) = self.grid.cell_at(&ray, clip.t_enter);
         let mut level = top;
         let mut nx = mx.index(cx, 0)? >> top;
@@ -113,8 +106,8 @@ impl Tracer for MipmapTracer {
         let mut t = clip.t_enter;
         loop {
             *steps += 1;
-            let tx = time_to(mx.boundary(nx + 1, level), ray.origin.x, ray.dir.x);
-            let ty = time_to(my.boundary(ny + 1, level), ray.origin.y, ray.dir.y);
+            let tx = ray.time_to_x(mx.boundary(nx + 1, level));
+            let ty = ray.time_to_y(my.boundary(ny + 1, level));
             let t_leave = tx.min(ty).min(clip.t_exit);
             let (ox, oy) = (mx.index(nx, level)?, my.index(ny, level)?);
             if level == 0 {
@@ -133,11 +126,11 @@ impl Tracer for MipmapTracer {
                 let slack = 1e-9 * (1.0 + node_max.abs() + z_in.abs());
                 if z_in.min(z_out) <= node_max + slack {
                     if ray.dir.z < 0.0 && z_in > node_max {
-                        t = ((node_max - ray.origin.z) / ray.dir.z).clamp(t, t_leave);
+                        t = ((node_max - ray.origin.z) * ray.inv_dir.z).clamp(t, t_leave);
                     }
                     level -= 1;
-                    nx = mx.child(nx, level, ray.origin.x, ray.dir.x, t);
-                    ny = my.child(ny, level, ray.origin.y, ray.dir.y, t);
+                    nx = mx.child(nx, level, ray.origin.x, ray.dir.x, ray.inv_dir.x, t);
+                    ny = my.child(ny, level, ray.origin.y, ray.dir.y, ray.inv_dir.y, t);
                     continue;
                 }
             }

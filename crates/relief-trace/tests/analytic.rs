@@ -133,3 +133,37 @@ fn rays_pass_through_holes_and_hit_their_walls() {
         assert_eq!(wall.normal, -DVec3::X, "{name}");
     });
 }
+
+#[test]
+fn a_flat_floor_at_the_lowest_height_is_never_missed() {
+    // Flat at 0 (the minimum, so the floor lies on the bounding box's bottom face) with one
+    // hill; rays from above land on a dense lattice that includes exact cell boundaries.
+    let g = GridGeometry { dx: 0.7, dy: 1.3, z_scale: 1.1, origin: DVec2::new(-3.0, 2.0) };
+    let f = field(16, 12, g, |c, r| if c > 12 && r > 8 { 5.0 } else { 0.0 });
+    let t_bounds = |s: Surface| f.world_bounds(s);
+    every_tracer(&Surface::ALL, f.clone(), |t, name| {
+        for i in 0..=40 {
+            for j in 0..=40 {
+                let target = DVec3::new(
+                    -3.0 + 0.7 * (0.5 + i as f64 * 0.25),
+                    2.0 + 1.3 * (0.5 + j as f64 * 0.2),
+                    0.0,
+                );
+                for dir in [DVec3::new(0.0, 0.0, -1.0), DVec3::new(0.3, -0.2, -1.0).normalize()] {
+                    let origin = target - dir * 20.0;
+                    if let Some(hit) = t.intersect(&Ray::new(origin, dir)) {
+                        assert!(hit.t <= 20.0 + 1e-9, "{name}: hit beyond the floor at {target}");
+                    } else {
+                        // Only the footprint's own edge is a tie (the silhouette of its wall).
+                        let b = t_bounds(t.surface());
+                        let inside = target.x > b.min.x + 1e-9
+                            && target.x < b.max.x - 1e-9
+                            && target.y > b.min.y + 1e-9
+                            && target.y < b.max.y - 1e-9;
+                        assert!(!inside, "{name}: missed the floor at {target} along {dir}");
+                    }
+                }
+            }
+        }
+    });
+}
