@@ -232,6 +232,18 @@ pub struct BenchArgs {
     /// Surfaces to measure (comma-separated).
     #[arg(long, value_delimiter = ',', default_values = ["boxes", "triangles"])]
     pub surfaces: Vec<Surface>,
+    /// Views to measure (comma-separated): three-quarter, flight, top-down.
+    #[arg(long, value_delimiter = ',', default_values = ["three-quarter", "flight", "top-down"])]
+    pub views: Vec<String>,
+    /// Measure this height file (spacing 1, z scale 1) instead of generating the fBm terrain.
+    #[arg(long)]
+    pub input: Option<PathBuf>,
+    /// Print one JSON object per measurement (with the camera) instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Write each measurement's depth image (.npy, as `render --depth`) into this folder.
+    #[arg(long)]
+    pub depth_dir: Option<PathBuf>,
 }
 
 fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {

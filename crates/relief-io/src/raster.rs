@@ -191,9 +191,8 @@ impl Raster {
     /// file in errors (a raster of nothing but voids, for one).
     pub fn into_height_field(self, path: &Path, voids: VoidPolicy) -> Result<HeightField, IoError> {
         let Raster { width, height, mut samples, geometry, .. } = self;
-        let holes: Vec<bool> = samples.iter().map(|v| v.is_nan()).collect();
-        let has_voids = holes.contains(&true);
-        if has_voids && holes.iter().all(|&h| h) {
+        let has_voids = samples.iter().any(|v| v.is_nan());
+        if has_voids && samples.iter().all(|v| v.is_nan()) {
             return Err(IoError::invalid_data(path, "every sample is a void (nodata)"));
         }
         let invalid = |e: relief_core::CoreError| IoError::invalid_data(path, e.to_string());
@@ -204,17 +203,15 @@ impl Raster {
                 }
                 HeightField::new(width, height, samples, geometry).map_err(invalid)
             }
-            VoidPolicy::Hole => {
+            VoidPolicy::Hole if has_voids => {
+                let holes: Vec<bool> = samples.iter().map(|v| v.is_nan()).collect();
                 for v in samples.iter_mut().filter(|v| v.is_nan()) {
                     *v = 0.0;
                 }
                 let field = HeightField::new(width, height, samples, geometry).map_err(invalid)?;
-                if has_voids {
-                    field.with_holes(holes).map_err(invalid)
-                } else {
-                    Ok(field)
-                }
+                field.with_holes(holes).map_err(invalid)
             }
+            VoidPolicy::Hole => HeightField::new(width, height, samples, geometry).map_err(invalid),
         }
     }
 }

@@ -2,12 +2,15 @@
 //! its footprint (Dick et al. 2009, section 3.2; Tevs et al. 2008).
 
 use crate::cell_grid::CellGrid;
+use rayon::prelude::*;
 
-/// A pyramid of maxima over a [`CellGrid`], all levels in one flat allocation.
+/// A pyramid of maxima over a [`CellGrid`], all stored levels in one flat allocation.
 ///
-/// Level 0 holds one value per cell (the cell's highest surface point); a node of level `l + 1`
-/// is the maximum of the (up to) 2x2 nodes below it. Any grid size works: a level has
-/// `ceil(cells / 2^l)` nodes per axis, and the top level has one node.
+/// Level 0 stands for the cells themselves (a cell's maximum is the highest of its samples) and
+/// is not stored: tracers test cells exactly instead. A node of level 1 holds the maximum over
+/// its (up to) 2x2 cells, one of level `l + 1` the maximum of the (up to) 2x2 nodes below it.
+/// Any grid size works: a level has `ceil(cells / 2^l)` nodes per axis, and the top level has
+/// one node. The pyramid takes a third of the memory of the samples.
 #[derive(Debug, Clone)]
 pub struct MaxMipmap {
     values: Vec<f32>,
@@ -23,39 +26,43 @@ struct Level {
 }
 
 impl MaxMipmap {
-    /// Builds the pyramid of `grid` over the height field's `samples`.
+    /// Builds the pyramid of `grid` over the height field's `samples` (level 1 in parallel).
     pub fn build(grid: &CellGrid, samples: &[f32]) -> Self {
         let (mut nx, mut ny) = (grid.cells_x(), grid.cells_y());
         let mut levels = vec![Level { offset: 0, nodes_x: nx, nodes_y: ny }];
-        let mut total = nx * ny;
-        while nx > 1 || ny > 1 {
+        let mut total = 0;
+        while !grid.is_empty() && (nx > 1 || ny > 1) {
             nx = nx.div_ceil(2);
             ny = ny.div_ceil(2);
             levels.push(Level { offset: total, nodes_x: nx, nodes_y: ny });
             total += nx * ny;
         }
-        let mut values = Vec::with_capacity(total);
-        for cy in 0..grid.cells_y() {
-            for cx in 0..grid.cells_x() {
-                values.push(grid.cell_max(samples, cx, cy));
-            }
-        }
-        for pair in levels.windows(2) {
-            let (fine, coarse) = (pair[0], pair[1]);
-            for y in 0..coarse.nodes_y {
-                for x in 0..coarse.nodes_x {
-                    let mut m = f32::NEG_INFINITY;
-                    for (fx, fy) in [
-                        (2 * x, 2 * y),
-                        (2 * x + 1, 2 * y),
-                        (2 * x, 2 * y + 1),
-                        (2 * x + 1, 2 * y + 1),
-                    ] {
-                        if fx < fine.nodes_x && fy < fine.nodes_y {
-                            m = m.max(values[fine.offset + fx + fy * fine.nodes_x]);
+        let mut values = vec![f32::NEG_INFINITY; total];
+        if let Some(first) = levels.get(1).copied() {
+            let (cells_x, cells_y) = (grid.cells_x(), grid.cells_y());
+            let level1 = &mut values[..first.nodes_x * first.nodes_y];
+            level1.par_chunks_mut(first.nodes_x).enumerate().for_each(|(y, row)| {
+                for (x, node) in row.iter_mut().enumerate() {
+                    for cy in (2 * y)..(2 * y + 2).min(cells_y) {
+                        for cx in (2 * x)..(2 * x + 2).min(cells_x) {
+                            *node = node.max(grid.cell_max(samples, cx, cy));
                         }
                     }
-                    values.push(m);
+                }
+            });
+        }
+        for l in 2..levels.len() {
+            let (fine, coarse) = (levels[l - 1], levels[l]);
+            let (below, above) = values.split_at_mut(coarse.offset);
+            let below = &below[fine.offset..];
+            for y in 0..coarse.nodes_y {
+                for x in 0..coarse.nodes_x {
+                    let node = &mut above[x + y * coarse.nodes_x];
+                    for fy in (2 * y)..(2 * y + 2).min(fine.nodes_y) {
+                        for fx in (2 * x)..(2 * x + 2).min(fine.nodes_x) {
+                            *node = node.max(below[fx + fy * fine.nodes_x]);
+                        }
+                    }
                 }
             }
         }
@@ -73,9 +80,13 @@ impl MaxMipmap {
         (l.nodes_x, l.nodes_y)
     }
 
-    /// The maximum stored in node (x, y) of `level`; `None` outside the level.
+    /// The maximum stored in node (x, y) of `level`; `None` outside the level and for level 0,
+    /// which is not stored.
     #[inline]
     pub fn get(&self, level: usize, x: usize, y: usize) -> Option<f32> {
+        if level == 0 {
+            return None;
+        }
         let l = self.levels.get(level)?;
         (x < l.nodes_x && y < l.nodes_y).then(|| self.values[l.offset + x + y * l.nodes_x])
     }

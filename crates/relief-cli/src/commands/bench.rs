@@ -6,71 +6,200 @@
 
 use crate::args::BenchArgs;
 use crate::{input, memory, progress};
-use anyhow::Result;
+use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec3, HeightField, Surface};
 use relief_shade::{light_visibility, render_gbuffer, sun_direction, GBuffer, TraceStats};
-use relief_trace::{build_tracer, Tracer};
+use relief_trace::{build_tracer, Tracer, TracerKind};
+use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
 
+/// The benchmark's sun: azimuth 315° (north-west), 35° above the horizon.
+const SUN: (f64, f64) = (315.0, 35.0);
+
+/// One line of results.
+struct Measurement<'a> {
+    view: &'a str,
+    camera: &'a Camera,
+    surface: Surface,
+    tracer: TracerKind,
+    build_ms: f64,
+    primary: TraceStats,
+    primary_s: f64,
+    shadow: TraceStats,
+    shadow_s: f64,
+    peak_mib: f64,
+}
+
 /// Runs `relief bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
+    if let Some(view) = args.views.iter().find(|v| !VIEWS.contains(&v.as_str())) {
+        bail!("unknown view '{view}': expected {}", VIEWS.join(", "));
+    }
     let started = Instant::now();
-    let field = Arc::new(input::fbm(args.size, args.seed)?);
-    let generate_s = started.elapsed().as_secs_f64();
+    let (field, source) = match &args.input {
+        Some(path) => {
+            let read = crate::args::ReadArgs {
+                voids: crate::args::Voids::Fill,
+                max_memory: None,
+                png_encoding: crate::args::PngHeights::Grey,
+                array: None,
+            };
+            (input::read(path, &read)?.1, path.display().to_string())
+        }
+        None => (
+            input::fbm(args.size, args.seed)?,
+            format!("fBm {0}x{0} seed {1}", args.size, args.seed),
+        ),
+    };
+    let field = Arc::new(field);
+    let load_s = started.elapsed().as_secs_f64();
+    if let Some(dir) = &args.depth_dir {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
     let (w, h) = args.res;
-    println!(
-        "relief bench: fBm {n}x{n} (seed {}, generated in {generate_s:.2} s), {w}x{h} pixels, {} threads",
-        args.seed,
-        rayon::current_num_threads(),
-        n = args.size
-    );
-    println!(
-        "{:<13} {:<9} {:<6} {:>9} {:>9} {:>7} {:>8} {:>9} {:>7} {:>8} {:>9}",
-        "view",
-        "surface",
-        "tracer",
-        "build ms",
-        "prim Mr/s",
-        "hit %",
-        "steps",
-        "max",
-        "shad Mr/s",
-        "steps",
-        "peak MiB"
-    );
-    let sun = sun_direction(315.0, 35.0);
+    let threads = rayon::current_num_threads();
+    let mut out = std::io::stdout().lock();
+    if !args.json {
+        writeln!(
+            out,
+            "relief bench: {source} (ready in {load_s:.2} s), {w}x{h} pixels, {threads} threads"
+        )?;
+        writeln!(
+            out,
+            "{:<13} {:<9} {:<6} {:>9} {:>9} {:>6} {:>7} {:>6} {:>9} {:>7} {:>8}",
+            "view",
+            "surface",
+            "tracer",
+            "build ms",
+            "prim Mr/s",
+            "hit %",
+            "steps",
+            "max",
+            "shad Mr/s",
+            "steps",
+            "peak MiB"
+        )?;
+    }
+    let sun = sun_direction(SUN.0, SUN.1);
     for (view, camera) in views(&field, w, h)? {
+        if !args.views.iter().any(|v| v == view) {
+            continue;
+        }
         for &surface in &args.surfaces {
-            for &kind in &args.tracers {
+            for &tracer in &args.tracers {
                 let built = Instant::now();
-                let tracer = build_tracer(field.clone(), surface, kind);
+                let traced = build_tracer(field.clone(), surface, tracer);
                 let build_ms = built.elapsed().as_secs_f64() * 1e3;
                 let bounds = field.world_bounds(surface);
-                let bar = progress::bar(w as u64 * h as u64, &format!("{view}/{kind}"));
-                let traced = Instant::now();
+                let bar = progress::bar(w as u64 * h as u64, &format!("{view}/{tracer}"));
+                let timer = Instant::now();
                 let (gbuffer, primary) =
-                    render_gbuffer(tracer.as_ref(), &camera, &bounds, &|n| bar.inc(n))?;
-                let primary_s = traced.elapsed().as_secs_f64();
+                    render_gbuffer(traced.as_ref(), &camera, &bounds, &|n| bar.inc(n))?;
+                let primary_s = timer.elapsed().as_secs_f64();
                 bar.finish_and_clear();
-                let shadowed = Instant::now();
-                let shadow = shadow_rays(tracer.as_ref(), &camera, &gbuffer, sun);
-                let shadow_s = shadowed.elapsed().as_secs_f64();
-                let peak = memory::peak_resident_bytes().map_or(f64::NAN, |b| b as f64 / 1048576.0);
-                println!(
-                    "{view:<13} {surface:<9} {kind:<6} {build_ms:>9.1} {:>9.2} {:>7.1} {:>8.1} {:>9} {:>7.2} {:>8.1} {peak:>9.0}",
-                    primary.rays as f64 / primary_s / 1e6,
-                    100.0 * primary.hits as f64 / primary.rays.max(1) as f64,
-                    primary.mean_steps(),
-                    primary.max_steps,
-                    shadow.rays as f64 / shadow_s / 1e6,
-                    shadow.mean_steps(),
-                );
+                let timer = Instant::now();
+                let shadow = shadow_rays(traced.as_ref(), &camera, &gbuffer, sun);
+                let shadow_s = timer.elapsed().as_secs_f64();
+                if let Some(dir) = &args.depth_dir {
+                    let path = dir.join(format!("{view}-{surface}-{tracer}.npy"));
+                    relief_io::write_npy_f32(
+                        &path,
+                        &[h as usize, w as usize],
+                        &gbuffer.depth_hw(),
+                    )?;
+                }
+                let peak_mib =
+                    memory::peak_resident_bytes().map_or(f64::NAN, |b| b as f64 / 1048576.0);
+                let m = Measurement {
+                    view,
+                    camera: &camera,
+                    surface,
+                    tracer,
+                    build_ms,
+                    primary,
+                    primary_s,
+                    shadow,
+                    shadow_s,
+                    peak_mib,
+                };
+                if args.json {
+                    writeln!(out, "{}", m.json(threads))?;
+                } else {
+                    writeln!(out, "{}", m.row())?;
+                }
             }
         }
     }
     Ok(())
+}
+
+/// The names of the benchmark's views.
+const VIEWS: [&str; 3] = ["three-quarter", "flight", "top-down"];
+
+impl Measurement<'_> {
+    fn primary_mrays(&self) -> f64 {
+        self.primary.rays as f64 / self.primary_s / 1e6
+    }
+
+    fn shadow_mrays(&self) -> f64 {
+        self.shadow.rays as f64 / self.shadow_s / 1e6
+    }
+
+    fn row(&self) -> String {
+        format!(
+            "{:<13} {:<9} {:<6} {:>9.1} {:>9.2} {:>6.1} {:>7.1} {:>6} {:>9.2} {:>7.1} {:>8.0}",
+            self.view,
+            self.surface,
+            self.tracer,
+            self.build_ms,
+            self.primary_mrays(),
+            100.0 * self.primary.hits as f64 / self.primary.rays.max(1) as f64,
+            self.primary.mean_steps(),
+            self.primary.max_steps,
+            self.shadow_mrays(),
+            self.shadow.mean_steps(),
+            self.peak_mib
+        )
+    }
+
+    fn json(&self, threads: usize) -> String {
+        let v = |d: DVec3| format!("[{}, {}, {}]", d.x, d.y, d.z);
+        let c = self.camera;
+        format!(
+            concat!(
+                "{{\"view\": \"{}\", \"surface\": \"{}\", \"tracer\": \"{}\", \"threads\": {}, ",
+                "\"build_ms\": {}, \"primary_rays\": {}, \"primary_s\": {}, \"primary_hits\": {}, ",
+                "\"primary_mean_steps\": {}, \"primary_max_steps\": {}, \"shadow_rays\": {}, ",
+                "\"shadow_s\": {}, \"shadow_mean_steps\": {}, \"peak_mib\": {}, ",
+                "\"camera\": {{\"eye\": {}, \"target\": {}, \"up\": {}, \"fov_deg\": {}, ",
+                "\"width\": {}, \"height\": {}}}, \"sun\": {{\"azimuth_deg\": {}, \"elevation_deg\": {}}}}}"
+            ),
+            self.view,
+            self.surface,
+            self.tracer,
+            threads,
+            self.build_ms,
+            self.primary.rays,
+            self.primary_s,
+            self.primary.hits,
+            self.primary.mean_steps(),
+            self.primary.max_steps,
+            self.shadow.rays,
+            self.shadow_s,
+            self.shadow.mean_steps(),
+            self.peak_mib,
+            v(c.eye()),
+            v(c.target()),
+            v(c.up()),
+            c.fov_deg(),
+            c.width(),
+            c.height(),
+            SUN.0,
+            SUN.1
+        )
+    }
 }
 
 /// The benchmark's views: a three-quarter overview, a low flight over the ground, top-down.
@@ -92,7 +221,7 @@ fn views(field: &HeightField, w: u32, h: u32) -> Result<Vec<(&'static str, Camer
     let above = DVec3::new(centre.x, centre.y, bounds.max.z + 1.2 * size.x.max(size.y));
     let top_down =
         Camera::look_at(above, DVec3::new(centre.x, centre.y, bounds.min.z), DVec3::Y, 45.0, w, h)?;
-    Ok(vec![("three-quarter", overview), ("flight", flight), ("top-down", top_down)])
+    Ok(vec![(VIEWS[0], overview), (VIEWS[1], flight), (VIEWS[2], top_down)])
 }
 
 /// Traces a shadow ray towards `sun` from every hit of `gbuffer`, in parallel by rows.

@@ -3,19 +3,26 @@
 use crate::args::InfoArgs;
 use crate::input;
 use anyhow::Result;
+use std::io::Write;
 
 /// Runs `relief info`.
 pub fn run(args: &InfoArgs) -> Result<()> {
+    let mut out = std::io::stdout().lock();
     let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
     let info = &raster.info;
     let g = &raster.geometry;
     let samples = raster.samples.len() as f64;
-    println!("file:        {}", args.input.display());
-    println!("format:      {}", info.format);
-    println!("size:        {} x {} samples ({})", raster.width, raster.height, info.sample_type);
+    writeln!(out, "file:        {}", args.input.display())?;
+    writeln!(out, "format:      {}", info.format)?;
+    writeln!(
+        out,
+        "size:        {} x {} samples ({})",
+        raster.width, raster.height, info.sample_type
+    )?;
     let unit = if info.georeferenced { "m" } else { "grid units, set with --spacing" };
     match &info.from_degrees {
-        Some(deg) => println!(
+        Some(deg) => writeln!(
+            out,
             "spacing:     {:.3} x {:.3} m (from {:.3}\" x {:.3}\" at latitude {:.3}°)",
             g.dx,
             g.dy,
@@ -23,17 +30,17 @@ pub fn run(args: &InfoArgs) -> Result<()> {
             deg.dlat * 3600.0,
             deg.latitude
         ),
-        None => println!("spacing:     {} x {} ({unit})", g.dx, g.dy),
-    }
-    println!("origin:      {}, {} (south-west corner, {unit})", g.origin.x, g.origin.y);
+        None => writeln!(out, "spacing:     {} x {} ({unit})", g.dx, g.dy),
+    }?;
+    writeln!(out, "origin:      {}, {} (south-west corner, {unit})", g.origin.x, g.origin.y)?;
     match raster.value_range() {
-        Some((lo, hi)) => println!("values:      {lo} .. {hi}"),
-        None => println!("values:      none (every sample is a void)"),
-    }
+        Some((lo, hi)) => writeln!(out, "values:      {lo} .. {hi}"),
+        None => writeln!(out, "values:      none (every sample is a void)"),
+    }?;
     let nodata = info.nodata.map_or("none declared".to_string(), |v| v.to_string());
-    println!("nodata:      {} voids (nodata value: {nodata})", raster.void_count());
+    writeln!(out, "nodata:      {} voids (nodata value: {nodata})", raster.void_count())?;
     // Samples as f32, a hole flag each, and the max mipmap (a third of the samples) per surface.
     let render_mib = samples * (4.0 + 1.0 + 4.0 / 3.0) / 1048576.0;
-    println!("to render:   about {render_mib:.1} MiB");
+    writeln!(out, "to render:   about {render_mib:.1} MiB")?;
     Ok(())
 }
