@@ -90,10 +90,13 @@ pub struct CellGrid {
     samples_width: usize,
     cells_x: usize,
     cells_y: usize,
-    shift: f64,
     bounds: Aabb,
     /// Cells with no surface (over a hole of the field), row-major; `None` when there are none.
     empty_cells: Option<Vec<bool>>,
+    /// World to cell space: `cell = (world - offset) * scale`.
+    offset: DVec3,
+    /// Reciprocals of the spacings and of the z scale.
+    scale: DVec3,
 }
 
 impl CellGrid {
@@ -117,7 +120,11 @@ impl CellGrid {
                 })
                 .collect(),
         });
-        CellGrid { surface, samples_width: w, cells_x, cells_y, shift, bounds, empty_cells }
+        let g = field.geometry();
+        let scale = DVec3::new(1.0 / g.dx, 1.0 / g.dy, 1.0 / g.z_scale);
+        // The shift by half a texel (triangles) happens in grid units: origin + shift * spacing.
+        let offset = DVec3::new(g.origin.x + shift * g.dx, g.origin.y + shift * g.dy, 0.0);
+        CellGrid { surface, samples_width: w, cells_x, cells_y, bounds, empty_cells, offset, scale }
     }
 
     /// Whether cell (cx, cy) has no surface (it lies over a hole of the field).
@@ -168,10 +175,13 @@ impl CellGrid {
     }
 
     /// Maps a world ray into cell space (same parameter `t`).
-    pub fn to_cell_space(&self, field: &HeightField, world_ray: &Ray) -> CellRay {
-        let grid_ray = field.geometry().ray_to_grid(world_ray);
-        let ray =
-            Ray { origin: grid_ray.origin - DVec3::new(self.shift, self.shift, 0.0), ..grid_ray };
+    #[inline]
+    pub fn to_cell_space(&self, world_ray: &Ray) -> CellRay {
+        let ray = Ray {
+            origin: (world_ray.origin - self.offset) * self.scale,
+            dir: world_ray.dir * self.scale,
+            ..*world_ray
+        };
         CellRay { ray, inv_dir: DVec3::ONE / ray.dir }
     }
 

@@ -92,7 +92,7 @@ impl Tracer for MipmapTracer {
     }
 
     fn intersect_counted(&self, world_ray: &Ray, steps: &mut u32) -> Option<Hit> {
-        let ray = self.grid.to_cell_space(&self.field, world_ray);
+        let ray = self.grid.to_cell_space(world_ray);
         let clip = self.grid.clip(&ray)?;
         let samples = self.field.samples();
         let top = self.mipmap.top_level();
@@ -114,9 +114,17 @@ impl Tracer for MipmapTracer {
                 if ox >= self.grid.cells_x() || oy >= self.grid.cells_y() {
                     return None;
                 }
-                let seg = self.grid.segment(&ray, &clip, ox, oy);
-                if let Some((t_hit, n)) = self.grid.intersect_cell(samples, &ray, ox, oy, &seg) {
-                    return Some(self.grid.world_hit(&self.field, world_ray, t_hit, n));
+                // Cheap rejection first: the ray passes above the cell's highest point. (Before
+                // `t` it cannot hit: the parent's test or its advance to the parent's maximum
+                // ruled that out.) Otherwise the exact test, shared with the naive tracer.
+                let cell_max = self.grid.cell_max(samples, ox, oy) as f64;
+                let z_low = (ray.origin.z + t * ray.dir.z).min(ray.origin.z + t_leave * ray.dir.z);
+                if z_low <= cell_max + 1e-9 * (1.0 + cell_max.abs() + z_low.abs()) {
+                    let seg = self.grid.segment(&ray, &clip, ox, oy);
+                    if let Some((t_hit, n)) = self.grid.intersect_cell(samples, &ray, ox, oy, &seg)
+                    {
+                        return Some(self.grid.world_hit(&self.field, world_ray, t_hit, n));
+                    }
                 }
             } else {
                 let node_max = self.mipmap.get(level, ox, oy)? as f64;

@@ -33,7 +33,7 @@ impl Tracer for NaiveTracer {
     }
 
     fn intersect_counted(&self, world_ray: &Ray, steps: &mut u32) -> Option<Hit> {
-        let ray = self.grid.to_cell_space(&self.field, world_ray);
+        let ray = self.grid.to_cell_space(world_ray);
         let clip = self.grid.clip(&ray)?;
         let samples = self.field.samples();
         let (mut cx, mut cy) = self.grid.cell_at(&ray, clip.t_enter);
