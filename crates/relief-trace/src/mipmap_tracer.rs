@@ -33,52 +33,65 @@ impl MipmapTracer {
     }
 }
 
-/// Index mirroring along one axis at one pyramid level: `padded` is the padded grid size
-/// (a power of two), `flip` whether the ray runs towards negative coordinates.
+/// One horizontal axis of a ray in the pyramid's mirrored index space, where the ray runs
+/// towards growing coordinates (Dick's mirroring): the grid is padded to a power of two and
+/// flipped along the axes the ray runs down, so every step is "+1" and every crossing time is
+/// one subtraction and one multiplication, without branches.
 #[derive(Clone, Copy)]
-struct Mirror {
+struct MirroredAxis {
+    /// The ray's origin along the axis, in mirrored coordinates.
+    origin: f64,
+    /// `1 / |direction|` (infinite when the ray does not move along the axis).
+    inv_dir: f64,
+    /// Whether the ray moves along the axis at all.
+    moves: bool,
+    /// All ones when flipped, else zero: mirrored index `m` of a level of `n` nodes is original
+    /// index `m ^ (flip & (n - 1))`.
+    flip: usize,
+    /// The padded grid size, a power of two.
     padded: usize,
-    flip: bool,
 }
 
-impl Mirror {
-    /// The original index of mirrored node `m` of `level` (the map is its own inverse);
-    /// `None` outside the padded grid.
+impl MirroredAxis {
+    fn new(origin: f64, dir: f64, inv_dir: f64, padded: usize) -> Self {
+        let flipped = dir < 0.0;
+        MirroredAxis {
+            origin: if flipped { padded as f64 - origin } else { origin },
+            inv_dir: inv_dir.abs(),
+            moves: dir != 0.0,
+            flip: if flipped { usize::MAX } else { 0 },
+            padded,
+        }
+    }
+
+    /// The original index of mirrored node `m` of `level` (the map is its own inverse). An
+    /// index past the padded grid maps past it too, where lookups refuse it.
     #[inline]
-    fn index(self, m: usize, level: usize) -> Option<usize> {
-        let n = self.padded >> level;
-        if m >= n {
-            None
-        } else if self.flip {
-            Some(n - 1 - m)
+    fn original(self, m: usize, level: usize) -> usize {
+        m ^ (self.flip & ((self.padded >> level) - 1))
+    }
+
+    /// When the ray reaches the mirrored boundary `m << level`.
+    #[inline]
+    fn time_to(self, m: usize, level: usize) -> f64 {
+        if self.moves {
+            ((m << level) as f64 - self.origin) * self.inv_dir
         } else {
-            Some(m)
+            f64::INFINITY
         }
     }
 
     /// The child at `level` of mirrored node `m` (one level up) that holds the ray's point at
-    /// `t`: the upper child once the ray has reached the boundary between the two.
+    /// `t`: the upper one once the ray has reached the boundary between the two.
     #[inline]
-    fn child(self, m: usize, level: usize, origin: f64, dir: f64, inv_dir: f64, t: f64) -> usize {
+    fn child(self, m: usize, level: usize, t: f64) -> usize {
         let upper = 2 * m + 1;
-        let mid = self.boundary(upper, level);
-        let reached = if dir == 0.0 { origin >= mid } else { t >= (mid - origin) * inv_dir };
-        if reached {
-            upper
+        let reached = if self.moves {
+            t >= self.time_to(upper, level)
         } else {
-            upper - 1
-        }
-    }
-
-    /// The original coordinate of the mirrored boundary `m << level`.
-    #[inline]
-    fn boundary(self, m: usize, level: usize) -> f64 {
-        let b = m << level;
-        if self.flip {
-            self.padded as f64 - b as f64
-        } else {
-            b as f64
-        }
+            self.origin >= (upper << level) as f64
+        };
+        upper - !reached as usize
     }
 }
 
@@ -97,19 +110,19 @@ impl Tracer for MipmapTracer {
         let samples = self.field.samples();
         let top = self.mipmap.top_level();
         let padded = 1usize << top;
-        let mx = Mirror { padded, flip: ray.dir.x < 0.0 };
-        let my = Mirror { padded, flip: ray.dir.y < 0.0 };
+        let mx = MirroredAxis::new(ray.origin.x, ray.dir.x, ray.inv_dir.x, padded);
+        let my = MirroredAxis::new(ray.origin.y, ray.dir.y, ray.inv_dir.y, padded);
         let (cx, cy) = self.grid.cell_at(&ray, clip.t_enter);
         let mut level = top;
-        let mut nx = mx.index(cx, 0)? >> top;
-        let mut ny = my.index(cy, 0)? >> top;
+        let mut nx = mx.original(cx, 0) >> top;
+        let mut ny = my.original(cy, 0) >> top;
         let mut t = clip.t_enter;
         loop {
             *steps += 1;
-            let tx = ray.time_to_x(mx.boundary(nx + 1, level));
-            let ty = ray.time_to_y(my.boundary(ny + 1, level));
+            let tx = mx.time_to(nx + 1, level);
+            let ty = my.time_to(ny + 1, level);
             let t_leave = tx.min(ty).min(clip.t_exit);
-            let (ox, oy) = (mx.index(nx, level)?, my.index(ny, level)?);
+            let (ox, oy) = (mx.original(nx, level), my.original(ny, level));
             if level == 0 {
                 if ox >= self.grid.cells_x() || oy >= self.grid.cells_y() {
                     return None;
@@ -137,8 +150,13 @@ impl Tracer for MipmapTracer {
                         t = ((node_max - ray.origin.z) * ray.inv_dir.z).clamp(t, t_leave);
                     }
                     level -= 1;
-                    nx = mx.child(nx, level, ray.origin.x, ray.dir.x, ray.inv_dir.x, t);
-                    ny = my.child(ny, level, ray.origin.y, ray.dir.y, ray.inv_dir.y, t);
+                    nx = mx.child(nx, level, t);
+                    ny = my.child(ny, level, t);
+                    // At the grid's edge, rounding between the clip (original coordinates) and
+                    // mirrored boundaries may pick the child outside the grid: take its sibling.
+                    let (nodes_x, nodes_y) = self.mipmap.nodes(level);
+                    nx ^= (mx.original(nx, level) >= nodes_x) as usize;
+                    ny ^= (my.original(ny, level) >= nodes_y) as usize;
                     continue;
                 }
             }
