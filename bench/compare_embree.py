@@ -153,7 +153,8 @@ def main():
             hit = np.isfinite(t_hit)
             # Shadow rays from the hits, offset along the normal as relief does (1e-5 of the distance).
             facing = np.where((normals * dirs).sum(1, keepdims=True) > 0, -normals, normals)
-            origins = eye + dirs * t_hit[:, None] + facing * (1e-5 * t_hit[:, None])
+            with np.errstate(invalid="ignore"):  # misses: inf * 0
+                origins = eye + dirs * t_hit[:, None] + facing * (1e-5 * t_hit[:, None])
             sun = sun_direction(r["sun"]["azimuth_deg"], r["sun"]["elevation_deg"])
             shadow = np.concatenate([origins[hit], np.broadcast_to(sun, (hit.sum(), 3))], 1).astype(np.float32)
             started = time.perf_counter()
