@@ -147,7 +147,9 @@ impl Tracer for MipmapTracer {
                 let slack = 1e-9 * (1.0 + node_max.abs() + z_in.abs());
                 if z_in.min(z_out) <= node_max + slack {
                     if ray.dir.z < 0.0 && z_in > node_max {
-                        t = ((node_max - ray.origin.z) * ray.inv_dir.z).clamp(t, t_leave);
+                        // Not `clamp`: rounding may put `t_leave` an ulp before `t`.
+                        let reach = (node_max - ray.origin.z) * ray.inv_dir.z;
+                        t = reach.min(t_leave).max(t);
                     }
                     level -= 1;
                     nx = mx.child(nx, level, t);
