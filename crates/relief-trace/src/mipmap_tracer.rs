@@ -17,6 +17,8 @@ pub struct MipmapTracer {
     field: Arc<HeightField>,
     grid: CellGrid,
     mipmap: MaxMipmap,
+    /// Slack of the conservative height tests, relative to the heights' magnitude.
+    slack: f64,
 }
 
 impl MipmapTracer {
@@ -24,7 +26,8 @@ impl MipmapTracer {
     pub fn new(field: Arc<HeightField>, surface: Surface) -> Self {
         let grid = CellGrid::new(&field, surface);
         let mipmap = MaxMipmap::build(&grid, field.samples());
-        MipmapTracer { field, grid, mipmap }
+        let magnitude = field.min_sample().abs().max(field.max_sample().abs()) as f64;
+        MipmapTracer { field, grid, mipmap, slack: 1e-9 * (1.0 + magnitude) }
     }
 
     /// The pyramid this tracer walks.
@@ -105,6 +108,27 @@ impl Tracer for MipmapTracer {
     }
 
     fn intersect_counted(&self, world_ray: &Ray, steps: &mut u32) -> Option<Hit> {
+        let mut count = 0;
+        let hit = self.traverse(world_ray, &mut count);
+        *steps += count;
+        hit
+    }
+}
+
+/// The smaller of two numbers that are never NaN (cheaper than `f64::min`).
+#[inline(always)]
+fn min(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+impl MipmapTracer {
+    /// The traversal, counting steps into a local counter.
+    #[inline(always)]
+    fn traverse(&self, world_ray: &Ray, steps: &mut u32) -> Option<Hit> {
         let ray = self.grid.to_cell_space(world_ray);
         let clip = self.grid.clip(&ray)?;
         let samples = self.field.samples();
@@ -121,7 +145,7 @@ impl Tracer for MipmapTracer {
             *steps += 1;
             let tx = mx.time_to(nx + 1, level);
             let ty = my.time_to(ny + 1, level);
-            let t_leave = tx.min(ty).min(clip.t_exit);
+            let t_leave = min(min(tx, ty), clip.t_exit);
             let (ox, oy) = (mx.original(nx, level), my.original(ny, level));
             if level == 0 {
                 if ox >= self.grid.cells_x() || oy >= self.grid.cells_y() {
@@ -131,8 +155,8 @@ impl Tracer for MipmapTracer {
                 // `t` it cannot hit: the parent's test or its advance to the parent's maximum
                 // ruled that out.) Otherwise the exact test, shared with the naive tracer.
                 let cell_max = self.grid.cell_max(samples, ox, oy) as f64;
-                let z_low = (ray.origin.z + t * ray.dir.z).min(ray.origin.z + t_leave * ray.dir.z);
-                if z_low <= cell_max + 1e-9 * (1.0 + cell_max.abs() + z_low.abs()) {
+                let z_low = min(ray.origin.z + t * ray.dir.z, ray.origin.z + t_leave * ray.dir.z);
+                if z_low <= cell_max + self.slack {
                     let seg = self.grid.segment(&ray, &clip, ox, oy);
                     if let Some((t_hit, n)) = self.grid.intersect_cell(samples, &ray, ox, oy, &seg)
                     {
@@ -144,8 +168,7 @@ impl Tracer for MipmapTracer {
                 let z_in = ray.origin.z + t * ray.dir.z;
                 let z_out = ray.origin.z + t_leave * ray.dir.z;
                 // A hair of slack keeps the coarse test conservative; level 0 decides exactly.
-                let slack = 1e-9 * (1.0 + node_max.abs() + z_in.abs());
-                if z_in.min(z_out) <= node_max + slack {
+                if min(z_in, z_out) <= node_max + self.slack {
                     if ray.dir.z < 0.0 && z_in > node_max {
                         // Not `clamp`: rounding may put `t_leave` an ulp before `t`.
                         let reach = (node_max - ray.origin.z) * ray.inv_dir.z;
