@@ -31,28 +31,6 @@ impl Deref for CellRay {
     }
 }
 
-impl CellRay {
-    /// Parameter where the ray crosses `x = coord` (infinite when it runs parallel).
-    #[inline]
-    pub fn time_to_x(&self, coord: f64) -> f64 {
-        if self.ray.dir.x == 0.0 {
-            f64::INFINITY
-        } else {
-            (coord - self.ray.origin.x) * self.inv_dir.x
-        }
-    }
-
-    /// Parameter where the ray crosses `y = coord` (infinite when it runs parallel).
-    #[inline]
-    pub fn time_to_y(&self, coord: f64) -> f64 {
-        if self.ray.dir.y == 0.0 {
-            f64::INFINITY
-        } else {
-            (coord - self.ray.origin.y) * self.inv_dir.y
-        }
-    }
-}
-
 /// How a ray enters the part of a cell it is tested against.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Entry {

@@ -26,7 +26,7 @@ mod mipmap_tracer;
 mod naive_tracer;
 mod tracer;
 
-pub use cell_grid::CellGrid;
+pub use cell_grid::{CellGrid, CellRay, Entry, Segment};
 pub use max_mipmap::MaxMipmap;
 pub use mipmap_tracer::MipmapTracer;
 pub use naive_tracer::NaiveTracer;

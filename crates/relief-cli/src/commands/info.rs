@@ -39,8 +39,12 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     }?;
     let nodata = info.nodata.map_or("none declared".to_string(), |v| v.to_string());
     writeln!(out, "nodata:      {} voids (nodata value: {nodata})", raster.void_count())?;
-    // Samples as f32, a hole flag each, and the max mipmap (a third of the samples) per surface.
-    let render_mib = samples * (4.0 + 1.0 + 4.0 / 3.0) / 1048576.0;
-    writeln!(out, "to render:   about {render_mib:.1} MiB")?;
+    // Samples as f32 and the max mipmap (a third of them), plus a flag a sample for holes.
+    let per_sample = 4.0 + 4.0 / 3.0 + if raster.void_count() > 0 { 1.0 } else { 0.0 };
+    let render_mib = samples * per_sample / 1048576.0;
+    writeln!(
+        out,
+        "to render:   about {render_mib:.1} MiB for the terrain, plus about 60 bytes a pixel"
+    )?;
     Ok(())
 }
