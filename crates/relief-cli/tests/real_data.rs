@@ -188,3 +188,90 @@ fn unknown_and_broken_files_are_refused() {
     assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(!png.exists());
 }
+
+/// The same ramp written in every format relief reads, each rendered from the command line.
+#[test]
+fn every_format_renders_from_the_cli() {
+    use relief_core::{GridGeometry, HeightField};
+    let ramp = |w: usize, h: usize| {
+        let samples = (0..w * h).map(|k| 100.0 + (k % w) as f32 + 2.0 * (k / w) as f32).collect();
+        HeightField::new(w, h, samples, GridGeometry::unit()).unwrap()
+    };
+    let field = ramp(32, 24);
+    let mut files: Vec<(PathBuf, Vec<&str>)> = Vec::new();
+    for ext in ["tif", "asc", "npy", "png"] {
+        let path = scratch(&format!("ramp.{ext}"));
+        relief_io::write_height_field(&path, &field).unwrap();
+        files.push((path, vec![]));
+    }
+    let tile = scratch("N10E020.hgt");
+    relief_io::write_height_field(&tile, &ramp(1201, 1201)).unwrap();
+    files.push((tile, vec![]));
+    // Web-map tiles: terrain-RGB and Terrarium encodings of the same heights, north row first.
+    let north_first: Vec<f32> = (0..24)
+        .rev()
+        .flat_map(|r| (0..32).map(move |c| (c, r)))
+        .map(|(c, r)| field.sample(c, r))
+        .collect();
+    let rows_north_first = || north_first.iter().copied();
+    let terrain_rgb: Vec<u8> = rows_north_first()
+        .flat_map(|h| {
+            let v = ((h as f64 + 10000.0) * 10.0).round() as u32;
+            [(v >> 16) as u8, (v >> 8) as u8, v as u8]
+        })
+        .collect();
+    let terrarium: Vec<u8> = rows_north_first()
+        .flat_map(|h| {
+            let v = h as f64 + 32768.0;
+            [(v / 256.0) as u8, (v % 256.0) as u8, ((v.fract()) * 256.0) as u8]
+        })
+        .collect();
+    for (name, rgb, encoding) in
+        [("rgb.png", terrain_rgb, "terrain-rgb"), ("terrarium.png", terrarium, "terrarium")]
+    {
+        let path = scratch(name);
+        relief_io::write_png_rgb8(&path, 32, 24, &rgb).unwrap();
+        files.push((path, vec!["--png-encoding", encoding]));
+    }
+    // An .npz archive holding the .npy as its second member, picked by name.
+    let npz = scratch("ramp.npz");
+    {
+        let mut zip = zip::ZipWriter::new(std::fs::File::create(&npz).unwrap());
+        let options = zip::write::SimpleFileOptions::default();
+        zip.start_file("other.npy", options).unwrap();
+        std::io::Write::write_all(&mut zip, &std::fs::read(scratch("ramp.npy")).unwrap()).unwrap();
+        zip.start_file("heights.npy", options).unwrap();
+        std::io::Write::write_all(&mut zip, &std::fs::read(scratch("ramp.npy")).unwrap()).unwrap();
+        zip.finish().unwrap();
+    }
+    files.push((npz, vec!["--array", "heights"]));
+
+    for (path, extra) in &files {
+        let depth = scratch("format-depth.npy");
+        let mut args = vec!["render", path.to_str().unwrap(), "--size", "24x16", "-o"];
+        let png = scratch("format.png");
+        args.extend([png.to_str().unwrap(), "--depth", depth.to_str().unwrap()]);
+        args.extend(extra.iter().copied());
+        let out = relief(&args);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let bytes = std::fs::read(&depth).unwrap();
+        let hits = bytes[128..]
+            .chunks_exact(4)
+            .filter(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]).is_finite())
+            .count();
+        assert!(hits > 24 * 16 / 10, "{}: only {hits} pixels see the terrain", path.display());
+        let info = stdout_of(&relief(&[&["info", path.to_str().unwrap()][..], extra].concat()));
+        let expected_max = if path.extension().unwrap() == "hgt" { 3700.0 } else { 177.0 };
+        assert_eq!(
+            numbers_on(&info, "values:"),
+            [100.0, expected_max],
+            "{}: {info}",
+            path.display()
+        );
+    }
+}
