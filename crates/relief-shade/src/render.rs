@@ -12,10 +12,11 @@ pub const TILE_SIZE: usize = 16;
 /// Traces the ray of every pixel of `camera` with `tracer` into a G-buffer.
 ///
 /// `bounds` is the terrain's world bounds (`HeightField::world_bounds` of the traced surface):
-/// texture coordinates span its footprint. Tiles of [`TILE_SIZE`]² pixels are traced in
-/// parallel and then written in a fixed order, so the result does not depend on the thread
-/// count. `progress` is called from worker threads with the number of pixels of each tile as it
-/// finishes. Fails only when the G-buffer cannot be allocated.
+/// texture coordinates span its footprint. Strips of [`TILE_SIZE`] rows are traced in parallel,
+/// tile by tile, straight into the G-buffer; every pixel is computed on its own, so the result
+/// does not depend on the thread count. `progress` is called from worker threads with the
+/// number of pixels of each tile as it finishes. Fails only when the G-buffer cannot be
+/// allocated.
 ///
 /// ```
 /// use std::sync::Arc;
@@ -38,52 +39,47 @@ pub fn render_gbuffer(
 ) -> Result<(GBuffer, TraceStats), ShadeError> {
     let (width, height) = (camera.width() as usize, camera.height() as usize);
     let mut gbuffer = GBuffer::new(width, height)?;
-    let tiles_x = width.div_ceil(TILE_SIZE);
-    let tile_count = tiles_x * height.div_ceil(TILE_SIZE);
     let pixel = PixelTracer {
         tracer,
         camera,
         uv: UvMap::new(bounds),
         footprint_per_distance: 2.0 * (camera.fov_deg().to_radians() / 2.0).tan() / height as f64,
     };
-    let tiles: Vec<(Vec<GBufferPixel>, TraceStats)> = (0..tile_count)
-        .into_par_iter()
-        .map(|k| {
-            let (cols, rows) = tile_span(k, tiles_x, width, height);
+    // Strips of TILE_SIZE rows are disjoint slices of every array: each worker writes its own
+    // strip in place, tile by tile, so nothing is copied and no pixel depends on the schedule.
+    let strip = TILE_SIZE * width;
+    let GBuffer { distance, position, normal, material, uv, footprint, .. } = &mut gbuffer;
+    let stats = distance
+        .par_chunks_mut(strip)
+        .zip(position.par_chunks_mut(strip))
+        .zip(normal.par_chunks_mut(strip))
+        .zip(material.par_chunks_mut(strip))
+        .zip(uv.par_chunks_mut(strip))
+        .zip(footprint.par_chunks_mut(strip))
+        .enumerate()
+        .map(|(s, (((((distance, position), normal), material), uv), footprint))| {
             let mut stats = TraceStats::default();
-            let mut pixels = Vec::with_capacity(cols.len() * rows.len());
-            for j in rows {
-                for i in cols.clone() {
-                    pixels.push(pixel.trace(i, j, &mut stats));
+            let rows = distance.len() / width;
+            for tile_x in (0..width).step_by(TILE_SIZE) {
+                let cols = tile_x..(tile_x + TILE_SIZE).min(width);
+                for r in 0..rows {
+                    for i in cols.clone() {
+                        let p = pixel.trace(i, s * TILE_SIZE + r, &mut stats);
+                        let k = i + r * width;
+                        distance[k] = p.distance;
+                        position[k] = p.position;
+                        normal[k] = p.normal;
+                        material[k] = p.material;
+                        uv[k] = p.uv;
+                        footprint[k] = p.footprint;
+                    }
                 }
+                progress((cols.len() * rows) as u64);
             }
-            progress(pixels.len() as u64);
-            (pixels, stats)
+            stats
         })
-        .collect();
-    let mut stats = TraceStats::default();
-    for (k, (pixels, tile_stats)) in tiles.iter().enumerate() {
-        let (cols, rows) = tile_span(k, tiles_x, width, height);
-        let indices = rows.flat_map(|j| cols.clone().map(move |i| i + j * width));
-        for (index, p) in indices.zip(pixels) {
-            gbuffer.set_pixel(index, p)?;
-        }
-        stats = stats.merge(*tile_stats);
-    }
+        .reduce(TraceStats::default, TraceStats::merge);
     Ok((gbuffer, stats))
-}
-
-/// The pixel columns and rows of tile `k` (tiles numbered row-major, `tiles_x` per row).
-fn tile_span(
-    k: usize,
-    tiles_x: usize,
-    width: usize,
-    height: usize,
-) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
-    let (tx, ty) = (k % tiles_x, k / tiles_x);
-    let cols = tx * TILE_SIZE..((tx + 1) * TILE_SIZE).min(width);
-    let rows = ty * TILE_SIZE..((ty + 1) * TILE_SIZE).min(height);
-    (cols, rows)
 }
 
 /// Everything needed to turn one pixel's ray into a G-buffer pixel.
@@ -149,22 +145,6 @@ impl UvMap {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn tiles_cover_the_image_once() {
-        let (w, h): (usize, usize) = (37, 20);
-        let tiles_x = w.div_ceil(TILE_SIZE);
-        let mut seen = vec![0u8; w * h];
-        for k in 0..tiles_x * h.div_ceil(TILE_SIZE) {
-            let (cols, rows) = tile_span(k, tiles_x, w, h);
-            for j in rows {
-                for i in cols.clone() {
-                    seen[i + j * w] += 1;
-                }
-            }
-        }
-        assert!(seen.iter().all(|&c| c == 1));
-    }
 
     #[test]
     fn uv_spans_the_footprint_and_survives_flat_bounds() {
