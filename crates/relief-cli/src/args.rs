@@ -33,9 +33,10 @@ pub enum Command {
 /// How height files are read.
 #[derive(Debug, Args)]
 pub struct ReadArgs {
-    /// Voids (nodata): fill them from their surroundings, or keep them as holes.
-    #[arg(long, value_enum, default_value = "fill")]
-    pub voids: Voids,
+    /// Voids (nodata): fill them from their surroundings, or keep them as holes [default: fill;
+    /// for convert, hole, so that they stay the output's nodata].
+    #[arg(long, value_enum)]
+    pub voids: Option<Voids>,
     /// Memory a raster may take, e.g. 512M, 8G (default: half the machine's memory).
     #[arg(long, value_parser = parse_bytes)]
     pub max_memory: Option<u64>,
@@ -48,7 +49,7 @@ pub struct ReadArgs {
 }
 
 /// `--voids`.
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Voids {
     /// Nearest valid sample, then smoothed.
     Fill,
@@ -183,35 +184,7 @@ pub struct ConvertArgs {
     pub output: PathBuf,
     /// How to read the input (voids are kept as nodata unless --voids fill is given).
     #[command(flatten)]
-    pub read: ConvertReadArgs,
-}
-
-/// Reading options of `relief convert`: as for the other commands, but voids stay voids.
-#[derive(Debug, Args)]
-pub struct ConvertReadArgs {
-    /// Voids (nodata): keep them as the output's nodata, or fill them.
-    #[arg(long, value_enum, default_value = "hole")]
-    pub voids: Voids,
-    /// Memory a raster may take, e.g. 512M, 8G (default: half the machine's memory).
-    #[arg(long, value_parser = parse_bytes)]
-    pub max_memory: Option<u64>,
-    /// How a PNG encodes heights.
-    #[arg(long, value_enum, default_value = "grey")]
-    pub png_encoding: PngHeights,
-    /// The array to read from an .npz archive (default: the first).
-    #[arg(long)]
-    pub array: Option<String>,
-}
-
-impl From<&ConvertReadArgs> for ReadArgs {
-    fn from(a: &ConvertReadArgs) -> Self {
-        ReadArgs {
-            voids: a.voids,
-            max_memory: a.max_memory,
-            png_encoding: a.png_encoding,
-            array: a.array.clone(),
-        }
-    }
+    pub read: ReadArgs,
 }
 
 /// `relief bench`.

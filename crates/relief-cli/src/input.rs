@@ -11,7 +11,7 @@ use std::sync::Arc;
 /// Reads `args.input` (or generates the default terrain) and applies spacing and z scale.
 pub fn load(args: &InputArgs) -> Result<Arc<HeightField>> {
     let field = match &args.input {
-        Some(path) => read(path, &args.read)?.1,
+        Some(path) => read(path, &args.read, Voids::Fill)?.1,
         None => fbm(args.fbm_size, args.seed)?,
     };
     let field = if args.north_up { field.flip_rows() } else { field };
@@ -20,11 +20,16 @@ pub fn load(args: &InputArgs) -> Result<Arc<HeightField>> {
     Ok(Arc::new(field.with_geometry(geometry).context("invalid placement")?))
 }
 
-/// Reads the height file at `path` as a raster and as a height field with its voids resolved.
-pub fn read(path: &Path, args: &ReadArgs) -> Result<(relief_io::RasterInfo, HeightField, usize)> {
+/// Reads the height file at `path` as a raster and as a height field with its voids resolved
+/// as `--voids` says, or by `default_voids` where it says nothing. Also returns the void count.
+pub fn read(
+    path: &Path,
+    args: &ReadArgs,
+    default_voids: Voids,
+) -> Result<(relief_io::RasterInfo, HeightField, usize)> {
     let raster: Raster = relief_io::read_raster(path, &read_options(args))?;
     let (info, voids) = (raster.info.clone(), raster.void_count());
-    let policy = match args.voids {
+    let policy = match args.voids.unwrap_or(default_voids) {
         Voids::Fill => VoidPolicy::Fill,
         Voids::Hole => VoidPolicy::Hole,
     };

@@ -1,18 +1,11 @@
 //! End-to-end tests of the `relief` binary: outputs, exactness of the depth file, bad input.
 
+mod common;
+
+use common::{relief, scratch};
 use relief_core::{DVec2, GridGeometry, HeightField};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
-
-fn relief(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_relief")).args(args).output().expect("relief runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("relief-cli-tests-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 fn png_size(path: &Path) -> (u32, u32) {
     let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));

@@ -1,28 +1,14 @@
 //! End-to-end tests on real elevation data and every format: info, render, convert, limits.
 
+mod common;
+
+use common::{relief, scratch, stdout_of};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 const JACKSBORO: &str = "../relief-io/tests/fixtures/jacksboro_fault_dem.tif";
 
 fn fixture() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(JACKSBORO)
-}
-
-fn relief(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_relief")).args(args).output().expect("relief runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("relief-real-data-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn stdout_of(out: &Output) -> String {
-    let text = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(out.status.success(), "{}\n{}", text, String::from_utf8_lossy(&out.stderr));
-    text
 }
 
 /// The number after `key` on its line of `relief info`'s output.

@@ -41,12 +41,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let (field, source) = match &args.input {
         Some(path) => {
             let read = crate::args::ReadArgs {
-                voids: crate::args::Voids::Fill,
+                voids: None,
                 max_memory: None,
                 png_encoding: crate::args::PngHeights::Grey,
                 array: None,
             };
-            (input::read(path, &read)?.1, path.display().to_string())
+            (input::read(path, &read, crate::args::Voids::Fill)?.1, path.display().to_string())
         }
         None => (
             input::fbm(args.size, args.seed)?,
