@@ -4,6 +4,7 @@
 use crate::geokeys::{model_placement, GeoKeys, ModelTags, Placement};
 use crate::input_file::open_input;
 use crate::raster::mark_voids;
+use crate::sample_type::SampleType;
 use crate::{Format, IoError, Raster, RasterInfo, ReadOptions};
 use std::fmt::Display;
 use std::io::{BufReader, ErrorKind, Read, Seek, SeekFrom};
@@ -218,64 +219,21 @@ fn tiff_error(path: &Path, context: &str, error: TiffError) -> IoError {
     }
 }
 
-/// The sample types relief reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum SampleType {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    I64,
-    U64,
-    F32,
-    F64,
-}
-
-impl SampleType {
-    /// From SampleFormat (1 unsigned, 2 signed, 3 float) and BitsPerSample.
-    fn from_tags(format: u16, bits: u16) -> Option<SampleType> {
-        Some(match (format, bits) {
-            (1, 8) => SampleType::U8,
-            (1, 16) => SampleType::U16,
-            (1, 32) => SampleType::U32,
-            (1, 64) => SampleType::U64,
-            (2, 8) => SampleType::I8,
-            (2, 16) => SampleType::I16,
-            (2, 32) => SampleType::I32,
-            (2, 64) => SampleType::I64,
-            (3, 32) => SampleType::F32,
-            (3, 64) => SampleType::F64,
-            _ => return None,
-        })
-    }
-
-    /// Bytes per sample.
-    fn size(self) -> usize {
-        match self {
-            SampleType::I8 | SampleType::U8 => 1,
-            SampleType::I16 | SampleType::U16 => 2,
-            SampleType::I32 | SampleType::U32 | SampleType::F32 => 4,
-            SampleType::I64 | SampleType::U64 | SampleType::F64 => 8,
-        }
-    }
-
-    /// The name [`RasterInfo::sample_type`] reports.
-    fn name(self) -> &'static str {
-        match self {
-            SampleType::I8 => "int8",
-            SampleType::U8 => "uint8",
-            SampleType::I16 => "int16",
-            SampleType::U16 => "uint16",
-            SampleType::I32 => "int32",
-            SampleType::U32 => "uint32",
-            SampleType::I64 => "int64",
-            SampleType::U64 => "uint64",
-            SampleType::F32 => "float32",
-            SampleType::F64 => "float64",
-        }
-    }
+/// The sample type of SampleFormat (1 unsigned, 2 signed, 3 float) and BitsPerSample.
+fn sample_type_of(format: u16, bits: u16) -> Option<SampleType> {
+    Some(match (format, bits) {
+        (1, 8) => SampleType::U8,
+        (1, 16) => SampleType::U16,
+        (1, 32) => SampleType::U32,
+        (1, 64) => SampleType::U64,
+        (2, 8) => SampleType::I8,
+        (2, 16) => SampleType::I16,
+        (2, 32) => SampleType::I32,
+        (2, 64) => SampleType::I64,
+        (3, 32) => SampleType::F32,
+        (3, 64) => SampleType::F64,
+        _ => return None,
+    })
 }
 
 /// Converts native-endian samples (as the decoder leaves them) to f32.
@@ -333,7 +291,7 @@ fn check_layout<R: Read + Seek>(
         decoder.find_tag_unsigned_vec(Tag::BitsPerSample).map_err(tag_error("BitsPerSample"))?,
         1,
     );
-    let sample_type = SampleType::from_tags(format, bits).ok_or_else(|| {
+    let sample_type = sample_type_of(format, bits).ok_or_else(|| {
         let kind = match format {
             1 => "unsigned integer",
             2 => "signed integer",
@@ -648,11 +606,11 @@ mod tests {
 
     #[test]
     fn sample_types_from_tags() {
-        assert_eq!(SampleType::from_tags(2, 16), Some(SampleType::I16));
-        assert_eq!(SampleType::from_tags(3, 64), Some(SampleType::F64));
-        assert_eq!(SampleType::from_tags(3, 16), None);
-        assert_eq!(SampleType::from_tags(1, 12), None);
-        assert_eq!(SampleType::from_tags(6, 32), None);
+        assert_eq!(sample_type_of(2, 16), Some(SampleType::I16));
+        assert_eq!(sample_type_of(3, 64), Some(SampleType::F64));
+        assert_eq!(sample_type_of(3, 16), None);
+        assert_eq!(sample_type_of(1, 12), None);
+        assert_eq!(sample_type_of(6, 32), None);
         let mut out = [0f32; 2];
         let bytes: Vec<u8> = [-2i16, 300].iter().flat_map(|v| v.to_ne_bytes()).collect();
         convert(&bytes, SampleType::I16, &mut out);

@@ -49,6 +49,7 @@ mod png_read;
 mod png_write;
 mod raster;
 mod read;
+mod sample_type;
 #[cfg(test)]
 mod test_dir;
 mod void_fill;

@@ -15,19 +15,7 @@ pub(crate) const MAGIC: &[u8; 6] = b"\x93NUMPY";
 const MAX_HEADER_LEN: u64 = 1 << 20;
 
 /// Element types relief reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum ScalarKind {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    I64,
-    U64,
-    F32,
-    F64,
-}
+pub(crate) use crate::sample_type::SampleType as ScalarKind;
 
 /// An element type with its byte order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -41,13 +29,7 @@ pub(crate) struct Dtype {
 impl Dtype {
     /// Bytes per element.
     pub(crate) fn size(&self) -> usize {
-        use ScalarKind::*;
-        match self.kind {
-            I8 | U8 => 1,
-            I16 | U16 => 2,
-            I32 | U32 | F32 => 4,
-            I64 | U64 | F64 => 8,
-        }
+        self.kind.size()
     }
 }
 

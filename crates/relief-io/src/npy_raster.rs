@@ -1,7 +1,6 @@
 //! A 2D NumPy `.npy` array as a [`Raster`]: no georeference, no flip, no nodata.
 
 use crate::input_file::open_input;
-use crate::npy_header::{Dtype, ScalarKind};
 use crate::npy_read::{read_npy_array_from, NpyArray};
 use crate::raster::{mark_voids, Format, Raster, RasterInfo, ReadOptions};
 use crate::IoError;
@@ -54,28 +53,12 @@ pub(crate) fn npy_raster(path: &Path, array: NpyArray, format: Format) -> Result
         geometry: GridGeometry::unit(),
         info: RasterInfo {
             format,
-            sample_type: dtype_name(dtype).to_owned(),
+            sample_type: dtype.kind.name().to_owned(),
             georeferenced: false,
             from_degrees: None,
             nodata: None,
         },
     })
-}
-
-/// NumPy's name of an element type, e.g. `int16` or `float32`.
-fn dtype_name(dtype: Dtype) -> &'static str {
-    match dtype.kind {
-        ScalarKind::I8 => "int8",
-        ScalarKind::U8 => "uint8",
-        ScalarKind::I16 => "int16",
-        ScalarKind::U16 => "uint16",
-        ScalarKind::I32 => "int32",
-        ScalarKind::U32 => "uint32",
-        ScalarKind::I64 => "int64",
-        ScalarKind::U64 => "uint64",
-        ScalarKind::F32 => "float32",
-        ScalarKind::F64 => "float64",
-    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,46 @@
+//! The numeric sample types relief reads from raster files.
+
+/// A stored sample type: signed and unsigned integers of 8 to 64 bits, 32- and 64-bit floats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SampleType {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    I64,
+    U64,
+    F32,
+    F64,
+}
+
+impl SampleType {
+    /// Bytes per sample.
+    pub(crate) fn size(self) -> usize {
+        use SampleType::*;
+        match self {
+            I8 | U8 => 1,
+            I16 | U16 => 2,
+            I32 | U32 | F32 => 4,
+            I64 | U64 | F64 => 8,
+        }
+    }
+
+    /// The name [`crate::RasterInfo::sample_type`] reports, as NumPy spells it (`int16`).
+    pub(crate) fn name(self) -> &'static str {
+        use SampleType::*;
+        match self {
+            I8 => "int8",
+            U8 => "uint8",
+            I16 => "int16",
+            U16 => "uint16",
+            I32 => "int32",
+            U32 => "uint32",
+            I64 => "int64",
+            U64 => "uint64",
+            F32 => "float32",
+            F64 => "float64",
+        }
+    }
+}
