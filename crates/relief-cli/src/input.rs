@@ -55,6 +55,16 @@ pub fn fbm(size: usize, seed: u64) -> Result<HeightField> {
     if size == 0 || size > 65536 {
         anyhow::bail!("terrain size {size} must be between 1 and 65536");
     }
+    // The samples, and the pyramid a render builds over them.
+    let needed = (size as u64).pow(2) * 16 / 3;
+    let limit = relief_io::default_memory_limit();
+    if needed > limit {
+        anyhow::bail!(
+            "a {size}x{size} terrain needs {} MiB, over the {} MiB memory limit (half the machine's memory)",
+            needed >> 20,
+            limit >> 20
+        );
+    }
     fbm_terrain(size, size, seed, &FbmParams::for_size(size, size))
         .context("generating fBm terrain")
 }

@@ -168,6 +168,10 @@ fn bad_input_is_refused_with_exit_code_2_and_no_output() {
     assert_refused(&relief(&["render", "--eye", "1,2,3", "--target", "1,2,3"]), "camera");
     assert_refused(&relief(&["render", "--fov", "190", "--fbm-size", "16"]), "field of view");
     assert_refused(&relief(&["render", "--spacing", "0"]), "spacing");
+    assert_refused(
+        &relief(&["render", "--fbm-size", "16", "--size", "4000x3000", "--max-memory", "100M"]),
+        "memory limit",
+    );
     assert_refused(&relief(&["render", "--surface", "spheres"]), "spheres");
     assert_refused(
         &relief(&["render", "--fbm-size", "16", "-o", "/nonexistent-dir/x.png"]),

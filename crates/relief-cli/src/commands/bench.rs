@@ -37,6 +37,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if let Some(view) = args.views.iter().find(|v| !VIEWS.contains(&v.as_str())) {
         bail!("unknown view '{view}': expected {}", VIEWS.join(", "));
     }
+    let limit = relief_io::default_memory_limit();
+    super::check_image(args.res.0, args.res.1, limit, "half the machine's memory")?;
     let started = Instant::now();
     let (field, source) = match &args.input {
         Some(path) => {

@@ -21,6 +21,24 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// Bytes an image takes per pixel while it is rendered: the G-buffer (56), the linear radiance
+/// (12) and the 8-bit output (3).
+const BYTES_PER_PIXEL: u64 = 71;
+
+/// Refuses an image of `width x height` pixels that would not fit the memory budget;
+/// `limit_origin` says where the budget comes from.
+fn check_image(width: u32, height: u32, max_memory: u64, limit_origin: &str) -> Result<()> {
+    let needed = width as u64 * height as u64 * BYTES_PER_PIXEL;
+    if needed > max_memory {
+        bail!(
+            "a {width}x{height} image needs {} MiB, over the {} MiB memory limit ({limit_origin})",
+            needed >> 20,
+            max_memory >> 20
+        );
+    }
+    Ok(())
+}
+
 /// Refuses an output path whose folder does not exist or that names a folder, before any work.
 fn check_output(path: &Path) -> Result<()> {
     if path.is_dir() {

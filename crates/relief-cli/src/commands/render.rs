@@ -1,6 +1,6 @@
 //! `relief render`: trace, shade and write a picture (and optionally depth and normals).
 
-use super::check_output;
+use super::{check_image, check_output};
 use crate::args::RenderArgs;
 use crate::{input, progress};
 use anyhow::{Context, Result};
@@ -17,6 +17,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     {
         check_output(path)?;
     }
+    let max_memory = input::read_options(&args.input.read).max_memory;
+    check_image(args.size.0, args.size.1, max_memory, "raise it with --max-memory")?;
     let field = input::load(&args.input)?;
     let camera = camera(args, &field, args.surface)?;
     let params = shading(args, &field)?;
