@@ -11,7 +11,7 @@
 //! tracers that reach the same cell compute bit-identical hits.
 
 use crate::Hit;
-use relief_core::{Aabb, BoxFace, Clip, DVec3, HeightField, Ray, Surface};
+use relief_core::{Aabb, BoxFace, Clip, DVec3, GridGeometry, HeightField, Ray, Surface};
 use std::ops::Deref;
 
 /// A ray in cell space with its reciprocal direction: every crossing parameter is then one
@@ -71,10 +71,10 @@ pub struct CellGrid {
     bounds: Aabb,
     /// Cells with no surface (over a hole of the field), row-major; `None` when there are none.
     empty_cells: Option<Vec<bool>>,
-    /// World to cell space: `cell = (world - offset) * scale`.
-    offset: DVec3,
-    /// Reciprocals of the spacings and of the z scale.
-    scale: DVec3,
+    /// Where the grid sits in the world.
+    geometry: GridGeometry,
+    /// Cell space minus grid space: half a texel for triangles, none for boxes.
+    shift: DVec3,
 }
 
 impl CellGrid {
@@ -98,11 +98,17 @@ impl CellGrid {
                 })
                 .collect(),
         });
-        let g = field.geometry();
-        let scale = DVec3::new(1.0 / g.dx, 1.0 / g.dy, 1.0 / g.z_scale);
-        // The shift by half a texel (triangles) happens in grid units: origin + shift * spacing.
-        let offset = DVec3::new(g.origin.x + shift * g.dx, g.origin.y + shift * g.dy, 0.0);
-        CellGrid { surface, samples_width: w, cells_x, cells_y, bounds, empty_cells, offset, scale }
+        let (geometry, shift) = (*field.geometry(), DVec3::new(shift, shift, 0.0));
+        CellGrid {
+            surface,
+            samples_width: w,
+            cells_x,
+            cells_y,
+            bounds,
+            empty_cells,
+            geometry,
+            shift,
+        }
     }
 
     /// Whether cell (cx, cy) has no surface (it lies over a hole of the field).
@@ -155,20 +161,17 @@ impl CellGrid {
     /// Maps a world ray into cell space (same parameter `t`).
     #[inline]
     pub fn to_cell_space(&self, world_ray: &Ray) -> CellRay {
-        let ray = Ray {
-            origin: (world_ray.origin - self.offset) * self.scale,
-            dir: world_ray.dir * self.scale,
-            ..*world_ray
-        };
+        let grid_ray = self.geometry.ray_to_grid(world_ray);
+        let ray = Ray { origin: grid_ray.origin - self.shift, ..grid_ray };
         CellRay { ray, inv_dir: DVec3::ONE / ray.dir }
     }
 
     /// The world hit for a cell-space hit at `t` with grid-space `normal` (zero: started inside).
-    pub fn world_hit(&self, field: &HeightField, world_ray: &Ray, t: f64, normal: DVec3) -> Hit {
+    pub fn world_hit(&self, world_ray: &Ray, t: f64, normal: DVec3) -> Hit {
         let normal = if normal == DVec3::ZERO {
             -world_ray.dir.normalize()
         } else {
-            field.geometry().normal_to_world(normal)
+            self.geometry.normal_to_world(normal)
         };
         Hit { t, position: world_ray.at(t), normal }
     }

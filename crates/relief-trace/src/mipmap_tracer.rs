@@ -172,7 +172,7 @@ impl MipmapTracer {
                     let seg = self.grid.segment(&ray, &clip, ox, oy);
                     if let Some((t_hit, n)) = self.grid.intersect_cell(samples, &ray, ox, oy, &seg)
                     {
-                        return Some(self.grid.world_hit(&self.field, world_ray, t_hit, n));
+                        return Some(self.grid.world_hit(world_ray, t_hit, n));
                     }
                 }
             } else {

@@ -42,7 +42,7 @@ impl Tracer for NaiveTracer {
             *steps += 1;
             let seg = self.grid.segment(&ray, &clip, cx, cy);
             if let Some((t, normal)) = self.grid.intersect_cell(samples, &ray, cx, cy, &seg) {
-                return Some(self.grid.world_hit(&self.field, world_ray, t, normal));
+                return Some(self.grid.world_hit(world_ray, t, normal));
             }
             let t_next = seg.t_next_x.min(seg.t_next_y);
             if t_next >= clip.t_exit {
