@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{relief, scratch};
+use common::{depth_straight_down, relief, scratch};
 use relief_core::{DVec2, GridGeometry, HeightField};
 use std::path::Path;
 use std::process::{Command, Output};
@@ -197,30 +197,6 @@ fn georeferenced_origin_is_kept_in_world_space() {
     )
     .unwrap();
     relief_io::write_height_field_npy(&input, &field).unwrap();
-    let depth = scratch("ramp-depth.npy");
     // Straight down over texel (6, 3): world centre (32.5, 17.5); boxes top at 6.
-    let out = relief(&[
-        "render",
-        input.to_str().unwrap(),
-        "--spacing",
-        "5",
-        "--surface",
-        "boxes",
-        "--eye",
-        "32.5,17.5,50",
-        "--target",
-        "32.5,17.5,0",
-        "--up",
-        "0,1,0",
-        "--fov",
-        "1",
-        "--size",
-        "1x1",
-        "-o",
-        scratch("ramp.png").to_str().unwrap(),
-        "--depth",
-        depth.to_str().unwrap(),
-    ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert_eq!(read_npy(&depth).sample(0, 0), 44.0);
+    assert_eq!(depth_straight_down(&input, 32.5, 17.5, 50.0, &["--spacing", "5"]), 44.0);
 }

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{relief, scratch, stdout_of};
+use common::{depth_straight_down, relief, scratch, stdout_of};
 use std::path::{Path, PathBuf};
 
 const JACKSBORO: &str = "../relief-io/tests/fixtures/jacksboro_fault_dem.tif";
@@ -118,32 +118,7 @@ fn voids_become_holes_or_are_filled() {
     }
     std::fs::write(&asc, text).unwrap();
     for voids in ["fill", "hole"] {
-        let depth = scratch(&format!("voids-{voids}.npy"));
-        let out = relief(&[
-            "render",
-            asc.to_str().unwrap(),
-            "--voids",
-            voids,
-            "--eye",
-            "5.5,5,30",
-            "--target",
-            "5.5,5,0",
-            "--up",
-            "0,1,0",
-            "--fov",
-            "1",
-            "--size",
-            "1x1",
-            "--surface",
-            "boxes",
-            "-o",
-            scratch("voids.png").to_str().unwrap(),
-            "--depth",
-            depth.to_str().unwrap(),
-        ]);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        let bytes = std::fs::read(&depth).unwrap();
-        let d = f32::from_le_bytes(bytes[bytes.len() - 4..].try_into().unwrap());
+        let d = depth_straight_down(&asc, 5.5, 5.0, 30.0, &["--voids", voids]);
         match voids {
             "fill" => assert_eq!(d, 25.0, "filled voids take the surrounding height"),
             _ => assert_eq!(d, f32::INFINITY, "a hole lets the ray through"),

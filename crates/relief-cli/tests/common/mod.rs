@@ -1,7 +1,7 @@
 //! Helpers shared by the end-to-end tests: running the binary and scratch files.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs `relief` with `args` and collects its output.
@@ -21,4 +21,36 @@ pub fn stdout_of(out: &Output) -> String {
     let text = String::from_utf8_lossy(&out.stdout).to_string();
     assert!(out.status.success(), "{}\n{}", text, String::from_utf8_lossy(&out.stderr));
     text
+}
+
+/// The depth `relief render` writes for one pixel looking straight down from `(x, y, height)`
+/// at the `boxes` surface of `input`, with the extra options `extra`.
+pub fn depth_straight_down(input: &Path, x: f64, y: f64, height: f64, extra: &[&str]) -> f32 {
+    let (depth, png) = (scratch("straight-down-depth.npy"), scratch("straight-down.png"));
+    let (eye, target) = (format!("{x},{y},{height}"), format!("{x},{y},0"));
+    let mut args = vec![
+        "render",
+        input.to_str().unwrap(),
+        "--surface",
+        "boxes",
+        "--eye",
+        &eye,
+        "--target",
+        &target,
+        "--up",
+        "0,1,0",
+        "--fov",
+        "1",
+        "--size",
+        "1x1",
+        "-o",
+        png.to_str().unwrap(),
+        "--depth",
+        depth.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    let out = relief(&args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let bytes = std::fs::read(&depth).unwrap();
+    f32::from_le_bytes(bytes[bytes.len() - 4..].try_into().unwrap())
 }
