@@ -590,16 +590,7 @@ mod tests {
             }
         }
         // Random changes anywhere, a few bytes at a time.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        for _ in 0..300 {
-            let mut bad = JACKSBORO.to_vec();
-            for _ in 0..4 {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                let at = (state % bad.len() as u64) as usize;
-                bad[at] = (state >> 32) as u8;
-            }
+        for bad in crate::test_corruption::corrupted_copies(JACKSBORO, 300, 4) {
             let _ = read(&bad);
         }
     }

@@ -51,6 +51,8 @@ mod raster;
 mod read;
 mod sample_type;
 #[cfg(test)]
+mod test_corruption;
+#[cfg(test)]
 mod test_dir;
 mod void_fill;
 mod write;
