@@ -251,6 +251,24 @@ impl CellGrid {
         }
     }
 
+    /// Grid-space normal of the `triangles` surface of cell (cx, cy) at cell-space point `p`
+    /// (the plane of the triangle `p` lies over).
+    pub fn triangle_normal(&self, samples: &[f32], cx: usize, cy: usize, p: DVec3) -> DVec3 {
+        let w = self.samples_width;
+        let i = cx + cy * w;
+        let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
+        let (c, d) = (samples[i + w] as f64, samples[i + w + 1] as f64);
+        let (u, v) = (p.x - cx as f64, p.y - cy as f64);
+        let ((pu0, pv0), (pu1, pv1)) = if a + d <= b + c {
+            ((b - a, d - b), (d - c, c - a))
+        } else {
+            ((b - a, c - a), (d - c, d - b))
+        };
+        let first = if a + d <= b + c { u >= v } else { u + v <= 1.0 };
+        let (pu, pv) = if first { (pu0, pv0) } else { (pu1, pv1) };
+        DVec3::new(-pu, -pv, 1.0)
+    }
+
     fn two_triangles(
         &self,
         samples: &[f32],

@@ -5,7 +5,9 @@
 //! [`relief_core::HeightField`]:
 //!
 //! - [`NaiveTracer`]: cell-by-cell traversal (Amanatides-Woo), the reference;
-//! - [`MipmapTracer`]: max-mipmap quadtree traversal (Dick et al. 2009, section 3.2).
+//! - [`MipmapTracer`]: max-mipmap quadtree traversal (Dick et al. 2009, section 3.2);
+//! - [`SafetyTracer`]: marching with precomputed safety shapes, for static terrain and the
+//!   `triangles` surface (Baboud et al. 2011; see [`safety`]).
 //!
 //! Both are exact for both [`relief_core::Surface`]s and agree with each other to rounding.
 //!
@@ -21,15 +23,19 @@
 #![deny(missing_docs)]
 
 mod cell_grid;
+mod error;
 mod max_mipmap;
 mod mipmap_tracer;
 mod naive_tracer;
+pub mod safety;
 mod tracer;
 
 pub use cell_grid::{CellGrid, CellRay, Entry, Segment};
+pub use error::TraceError;
 pub use max_mipmap::MaxMipmap;
 pub use mipmap_tracer::MipmapTracer;
 pub use naive_tracer::NaiveTracer;
+pub use safety::{SafetyOptions, SafetyShapes, SafetyTracer};
 pub use tracer::{build_tracer, Hit, Tracer, TracerKind};
 
 /// The README's library example, compiled and run as a doctest.

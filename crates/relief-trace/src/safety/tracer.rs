@@ -1,0 +1,356 @@
+//! The safety-shape tracer: accurate marching on x-centerlines with precomputed safe steps,
+//! bisection on centerlines and the exact final test (Baboud et al. 2011, 5.2.2).
+
+use super::frame::{Frame, LocalField, RayClass};
+use super::options::RaySet;
+use super::shapes::SafetyShapes;
+use crate::cell_grid::{CellGrid, CellRay};
+use crate::{Hit, NaiveTracer, TraceError, Tracer};
+use relief_core::{BoxFace, Clip, DVec3, HeightField, Ray, Surface};
+use std::sync::Arc;
+
+/// How the ray is intersected inside the last inter-texel (section 7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FinalTest {
+    /// The two triangles: exact.
+    #[default]
+    Triangles,
+    /// The view-dependent linear surface: the height varies linearly along the ray between
+    /// centerline crossings. Same silhouettes, approximate in between.
+    Linear,
+}
+
+/// Exact ray casting of the `triangles` surface of a static height field with precomputed
+/// safety shapes. Rays the shapes were not built for (interior rays for exterior shapes, rays
+/// steeper than `phi_max`) are traced cell by cell instead, so every answer stays exact; use
+/// [`SafetyTracer::check_view`] to refuse such views up front.
+#[derive(Debug, Clone)]
+pub struct SafetyTracer {
+    field: Arc<HeightField>,
+    grid: CellGrid,
+    shapes: Arc<SafetyShapes>,
+    naive: NaiveTracer,
+    final_test: FinalTest,
+    /// "Clearly above the surface" means above by more than this.
+    slack: f64,
+}
+
+impl SafetyTracer {
+    /// A tracer of `field`'s `triangles` surface with `shapes` built for it.
+    pub fn new(
+        field: Arc<HeightField>,
+        shapes: Arc<SafetyShapes>,
+        final_test: FinalTest,
+    ) -> Result<Self, TraceError> {
+        if (shapes.width(), shapes.height()) != (field.width(), field.height()) {
+            return Err(TraceError::Options(format!(
+                "safety shapes of a {}x{} field given for a {}x{} field",
+                shapes.width(),
+                shapes.height(),
+                field.width(),
+                field.height()
+            )));
+        }
+        if field.hole_count() > 0 {
+            return Err(TraceError::Unsupported("safety shapes need a field without voids".into()));
+        }
+        let grid = CellGrid::new(&field, Surface::Triangles);
+        let naive = NaiveTracer::new(field.clone(), Surface::Triangles);
+        let magnitude = field.min_sample().abs().max(field.max_sample().abs()) as f64;
+        Ok(SafetyTracer { field, grid, shapes, naive, final_test, slack: 1e-9 * (1.0 + magnitude) })
+    }
+
+    /// The shapes in use.
+    pub fn shapes(&self) -> &SafetyShapes {
+        &self.shapes
+    }
+
+    /// Whether the shapes guarantee a ray (world space): exterior shapes need a ray coming from
+    /// outside the terrain's bounding box, a `phi_max` bound a ray at most that steep.
+    pub fn admits(&self, world_ray: &Ray) -> bool {
+        let options = self.shapes.options();
+        if let Some(max_slope) = options.max_slope() {
+            let d = world_ray.dir;
+            if d.z > max_slope * d.truncate().length() + 1e-12 * d.length() {
+                return false;
+            }
+        }
+        if options.rays == RaySet::Exterior {
+            let ray = self.grid.to_cell_space(world_ray);
+            return self.grid.clip(&ray).is_none_or(|clip| clip.face != BoxFace::Inside);
+        }
+        true
+    }
+
+    /// Refuses, with a reason, a view whose rays the shapes were not built for: `eye` and the
+    /// directions of its primary rays, and (for shadows) the direction towards the light.
+    pub fn check_view(
+        &self,
+        eye: DVec3,
+        directions: impl Iterator<Item = DVec3>,
+        light: Option<DVec3>,
+    ) -> Result<(), TraceError> {
+        let options = self.shapes.options();
+        let variant = options.variant();
+        if options.rays == RaySet::Exterior {
+            let bounds = self.field.world_bounds(Surface::Triangles);
+            let inside = (0..3).all(|k| eye[k] > bounds.min[k] && eye[k] < bounds.max[k]);
+            if inside {
+                return Err(TraceError::ViewNotAdmitted(format!(
+                    "{variant} shapes serve exterior rays only, and the eye is inside the \
+                     terrain's bounding box; use cyl_all shapes or move the camera out"
+                )));
+            }
+        }
+        if let Some(max_slope) = options.max_slope() {
+            let phi = options.phi_max_deg.unwrap_or(90.0);
+            let steep = |d: DVec3| d.z > max_slope * d.truncate().length() + 1e-12 * d.length();
+            if directions.into_iter().any(steep) {
+                return Err(TraceError::ViewNotAdmitted(format!(
+                    "the shapes admit rays at most {phi} degrees from horizontal, and this view \
+                     has rays looking higher; look further down or build shapes without phi max"
+                )));
+            }
+            // Shadow rays are traced from the light, downwards.
+            if light.is_some_and(|l| steep(-l)) {
+                return Err(TraceError::ViewNotAdmitted(format!(
+                    "the shapes admit rays at most {phi} degrees from horizontal, and shadow rays \
+                     from this sun are not; raise the sun or render without shadows"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The first hit, marching with the shapes (the ray must be admitted and not vertical).
+    fn march(&self, world_ray: &Ray, ray: &CellRay, clip: &Clip, class: RayClass, steps: &mut u32) -> Option<Hit> {
+        let frame = Frame::new(class, self.field.width(), self.field.height());
+        let local = LocalField::new(frame, self.field.samples());
+        let march = Marching {
+            tracer: self,
+            world_ray,
+            ray,
+            clip,
+            frame,
+            local,
+            origin: frame.point_to_local(ray.origin),
+            dir: frame.dir_to_local(ray.dir),
+        };
+        march.run(steps)
+    }
+}
+
+impl Tracer for SafetyTracer {
+    fn name(&self) -> &'static str {
+        "safety"
+    }
+
+    fn surface(&self) -> Surface {
+        Surface::Triangles
+    }
+
+    fn intersect_counted(&self, world_ray: &Ray, steps: &mut u32) -> Option<Hit> {
+        let ray = self.grid.to_cell_space(world_ray);
+        let clip = self.grid.clip(&ray)?;
+        match RayClass::of(ray.dir) {
+            Some(class) if self.admits(world_ray) => self.march(world_ray, &ray, &clip, class, steps),
+            _ => self.naive.intersect_counted(world_ray, steps),
+        }
+    }
+
+    fn occluded_counted(&self, world_ray: &Ray, steps: &mut u32) -> bool {
+        if self.shapes.options().rays == RaySet::All {
+            return self.intersect_counted(world_ray, steps).is_some();
+        }
+        // Exterior shapes: a segment that runs out of the box is traced backwards from just
+        // outside it, like a shadow ray cast from the light.
+        let ray = self.grid.to_cell_space(world_ray);
+        let unbounded = CellRay { ray: Ray { t_max: f64::INFINITY, ..ray.ray }, ..ray };
+        let Some(box_span) = self.grid.clip(&unbounded) else { return false };
+        if world_ray.t_max < box_span.t_exit {
+            return self.naive.occluded_counted(world_ray, steps);
+        }
+        let near = box_span.t_enter.max(world_ray.t_min);
+        if near > box_span.t_exit {
+            return false;
+        }
+        // Start just outside the box; end just outside it too when the segment enters it from
+        // outside, so rounding cannot cut off a hit on the box's faces.
+        let margin = 1e-6 * (1.0 + box_span.t_exit.abs());
+        let past_near = if near > world_ray.t_min { margin } else { 0.0 };
+        let back = Ray {
+            origin: world_ray.at(box_span.t_exit + margin),
+            dir: -world_ray.dir,
+            t_min: 0.0,
+            t_max: margin + (box_span.t_exit - near) + past_near,
+        };
+        self.intersect_counted(&back, steps).is_some()
+    }
+}
+
+/// One ray marching through a class's local frame (class `x+`: `dir.x > 0`).
+struct Marching<'a> {
+    tracer: &'a SafetyTracer,
+    world_ray: &'a Ray,
+    ray: &'a CellRay,
+    clip: &'a Clip,
+    frame: Frame,
+    local: LocalField<'a>,
+    origin: DVec3,
+    dir: DVec3,
+}
+
+impl Marching<'_> {
+    fn run(&self, steps: &mut u32) -> Option<Hit> {
+        let width = self.local.width();
+        let x_in = self.origin.x + self.clip.t_enter * self.dir.x;
+        let x_out = self.origin.x + self.clip.t_exit * self.dir.x;
+        let last = (x_out.floor().max(0.0) as usize).min(width - 1);
+        let tail = last < width - 1 && x_out > last as f64;
+        // The index of the last test position: the exit point itself when it lies past the last
+        // centerline.
+        let end = last + tail as usize;
+        let first = (x_in.floor().max(0.0) as usize).min(width - 2);
+        if let Some(hit) = self.column(first, steps) {
+            return Some(hit);
+        }
+        let dz = self.dir.z / self.dir.x;
+        let mut lo = first + 1;
+        // The column before the final centerline is always tested or safely stepped over.
+        while lo <= last && lo < width - 1 {
+            *steps += 1;
+            let (y, z) = self.at_centerline(lo);
+            let clearly_above = z > self.local.centerline_height(lo, y) + self.tracer.slack;
+            let k = if clearly_above {
+                let texel = (y.round().max(0.0) as usize).min(self.local.height() - 1);
+                let index = self.frame.grid_index(lo, texel);
+                self.tracer.shapes.step(self.frame.class, index, z, dz) as usize
+            } else {
+                0
+            };
+            if k == 0 {
+                if let Some(hit) = self.column(lo, steps) {
+                    return Some(hit);
+                }
+                lo += 1;
+                continue;
+            }
+            let hi = (lo + k).min(end);
+            if hi == lo {
+                return None;
+            }
+            if self.above(hi, last) {
+                if hi > last {
+                    return None;
+                }
+                lo = hi;
+                continue;
+            }
+            // One crossing at most between lo and hi: bisect on centerlines.
+            let (mut a, mut b) = (lo, hi);
+            while b - a > 1 {
+                *steps += 1;
+                let m = (a + b) / 2;
+                if self.above(m, last) {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            if let Some(hit) = self.final_column(a, steps) {
+                return Some(hit);
+            }
+            // Only a graze within the slack: march on past it.
+            lo = a + 1;
+        }
+        None
+    }
+
+    /// The ray's local y and z on x-centerline `i`.
+    #[inline]
+    fn at_centerline(&self, i: usize) -> (f64, f64) {
+        let t = (i as f64 - self.origin.x) / self.dir.x;
+        (self.origin.y + t * self.dir.y, self.origin.z + t * self.dir.z)
+    }
+
+    /// Whether the ray is clearly above the surface at test position `i`: x-centerline `i`,
+    /// or past `last`, the point where it leaves the bounding box.
+    fn above(&self, i: usize, last: usize) -> bool {
+        let slack = self.tracer.slack;
+        if i > last {
+            let p = self.frame.point_to_local(self.ray.at(self.clip.t_exit));
+            return p.z > self.local.surface_height(p.x, p.y) + slack;
+        }
+        let (y, z) = self.at_centerline(i);
+        z > self.local.centerline_height(i, y) + slack
+    }
+
+    /// The exact first hit in local column `c` (between x-centerlines `c` and `c + 1`): the
+    /// grid cells the ray crosses there, tested exactly as the naive tracer tests them.
+    fn column(&self, c: usize, steps: &mut u32) -> Option<Hit> {
+        let rows = self.local.height() - 1;
+        let (t0, t1) = self.column_span(c);
+        let (y0, y1) = (self.origin.y + t0 * self.dir.y, self.origin.y + t1 * self.dir.y);
+        let (y_lo, y_hi) = (y0.min(y1) - 1e-7, y0.max(y1) + 1e-7);
+        let first = (y_lo.floor().max(0.0) as usize).min(rows - 1);
+        let last = (y_hi.floor().max(0.0) as usize).min(rows - 1);
+        let samples = self.tracer.field.samples();
+        let grid = &self.tracer.grid;
+        let mut best: Option<(f64, DVec3)> = None;
+        for cj in first..=last {
+            *steps += 1;
+            let (gx, gy) = self.frame.cell_to_grid(c, cj);
+            let seg = grid.segment(self.ray, self.clip, gx, gy);
+            if let Some(hit) = grid.intersect_cell(samples, self.ray, gx, gy, &seg) {
+                if best.is_none_or(|b| hit.0 < b.0) {
+                    best = Some(hit);
+                }
+            }
+        }
+        best.map(|(t, normal)| grid.world_hit(self.world_ray, t, normal))
+    }
+
+    /// The ray parameters where it crosses local column `c`, within the clip.
+    fn column_span(&self, c: usize) -> (f64, f64) {
+        let t0 = (c as f64 - self.origin.x) / self.dir.x;
+        let t1 = (c as f64 + 1.0 - self.origin.x) / self.dir.x;
+        (t0.max(self.clip.t_enter), t1.min(self.clip.t_exit))
+    }
+
+    /// The hit in the column the bisection ended in: exact, or on the linear surface.
+    fn final_column(&self, c: usize, steps: &mut u32) -> Option<Hit> {
+        match self.tracer.final_test {
+            FinalTest::Triangles => self.column(c, steps),
+            FinalTest::Linear => self.linear_hit(c).or_else(|| self.column(c, steps)),
+        }
+    }
+
+    /// Section 7's view-dependent surface: the ray's height above the surface is taken as
+    /// linear between the centerline crossings (x-centerlines `c`, `c + 1` and the y-centerline
+    /// between them, if any).
+    fn linear_hit(&self, c: usize) -> Option<Hit> {
+        let (t0, t1) = self.column_span(c);
+        let mut ts = vec![t0];
+        let (y0, y1) = (self.origin.y + t0 * self.dir.y, self.origin.y + t1 * self.dir.y);
+        let row = y0.min(y1).floor() + 1.0;
+        if row < y0.max(y1) && self.dir.y != 0.0 {
+            ts.push((row - self.origin.y) / self.dir.y);
+        }
+        ts.push(t1);
+        let gap = |t: f64| {
+            let p = self.origin + t * self.dir;
+            p.z - self.local.surface_height(p.x, p.y)
+        };
+        for pair in ts.windows(2) {
+            let (ga, gb) = (gap(pair[0]), gap(pair[1]));
+            if ga > 0.0 && gb <= 0.0 {
+                let t = pair[0] + (pair[1] - pair[0]) * ga / (ga - gb);
+                let p = self.frame.point_to_local(self.ray.at(t));
+                let (gx, gy) = self.frame.cell_to_grid(c, (p.y.floor().max(0.0) as usize).min(self.local.height() - 2));
+                let normal = self.tracer.grid.triangle_normal(self.tracer.field.samples(), gx, gy, self.ray.at(t));
+                return Some(self.tracer.grid.world_hit(self.world_ray, t, normal));
+            }
+        }
+        None
+    }
+}
