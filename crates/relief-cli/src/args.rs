@@ -2,7 +2,8 @@
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use relief_core::{DVec3, Surface};
-use relief_trace::TracerKind;
+use crate::tracers::TracerChoice;
+use relief_trace::SafetyOptions;
 use std::path::PathBuf;
 
 /// relief: exact, fast ray casting of terrain on the CPU.
@@ -103,9 +104,13 @@ pub struct RenderArgs {
     /// Surface to render: boxes (flat-topped texels) or triangles.
     #[arg(long, default_value = "triangles")]
     pub surface: Surface,
-    /// Tracer: naive or mipmap (both exact).
+    /// Tracer: naive, mipmap (both exact, no precomputation) or safety (precomputed safety
+    /// shapes for static terrain, triangles only; see --safety), or a safety variant by name.
     #[arg(long, default_value = "mipmap")]
-    pub tracer: TracerKind,
+    pub tracer: TracerChoice,
+    /// Safety-shape options.
+    #[command(flatten)]
+    pub safety: SafetyArgs,
     /// Camera position X,Y,Z (world units); framed automatically when absent.
     #[arg(long, value_parser = parse_vec3, requires = "target")]
     pub eye: Option<DVec3>,
@@ -142,6 +147,40 @@ pub struct RenderArgs {
     /// Also write the unit world normal per pixel (.npy, f32, H x W x 3, zero on a miss).
     #[arg(long)]
     pub normals: Option<PathBuf>,
+}
+
+/// Options of the safety tracer (Baboud et al. 2011).
+#[derive(Debug, Args)]
+pub struct SafetyArgs {
+    /// Safety shapes: cyl_all or cyl_ext (cylinders for all rays, or for exterior rays only:
+    /// cameras outside the terrain's box), optionally +cone_all (conservative cones), +cone_ext
+    /// (exact cones for exterior rays) or +cone_exact (exact cones for all rays).
+    #[arg(long, default_value = "cyl_all+cone_all")]
+    pub safety: SafetyOptions,
+    /// Build the shapes for rays at most this many degrees from horizontal (e.g. -45: views
+    /// looking down at least 45 degrees); other views are refused.
+    #[arg(long, allow_hyphen_values = true)]
+    pub phi_max: Option<f64>,
+    /// One shape per texel for all four ray classes (less memory, slower).
+    #[arg(long)]
+    pub isotropic: bool,
+    /// Clamp safety distances to at least one: faster, small errors at sharp silhouettes.
+    #[arg(long)]
+    pub positive: bool,
+    /// Final test on the view-dependent linear surface instead of the two triangles: faster,
+    /// approximate between centerlines.
+    #[arg(long)]
+    pub linear_surface: bool,
+    /// Farthest step, in texels, a shape may allow.
+    #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u16).range(1..))]
+    pub safety_reach: u16,
+    /// Where precomputed shapes are kept [default: $RELIEF_CACHE_DIR, $XDG_CACHE_HOME/relief
+    /// or ~/.cache/relief].
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Neither read nor write the shape cache.
+    #[arg(long)]
+    pub no_cache: bool,
 }
 
 /// `relief generate`.
@@ -199,13 +238,19 @@ pub struct BenchArgs {
     /// Seed of the terrain.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Tracers to measure (comma-separated).
+    /// Tracers to measure (comma-separated): naive, mipmap, safety, or safety variants by name
+    /// (cyl_all, cyl_all+cone_all, cyl_ext, ...). Safety shapes are always precomputed afresh
+    /// here, and their build time reported.
     #[arg(long, value_delimiter = ',', default_values = ["naive", "mipmap"])]
-    pub tracers: Vec<TracerKind>,
+    pub tracers: Vec<TracerChoice>,
+    /// Safety-shape options (for every safety tracer measured).
+    #[command(flatten)]
+    pub safety: SafetyArgs,
     /// Surfaces to measure (comma-separated).
     #[arg(long, value_delimiter = ',', default_values = ["boxes", "triangles"])]
     pub surfaces: Vec<Surface>,
-    /// Views to measure (comma-separated): three-quarter, flight, top-down.
+    /// Views to measure (comma-separated): three-quarter, flight, top-down, cover (the terrain
+    /// fills the image, seen from 60 degrees up: every ray looks down at least 45 degrees).
     #[arg(long, value_delimiter = ',', default_values = ["three-quarter", "flight", "top-down"])]
     pub views: Vec<String>,
     /// Measure this height file (spacing 1, z scale 1) instead of generating the fBm terrain.

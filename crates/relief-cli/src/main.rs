@@ -6,6 +6,7 @@ mod commands;
 mod input;
 mod memory;
 mod progress;
+mod tracers;
 
 use clap::Parser;
 use std::process::ExitCode;

@@ -5,12 +5,13 @@
 //! memory so far. Measurements, not assertions: run it on an otherwise idle machine.
 
 use crate::args::BenchArgs;
+use crate::tracers::{self, TracerChoice};
 use crate::{input, memory, progress};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec3, HeightField, Surface};
 use relief_shade::{light_visibility, render_gbuffer, sun_direction, GBuffer, TraceStats};
-use relief_trace::{build_tracer, Tracer, TracerKind};
+use relief_trace::Tracer;
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
@@ -23,7 +24,7 @@ struct Measurement<'a> {
     view: &'a str,
     camera: &'a Camera,
     surface: Surface,
-    tracer: TracerKind,
+    tracer: &'a TracerChoice,
     build_ms: f64,
     primary: TraceStats,
     primary_s: f64,
@@ -70,7 +71,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         )?;
         writeln!(
             out,
-            "{:<13} {:<9} {:<6} {:>9} {:>9} {:>6} {:>7} {:>6} {:>9} {:>7} {:>8}",
+            "{:<13} {:<9} {:<18} {:>9} {:>9} {:>6} {:>7} {:>6} {:>9} {:>7} {:>8}",
             "view",
             "surface",
             "tracer",
@@ -90,10 +91,16 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             continue;
         }
         for &surface in &args.surfaces {
-            for &tracer in &args.tracers {
-                let built = Instant::now();
-                let traced = build_tracer(field.clone(), surface, tracer);
-                let build_ms = built.elapsed().as_secs_f64() * 1e3;
+            for tracer in &args.tracers {
+                let built = tracers::build(&field, surface, tracer, &args.safety, false)?;
+                if let Some(safety) = &built.safety {
+                    let (w, h) = (camera.width(), camera.height());
+                    let directions = (0..h)
+                        .flat_map(|j| (0..w).map(move |i| (i, j)))
+                        .map(|(i, j)| camera.ray(i, j).dir);
+                    safety.check_view(camera.eye(), directions, Some(sun))?;
+                }
+                let (traced, build_ms) = (built.tracer, built.build_s * 1e3);
                 let bounds = field.world_bounds(surface);
                 let bar = progress::bar(w as u64 * h as u64, &format!("{view}/{tracer}"));
                 let timer = Instant::now();
@@ -138,7 +145,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 }
 
 /// The names of the benchmark's views.
-const VIEWS: [&str; 3] = ["three-quarter", "flight", "top-down"];
+const VIEWS: [&str; 4] = ["three-quarter", "flight", "top-down", "cover"];
 
 impl Measurement<'_> {
     fn primary_mrays(&self) -> f64 {
@@ -151,10 +158,10 @@ impl Measurement<'_> {
 
     fn row(&self) -> String {
         format!(
-            "{:<13} {:<9} {:<6} {:>9.1} {:>9.2} {:>6.1} {:>7.1} {:>6} {:>9.2} {:>7.1} {:>8.0}",
+            "{:<13} {:<9} {:<18} {:>9.1} {:>9.2} {:>6.1} {:>7.1} {:>6} {:>9.2} {:>7.1} {:>8.0}",
             self.view,
             self.surface,
-            self.tracer,
+            self.tracer.to_string(),
             self.build_ms,
             self.primary_mrays(),
             100.0 * self.primary.hits as f64 / self.primary.rays.max(1) as f64,
@@ -223,7 +230,35 @@ fn views(field: &HeightField, w: u32, h: u32) -> Result<Vec<(&'static str, Camer
     let above = DVec3::new(centre.x, centre.y, bounds.max.z + 1.2 * size.x.max(size.y));
     let top_down =
         Camera::look_at(above, DVec3::new(centre.x, centre.y, bounds.min.z), DVec3::Y, 45.0, w, h)?;
-    Ok(vec![(VIEWS[0], overview), (VIEWS[1], flight), (VIEWS[2], top_down)])
+    let cover = cover_view(field, w, h)?;
+    Ok(vec![(VIEWS[0], overview), (VIEWS[1], flight), (VIEWS[2], top_down), (VIEWS[3], cover)])
+}
+
+/// The terrain filling the whole image (as in Baboud et al.'s Table 1): looking at its centre
+/// from the south-west, 70 degrees up, with a 30 degree field of view, so every ray looks down
+/// at least 45 degrees; as far as possible while every corner ray still reaches the lowest
+/// level inside the triangles' footprint.
+fn cover_view(field: &HeightField, w: u32, h: u32) -> Result<Camera> {
+    let b = field.world_bounds(Surface::Triangles);
+    let target = DVec3::new(0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y), b.min.z);
+    let (az, el) = (225f64.to_radians(), 70f64.to_radians());
+    let towards_eye = DVec3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin());
+    let unit = Camera::look_at(target + towards_eye, target, DVec3::Z, 30.0, w, h)?;
+    // Where the corner rays of the camera at distance 1 meet the lowest level, relative to the
+    // target; the footprint grows linearly with the distance.
+    let mut distance = f64::INFINITY;
+    for (i, j) in [(0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1)] {
+        let ray = unit.ray(i, j);
+        let offset = ray.at((b.min.z - ray.origin.z) / ray.dir.z) - target;
+        for axis in 0..2 {
+            let (d, centre) = (offset[axis], target[axis]);
+            let room = if d > 0.0 { b.max[axis] - centre } else { centre - b.min[axis] };
+            if d != 0.0 {
+                distance = distance.min(room / d.abs());
+            }
+        }
+    }
+    Ok(Camera::look_at(target + towards_eye * distance * 0.999, target, DVec3::Z, 30.0, w, h)?)
 }
 
 /// Traces a shadow ray towards `sun` from every hit of `gbuffer`, in parallel by rows.

@@ -2,13 +2,12 @@
 
 use super::{check_image, check_output};
 use crate::args::RenderArgs;
-use crate::{input, progress};
+use crate::{input, progress, tracers};
 use anyhow::{Context, Result};
 use relief_core::{Camera, HeightField, Surface};
 use relief_shade::{
-    render_gbuffer, shade, tonemap_to_srgb8, Albedo, RgbTexture, ShadingParams, Sun,
+    render_gbuffer, shade, sun_direction, tonemap_to_srgb8, Albedo, RgbTexture, ShadingParams, Sun,
 };
-use relief_trace::build_tracer;
 
 /// Runs `relief render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
@@ -22,7 +21,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let field = input::load(&args.input)?;
     let camera = camera(args, &field, args.surface)?;
     let params = shading(args, &field)?;
-    let tracer = build_tracer(field.clone(), args.surface, args.tracer);
+    let built = tracers::build(&field, args.surface, &args.tracer, &args.safety, true)?;
+    if let Some(safety) = &built.safety {
+        let light = (!args.no_shadows).then(|| sun_direction(args.sun.0, args.sun.1));
+        let (w, h) = (camera.width(), camera.height());
+        let directions = (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).map(|(i, j)| camera.ray(i, j).dir);
+        safety.check_view(camera.eye(), directions, light)?;
+        eprintln!("{}", built.note);
+    }
+    let tracer = built.tracer;
 
     let pixels = camera.width() as u64 * camera.height() as u64;
     let bar = progress::bar(pixels, "tracing");

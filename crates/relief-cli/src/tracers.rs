@@ -1,0 +1,117 @@
+//! Choosing and building a tracer from the command line, including safety shapes (with their
+//! cache and a progress bar while they are precomputed).
+
+use crate::args::SafetyArgs;
+use crate::progress;
+use anyhow::{bail, Context, Result};
+use relief_core::{HeightField, Surface};
+use relief_trace::safety::{CacheOutcome, FinalTest, SafetyShapes, SafetyTracer, ShapeCache, ShapeLayout};
+use relief_trace::{build_tracer, SafetyOptions, Tracer, TracerKind};
+use std::fmt;
+use std::str::FromStr;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// A tracer named on the command line: `naive`, `mipmap`, `safety` (the variant given by
+/// `--safety`), or a safety variant by name (`cyl_ext+cone_all`, ...).
+#[derive(Debug, Clone, PartialEq)]
+pub enum TracerChoice {
+    /// A tracer without precomputation.
+    Plain(TracerKind),
+    /// Safety shapes; `None`: the variant `--safety` names.
+    Safety(Option<SafetyOptions>),
+}
+
+impl FromStr for TracerChoice {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "safety" => Ok(TracerChoice::Safety(None)),
+            _ if s.starts_with("cyl_") => s.parse().map(|o| TracerChoice::Safety(Some(o))),
+            _ => s.parse().map(TracerChoice::Plain).map_err(|_| {
+                format!("unknown tracer '{s}' (expected naive, mipmap, safety or a safety variant such as cyl_all+cone_all)")
+            }),
+        }
+    }
+}
+
+impl fmt::Display for TracerChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TracerChoice::Plain(kind) => write!(f, "{kind}"),
+            TracerChoice::Safety(None) => f.write_str("safety"),
+            TracerChoice::Safety(Some(o)) => f.write_str(&o.variant()),
+        }
+    }
+}
+
+/// A built tracer and what building it took.
+pub struct Built {
+    /// The tracer.
+    pub tracer: Box<dyn Tracer>,
+    /// The safety tracer itself, for view checks.
+    pub safety: Option<SafetyTracer>,
+    /// Seconds spent building (precomputing), zero when loaded from the cache.
+    pub build_s: f64,
+    /// A one-line account of the build, e.g. where the shapes came from.
+    pub note: String,
+}
+
+/// The safety options the command line asks for, for `choice`'s variant.
+pub fn safety_options(variant: Option<SafetyOptions>, args: &SafetyArgs) -> Result<SafetyOptions> {
+    let mut options = variant.unwrap_or(args.safety);
+    options.phi_max_deg = args.phi_max;
+    options.layout = if args.isotropic { ShapeLayout::Isotropic } else { ShapeLayout::Directional };
+    options.strictly_positive = args.positive;
+    options.reach = args.safety_reach;
+    options.validate().map_err(anyhow::Error::msg)?;
+    Ok(options)
+}
+
+/// Builds the chosen tracer for `surface` of `field`. Safety shapes come from the cache when
+/// `use_cache` and the cache has them; otherwise they are precomputed (with a progress bar) and,
+/// with `use_cache`, stored.
+pub fn build(
+    field: &Arc<HeightField>,
+    surface: Surface,
+    choice: &TracerChoice,
+    args: &SafetyArgs,
+    use_cache: bool,
+) -> Result<Built> {
+    let started = Instant::now();
+    let variant = match choice {
+        TracerChoice::Plain(kind) => {
+            let tracer = build_tracer(field.clone(), surface, *kind);
+            let build_s = started.elapsed().as_secs_f64();
+            return Ok(Built { tracer, safety: None, build_s, note: String::new() });
+        }
+        TracerChoice::Safety(variant) => *variant,
+    };
+    if surface != Surface::Triangles {
+        bail!("the safety tracer renders the triangles surface only (use --surface triangles)");
+    }
+    let options = safety_options(variant, args)?;
+    let bar = progress::bar((4 * field.width() * field.height()) as u64, "safety shapes");
+    let report = |done: usize, _total: usize| bar.set_position(done as u64);
+    let cache = (use_cache && !args.no_cache)
+        .then(|| args.cache_dir.clone().or_else(ShapeCache::default_dir))
+        .flatten()
+        .map(ShapeCache::new);
+    let (shapes, note) = match &cache {
+        Some(cache) => {
+            let (shapes, outcome) = cache.load_or_build(field, options, &report)?;
+            let note = match outcome {
+                CacheOutcome::Loaded(path) => format!("{options} shapes from {}", path.display()),
+                CacheOutcome::Built(path) => format!("{options} shapes cached in {}", path.display()),
+            };
+            (shapes, note)
+        }
+        None => (SafetyShapes::build(field, options, &report)?, format!("{options} shapes")),
+    };
+    bar.finish_and_clear();
+    let build_s = started.elapsed().as_secs_f64();
+    let final_test = if args.linear_surface { FinalTest::Linear } else { FinalTest::Triangles };
+    let safety = SafetyTracer::new(field.clone(), Arc::new(shapes), final_test)
+        .context("safety tracer")?;
+    Ok(Built { tracer: Box::new(safety.clone()), safety: Some(safety), build_s, note })
+}
