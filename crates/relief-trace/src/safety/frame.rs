@@ -58,30 +58,42 @@ pub struct Frame {
     pub grid_width: usize,
     /// Samples along the grid's y.
     pub grid_height: usize,
+    /// Samples along local x and y.
+    local_width: usize,
+    local_height: usize,
+    /// Grid index of local sample (0, 0), and its steps along local x and y.
+    base: isize,
+    step_i: isize,
+    step_j: isize,
 }
 
 impl Frame {
     /// The frame of `class` over a grid of `grid_width x grid_height` samples.
     pub fn new(class: RayClass, grid_width: usize, grid_height: usize) -> Self {
-        Frame { class, grid_width, grid_height }
+        let (w, h) = (grid_width as isize, grid_height as isize);
+        let (base, step_i, step_j) = match class {
+            RayClass::XPos => (0, 1, w),
+            RayClass::XNeg => (w - 1, -1, w),
+            RayClass::YPos => (0, w, 1),
+            RayClass::YNeg => ((h - 1) * w, -w, 1),
+        };
+        let (local_width, local_height) = match class {
+            RayClass::XPos | RayClass::XNeg => (grid_width, grid_height),
+            RayClass::YPos | RayClass::YNeg => (grid_height, grid_width),
+        };
+        Frame { class, grid_width, grid_height, local_width, local_height, base, step_i, step_j }
     }
 
     /// Samples along local x.
     #[inline]
     pub fn width(&self) -> usize {
-        match self.class {
-            RayClass::XPos | RayClass::XNeg => self.grid_width,
-            RayClass::YPos | RayClass::YNeg => self.grid_height,
-        }
+        self.local_width
     }
 
     /// Samples along local y.
     #[inline]
     pub fn height(&self) -> usize {
-        match self.class {
-            RayClass::XPos | RayClass::XNeg => self.grid_height,
-            RayClass::YPos | RayClass::YNeg => self.grid_width,
-        }
+        self.local_height
     }
 
     /// Grid (column, row) of local sample (i, j).
@@ -98,8 +110,7 @@ impl Frame {
     /// Row-major grid index of local sample (i, j).
     #[inline]
     pub fn grid_index(&self, i: usize, j: usize) -> usize {
-        let (c, r) = self.to_grid(i, j);
-        c + r * self.grid_width
+        (self.base + i as isize * self.step_i + j as isize * self.step_j) as usize
     }
 
     /// Grid cell (between samples) of the local cell whose lower-left local sample is (i, j).
@@ -182,7 +193,8 @@ impl<'a> LocalField<'a> {
         let y = y.clamp(0.0, top as f64);
         let j = (y as usize).min(top - 1);
         let f = y - j as f64;
-        let (a, b) = (self.h(i, j), self.h(i, j + 1));
+        let k = self.frame.grid_index(i, j);
+        let (a, b) = (self.samples[k] as f64, self.samples[(k as isize + self.frame.step_j) as usize] as f64);
         a + (b - a) * f
     }
 
@@ -243,6 +255,7 @@ mod tests {
                     let (c, r) = frame.to_grid(i, j);
                     let p = frame.point_to_local(DVec3::new(c as f64, r as f64, 0.0));
                     assert_eq!((p.x, p.y), (i as f64, j as f64), "{class:?}");
+                    assert_eq!(frame.grid_index(i, j), c + r * w);
                     assert_eq!(local.h(i, j), samples[c + r * w] as f64);
                 }
             }

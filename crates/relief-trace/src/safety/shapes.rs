@@ -26,8 +26,9 @@ pub struct SafetyShapes {
     options: SafetyOptions,
     /// One array per class (four), or one for all (isotropic).
     radii: Vec<Vec<u16>>,
-    /// Cone planes `(z0, slope)`, rounded up; one array per entry of `radii`, or none.
-    cones: Vec<Vec<[f32; 2]>>,
+    /// Cone planes `(z0, slope)`, rounded up, with the radius, so a step reads one entry;
+    /// one array per entry of `radii`, or none.
+    cones: Vec<Vec<[f32; 3]>>,
 }
 
 impl SafetyShapes {
@@ -94,7 +95,7 @@ impl SafetyShapes {
         let cones = if has_cones {
             per_class
                 .iter()
-                .map(|c| c.iter().map(|s| [round_up(s.z0), round_up(s.slope)]).collect())
+                .map(|c| c.iter().map(|s| [round_up(s.z0), round_up(s.slope), s.radius as f32]).collect())
                 .collect()
         } else {
             Vec::new()
@@ -120,7 +121,7 @@ impl SafetyShapes {
     /// Bytes the shapes occupy.
     pub fn memory_bytes(&self) -> usize {
         self.radii.iter().map(|r| r.len() * 2).sum::<usize>()
-            + self.cones.iter().map(|c| c.len() * 8).sum::<usize>()
+            + self.cones.iter().map(|c| c.len() * 12).sum::<usize>()
     }
 
     /// The mean safety radius over all texels and classes (a summary for reports).
@@ -135,10 +136,9 @@ impl SafetyShapes {
     #[inline]
     pub fn step(&self, class: RayClass, grid_index: usize, z: f64, dz: f64) -> u32 {
         let slot = if self.radii.len() == 1 { 0 } else { class.index() };
-        let radius = self.radii[slot][grid_index] as u32;
-        let reach = self.options.reach as u32;
-        let Some(cones) = self.cones.get(slot) else { return radius };
-        let [z0, slope] = cones[grid_index].map(f64::from);
+        let Some(cones) = self.cones.get(slot) else { return self.radii[slot][grid_index] as u32 };
+        let [z0, slope, radius] = cones[grid_index].map(f64::from);
+        let (radius, reach) = (radius as u32, self.options.reach as u32);
         if !(z > z0) {
             // Not above the cone's plane: only the cylinder is safe.
             return radius;
@@ -159,8 +159,9 @@ impl SafetyShapes {
     }
 
     /// The raw parts, for serialisation: radii and cone planes per class slot.
-    pub(crate) fn parts(&self) -> (&[Vec<u16>], &[Vec<[f32; 2]>]) {
-        (&self.radii, &self.cones)
+    pub(crate) fn parts(&self) -> (&[Vec<u16>], Vec<Vec<[f32; 2]>>) {
+        let planes = self.cones.iter().map(|c| c.iter().map(|&[z0, s, _]| [z0, s]).collect());
+        (&self.radii, planes.collect())
     }
 
     /// Reassembles shapes from their parts (see [`SafetyShapes::parts`]).
@@ -171,6 +172,11 @@ impl SafetyShapes {
         radii: Vec<Vec<u16>>,
         cones: Vec<Vec<[f32; 2]>>,
     ) -> Self {
+        let cones = cones
+            .into_iter()
+            .zip(&radii)
+            .map(|(c, r)| c.iter().zip(r).map(|(&[z0, s], &r)| [z0, s, r as f32]).collect())
+            .collect();
         SafetyShapes { width, height, options, radii, cones }
     }
 }

@@ -126,6 +126,7 @@ impl SafetyTracer {
     fn march(&self, world_ray: &Ray, ray: &CellRay, clip: &Clip, class: RayClass, steps: &mut u32) -> Option<Hit> {
         let frame = Frame::new(class, self.field.width(), self.field.height());
         let local = LocalField::new(frame, self.field.samples());
+        let dir = frame.dir_to_local(ray.dir);
         let march = Marching {
             tracer: self,
             world_ray,
@@ -134,7 +135,8 @@ impl SafetyTracer {
             frame,
             local,
             origin: frame.point_to_local(ray.origin),
-            dir: frame.dir_to_local(ray.dir),
+            dir,
+            inv_dir_x: 1.0 / dir.x,
         };
         march.run(steps)
     }
@@ -198,6 +200,8 @@ struct Marching<'a> {
     local: LocalField<'a>,
     origin: DVec3,
     dir: DVec3,
+    /// `1 / dir.x`.
+    inv_dir_x: f64,
 }
 
 impl Marching<'_> {
@@ -205,28 +209,43 @@ impl Marching<'_> {
         let width = self.local.width();
         let x_in = self.origin.x + self.clip.t_enter * self.dir.x;
         let x_out = self.origin.x + self.clip.t_exit * self.dir.x;
-        let last = (x_out.floor().max(0.0) as usize).min(width - 1);
+        // Truncation is the floor here: the values are not negative (NaN goes to 0).
+        let last = (x_out.max(0.0) as usize).min(width - 1);
         let tail = last < width - 1 && x_out > last as f64;
         // The index of the last test position: the exit point itself when it lies past the last
         // centerline.
         let end = last + tail as usize;
-        let first = (x_in.floor().max(0.0) as usize).min(width - 2);
-        if let Some(hit) = self.column(first, steps) {
-            return Some(hit);
+        let first = (x_in.max(0.0) as usize).min(width - 2);
+        // March from the centerline at or before the entry when the ray passes over the grid
+        // there: above the box (it came in through the top), or entering through the face on
+        // that centerline. Otherwise (through a side along x, or starting inside the box) test
+        // the column it enters in first.
+        let on_first = {
+            let (y, z) = self.at_centerline(first);
+            (0.0..=(self.local.height() - 1) as f64).contains(&y)
+                && (z > self.tracer.grid.bounds().max.z || x_in - first as f64 <= 1e-9)
+                && self.clip.face != BoxFace::Inside
+        };
+        let mut lo = first;
+        if !on_first {
+            if let Some(hit) = self.column(first, steps) {
+                return Some(hit);
+            }
+            lo += 1;
         }
-        let dz = self.dir.z / self.dir.x;
-        let mut lo = first + 1;
+        let dz = self.dir.z * self.inv_dir_x;
+        // The ray's (y, z) at `lo` when it is known to be clearly above the surface there.
+        let mut known = None;
         // The column before the final centerline is always tested or safely stepped over.
         while lo <= last && lo < width - 1 {
             *steps += 1;
-            let (y, z) = self.at_centerline(lo);
-            let clearly_above = z > self.local.centerline_height(lo, y) + self.tracer.slack;
-            let k = if clearly_above {
-                let texel = (y.round().max(0.0) as usize).min(self.local.height() - 1);
-                let index = self.frame.grid_index(lo, texel);
-                self.tracer.shapes.step(self.frame.class, index, z, dz) as usize
-            } else {
-                0
+            let k = match known.take().or_else(|| self.clearly_above(lo)) {
+                Some((y, z)) => {
+                    let texel = ((y + 0.5).max(0.0) as usize).min(self.local.height() - 1);
+                    let index = self.frame.grid_index(lo, texel);
+                    self.tracer.shapes.step(self.frame.class, index, z, dz) as usize
+                }
+                None => 0,
             };
             if k == 0 {
                 if let Some(hit) = self.column(lo, steps) {
@@ -239,11 +258,12 @@ impl Marching<'_> {
             if hi == lo {
                 return None;
             }
-            if self.above(hi, last) {
-                if hi > last {
+            if hi > last {
+                if self.leaves_above() {
                     return None;
                 }
-                lo = hi;
+            } else if let Some(position) = self.clearly_above(hi) {
+                (lo, known) = (hi, Some(position));
                 continue;
             }
             // One crossing at most between lo and hi: bisect on centerlines.
@@ -251,7 +271,7 @@ impl Marching<'_> {
             while b - a > 1 {
                 *steps += 1;
                 let m = (a + b) / 2;
-                if self.above(m, last) {
+                if self.clearly_above(m).is_some() {
                     a = m;
                 } else {
                     b = m;
@@ -269,51 +289,119 @@ impl Marching<'_> {
     /// The ray's local y and z on x-centerline `i`.
     #[inline]
     fn at_centerline(&self, i: usize) -> (f64, f64) {
-        let t = (i as f64 - self.origin.x) / self.dir.x;
+        let t = (i as f64 - self.origin.x) * self.inv_dir_x;
         (self.origin.y + t * self.dir.y, self.origin.z + t * self.dir.z)
     }
 
-    /// Whether the ray is clearly above the surface at test position `i`: x-centerline `i`,
-    /// or past `last`, the point where it leaves the bounding box.
-    fn above(&self, i: usize, last: usize) -> bool {
-        let slack = self.tracer.slack;
-        if i > last {
-            let p = self.frame.point_to_local(self.ray.at(self.clip.t_exit));
-            return p.z > self.local.surface_height(p.x, p.y) + slack;
-        }
+    /// The ray's local (y, z) on x-centerline `i` if it is clearly above the surface there.
+    #[inline]
+    fn clearly_above(&self, i: usize) -> Option<(f64, f64)> {
         let (y, z) = self.at_centerline(i);
-        z > self.local.centerline_height(i, y) + slack
+        (z > self.local.centerline_height(i, y) + self.tracer.slack).then_some((y, z))
+    }
+
+    /// Whether the ray is clearly above the surface where it leaves the bounding box.
+    fn leaves_above(&self) -> bool {
+        let p = self.frame.point_to_local(self.ray.at(self.clip.t_exit));
+        p.z > self.local.surface_height(p.x, p.y) + self.tracer.slack
     }
 
     /// The exact first hit in local column `c` (between x-centerlines `c` and `c + 1`): the
-    /// grid cells the ray crosses there, tested exactly as the naive tracer tests them.
+    /// grid cells the ray crosses there, tested exactly as the naive tracer tests them. A cell
+    /// the ray passes clearly above at both ends is skipped: within a cell the ray's height
+    /// over the surface is concave, so it cannot dip below in between.
     fn column(&self, c: usize, steps: &mut u32) -> Option<Hit> {
         let rows = self.local.height() - 1;
         let (t0, t1) = self.column_span(c);
+        if t0 > t1 {
+            return None;
+        }
         let (y0, y1) = (self.origin.y + t0 * self.dir.y, self.origin.y + t1 * self.dir.y);
-        let (y_lo, y_hi) = (y0.min(y1) - 1e-7, y0.max(y1) + 1e-7);
-        let first = (y_lo.floor().max(0.0) as usize).min(rows - 1);
-        let last = (y_hi.floor().max(0.0) as usize).min(rows - 1);
-        let samples = self.tracer.field.samples();
-        let grid = &self.tracer.grid;
-        let mut best: Option<(f64, DVec3)> = None;
-        for cj in first..=last {
-            *steps += 1;
-            let (gx, gy) = self.frame.cell_to_grid(c, cj);
-            let seg = grid.segment(self.ray, self.clip, gx, gy);
-            if let Some(hit) = grid.intersect_cell(samples, self.ray, gx, gy, &seg) {
-                if best.is_none_or(|b| hit.0 < b.0) {
-                    best = Some(hit);
+        let row_of = |y: f64| (y.max(0.0) as usize).min(rows - 1);
+        let (r0, r1) = (row_of(y0), row_of(y1));
+        let near_boundary = |y: f64| {
+            let f = y - (y as i64) as f64;
+            f.abs() < 1e-7 || f.abs() > 1.0 - 1e-7
+        };
+        if near_boundary(y0) || near_boundary(y1) || r0.abs_diff(r1) > 1 {
+            // Rounding could put the ray in the neighbouring row: test every candidate.
+            let (lo, hi) = (y0.min(y1) - 1e-7, y0.max(y1) + 1e-7);
+            let mut best: Option<Hit> = None;
+            for row in row_of(lo)..=row_of(hi) {
+                if let Some(hit) = self.cell_hit(c, row, steps) {
+                    if best.is_none_or(|b| hit.t < b.t) {
+                        best = Some(hit);
+                    }
                 }
             }
+            return best;
         }
-        best.map(|(t, normal)| grid.world_hit(self.world_ray, t, normal))
+        let slack = self.tracer.slack;
+        // The ray's height over the surface where it enters and leaves the column: on the
+        // x-centerlines themselves unless the clip cuts the column short.
+        let x_gap = |t: f64, x: usize, on_line: bool| {
+            if on_line {
+                let (y, z) = self.at_centerline(x);
+                z - self.local.centerline_height(x, y)
+            } else {
+                self.gap(t)
+            }
+        };
+        let (full0, full1) = self.column_span_unclipped(c);
+        let gap0 = x_gap(t0, c, t0 == full0);
+        let gap1 = x_gap(t1, c + 1, t1 == full1);
+        if r0 == r1 {
+            if gap0 > slack && gap1 > slack {
+                return None;
+            }
+            return self.cell_hit(c, r0, steps);
+        }
+        // The ray crosses the y-centerline `row` inside the column: the surface along it is
+        // linear between the samples (c, row) and (c + 1, row).
+        let row = r0.max(r1);
+        let t_row = (row as f64 - self.origin.y) / self.dir.y;
+        let p = self.origin + t_row * self.dir;
+        let (h0, h1) = (self.local.h(c, row), self.local.h(c + 1, row));
+        let gap_row = p.z - (h0 + (h1 - h0) * (p.x - c as f64));
+        if gap0 <= slack || gap_row <= slack {
+            if let Some(hit) = self.cell_hit(c, r0, steps) {
+                return Some(hit);
+            }
+        }
+        if gap_row <= slack || gap1 <= slack {
+            return self.cell_hit(c, r1, steps);
+        }
+        None
+    }
+
+    /// The exact hit in local cell (c, row), as the naive tracer computes it.
+    fn cell_hit(&self, c: usize, row: usize, steps: &mut u32) -> Option<Hit> {
+        *steps += 1;
+        let grid = &self.tracer.grid;
+        let (gx, gy) = self.frame.cell_to_grid(c, row);
+        let seg = grid.segment(self.ray, self.clip, gx, gy);
+        let (t, normal) = grid.intersect_cell(self.tracer.field.samples(), self.ray, gx, gy, &seg)?;
+        Some(grid.world_hit(self.world_ray, t, normal))
+    }
+
+    /// The ray's height over the surface at parameter `t`.
+    #[inline]
+    fn gap(&self, t: f64) -> f64 {
+        let p = self.origin + t * self.dir;
+        p.z - self.local.surface_height(p.x, p.y)
+    }
+
+    /// The ray parameters where it crosses the x-centerlines `c` and `c + 1`.
+    #[inline]
+    fn column_span_unclipped(&self, c: usize) -> (f64, f64) {
+        let t0 = (c as f64 - self.origin.x) * self.inv_dir_x;
+        let t1 = (c as f64 + 1.0 - self.origin.x) * self.inv_dir_x;
+        (t0, t1)
     }
 
     /// The ray parameters where it crosses local column `c`, within the clip.
     fn column_span(&self, c: usize) -> (f64, f64) {
-        let t0 = (c as f64 - self.origin.x) / self.dir.x;
-        let t1 = (c as f64 + 1.0 - self.origin.x) / self.dir.x;
+        let (t0, t1) = self.column_span_unclipped(c);
         (t0.max(self.clip.t_enter), t1.min(self.clip.t_exit))
     }
 
