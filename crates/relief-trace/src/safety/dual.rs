@@ -47,8 +47,41 @@ fn y_form(x_ref: f64, x: f64) -> (f64, f64) {
     (1.0 - s, s)
 }
 
-/// A convex polygon of the dual plane, counter-clockwise or clockwise.
-type Polygon = Vec<[f64; 2]>;
+/// Most vertices a polygon keeps; a clip that would exceed it is skipped (the set then only
+/// stays larger than exact).
+const MAX_VERTICES: usize = 12;
+
+/// A convex polygon of the dual plane (either orientation), stored inline.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Polygon {
+    len: usize,
+    vertices: [[f64; 2]; MAX_VERTICES],
+}
+
+impl Polygon {
+    fn new() -> Self {
+        Polygon { len: 0, vertices: [[0.0; 2]; MAX_VERTICES] }
+    }
+
+    fn from_slice(points: &[[f64; 2]]) -> Self {
+        let mut p = Polygon::new();
+        for &q in points {
+            p.push(q);
+        }
+        p
+    }
+
+    #[inline]
+    fn push(&mut self, q: [f64; 2]) {
+        self.vertices[self.len] = q;
+        self.len += 1;
+    }
+
+    #[inline]
+    fn points(&self) -> &[[f64; 2]] {
+        &self.vertices[..self.len]
+    }
+}
 
 /// A set of lines: the union of convex dual polygons, for lines referred to `x_ref`.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,7 +95,8 @@ impl LineSet {
     pub fn rectangle(x_ref: f64, u_range: (f64, f64), v_range: (f64, f64)) -> Self {
         let (u0, u1) = u_range;
         let (v0, v1) = v_range;
-        LineSet { x_ref, pieces: vec![vec![[u0, v0], [u1, v0], [u1, v1], [u0, v1]]] }
+        let corners = [[u0, v0], [u1, v0], [u1, v1], [u0, v1]];
+        LineSet { x_ref, pieces: vec![Polygon::from_slice(&corners)] }
     }
 
     /// The empty set.
@@ -120,10 +154,13 @@ impl LineSet {
 
     /// Keeps the lines in `h`.
     pub fn clip(&mut self, h: HalfPlane) {
-        self.pieces = std::mem::take(&mut self.pieces)
-            .into_iter()
-            .filter_map(|p| non_sliver(clip_polygon(&p, h)))
-            .collect();
+        self.pieces.retain_mut(|p| match non_sliver(clip_polygon(p, h)) {
+            Some(q) => {
+                *p = q;
+                true
+            }
+            None => false,
+        });
     }
 
     /// Keeps the lines in every half-plane of `hs`.
@@ -147,7 +184,7 @@ impl LineSet {
     /// Whether some line of the set also lies in every half-plane of `hs`.
     pub fn meets(&self, hs: &[HalfPlane]) -> bool {
         self.pieces.iter().any(|p| {
-            let mut poly = p.clone();
+            let mut poly = *p;
             for &h in hs {
                 match non_sliver(clip_polygon(&poly, h)) {
                     Some(q) => poly = q,
@@ -161,28 +198,61 @@ impl LineSet {
     /// Removes the lines crossing the convex primal polygon `region` (given by its vertices):
     /// what is left passes wholly above or wholly below it.
     pub fn subtract_region(&mut self, region: &[[f64; 2]]) {
-        if self.pieces.len() > MAX_PIECES {
+        if self.pieces.len() > MAX_PIECES || region.len() > 4 {
             return;
         }
-        let mut out = Vec::with_capacity(self.pieces.len() * 2);
-        for piece in std::mem::take(&mut self.pieces) {
-            for below in [true, false] {
-                let mut poly = Some(piece.clone());
-                for q in region {
-                    let Some(p) = poly else { break };
-                    let h = self.below_point(q[0], q[1]);
-                    poly = non_sliver(clip_polygon(&p, if below { h } else { h.flipped() }));
+        let mut sides = [HalfPlane::new(0.0, 0.0, 0.0); 4];
+        for (side, q) in sides.iter_mut().zip(region) {
+            *side = self.below_point(q[0], q[1]);
+        }
+        let sides = &sides[..region.len()];
+        let clip_chain = |piece: &Polygon, flip: bool| {
+            let mut poly = *piece;
+            for &h in sides {
+                poly = non_sliver(clip_polygon(&poly, if flip { h.flipped() } else { h }))?;
+            }
+            Some(poly)
+        };
+        let count = self.pieces.len();
+        for k in 0..count {
+            let piece = &self.pieces[k];
+            // A piece wholly on one side of the region (all its corner lines pass below every
+            // region point, or above every one) keeps all its lines: the sides are convex.
+            let side_of = |l: [f64; 2]| {
+                let (mut below, mut above) = (true, true);
+                for h in sides {
+                    let f = h.eval(l);
+                    below &= f >= 0.0;
+                    above &= f <= 0.0;
                 }
-                out.extend(poly);
+                (below, above)
+            };
+            let (mut all_below, mut all_above) = (true, true);
+            for &l in piece.points() {
+                let (b, a) = side_of(l);
+                all_below &= b;
+                all_above &= a;
+            }
+            if all_below || all_above {
+                continue;
+            }
+            let (below, above) = (clip_chain(piece, false), clip_chain(piece, true));
+            match (below, above) {
+                (Some(b), Some(a)) => {
+                    self.pieces[k] = b;
+                    self.pieces.push(a);
+                }
+                (Some(p), None) | (None, Some(p)) => self.pieces[k] = p,
+                (None, None) => self.pieces[k].len = 0,
             }
         }
-        self.pieces = out;
+        self.pieces.retain(|p| p.len > 0);
     }
 
     /// The smallest and largest `y` of the set's lines over abscissas `x0..=x1`.
     pub fn y_range(&self, x0: f64, x1: f64) -> Option<(f64, f64)> {
         let mut range: Option<(f64, f64)> = None;
-        for p in self.pieces.iter().flatten() {
+        for p in self.pieces.iter().flat_map(|p| p.points()) {
             for x in [x0, x1] {
                 let (a, b) = y_form(self.x_ref, x);
                 let y = a * p[0] + b * p[1];
@@ -194,7 +264,7 @@ impl LineSet {
 
     /// The vertices of every piece, as lines `(u, v)`.
     pub fn vertices(&self) -> impl Iterator<Item = [f64; 2]> + '_ {
-        self.pieces.iter().flatten().copied()
+        self.pieces.iter().flat_map(|p| p.points()).copied()
     }
 
     /// The line `(u, v)`'s `y` at abscissa `x`.
@@ -204,18 +274,23 @@ impl LineSet {
     }
 }
 
-/// Sutherland-Hodgman clipping of a convex polygon by one half-plane, with a small margin.
-fn clip_polygon(poly: &[[f64; 2]], h: HalfPlane) -> Polygon {
-    let n = poly.len();
-    let mut out = Vec::with_capacity(n + 1);
+/// Sutherland-Hodgman clipping of a convex polygon by one half-plane, with a small margin. A
+/// clip that would need more vertices than a polygon holds is skipped.
+fn clip_polygon(poly: &Polygon, h: HalfPlane) -> Polygon {
+    let n = poly.len;
+    let mut out = Polygon::new();
     if n == 0 {
         return out;
     }
     let scale = h.a.abs() + h.b.abs() + 1.0;
     let margin = CLIP_MARGIN * scale;
+    let pts = poly.points();
     for k in 0..n {
-        let (p, q) = (poly[k], poly[(k + 1) % n]);
+        let (p, q) = (pts[k], pts[(k + 1) % n]);
         let (fp, fq) = (h.eval(p) + margin, h.eval(q) + margin);
+        if out.len + 2 > MAX_VERTICES {
+            return *poly;
+        }
         if fp >= 0.0 {
             out.push(p);
         }
@@ -229,7 +304,7 @@ fn clip_polygon(poly: &[[f64; 2]], h: HalfPlane) -> Polygon {
 
 /// `Some(poly)` unless it is a sliver (no area).
 fn non_sliver(poly: Polygon) -> Option<Polygon> {
-    (poly.len() >= 3 && area(&poly) > SLIVER_AREA).then_some(poly)
+    (poly.len >= 3 && area(poly.points()) > SLIVER_AREA).then_some(poly)
 }
 
 fn area(poly: &[[f64; 2]]) -> f64 {

@@ -11,6 +11,9 @@ use super::frame::LocalField;
 use relief_core::DVec3;
 use std::sync::OnceLock;
 
+/// Rows per band of the blocker search's bounds.
+const BAND: usize = 16;
+
 /// The plane `z = c + gx x + gy y` of a triangle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Plane {
@@ -108,8 +111,9 @@ pub struct LimitingTest<'a> {
     field: LocalField<'a>,
     exterior: bool,
     slope: Option<SlopeBound>,
-    /// Highest sample in local columns `0..=x`.
-    prefix_max: Vec<f64>,
+    /// Per band of `BAND` rows (and the row after), the highest sample in local columns
+    /// `0..=x`: `band * width + x`.
+    band_prefix_max: Vec<f64>,
     /// A height difference this small is treated as no difference when blocking.
     z_eps: f64,
     /// Per triangle (`2 * (i + j * (width - 1)) + k`), its line set, built on first use.
@@ -121,20 +125,24 @@ impl<'a> LimitingTest<'a> {
     /// optional viewing-angle bound.
     pub fn new(field: LocalField<'a>, exterior: bool, slope: Option<SlopeBound>) -> Self {
         let (w, h) = (field.width(), field.height());
-        let mut prefix_max = Vec::with_capacity(w);
-        let mut top = f64::NEG_INFINITY;
+        let bands = h.div_ceil(BAND);
+        let mut band_prefix_max = vec![f64::NEG_INFINITY; bands * w];
         let mut magnitude = 0.0f64;
-        for i in 0..w {
-            for j in 0..h {
-                top = top.max(field.h(i, j));
-                magnitude = magnitude.max(field.h(i, j).abs());
+        for b in 0..bands {
+            let mut top = f64::NEG_INFINITY;
+            for i in 0..w {
+                for j in b * BAND..((b + 1) * BAND + 1).min(h) {
+                    top = top.max(field.h(i, j));
+                    magnitude = magnitude.max(field.h(i, j).abs());
+                }
+                band_prefix_max[b * w + i] = top;
             }
-            prefix_max.push(top);
         }
         let needs_lines = exterior || slope.is_some();
         let triangles = if needs_lines && w > 1 && h > 1 { 2 * (w - 1) * (h - 1) } else { 0 };
         let cache = (0..triangles).map(|_| OnceLock::new()).collect();
-        LimitingTest { field, exterior, slope, prefix_max, z_eps: 1e-9 * (1.0 + magnitude), cache }
+        let z_eps = 1e-9 * (1.0 + magnitude);
+        LimitingTest { field, exterior, slope, band_prefix_max, z_eps, cache }
     }
 
     /// The local field.
@@ -222,18 +230,31 @@ impl<'a> LimitingTest<'a> {
                 return;
             }
             let (x0, x1) = (col as f64, col as f64 + 1.0);
-            // Past this column the lines stay above every sample: nothing can block them.
+            // Where the lines stay above every sample of the columns left, nothing can block
+            // them any more.
             let lowest = lines
                 .vertices()
                 .flat_map(|l| [0.0, x1].map(|x| plane.at(x, lines.y_of(l, x))))
                 .fold(f64::INFINITY, f64::min);
-            if lowest > self.prefix_max[col + 1] + self.z_eps {
+            let Some((y_lo, y_hi)) = lines.y_range(0.0, x1) else { return };
+            if lowest > self.highest_left_of(col + 1, y_lo, y_hi) + self.z_eps {
                 return;
             }
             let Some((y_min, y_max)) = lines.y_range(x0, x1) else { return };
-            let first = (y_min.floor().max(0.0) as usize).min(rows - 1);
-            let last = (y_max.floor().max(0.0) as usize).min(rows - 1);
+            let first = (y_min.max(0.0) as usize).min(rows - 1);
+            let last = (y_max.max(0.0) as usize).min(rows - 1);
             for cj in first..=last {
+                // Cells wholly under the plane hold no blocker.
+                let corners = self.field.cell_corners(col, cj);
+                let (xf, yf) = (col as f64, cj as f64);
+                let under = |h: f64, dx: f64, dy: f64| h <= plane.at(xf + dx, yf + dy) + self.z_eps;
+                if under(corners[0], 0.0, 0.0)
+                    && under(corners[1], 1.0, 0.0)
+                    && under(corners[2], 0.0, 1.0)
+                    && under(corners[3], 1.0, 1.0)
+                {
+                    continue;
+                }
                 for blocker in self.field.cell_triangles(col, cj) {
                     if let Some(region) = self.above_plane(&blocker, plane) {
                         lines.subtract_region(&region);
@@ -244,6 +265,15 @@ impl<'a> LimitingTest<'a> {
                 }
             }
         }
+    }
+
+    /// The highest sample in local columns `0..=x` and rows near `y_lo..=y_hi`.
+    fn highest_left_of(&self, x: usize, y_lo: f64, y_hi: f64) -> f64 {
+        let bands = self.band_prefix_max.len() / self.field.width();
+        let band_of = |y: f64| ((y.max(0.0) as usize) / BAND).min(bands - 1);
+        (band_of(y_lo)..=band_of(y_hi))
+            .map(|b| self.band_prefix_max[x + b * self.field.width()])
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 
     /// The part of triangle `tri` (projected) where the surface is above `plane` by more than

@@ -43,6 +43,9 @@ impl NBuffer {
     /// The highest sample of local column `i` over rows `j0..=j1` (clamped into the grid).
     #[inline]
     pub fn window_max(&self, i: usize, j0: isize, j1: isize) -> f32 {
+        if j1 < 0 {
+            return f32::NEG_INFINITY;
+        }
         let j0 = j0.max(0) as usize;
         let j1 = (j1.max(0) as usize).min(self.height - 1);
         if j0 > j1 {

@@ -228,7 +228,7 @@ impl Marching<'_> {
         };
         let mut lo = first;
         if !on_first {
-            if let Some(hit) = self.column(first, steps) {
+            if let Some(hit) = self.column(first, None, steps) {
                 return Some(hit);
             }
             lo += 1;
@@ -248,7 +248,7 @@ impl Marching<'_> {
                 None => 0,
             };
             if k == 0 {
-                if let Some(hit) = self.column(lo, steps) {
+                if let Some(hit) = self.column(lo, None, steps) {
                     return Some(hit);
                 }
                 lo += 1;
@@ -266,9 +266,10 @@ impl Marching<'_> {
                 (lo, known) = (hi, Some(position));
                 continue;
             }
-            // One crossing at most between lo and hi: bisect on centerlines.
+            // One crossing at most between lo and hi: bisect on centerlines down to a few, then
+            // scan those in order (independent tests that the processor overlaps).
             let (mut a, mut b) = (lo, hi);
-            while b - a > 1 {
+            while b - a > 8 {
                 *steps += 1;
                 let m = (a + b) / 2;
                 if self.clearly_above(m).is_some() {
@@ -277,7 +278,15 @@ impl Marching<'_> {
                     b = m;
                 }
             }
-            if let Some(hit) = self.final_column(a, steps) {
+            let mut m = a + 1;
+            while m < b && self.clearly_above(m).is_some() {
+                m += 1;
+            }
+            *steps += (m - a) as u32;
+            let a = m - 1;
+            // Clearly above at a, not at a + 1 (unless a + 1 is where the ray leaves the box).
+            let ends = (m <= last).then_some((true, false));
+            if let Some(hit) = self.final_column(a, ends, steps) {
                 return Some(hit);
             }
             // Only a graze within the slack: march on past it.
@@ -310,7 +319,9 @@ impl Marching<'_> {
     /// grid cells the ray crosses there, tested exactly as the naive tracer tests them. A cell
     /// the ray passes clearly above at both ends is skipped: within a cell the ray's height
     /// over the surface is concave, so it cannot dip below in between.
-    fn column(&self, c: usize, steps: &mut u32) -> Option<Hit> {
+    /// `ends`, when known, says whether the ray is clearly above the surface on the column's
+    /// two x-centerlines.
+    fn column(&self, c: usize, ends: Option<(bool, bool)>, steps: &mut u32) -> Option<Hit> {
         let rows = self.local.height() - 1;
         let (t0, t1) = self.column_span(c);
         if t0 > t1 {
@@ -347,11 +358,12 @@ impl Marching<'_> {
                 self.gap(t)
             }
         };
-        let (full0, full1) = self.column_span_unclipped(c);
-        let gap0 = x_gap(t0, c, t0 == full0);
-        let gap1 = x_gap(t1, c + 1, t1 == full1);
+        let (above0, above1) = ends.unwrap_or_else(|| {
+            let (full0, full1) = self.column_span_unclipped(c);
+            (x_gap(t0, c, t0 == full0) > slack, x_gap(t1, c + 1, t1 == full1) > slack)
+        });
         if r0 == r1 {
-            if gap0 > slack && gap1 > slack {
+            if above0 && above1 {
                 return None;
             }
             return self.cell_hit(c, r0, steps);
@@ -362,13 +374,13 @@ impl Marching<'_> {
         let t_row = (row as f64 - self.origin.y) / self.dir.y;
         let p = self.origin + t_row * self.dir;
         let (h0, h1) = (self.local.h(c, row), self.local.h(c + 1, row));
-        let gap_row = p.z - (h0 + (h1 - h0) * (p.x - c as f64));
-        if gap0 <= slack || gap_row <= slack {
+        let above_row = p.z - (h0 + (h1 - h0) * (p.x - c as f64)) > slack;
+        if !(above0 && above_row) {
             if let Some(hit) = self.cell_hit(c, r0, steps) {
                 return Some(hit);
             }
         }
-        if gap_row <= slack || gap1 <= slack {
+        if !(above_row && above1) {
             return self.cell_hit(c, r1, steps);
         }
         None
@@ -406,10 +418,10 @@ impl Marching<'_> {
     }
 
     /// The hit in the column the bisection ended in: exact, or on the linear surface.
-    fn final_column(&self, c: usize, steps: &mut u32) -> Option<Hit> {
+    fn final_column(&self, c: usize, ends: Option<(bool, bool)>, steps: &mut u32) -> Option<Hit> {
         match self.tracer.final_test {
-            FinalTest::Triangles => self.column(c, steps),
-            FinalTest::Linear => self.linear_hit(c).or_else(|| self.column(c, steps)),
+            FinalTest::Triangles => self.column(c, ends, steps),
+            FinalTest::Linear => self.linear_hit(c).or_else(|| self.column(c, ends, steps)),
         }
     }
 
