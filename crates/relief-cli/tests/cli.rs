@@ -2,10 +2,10 @@
 
 mod common;
 
-use common::{depth_straight_down, relief, scratch};
+use common::{assert_refused, depth_straight_down, read_f32_npy, relief, scratch};
 use relief_core::{DVec2, GridGeometry, HeightField};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
 fn png_size(path: &Path) -> (u32, u32) {
     let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
@@ -15,34 +15,6 @@ fn png_size(path: &Path) -> (u32, u32) {
 
 fn read_npy(path: &Path) -> HeightField {
     relief_io::read_npy_height_field(path).unwrap()
-}
-
-/// Reads a little-endian f32 .npy written by relief: (shape, values); infinities allowed.
-fn read_f32_npy(path: &Path) -> (Vec<usize>, Vec<f32>) {
-    let bytes = std::fs::read(path).unwrap();
-    assert_eq!(&bytes[..6], b"\x93NUMPY");
-    let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-    let header = std::str::from_utf8(&bytes[10..10 + header_len]).unwrap();
-    assert!(header.contains("'descr': '<f4'"), "{header}");
-    let shape_text = header.split("'shape': (").nth(1).unwrap().split(')').next().unwrap();
-    let shape = shape_text
-        .split(',')
-        .filter(|s| !s.trim().is_empty())
-        .map(|s| s.trim().parse().unwrap())
-        .collect();
-    let values = bytes[10 + header_len..]
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
-        .collect();
-    (shape, values)
-}
-
-/// Fails with a readable message unless the command failed with code 2 and one line on stderr.
-fn assert_refused(out: &Output, mentions: &str) {
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(stderr.contains(mentions), "stderr should mention '{mentions}': {stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
 #[test]

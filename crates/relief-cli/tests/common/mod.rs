@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+
 /// Runs `relief` with `args` and collects its output.
 pub fn relief(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_relief")).args(args).output().expect("relief runs")
@@ -54,3 +55,32 @@ pub fn depth_straight_down(input: &Path, x: f64, y: f64, height: f64, extra: &[&
     let bytes = std::fs::read(&depth).unwrap();
     f32::from_le_bytes(bytes[bytes.len() - 4..].try_into().unwrap())
 }
+
+/// Reads a little-endian f32 .npy written by relief: (shape, values); infinities allowed.
+pub fn read_f32_npy(path: &Path) -> (Vec<usize>, Vec<f32>) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..6], b"\x93NUMPY");
+    let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + header_len]).unwrap();
+    assert!(header.contains("'descr': '<f4'"), "{header}");
+    let shape_text = header.split("'shape': (").nth(1).unwrap().split(')').next().unwrap();
+    let shape = shape_text
+        .split(',')
+        .filter(|s| !s.trim().is_empty())
+        .map(|s| s.trim().parse().unwrap())
+        .collect();
+    let values = bytes[10 + header_len..]
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    (shape, values)
+}
+
+/// Fails with a readable message unless the command failed with code 2 and one line on stderr.
+pub fn assert_refused(out: &Output, mentions: &str) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    assert!(stderr.contains(mentions), "stderr should mention '{mentions}': {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+

@@ -193,3 +193,39 @@ impl<'a> Reader<'a> {
         self.take(4).map(|b| f32::from_le_bytes(b.try_into().unwrap()))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_core::GridGeometry;
+
+    fn field(bump: f32) -> HeightField {
+        let samples = (0..12 * 9).map(|k| ((k * 7) % 5) as f32 + if k == 40 { bump } else { 0.0 }).collect();
+        HeightField::new(12, 9, samples, GridGeometry::unit()).unwrap()
+    }
+
+    #[test]
+    fn shapes_come_back_only_for_the_same_field_and_options() {
+        let dir = std::env::temp_dir().join(format!("relief-safety-cache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let cache = ShapeCache::new(&dir);
+        let (a, b) = (field(0.0), field(0.5));
+        let options: SafetyOptions = "cyl_all+cone_all".parse().unwrap();
+        let (built, outcome) = cache.load_or_build(&a, options, &|_, _| {}).unwrap();
+        assert!(matches!(outcome, CacheOutcome::Built(_)));
+        assert_eq!(cache.load(&a, &options).unwrap(), Some(built.clone()));
+        // Another field, other options: nothing to reuse.
+        assert_eq!(cache.load(&b, &options).unwrap(), None);
+        let other = SafetyOptions { strictly_positive: true, ..options };
+        assert_eq!(cache.load(&a, &other).unwrap(), None);
+        // A file under the right name whose header says otherwise is not used.
+        std::fs::copy(cache.path(&a, &options), cache.path(&b, &options)).unwrap();
+        assert_eq!(cache.load(&b, &options).unwrap(), None);
+        // Nor is a truncated one.
+        let path = cache.path(&a, &options);
+        let bytes = std::fs::read(&path).unwrap();
+        std::fs::write(&path, &bytes[..bytes.len() - 3]).unwrap();
+        assert_eq!(cache.load(&a, &options).unwrap(), None);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
