@@ -234,21 +234,31 @@ impl Marching<'_> {
             lo += 1;
         }
         let dz = self.dir.z * self.inv_dir_x;
-        // The ray's (y, z) at `lo` when it is known to be clearly above the surface there.
+        // The ray's (y, z, gap) at `lo` when it is known to be clearly above the surface there.
         let mut known = None;
         // The column before the final centerline is always tested or safely stepped over.
         while lo <= last && lo < width - 1 {
             *steps += 1;
-            let k = match known.take().or_else(|| self.clearly_above(lo)) {
-                Some((y, z)) => {
+            let here = known.take().unwrap_or_else(|| self.position(lo));
+            let k = match here {
+                (y, z, gap) if gap > 0.0 => {
                     let texel = ((y + 0.5).max(0.0) as usize).min(self.local.height() - 1);
                     let index = self.frame.grid_index(lo, texel);
                     self.tracer.shapes.step(self.frame.class, index, z, dz) as usize
                 }
-                None => 0,
+                _ => 0,
             };
             if k == 0 {
-                if let Some(hit) = self.column(lo, None, steps) {
+                // A naive step through one column; the signs on its centerlines decide which
+                // cells need the exact test, and the far one is where the next step starts.
+                if lo < last {
+                    let next = self.position(lo + 1);
+                    let ends = Some((here.2 > 0.0, next.2 > 0.0));
+                    if let Some(hit) = self.column(lo, ends, steps) {
+                        return Some(hit);
+                    }
+                    known = Some(next);
+                } else if let Some(hit) = self.column(lo, None, steps) {
                     return Some(hit);
                 }
                 lo += 1;
@@ -258,32 +268,44 @@ impl Marching<'_> {
             if hi == lo {
                 return None;
             }
-            if hi > last {
-                if self.leaves_above() {
+            let gap_hi = if hi > last {
+                let gap = self.exit_gap();
+                if gap > 0.0 {
                     return None;
                 }
-            } else if let Some(position) = self.clearly_above(hi) {
-                (lo, known) = (hi, Some(position));
-                continue;
-            }
-            // One crossing at most between lo and hi: bisect on centerlines down to a few, then
-            // scan those in order (independent tests that the processor overlaps).
-            let (mut a, mut b) = (lo, hi);
-            while b - a > 8 {
+                gap
+            } else {
+                let there = self.position(hi);
+                if there.2 > 0.0 {
+                    (lo, known) = (hi, Some(there));
+                    continue;
+                }
+                there.2
+            };
+            // One crossing at most between lo and hi: regula falsi on centerlines (the Illinois
+            // variant), which usually brackets it in two tests where bisection takes log2(k).
+            let (mut a, mut gap_a, mut b, mut gap_b) = (lo, here.2, hi, gap_hi);
+            let mut kept = 0i8;
+            while b - a > 1 {
                 *steps += 1;
-                let m = (a + b) / 2;
-                if self.clearly_above(m).is_some() {
-                    a = m;
+                let along = gap_a / (gap_a - gap_b);
+                let m = (a + ((b - a) as f64 * along) as usize).clamp(a + 1, b - 1);
+                let gap = self.position(m).2;
+                if gap > 0.0 {
+                    (a, gap_a) = (m, gap);
+                    if kept == 1 {
+                        gap_b *= 0.5;
+                    }
+                    kept = 1;
                 } else {
-                    b = m;
+                    (b, gap_b) = (m, gap);
+                    if kept == -1 {
+                        gap_a *= 0.5;
+                    }
+                    kept = -1;
                 }
             }
-            let mut m = a + 1;
-            while m < b && self.clearly_above(m).is_some() {
-                m += 1;
-            }
-            *steps += (m - a) as u32;
-            let a = m - 1;
+            let m = b;
             // Clearly above at a, not at a + 1 (unless a + 1 is where the ray leaves the box).
             let ends = (m <= last).then_some((true, false));
             if let Some(hit) = self.final_column(a, ends, steps) {
@@ -302,17 +324,18 @@ impl Marching<'_> {
         (self.origin.y + t * self.dir.y, self.origin.z + t * self.dir.z)
     }
 
-    /// The ray's local (y, z) on x-centerline `i` if it is clearly above the surface there.
+    /// The ray's local y and z on x-centerline `i`, and how far it is clearly above the surface
+    /// there (positive: clearly above; otherwise below or within the slack).
     #[inline]
-    fn clearly_above(&self, i: usize) -> Option<(f64, f64)> {
+    fn position(&self, i: usize) -> (f64, f64, f64) {
         let (y, z) = self.at_centerline(i);
-        (z > self.local.centerline_height(i, y) + self.tracer.slack).then_some((y, z))
+        (y, z, z - self.local.centerline_height(i, y) - self.tracer.slack)
     }
 
-    /// Whether the ray is clearly above the surface where it leaves the bounding box.
-    fn leaves_above(&self) -> bool {
+    /// How far the ray is clearly above the surface where it leaves the bounding box.
+    fn exit_gap(&self) -> f64 {
         let p = self.frame.point_to_local(self.ray.at(self.clip.t_exit));
-        p.z > self.local.surface_height(p.x, p.y) + self.tracer.slack
+        p.z - self.local.surface_height(p.x, p.y) - self.tracer.slack
     }
 
     /// The exact first hit in local column `c` (between x-centerlines `c` and `c + 1`): the
