@@ -29,7 +29,8 @@ struct Measurement<'a> {
     primary: TraceStats,
     primary_s: f64,
     shadow: TraceStats,
-    shadow_s: f64,
+    /// `None`: the tracer does not admit the sun's shadow rays.
+    shadow_s: Option<f64>,
     peak_mib: f64,
 }
 
@@ -98,8 +99,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     let directions = (0..h)
                         .flat_map(|j| (0..w).map(move |i| (i, j)))
                         .map(|(i, j)| camera.ray(i, j).dir);
-                    safety.check_view(camera.eye(), directions, Some(sun))?;
+                    safety.check_view(camera.eye(), directions, None)?;
                 }
+                // Shapes bounded by phi max may not admit the sun's shadow rays: skip those.
+                let shadows = built.safety.as_ref().is_none_or(|safety| {
+                    safety.check_view(camera.eye(), std::iter::empty(), Some(sun)).is_ok()
+                });
                 let (traced, build_ms) = (built.tracer, built.build_s * 1e3);
                 let bounds = field.world_bounds(surface);
                 let bar = progress::bar(w as u64 * h as u64, &format!("{view}/{tracer}"));
@@ -109,8 +114,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let primary_s = timer.elapsed().as_secs_f64();
                 bar.finish_and_clear();
                 let timer = Instant::now();
-                let shadow = shadow_rays(traced.as_ref(), &camera, &gbuffer, sun);
-                let shadow_s = timer.elapsed().as_secs_f64();
+                let shadow = if shadows {
+                    shadow_rays(traced.as_ref(), &camera, &gbuffer, sun)
+                } else {
+                    TraceStats::default()
+                };
+                let shadow_s = shadows.then(|| timer.elapsed().as_secs_f64());
                 if let Some(dir) = &args.depth_dir {
                     let path = dir.join(format!("{view}-{surface}-{tracer}.npy"));
                     relief_io::write_npy_f32(
@@ -152,13 +161,13 @@ impl Measurement<'_> {
         self.primary.rays as f64 / self.primary_s / 1e6
     }
 
-    fn shadow_mrays(&self) -> f64 {
-        self.shadow.rays as f64 / self.shadow_s / 1e6
+    fn shadow_mrays(&self) -> Option<f64> {
+        self.shadow_s.map(|s| self.shadow.rays as f64 / s / 1e6)
     }
 
     fn row(&self) -> String {
         format!(
-            "{:<13} {:<9} {:<18} {:>9.1} {:>9.2} {:>6.1} {:>7.1} {:>6} {:>9.2} {:>7.1} {:>8.0}",
+            "{:<13} {:<9} {:<18} {:>9.1} {:>9.2} {:>6.1} {:>7.1} {:>6} {:>9} {:>7.1} {:>8.0}",
             self.view,
             self.surface,
             self.tracer.to_string(),
@@ -167,7 +176,7 @@ impl Measurement<'_> {
             100.0 * self.primary.hits as f64 / self.primary.rays.max(1) as f64,
             self.primary.mean_steps(),
             self.primary.max_steps,
-            self.shadow_mrays(),
+            self.shadow_mrays().map_or("-".into(), |m| format!("{m:.2}")),
             self.shadow.mean_steps(),
             self.peak_mib
         )
@@ -196,7 +205,7 @@ impl Measurement<'_> {
             self.primary.mean_steps(),
             self.primary.max_steps,
             self.shadow.rays,
-            self.shadow_s,
+            self.shadow_s.map_or("null".into(), |s| s.to_string()),
             self.shadow.mean_steps(),
             self.peak_mib,
             v(c.eye()),
