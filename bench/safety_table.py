@@ -45,17 +45,21 @@ def main():
     def mrays(row):
         return row["primary_rays"] / row["primary_s"] / 1e6
 
-    head = "| tracer | " + " | ".join(f"precompute {s}² (s)" for s in sizes) + " | " + \
-        " | ".join(f"{s}² Mrays/s (φmax -45°)" for s in sizes) + " |"
+    head = "| tracer | " + " | ".join(f"precompute {s}² s (φmax)" for s in sizes) + " | " + \
+        " | ".join(f"{s}² Mrays/s (φmax)" for s in sizes) + " |"
     print()
     print(head)
     print("|" + "---|" * (1 + 2 * len(sizes)))
     for tracer in PLAIN + SAFETY:
         cells = []
         for size in sizes:
-            row = free[size].get(tracer)
-            cells.append("–" if row is None else
-                         ("none" if tracer in PLAIN else f"{row['build_ms'] / 1e3:.2f}"))
+            row, phi = free[size].get(tracer), bounded[size].get(tracer)
+            if row is None:
+                cells.append("–")
+            elif phi is None:
+                cells.append("none")
+            else:
+                cells.append(f"{row['build_ms'] / 1e3:.2f} ({phi['build_ms'] / 1e3:.2f})")
         for size in sizes:
             row, phi = free[size].get(tracer), bounded[size].get(tracer)
             if row is None:

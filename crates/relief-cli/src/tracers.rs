@@ -69,14 +69,15 @@ pub fn safety_options(variant: Option<SafetyOptions>, args: &SafetyArgs) -> Resu
 }
 
 /// Builds the chosen tracer for `surface` of `field`. Safety shapes come from the cache when
-/// `use_cache` and the cache has them; otherwise they are precomputed (with a progress bar) and,
-/// with `use_cache`, stored.
+/// `use_cache` and the cache has them; otherwise they are precomputed (with a progress bar,
+/// refused beyond `max_memory`) and, with `use_cache`, stored.
 pub fn build(
     field: &Arc<HeightField>,
     surface: Surface,
     choice: &TracerChoice,
     args: &SafetyArgs,
     use_cache: bool,
+    max_memory: u64,
 ) -> Result<Built> {
     let started = Instant::now();
     let variant = match choice {
@@ -91,6 +92,17 @@ pub fn build(
         bail!("the safety tracer renders the triangles surface only (use --surface triangles)");
     }
     let options = safety_options(variant, args)?;
+    let needed = SafetyShapes::memory_estimate(field.width(), field.height(), &options);
+    if needed > max_memory {
+        bail!(
+            "{options} shapes for a {}x{} terrain need about {} MiB, over the {} MiB memory limit \
+             (raise it with --max-memory, or use --isotropic or the mipmap tracer)",
+            field.width(),
+            field.height(),
+            needed >> 20,
+            max_memory >> 20
+        );
+    }
     let bar = progress::bar((4 * field.width() * field.height()) as u64, "safety shapes");
     let report = |done: usize, _total: usize| bar.set_position(done as u64);
     let cache = (use_cache && !args.no_cache)

@@ -130,5 +130,6 @@ fn views_and_surfaces_the_shapes_do_not_serve_are_refused() {
     assert_refused(&with(&["--tracer", "cyl_any"]), "unknown");
     assert_refused(&with(&["--tracer", "safety", "--safety", "cyl_all+cone_ext"]), "cyl_ext");
     assert_refused(&with(&["--tracer", "safety", "--phi-max", "95"]), "phi max");
+    assert_refused(&with(&["--tracer", "safety", "--max-memory", "100K"]), "memory limit");
     assert!(!png.exists());
 }

@@ -93,7 +93,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
         for &surface in &args.surfaces {
             for tracer in &args.tracers {
-                let built = tracers::build(&field, surface, tracer, &args.safety, false)?;
+                let built = tracers::build(&field, surface, tracer, &args.safety, false, limit)?;
                 if let Some(safety) = &built.safety {
                     let (w, h) = (camera.width(), camera.height());
                     let directions = (0..h)

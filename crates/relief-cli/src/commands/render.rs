@@ -21,7 +21,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let field = input::load(&args.input)?;
     let camera = camera(args, &field, args.surface)?;
     let params = shading(args, &field)?;
-    let built = tracers::build(&field, args.surface, &args.tracer, &args.safety, true)?;
+    let built = tracers::build(&field, args.surface, &args.tracer, &args.safety, true, max_memory)?;
     if let Some(safety) = &built.safety {
         let light = (!args.no_shadows).then(|| sun_direction(args.sun.0, args.sun.1));
         let (w, h) = (camera.width(), camera.height());

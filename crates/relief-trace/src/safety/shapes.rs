@@ -118,6 +118,19 @@ impl SafetyShapes {
         self.height
     }
 
+    /// Bytes that building shapes with `options` for a `width x height` field takes at its
+    /// peak: the shapes themselves and one class's working data (N-buffer, per-texel results).
+    /// Exterior visibility keeps a few line sets per triangle on top of this.
+    pub fn memory_estimate(width: usize, height: usize, options: &SafetyOptions) -> u64 {
+        let texels = (width * height) as u64;
+        let slots = if options.layout == ShapeLayout::Isotropic { 1 } else { 4 };
+        let per_texel = if options.cone == ConeMode::None { 2 } else { 14 };
+        let levels = usize::BITS as u64 - width.max(height).leading_zeros() as u64;
+        let nbuffer = if options.cone == ConeMode::None { 0 } else { 4 * levels * texels };
+        let working = 4 * 24 * texels + nbuffer;
+        slots * per_texel * texels + working
+    }
+
     /// Bytes the shapes occupy.
     pub fn memory_bytes(&self) -> usize {
         self.radii.iter().map(|r| r.len() * 2).sum::<usize>()

@@ -33,6 +33,8 @@ pub struct SafetyTracer {
     final_test: FinalTest,
     /// "Clearly above the surface" means above by more than this.
     slack: f64,
+    /// `tan(phi_max)` of the shapes, if bounded.
+    max_slope: Option<f64>,
 }
 
 impl SafetyTracer {
@@ -57,7 +59,8 @@ impl SafetyTracer {
         let grid = CellGrid::new(&field, Surface::Triangles);
         let naive = NaiveTracer::new(field.clone(), Surface::Triangles);
         let magnitude = field.min_sample().abs().max(field.max_sample().abs()) as f64;
-        Ok(SafetyTracer { field, grid, shapes, naive, final_test, slack: 1e-9 * (1.0 + magnitude) })
+        let (slack, max_slope) = (1e-9 * (1.0 + magnitude), shapes.options().max_slope());
+        Ok(SafetyTracer { field, grid, shapes, naive, final_test, slack, max_slope })
     }
 
     /// The shapes in use.
@@ -68,18 +71,21 @@ impl SafetyTracer {
     /// Whether the shapes guarantee a ray (world space): exterior shapes need a ray coming from
     /// outside the terrain's bounding box, a `phi_max` bound a ray at most that steep.
     pub fn admits(&self, world_ray: &Ray) -> bool {
+        let clip = self.grid.clip(&self.grid.to_cell_space(world_ray));
+        clip.is_none_or(|clip| self.admits_clipped(world_ray, &clip))
+    }
+
+    /// [`SafetyTracer::admits`] for a ray already clipped to the bounding box.
+    #[inline]
+    fn admits_clipped(&self, world_ray: &Ray, clip: &Clip) -> bool {
         let options = self.shapes.options();
-        if let Some(max_slope) = options.max_slope() {
+        if let Some(max_slope) = self.max_slope {
             let d = world_ray.dir;
             if d.z > max_slope * d.truncate().length() + 1e-12 * d.length() {
                 return false;
             }
         }
-        if options.rays == RaySet::Exterior {
-            let ray = self.grid.to_cell_space(world_ray);
-            return self.grid.clip(&ray).is_none_or(|clip| clip.face != BoxFace::Inside);
-        }
-        true
+        options.rays == RaySet::All || clip.face != BoxFace::Inside
     }
 
     /// Refuses, with a reason, a view whose rays the shapes were not built for: `eye` and the
@@ -155,7 +161,9 @@ impl Tracer for SafetyTracer {
         let ray = self.grid.to_cell_space(world_ray);
         let clip = self.grid.clip(&ray)?;
         match RayClass::of(ray.dir) {
-            Some(class) if self.admits(world_ray) => self.march(world_ray, &ray, &clip, class, steps),
+            Some(class) if self.admits_clipped(world_ray, &clip) => {
+                self.march(world_ray, &ray, &clip, class, steps)
+            }
             _ => self.naive.intersect_counted(world_ray, steps),
         }
     }
