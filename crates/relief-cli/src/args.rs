@@ -1,8 +1,8 @@
 //! Command-line arguments of every subcommand.
 
+use crate::tracers::TracerChoice;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use relief_core::{DVec3, Surface};
-use crate::tracers::TracerChoice;
 use relief_trace::SafetyOptions;
 use std::path::PathBuf;
 

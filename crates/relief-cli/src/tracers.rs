@@ -5,7 +5,9 @@ use crate::args::SafetyArgs;
 use crate::progress;
 use anyhow::{bail, Context, Result};
 use relief_core::{HeightField, Surface};
-use relief_trace::safety::{CacheOutcome, FinalTest, SafetyShapes, SafetyTracer, ShapeCache, ShapeLayout};
+use relief_trace::safety::{
+    CacheOutcome, FinalTest, SafetyShapes, SafetyTracer, ShapeCache, ShapeLayout,
+};
 use relief_trace::{build_tracer, SafetyOptions, Tracer, TracerKind};
 use std::fmt;
 use std::str::FromStr;
@@ -114,7 +116,9 @@ pub fn build(
             let (shapes, outcome) = cache.load_or_build(field, options, &report)?;
             let note = match outcome {
                 CacheOutcome::Loaded(path) => format!("{options} shapes from {}", path.display()),
-                CacheOutcome::Built(path) => format!("{options} shapes cached in {}", path.display()),
+                CacheOutcome::Built(path) => {
+                    format!("{options} shapes cached in {}", path.display())
+                }
             };
             (shapes, note)
         }
@@ -123,7 +127,7 @@ pub fn build(
     bar.finish_and_clear();
     let build_s = started.elapsed().as_secs_f64();
     let final_test = if args.linear_surface { FinalTest::Linear } else { FinalTest::Triangles };
-    let safety = SafetyTracer::new(field.clone(), Arc::new(shapes), final_test)
-        .context("safety tracer")?;
+    let safety =
+        SafetyTracer::new(field.clone(), Arc::new(shapes), final_test).context("safety tracer")?;
     Ok(Built { tracer: Box::new(safety.clone()), safety: Some(safety), build_s, note })
 }

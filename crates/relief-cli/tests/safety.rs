@@ -79,8 +79,19 @@ fn phi_max_shapes_render_a_steep_view_exactly_and_refuse_a_shallow_one() {
     // The default three-quarter view looks at the horizon: refused, and nothing is written.
     let png = scratch("phi-refused.png");
     let out = relief(&[
-        "render", "--fbm-size", "48", "--size", "40x30", "--tracer", "safety", "--phi-max", "-45",
-        "--cache-dir", cache.to_str().unwrap(), "-o", png.to_str().unwrap(),
+        "render",
+        "--fbm-size",
+        "48",
+        "--size",
+        "40x30",
+        "--tracer",
+        "safety",
+        "--phi-max",
+        "-45",
+        "--cache-dir",
+        cache.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
     ]);
     assert_refused(&out, "degrees from horizontal");
     assert!(!png.exists());

@@ -114,8 +114,10 @@ fn phi_max_variants_are_exact_on_the_rays_they_admit() {
                     let ray = camera.ray(i, j);
                     admitted += tracer.admits(&ray) as usize;
                     let (want, got) = (naive.intersect(&ray), tracer.intersect(&ray));
-                    assert!(agree(want.map(|h| h.t), got.map(|h| h.t), 1e-5),
-                        "{options} pixel ({i}, {j}): naive {want:?} safety {got:?}");
+                    assert!(
+                        agree(want.map(|h| h.t), got.map(|h| h.t), 1e-5),
+                        "{options} pixel ({i}, {j}): naive {want:?} safety {got:?}"
+                    );
                 }
             }
             assert_eq!(admitted, 1200, "{options}: the whole view is within phi max");
@@ -161,8 +163,10 @@ fn thin_walls_and_spikes_render_with_no_holes() {
                     for i in 0..96 {
                         let ray = camera.ray(i, j);
                         let (want, got) = (naive.intersect(&ray), tracer.intersect(&ray));
-                        assert!(agree(want.map(|h| h.t), got.map(|h| h.t), 1e-5),
-                            "{options} view ({az}, {el}) pixel ({i}, {j}): {want:?} vs {got:?}");
+                        assert!(
+                            agree(want.map(|h| h.t), got.map(|h| h.t), 1e-5),
+                            "{options} view ({az}, {el}) pixel ({i}, {j}): {want:?} vs {got:?}"
+                        );
                     }
                 }
             }
@@ -196,7 +200,10 @@ fn approximate_variants_report_their_wrong_pixel_rate() {
             }
         }
         let rate = wrong as f64 / total as f64;
-        println!("{name}: {wrong} of {total} pixels differ from the exact depth ({:.3}%)", rate * 100.0);
+        println!(
+            "{name}: {wrong} of {total} pixels differ from the exact depth ({:.3}%)",
+            rate * 100.0
+        );
         assert!(rate < 0.05, "{name}: {rate}");
     }
 }

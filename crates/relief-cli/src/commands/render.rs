@@ -25,7 +25,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let Some(safety) = &built.safety {
         let light = (!args.no_shadows).then(|| sun_direction(args.sun.0, args.sun.1));
         let (w, h) = (camera.width(), camera.height());
-        let directions = (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).map(|(i, j)| camera.ray(i, j).dir);
+        let directions =
+            (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).map(|(i, j)| camera.ray(i, j).dir);
         safety.check_view(camera.eye(), directions, light)?;
         eprintln!("{}", built.note);
     }

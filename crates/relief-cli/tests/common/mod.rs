@@ -4,7 +4,6 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-
 /// Runs `relief` with `args` and collects its output.
 pub fn relief(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_relief")).args(args).output().expect("relief runs")
@@ -83,4 +82,3 @@ pub fn assert_refused(out: &Output, mentions: &str) {
     assert!(stderr.contains(mentions), "stderr should mention '{mentions}': {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
-

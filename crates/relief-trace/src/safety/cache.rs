@@ -145,7 +145,12 @@ fn encode(shapes: &SafetyShapes, key: u64) -> Vec<u8> {
 }
 
 /// The shapes in `bytes` if the header matches `key`, `field` and `options` exactly.
-fn decode(bytes: &[u8], key: u64, field: &HeightField, options: &SafetyOptions) -> Option<SafetyShapes> {
+fn decode(
+    bytes: &[u8],
+    key: u64,
+    field: &HeightField,
+    options: &SafetyOptions,
+) -> Option<SafetyShapes> {
     let mut r = Reader { bytes, at: 0 };
     if r.take(8)? != MAGIC || r.u32()? != VERSION || r.u64()? != key {
         return None;
@@ -200,7 +205,8 @@ mod tests {
     use relief_core::GridGeometry;
 
     fn field(bump: f32) -> HeightField {
-        let samples = (0..12 * 9).map(|k| ((k * 7) % 5) as f32 + if k == 40 { bump } else { 0.0 }).collect();
+        let samples =
+            (0..12 * 9).map(|k| ((k * 7) % 5) as f32 + if k == 40 { bump } else { 0.0 }).collect();
         HeightField::new(12, 9, samples, GridGeometry::unit()).unwrap()
     }
 

@@ -194,7 +194,10 @@ impl<'a> LocalField<'a> {
         let j = (y as usize).min(top - 1);
         let f = y - j as f64;
         let k = self.frame.grid_index(i, j);
-        let (a, b) = (self.samples[k] as f64, self.samples[(k as isize + self.frame.step_j) as usize] as f64);
+        let (a, b) = (
+            self.samples[k] as f64,
+            self.samples[(k as isize + self.frame.step_j) as usize] as f64,
+        );
         a + (b - a) * f
     }
 

@@ -14,8 +14,10 @@ impl NBuffer {
     /// The N-buffer of a class's local field.
     pub fn new(field: &LocalField) -> Self {
         let (w, h) = (field.width(), field.height());
-        let mut level: Vec<f32> =
-            (0..w).flat_map(|i| (0..h).map(move |j| (i, j))).map(|(i, j)| field.h(i, j) as f32).collect();
+        let mut level: Vec<f32> = (0..w)
+            .flat_map(|i| (0..h).map(move |j| (i, j)))
+            .map(|(i, j)| field.h(i, j) as f32)
+            .collect();
         let mut levels = Vec::new();
         let mut span = 1;
         loop {

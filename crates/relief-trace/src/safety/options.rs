@@ -165,7 +165,14 @@ mod tests {
 
     #[test]
     fn variant_names_round_trip() {
-        for name in ["cyl_all", "cyl_ext", "cyl_all+cone_all", "cyl_ext+cone_all", "cyl_ext+cone_ext", "cyl_all+cone_exact"] {
+        for name in [
+            "cyl_all",
+            "cyl_ext",
+            "cyl_all+cone_all",
+            "cyl_ext+cone_all",
+            "cyl_ext+cone_ext",
+            "cyl_all+cone_exact",
+        ] {
             let options: SafetyOptions = name.parse().unwrap();
             assert_eq!(options.variant(), name);
         }

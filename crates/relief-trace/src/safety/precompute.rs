@@ -41,7 +41,8 @@ impl<'a> ClassPrecompute<'a> {
         let nbuffer = (options.cone != ConeMode::None).then(|| NBuffer::new(&field));
         let mut suffix_max = vec![f64::NEG_INFINITY; field.width() + 1];
         for i in (0..field.width()).rev() {
-            let column = (0..field.height()).map(|j| field.h(i, j)).fold(f64::NEG_INFINITY, f64::max);
+            let column =
+                (0..field.height()).map(|j| field.h(i, j)).fold(f64::NEG_INFINITY, f64::max);
             suffix_max[i] = suffix_max[i + 1].max(column);
         }
         ClassPrecompute { test, nbuffer, suffix_max, options }
@@ -147,7 +148,8 @@ impl<'a> ClassPrecompute<'a> {
             if self.slope_bound(i + m, z_c, m - r, columns - r) <= slope {
                 break;
             }
-            let column_top = self.reachable_max(i + m, j, m).max(self.reachable_max(i + m + 1, j, m));
+            let column_top =
+                self.reachable_max(i + m, j, m).max(self.reachable_max(i + m + 1, j, m));
             let rise = column_top - z_c;
             if rise / if rise >= 0.0 { dx } else { dx + 1.0 } <= slope {
                 continue;
@@ -155,7 +157,10 @@ impl<'a> ClassPrecompute<'a> {
             for cj in self.reachable_rows(j, m) {
                 for k in 0..2 {
                     let tri = vertices(cj, k, m);
-                    let best = tri.iter().map(|v| (v.z - z_c) / (v.x - (i + r) as f64)).fold(f64::NEG_INFINITY, f64::max);
+                    let best = tri
+                        .iter()
+                        .map(|v| (v.z - z_c) / (v.x - (i + r) as f64))
+                        .fold(f64::NEG_INFINITY, f64::max);
                     if best > slope && self.test.is_limiting(i, j, i + m, cj, k) {
                         raise(cj, k, m, &mut slope);
                     }

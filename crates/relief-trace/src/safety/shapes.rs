@@ -95,7 +95,9 @@ impl SafetyShapes {
         let cones = if has_cones {
             per_class
                 .iter()
-                .map(|c| c.iter().map(|s| [round_up(s.z0), round_up(s.slope), s.radius as f32]).collect())
+                .map(|c| {
+                    c.iter().map(|s| [round_up(s.z0), round_up(s.slope), s.radius as f32]).collect()
+                })
                 .collect()
         } else {
             Vec::new()
@@ -152,11 +154,11 @@ impl SafetyShapes {
         let Some(cones) = self.cones.get(slot) else { return self.radii[slot][grid_index] as u32 };
         let [z0, slope, radius] = cones[grid_index].map(f64::from);
         let (radius, reach) = (radius as u32, self.options.reach as u32);
-        if !(z > z0) {
+        if z <= z0 {
             // Not above the cone's plane: only the cylinder is safe.
             return radius;
         }
-        if !(slope > dz) {
+        if slope <= dz {
             // Above the plane and climbing at least as fast: it stays above within the reach.
             return reach;
         }

@@ -1,5 +1,5 @@
 //! The safety-shape tracer: accurate marching on x-centerlines with precomputed safe steps,
-//! bisection on centerlines and the exact final test (Baboud et al. 2011, 5.2.2).
+//! a dichotomous search on centerlines and the exact final test (Baboud et al. 2011, 5.2.2).
 
 use super::frame::{Frame, LocalField, RayClass};
 use super::options::RaySet;
@@ -78,14 +78,10 @@ impl SafetyTracer {
     /// [`SafetyTracer::admits`] for a ray already clipped to the bounding box.
     #[inline]
     fn admits_clipped(&self, world_ray: &Ray, clip: &Clip) -> bool {
-        let options = self.shapes.options();
-        if let Some(max_slope) = self.max_slope {
-            let d = world_ray.dir;
-            if d.z > max_slope * d.truncate().length() + 1e-12 * d.length() {
-                return false;
-            }
+        if self.max_slope.is_some_and(|max_slope| too_steep(world_ray.dir, max_slope)) {
+            return false;
         }
-        options.rays == RaySet::All || clip.face != BoxFace::Inside
+        self.shapes.options().rays == RaySet::All || clip.face != BoxFace::Inside
     }
 
     /// Refuses, with a reason, a view whose rays the shapes were not built for: `eye` and the
@@ -110,7 +106,7 @@ impl SafetyTracer {
         }
         if let Some(max_slope) = options.max_slope() {
             let phi = options.phi_max_deg.unwrap_or(90.0);
-            let steep = |d: DVec3| d.z > max_slope * d.truncate().length() + 1e-12 * d.length();
+            let steep = |d: DVec3| too_steep(d, max_slope);
             if directions.into_iter().any(steep) {
                 return Err(TraceError::ViewNotAdmitted(format!(
                     "the shapes admit rays at most {phi} degrees from horizontal, and this view \
@@ -129,7 +125,14 @@ impl SafetyTracer {
     }
 
     /// The first hit, marching with the shapes (the ray must be admitted and not vertical).
-    fn march(&self, world_ray: &Ray, ray: &CellRay, clip: &Clip, class: RayClass, steps: &mut u32) -> Option<Hit> {
+    fn march(
+        &self,
+        world_ray: &Ray,
+        ray: &CellRay,
+        clip: &Clip,
+        class: RayClass,
+        steps: &mut u32,
+    ) -> Option<Hit> {
         let frame = Frame::new(class, self.field.width(), self.field.height());
         let local = LocalField::new(frame, self.field.samples());
         let dir = frame.dir_to_local(ray.dir);
@@ -169,11 +172,11 @@ impl Tracer for SafetyTracer {
     }
 
     fn occluded_counted(&self, world_ray: &Ray, steps: &mut u32) -> bool {
-        if self.shapes.options().rays == RaySet::All {
+        if self.shapes.options().rays == RaySet::All && self.max_slope.is_none() {
             return self.intersect_counted(world_ray, steps).is_some();
         }
-        // Exterior shapes: a segment that runs out of the box is traced backwards from just
-        // outside it, like a shadow ray cast from the light.
+        // Exterior or phi-max shapes: a segment that runs out of the box is traced backwards
+        // from just outside it, like a shadow ray cast from the light (downwards, from outside).
         let ray = self.grid.to_cell_space(world_ray);
         let unbounded = CellRay { ray: Ray { t_max: f64::INFINITY, ..ray.ray }, ..ray };
         let Some(box_span) = self.grid.clip(&unbounded) else { return false };
@@ -196,6 +199,12 @@ impl Tracer for SafetyTracer {
         };
         self.intersect_counted(&back, steps).is_some()
     }
+}
+
+/// Whether direction `d` climbs more steeply than `max_slope` (rise over horizontal run).
+#[inline]
+fn too_steep(d: DVec3, max_slope: f64) -> bool {
+    d.z > max_slope * d.truncate().length() + 1e-12 * d.length()
 }
 
 /// One ray marching through a class's local frame (class `x+`: `dir.x > 0`).
@@ -242,7 +251,7 @@ impl Marching<'_> {
             lo += 1;
         }
         let dz = self.dir.z * self.inv_dir_x;
-        // The ray's (y, z, gap) at `lo` when it is known to be clearly above the surface there.
+        // The ray's (y, z, gap) at `lo`, when the previous step already computed it.
         let mut known = None;
         // The column before the final centerline is always tested or safely stepped over.
         while lo <= last && lo < width - 1 {
@@ -423,7 +432,8 @@ impl Marching<'_> {
         let grid = &self.tracer.grid;
         let (gx, gy) = self.frame.cell_to_grid(c, row);
         let seg = grid.segment(self.ray, self.clip, gx, gy);
-        let (t, normal) = grid.intersect_cell(self.tracer.field.samples(), self.ray, gx, gy, &seg)?;
+        let (t, normal) =
+            grid.intersect_cell(self.tracer.field.samples(), self.ray, gx, gy, &seg)?;
         Some(grid.world_hit(self.world_ray, t, normal))
     }
 
@@ -477,8 +487,15 @@ impl Marching<'_> {
             if ga > 0.0 && gb <= 0.0 {
                 let t = pair[0] + (pair[1] - pair[0]) * ga / (ga - gb);
                 let p = self.frame.point_to_local(self.ray.at(t));
-                let (gx, gy) = self.frame.cell_to_grid(c, (p.y.floor().max(0.0) as usize).min(self.local.height() - 2));
-                let normal = self.tracer.grid.triangle_normal(self.tracer.field.samples(), gx, gy, self.ray.at(t));
+                let (gx, gy) = self
+                    .frame
+                    .cell_to_grid(c, (p.y.floor().max(0.0) as usize).min(self.local.height() - 2));
+                let normal = self.tracer.grid.triangle_normal(
+                    self.tracer.field.samples(),
+                    gx,
+                    gy,
+                    self.ray.at(t),
+                );
                 return Some(self.tracer.grid.world_hit(self.world_ray, t, normal));
             }
         }
