@@ -9,6 +9,7 @@
 use super::dual::{HalfPlane, LineSet};
 use super::frame::LocalField;
 use relief_core::DVec3;
+use rayon::prelude::*;
 use std::sync::OnceLock;
 
 /// Rows per band of the blocker search's bounds.
@@ -116,8 +117,12 @@ pub struct LimitingTest<'a> {
     band_prefix_max: Vec<f64>,
     /// A height difference this small is treated as no difference when blocking.
     z_eps: f64,
-    /// Per triangle (`2 * (i + j * (width - 1)) + k`), its line set, built on first use.
+    /// Per triangle (`2 * (i + j * (width - 1)) + k`), its line set, built on first use
+    /// (exterior rays).
     cache: Vec<OnceLock<TriangleLines>>,
+    /// Per triangle, the slopes `dy/dx` within `[-1, 1]` along which its plane is admitted by
+    /// the viewing-angle bound (all rays with `phi_max`; an empty interval has start > end).
+    admitted: Vec<[(f64, f64); 2]>,
 }
 
 impl<'a> LimitingTest<'a> {
@@ -138,11 +143,31 @@ impl<'a> LimitingTest<'a> {
                 band_prefix_max[b * w + i] = top;
             }
         }
-        let needs_lines = exterior || slope.is_some();
-        let triangles = if needs_lines && w > 1 && h > 1 { 2 * (w - 1) * (h - 1) } else { 0 };
+        let triangles = if w > 1 && h > 1 { 2 * (w - 1) * (h - 1) } else { 0 };
+        let admitted = match &slope {
+            Some(bound) if !exterior => (0..triangles)
+                .into_par_iter()
+                .map(|t| {
+                    let (cell, k) = (t / 2, t % 2);
+                    let tri = field.cell_triangles(cell % (w - 1), cell / (w - 1))[k];
+                    let mut intervals = bound.admitted_slopes(&Plane::of(&tri));
+                    if intervals.len() > 2 {
+                        // Never expected; one covering interval only errs on the large side.
+                        intervals = vec![(intervals[0].0, intervals[intervals.len() - 1].1)];
+                    }
+                    let mut out = [(1.0, -1.0); 2];
+                    for (o, (w0, w1)) in out.iter_mut().zip(intervals) {
+                        *o = (w0.max(-1.0), w1.min(1.0));
+                    }
+                    out
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        let triangles = if exterior { triangles } else { 0 };
         let cache = (0..triangles).map(|_| OnceLock::new()).collect();
         let z_eps = 1e-9 * (1.0 + magnitude);
-        LimitingTest { field, exterior, slope, band_prefix_max, z_eps, cache }
+        LimitingTest { field, exterior, slope, band_prefix_max, z_eps, cache, admitted }
     }
 
     /// The local field.
@@ -152,15 +177,26 @@ impl<'a> LimitingTest<'a> {
 
     /// Whether triangle `k` (0 or 1) of local cell `(ci, cj)` is limiting for texel `(i, j)`.
     pub fn is_limiting(&self, i: usize, j: usize, ci: usize, cj: usize, k: usize) -> bool {
-        let tri = self.field.cell_triangles(ci, cj)[k];
-        let plane = Plane::of(&tri);
-        if !self.reachable_above(i, j, &tri, &plane) {
+        let index = 2 * (ci + cj * (self.field.width() - 1)) + k;
+        // All rays with a viewing-angle bound: a triangle whose plane no admitted direction lies
+        // in cannot be limiting.
+        let admitted = self.admitted.get(index);
+        if admitted.is_some_and(|intervals| intervals.iter().all(|s| s.0 > s.1)) {
             return false;
         }
-        if self.cache.is_empty() {
-            return true;
+        let tri = self.field.cell_triangles(ci, cj)[k];
+        let plane = Plane::of(&tri);
+        if !self.reachable_above(i, j, &tri, &plane, (-1.0, 1.0)) {
+            return false;
         }
-        let index = 2 * (ci + cj * (self.field.width() - 1)) + k;
+        if !self.exterior {
+            // All rays: only the viewing-angle bound can narrow the directions that reach T.
+            return admitted.is_none_or(|intervals| {
+                intervals.iter().any(|&slopes| {
+                    slopes.0 <= slopes.1 && self.reachable_above(i, j, &tri, &plane, slopes)
+                })
+            });
+        }
         let lines = self.cache[index].get_or_init(|| self.triangle_lines(ci, &tri, plane));
         self.limit_ray_exists(i, j, lines)
     }
@@ -168,13 +204,23 @@ impl<'a> LimitingTest<'a> {
     /// Section 6.1's test: some point of `s_tau` from which `x+` rays reach `T` lies strictly
     /// below `T`'s plane and strictly above the surface. Checking the ends of that part of
     /// `s_tau` and its middle sample suffices: the surface bends only there.
-    fn reachable_above(&self, i: usize, j: usize, tri: &[DVec3; 3], plane: &Plane) -> bool {
+    /// `slopes` bounds the rays' direction `dy/dx`: `(-1, 1)` is the whole class.
+    fn reachable_above(
+        &self,
+        i: usize,
+        j: usize,
+        tri: &[DVec3; 3],
+        plane: &Plane,
+        slopes: (f64, f64),
+    ) -> bool {
         let x = i as f64;
         let top = (self.field.height() - 1) as f64;
         let mut lo = (j as f64 - 0.5).max(0.0);
         let mut hi = (j as f64 + 0.5).min(top);
-        let reach_lo = tri.iter().map(|v| v.y - (v.x - x)).fold(f64::INFINITY, f64::min);
-        let reach_hi = tri.iter().map(|v| v.y + (v.x - x)).fold(f64::NEG_INFINITY, f64::max);
+        // From y, direction (1, w) meets vertex v when y = v.y - w (v.x - x), v.x >= x.
+        let (w0, w1) = slopes;
+        let reach_lo = tri.iter().map(|v| v.y - w1 * (v.x - x)).fold(f64::INFINITY, f64::min);
+        let reach_hi = tri.iter().map(|v| v.y - w0 * (v.x - x)).fold(f64::NEG_INFINITY, f64::max);
         lo = lo.max(reach_lo);
         hi = hi.min(reach_hi);
         if lo > hi {
