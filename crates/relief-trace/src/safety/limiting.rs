@@ -8,8 +8,8 @@
 
 use super::dual::{HalfPlane, LineSet};
 use super::frame::LocalField;
-use relief_core::DVec3;
 use rayon::prelude::*;
+use relief_core::DVec3;
 use std::sync::OnceLock;
 
 /// Rows per band of the blocker search's bounds.
