@@ -18,6 +18,31 @@ pub enum CoreError {
         /// The value found.
         value: f32,
     },
+    /// A multi-layered height map's cell has a layer count outside `1..=max`.
+    #[error("cell ({x}, {y}) of the MLHM has {count} columns, outside 1..={max}")]
+    MlhmLayerCount {
+        /// Cell column (x).
+        x: usize,
+        /// Cell row (y).
+        y: usize,
+        /// The layer count found.
+        count: usize,
+        /// The map's maximum layer count.
+        max: usize,
+    },
+    /// A column of a multi-layered height map breaks an invariant (a non-finite or negative
+    /// value, water above the ceiling, a ceiling above the next bedrock, a finite top ceiling).
+    #[error("cell ({x}, {y}), column {column} of the MLHM: {reason}")]
+    MlhmColumn {
+        /// Cell column (x).
+        x: usize,
+        /// Cell row (y).
+        y: usize,
+        /// Column index within the cell, 0 at the bottom.
+        column: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// A geometric parameter (spacing, scale, origin) is out of range.
     #[error("invalid {name}: {reason}")]
     Parameter {

@@ -2,6 +2,9 @@
 //!
 //! - [`HeightField`]: a grid of elevation samples with its georeference (spacing, origin, z scale);
 //! - [`Surface`]: how a height field's samples become a surface (`boxes` or `triangles`);
+//! - [`Mlhm`]: the multi-layered height map (cells of stacked [`MlhmColumn`]s of bedrock, sand,
+//!   water and air) in the reference layout, with its invariants and conservative f16
+//!   [`Precision`];
 //! - [`Ray`], [`Aabb`]: geometry used by the tracers;
 //! - [`Camera`]: the pinhole camera of relief's conventions, with automatic framing.
 //!
@@ -18,6 +21,7 @@ mod aabb;
 mod camera;
 mod error;
 mod height_field;
+mod mlhm;
 mod ray;
 mod surface;
 
@@ -25,6 +29,7 @@ pub use aabb::{Aabb, BoxFace, Clip};
 pub use camera::Camera;
 pub use error::CoreError;
 pub use height_field::{GridGeometry, HeightField};
+pub use mlhm::{Mlhm, MlhmColumn, Precision};
 pub use ray::Ray;
 pub use surface::Surface;
 

@@ -8,6 +8,9 @@
 //!   [`read_npz`] (NumPy), and [`read_npy_height_field`] for a plain `.npy` grid;
 //! - [`write_height_field`]: a height field by extension, through [`write_geotiff`],
 //!   [`write_hgt`], [`write_asc`], [`write_png16_height`] or [`write_height_field_npy`];
+//! - [`read_mlhm_scene`], [`write_mlhm_scene`]: multi-layered height map scenes of the
+//!   reference simulator (JSON settings and a zlib `.dat`, f32 or f16) as an [`MlhmScene`];
+//!   [`read_mlhm_scene_header`] for the JSON alone (a procedural scene has no `.dat`);
 //! - [`ReadOptions`]: the memory budget (refused before allocating), the `.npz` array, the PNG
 //!   encoding;
 //! - [`write_npy_f32`], [`write_height_field_npy`]: little-endian f32 `.npy` arrays (depth
@@ -39,6 +42,7 @@ mod geotiff_read;
 mod geotiff_write;
 mod hgt;
 mod input_file;
+mod mlhm_scene;
 mod npy_header;
 mod npy_raster;
 mod npy_read;
@@ -63,6 +67,10 @@ pub use geodesy::metres_per_degree;
 pub use geotiff_read::read_geotiff;
 pub use geotiff_write::write_geotiff;
 pub use hgt::{hgt_tile_corner, read_hgt, write_hgt, HGT_VOID};
+pub use mlhm_scene::{
+    parse_mlhm_scene_header, read_mlhm_scene, read_mlhm_scene_from_bytes, read_mlhm_scene_header,
+    write_mlhm_scene, MlhmScene, MlhmSceneHeader, SimulationState, F16_SLACK, F32_SLACK,
+};
 pub use npy_raster::read_npy;
 pub use npy_read::read_npy_height_field;
 pub use npy_write::{write_height_field_npy, write_npy_f32};
