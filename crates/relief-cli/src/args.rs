@@ -188,6 +188,36 @@ pub struct SafetyArgs {
 pub enum GenerateCommand {
     /// Seeded fractional Brownian motion mountains.
     Fbm(FbmArgs),
+    /// A multi-layered height map scene (the reference simulator's JSON + .dat).
+    Mlhm(MlhmArgs),
+}
+
+/// `relief generate mlhm`.
+#[derive(Debug, Args)]
+pub struct MlhmArgs {
+    /// Scene: rivers-rain (fBm hills on a slope, one column per cell), or a carved scene with
+    /// overhangs: arches, cave, chasm, overhangs, combined. Every scene is 256 m square.
+    #[arg(long, value_name = "NAME")]
+    pub scene: String,
+    /// Cells per side (the cell size is 256 m / N).
+    #[arg(long, value_name = "N")]
+    pub size: usize,
+    /// Seed of rivers-rain's noise (the carved scenes are fixed shapes).
+    #[arg(long, default_value_t = relief_sim::RIVERS_RAIN_SEED)]
+    pub seed: u64,
+    /// Column slots per cell, 1 to 127 (carved scenes need up to 4; fewer fills their
+    /// thinnest air gaps).
+    #[arg(long, default_value_t = 4, value_name = "L")]
+    pub max_layers: usize,
+    /// Store the values as f16 (rounded conservatively) instead of f32.
+    #[arg(long)]
+    pub half: bool,
+    /// Memory generation may take, e.g. 512M, 8G (default: half the machine's memory).
+    #[arg(long, value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
+    /// Output scene JSON; the .dat is written beside it with the same name.
+    #[arg(short, long)]
+    pub output: PathBuf,
 }
 
 /// `relief generate fbm`.

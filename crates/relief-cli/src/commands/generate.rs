@@ -1,12 +1,25 @@
 //! `relief generate`: write synthetic terrains.
 
 use super::check_output;
-use crate::args::FbmArgs;
+use crate::args::{FbmArgs, GenerateCommand, MlhmArgs};
 use crate::input;
-use anyhow::Result;
+use anyhow::{bail, Context, Result};
+use indicatif::ProgressBar;
+use relief_core::{Mlhm, Precision};
+use relief_io::MlhmScene;
+use relief_sim::{carved_scene, rivers_rain, CarvedScene};
+use std::time::Duration;
+
+/// Runs `relief generate fbm` or `relief generate mlhm`.
+pub fn run(command: &GenerateCommand) -> Result<()> {
+    match command {
+        GenerateCommand::Fbm(args) => run_fbm(args),
+        GenerateCommand::Mlhm(args) => run_mlhm(args),
+    }
+}
 
 /// Runs `relief generate fbm`.
-pub fn run(args: &FbmArgs) -> Result<()> {
+fn run_fbm(args: &FbmArgs) -> Result<()> {
     check_output(&args.output)?;
     let field = input::fbm(args.size, args.seed)?;
     relief_io::write_height_field_npy(&args.output, &field)?;
@@ -19,4 +32,131 @@ pub fn run(args: &FbmArgs) -> Result<()> {
         field.max_sample()
     );
     Ok(())
+}
+
+/// The scenes `relief generate mlhm` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum MlhmSceneName {
+    /// The reference simulator's procedural RiversRain.
+    RiversRain,
+    /// One of relief's carved scenes.
+    Carved(CarvedScene),
+}
+
+impl MlhmSceneName {
+    /// Parses `rivers-rain` or a carved scene's name; the error lists every name.
+    fn parse(name: &str) -> Result<Self> {
+        if name.eq_ignore_ascii_case("rivers-rain") {
+            return Ok(MlhmSceneName::RiversRain);
+        }
+        match name.parse() {
+            Ok(scene) => Ok(MlhmSceneName::Carved(scene)),
+            Err(_) => bail!(
+                "unknown scene '{name}': expected rivers-rain, {}",
+                CarvedScene::ALL.map(CarvedScene::name).join(", ")
+            ),
+        }
+    }
+}
+
+/// Column slots from which writing takes seconds and a spinner is shown (on a terminal).
+const LONG_WRITE_SLOTS: usize = 1 << 24;
+
+/// Largest number of layers the scene format's int8 layer counts hold.
+const MAX_FILE_LAYERS: usize = 127;
+
+/// Bytes per column slot while a scene is generated and written: the columns (16), a zero
+/// simulation state the writer makes (28), and in half precision the rounded copy (16).
+fn bytes_per_slot(half: bool) -> u64 {
+    16 + 28 + if half { 16 } else { 0 }
+}
+
+/// Runs `relief generate mlhm`.
+fn run_mlhm(args: &MlhmArgs) -> Result<()> {
+    let scene = MlhmSceneName::parse(&args.scene)?;
+    if !(1..=MAX_FILE_LAYERS).contains(&args.max_layers) {
+        bail!("--max-layers {} is outside 1..={MAX_FILE_LAYERS}", args.max_layers);
+    }
+    check_memory(args)?;
+    check_output(&args.output)?;
+    let started = std::time::Instant::now();
+    let map = match scene {
+        MlhmSceneName::RiversRain => rivers_rain(args.size, args.max_layers, args.seed),
+        MlhmSceneName::Carved(carved) => carved_scene(carved, args.size, args.max_layers),
+    }
+    .with_context(|| format!("generating the {} scene", args.scene))?;
+    let generated = started.elapsed();
+    let mut out = MlhmScene::new(map);
+    if args.half {
+        out.precision = Precision::F16;
+    }
+    let slots = out.mlhm.raw_columns().len();
+    let spinner = (slots >= LONG_WRITE_SLOTS).then(|| {
+        let spinner = ProgressBar::new_spinner();
+        spinner.set_message(format!("writing {}", args.output.display()));
+        spinner.enable_steady_tick(Duration::from_millis(200));
+        spinner
+    });
+    let written = relief_io::write_mlhm_scene(&args.output, &out);
+    if let Some(spinner) = spinner {
+        spinner.finish_and_clear();
+    }
+    written?;
+    eprintln!(
+        "wrote {} ({} x {} cells of {} m, {}; generated in {:.0} ms)",
+        args.output.display(),
+        out.mlhm.width(),
+        out.mlhm.height(),
+        out.mlhm.cell_size(),
+        layer_summary(&out.mlhm),
+        generated.as_secs_f64() * 1e3
+    );
+    Ok(())
+}
+
+/// Refuses a size of 0 or one whose scene would not fit the memory budget, before allocating.
+fn check_memory(args: &MlhmArgs) -> Result<()> {
+    if args.size == 0 {
+        bail!("--size 0: a scene needs at least 1 x 1 cells");
+    }
+    let (limit, origin) = match args.max_memory {
+        Some(limit) => (limit, "--max-memory"),
+        None => (relief_io::default_memory_limit(), "half the machine's memory"),
+    };
+    let cells = (args.size as u128).pow(2);
+    let needed = cells * (1 + args.max_layers as u128 * u128::from(bytes_per_slot(args.half)));
+    if needed > u128::from(limit) {
+        bail!(
+            "a {0}x{0} scene with {1} layers needs {2} MiB, over the {3} MiB memory limit ({origin})",
+            args.size,
+            args.max_layers,
+            needed >> 20,
+            limit >> 20
+        );
+    }
+    Ok(())
+}
+
+/// How many cells hold more than one column, e.g. "12034 cells with 2+ columns, at most 3".
+fn layer_summary(map: &Mlhm) -> String {
+    let counts = map.layer_counts();
+    let layered = counts.iter().filter(|&&n| n >= 2).count();
+    let most = counts.iter().copied().max().unwrap_or(0);
+    format!("{layered} cells with 2+ columns, at most {most}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scene_names_parse_and_unknown_ones_list_the_choices() {
+        assert_eq!(MlhmSceneName::parse("rivers-rain").unwrap(), MlhmSceneName::RiversRain);
+        assert_eq!(
+            MlhmSceneName::parse("chasm").unwrap(),
+            MlhmSceneName::Carved(CarvedScene::Chasm)
+        );
+        let err = MlhmSceneName::parse("volcano").unwrap_err().to_string();
+        assert!(err.contains("rivers-rain, arches, cave, chasm, overhangs, combined"), "{err}");
+    }
 }

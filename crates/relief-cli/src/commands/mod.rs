@@ -6,7 +6,7 @@ mod generate;
 mod info;
 mod render;
 
-use crate::args::{Cli, Command, GenerateCommand};
+use crate::args::{Cli, Command};
 use anyhow::{bail, Result};
 use std::path::Path;
 
@@ -14,7 +14,7 @@ use std::path::Path;
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render(args) => render::run(&args),
-        Command::Generate(GenerateCommand::Fbm(args)) => generate::run(&args),
+        Command::Generate(command) => generate::run(&command),
         Command::Info(args) => info::run(&args),
         Command::Convert(args) => convert::run(&args),
         Command::Bench(args) => bench::run(&args),
