@@ -2,14 +2,17 @@
 //!
 //! Every tracer implements [`Tracer`]: `intersect` finds the first point of a ray inside the
 //! terrain's solid, `occluded` answers whether there is any (for shadow rays). Tracers of a
-//! [`relief_core::HeightField`]:
+//! [`relief_core::HeightField`], all exact and agreeing with each other to rounding:
 //!
 //! - [`NaiveTracer`]: cell-by-cell traversal (Amanatides-Woo), the reference;
 //! - [`MipmapTracer`]: max-mipmap quadtree traversal (Dick et al. 2009, section 3.2);
 //! - [`SafetyTracer`]: marching with precomputed safety shapes, for static terrain and the
 //!   `triangles` surface (Baboud et al. 2011; see [`safety`]).
 //!
-//! Both are exact for both [`relief_core::Surface`]s and agree with each other to rounding.
+//! And of a multi-layered height map ([`relief_core::Mlhm`]):
+//!
+//! - [`MlhmNaiveTracer`]: box ray tracing by a 2D DDA over its cells, in the three
+//!   [`MlhmMode`]s (Nilles & Müller 2025, 4.1).
 //!
 //! ```
 //! use std::sync::Arc;
@@ -26,6 +29,8 @@ mod cell_grid;
 mod error;
 mod max_mipmap;
 mod mipmap_tracer;
+mod mlhm_box;
+mod mlhm_naive;
 mod naive_tracer;
 pub mod safety;
 mod tracer;
@@ -34,6 +39,8 @@ pub use cell_grid::{CellGrid, CellRay, Entry, Segment};
 pub use error::TraceError;
 pub use max_mipmap::MaxMipmap;
 pub use mipmap_tracer::MipmapTracer;
+pub use mlhm_box::{MlhmMaterial, MlhmMode};
+pub use mlhm_naive::{MlhmHit, MlhmNaiveTracer};
 pub use naive_tracer::NaiveTracer;
 pub use safety::{SafetyOptions, SafetyShapes, SafetyTracer};
 pub use tracer::{build_tracer, Hit, Tracer, TracerKind};

@@ -1,0 +1,409 @@
+//! The baseline MLHM box ray tracer: a 2D DDA over every cell of level 0, testing each cell's
+//! column boxes exactly (Nilles & Müller 2025, section 4.1).
+
+use crate::mlhm_box::{for_each_box, BoxEntry, Layer};
+use crate::{Hit, MlhmMaterial, MlhmMode, Tracer};
+use relief_core::{Aabb, BoxFace, Clip, DVec2, DVec3, Mlhm, Ray, Surface};
+use std::sync::Arc;
+
+/// The first hit of a ray with an MLHM's boxes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MlhmHit {
+    /// Parameter, world position and the unit normal of the face hit, facing against the ray
+    /// (top `+z`, bottom `-z`, or a side `+-x`, `+-y`); a ray that starts inside gets the
+    /// reversed, normalised ray direction and `t` = its `t_min`.
+    pub hit: Hit,
+    /// The material at the hit.
+    pub material: MlhmMaterial,
+    /// The cell `(x, y)` hit.
+    pub cell: (usize, usize),
+    /// The column of that cell the material belongs to (for air: the column whose air it is,
+    /// the one below the air).
+    pub column: usize,
+}
+
+/// Naive box ray tracing of an [`Mlhm`]: the ray is clipped to the scene's box, then walks the
+/// cells it crosses in order (Amanatides-Woo 2D DDA) and, in each, slab-tests the boxes of the
+/// cell's columns over the ray's parameter range inside the cell; the first cell with a hit
+/// holds the first hit, since columns are exactly as wide as their cell.
+///
+/// Placement: cell `(x, y)` covers world `[ox + x s, ox + (x + 1) s) x [oy + y s, oy + (y + 1) s)`
+/// with `(ox, oy)` the [`origin`](MlhmNaiveTracer::origin) (the grid's south-west corner) and
+/// `s` the map's cell size; heights are world z in metres, unscaled. The tracer works in cell
+/// space, `((x - ox) / s, (y - oy) / s, z)`, which keeps `t`.
+///
+/// Cells are half-open, as a height field's texels: a ray running exactly within a cell
+/// boundary plane (say `dir.x = 0` with `x` on a boundary) is traced in the cell east (north)
+/// of it only, as [`NaiveTracer`](crate::NaiveTracer) does.
+///
+/// Exact for every [`MlhmMode`]; its cost grows linearly with the cells crossed. As a
+/// [`Tracer`] it intersects its default mode ([`MlhmNaiveTracer::with_mode`]).
+///
+/// ```
+/// use std::sync::Arc;
+/// use relief_core::{DVec2, DVec3, Mlhm, MlhmColumn, Ray};
+/// use relief_trace::{MlhmMaterial, MlhmMode, MlhmNaiveTracer};
+/// let mut map = Mlhm::new(1, 1, 2, 1.0)?;
+/// // Ground of bedrock to 1 m under 1 m of water; a rock slab from 3 m to 4 m above.
+/// let ground = MlhmColumn::new(1.0, 0.0, 1.0, 3.0);
+/// map.set_cell(0, 0, &[ground, MlhmColumn::new(4.0, 0.0, 0.0, f32::INFINITY)])?;
+/// let tracer = MlhmNaiveTracer::new(Arc::new(map), DVec2::ZERO);
+/// // A ray under the overhang, going down, meets the water at 2 m...
+/// let down = Ray::new(DVec3::new(0.5, 0.5, 2.5), -DVec3::Z);
+/// let hit = tracer.intersect_mode(&down, MlhmMode::SolidsWater).unwrap();
+/// assert_eq!((hit.hit.t, hit.material), (0.5, MlhmMaterial::Water));
+/// // ...and, ignoring water, the bedrock at 1 m.
+/// assert_eq!(tracer.intersect_mode(&down, MlhmMode::Solids).unwrap().hit.t, 1.5);
+/// // A ray inside the water going up leaves it at 2 m, into air.
+/// let up = Ray::new(DVec3::new(0.5, 0.5, 1.5), DVec3::Z);
+/// let out = tracer.intersect_mode(&up, MlhmMode::SolidsAir).unwrap();
+/// assert_eq!((out.hit.t, out.material), (0.5, MlhmMaterial::Air));
+/// # Ok::<(), relief_core::CoreError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct MlhmNaiveTracer {
+    map: Arc<Mlhm>,
+    origin: DVec2,
+    mode: MlhmMode,
+    /// Highest solid top and highest water top over the map.
+    solid_max: f64,
+    water_max: f64,
+}
+
+impl MlhmNaiveTracer {
+    /// A tracer of `map` with its south-west corner at world `origin`, intersecting
+    /// [`MlhmMode::SolidsWater`] as a [`Tracer`].
+    pub fn new(map: Arc<Mlhm>, origin: DVec2) -> Self {
+        let (mut solid_max, mut water_max) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for y in 0..map.height() {
+            for x in 0..map.width() {
+                for c in map.cell_columns(x, y) {
+                    solid_max = solid_max.max(c.solid_top() as f64);
+                    water_max = water_max.max(c.water_top() as f64);
+                }
+            }
+        }
+        MlhmNaiveTracer { map, origin, mode: MlhmMode::SolidsWater, solid_max, water_max }
+    }
+
+    /// The same tracer intersecting `mode` when used as a [`Tracer`].
+    pub fn with_mode(self, mode: MlhmMode) -> Self {
+        MlhmNaiveTracer { mode, ..self }
+    }
+
+    /// The map traced.
+    pub fn map(&self) -> &Arc<Mlhm> {
+        &self.map
+    }
+
+    /// World `(x, y)` of the grid's south-west corner.
+    pub fn origin(&self) -> DVec2 {
+        self.origin
+    }
+
+    /// The mode intersected as a [`Tracer`].
+    pub fn mode(&self) -> MlhmMode {
+        self.mode
+    }
+
+    /// The scene's box in world space for `mode`: the footprint, from minus infinity (the
+    /// lowest columns reach down forever) up to the highest box top (`+inf` for
+    /// [`MlhmMode::SolidsAir`]).
+    pub fn world_bounds(&self, mode: MlhmMode) -> Aabb {
+        let s = self.map.cell_size();
+        let size = DVec2::new(self.map.width() as f64, self.map.height() as f64) * s;
+        let top = match mode {
+            MlhmMode::Solids => self.solid_max,
+            MlhmMode::SolidsWater => self.water_max,
+            MlhmMode::SolidsAir => f64::INFINITY,
+        };
+        Aabb::new(self.origin.extend(f64::NEG_INFINITY), (self.origin + size).extend(top))
+    }
+
+    /// The first hit of `ray` with the boxes of `mode`.
+    pub fn intersect_mode(&self, ray: &Ray, mode: MlhmMode) -> Option<MlhmHit> {
+        self.intersect_mode_counted(ray, mode, &mut 0)
+    }
+
+    /// Whether `ray` meets a box of `mode` within its range (for shadow rays).
+    pub fn occluded_mode(&self, ray: &Ray, mode: MlhmMode) -> bool {
+        self.intersect_mode(ray, mode).is_some()
+    }
+
+    /// As [`MlhmNaiveTracer::intersect_mode`], counting the cells visited into `steps`.
+    ///
+    /// Returns `None`, never panics, for rays with a non-finite origin or direction, a zero
+    /// direction or an empty or NaN range.
+    pub fn intersect_mode_counted(
+        &self,
+        world_ray: &Ray,
+        mode: MlhmMode,
+        steps: &mut u32,
+    ) -> Option<MlhmHit> {
+        let ray = self.to_cell_space(world_ray)?;
+        let inv = DVec3::ONE / ray.dir;
+        let (w, h) = (self.map.width(), self.map.height());
+        let top = self.world_bounds(mode).max.z;
+        let bounds =
+            Aabb::new(DVec3::new(0.0, 0.0, f64::NEG_INFINITY), DVec3::new(w as f64, h as f64, top));
+        let clip = bounds.clip(&ray)?;
+        let (mut cx, mut cy) = (
+            axis_cell(ray.origin.x, ray.dir.x, inv.x, clip.t_enter, w),
+            axis_cell(ray.origin.y, ray.dir.y, inv.y, clip.t_enter, h),
+        );
+        let (step_x, step_y) = (ray.dir.x.signum() as isize, ray.dir.y.signum() as isize);
+        loop {
+            *steps = steps.saturating_add(1);
+            let seg = segment(&ray, inv, &clip, cx, cy);
+            if let Some(hit) = self.intersect_cell(world_ray, &ray, inv, mode, cx, cy, &seg) {
+                return Some(hit);
+            }
+            let t_next = seg.t_next_x.min(seg.t_next_y);
+            if t_next >= clip.t_exit || t_next.is_nan() {
+                return None;
+            }
+            // Through a corner, step both axes at once.
+            if seg.t_next_x == t_next {
+                cx = cx.checked_add_signed(step_x).filter(|&c| c < w)?;
+            }
+            if seg.t_next_y == t_next {
+                cy = cy.checked_add_signed(step_y).filter(|&c| c < h)?;
+            }
+        }
+    }
+
+    /// The world ray in cell space, or `None` when it cannot be traced.
+    fn to_cell_space(&self, ray: &Ray) -> Option<Ray> {
+        let inv_s = 1.0 / self.map.cell_size();
+        let scale = DVec3::new(inv_s, inv_s, 1.0);
+        let cell = Ray {
+            origin: (ray.origin - self.origin.extend(0.0)) * scale,
+            dir: ray.dir * scale,
+            ..*ray
+        };
+        let ok = cell.origin.is_finite()
+            && cell.dir.is_finite()
+            && cell.dir != DVec3::ZERO
+            && (0..3).all(|a| cell.dir[a] == 0.0 || (1.0 / cell.dir[a]).is_finite())
+            && ray.t_min <= ray.t_max
+            && !ray.t_min.is_nan();
+        ok.then_some(cell)
+    }
+
+    /// The first hit with the boxes of cell `(cx, cy)` within `seg`.
+    #[allow(clippy::too_many_arguments)]
+    fn intersect_cell(
+        &self,
+        world_ray: &Ray,
+        ray: &Ray,
+        inv: DVec3,
+        mode: MlhmMode,
+        cx: usize,
+        cy: usize,
+        seg: &Segment,
+    ) -> Option<MlhmHit> {
+        if seg.t_enter > seg.t_exit || seg.t_enter.is_nan() || seg.t_exit.is_nan() {
+            return None;
+        }
+        let mut best: Option<(f64, BoxEntry, Layer)> = None;
+        for_each_box(&self.map, cx, cy, mode, |b| {
+            if let Some((t, entry)) =
+                b.slab(ray.origin.z, ray.dir.z, inv.z, seg.t_enter, seg.t_exit)
+            {
+                if best.is_none_or(|(bt, _, _)| t < bt) {
+                    let z = (ray.origin.z + t * ray.dir.z).clamp(b.bottom, b.top());
+                    best = Some((t, entry, b.layer_at(entry, z)));
+                }
+            }
+            false
+        });
+        let (t, entry, layer) = best?;
+        let normal = match entry {
+            BoxEntry::Top => DVec3::Z,
+            BoxEntry::Bottom => -DVec3::Z,
+            BoxEntry::Segment => match seg.entry {
+                None => -world_ray.dir.normalize(),
+                Some(axis) => {
+                    let mut n = DVec3::ZERO;
+                    n[axis] = -ray.dir[axis].signum();
+                    n
+                }
+            },
+        };
+        Some(MlhmHit {
+            hit: Hit { t, position: world_ray.at(t), normal },
+            material: layer.material,
+            cell: (cx, cy),
+            column: layer.column,
+        })
+    }
+}
+
+impl Tracer for MlhmNaiveTracer {
+    fn name(&self) -> &'static str {
+        "mlhm-naive"
+    }
+
+    /// MLHM columns are flat-topped boxes.
+    fn surface(&self) -> Surface {
+        Surface::Boxes
+    }
+
+    fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
+        self.intersect_mode_counted(ray, self.mode, steps).map(|h| h.hit)
+    }
+}
+
+/// A cell's part of the clipped ray.
+#[derive(Debug, Clone, Copy)]
+struct Segment {
+    t_enter: f64,
+    t_exit: f64,
+    t_next_x: f64,
+    t_next_y: f64,
+    /// The horizontal axis whose face the ray enters through at `t_enter`; `None` when it
+    /// starts inside the scene box (or enters it through its top).
+    entry: Option<usize>,
+}
+
+/// The part of the clipped ray inside cell `(cx, cy)`, from the cell's integer bounds.
+#[inline]
+fn segment(ray: &Ray, inv: DVec3, clip: &Clip, cx: usize, cy: usize) -> Segment {
+    let (x_in, x_out) = axis_span(ray.origin.x, ray.dir.x, inv.x, cx as f64);
+    let (y_in, y_out) = axis_span(ray.origin.y, ray.dir.y, inv.y, cy as f64);
+    let mut t_enter = clip.t_enter;
+    let mut entry = match clip.face {
+        BoxFace::X => Some(0),
+        BoxFace::Y => Some(1),
+        BoxFace::Inside | BoxFace::Z => None,
+    };
+    if x_in > t_enter {
+        t_enter = x_in;
+        entry = Some(0);
+    }
+    if y_in > t_enter {
+        t_enter = y_in;
+        entry = Some(1);
+    }
+    let t_exit = clip.t_exit.min(x_out).min(y_out);
+    Segment { t_enter, t_exit, t_next_x: x_out, t_next_y: y_out, entry }
+}
+
+/// The index along one axis of the cell whose span along the ray holds `t` (half-open cells,
+/// clamped into `0..cells`), chosen so that the cell's own bounds put `t` inside its span.
+#[inline]
+fn axis_cell(o: f64, d: f64, inv: f64, t: f64, cells: usize) -> usize {
+    // Truncation is the floor for non-negative values; NaN and negatives go to cell 0.
+    let v = o + t * d;
+    let c = if v >= 0.0 { (v as usize).min(cells - 1) } else { 0 };
+    let (t_in, t_out) = axis_span(o, d, inv, c as f64);
+    let towards_low = if d > 0.0 { t_in > t } else { t_out < t };
+    let towards_high = if d > 0.0 { t_out < t } else { t_in > t };
+    if d != 0.0 && towards_low && c > 0 {
+        c - 1
+    } else if d != 0.0 && towards_high && c + 1 < cells {
+        c + 1
+    } else {
+        c
+    }
+}
+
+/// Parameters where a ray enters and leaves the slab `[lo, lo + 1]` along one axis.
+#[inline]
+fn axis_span(o: f64, d: f64, inv: f64, lo: f64) -> (f64, f64) {
+    if d > 0.0 {
+        ((lo - o) * inv, (lo + 1.0 - o) * inv)
+    } else if d < 0.0 {
+        ((lo + 1.0 - o) * inv, (lo - o) * inv)
+    } else {
+        (f64::NEG_INFINITY, f64::INFINITY)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_core::MlhmColumn;
+
+    const INF: f32 = f32::INFINITY;
+
+    /// Two cells: (0, 0) flat ground at 1 m; (1, 0) ground at 1 m with a rock from 2 m to 3 m.
+    fn overhang() -> MlhmNaiveTracer {
+        let mut map = Mlhm::new(2, 1, 2, 2.0).unwrap();
+        map.set_cell(0, 0, &[MlhmColumn::new(1.0, 0.0, 0.0, INF)]).unwrap();
+        map.set_cell(
+            1,
+            0,
+            &[MlhmColumn::new(0.5, 0.5, 0.0, 2.0), MlhmColumn::new(2.5, 0.5, 0.0, INF)],
+        )
+        .unwrap();
+        MlhmNaiveTracer::new(Arc::new(map), DVec2::new(10.0, 20.0))
+    }
+
+    #[test]
+    fn horizontal_ray_under_the_overhang_passes_and_above_hits_its_side() {
+        let t = overhang();
+        let under = Ray::new(DVec3::new(9.0, 21.0, 1.5), DVec3::X);
+        assert_eq!(t.intersect_mode(&under, MlhmMode::Solids), None);
+        let at_rock = Ray::new(DVec3::new(9.0, 21.0, 2.5), DVec3::X);
+        let hit = t.intersect_mode(&at_rock, MlhmMode::Solids).unwrap();
+        assert_eq!((hit.hit.t, hit.hit.normal, hit.cell, hit.column), (3.0, -DVec3::X, (1, 0), 1));
+        assert_eq!(hit.material, MlhmMaterial::Bedrock);
+    }
+
+    #[test]
+    fn rays_from_the_cave_hit_its_ceiling_and_floor() {
+        let t = overhang();
+        let up = Ray::new(DVec3::new(13.0, 21.0, 1.5), DVec3::Z);
+        let hit = t.intersect_mode(&up, MlhmMode::SolidsWater).unwrap();
+        assert_eq!((hit.hit.t, hit.hit.normal), (0.5, -DVec3::Z));
+        let down = Ray::new(DVec3::new(13.0, 21.0, 1.5), -DVec3::Z);
+        let hit = t.intersect_mode(&down, MlhmMode::SolidsWater).unwrap();
+        assert_eq!((hit.hit.t, hit.hit.normal, hit.material), (0.5, DVec3::Z, MlhmMaterial::Sand));
+        let inside = Ray::new(DVec3::new(13.0, 21.0, 0.25), DVec3::new(1.0, 0.0, 1.0));
+        let hit = t.intersect_mode(&inside, MlhmMode::Solids).unwrap();
+        assert_eq!((hit.hit.t, hit.material), (0.0, MlhmMaterial::Bedrock));
+    }
+
+    #[test]
+    fn rays_on_cell_boundaries_take_the_half_open_cell() {
+        let t = overhang();
+        // x = 12 is the boundary between cell 0 (ground at 1 m) and cell 1 (sand to 1 m,
+        // rock from 2 m to 3 m).
+        let down = Ray::new(DVec3::new(12.0, 21.0, 5.0), -DVec3::Z);
+        let hit = t.intersect_mode(&down, MlhmMode::Solids).unwrap();
+        assert_eq!((hit.hit.t, hit.cell, hit.column), (2.0, (1, 0), 1));
+        // Along the southern edge of the grid, eastwards at 2.5 m: the rock's west face.
+        let east = Ray::new(DVec3::new(10.0, 20.0, 2.5), DVec3::X);
+        let hit = t.intersect_mode(&east, MlhmMode::SolidsWater).unwrap();
+        assert_eq!((hit.hit.t, hit.hit.normal), (2.0, -DVec3::X));
+        for mode in MlhmMode::ALL {
+            assert_eq!(mode.name().parse::<MlhmMode>(), Ok(mode));
+        }
+        assert!("water".parse::<MlhmMode>().is_err());
+    }
+
+    #[test]
+    fn degenerate_rays_miss_without_panicking() {
+        let t = overhang();
+        let nan = f64::NAN;
+        for ray in [
+            Ray::new(DVec3::new(nan, 0.0, 0.0), DVec3::Z),
+            Ray::new(DVec3::ZERO, DVec3::ZERO),
+            Ray::new(DVec3::ZERO, DVec3::new(f64::INFINITY, 0.0, 0.0)),
+            Ray::new(DVec3::new(11.0, 21.0, 5.0), -DVec3::Z).with_range(nan, 1.0),
+            Ray::new(DVec3::new(11.0, 21.0, 5.0), -DVec3::Z).with_range(2.0, 1.0),
+        ] {
+            for mode in MlhmMode::ALL {
+                assert_eq!(t.intersect_mode(&ray, mode), None, "{ray:?}");
+            }
+        }
+        // Huge values lose all precision but must not panic.
+        let huge = Ray::new(DVec3::splat(1e308), DVec3::splat(-1e308));
+        let tiny = Ray::new(DVec3::new(10.0, 21.0, 5.0), DVec3::new(1e-320, 0.0, -1.0));
+        for mode in MlhmMode::ALL {
+            let _ = t.intersect_mode(&huge, mode);
+            assert_eq!(t.intersect_mode(&tiny, mode), None, "{mode}");
+        }
+    }
+}
