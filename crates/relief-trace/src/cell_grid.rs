@@ -379,7 +379,7 @@ fn outer_entry(face: BoxFace) -> Entry {
 
 /// The index along one axis of the cell whose span along the ray holds `t`.
 #[inline]
-fn axis_cell(o: f64, d: f64, inv: f64, t: f64, cells: usize) -> usize {
+pub(crate) fn axis_cell(o: f64, d: f64, inv: f64, t: f64, cells: usize) -> usize {
     // Truncation is the floor for non-negative values; NaN and negatives go to cell 0.
     let v = o + t * d;
     let c = if v >= 0.0 { (v as usize).min(cells - 1) } else { 0 };
@@ -397,7 +397,7 @@ fn axis_cell(o: f64, d: f64, inv: f64, t: f64, cells: usize) -> usize {
 
 /// Parameters where a ray enters and leaves the slab `[lo, lo + 1]` along one axis.
 #[inline]
-fn axis_span(o: f64, d: f64, inv: f64, lo: f64) -> (f64, f64) {
+pub(crate) fn axis_span(o: f64, d: f64, inv: f64, lo: f64) -> (f64, f64) {
     if d > 0.0 {
         ((lo - o) * inv, (lo + 1.0 - o) * inv)
     } else if d < 0.0 {

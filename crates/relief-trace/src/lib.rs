@@ -12,7 +12,10 @@
 //! And of a multi-layered height map ([`relief_core::Mlhm`]):
 //!
 //! - [`MlhmNaiveTracer`]: box ray tracing by a 2D DDA over its cells, in the three
-//!   [`MlhmMode`]s (Nilles & Müller 2025, 4.1).
+//!   [`MlhmMode`]s (Nilles & Müller 2025, 4.1);
+//! - [`MlhmHierarchyTracer`]: the same hits through an [`MlhmHierarchy`] of conservative
+//!   node bounds, a 2D DDA per level climbing back by an exit stack or a miss counter
+//!   ([`MlhmBacktrack`]; Nilles & Müller 2025, 4.2).
 //!
 //! ```
 //! use std::sync::Arc;
@@ -30,6 +33,9 @@ mod error;
 mod max_mipmap;
 mod mipmap_tracer;
 mod mlhm_box;
+mod mlhm_cells;
+mod mlhm_hierarchy;
+mod mlhm_hierarchy_tracer;
 mod mlhm_naive;
 mod naive_tracer;
 pub mod safety;
@@ -40,6 +46,8 @@ pub use error::TraceError;
 pub use max_mipmap::MaxMipmap;
 pub use mipmap_tracer::MipmapTracer;
 pub use mlhm_box::{MlhmMaterial, MlhmMode};
+pub use mlhm_hierarchy::{MlhmHierarchy, MlhmNodeLayer, MAX_HIERARCHY_LEVELS};
+pub use mlhm_hierarchy_tracer::{MlhmBacktrack, MlhmHierarchyTracer};
 pub use mlhm_naive::{MlhmHit, MlhmNaiveTracer};
 pub use naive_tracer::NaiveTracer;
 pub use safety::{SafetyOptions, SafetyShapes, SafetyTracer};

@@ -1,9 +1,10 @@
 //! The baseline MLHM box ray tracer: a 2D DDA over every cell of level 0, testing each cell's
 //! column boxes exactly (Nilles & Müller 2025, section 4.1).
 
-use crate::mlhm_box::{for_each_box, BoxEntry, Layer};
+use crate::cell_grid::axis_cell;
+use crate::mlhm_cells::{first_hit_in_cell, ray_to_cells, segment};
 use crate::{Hit, MlhmMaterial, MlhmMode, Tracer};
-use relief_core::{Aabb, BoxFace, Clip, DVec2, DVec3, Mlhm, Ray, Surface};
+use relief_core::{Aabb, DVec2, DVec3, Mlhm, Ray, Surface};
 use std::sync::Arc;
 
 /// The first hit of a ray with an MLHM's boxes.
@@ -155,7 +156,9 @@ impl MlhmNaiveTracer {
         loop {
             *steps = steps.saturating_add(1);
             let seg = segment(&ray, inv, &clip, cx, cy);
-            if let Some(hit) = self.intersect_cell(world_ray, &ray, inv, mode, cx, cy, &seg) {
+            if let Some(hit) =
+                first_hit_in_cell(&self.map, world_ray, &ray, inv, mode, cx, cy, &seg)
+            {
                 return Some(hit);
             }
             let t_next = seg.t_next_x.min(seg.t_next_y);
@@ -174,68 +177,7 @@ impl MlhmNaiveTracer {
 
     /// The world ray in cell space, or `None` when it cannot be traced.
     fn to_cell_space(&self, ray: &Ray) -> Option<Ray> {
-        let inv_s = 1.0 / self.map.cell_size();
-        let scale = DVec3::new(inv_s, inv_s, 1.0);
-        let cell = Ray {
-            origin: (ray.origin - self.origin.extend(0.0)) * scale,
-            dir: ray.dir * scale,
-            ..*ray
-        };
-        let ok = cell.origin.is_finite()
-            && cell.dir.is_finite()
-            && cell.dir != DVec3::ZERO
-            && (0..3).all(|a| cell.dir[a] == 0.0 || (1.0 / cell.dir[a]).is_finite())
-            && ray.t_min <= ray.t_max
-            && !ray.t_min.is_nan();
-        ok.then_some(cell)
-    }
-
-    /// The first hit with the boxes of cell `(cx, cy)` within `seg`.
-    #[allow(clippy::too_many_arguments)]
-    fn intersect_cell(
-        &self,
-        world_ray: &Ray,
-        ray: &Ray,
-        inv: DVec3,
-        mode: MlhmMode,
-        cx: usize,
-        cy: usize,
-        seg: &Segment,
-    ) -> Option<MlhmHit> {
-        if seg.t_enter > seg.t_exit || seg.t_enter.is_nan() || seg.t_exit.is_nan() {
-            return None;
-        }
-        let mut best: Option<(f64, BoxEntry, Layer)> = None;
-        for_each_box(&self.map, cx, cy, mode, |b| {
-            if let Some((t, entry)) =
-                b.slab(ray.origin.z, ray.dir.z, inv.z, seg.t_enter, seg.t_exit)
-            {
-                if best.is_none_or(|(bt, _, _)| t < bt) {
-                    let z = (ray.origin.z + t * ray.dir.z).clamp(b.bottom, b.top());
-                    best = Some((t, entry, b.layer_at(entry, z)));
-                }
-            }
-            false
-        });
-        let (t, entry, layer) = best?;
-        let normal = match entry {
-            BoxEntry::Top => DVec3::Z,
-            BoxEntry::Bottom => -DVec3::Z,
-            BoxEntry::Segment => match seg.entry {
-                None => -world_ray.dir.normalize(),
-                Some(axis) => {
-                    let mut n = DVec3::ZERO;
-                    n[axis] = -ray.dir[axis].signum();
-                    n
-                }
-            },
-        };
-        Some(MlhmHit {
-            hit: Hit { t, position: world_ray.at(t), normal },
-            material: layer.material,
-            cell: (cx, cy),
-            column: layer.column,
-        })
+        ray_to_cells(&self.map, self.origin, ray)
     }
 }
 
@@ -251,72 +193,6 @@ impl Tracer for MlhmNaiveTracer {
 
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
         self.intersect_mode_counted(ray, self.mode, steps).map(|h| h.hit)
-    }
-}
-
-/// A cell's part of the clipped ray.
-#[derive(Debug, Clone, Copy)]
-struct Segment {
-    t_enter: f64,
-    t_exit: f64,
-    t_next_x: f64,
-    t_next_y: f64,
-    /// The horizontal axis whose face the ray enters through at `t_enter`; `None` when it
-    /// starts inside the scene box (or enters it through its top).
-    entry: Option<usize>,
-}
-
-/// The part of the clipped ray inside cell `(cx, cy)`, from the cell's integer bounds.
-#[inline]
-fn segment(ray: &Ray, inv: DVec3, clip: &Clip, cx: usize, cy: usize) -> Segment {
-    let (x_in, x_out) = axis_span(ray.origin.x, ray.dir.x, inv.x, cx as f64);
-    let (y_in, y_out) = axis_span(ray.origin.y, ray.dir.y, inv.y, cy as f64);
-    let mut t_enter = clip.t_enter;
-    let mut entry = match clip.face {
-        BoxFace::X => Some(0),
-        BoxFace::Y => Some(1),
-        BoxFace::Inside | BoxFace::Z => None,
-    };
-    if x_in > t_enter {
-        t_enter = x_in;
-        entry = Some(0);
-    }
-    if y_in > t_enter {
-        t_enter = y_in;
-        entry = Some(1);
-    }
-    let t_exit = clip.t_exit.min(x_out).min(y_out);
-    Segment { t_enter, t_exit, t_next_x: x_out, t_next_y: y_out, entry }
-}
-
-/// The index along one axis of the cell whose span along the ray holds `t` (half-open cells,
-/// clamped into `0..cells`), chosen so that the cell's own bounds put `t` inside its span.
-#[inline]
-fn axis_cell(o: f64, d: f64, inv: f64, t: f64, cells: usize) -> usize {
-    // Truncation is the floor for non-negative values; NaN and negatives go to cell 0.
-    let v = o + t * d;
-    let c = if v >= 0.0 { (v as usize).min(cells - 1) } else { 0 };
-    let (t_in, t_out) = axis_span(o, d, inv, c as f64);
-    let towards_low = if d > 0.0 { t_in > t } else { t_out < t };
-    let towards_high = if d > 0.0 { t_out < t } else { t_in > t };
-    if d != 0.0 && towards_low && c > 0 {
-        c - 1
-    } else if d != 0.0 && towards_high && c + 1 < cells {
-        c + 1
-    } else {
-        c
-    }
-}
-
-/// Parameters where a ray enters and leaves the slab `[lo, lo + 1]` along one axis.
-#[inline]
-fn axis_span(o: f64, d: f64, inv: f64, lo: f64) -> (f64, f64) {
-    if d > 0.0 {
-        ((lo - o) * inv, (lo + 1.0 - o) * inv)
-    } else if d < 0.0 {
-        ((lo + 1.0 - o) * inv, (lo - o) * inv)
-    } else {
-        (f64::NEG_INFINITY, f64::INFINITY)
     }
 }
 
