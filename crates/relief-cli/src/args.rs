@@ -3,7 +3,7 @@
 use crate::tracers::TracerChoice;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use relief_core::{DVec3, Surface};
-use relief_trace::SafetyOptions;
+use relief_trace::{MlhmBacktrack, SafetyOptions};
 use std::path::PathBuf;
 
 /// relief: exact, fast ray casting of terrain on the CPU.
@@ -18,7 +18,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Render a height field to a PNG (and optionally its depth and normals as .npy).
+    /// Render a height field or an MLHM scene (.json) to a PNG (and optionally its depth and
+    /// normals as .npy).
     Render(Box<RenderArgs>),
     /// Write a synthetic terrain.
     #[command(subcommand)]
@@ -73,7 +74,8 @@ pub enum PngHeights {
 #[derive(Debug, Args)]
 pub struct InputArgs {
     /// Height file: .tif/.tiff (GeoTIFF), .hgt (SRTM), .asc (ESRI ASCII grid), .png (16-bit grey,
-    /// terrain-RGB, Terrarium), .npy or .npz. Without one, the seeded fBm terrain is used.
+    /// terrain-RGB, Terrarium), .npy or .npz; or a multi-layered height map scene (.json, the
+    /// reference simulator's format). Without one, the seeded fBm terrain is used.
     pub input: Option<PathBuf>,
     /// How to read it.
     #[command(flatten)]
@@ -101,13 +103,22 @@ pub struct RenderArgs {
     /// Input and its placement.
     #[command(flatten)]
     pub input: InputArgs,
-    /// Surface to render: boxes (flat-topped texels) or triangles.
-    #[arg(long, default_value = "triangles")]
-    pub surface: Surface,
+    /// Surface to render: boxes (flat-topped texels) or triangles [default: triangles; an MLHM
+    /// scene is always boxes, see --mode].
+    #[arg(long)]
+    pub surface: Option<Surface>,
     /// Tracer: naive, mipmap (both exact, no precomputation) or safety (precomputed safety
-    /// shapes for static terrain, triangles only; see --safety), or a safety variant by name.
-    #[arg(long, default_value = "mipmap")]
-    pub tracer: TracerChoice,
+    /// shapes for static terrain, triangles only; see --safety), or a safety variant by name
+    /// [default: mipmap]. For an MLHM scene (.json): naive or hierarchy [default: hierarchy].
+    #[arg(long)]
+    pub tracer: Option<TracerChoice>,
+    /// MLHM scenes: how their columns are rendered; boxes (the only mode so far) [default: boxes].
+    #[arg(long, value_parser = parse_mlhm_render_mode)]
+    pub mode: Option<MlhmRenderMode>,
+    /// MLHM scenes, hierarchy tracer: how its traversal climbs back up, by a stack of exit
+    /// distances or a miss counter: stack or miss [default: stack].
+    #[arg(long)]
+    pub backtrack: Option<MlhmBacktrack>,
     /// Safety-shape options.
     #[command(flatten)]
     pub safety: SafetyArgs,
@@ -147,6 +158,21 @@ pub struct RenderArgs {
     /// Also write the unit world normal per pixel (.npy, f32, H x W x 3, zero on a miss).
     #[arg(long)]
     pub normals: Option<PathBuf>,
+}
+
+/// `--mode`: how an MLHM scene's columns are rendered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MlhmRenderMode {
+    /// Every column as a box over its cell (Nilles & Müller 2025, 4.1).
+    Boxes,
+}
+
+fn parse_mlhm_render_mode(s: &str) -> Result<MlhmRenderMode, String> {
+    match s {
+        "boxes" => Ok(MlhmRenderMode::Boxes),
+        "smooth" => Err("the smooth mode is not implemented yet (only boxes)".to_string()),
+        _ => Err(format!("unknown mode '{s}' (expected boxes)")),
+    }
 }
 
 /// Options of the safety tracer (Baboud et al. 2011).
@@ -380,6 +406,9 @@ mod tests {
         assert!(parse_spacing("-1").is_err());
         assert!(parse_vec3("1,2").is_err() && parse_vec3("1,2,nan").is_err());
         assert!(parse_sun("10,95").is_err());
+        assert_eq!(parse_mlhm_render_mode("boxes"), Ok(MlhmRenderMode::Boxes));
+        assert!(parse_mlhm_render_mode("smooth").unwrap_err().contains("not implemented"));
+        assert!(parse_mlhm_render_mode("spheres").is_err());
         assert_eq!(parse_bytes("512M"), Ok(512 << 20));
         assert_eq!(parse_bytes("2GiB"), Ok(2 << 30));
         assert_eq!(parse_bytes("1000"), Ok(1000));

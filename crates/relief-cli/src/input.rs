@@ -68,3 +68,13 @@ pub fn fbm(size: usize, seed: u64) -> Result<HeightField> {
     fbm_terrain(size, size, seed, &FbmParams::for_size(size, size))
         .context("generating fBm terrain")
 }
+
+/// Whether `path` names a multi-layered height map scene (by its extension, `.json`).
+pub fn is_mlhm_scene(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
+}
+
+/// Reads the MLHM scene at `path` (its JSON and the `.dat` it names), within `--max-memory`.
+pub fn load_mlhm(path: &Path, args: &ReadArgs) -> Result<relief_io::MlhmScene> {
+    Ok(relief_io::read_mlhm_scene(path, &read_options(args))?)
+}

@@ -15,13 +15,16 @@ use std::sync::Arc;
 use std::time::Instant;
 
 /// A tracer named on the command line: `naive`, `mipmap`, `safety` (the variant given by
-/// `--safety`), or a safety variant by name (`cyl_ext+cone_all`, ...).
+/// `--safety`), a safety variant by name (`cyl_ext+cone_all`, ...), or `hierarchy` (MLHM
+/// scenes only; `naive` names the MLHM naive tracer there).
 #[derive(Debug, Clone, PartialEq)]
 pub enum TracerChoice {
     /// A tracer without precomputation.
     Plain(TracerKind),
     /// Safety shapes; `None`: the variant `--safety` names.
     Safety(Option<SafetyOptions>),
+    /// The MLHM hierarchy tracer (multi-layered height maps only).
+    Hierarchy,
 }
 
 impl FromStr for TracerChoice {
@@ -29,9 +32,10 @@ impl FromStr for TracerChoice {
     fn from_str(s: &str) -> Result<Self, String> {
         match s {
             "safety" => Ok(TracerChoice::Safety(None)),
+            "hierarchy" => Ok(TracerChoice::Hierarchy),
             _ if s.starts_with("cyl_") => s.parse().map(|o| TracerChoice::Safety(Some(o))),
             _ => s.parse().map(TracerChoice::Plain).map_err(|_| {
-                format!("unknown tracer '{s}' (expected naive, mipmap, safety or a safety variant such as cyl_all+cone_all)")
+                format!("unknown tracer '{s}' (expected naive, mipmap, safety, a safety variant such as cyl_all+cone_all, or hierarchy for MLHM scenes)")
             }),
         }
     }
@@ -43,6 +47,7 @@ impl fmt::Display for TracerChoice {
             TracerChoice::Plain(kind) => write!(f, "{kind}"),
             TracerChoice::Safety(None) => f.write_str("safety"),
             TracerChoice::Safety(Some(o)) => f.write_str(&o.variant()),
+            TracerChoice::Hierarchy => f.write_str("hierarchy"),
         }
     }
 }
@@ -89,6 +94,9 @@ pub fn build(
             return Ok(Built { tracer, safety: None, build_s, note: String::new() });
         }
         TracerChoice::Safety(variant) => *variant,
+        TracerChoice::Hierarchy => bail!(
+            "the hierarchy tracer renders MLHM scenes (.json) only; height fields take --tracer naive, mipmap or safety"
+        ),
     };
     if surface != Surface::Triangles {
         bail!("the safety tracer renders the triangles surface only (use --surface triangles)");

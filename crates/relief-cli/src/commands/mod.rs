@@ -5,6 +5,7 @@ mod convert;
 mod generate;
 mod info;
 mod render;
+mod render_mlhm;
 
 use crate::args::{Cli, Command};
 use anyhow::{bail, Result};

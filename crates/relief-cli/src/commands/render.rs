@@ -1,15 +1,19 @@
 //! `relief render`: trace, shade and write a picture (and optionally depth and normals).
 
-use super::{check_image, check_output};
+use super::{check_image, check_output, render_mlhm};
 use crate::args::RenderArgs;
+use crate::tracers::TracerChoice;
 use crate::{input, progress, tracers};
-use anyhow::{Context, Result};
-use relief_core::{Camera, HeightField, Surface};
+use anyhow::{bail, Context, Result};
+use relief_core::{Aabb, Camera, Surface};
 use relief_shade::{
-    render_gbuffer, shade, sun_direction, tonemap_to_srgb8, Albedo, RgbTexture, ShadingParams, Sun,
+    render_gbuffer, shade, sun_direction, tonemap_to_srgb8, Albedo, GBuffer, RgbTexture,
+    ShadingParams, Sun,
 };
+use relief_trace::TracerKind;
 
-/// Runs `relief render`.
+/// Runs `relief render`: an MLHM scene (`.json`) takes [`render_mlhm`], any other input the
+/// height-field path.
 pub fn run(args: &RenderArgs) -> Result<()> {
     for path in
         [Some(&args.output), args.depth.as_ref(), args.normals.as_ref()].into_iter().flatten()
@@ -18,10 +22,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     let max_memory = input::read_options(&args.input.read).max_memory;
     check_image(args.size.0, args.size.1, max_memory, "raise it with --max-memory")?;
+    if let Some(path) = args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
+        return render_mlhm::run(args, path);
+    }
+    refuse_mlhm_options(args)?;
+    let surface = args.surface.unwrap_or(Surface::Triangles);
+    let choice = args.tracer.clone().unwrap_or(TracerChoice::Plain(TracerKind::Mipmap));
     let field = input::load(&args.input)?;
-    let camera = camera(args, &field, args.surface)?;
-    let params = shading(args, &field)?;
-    let built = tracers::build(&field, args.surface, &args.tracer, &args.safety, true, max_memory)?;
+    let camera = camera(args, &field.world_bounds(surface))?;
+    let params = shading(args, &field.world_bounds(Surface::Boxes))?;
+    let built = tracers::build(&field, surface, &choice, &args.safety, true, max_memory)?;
     if let Some(safety) = &built.safety {
         let light = (!args.no_shadows).then(|| sun_direction(args.sun.0, args.sun.1));
         let (w, h) = (camera.width(), camera.height());
@@ -34,12 +44,39 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let pixels = camera.width() as u64 * camera.height() as u64;
     let bar = progress::bar(pixels, "tracing");
-    let bounds = field.world_bounds(args.surface);
+    let bounds = field.world_bounds(surface);
     let (gbuffer, _) = render_gbuffer(tracer.as_ref(), &camera, &bounds, &|n| bar.inc(n))?;
     bar.finish_and_clear();
     let (radiance, _) = shade(&gbuffer, tracer.as_ref(), &camera, &params)?;
-    let rgb = tonemap_to_srgb8(&radiance, params.exposure)?;
+    write_outputs(args, &camera, &gbuffer, &radiance, params.exposure)?;
+    let (w, h) = (camera.width(), camera.height());
+    eprintln!("wrote {} ({w}x{h}, {surface} {choice} tracer)", args.output.display());
+    Ok(())
+}
 
+/// Refuses the options only an MLHM scene takes, for a height field.
+fn refuse_mlhm_options(args: &RenderArgs) -> Result<()> {
+    let what = if args.tracer == Some(TracerChoice::Hierarchy) {
+        "--tracer hierarchy"
+    } else if args.mode.is_some() {
+        "--mode"
+    } else if args.backtrack.is_some() {
+        "--backtrack"
+    } else {
+        return Ok(());
+    };
+    bail!("{what} applies to MLHM scenes (.json) only, not to height fields")
+}
+
+/// The PNG of `radiance`, and the depth and normals of `gbuffer` where asked for.
+pub(super) fn write_outputs(
+    args: &RenderArgs,
+    camera: &Camera,
+    gbuffer: &GBuffer,
+    radiance: &[[f32; 3]],
+    exposure: f64,
+) -> Result<()> {
+    let rgb = tonemap_to_srgb8(radiance, exposure)?;
     relief_io::write_png_rgb8(&args.output, camera.width(), camera.height(), &rgb)?;
     let (h, w) = (camera.height() as usize, camera.width() as usize);
     if let Some(path) = &args.depth {
@@ -48,27 +85,22 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let Some(path) = &args.normals {
         relief_io::write_npy_f32(path, &[h, w, 3], &gbuffer.normals_hw3())?;
     }
-    eprintln!("wrote {} ({w}x{h}, {} {} tracer)", args.output.display(), args.surface, args.tracer);
     Ok(())
 }
 
-/// The camera given on the command line, or a three-quarter view framing the terrain.
-fn camera(args: &RenderArgs, field: &HeightField, surface: Surface) -> Result<Camera> {
+/// The camera given on the command line, or a three-quarter view framing `bounds`.
+pub(super) fn camera(args: &RenderArgs, bounds: &Aabb) -> Result<Camera> {
     let (w, h) = args.size;
     let camera = match (args.eye, args.target) {
         (Some(eye), Some(target)) => Camera::look_at(eye, target, args.up, args.fov, w, h)?,
-        _ => {
-            let bounds = field.world_bounds(surface);
-            Camera::frame_from(&bounds, 225.0, 30.0, args.fov, w, h)?
-        }
+        _ => Camera::frame_from(bounds, 225.0, 30.0, args.fov, w, h)?,
     };
     Ok(camera)
 }
 
-/// Lights and materials from the command line, fitted to the terrain.
-fn shading(args: &RenderArgs, field: &HeightField) -> Result<ShadingParams> {
-    let bounds = field.world_bounds(Surface::Boxes);
-    let mut params = ShadingParams::for_terrain(&bounds)?;
+/// Lights and materials from the command line, fitted to a terrain within `bounds`.
+pub(super) fn shading(args: &RenderArgs, bounds: &Aabb) -> Result<ShadingParams> {
+    let mut params = ShadingParams::for_terrain(bounds)?;
     let (azimuth_deg, elevation_deg) = args.sun;
     params.sun = Sun { azimuth_deg, elevation_deg, ..params.sun };
     params.shadows = !args.no_shadows;

@@ -1,0 +1,211 @@
+//! End-to-end tests of `relief render scene.json`: a multi-layered height map scene renders
+//! as boxes through the G-buffer, its depth is the same from the naive and the hierarchy
+//! tracer, a hand-made scene gives the depths worked out by hand, and bad options or files are
+//! refused with exit code 2 before anything is written.
+
+mod common;
+
+use common::{assert_refused, depth_straight_down, read_f32_npy, relief, scratch};
+use relief_core::{Mlhm, MlhmColumn};
+use relief_io::{read_mlhm_scene, write_mlhm_scene, MlhmScene, ReadOptions};
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// The cave scene at 32 x 32 cells, generated once per test process.
+fn cave() -> &'static Path {
+    static CAVE: OnceLock<PathBuf> = OnceLock::new();
+    CAVE.get_or_init(|| {
+        let json = scratch("render-cave.json");
+        let out = relief(&[
+            "generate",
+            "mlhm",
+            "--scene",
+            "cave",
+            "--size",
+            "32",
+            "-o",
+            json.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        json
+    })
+}
+
+/// Renders `scene` at 64 x 48 with `extra` options; returns (depth, stderr).
+fn render(scene: &Path, name: &str, extra: &[&str]) -> (Vec<f32>, String) {
+    let (png, depth) = (scratch(&format!("{name}.png")), scratch(&format!("{name}.npy")));
+    let mut args = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "--size",
+        "64x48",
+        "-o",
+        png.to_str().unwrap(),
+        "--depth",
+        depth.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    let out = relief(&args);
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(out.status.success(), "{extra:?}: {stderr}");
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG", "{name}");
+    let (shape, values) = read_f32_npy(&depth);
+    assert_eq!(shape, [48, 64], "{name}");
+    (values, stderr)
+}
+
+#[test]
+fn a_carved_scene_renders_with_depth_and_normals() {
+    let normals = scratch("cave-normals.npy");
+    let (depth, stderr) = render(cave(), "cave", &["--normals", normals.to_str().unwrap()]);
+    assert!(stderr.contains("hierarchy tracer, stack"), "{stderr}");
+    // The framed view sees the scene in the middle of the image.
+    assert!(depth[24 * 64 + 32].is_finite() && depth[24 * 64 + 32] > 0.0);
+    let hits = depth.iter().filter(|d| d.is_finite()).count();
+    assert!(hits > depth.len() / 4, "{hits} hits");
+    assert!(depth.iter().all(|d| d.is_finite() || *d == f32::INFINITY));
+    let (shape, n) = read_f32_npy(&normals);
+    assert_eq!(shape, [48, 64, 3]);
+    for (d, n) in depth.iter().zip(n.chunks_exact(3)) {
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        assert!(if d.is_finite() { (len - 1.0).abs() < 1e-5 } else { len == 0.0 });
+    }
+}
+
+/// An eye inside the cave, in the air gap of the cell with the most columns, and a point a
+/// little below the horizon to look at.
+fn eye_in_the_cave() -> (String, String) {
+    let map = read_mlhm_scene(cave(), &ReadOptions::default()).unwrap().mlhm;
+    let (x, y) = (0..map.height())
+        .flat_map(|y| (0..map.width()).map(move |x| (x, y)))
+        .max_by_key(|&(x, y)| (map.layer_count(x, y), x, y))
+        .unwrap();
+    assert!(map.layer_count(x, y) >= 2, "the cave has no overhang");
+    let ground = map.column(x, y, 0);
+    let z = 0.5 * (ground.water_top() + ground.ceiling) as f64;
+    let s = map.cell_size();
+    let (ex, ey) = ((x as f64 + 0.5) * s, (y as f64 + 0.5) * s);
+    (format!("{ex},{ey},{z}"), format!("{},{},{}", ex + 100.0, ey + 37.0, z - 10.0))
+}
+
+#[test]
+fn naive_and_hierarchy_tracers_give_the_same_depth() {
+    let (eye, target) = eye_in_the_cave();
+    let inside = ["--eye", eye.as_str(), "--target", target.as_str(), "--fov", "90"];
+    let views: [&[&str]; 2] = [&[], &inside];
+    for (v, view) in views.into_iter().enumerate() {
+        let with = |extra: &[&'static str]| [view, extra].concat();
+        let (naive, stderr) = render(cave(), &format!("naive-{v}"), &with(&["--tracer", "naive"]));
+        assert!(stderr.contains("naive tracer"), "{stderr}");
+        let hits = naive.iter().filter(|d| d.is_finite()).count();
+        assert!(hits > naive.len() / 4, "view {v}: {hits} hits");
+        for backtrack in ["stack", "miss"] {
+            let extra = ["--tracer", "hierarchy", "--backtrack", backtrack];
+            let (depth, _) = render(cave(), &format!("{backtrack}-{v}"), &with(&extra));
+            for (k, (a, b)) in naive.iter().zip(&depth).enumerate() {
+                let same = a == b || (a - b).abs() <= 1e-5 * a.abs().max(b.abs());
+                assert!(same, "view {v}, {backtrack}: pixel {k}: naive {a} vs {b}");
+            }
+        }
+    }
+}
+
+/// A 2 x 2 scene of 2 m cells: cell (0, 0) holds ground of bedrock to 1 m, 0.5 m of sand and
+/// 0.5 m of water (surface at 2 m) under a rock slab from 3 m to 4 m; cell (1, 0) is rock to
+/// 5 m; cells (0, 1) and (1, 1) are bedrock to 1 m and 0.25 m.
+fn hand_scene() -> PathBuf {
+    let mut map = Mlhm::new(2, 2, 2, 2.0).unwrap();
+    let inf = f32::INFINITY;
+    map.set_cell(0, 0, &[MlhmColumn::new(1.0, 0.5, 0.5, 3.0), MlhmColumn::new(4.0, 0.0, 0.0, inf)])
+        .unwrap();
+    map.set_cell(1, 0, &[MlhmColumn::new(5.0, 0.0, 0.0, inf)]).unwrap();
+    map.set_cell(0, 1, &[MlhmColumn::new(1.0, 0.0, 0.0, inf)]).unwrap();
+    map.set_cell(1, 1, &[MlhmColumn::new(0.25, 0.0, 0.0, inf)]).unwrap();
+    let json = scratch("hand.json");
+    write_mlhm_scene(&json, &MlhmScene::new(map)).unwrap();
+    json
+}
+
+#[test]
+fn straight_down_depths_match_the_hand_made_scene() {
+    let json = hand_scene();
+    for tracer in [&["--tracer", "naive"][..], &[], &["--backtrack", "miss"]] {
+        // From 10 m: the slab's top at 4 m, the rock at 5 m, the grounds at 1 m and 0.25 m.
+        assert_eq!(depth_straight_down(&json, 1.0, 1.0, 10.0, tracer), 6.0, "{tracer:?}");
+        assert_eq!(depth_straight_down(&json, 3.0, 1.0, 10.0, tracer), 5.0, "{tracer:?}");
+        assert_eq!(depth_straight_down(&json, 1.0, 3.0, 10.0, tracer), 9.0, "{tracer:?}");
+        assert_eq!(depth_straight_down(&json, 3.0, 3.0, 10.0, tracer), 9.75, "{tracer:?}");
+        // From inside the cave under the slab: the water's surface at 2 m, not the sand.
+        assert_eq!(depth_straight_down(&json, 1.0, 1.0, 2.75, tracer), 0.75, "{tracer:?}");
+        // Off the scene: a miss.
+        assert_eq!(depth_straight_down(&json, 5.0, 1.0, 10.0, tracer), f32::INFINITY);
+    }
+}
+
+#[test]
+fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
+    let cave = cave().to_str().unwrap().to_string();
+    let garbage = scratch("garbage.json");
+    std::fs::write(&garbage, b"{ not json").unwrap();
+    let no_dat = scratch("no-dat.json");
+    std::fs::copy(cave.as_str(), &no_dat).unwrap();
+    let json = |p: &PathBuf| p.to_str().unwrap().to_string();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec![cave.clone(), "--tracer".into(), "mipmap".into()], "height fields only"),
+        (vec![cave.clone(), "--tracer".into(), "safety".into()], "height fields only"),
+        (vec![cave.clone(), "--tracer".into(), "cyl_all".into()], "height fields only"),
+        (
+            vec![
+                cave.clone(),
+                "--tracer".into(),
+                "naive".into(),
+                "--backtrack".into(),
+                "miss".into(),
+            ],
+            "--backtrack",
+        ),
+        (vec![cave.clone(), "--backtrack".into(), "up".into()], "expected stack or miss"),
+        (vec![cave.clone(), "--mode".into(), "smooth".into()], "not implemented"),
+        (vec![cave.clone(), "--mode".into(), "spheres".into()], "unknown mode"),
+        (vec![cave.clone(), "--surface".into(), "triangles".into()], "--surface triangles"),
+        (vec![cave.clone(), "--z-scale".into(), "2".into()], "--z-scale"),
+        (vec![cave.clone(), "--max-memory".into(), "8K".into()], "memory limit"),
+        (vec![json(&garbage)], "garbage.json"),
+        (vec![json(&scratch("missing.json"))], "missing.json"),
+        (
+            vec!["--fbm-size".into(), "16".into(), "--tracer".into(), "hierarchy".into()],
+            "MLHM scenes (.json) only",
+        ),
+        (vec!["--fbm-size".into(), "16".into(), "--mode".into(), "boxes".into()], "--mode"),
+        (
+            vec!["--fbm-size".into(), "16".into(), "--backtrack".into(), "stack".into()],
+            "--backtrack",
+        ),
+    ];
+    // The .dat the copied JSON names is the cave's own: point it at one that does not exist.
+    let text = std::fs::read_to_string(&no_dat).unwrap().replace("render-cave.dat", "gone.dat");
+    std::fs::write(&no_dat, text).unwrap();
+    let cases = cases.into_iter().chain([(vec![json(&no_dat)], "gone.dat")]);
+    for (k, (args, mentions)) in cases.enumerate() {
+        let (png, depth) =
+            (scratch(&format!("refused-{k}.png")), scratch(&format!("refused-{k}.npy")));
+        let mut all = vec![
+            "render",
+            "--size",
+            "8x6",
+            "-o",
+            png.to_str().unwrap(),
+            "--depth",
+            depth.to_str().unwrap(),
+        ];
+        all.extend(args.iter().map(String::as_str));
+        let out = relief(&all);
+        assert_refused(&out, mentions);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        if !stderr.contains("For more information") {
+            assert_eq!(stderr.trim_end().lines().count(), 1, "not one line: {stderr}");
+        }
+        assert!(!png.exists() && !depth.exists(), "{args:?} wrote");
+    }
+}
