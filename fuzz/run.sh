@@ -9,11 +9,12 @@ cd "$(dirname "$0")/.."
 seconds=${1:-600}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(npy npz geotiff hgt asc png)
+[ ${#targets[@]} -gt 0 ] || targets=(npy npz geotiff hgt asc png mlhm_scene)
 for target in "${targets[@]}"; do
   case $target in
     geotiff) max_len=200000 ;;
     hgt) max_len=2884802 ;;
+    mlhm_scene) max_len=65536 ;;
     *) max_len=8192 ;;
   esac
   mkdir -p "fuzz/corpus/$target"

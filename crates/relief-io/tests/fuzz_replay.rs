@@ -1,10 +1,12 @@
 //! Replays the fuzz seeds and every input that once crashed a reader: each must give a raster
 //! or an error, never a panic; the seeds, which are valid files, must read.
 
-use relief_io::{read_raster_from_bytes, Format, ReadOptions, VoidPolicy};
+use relief_io::{
+    read_mlhm_scene_from_bytes, read_raster_from_bytes, Format, ReadOptions, VoidPolicy,
+};
 use std::path::{Path, PathBuf};
 
-const TARGETS: [&str; 6] = ["npy", "npz", "geotiff", "hgt", "asc", "png"];
+const TARGETS: [&str; 7] = ["npy", "npz", "geotiff", "hgt", "asc", "png", "mlhm_scene"];
 
 fn files_in(dir: &Path) -> Vec<PathBuf> {
     let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
@@ -17,6 +19,19 @@ fn files_in(dir: &Path) -> Vec<PathBuf> {
 /// Reads `bytes` as the fuzz target `target` does.
 fn read(target: &str, bytes: &[u8]) -> Result<(), relief_io::IoError> {
     let options = ReadOptions { max_memory: 64 << 20, ..ReadOptions::default() };
+    if target == "mlhm_scene" {
+        // Two bytes of JSON length (little-endian), the JSON, then the .dat stream.
+        let Some((head, rest)) = bytes.split_first_chunk::<2>() else {
+            return Err(relief_io::IoError::Format {
+                path: "fuzz.json".into(),
+                reason: "shorter than its length prefix".into(),
+            });
+        };
+        let json_len = (u16::from_le_bytes(*head) as usize).min(rest.len());
+        let (json, dat) = rest.split_at(json_len);
+        read_mlhm_scene_from_bytes(json, dat, Path::new("fuzz.json"), &options)?;
+        return Ok(());
+    }
     let (format, bytes, name) = match target {
         "npy" => (Format::Npy, bytes, "fuzz.npy"),
         "npz" => (Format::Npz, bytes, "fuzz.npz"),
