@@ -1,6 +1,10 @@
 //! Readers and writers of SRTM `.hgt`, ESRI `.asc`, PNG heights and NumPy `.npz` files:
 //! round trips, decoding of hand-made data, orientation, and refusal of broken or lying files.
 
+mod common;
+
+use common::TestDir;
+
 use relief_core::{GridGeometry, HeightField};
 use relief_io::{
     hgt_tile_corner, metres_per_degree, read_asc, read_hgt, read_npy, read_npz, read_png_height,
@@ -8,31 +12,8 @@ use relief_io::{
     ReadOptions, VoidPolicy,
 };
 use std::io::{Cursor, ErrorKind, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
-
-/// A fresh scratch directory, removed when dropped.
-struct TestDir(PathBuf);
-
-impl TestDir {
-    fn new(name: &str) -> Self {
-        let path =
-            std::env::temp_dir().join(format!("relief-io-formats-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).unwrap();
-        TestDir(path)
-    }
-
-    fn join(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for TestDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 type Reader = fn(&Path, &ReadOptions) -> Result<Raster, IoError>;
 

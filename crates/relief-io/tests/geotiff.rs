@@ -2,6 +2,10 @@
 //! sample type, compression and chunk layout, placements, the writer's round trip and broken
 //! files.
 
+mod common;
+
+use common::TestDir;
+
 use relief_core::{DVec2, GridGeometry, HeightField};
 use relief_io::{
     metres_per_degree, read_geotiff, read_npy_height_field, write_geotiff, IoError, Raster,
@@ -82,32 +86,6 @@ fn peak_heap<T>(f: impl FnOnce() -> T) -> (T, usize) {
 
 // ---------------------------------------------------------------------------------------------
 // Helpers.
-
-/// A fresh scratch directory, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> Self {
-        let path = std::env::temp_dir()
-            .join(format!("relief-io-geotiff-test-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).unwrap();
-        TempDir(path)
-    }
-
-    /// Writes `bytes` to `name` in the directory and returns its path.
-    fn file(&self, name: &str, bytes: &[u8]) -> PathBuf {
-        let path = self.0.join(name);
-        std::fs::write(&path, bytes).unwrap();
-        path
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 fn fixture() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/jacksboro_fault_dem.tif")
@@ -369,7 +347,7 @@ fn jacksboro_rows_run_south_to_north_like_the_numpy_copy_flipped() {
 
 #[test]
 fn written_field_reads_back_with_the_same_geometry_samples_and_holes() {
-    let dir = TempDir::new("roundtrip");
+    let dir = TestDir::new("roundtrip");
     let (w, h) = (29, 17);
     let samples: Vec<f32> = (0..w * h).map(|i| ((i * 37) % 101) as f32 * 1.5 - 20.25).collect();
     let geometry =
@@ -377,10 +355,10 @@ fn written_field_reads_back_with_the_same_geometry_samples_and_holes() {
     let holes: Vec<bool> = (0..w * h).map(|i| [3, 40, 41, 200, w * h - 1].contains(&i)).collect();
     let field = HeightField::new(w, h, samples.clone(), geometry).unwrap();
     let field = field.with_holes(holes.clone()).unwrap();
-    let path = dir.0.join("field.tif");
+    let path = dir.join("field.tif");
     write_geotiff(&path, &field).unwrap();
     // Nothing but the file itself is left in the directory (no temporary).
-    assert_eq!(std::fs::read_dir(&dir.0).unwrap().count(), 1);
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 
     let raster = read_geotiff(&path, &options()).unwrap();
     assert_eq!((raster.width, raster.height), (w, h));
@@ -422,10 +400,10 @@ fn written_field_reads_back_with_the_same_geometry_samples_and_holes() {
 
 #[test]
 fn z_scale_is_applied_to_written_values() {
-    let dir = TempDir::new("zscale");
+    let dir = TestDir::new("zscale");
     let geometry = GridGeometry { z_scale: 0.5, ..GridGeometry::unit() };
     let field = HeightField::new(3, 2, vec![2.0, 4.0, 6.0, 8.0, 10.0, -12.0], geometry).unwrap();
-    let path = dir.0.join("z.tif");
+    let path = dir.join("z.tif");
     write_geotiff(&path, &field).unwrap();
     let raster = read_geotiff(&path, &options()).unwrap();
     assert_eq!(raster.samples, [1.0, 2.0, 3.0, 4.0, 5.0, -6.0]);
@@ -433,13 +411,13 @@ fn z_scale_is_applied_to_written_values() {
 
 #[test]
 fn failed_writes_leave_no_file() {
-    let dir = TempDir::new("write-fail");
+    let dir = TestDir::new("write-fail");
     let field = HeightField::new(2, 2, vec![0.0; 4], GridGeometry::unit()).unwrap();
-    let missing_dir = dir.0.join("absent").join("x.tif");
+    let missing_dir = dir.join("absent").join("x.tif");
     assert!(matches!(write_geotiff(&missing_dir, &field), Err(IoError::Io { .. })));
     assert!(!missing_dir.exists());
-    assert!(matches!(write_geotiff(&dir.0, &field), Err(IoError::Io { .. })));
-    assert_eq!(std::fs::read_dir(&dir.0).unwrap().count(), 0);
+    assert!(matches!(write_geotiff(dir.path(), &field), Err(IoError::Io { .. })));
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -476,7 +454,7 @@ impl_sample!(i8, u8, i16, u16, i32, u32, i64, u64, f32, f64);
 /// One sample type: its encoder colour type, the name the reader reports, its nodata value and
 /// that value as GDAL_NODATA text, its TIFF SampleFormat code and the values to store.
 fn check_sample_type<C: ColorType>(
-    dir: &TempDir,
+    dir: &TestDir,
     name: &str,
     (nodata, nodata_text): (C::Inner, &'static str),
     format: u16,
@@ -533,7 +511,7 @@ fn check_sample_type<C: ColorType>(
 #[test]
 fn every_sample_type_in_strips_and_tiles_with_every_compression() {
     use colortype::*;
-    let dir = TempDir::new("types");
+    let dir = TestDir::new("types");
     check_sample_type::<GrayI8>(&dir, "int8", (i8::MIN, "-128"), 2, |i| {
         if i == 1 {
             i8::MAX
@@ -579,7 +557,7 @@ fn every_sample_type_in_strips_and_tiles_with_every_compression() {
 
 #[test]
 fn nan_nodata_marks_nan_samples_as_voids() {
-    let dir = TempDir::new("nan-nodata");
+    let dir = TestDir::new("nan-nodata");
     let mut values = vec![1.5f32; 12];
     values[5] = f32::NAN;
     let mut extras = projected();
@@ -601,7 +579,7 @@ fn nan_nodata_marks_nan_samples_as_voids() {
 
 #[test]
 fn sparse_tiles_are_filled_with_nodata() {
-    let dir = TempDir::new("sparse");
+    let dir = TestDir::new("sparse");
     let samples =
         Samples { bytes: 5i16.to_ne_bytes().repeat(20 * 20), size: 2, bits: 16, format: 2 };
     let mut extras = projected();
@@ -620,7 +598,7 @@ fn sparse_tiles_are_filled_with_nodata() {
 
 #[test]
 fn reading_holds_the_samples_and_one_strip_not_the_decoded_file() {
-    let dir = TempDir::new("memory");
+    let dir = TestDir::new("memory");
     let (w, h) = (600usize, 500usize);
     let values: Vec<f64> = (0..w * h).map(|i| (i % 1000) as f64).collect();
     let bytes = encode_strips::<colortype::Gray64Float>(
@@ -646,7 +624,7 @@ fn reading_holds_the_samples_and_one_strip_not_the_decoded_file() {
 // Placement.
 
 /// A 3 x 2 uint8 raster with `extras`, values 0..6 in file order.
-fn placed(dir: &TempDir, extras: &[Extra]) -> Result<Raster, IoError> {
+fn placed(dir: &TestDir, extras: &[Extra]) -> Result<Raster, IoError> {
     let bytes = encode_strips::<colortype::Gray8>(
         &[0, 1, 2, 3, 4, 5],
         (3, 2),
@@ -664,7 +642,7 @@ fn close(a: DVec2, b: DVec2) -> bool {
 
 #[test]
 fn placements_of_projected_rasters() {
-    let dir = TempDir::new("placement");
+    let dir = TestDir::new("placement");
     let keys = |raster_type: u16| {
         Extra::Shorts(
             Tag::GeoKeyDirectoryTag,
@@ -735,7 +713,7 @@ fn placements_of_projected_rasters() {
 
 #[test]
 fn geographic_pixel_is_point_raster_is_placed_in_metres() {
-    let dir = TempDir::new("geographic");
+    let dir = TestDir::new("geographic");
     // An SRTM-like layout: 1 arc-second samples, the first sample's centre at (-84 E, 37 N).
     let arc1 = 1.0 / 3600.0;
     let extras = [
@@ -769,7 +747,7 @@ fn geographic_pixel_is_point_raster_is_placed_in_metres() {
 
 #[test]
 fn every_truncation_of_the_fixture_is_an_error() {
-    let dir = TempDir::new("truncated");
+    let dir = TestDir::new("truncated");
     let good = std::fs::read(fixture()).unwrap();
     let mut cuts: Vec<usize> = (0..4096).collect();
     cuts.extend([5000, 20_000, 100_000, 163_656, 163_657, 170_000, good.len() - 1]);
@@ -784,7 +762,7 @@ fn every_truncation_of_the_fixture_is_an_error() {
 
 #[test]
 fn corrupted_bytes_give_errors_not_panics() {
-    let dir = TempDir::new("corrupt");
+    let dir = TestDir::new("corrupt");
     let samples = Samples {
         bytes: (0..40 * 30).flat_map(|i: u32| (i as f32 * 0.5).to_ne_bytes()).collect(),
         size: 4,
@@ -816,7 +794,7 @@ fn corrupted_bytes_give_errors_not_panics() {
 
 #[test]
 fn wrong_magic_empty_file_directory_and_missing_file() {
-    let dir = TempDir::new("paths");
+    let dir = TestDir::new("paths");
     let mut bytes = std::fs::read(fixture()).unwrap();
     bytes[..2].copy_from_slice(b"XX");
     let err = read_geotiff(&dir.file("magic.tif", &bytes), &options()).unwrap_err();
@@ -836,12 +814,12 @@ fn wrong_magic_empty_file_directory_and_missing_file() {
     ));
     let err = read_geotiff(&dir.file("empty.tif", b""), &options()).unwrap_err();
     assert!(matches!(err, IoError::Format { .. }), "{err}");
-    let err = read_geotiff(&dir.0, &options()).unwrap_err();
+    let err = read_geotiff(dir.path(), &options()).unwrap_err();
     assert!(
         matches!(&err, IoError::Io { source, .. } if source.kind() == ErrorKind::IsADirectory),
         "{err}"
     );
-    let err = read_geotiff(&dir.0.join("absent.tif"), &options()).unwrap_err();
+    let err = read_geotiff(&dir.join("absent.tif"), &options()).unwrap_err();
     assert!(
         matches!(&err, IoError::Io { source, .. } if source.kind() == ErrorKind::NotFound),
         "{err}"
@@ -877,7 +855,7 @@ fn hand_made_tiff(entries: &[(u16, u16, u32, u32)], trailing: &[u8]) -> Vec<u8> 
 
 #[test]
 fn a_tiny_file_claiming_a_huge_raster_is_refused_before_allocating() {
-    let dir = TempDir::new("huge");
+    let dir = TestDir::new("huge");
     const SHORT: u16 = 3;
     const LONG: u16 = 4;
     let data_at = 8 + 2 + 9 * 12 + 4;
@@ -914,7 +892,7 @@ fn a_tiny_file_claiming_a_huge_raster_is_refused_before_allocating() {
 
 #[test]
 fn zero_sized_raster_is_a_format_error() {
-    let dir = TempDir::new("zero");
+    let dir = TestDir::new("zero");
     let bytes = hand_made_tiff(
         &[
             (256, 4, 1, 0),
@@ -932,7 +910,7 @@ fn zero_sized_raster_is_a_format_error() {
 
 #[test]
 fn rgb_images_and_other_layouts_are_unsupported() {
-    let dir = TempDir::new("unsupported");
+    let dir = TestDir::new("unsupported");
     let rgb = encode_strips::<colortype::RGB8>(
         &[0; 4 * 3 * 3],
         (4, 3),
@@ -965,7 +943,7 @@ fn rgb_images_and_other_layouts_are_unsupported() {
 
 #[test]
 fn nan_without_nodata_is_refused_naming_its_place() {
-    let dir = TempDir::new("nan");
+    let dir = TestDir::new("nan");
     let mut values = vec![0.5f32; 6 * 4];
     values[4 + 2 * 6] = f32::NAN;
     let bytes = encode_strips::<colortype::Gray32Float>(
@@ -1000,7 +978,7 @@ fn nan_without_nodata_is_refused_naming_its_place() {
 
 #[test]
 fn big_endian_files_read_like_little_endian_ones() {
-    let dir = TempDir::new("big-endian");
+    let dir = TestDir::new("big-endian");
     // "MM", version 42, the IFD at 8; entries of (tag, type, count, value) with SHORT values
     // left-justified in their 4-byte field; then 3 x 2 int16 samples, big-endian.
     let values: [i16; 6] = [-300, 2, 1000, -5, 32767, -32768];

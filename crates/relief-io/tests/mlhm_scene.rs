@@ -2,6 +2,10 @@
 //! and checked against the figures of the reference notes, round trips in f32 and f16, and
 //! refusal of broken files.
 
+mod common;
+
+use common::TestDir;
+
 use relief_core::{Mlhm, MlhmColumn, Precision};
 use relief_io::{
     read_mlhm_scene, read_mlhm_scene_from_bytes, read_mlhm_scene_header, write_mlhm_scene, IoError,
@@ -12,29 +16,6 @@ use std::path::{Path, PathBuf};
 
 /// The real scene, relative to this crate.
 const REAL_SCENE: &str = "../../../shared/data/ngwm24-scene/scene.json";
-
-/// A fresh scratch directory, removed when dropped.
-struct TestDir(PathBuf);
-
-impl TestDir {
-    fn new(name: &str) -> Self {
-        let path =
-            std::env::temp_dir().join(format!("relief-io-mlhm-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).unwrap();
-        TestDir(path)
-    }
-
-    fn join(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for TestDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// The real scene's JSON path, or `None` (with the reason printed) where it is absent.
 fn real_scene() -> Option<PathBuf> {
