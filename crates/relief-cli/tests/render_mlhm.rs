@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_refused, depth_straight_down, read_f32_npy, relief, scratch};
+use common::{assert_refused, depth_straight_down, read_f32_npy, relief, render_depth, scratch};
 use relief_core::{Mlhm, MlhmColumn};
 use relief_io::{read_mlhm_scene, write_mlhm_scene, MlhmScene, ReadOptions};
 use std::path::{Path, PathBuf};
@@ -33,26 +33,12 @@ fn cave() -> &'static Path {
 
 /// Renders `scene` at 64 x 48 with `extra` options; returns (depth, stderr).
 fn render(scene: &Path, name: &str, extra: &[&str]) -> (Vec<f32>, String) {
-    let (png, depth) = (scratch(&format!("{name}.png")), scratch(&format!("{name}.npy")));
-    let mut args = vec![
-        "render",
-        scene.to_str().unwrap(),
-        "--size",
-        "64x48",
-        "-o",
-        png.to_str().unwrap(),
-        "--depth",
-        depth.to_str().unwrap(),
-    ];
+    let mut args = vec![scene.to_str().unwrap(), "--size", "64x48"];
     args.extend(extra);
-    let out = relief(&args);
-    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(out.status.success(), "{extra:?}: {stderr}");
-    let bytes = std::fs::read(&png).unwrap();
-    assert_eq!(&bytes[1..4], b"PNG", "{name}");
-    let (shape, values) = read_f32_npy(&depth);
+    let (shape, depth, stderr) = render_depth(name, &args);
     assert_eq!(shape, [48, 64], "{name}");
-    (values, stderr)
+    assert!(std::fs::read(scratch(&format!("{name}.png"))).unwrap()[1..4] == *b"PNG", "{name}");
+    (depth, stderr)
 }
 
 #[test]

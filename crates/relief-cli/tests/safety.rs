@@ -4,30 +4,16 @@
 
 mod common;
 
-use common::{assert_refused, read_f32_npy, relief, scratch};
+use common::{assert_refused, relief, render_depth, scratch};
 use std::path::Path;
 
 /// Renders the 48 x 48 fBm terrain with `extra` options; returns (depth, stderr).
 fn render(name: &str, cache: &Path, extra: &[&str]) -> (Vec<f32>, String) {
-    let (png, depth) = (scratch(&format!("{name}.png")), scratch(&format!("{name}.npy")));
-    let mut args = vec![
-        "render",
-        "--fbm-size",
-        "48",
-        "--size",
-        "40x30",
-        "-o",
-        png.to_str().unwrap(),
-        "--depth",
-        depth.to_str().unwrap(),
-        "--cache-dir",
-        cache.to_str().unwrap(),
-    ];
+    let mut args = vec!["--fbm-size", "48", "--size", "40x30", "--cache-dir"];
+    args.push(cache.to_str().unwrap());
     args.extend(extra);
-    let out = relief(&args);
-    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(out.status.success(), "{extra:?}: {stderr}");
-    (read_f32_npy(&depth).1, stderr)
+    let (_, depth, stderr) = render_depth(name, &args);
+    (depth, stderr)
 }
 
 fn assert_same_depth(a: &[f32], b: &[f32], what: &str) {

@@ -23,36 +23,28 @@ pub fn stdout_of(out: &Output) -> String {
     text
 }
 
+/// Runs `relief render` with `args` plus a scratch PNG and depth file named after `name`;
+/// the run must succeed. Returns the depth image's shape and values, and the stderr.
+pub fn render_depth(name: &str, args: &[&str]) -> (Vec<usize>, Vec<f32>, String) {
+    let (png, depth) = (scratch(&format!("{name}.png")), scratch(&format!("{name}-depth.npy")));
+    let mut all = vec!["render"];
+    all.extend(args);
+    all.extend(["-o", png.to_str().unwrap(), "--depth", depth.to_str().unwrap()]);
+    let out = relief(&all);
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(out.status.success(), "{args:?}: {stderr}");
+    let (shape, values) = read_f32_npy(&depth);
+    (shape, values, stderr)
+}
+
 /// The depth `relief render` writes for one pixel looking straight down from `(x, y, height)`
 /// at the `boxes` surface of `input`, with the extra options `extra`.
 pub fn depth_straight_down(input: &Path, x: f64, y: f64, height: f64, extra: &[&str]) -> f32 {
-    let (depth, png) = (scratch("straight-down-depth.npy"), scratch("straight-down.png"));
     let (eye, target) = (format!("{x},{y},{height}"), format!("{x},{y},0"));
-    let mut args = vec![
-        "render",
-        input.to_str().unwrap(),
-        "--surface",
-        "boxes",
-        "--eye",
-        &eye,
-        "--target",
-        &target,
-        "--up",
-        "0,1,0",
-        "--fov",
-        "1",
-        "--size",
-        "1x1",
-        "-o",
-        png.to_str().unwrap(),
-        "--depth",
-        depth.to_str().unwrap(),
-    ];
+    let mut args = vec![input.to_str().unwrap(), "--surface", "boxes", "--eye", &eye];
+    args.extend(["--target", &target, "--up", "0,1,0", "--fov", "1", "--size", "1x1"]);
     args.extend(extra);
-    let out = relief(&args);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let bytes = std::fs::read(&depth).unwrap();
-    f32::from_le_bytes(bytes[bytes.len() - 4..].try_into().unwrap())
+    render_depth("straight-down", &args).1[0]
 }
 
 /// Reads a little-endian f32 .npy written by relief: (shape, values); infinities allowed.
