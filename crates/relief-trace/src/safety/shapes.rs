@@ -26,9 +26,8 @@ pub struct SafetyShapes {
     options: SafetyOptions,
     /// One array per class (four), or one for all (isotropic).
     radii: Vec<Vec<u16>>,
-    /// Cone planes `(z0, slope)`, rounded up, with the radius, so a step reads one entry;
-    /// one array per entry of `radii`, or none.
-    cones: Vec<Vec<[f32; 3]>>,
+    /// Cone planes `(z0, slope)`, rounded up; one array per entry of `radii`, or none.
+    cones: Vec<Vec<[f32; 2]>>,
 }
 
 impl SafetyShapes {
@@ -95,9 +94,7 @@ impl SafetyShapes {
         let cones = if has_cones {
             per_class
                 .iter()
-                .map(|c| {
-                    c.iter().map(|s| [round_up(s.z0), round_up(s.slope), s.radius as f32]).collect()
-                })
+                .map(|c| c.iter().map(|s| [round_up(s.z0), round_up(s.slope)]).collect())
                 .collect()
         } else {
             Vec::new()
@@ -126,7 +123,7 @@ impl SafetyShapes {
     pub fn memory_estimate(width: usize, height: usize, options: &SafetyOptions) -> u64 {
         let texels = (width * height) as u64;
         let slots = if options.layout == ShapeLayout::Isotropic { 1 } else { 4 };
-        let per_texel = if options.cone == ConeMode::None { 2 } else { 14 };
+        let per_texel = if options.cone == ConeMode::None { 2 } else { 10 };
         let levels = usize::BITS as u64 - width.max(height).leading_zeros() as u64;
         let nbuffer = if options.cone == ConeMode::None { 0 } else { 4 * levels * texels };
         let working = 4 * 24 * texels + nbuffer;
@@ -136,7 +133,7 @@ impl SafetyShapes {
     /// Bytes the shapes occupy.
     pub fn memory_bytes(&self) -> usize {
         self.radii.iter().map(|r| r.len() * 2).sum::<usize>()
-            + self.cones.iter().map(|c| c.len() * 12).sum::<usize>()
+            + self.cones.iter().map(|c| c.len() * 8).sum::<usize>()
     }
 
     /// The mean safety radius over all texels and classes (a summary for reports).
@@ -151,9 +148,10 @@ impl SafetyShapes {
     #[inline]
     pub fn step(&self, class: RayClass, grid_index: usize, z: f64, dz: f64) -> u32 {
         let slot = if self.radii.len() == 1 { 0 } else { class.index() };
-        let Some(cones) = self.cones.get(slot) else { return self.radii[slot][grid_index] as u32 };
-        let [z0, slope, radius] = cones[grid_index].map(f64::from);
-        let (radius, reach) = (radius as u32, self.options.reach as u32);
+        let radius = self.radii[slot][grid_index] as u32;
+        let Some(cones) = self.cones.get(slot) else { return radius };
+        let [z0, slope] = cones[grid_index].map(f64::from);
+        let reach = self.options.reach as u32;
         if z <= z0 {
             // Not above the cone's plane: only the cylinder is safe.
             return radius;
@@ -174,9 +172,8 @@ impl SafetyShapes {
     }
 
     /// The raw parts, for serialisation: radii and cone planes per class slot.
-    pub(crate) fn parts(&self) -> (&[Vec<u16>], Vec<Vec<[f32; 2]>>) {
-        let planes = self.cones.iter().map(|c| c.iter().map(|&[z0, s, _]| [z0, s]).collect());
-        (&self.radii, planes.collect())
+    pub(crate) fn parts(&self) -> (&[Vec<u16>], &[Vec<[f32; 2]>]) {
+        (&self.radii, &self.cones)
     }
 
     /// Reassembles shapes from their parts (see [`SafetyShapes::parts`]).
@@ -187,11 +184,6 @@ impl SafetyShapes {
         radii: Vec<Vec<u16>>,
         cones: Vec<Vec<[f32; 2]>>,
     ) -> Self {
-        let cones = cones
-            .into_iter()
-            .zip(&radii)
-            .map(|(c, r)| c.iter().zip(r).map(|(&[z0, s], &r)| [z0, s, r as f32]).collect())
-            .collect();
         SafetyShapes { width, height, options, radii, cones }
     }
 }
