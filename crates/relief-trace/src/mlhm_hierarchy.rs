@@ -186,74 +186,65 @@ impl MlhmHierarchy {
     /// Level 1, from the map's cells.
     fn fill_first(level: &mut Level, map: &Mlhm) {
         let (w, h) = (map.width(), map.height());
-        let (nodes_x, cap) = (level.nodes_x, level.cap);
-        let columns = map.raw_columns();
-        let counts = map.layer_counts();
-        let plane = w * h;
-        level
-            .layers
-            .par_chunks_mut(nodes_x * cap)
-            .zip(level.counts.par_chunks_mut(nodes_x))
-            .zip(level.sky.par_chunks_mut(nodes_x))
-            .enumerate()
-            .for_each(|(ny, ((layers, node_counts), sky))| {
-                for nx in 0..nodes_x {
-                    let slots = &mut layers[nx * cap..(nx + 1) * cap];
-                    slots.fill(MlhmNodeLayer::EMPTY);
-                    sky[nx] = f32::INFINITY;
-                    let mut used = 0;
-                    for y in 2 * ny..(2 * ny + 2).min(h) {
-                        for x in 2 * nx..(2 * nx + 2).min(w) {
-                            let cell = x + y * w;
-                            let n = usize::from(counts[cell]);
-                            for j in 0..n {
-                                let c = columns[cell + j * plane];
-                                let water_top = c.water_top();
-                                let bounds = MlhmNodeLayer {
-                                    water_max: water_top,
-                                    ceiling_min: c.ceiling,
-                                    solid_max: c.solid_top(),
-                                    air_min: water_top,
-                                };
-                                let k = j.min(cap - 1);
-                                slots[k] = slots[k].merge(bounds);
-                                if j + 1 == n {
-                                    sky[nx] = sky[nx].min(water_top);
-                                }
-                            }
-                            used = used.max(n.min(cap));
-                        }
-                    }
-                    node_counts[nx] = used as u8;
-                }
-            });
+        let (columns, counts, plane) = (map.raw_columns(), map.layer_counts(), w * h);
+        let count = |cell: usize| usize::from(counts[cell]);
+        let layer = |cell: usize, j: usize| {
+            let c = columns[cell + j * plane];
+            let water_top = c.water_top();
+            MlhmNodeLayer {
+                water_max: water_top,
+                ceiling_min: c.ceiling,
+                solid_max: c.solid_top(),
+                air_min: water_top,
+            }
+        };
+        // The open sky starts at the top column's water top.
+        let sky = |cell: usize| columns[cell + (count(cell) - 1) * plane].water_top();
+        Self::merge_children(level, (w, h), count, layer, sky);
     }
 
     /// The level above `below`, merging its 2 x 2 nodes.
     fn fill_above(level: &mut Level, below: &Level) {
+        let count = |child: usize| usize::from(below.counts[child]);
+        let layer = |child: usize, j: usize| below.layers[child * below.cap + j];
+        let sky = |child: usize| below.sky[child];
+        Self::merge_children(level, (below.nodes_x, below.nodes_y), count, layer, sky);
+    }
+
+    /// Fills every node of `level` from its (up to) 2 x 2 children in a grid of `children`
+    /// (x, y): a child has `count(child)` layers, bottom to top, bounded by `layer(child, j)`,
+    /// and its open sky starts at `sky(child)`. Layers past the level's cap fold into its top
+    /// kept layer.
+    fn merge_children(
+        level: &mut Level,
+        children: (usize, usize),
+        count: impl Fn(usize) -> usize + Sync,
+        layer: impl Fn(usize, usize) -> MlhmNodeLayer + Sync,
+        sky: impl Fn(usize) -> f32 + Sync,
+    ) {
         let (nodes_x, cap) = (level.nodes_x, level.cap);
+        let (children_x, children_y) = children;
         level
             .layers
             .par_chunks_mut(nodes_x * cap)
             .zip(level.counts.par_chunks_mut(nodes_x))
             .zip(level.sky.par_chunks_mut(nodes_x))
             .enumerate()
-            .for_each(|(ny, ((layers, node_counts), sky))| {
+            .for_each(|(ny, ((layers, node_counts), node_sky))| {
                 for nx in 0..nodes_x {
                     let slots = &mut layers[nx * cap..(nx + 1) * cap];
                     slots.fill(MlhmNodeLayer::EMPTY);
-                    sky[nx] = f32::INFINITY;
+                    node_sky[nx] = f32::INFINITY;
                     let mut used = 0;
-                    for y in 2 * ny..(2 * ny + 2).min(below.nodes_y) {
-                        for x in 2 * nx..(2 * nx + 2).min(below.nodes_x) {
-                            let child = x + y * below.nodes_x;
-                            let n = usize::from(below.counts[child]);
-                            let child_layers = &below.layers[child * below.cap..][..n];
-                            for (j, &bounds) in child_layers.iter().enumerate() {
+                    for y in 2 * ny..(2 * ny + 2).min(children_y) {
+                        for x in 2 * nx..(2 * nx + 2).min(children_x) {
+                            let child = x + y * children_x;
+                            let n = count(child);
+                            for j in 0..n {
                                 let k = j.min(cap - 1);
-                                slots[k] = slots[k].merge(bounds);
+                                slots[k] = slots[k].merge(layer(child, j));
                             }
-                            sky[nx] = sky[nx].min(below.sky[child]);
+                            node_sky[nx] = node_sky[nx].min(sky(child));
                             used = used.max(n.min(cap));
                         }
                     }
