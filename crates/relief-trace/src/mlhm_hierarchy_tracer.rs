@@ -3,7 +3,7 @@
 
 use crate::cell_grid::axis_cell;
 use crate::mlhm_cells::{first_hit_in_cell, ray_to_cells, segment};
-use crate::{Hit, MlhmHierarchy, MlhmHit, MlhmMode, Tracer};
+use crate::{Hit, MlhmHierarchy, MlhmHit, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, Ray, Surface};
 use std::fmt;
 use std::str::FromStr;
@@ -195,19 +195,9 @@ impl MlhmHierarchyTracer {
         MlhmHierarchyTracer { backtrack, ..self }
     }
 
-    /// The map traced.
-    pub fn map(&self) -> &Arc<Mlhm> {
-        &self.map
-    }
-
     /// The hierarchy walked.
     pub fn hierarchy(&self) -> &MlhmHierarchy {
         &self.hierarchy
-    }
-
-    /// World `(x, y)` of the grid's south-west corner.
-    pub fn origin(&self) -> DVec2 {
-        self.origin
     }
 
     /// The mode intersected as a [`Tracer`].
@@ -220,20 +210,8 @@ impl MlhmHierarchyTracer {
         self.backtrack
     }
 
-    /// The first hit of `ray` with the boxes of `mode`.
-    pub fn intersect_mode(&self, ray: &Ray, mode: MlhmMode) -> Option<MlhmHit> {
-        self.intersect_mode_counted(ray, mode, &mut 0)
-    }
-
-    /// Whether `ray` meets a box of `mode` within its range (for shadow rays).
-    pub fn occluded_mode(&self, ray: &Ray, mode: MlhmMode) -> bool {
-        self.intersect_mode(ray, mode).is_some()
-    }
-
-    /// As [`MlhmHierarchyTracer::intersect_mode`], counting the nodes and cells visited into
-    /// `steps`. Returns `None`, never panics, for rays that cannot be traced (as the naive
-    /// tracer).
-    pub fn intersect_mode_counted(
+    /// The hierarchical traversal, counting the nodes and cells visited into `steps`.
+    fn traverse_counted(
         &self,
         world_ray: &Ray,
         mode: MlhmMode,
@@ -386,6 +364,25 @@ impl MlhmHierarchyTracer {
 
 /// Room for every level of the hierarchy and level 0.
 const MAX_LEVELS: usize = crate::mlhm_hierarchy::MAX_HIERARCHY_LEVELS;
+
+impl MlhmTracer for MlhmHierarchyTracer {
+    fn map(&self) -> &Arc<Mlhm> {
+        &self.map
+    }
+
+    fn origin(&self) -> DVec2 {
+        self.origin
+    }
+
+    fn intersect_mode_counted(
+        &self,
+        ray: &Ray,
+        mode: MlhmMode,
+        steps: &mut u32,
+    ) -> Option<MlhmHit> {
+        self.traverse_counted(ray, mode, steps)
+    }
+}
 
 impl Tracer for MlhmHierarchyTracer {
     fn name(&self) -> &'static str {

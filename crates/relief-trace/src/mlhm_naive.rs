@@ -3,7 +3,7 @@
 
 use crate::cell_grid::axis_cell;
 use crate::mlhm_cells::{first_hit_in_cell, ray_to_cells, segment};
-use crate::{Hit, MlhmMaterial, MlhmMode, Tracer};
+use crate::{Hit, MlhmMaterial, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, Ray, Surface};
 use std::sync::Arc;
 
@@ -43,7 +43,7 @@ pub struct MlhmHit {
 /// ```
 /// use std::sync::Arc;
 /// use relief_core::{DVec2, DVec3, Mlhm, MlhmColumn, Ray};
-/// use relief_trace::{MlhmMaterial, MlhmMode, MlhmNaiveTracer};
+/// use relief_trace::{MlhmMaterial, MlhmMode, MlhmNaiveTracer, MlhmTracer};
 /// let mut map = Mlhm::new(1, 1, 2, 1.0)?;
 /// // Ground of bedrock to 1 m under 1 m of water; a rock slab from 3 m to 4 m above.
 /// let ground = MlhmColumn::new(1.0, 0.0, 1.0, 3.0);
@@ -92,16 +92,6 @@ impl MlhmNaiveTracer {
         MlhmNaiveTracer { mode, ..self }
     }
 
-    /// The map traced.
-    pub fn map(&self) -> &Arc<Mlhm> {
-        &self.map
-    }
-
-    /// World `(x, y)` of the grid's south-west corner.
-    pub fn origin(&self) -> DVec2 {
-        self.origin
-    }
-
     /// The mode intersected as a [`Tracer`].
     pub fn mode(&self) -> MlhmMode {
         self.mode
@@ -121,26 +111,8 @@ impl MlhmNaiveTracer {
         Aabb::new(self.origin.extend(f64::NEG_INFINITY), (self.origin + size).extend(top))
     }
 
-    /// The first hit of `ray` with the boxes of `mode`.
-    pub fn intersect_mode(&self, ray: &Ray, mode: MlhmMode) -> Option<MlhmHit> {
-        self.intersect_mode_counted(ray, mode, &mut 0)
-    }
-
-    /// Whether `ray` meets a box of `mode` within its range (for shadow rays).
-    pub fn occluded_mode(&self, ray: &Ray, mode: MlhmMode) -> bool {
-        self.intersect_mode(ray, mode).is_some()
-    }
-
-    /// As [`MlhmNaiveTracer::intersect_mode`], counting the cells visited into `steps`.
-    ///
-    /// Returns `None`, never panics, for rays with a non-finite origin or direction, a zero
-    /// direction or an empty or NaN range.
-    pub fn intersect_mode_counted(
-        &self,
-        world_ray: &Ray,
-        mode: MlhmMode,
-        steps: &mut u32,
-    ) -> Option<MlhmHit> {
+    /// The 2D DDA over every cell the ray crosses, counting them into `steps`.
+    fn walk_cells(&self, world_ray: &Ray, mode: MlhmMode, steps: &mut u32) -> Option<MlhmHit> {
         let ray = self.to_cell_space(world_ray)?;
         let inv = DVec3::ONE / ray.dir;
         let (w, h) = (self.map.width(), self.map.height());
@@ -178,6 +150,25 @@ impl MlhmNaiveTracer {
     /// The world ray in cell space, or `None` when it cannot be traced.
     fn to_cell_space(&self, ray: &Ray) -> Option<Ray> {
         ray_to_cells(&self.map, self.origin, ray)
+    }
+}
+
+impl MlhmTracer for MlhmNaiveTracer {
+    fn map(&self) -> &Arc<Mlhm> {
+        &self.map
+    }
+
+    fn origin(&self) -> DVec2 {
+        self.origin
+    }
+
+    fn intersect_mode_counted(
+        &self,
+        ray: &Ray,
+        mode: MlhmMode,
+        steps: &mut u32,
+    ) -> Option<MlhmHit> {
+        self.walk_cells(ray, mode, steps)
     }
 }
 

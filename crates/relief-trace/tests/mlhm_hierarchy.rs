@@ -9,7 +9,7 @@ use proptest::prelude::*;
 use relief_core::{DVec2, DVec3, Mlhm, MlhmColumn, Ray};
 use relief_trace::{
     MlhmBacktrack, MlhmHierarchy, MlhmHierarchyTracer, MlhmMode, MlhmNaiveTracer, MlhmNodeLayer,
-    Tracer,
+    MlhmTracer, Tracer,
 };
 use std::sync::Arc;
 use std::time::Instant;

@@ -9,7 +9,7 @@ use common::mlhm_reference::{
 };
 use proptest::prelude::*;
 use relief_core::{DVec2, DVec3, GridGeometry, HeightField, Mlhm, MlhmColumn, Ray, Surface};
-use relief_trace::{MlhmMaterial, MlhmMode, MlhmNaiveTracer, NaiveTracer, Tracer};
+use relief_trace::{MlhmMaterial, MlhmMode, MlhmNaiveTracer, MlhmTracer, NaiveTracer, Tracer};
 use std::sync::Arc;
 
 const RAYS_PER_KIND: usize = 6;
