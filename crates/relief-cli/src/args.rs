@@ -3,6 +3,7 @@
 use crate::tracers::TracerChoice;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use relief_core::{DVec3, Surface};
+use relief_shade::mlhm::MlhmPreset;
 use relief_trace::{MlhmBacktrack, SafetyOptions};
 use std::path::PathBuf;
 
@@ -115,6 +116,12 @@ pub struct RenderArgs {
     /// MLHM scenes: how their columns are rendered; boxes (the only mode so far) [default: boxes].
     #[arg(long, value_parser = parse_mlhm_render_mode)]
     pub mode: Option<MlhmRenderMode>,
+    /// MLHM scenes: quality preset (Nilles & Müller 2025, section 5): low (no secondary rays,
+    /// no AO), mid (water reflections and refractions with cheap absorption, sun shadows, AO
+    /// of radius 1 m), high (expensive absorption, shadows and AO on reflected and refracted
+    /// surfaces too) or max (AO of radius 2 m) [default: mid].
+    #[arg(long)]
+    pub preset: Option<MlhmPreset>,
     /// MLHM scenes, hierarchy tracer: how its traversal climbs back up, by a stack of exit
     /// distances or a miss counter: stack or miss [default: stack].
     #[arg(long)]

@@ -1,12 +1,11 @@
-//! A small golden image of the default pipeline, compared with a tolerance.
+//! Small golden images of the default pipeline and of an MLHM scene with water at the mid
+//! preset, compared with a tolerance.
 //!
-//! Regenerate after an intended change of the picture with:
+//! Regenerate after an intended change of the pictures with:
 //! `RELIEF_BLESS=1 cargo test -p relief-cli --test golden`
 
 use std::path::Path;
 use std::process::Command;
-
-const GOLDEN: &str = "tests/golden/fbm-96x64.png";
 
 fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
     let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
@@ -17,29 +16,52 @@ fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
     (info.width, info.height, buf)
 }
 
-#[test]
-fn default_pipeline_matches_the_golden_image() {
-    let out_path = std::env::temp_dir().join(format!("relief-golden-{}.png", std::process::id()));
+/// Runs `relief` with `args` plus an output PNG and compares the picture with `golden` (a path
+/// under the crate), or replaces `golden` with it when `RELIEF_BLESS` is set.
+fn assert_matches_golden(args: &[&str], golden: &str) {
+    let name = Path::new(golden).file_stem().unwrap().to_str().unwrap();
+    let out_path =
+        std::env::temp_dir().join(format!("relief-golden-{name}-{}.png", std::process::id()));
     let out = Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args(["render", "--fbm-size", "64", "--seed", "7", "--size", "96x64", "-o"])
+        .args(args)
+        .arg("-o")
         .arg(&out_path)
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join(GOLDEN);
+    let golden_path = Path::new(env!("CARGO_MANIFEST_DIR")).join(golden);
     if std::env::var_os("RELIEF_BLESS").is_some() {
-        std::fs::copy(&out_path, &golden).unwrap();
-        eprintln!("blessed {}", golden.display());
+        std::fs::copy(&out_path, &golden_path).unwrap();
+        eprintln!("blessed {}", golden_path.display());
         return;
     }
     let (w, h, got) = decode(&out_path);
-    let (gw, gh, want) = decode(&golden);
+    let (gw, gh, want) = decode(&golden_path);
     assert_eq!((w, h), (gw, gh));
     let diffs: Vec<u32> = got.iter().zip(&want).map(|(a, b)| a.abs_diff(*b) as u32).collect();
     let mean = diffs.iter().sum::<u32>() as f64 / diffs.len() as f64;
     let max = diffs.iter().copied().max().unwrap_or(0);
     assert!(
         mean <= 0.5 && max <= 16,
-        "image differs from {GOLDEN}: mean {mean:.2}, max {max} levels (RELIEF_BLESS=1 to regenerate)"
+        "image differs from {golden}: mean {mean:.2}, max {max} levels (RELIEF_BLESS=1 to regenerate)"
     );
+}
+
+#[test]
+fn default_pipeline_matches_the_golden_image() {
+    let args = ["render", "--fbm-size", "64", "--seed", "7", "--size", "96x64"];
+    assert_matches_golden(&args, "tests/golden/fbm-96x64.png");
+}
+
+#[test]
+fn mlhm_scene_with_water_at_the_mid_preset_matches_the_golden_image() {
+    let scene = std::env::temp_dir().join(format!("relief-golden-{}.json", std::process::id()));
+    let scene = scene.to_str().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["generate", "mlhm", "--scene", "combined", "--size", "64", "-o", scene])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let args = ["render", scene, "--preset", "mid", "--size", "96x64"];
+    assert_matches_golden(&args, "tests/golden/mlhm-combined-mid-96x64.png");
 }

@@ -1,6 +1,7 @@
 //! End-to-end tests of `relief render scene.json`: a multi-layered height map scene renders
-//! as boxes through the G-buffer, its depth is the same from the naive and the hierarchy
-//! tracer, a hand-made scene gives the depths worked out by hand, and bad options or files are
+//! as boxes at every preset, its depth is the same from the naive and the hierarchy tracer and
+//! from every preset, a hand-made scene gives the depths worked out by hand (from above and
+//! from under water), the real scene renders at every preset, and bad options or files are
 //! refused with exit code 2 before anything is written.
 
 mod common;
@@ -129,6 +130,88 @@ fn straight_down_depths_match_the_hand_made_scene() {
     }
 }
 
+/// The rays per pixel `relief render` reports on `stderr`.
+fn rays_per_pixel(stderr: &str) -> f64 {
+    let before = stderr.split(" rays per pixel").next().unwrap();
+    before.rsplit(' ').next().unwrap().parse().unwrap_or_else(|_| panic!("{stderr}"))
+}
+
+#[test]
+fn every_preset_renders_the_same_surfaces_with_more_rays_for_more_quality() {
+    let json = scratch("presets-combined.json");
+    let args = ["generate", "mlhm", "--scene", "combined", "--size", "48", "-o"];
+    let out = relief(&[&args[..], &[json.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut previous: Option<(Vec<f32>, f64)> = None;
+    for preset in ["low", "mid", "high", "max"] {
+        let (depth, stderr) = render(&json, &format!("preset-{preset}"), &["--preset", preset]);
+        assert!(stderr.contains(&format!("preset {preset}")), "{stderr}");
+        let rays = rays_per_pixel(&stderr);
+        match &previous {
+            None => assert_eq!(rays, 1.0, "low traces camera rays only: {stderr}"),
+            Some((first, fewer)) => {
+                assert!(rays >= *fewer && rays > 1.0, "{preset}: {rays} after {fewer}");
+                assert!(first.iter().zip(&depth).all(|(a, b)| a == b || a.is_nan() && b.is_nan()));
+            }
+        }
+        previous = Some((previous.map_or(depth, |p| p.0), rays));
+    }
+    let (_, no_shadows) = render(&json, "preset-mid-unlit", &["--preset", "mid", "--no-shadows"]);
+    let (_, shadows) = render(&json, "preset-mid-lit", &["--preset", "mid"]);
+    assert!(rays_per_pixel(&no_shadows) < rays_per_pixel(&shadows));
+}
+
+#[test]
+fn a_camera_under_water_sees_the_bottom_below_and_the_surface_above() {
+    let json = hand_scene();
+    // Cell (0, 0): sand top at 1.5 m, water surface at 2 m; the eye is in the water at 1.75 m.
+    for extra in [&["--preset", "low"][..], &["--preset", "high"]] {
+        assert_eq!(depth_straight_down(&json, 1.0, 1.0, 1.75, extra), 0.25, "{extra:?}");
+        let view = ["--eye", "1,1,1.75", "--target", "1,1,10", "--up", "0,1,0"];
+        let mut args = vec![json.to_str().unwrap(), "--fov", "1", "--size", "1x1"];
+        args.extend(view);
+        args.extend(extra);
+        let (_, up, _) = render_depth("under-water-up", &args);
+        assert_eq!(up, [0.25], "the surface from below, {extra:?}");
+    }
+    // A wide view from under water renders the bottom, the surface (with total internal
+    // reflection) and the slab: no pixel is black.
+    let png = scratch("under-water.png");
+    let out = relief(&[
+        "render",
+        json.to_str().unwrap(),
+        "--eye",
+        "0.2,0.2,1.8",
+        "--target",
+        "3,3,2.2",
+        "--fov",
+        "120",
+        "--size",
+        "32x24",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let image = relief_io::read_png_rgb(&png).unwrap();
+    assert!(image.pixels.iter().all(|p| p.iter().any(|&c| c > 0)), "a black pixel");
+}
+
+#[test]
+fn the_real_scene_renders_at_every_preset() {
+    let json =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/ngwm24-scene/scene.json");
+    if !json.exists() {
+        eprintln!("skipped: {} is absent (the reference scene lives in ../shared)", json.display());
+        return;
+    }
+    for preset in ["low", "mid", "high", "max"] {
+        let (depth, stderr) = render(&json, &format!("real-{preset}"), &["--preset", preset]);
+        assert!(stderr.contains("256x256 MLHM scene"), "{stderr}");
+        let hits = depth.iter().filter(|d| d.is_finite()).count();
+        assert!(hits > depth.len() / 3, "{preset}: {hits} hits");
+    }
+}
+
 #[test]
 fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
     let cave = cave().to_str().unwrap().to_string();
@@ -152,6 +235,7 @@ fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
             "--backtrack",
         ),
         (vec![cave.clone(), "--backtrack".into(), "up".into()], "expected stack or miss"),
+        (vec![cave.clone(), "--preset".into(), "ultra".into()], "expected low, mid, high or max"),
         (vec![cave.clone(), "--mode".into(), "smooth".into()], "not implemented"),
         (vec![cave.clone(), "--mode".into(), "spheres".into()], "unknown mode"),
         (vec![cave.clone(), "--surface".into(), "triangles".into()], "--surface triangles"),
@@ -164,6 +248,7 @@ fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
             "MLHM scenes (.json) only",
         ),
         (vec!["--fbm-size".into(), "16".into(), "--mode".into(), "boxes".into()], "--mode"),
+        (vec!["--fbm-size".into(), "16".into(), "--preset".into(), "max".into()], "--preset"),
         (
             vec!["--fbm-size".into(), "16".into(), "--backtrack".into(), "stack".into()],
             "--backtrack",

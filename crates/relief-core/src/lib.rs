@@ -22,6 +22,7 @@ mod camera;
 mod error;
 mod height_field;
 mod mlhm;
+mod mlhm_volume;
 mod ray;
 mod surface;
 
@@ -30,6 +31,7 @@ pub use camera::Camera;
 pub use error::CoreError;
 pub use height_field::{GridGeometry, HeightField};
 pub use mlhm::{Mlhm, MlhmColumn, Precision};
+pub use mlhm_volume::MaterialVolumes;
 pub use ray::Ray;
 pub use surface::Surface;
 

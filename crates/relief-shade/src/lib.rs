@@ -7,6 +7,9 @@
 //!    [`Sky`], albedo from a [`HypsometricRamp`] or an [`RgbTexture`].
 //! 3. [`tonemap_to_srgb8`] maps the linear radiance to 8-bit sRGB.
 //!
+//! Multi-layered height maps have their own renderer in [`mlhm`]: the reference shading of
+//! Nilles & Müller (2025) with water, shadows and ambient occlusion, at four quality presets.
+//!
 //! Every step gives the same result whatever the number of threads.
 //!
 //! ```
@@ -33,6 +36,7 @@ mod colour_ramp;
 mod deferred;
 mod error;
 mod gbuffer;
+pub mod mlhm;
 mod render;
 mod shading;
 mod sky;
@@ -52,4 +56,6 @@ pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGO
 pub use stats::TraceStats;
 pub use sun::{light_visibility, shadow_ray, sun_direction, Sun, SHADOW_BIAS};
 pub use texture::RgbTexture;
-pub use tonemap::{aces_filmic, linear_to_srgb, srgb_to_linear, tonemap_to_srgb8};
+pub use tonemap::{
+    aces_filmic, linear_to_srgb, srgb_to_linear, tonemap_reinhard_to_rgb8, tonemap_to_srgb8,
+};

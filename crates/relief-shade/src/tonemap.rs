@@ -51,6 +51,29 @@ pub fn tonemap_to_srgb8(radiance: &[[f32; 3]], exposure: f64) -> Result<Vec<u8>,
     Ok(out)
 }
 
+/// Tone-maps linear radiance to interleaved 8-bit RGB as the MLHM reference renderer does:
+/// each channel is multiplied by `exposure`, compressed by Reinhard's `x / (1 + x)` and
+/// encoded with a gamma of 1/2.2, then rounded to the nearest of 0..=255.
+///
+/// Fails when `exposure` is negative or not finite. Negative or NaN radiance gives 0.
+pub fn tonemap_reinhard_to_rgb8(
+    radiance: &[[f32; 3]],
+    exposure: f64,
+) -> Result<Vec<u8>, ShadeError> {
+    non_negative("exposure", exposure)?;
+    let exposure = exposure as f32;
+    let mut out = vec![0u8; radiance.len() * 3];
+    out.par_chunks_mut(3).zip(radiance.par_iter()).for_each(|(rgb, pixel)| {
+        for (o, &channel) in rgb.iter_mut().zip(pixel) {
+            let x = clamp_unit(channel * exposure / (1.0 + channel * exposure));
+            // An infinite channel gives inf / inf: white, as its limit.
+            let x = if channel * exposure == f32::INFINITY { 1.0 } else { x };
+            *o = (x.powf(1.0 / 2.2) * 255.0).round() as u8;
+        }
+    });
+    Ok(out)
+}
+
 fn clamp_unit(x: f32) -> f32 {
     if x > 0.0 {
         x.min(1.0)
@@ -102,6 +125,19 @@ mod tests {
         }
         assert_eq!(aces_filmic(1e30), 1.0);
         assert_eq!(aces_filmic(0.0), 0.0);
+    }
+
+    #[test]
+    fn reinhard_halves_one_and_encodes_with_gamma() {
+        let px = [[0.0f32, 1.0, f32::INFINITY], [-1.0, f32::NAN, 3.0]];
+        let rgb = tonemap_reinhard_to_rgb8(&px, 1.0).unwrap();
+        let half = (0.5f32.powf(1.0 / 2.2) * 255.0).round() as u8;
+        let three = (0.75f32.powf(1.0 / 2.2) * 255.0).round() as u8;
+        assert_eq!(rgb, vec![0, half, 255, 0, 0, three]);
+        assert_eq!(tonemap_reinhard_to_rgb8(&px[..1], 0.5).unwrap()[1], {
+            ((1.0f32 / 3.0).powf(1.0 / 2.2) * 255.0).round() as u8
+        });
+        assert!(tonemap_reinhard_to_rgb8(&px, -1.0).is_err());
     }
 
     #[test]

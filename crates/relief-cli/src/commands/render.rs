@@ -48,7 +48,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let (gbuffer, _) = render_gbuffer(tracer.as_ref(), &camera, &bounds, &|n| bar.inc(n))?;
     bar.finish_and_clear();
     let (radiance, _) = shade(&gbuffer, tracer.as_ref(), &camera, &params)?;
-    write_outputs(args, &camera, &gbuffer, &radiance, params.exposure)?;
+    let rgb = tonemap_to_srgb8(&radiance, params.exposure)?;
+    write_outputs(args, &camera, &gbuffer, &rgb)?;
     let (w, h) = (camera.width(), camera.height());
     eprintln!("wrote {} ({w}x{h}, {surface} {choice} tracer)", args.output.display());
     Ok(())
@@ -62,22 +63,22 @@ fn refuse_mlhm_options(args: &RenderArgs) -> Result<()> {
         "--mode"
     } else if args.backtrack.is_some() {
         "--backtrack"
+    } else if args.preset.is_some() {
+        "--preset"
     } else {
         return Ok(());
     };
     bail!("{what} applies to MLHM scenes (.json) only, not to height fields")
 }
 
-/// The PNG of `radiance`, and the depth and normals of `gbuffer` where asked for.
+/// The PNG of the tone-mapped `rgb`, and the depth and normals of `gbuffer` where asked for.
 pub(super) fn write_outputs(
     args: &RenderArgs,
     camera: &Camera,
     gbuffer: &GBuffer,
-    radiance: &[[f32; 3]],
-    exposure: f64,
+    rgb: &[u8],
 ) -> Result<()> {
-    let rgb = tonemap_to_srgb8(radiance, exposure)?;
-    relief_io::write_png_rgb8(&args.output, camera.width(), camera.height(), &rgb)?;
+    relief_io::write_png_rgb8(&args.output, camera.width(), camera.height(), rgb)?;
     let (h, w) = (camera.height() as usize, camera.width() as usize);
     if let Some(path) = &args.depth {
         relief_io::write_npy_f32(path, &[h, w], &gbuffer.depth_hw())?;

@@ -1,26 +1,24 @@
-//! `relief render scene.json`: box ray tracing of a multi-layered height map scene through the
-//! G-buffer and deferred shading of the height-field path.
+//! `relief render scene.json`: box ray tracing of a multi-layered height map scene, shaded as
+//! the MLHM paper does (Nilles & Müller 2025, sections 4.6 and 5) at a quality preset.
 
-use super::render::{camera, shading, write_outputs};
+use super::render::{camera, write_outputs};
 use crate::args::{MlhmRenderMode, RenderArgs};
 use crate::tracers::TracerChoice;
 use crate::{input, progress};
 use anyhow::{bail, Result};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, Surface};
-use relief_shade::{render_gbuffer, shade};
+use relief_shade::mlhm::{render_mlhm, MlhmShading};
+use relief_shade::{tonemap_reinhard_to_rgb8, Sun};
 use relief_trace::{
-    MlhmBacktrack, MlhmHierarchyTracer, MlhmMode, MlhmNaiveTracer, Tracer, TracerKind,
+    MlhmBacktrack, MlhmHierarchyTracer, MlhmMode, MlhmNaiveTracer, MlhmTracer, TracerKind,
 };
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
-/// What primary rays, depth and shadow rays intersect: the visible surface, solids and water.
-const MODE: MlhmMode = MlhmMode::SolidsWater;
-
 /// The MLHM tracers `--tracer` may name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum MlhmTracer {
+enum MlhmTracerChoice {
     Naive,
     Hierarchy(MlhmBacktrack),
 }
@@ -31,39 +29,49 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
     let MlhmRenderMode::Boxes = args.mode.unwrap_or(MlhmRenderMode::Boxes);
     let choice = tracer_choice(args)?;
     refuse_height_field_options(args)?;
+    let preset = args.preset.unwrap_or_default();
+    let mut shading = MlhmShading::new(preset);
+    let (azimuth_deg, elevation_deg) = args.sun;
+    shading.sun = Sun { azimuth_deg, elevation_deg, ..shading.sun };
+    shading.quality.shadows &= !args.no_shadows;
+    shading.exposure = args.exposure;
+    shading.validate()?;
+
     let scene = input::load_mlhm(path, &args.input.read)?;
     let map = Arc::new(scene.mlhm);
     // The scene has no georeference: cell (x, y) covers [x s, (x + 1) s) x [y s, (y + 1) s).
     let origin = DVec2::ZERO;
-    let naive = MlhmNaiveTracer::new(map.clone(), origin).with_mode(MODE);
-    let bounds = finite_bounds(&naive.world_bounds(MODE), &map)?;
+    let naive = MlhmNaiveTracer::new(map.clone(), origin);
+    let bounds = finite_bounds(&naive.world_bounds(MlhmMode::SolidsWater), &map)?;
     let camera = camera(args, &bounds)?;
-    let params = shading(args, &bounds)?;
 
     let started = Instant::now();
-    let tracer: Box<dyn Tracer> = match choice {
-        MlhmTracer::Naive => Box::new(naive),
-        MlhmTracer::Hierarchy(backtrack) => Box::new(
-            MlhmHierarchyTracer::new(map.clone(), origin).with_mode(MODE).with_backtrack(backtrack),
-        ),
+    let tracer: Box<dyn MlhmTracer> = match choice {
+        MlhmTracerChoice::Naive => Box::new(naive),
+        MlhmTracerChoice::Hierarchy(backtrack) => {
+            Box::new(MlhmHierarchyTracer::new(map.clone(), origin).with_backtrack(backtrack))
+        }
     };
     let build_ms = started.elapsed().as_secs_f64() * 1e3;
 
-    let pixels = camera.width() as u64 * camera.height() as u64;
-    let bar = progress::bar(pixels, "tracing");
-    let (gbuffer, _) = render_gbuffer(tracer.as_ref(), &camera, &bounds, &|n| bar.inc(n))?;
-    bar.finish_and_clear();
-    let (radiance, _) = shade(&gbuffer, tracer.as_ref(), &camera, &params)?;
-    write_outputs(args, &camera, &gbuffer, &radiance, params.exposure)?;
     let (w, h) = (camera.width(), camera.height());
+    let bar = progress::bar(w as u64 * h as u64, "rendering");
+    let started = Instant::now();
+    let image = render_mlhm(tracer.as_ref(), &camera, &shading, &|n| bar.inc(n))?;
+    let render_ms = started.elapsed().as_secs_f64() * 1e3;
+    bar.finish_and_clear();
+    let rgb = tonemap_reinhard_to_rgb8(&image.radiance, shading.exposure)?;
+    write_outputs(args, &camera, &image.gbuffer, &rgb)?;
     let how = match choice {
-        MlhmTracer::Naive => "naive tracer".to_string(),
-        MlhmTracer::Hierarchy(b) => {
+        MlhmTracerChoice::Naive => "naive tracer".to_string(),
+        MlhmTracerChoice::Hierarchy(b) => {
             format!("hierarchy tracer, {b} backtracking, built in {build_ms:.1} ms")
         }
     };
+    let rays_per_pixel = image.counts.rays() as f64 / (w as f64 * h as f64);
     eprintln!(
-        "wrote {} ({w}x{h}, {}x{} MLHM scene as boxes, {how})",
+        "wrote {} ({w}x{h}, {}x{} MLHM scene as boxes, preset {preset}, {how}; \
+         rendered in {render_ms:.0} ms, {rays_per_pixel:.2} rays per pixel)",
         args.output.display(),
         map.width(),
         map.height()
@@ -73,12 +81,12 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
 
 /// The tracer `--tracer` and `--backtrack` name for an MLHM scene (default: the hierarchy,
 /// climbing by its exit stack).
-fn tracer_choice(args: &RenderArgs) -> Result<MlhmTracer> {
+fn tracer_choice(args: &RenderArgs) -> Result<MlhmTracerChoice> {
     match (&args.tracer, args.backtrack) {
         (None | Some(TracerChoice::Hierarchy), backtrack) => {
-            Ok(MlhmTracer::Hierarchy(backtrack.unwrap_or_default()))
+            Ok(MlhmTracerChoice::Hierarchy(backtrack.unwrap_or_default()))
         }
-        (Some(TracerChoice::Plain(TracerKind::Naive)), None) => Ok(MlhmTracer::Naive),
+        (Some(TracerChoice::Plain(TracerKind::Naive)), None) => Ok(MlhmTracerChoice::Naive),
         (Some(TracerChoice::Plain(TracerKind::Naive)), Some(_)) => {
             bail!("--backtrack applies to the hierarchy tracer only, not to --tracer naive")
         }

@@ -44,7 +44,9 @@ pub fn depth_straight_down(input: &Path, x: f64, y: f64, height: f64, extra: &[&
     let mut args = vec![input.to_str().unwrap(), "--surface", "boxes", "--eye", &eye];
     args.extend(["--target", &target, "--up", "0,1,0", "--fov", "1", "--size", "1x1"]);
     args.extend(extra);
-    render_depth("straight-down", &args).1[0]
+    // Named after the view, so that tests running at the same time do not share files.
+    let name = format!("straight-down-{x}-{y}-{height}-{}", extra.join("_"));
+    render_depth(&name, &args).1[0]
 }
 
 /// Reads a little-endian f32 .npy written by relief: (shape, values); infinities allowed.
