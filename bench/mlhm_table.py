@@ -7,7 +7,7 @@ a chasm, overhangs and water), every image size and every preset, this script ru
 back-tracking) and with the naive 2D DDA, and prints one markdown table: hierarchy build ms,
 render ms of both tracers, rays per pixel and the hierarchy's speedup. Every figure is what
 `relief render` itself reports on stderr (build and render only: reading the scene is not
-timed). Not part of the tests.
+timed), seen from one fixed view (EYE and TARGET below). Not part of the tests.
 
     cargo build --release
     python3 bench/mlhm_table.py --sizes 1024 2048 4096 --res 1280x720 1920x1080
@@ -21,10 +21,14 @@ import re
 import subprocess
 import sys
 
+# The view: from 40 m south of the 256 m square scene, 70 m up, across it and down 19 degrees,
+# as the simulator's saved camera looks (60 degree field of view): terrain fills the lower
+# three quarters of the image, sky the rest.
+EYE, TARGET = "128,-40,70", "128,140,8"
 RELIEF = os.path.join(os.path.dirname(__file__), "..", "target", "release", "relief")
 REPORT = re.compile(
     r"(?:built in (?P<build>[\d.]+) ms; )?rendered in (?P<render>[\d.]+) ms, "
-    r"(?P<rays>[\d.]+) rays per pixel"
+    r"(?P<rays>[\d.]+) rays per pixel, (?P<steps>[\d.]+) steps per camera ray"
 )
 
 
@@ -45,12 +49,13 @@ def scene(work, name, size):
 
 
 def render(path, res, preset, tracer, work):
-    """(build ms or None, render ms, rays per pixel) of one `relief render`."""
+    """(build ms or None, render ms, rays per pixel, steps per camera ray) of one render."""
     png = os.path.join(work, "out.png")
     cmd = [RELIEF, "render", path, "--size", res, "--preset", preset, "--tracer", tracer]
+    cmd += ["--eye", EYE, "--target", TARGET, "--fov", "60"]
     match = REPORT.search(run(cmd + ["-o", png]))
     build = float(match["build"]) if match["build"] else None
-    return build, float(match["render"]), float(match["rays"])
+    return build, float(match["render"]), float(match["rays"]), float(match["steps"])
 
 
 def main():
@@ -65,19 +70,24 @@ def main():
     os.makedirs(args.work, exist_ok=True)
 
     scenes = [("rivers-rain", s) for s in args.sizes] + [("combined", args.overhangs)]
-    print("| scene | resolution | preset | build ms | hierarchy ms | naive ms | rays/pixel | speedup |")
-    print("|---|---|---|---|---|---|---|---|")
+    print(
+        "| scene | resolution | preset | build ms | hierarchy ms | naive ms | speedup "
+        "| rays/pixel | steps hierarchy | steps naive |"
+    )
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
     for name, size in scenes:
         path = scene(args.work, name, size)
         for res in args.res:
             for preset in args.presets:
-                build, fast, rays = render(path, res, preset, "hierarchy", args.work)
-                naive = "–" if args.no_naive else render(path, res, preset, "naive", args.work)[1]
-                speedup = "–" if args.no_naive else f"{naive / fast:.1f}x"
-                naive = naive if args.no_naive else f"{naive:.0f}"
+                build, fast, rays, steps = render(path, res, preset, "hierarchy", args.work)
+                naive, speedup, naive_steps = "–", "–", "–"
+                if not args.no_naive:
+                    _, slow, _, slow_steps = render(path, res, preset, "naive", args.work)
+                    naive, speedup = f"{slow:.0f}", f"{slow / fast:.1f}x"
+                    naive_steps = f"{slow_steps:.0f}"
                 print(
                     f"| {name} {size}² | {res} | {preset} | {build:.1f} | {fast:.0f} | "
-                    f"{naive} | {rays:.2f} | {speedup} |",
+                    f"{naive} | {speedup} | {rays:.2f} | {steps:.0f} | {naive_steps} |",
                     flush=True,
                 )
 

@@ -69,9 +69,11 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
         }
     };
     let rays_per_pixel = image.counts.rays() as f64 / (w as f64 * h as f64);
+    let steps = image.counts.primary.mean_steps();
     eprintln!(
         "wrote {} ({w}x{h}, {}x{} MLHM scene as boxes, preset {preset}, {how}; \
-         rendered in {render_ms:.0} ms, {rays_per_pixel:.2} rays per pixel)",
+         rendered in {render_ms:.0} ms, {rays_per_pixel:.2} rays per pixel, \
+         {steps:.1} steps per camera ray)",
         args.output.display(),
         map.width(),
         map.height()

@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 /// The sky of the MLHM reference renderer, `(0.3, 0.65, 0.98)` overhead, paler towards the
 /// horizon.
 pub fn reference_sky() -> Sky {
-    Sky { zenith: [0.3, 0.65, 0.98], horizon: [0.6, 0.75, 0.92], ambient: [0.0; 3] }
+    Sky { zenith: [0.3, 0.65, 0.98], horizon: [0.5, 0.72, 0.95], ambient: [0.0; 3] }
 }
 
 /// Radiance of the ground below the horizon as a light: the terrain's own shade, dim.
@@ -30,8 +30,9 @@ pub struct SkyLight {
 }
 
 impl SkyLight {
-    /// Precomputes the irradiance of `sky` (midpoint quadrature over the sphere).
-    pub fn new(sky: Sky) -> Self {
+    /// Precomputes the irradiance of `sky` (midpoint quadrature over the sphere), scaled by
+    /// `strength`: how brightly the sky lights the terrain relative to how bright it looks.
+    pub fn new(sky: Sky, strength: f64) -> Self {
         let (rings, sectors) = (96, 96);
         let mut samples = Vec::with_capacity(rings * sectors);
         for a in 0..rings {
@@ -42,7 +43,7 @@ impl SkyLight {
                 let dir = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
                 let radiance =
                     if dir.z > 0.0 { sky.radiance(dir) } else { DVec3::from(GROUND_RADIANCE) };
-                samples.push((dir, radiance * solid_angle));
+                samples.push((dir, radiance * solid_angle * strength));
             }
         }
         let irradiance = (0..TABLE_SIZE)
@@ -75,13 +76,16 @@ mod tests {
     #[test]
     fn a_uniform_sky_gives_pi_l_upwards_and_half_of_sky_and_ground_sideways() {
         let uniform = Sky { zenith: [1.0; 3], horizon: [1.0; 3], ambient: [0.0; 3] };
-        let light = SkyLight::new(uniform);
+        let light = SkyLight::new(uniform, 1.0);
         let ground = DVec3::from(GROUND_RADIANCE);
         let close = |a: DVec3, b: DVec3| (a - b).abs().max_element() < 2e-3;
         assert!(close(light.irradiance(DVec3::Z), DVec3::splat(PI)));
         assert!(close(light.irradiance(DVec3::X), (DVec3::ONE + ground) * PI / 2.0));
         assert!(close(light.irradiance(-DVec3::Z), ground * PI));
-        let sky = SkyLight::new(reference_sky());
+        let sky = SkyLight::new(reference_sky(), 1.0);
+        let dim = SkyLight::new(reference_sky(), 0.5);
+        assert!((dim.irradiance(DVec3::Z) * 2.0 - sky.irradiance(DVec3::Z)).length() < 1e-12);
+        assert_eq!(dim.radiance(DVec3::Z), sky.radiance(DVec3::Z));
         let (up, side) = (sky.irradiance(DVec3::Z), sky.irradiance(DVec3::X));
         assert!(up.z > up.x, "blue from above: {up}");
         assert!(side.x / side.z > up.x / up.z, "paler from the horizon: {side} vs {up}");

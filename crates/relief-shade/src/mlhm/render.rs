@@ -16,6 +16,10 @@ use relief_core::{Camera, DVec2, DVec3, Mlhm, Ray};
 use relief_trace::{MlhmHit, MlhmMaterial, MlhmMode, MlhmTracer};
 use std::f64::consts::PI;
 
+/// The default strength of the sky's light: with the default sun 35 degrees up, flat open
+/// ground gets about a third of its light from the sky, as on a clear day.
+pub const SKY_LIGHT: f64 = 0.4;
+
 /// Lights, preset and exposure of an MLHM rendering.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MlhmShading {
@@ -25,17 +29,22 @@ pub struct MlhmShading {
     pub sun: Sun,
     /// The sky seen behind the terrain and lighting it.
     pub sky: Sky,
+    /// How brightly the sky lights the terrain relative to how bright it looks (the reference
+    /// renderer's ambient light intensity against its sun).
+    pub sky_light: f64,
     /// Exposure before tone mapping (see [`crate::tonemap_reinhard_to_srgb8`]).
     pub exposure: f64,
 }
 
 impl MlhmShading {
-    /// The reference look at `preset`: the default sun, the reference sky, exposure 1.
+    /// The reference look at `preset`: the default sun, the reference sky lighting with
+    /// [`SKY_LIGHT`], exposure 1.
     pub fn new(preset: MlhmPreset) -> Self {
         MlhmShading {
             quality: preset.quality(),
             sun: Sun::default(),
             sky: reference_sky(),
+            sky_light: SKY_LIGHT,
             exposure: 1.0,
         }
     }
@@ -52,6 +61,7 @@ impl MlhmShading {
                 ));
             }
         }
+        non_negative("sky light", self.sky_light)?;
         non_negative("exposure", self.exposure)
     }
 }
@@ -140,7 +150,7 @@ pub fn render_mlhm(
         quality: shading.quality,
         sun: shading.sun,
         to_sun: shading.sun.direction(),
-        sky: SkyLight::new(shading.sky),
+        sky: SkyLight::new(shading.sky, shading.sky_light),
         footprint_per_distance: 2.0 * (camera.fov_deg().to_radians() / 2.0).tan() / height as f64,
     };
     let mut pixels = vec![GBufferPixel::MISS; width * height];
