@@ -2,7 +2,7 @@
 
 use crate::tracers::TracerChoice;
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use relief_core::{DVec3, Surface};
+use relief_core::{DVec3, Precision, Surface};
 use relief_shade::mlhm::MlhmPreset;
 use relief_trace::{MlhmBacktrack, SafetyOptions};
 use std::path::PathBuf;
@@ -19,7 +19,7 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Render a height field or an MLHM scene (.json) to a PNG (and optionally its depth and
+    /// Render a height field or an MLHM scene (.json or .mlhm) to a PNG (and optionally its depth and
     /// normals as .npy).
     Render(Box<RenderArgs>),
     /// Write a synthetic terrain.
@@ -76,7 +76,8 @@ pub enum PngHeights {
 pub struct InputArgs {
     /// Height file: .tif/.tiff (GeoTIFF), .hgt (SRTM), .asc (ESRI ASCII grid), .png (16-bit grey,
     /// terrain-RGB, Terrarium), .npy or .npz; or a multi-layered height map scene (.json, the
-    /// reference simulator's format). Without one, the seeded fBm terrain is used.
+    /// reference simulator's format, or .mlhm, relief's own). Without one, the seeded fBm
+    /// terrain is used.
     pub input: Option<PathBuf>,
     /// How to read it.
     #[command(flatten)]
@@ -110,7 +111,7 @@ pub struct RenderArgs {
     pub surface: Option<Surface>,
     /// Tracer: naive, mipmap (both exact, no precomputation) or safety (precomputed safety
     /// shapes for static terrain, triangles only; see --safety), or a safety variant by name
-    /// [default: mipmap]. For an MLHM scene (.json): naive or hierarchy [default: hierarchy].
+    /// [default: mipmap]. For an MLHM scene (.json or .mlhm): naive or hierarchy [default: hierarchy].
     #[arg(long)]
     pub tracer: Option<TracerChoice>,
     /// MLHM scenes: how their columns are rendered; boxes (the only mode so far) [default: boxes].
@@ -122,6 +123,10 @@ pub struct RenderArgs {
     /// surfaces too) or max (AO of radius 2 m) [default: mid].
     #[arg(long)]
     pub preset: Option<MlhmPreset>,
+    /// MLHM scenes, hierarchy tracer: store its bounds as f32 or f16 (half the memory, rounded
+    /// outwards so they stay conservative; the same image) [default: f32].
+    #[arg(long, value_parser = parse_precision)]
+    pub hierarchy_bounds: Option<Precision>,
     /// MLHM scenes, hierarchy tracer: how its traversal climbs back up, by a stack of exit
     /// distances or a miss counter: stack or miss [default: stack].
     #[arg(long)]
@@ -172,6 +177,14 @@ pub struct RenderArgs {
 pub enum MlhmRenderMode {
     /// Every column as a box over its cell (Nilles & Müller 2025, 4.1).
     Boxes,
+}
+
+fn parse_precision(s: &str) -> Result<Precision, String> {
+    match s {
+        "f32" => Ok(Precision::F32),
+        "f16" => Ok(Precision::F16),
+        _ => Err(format!("unknown precision '{s}' (expected f32 or f16)")),
+    }
 }
 
 fn parse_mlhm_render_mode(s: &str) -> Result<MlhmRenderMode, String> {
@@ -248,7 +261,8 @@ pub struct MlhmArgs {
     /// Memory generation may take, e.g. 512M, 8G (default: half the machine's memory).
     #[arg(long, value_parser = parse_bytes)]
     pub max_memory: Option<u64>,
-    /// Output scene JSON; the .dat is written beside it with the same name.
+    /// Output: scene.mlhm (relief's own file, an NPZ archive) or scene.json (the reference
+    /// simulator's scene, its .dat written beside it with the same name).
     #[arg(short, long)]
     pub output: PathBuf,
 }
@@ -282,7 +296,8 @@ pub struct InfoArgs {
 pub struct ConvertArgs {
     /// Height file to read.
     pub input: PathBuf,
-    /// File to write: .tif (float32 GeoTIFF), .hgt, .asc, .png (16-bit grey) or .npy.
+    /// File to write: .tif (float32 GeoTIFF), .hgt, .asc, .png (16-bit grey) or .npy; an MLHM
+    /// scene converts between .json and .mlhm.
     pub output: PathBuf,
     /// How to read the input (voids are kept as nodata unless --voids fill is given).
     #[command(flatten)]

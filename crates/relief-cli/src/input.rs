@@ -69,12 +69,31 @@ pub fn fbm(size: usize, seed: u64) -> Result<HeightField> {
         .context("generating fBm terrain")
 }
 
-/// Whether `path` names a multi-layered height map scene (by its extension, `.json`).
+/// Whether `path` names a multi-layered height map: a reference scene (`.json`) or relief's
+/// own `.mlhm` file, by its extension.
 pub fn is_mlhm_scene(path: &Path) -> bool {
+    is_reference_scene(path) || is_native_mlhm(path)
+}
+
+/// Whether `path` names a reference simulator scene (its JSON), by the extension `.json`.
+pub fn is_reference_scene(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }
 
-/// Reads the MLHM scene at `path` (its JSON and the `.dat` it names), within `--max-memory`.
+/// Whether `path` names relief's own MLHM file, by the extension `.mlhm`.
+pub fn is_native_mlhm(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("mlhm"))
+}
+
+/// Reads the MLHM at `path` within `--max-memory`: a `.mlhm` file as a scene with no
+/// simulation state or settings (in its map's precision), else a reference scene (its JSON
+/// and the `.dat` it names).
 pub fn load_mlhm(path: &Path, args: &ReadArgs) -> Result<relief_io::MlhmScene> {
-    Ok(relief_io::read_mlhm_scene(path, &read_options(args))?)
+    let options = read_options(args);
+    if is_native_mlhm(path) {
+        let map = relief_io::read_mlhm_native(path, &options)?;
+        let precision = map.precision();
+        return Ok(relief_io::MlhmScene { precision, ..relief_io::MlhmScene::new(map) });
+    }
+    Ok(relief_io::read_mlhm_scene(path, &options)?)
 }

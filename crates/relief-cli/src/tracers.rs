@@ -95,7 +95,7 @@ pub fn build(
         }
         TracerChoice::Safety(variant) => *variant,
         TracerChoice::Hierarchy => bail!(
-            "the hierarchy tracer renders MLHM scenes (.json) only; height fields take --tracer naive, mipmap or safety"
+            "the hierarchy tracer renders MLHM scenes (.json, .mlhm) only; height fields take --tracer naive, mipmap or safety"
         ),
     };
     if surface != Surface::Triangles {

@@ -87,12 +87,15 @@ fn naive_and_hierarchy_tracers_give_the_same_depth() {
         assert!(stderr.contains("naive tracer"), "{stderr}");
         let hits = naive.iter().filter(|d| d.is_finite()).count();
         assert!(hits > naive.len() / 4, "view {v}: {hits} hits");
-        for backtrack in ["stack", "miss"] {
-            let extra = ["--tracer", "hierarchy", "--backtrack", backtrack];
-            let (depth, _) = render(cave(), &format!("{backtrack}-{v}"), &with(&extra));
+        for (backtrack, bounds) in [("stack", "f32"), ("miss", "f32"), ("stack", "f16")] {
+            let extra =
+                ["--tracer", "hierarchy", "--backtrack", backtrack, "--hierarchy-bounds", bounds];
+            let name = format!("{backtrack}-{bounds}-{v}");
+            let (depth, stderr) = render(cave(), &name, &with(&extra));
+            assert!(stderr.contains(&format!("{bounds} bounds")), "{stderr}");
             for (k, (a, b)) in naive.iter().zip(&depth).enumerate() {
                 let same = a == b || (a - b).abs() <= 1e-5 * a.abs().max(b.abs());
-                assert!(same, "view {v}, {backtrack}: pixel {k}: naive {a} vs {b}");
+                assert!(same, "view {v}, {backtrack}, {bounds}: pixel {k}: naive {a} vs {b}");
             }
         }
     }
@@ -235,6 +238,17 @@ fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
             "--backtrack",
         ),
         (vec![cave.clone(), "--backtrack".into(), "up".into()], "expected stack or miss"),
+        (vec![cave.clone(), "--hierarchy-bounds".into(), "f8".into()], "expected f32 or f16"),
+        (
+            vec![
+                cave.clone(),
+                "--tracer".into(),
+                "naive".into(),
+                "--hierarchy-bounds".into(),
+                "f16".into(),
+            ],
+            "--hierarchy-bounds",
+        ),
         (vec![cave.clone(), "--preset".into(), "ultra".into()], "expected low, mid, high or max"),
         (vec![cave.clone(), "--mode".into(), "smooth".into()], "not implemented"),
         (vec![cave.clone(), "--mode".into(), "spheres".into()], "unknown mode"),
@@ -245,7 +259,7 @@ fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
         (vec![json(&scratch("missing.json"))], "missing.json"),
         (
             vec!["--fbm-size".into(), "16".into(), "--tracer".into(), "hierarchy".into()],
-            "MLHM scenes (.json) only",
+            "MLHM scenes (.json, .mlhm) only",
         ),
         (vec!["--fbm-size".into(), "16".into(), "--mode".into(), "boxes".into()], "--mode"),
         (vec!["--fbm-size".into(), "16".into(), "--preset".into(), "max".into()], "--preset"),

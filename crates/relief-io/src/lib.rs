@@ -11,6 +11,8 @@
 //! - [`read_mlhm_scene`], [`write_mlhm_scene`]: multi-layered height map scenes of the
 //!   reference simulator (JSON settings and a zlib `.dat`, f32 or f16) as an [`MlhmScene`];
 //!   [`read_mlhm_scene_header`] for the JSON alone (a procedural scene has no `.dat`);
+//! - [`read_mlhm_native`], [`write_mlhm_native`]: relief's own `.mlhm` files, a NumPy `.npz`
+//!   archive of the layer counts, the columns (f32 or f16) and the cell size;
 //! - [`ReadOptions`]: the memory budget (refused before allocating), the `.npz` array, the PNG
 //!   encoding;
 //! - [`write_npy_f32`], [`write_height_field_npy`]: little-endian f32 `.npy` arrays (depth
@@ -42,6 +44,7 @@ mod geotiff_read;
 mod geotiff_write;
 mod hgt;
 mod input_file;
+mod mlhm_native;
 mod mlhm_scene;
 mod npy_header;
 mod npy_raster;
@@ -67,6 +70,9 @@ pub use geodesy::metres_per_degree;
 pub use geotiff_read::read_geotiff;
 pub use geotiff_write::write_geotiff;
 pub use hgt::{hgt_tile_corner, read_hgt, write_hgt, HGT_VOID};
+pub use mlhm_native::{
+    read_mlhm_native, read_mlhm_native_from_bytes, write_mlhm_native, MLHM_NATIVE_VERSION,
+};
 pub use mlhm_scene::{
     parse_mlhm_scene_header, read_mlhm_scene, read_mlhm_scene_from_bytes, read_mlhm_scene_header,
     write_mlhm_scene, MlhmScene, MlhmSceneHeader, SimulationState, F16_SLACK, F32_SLACK,

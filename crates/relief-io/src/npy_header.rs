@@ -4,6 +4,7 @@
 //! for version 1, u32 LE for versions 2 and 3), then a Python dict literal with the keys
 //! `descr`, `fortran_order` and `shape`, padded with spaces and ended by a newline.
 
+use crate::sample_type::SampleType;
 use crate::IoError;
 use std::io::{ErrorKind, Read};
 use std::path::Path;
@@ -14,8 +15,51 @@ pub(crate) const MAGIC: &[u8; 6] = b"\x93NUMPY";
 /// Headers longer than this are refused without being read (numpy itself refuses 10 000).
 const MAX_HEADER_LEN: u64 = 1 << 20;
 
-/// Element types relief reads.
-pub(crate) use crate::sample_type::SampleType as ScalarKind;
+/// An element type relief reads from and writes to `.npy` files: a raster sample type, or
+/// float16, which among relief's inputs only NumPy arrays hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ScalarKind {
+    /// An integer of 8 to 64 bits, float32 or float64 (the sample types of rasters).
+    Sample(SampleType),
+    /// IEEE 754 half precision (NumPy's `float16`, type code `f2`).
+    F16,
+}
+
+impl ScalarKind {
+    /// Bytes per element.
+    pub(crate) fn size(self) -> usize {
+        match self {
+            ScalarKind::Sample(sample) => sample.size(),
+            ScalarKind::F16 => 2,
+        }
+    }
+
+    /// The type's NumPy name (`int16`, `float16`).
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            ScalarKind::Sample(sample) => sample.name(),
+            ScalarKind::F16 => "float16",
+        }
+    }
+
+    /// The type's code in a NumPy type string, without the byte order (`i2`, `f2`).
+    pub(crate) fn numpy_code(self) -> &'static str {
+        match self {
+            ScalarKind::Sample(sample) => sample.numpy_code(),
+            ScalarKind::F16 => "f2",
+        }
+    }
+
+    /// Whether the type is a signed or unsigned integer.
+    pub(crate) fn is_integer(self) -> bool {
+        self.numpy_code().starts_with(['i', 'u'])
+    }
+
+    /// Whether the type is a float (float16, float32 or float64).
+    pub(crate) fn is_float(self) -> bool {
+        self.numpy_code().starts_with('f')
+    }
+}
 
 /// An element type with its byte order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -27,9 +71,25 @@ pub(crate) struct Dtype {
 }
 
 impl Dtype {
+    /// The little-endian dtype of `kind`, as relief writes it.
+    pub(crate) const fn little_endian(kind: ScalarKind) -> Dtype {
+        Dtype { kind, big_endian: false }
+    }
+
     /// Bytes per element.
     pub(crate) fn size(&self) -> usize {
         self.kind.size()
+    }
+
+    /// The NumPy type string: the byte order (`<`, `>`, or `|` for single bytes) and the code,
+    /// such as `<f4`, `>i2` or `|u1`.
+    pub(crate) fn descr(&self) -> String {
+        let order = match (self.size(), self.big_endian) {
+            (1, _) => '|',
+            (_, true) => '>',
+            (_, false) => '<',
+        };
+        format!("{order}{}", self.kind.numpy_code())
     }
 }
 
@@ -115,15 +175,17 @@ pub(crate) fn read_header(
     Ok(NpyHeader { dtype, fortran_order, shape, data_offset: preamble_len + header_len })
 }
 
-/// The version 1.0 preamble and header of a little-endian f32, C-order array of `shape`,
-/// padded with spaces so that the data starts at a multiple of 64 bytes.
-pub(crate) fn f32_header(shape: &[usize]) -> Option<Vec<u8>> {
+/// The version 1.0 preamble and header of a C-order array of `dtype` and `shape`, padded with
+/// spaces so that the data starts at a multiple of 64 bytes; `None` when the shape is too long
+/// for a version 1.0 header.
+pub(crate) fn header_bytes(dtype: Dtype, shape: &[usize]) -> Option<Vec<u8>> {
     let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
     let tuple = match dims.len() {
         1 => format!("({},)", dims[0]),
         _ => format!("({})", dims.join(", ")),
     };
-    let mut dict = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': {tuple}, }}");
+    let descr = dtype.descr();
+    let mut dict = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {tuple}, }}");
     let unpadded = MAGIC.len() + 4 + dict.len() + 1;
     dict.extend(std::iter::repeat_n(' ', unpadded.next_multiple_of(64) - unpadded));
     dict.push('\n');
@@ -299,7 +361,8 @@ impl Cursor<'_> {
     }
 }
 
-/// Parses a type string such as `<f4`, `>i2` or `|u1`; `None` for types relief does not read.
+/// Parses a type string such as `<f4`, `>i2`, `<f2` or `|u1`; `None` for types relief does not
+/// read.
 fn parse_descr(descr: &str) -> Option<Dtype> {
     use ScalarKind::*;
     let (order, code) = match descr.as_bytes().first()? {
@@ -312,17 +375,10 @@ fn parse_descr(descr: &str) -> Option<Dtype> {
         _ => cfg!(target_endian = "big"),
     };
     let kind = match code {
-        "i1" | "b" => I8,
-        "u1" | "B" => U8,
-        "i2" => I16,
-        "u2" => U16,
-        "i4" => I32,
-        "u4" => U32,
-        "i8" => I64,
-        "u8" => U64,
-        "f4" => F32,
-        "f8" => F64,
-        _ => return None,
+        "b" => Sample(SampleType::I8),
+        "B" => Sample(SampleType::U8),
+        "f2" | "e" => F16,
+        _ => Sample(SampleType::ALL.into_iter().find(|t| t.numpy_code() == code)?),
     };
     Some(Dtype { kind, big_endian })
 }
@@ -330,6 +386,8 @@ fn parse_descr(descr: &str) -> Option<Dtype> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sample_type::SampleType::*;
+    use ScalarKind::Sample;
 
     fn header(dict: &str) -> Result<NpyHeader, IoError> {
         let mut bytes = MAGIC.to_vec();
@@ -343,12 +401,23 @@ mod tests {
     fn parses_numpy_written_headers() {
         let dict = "{'descr': '>i2', 'fortran_order': True, 'shape': (3, 4), }   \n";
         let h = header(dict).unwrap();
-        assert_eq!(h.dtype, Dtype { kind: ScalarKind::I16, big_endian: true });
+        assert_eq!(h.dtype, Dtype { kind: Sample(I16), big_endian: true });
         assert!(h.fortran_order);
         assert_eq!(h.shape, vec![3, 4]);
         assert_eq!(h.data_offset, 10 + dict.len() as u64);
         let h = header("{\"shape\":(7L,),\"descr\":\"|u1\",\"fortran_order\":False}").unwrap();
-        assert_eq!((h.shape, h.dtype.kind), (vec![7], ScalarKind::U8));
+        assert_eq!((h.shape, h.dtype.kind), (vec![7], Sample(U8)));
+    }
+
+    #[test]
+    fn parses_float16_in_either_byte_order() {
+        for (descr, big_endian) in [("<f2", false), (">f2", true), ("<e", false)] {
+            let h =
+                header(&format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': (2,)}}"))
+                    .unwrap();
+            assert_eq!(h.dtype, Dtype { kind: ScalarKind::F16, big_endian }, "{descr}");
+            assert_eq!((h.dtype.size(), h.dtype.kind.name()), (2, "float16"));
+        }
     }
 
     #[test]
@@ -379,14 +448,43 @@ mod tests {
 
     #[test]
     fn written_header_is_padded_to_64_and_reads_back() {
+        let f32 = Dtype::little_endian(Sample(F32));
         for shape in [&[3usize, 4][..], &[5], &[2, 3, 3], &[]] {
-            let bytes = f32_header(shape).unwrap();
+            let bytes = header_bytes(f32, shape).unwrap();
             assert_eq!(bytes.len() % 64, 0);
             assert_eq!(bytes.last(), Some(&b'\n'));
             let h = read_header(Path::new("t.npy"), &mut &bytes[..], bytes.len() as u64).unwrap();
             assert_eq!(h.shape, shape.iter().map(|&d| d as u64).collect::<Vec<_>>());
-            assert_eq!(h.dtype, Dtype { kind: ScalarKind::F32, big_endian: false });
+            assert_eq!(h.dtype, f32);
+            assert!(!h.fortran_order);
             assert_eq!(h.data_offset, bytes.len() as u64);
         }
+        let long_shape = vec![usize::MAX; 4000];
+        assert!(header_bytes(f32, &long_shape).is_none());
+    }
+
+    #[test]
+    fn written_header_of_every_type_and_byte_order_reads_back() {
+        let kinds = SampleType::ALL.into_iter().map(Sample).chain([ScalarKind::F16]);
+        for kind in kinds {
+            for big_endian in [false, true] {
+                let dtype = Dtype { kind, big_endian };
+                let bytes = header_bytes(dtype, &[2, 3]).unwrap();
+                let text = String::from_utf8_lossy(&bytes);
+                assert!(text.contains(&format!("'descr': '{}'", dtype.descr())), "{text}");
+                assert_eq!(bytes.len() % 64, 0);
+                let h =
+                    read_header(Path::new("t.npy"), &mut &bytes[..], bytes.len() as u64).unwrap();
+                assert_eq!(h.dtype.kind, kind);
+                // Single bytes are written without a byte order (`|`).
+                if kind.size() > 1 {
+                    assert_eq!(h.dtype.big_endian, big_endian, "{text}");
+                }
+                assert_eq!(h.shape, [2, 3]);
+            }
+        }
+        assert_eq!(Dtype::little_endian(Sample(U8)).descr(), "|u1");
+        assert_eq!(Dtype { kind: ScalarKind::F16, big_endian: true }.descr(), ">f2");
+        assert_eq!(Dtype::little_endian(Sample(I32)).descr(), "<i4");
     }
 }

@@ -12,9 +12,9 @@ use std::path::Path;
 ///
 /// Array row `r` is grid row `r` (a `.npy` grid has no georeference, so it is not flipped),
 /// array column `c` grid column `c`; the geometry is [`GridGeometry::unit`]. Elements may be
-/// any integer type of 1 to 8 bytes, float32 or float64, either byte order, C or Fortran
-/// order; they are converted to f32. A `.npy` file has no nodata value, so the raster has no
-/// voids.
+/// any integer type of 1 to 8 bytes, float16, float32 or float64, either byte order, C or
+/// Fortran order; they are converted to f32. A `.npy` file has no nodata value, so the raster
+/// has no voids.
 ///
 /// The shape is checked against the file length and `options` before the samples are
 /// allocated, and the data is decoded chunk by chunk.

@@ -2,7 +2,9 @@
 
 use crate::npy_header::{read_header, Dtype, ScalarKind};
 use crate::raster::{ReadOptions, VoidPolicy};
+use crate::sample_type::SampleType;
 use crate::IoError;
+use half::f16;
 use relief_core::HeightField;
 use std::io::{ErrorKind, Read};
 use std::path::Path;
@@ -13,8 +15,8 @@ const CHUNK: usize = 1 << 16;
 /// Reads the 2D `.npy` array at `path` as a height field with [`GridGeometry::unit`].
 ///
 /// Array row `r` becomes grid row `r` (no flip) and array column `c` grid column `c`.
-/// Elements may be int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32 or
-/// float64, little- or big-endian, in C or Fortran order; they are converted to f32. The
+/// Elements may be int8, uint8, int16, uint16, int32, uint32, int64, uint64, float16, float32
+/// or float64, little- or big-endian, in C or Fortran order; they are converted to f32. The
 /// default [`ReadOptions`] apply (see [`read_npy`](crate::read_npy) for the raster with options).
 ///
 /// Errors: [`IoError::Io`] when the file cannot be read, [`IoError::Format`] for a malformed or
@@ -128,10 +130,13 @@ fn decode(
     Ok(samples)
 }
 
-/// Converts the elements in `bytes` to f32 into `out`.
+/// Converts the elements in `bytes` to f32 into `out` (float16 exactly, as every f16 is an f32).
 fn convert(bytes: &[u8], dtype: Dtype, out: &mut [f32]) {
     macro_rules! each {
-        ($t:ty) => {{
+        ($t:ty) => {
+            each!($t, |v: $t| v as f32)
+        };
+        ($t:ty, $to_f32:expr) => {{
             const N: usize = std::mem::size_of::<$t>();
             for (o, b) in out.iter_mut().zip(bytes.chunks_exact(N)) {
                 let mut raw = [0u8; N];
@@ -141,21 +146,24 @@ fn convert(bytes: &[u8], dtype: Dtype, out: &mut [f32]) {
                 } else {
                     <$t>::from_le_bytes(raw)
                 };
-                *o = v as f32;
+                *o = $to_f32(v);
             }
         }};
     }
     match dtype.kind {
-        ScalarKind::I8 => each!(i8),
-        ScalarKind::U8 => each!(u8),
-        ScalarKind::I16 => each!(i16),
-        ScalarKind::U16 => each!(u16),
-        ScalarKind::I32 => each!(i32),
-        ScalarKind::U32 => each!(u32),
-        ScalarKind::I64 => each!(i64),
-        ScalarKind::U64 => each!(u64),
-        ScalarKind::F32 => each!(f32),
-        ScalarKind::F64 => each!(f64),
+        ScalarKind::Sample(sample) => match sample {
+            SampleType::I8 => each!(i8),
+            SampleType::U8 => each!(u8),
+            SampleType::I16 => each!(i16),
+            SampleType::U16 => each!(u16),
+            SampleType::I32 => each!(i32),
+            SampleType::U32 => each!(u32),
+            SampleType::I64 => each!(i64),
+            SampleType::U64 => each!(u64),
+            SampleType::F32 => each!(f32),
+            SampleType::F64 => each!(f64),
+        },
+        ScalarKind::F16 => each!(u16, |bits| f16::from_bits(bits).to_f32()),
     }
 }
 
@@ -237,6 +245,38 @@ mod tests {
     }
 
     #[test]
+    fn reads_float16_in_both_byte_orders_and_both_memory_orders() {
+        let dir = TestDir::new("npy-f16");
+        // Exact in float16: subnormal, negative zero, the largest finite value, a fraction.
+        let values = [5.9604645e-8f32, -0.0, 65504.0, -1.5, 0.099975586, 2048.0];
+        let halves = values.map(f16::from_f32);
+        assert_eq!(halves.map(f16::to_f32), values, "the values are exact float16s");
+        let column_major: Vec<f16> = (0..6).map(|k| halves[(k % 2) * 3 + k / 2]).collect();
+        for (order, big) in [("<", false), (">", true)] {
+            for fortran in [false, true] {
+                let stored = if fortran { &column_major[..] } else { &halves[..] };
+                let data: Vec<u8> = stored
+                    .iter()
+                    .flat_map(|v| if big { v.to_be_bytes() } else { v.to_le_bytes() })
+                    .collect();
+                let bytes = npy(&format!("{order}f2"), fortran, "(2, 3)", &data);
+                let field = read_bytes(&dir, &bytes)
+                    .unwrap_or_else(|e| panic!("{order}f2 fortran={fortran}: {e}"));
+                assert_eq!((field.width(), field.height()), (3, 2));
+                let bits: Vec<u32> = field.samples().iter().map(|v| v.to_bits()).collect();
+                assert_eq!(bits, values.map(f32::to_bits), "{order}f2 fortran={fortran}");
+            }
+        }
+        // float16 infinities and NaN are refused like float32 ones.
+        for bad in [f16::INFINITY, f16::NEG_INFINITY, f16::NAN] {
+            let data: Vec<u8> = [f16::ONE, bad].iter().flat_map(|v| v.to_le_bytes()).collect();
+            let err = read_bytes(&dir, &npy("<f2", false, "(1, 2)", &data)).unwrap_err();
+            assert!(matches!(err, IoError::InvalidData { .. }), "{err}");
+            assert!(err.to_string().contains("column 1, row 0"), "{err}");
+        }
+    }
+
+    #[test]
     fn refuses_broken_files_with_the_right_variant() {
         let dir = TestDir::new("npy-broken");
         let f32s = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
@@ -259,7 +299,8 @@ mod tests {
         // Wrong number of dimensions, unsupported dtype.
         assert!(is_unsupported(read_bytes(&dir, &npy("<f4", false, "(1, 2, 3)", &six))));
         assert!(is_unsupported(read_bytes(&dir, &npy("<f4", false, "(6,)", &six))));
-        assert!(is_unsupported(read_bytes(&dir, &npy("<f2", false, "(2, 3)", &six[..12]))));
+        assert!(is_unsupported(read_bytes(&dir, &npy("<c8", false, "(2, 3)", &six))));
+        assert!(is_unsupported(read_bytes(&dir, &npy("<f16", false, "(2, 3)", &six))));
     }
 
     #[test]

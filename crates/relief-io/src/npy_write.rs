@@ -1,7 +1,8 @@
 //! Writing f32 arrays and height fields as NumPy `.npy` files.
 
 use crate::atomic_write::write_atomically;
-use crate::npy_header::f32_header;
+use crate::npy_header::{header_bytes, Dtype, ScalarKind};
+use crate::sample_type::SampleType;
 use crate::IoError;
 use relief_core::HeightField;
 use std::io::Write;
@@ -20,7 +21,8 @@ pub fn write_npy_f32(path: &Path, shape: &[usize], data: &[f32]) -> Result<(), I
             format!("shape {shape:?} does not hold the {} values given", data.len()),
         ));
     }
-    let header = f32_header(shape).ok_or_else(|| {
+    let dtype = Dtype::little_endian(ScalarKind::Sample(SampleType::F32));
+    let header = header_bytes(dtype, shape).ok_or_else(|| {
         IoError::invalid_data(path, format!("shape {shape:?} is too long for a .npy header"))
     })?;
     write_atomically(path, |w| {

@@ -7,6 +7,7 @@ use crate::raster::{Format, Raster, ReadOptions};
 use crate::IoError;
 use std::io::{BufReader, ErrorKind, Read, Seek};
 use std::path::Path;
+use zip::read::ZipFile;
 use zip::result::ZipError;
 use zip::{CompressionMethod, ZipArchive};
 
@@ -48,33 +49,49 @@ pub(crate) fn read_npz_from<R: Read + Seek>(
     let name = archive.name_for_index(index).unwrap_or_default().to_owned();
     let tag = |e: IoError| in_member(e, &name);
     let mut member = archive.by_index(index).map_err(|e| tag(zip_error(path, e)))?;
+    let size = checked_member_size(&member, path, len).map_err(tag)?;
+    let array = read_npy_array_from(&mut member, size, path, options).map_err(tag)?;
+    check_member_end(&mut member, path).map_err(tag)?;
+    npy_raster(path, array, Format::Npz).map_err(tag)
+}
+
+/// The size `member` of an archive of `len` bytes declares, once checked against its
+/// compressed size: [`IoError::Unsupported`] for a member neither stored nor deflated,
+/// [`IoError::Format`] for a size its compressed bytes cannot hold.
+pub(crate) fn checked_member_size<R: Read>(
+    member: &ZipFile<'_, R>,
+    path: &Path,
+    len: u64,
+) -> Result<u64, IoError> {
     let (size, packed) = (member.size(), member.compressed_size());
     let plausible = match member.compression() {
         CompressionMethod::Stored => size == packed,
         CompressionMethod::Deflated => size <= packed.saturating_mul(MAX_INFLATION),
         other => {
-            return Err(tag(IoError::unsupported(
+            return Err(IoError::unsupported(
                 path,
                 format!("compression method {other} (only stored and deflated members)"),
-            )))
+            ))
         }
     };
     if !plausible || packed > len {
-        return Err(tag(IoError::format(
+        return Err(IoError::format(
             path,
             format!("declares {size} bytes from {packed} compressed bytes in a {len}-byte file"),
-        )));
+        ));
     }
-    let array = read_npy_array_from(&mut member, size, path, options).map_err(tag)?;
-    // Reading on to the end checks that the member holds no more than it declares, and makes
-    // the zip reader verify the member's CRC.
+    Ok(size)
+}
+
+/// Checks, once its declared size has been read, that `member` holds no more; reading on to
+/// the end also makes the zip reader verify the member's CRC.
+pub(crate) fn check_member_end(member: &mut impl Read, path: &Path) -> Result<(), IoError> {
     let mut extra = [0u8; 1];
     match member.read(&mut extra) {
-        Ok(0) => {}
-        Ok(_) => return Err(tag(IoError::format(path, "holds more data than its declared size"))),
-        Err(e) => return Err(tag(IoError::io(path, e))),
+        Ok(0) => Ok(()),
+        Ok(_) => Err(IoError::format(path, "holds more data than its declared size")),
+        Err(e) => Err(IoError::io(path, e)),
     }
-    npy_raster(path, array, Format::Npz).map_err(tag)
 }
 
 /// The index of the member `wanted` names (`NAME` or `NAME.npy`), or of the first file.
@@ -110,7 +127,7 @@ fn select_member<R: Read + Seek>(
 }
 
 /// An [`IoError`] for a zip-level error.
-fn zip_error(path: &Path, e: ZipError) -> IoError {
+pub(crate) fn zip_error(path: &Path, e: ZipError) -> IoError {
     match e {
         ZipError::Io(e) if e.kind() == ErrorKind::UnexpectedEof => {
             IoError::format(path, "truncated zip archive")
@@ -128,7 +145,7 @@ fn zip_error(path: &Path, e: ZipError) -> IoError {
 
 /// Names the member in `e`'s message; turns the decompressor's complaints about the data
 /// (reported as I/O errors) into format errors.
-fn in_member(e: IoError, name: &str) -> IoError {
+pub(crate) fn in_member(e: IoError, name: &str) -> IoError {
     let corrupt = [ErrorKind::UnexpectedEof, ErrorKind::InvalidData, ErrorKind::InvalidInput];
     match e {
         IoError::Io { path, source } if corrupt.contains(&source.kind()) => {

@@ -27,6 +27,29 @@ impl SampleType {
         }
     }
 
+    /// Every sample type.
+    pub(crate) const ALL: [SampleType; 10] = {
+        use SampleType::*;
+        [I8, U8, I16, U16, I32, U32, I64, U64, F32, F64]
+    };
+
+    /// The type's code in a NumPy type string, without the byte order: kind and bytes (`i2`).
+    pub(crate) fn numpy_code(self) -> &'static str {
+        use SampleType::*;
+        match self {
+            I8 => "i1",
+            U8 => "u1",
+            I16 => "i2",
+            U16 => "u2",
+            I32 => "i4",
+            U32 => "u4",
+            I64 => "i8",
+            U64 => "u8",
+            F32 => "f4",
+            F64 => "f8",
+        }
+    }
+
     /// The name [`crate::RasterInfo::sample_type`] reports, as NumPy spells it (`int16`).
     pub(crate) fn name(self) -> &'static str {
         use SampleType::*;

@@ -2,11 +2,13 @@
 //! or an error, never a panic; the seeds, which are valid files, must read.
 
 use relief_io::{
-    read_mlhm_scene_from_bytes, read_raster_from_bytes, Format, ReadOptions, VoidPolicy,
+    read_mlhm_native_from_bytes, read_mlhm_scene_from_bytes, read_raster_from_bytes, Format,
+    ReadOptions, VoidPolicy,
 };
 use std::path::{Path, PathBuf};
 
-const TARGETS: [&str; 7] = ["npy", "npz", "geotiff", "hgt", "asc", "png", "mlhm_scene"];
+const TARGETS: [&str; 8] =
+    ["npy", "npz", "geotiff", "hgt", "asc", "png", "mlhm_scene", "mlhm_native"];
 
 fn files_in(dir: &Path) -> Vec<PathBuf> {
     let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
@@ -30,6 +32,10 @@ fn read(target: &str, bytes: &[u8]) -> Result<(), relief_io::IoError> {
         let json_len = (u16::from_le_bytes(*head) as usize).min(rest.len());
         let (json, dat) = rest.split_at(json_len);
         read_mlhm_scene_from_bytes(json, dat, Path::new("fuzz.json"), &options)?;
+        return Ok(());
+    }
+    if target == "mlhm_native" {
+        read_mlhm_native_from_bytes(bytes, Path::new("fuzz.mlhm"), &options)?;
         return Ok(());
     }
     let (format, bytes, name) = match target {

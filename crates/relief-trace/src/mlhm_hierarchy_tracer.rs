@@ -4,7 +4,7 @@
 use crate::cell_grid::axis_cell;
 use crate::mlhm_cells::{first_hit_in_cell, ray_to_cells, segment};
 use crate::{Hit, MlhmHierarchy, MlhmHit, MlhmMode, MlhmTracer, Tracer};
-use relief_core::{Aabb, DVec2, DVec3, Mlhm, Ray, Surface};
+use relief_core::{Aabb, DVec2, DVec3, Mlhm, Precision, Ray, Surface};
 use std::fmt;
 use std::str::FromStr;
 use std::sync::Arc;
@@ -66,7 +66,8 @@ const FINE_MISSES: u32 = 16;
 /// Exactness, without epsilons: node and cell boundaries are integers, and the parameter
 /// where the ray crosses one is computed by one formula on every level, so a cell's part of
 /// the ray lies within its node's part. Node slab tests use the naive tracer's slab formula on
-/// bounds enclosing the cells' boxes, so they never reject a box the naive tracer would hit,
+/// bounds enclosing the cells' boxes (exact f32 or f16 rounded outward, see
+/// [`MlhmHierarchy`]), so they never reject a box the naive tracer would hit,
 /// and the first parameter at which the ray is inside a node interval bounds every hit in the
 /// node from below: on descending, the traversal advances to it (as a max-mipmap traversal
 /// advances to a node's maximum). Otherwise it moves only to node boundaries, and picks
@@ -82,7 +83,7 @@ const FINE_MISSES: u32 = 16;
 /// ```
 /// use std::sync::Arc;
 /// use relief_core::{DVec2, DVec3, Mlhm, MlhmColumn, Ray};
-/// use relief_trace::{MlhmHierarchyTracer, MlhmMaterial, MlhmMode};
+/// use relief_trace::{MlhmHierarchyTracer, MlhmMaterial, MlhmMode, MlhmTracer};
 /// let mut map = Mlhm::new(16, 16, 2, 1.0)?;
 /// map.set_cell(9, 4, &[
 ///     MlhmColumn::new(1.0, 0.0, 1.0, 3.0),
@@ -167,6 +168,13 @@ impl MlhmHierarchyTracer {
     /// [`MlhmBacktrack::ExitStack`].
     pub fn new(map: Arc<Mlhm>, origin: DVec2) -> Self {
         let hierarchy = MlhmHierarchy::build(&map);
+        Self::with_hierarchy(map, hierarchy, origin)
+    }
+
+    /// [`MlhmHierarchyTracer::new`] with the hierarchy's bounds stored at `precision` (see
+    /// [`MlhmHierarchy::build_with_precision`]); the hits are the same at either.
+    pub fn new_with_precision(map: Arc<Mlhm>, origin: DVec2, precision: Precision) -> Self {
+        let hierarchy = MlhmHierarchy::build_with_precision(&map, precision);
         Self::with_hierarchy(map, hierarchy, origin)
     }
 

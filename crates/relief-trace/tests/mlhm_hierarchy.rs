@@ -1,20 +1,131 @@
 //! The MLHM hierarchy and its traversal: every node bound encloses its children's and every
-//! cell box; both back-tracking variants return the naive tracer's hits on random MLHMs and
-//! rays of every kind, in all three modes, for first hits and shadow rays.
+//! cell box, with exact f32 bounds and with f16 bounds rounded outward; both back-tracking
+//! variants at both precisions return the naive tracer's hits on random MLHMs and rays of
+//! every kind, in all three modes, for first hits and shadow rays.
 
 mod common;
 
 use common::mlhm_reference::{agree, random_mlhm, random_ray, Rng, MLHM_RAY_KINDS};
+use half::f16;
 use proptest::prelude::*;
-use relief_core::{DVec2, DVec3, Mlhm, MlhmColumn, Ray};
+use rayon::prelude::*;
+use relief_core::{Aabb, Camera, DVec2, DVec3, Mlhm, MlhmColumn, Precision, Ray};
 use relief_trace::{
     MlhmBacktrack, MlhmHierarchy, MlhmHierarchyTracer, MlhmMode, MlhmNaiveTracer, MlhmNodeLayer,
     MlhmTracer, Tracer,
 };
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 const RAYS_PER_KIND: usize = 8;
+
+/// The hierarchy tracers of `map`: both back-tracking variants at both precisions.
+fn hierarchy_tracers(map: &Arc<Mlhm>, origin: DVec2) -> [MlhmHierarchyTracer; 4] {
+    let exact = MlhmHierarchyTracer::new(map.clone(), origin);
+    let half = MlhmHierarchyTracer::new_with_precision(map.clone(), origin, Precision::F16);
+    let miss = MlhmBacktrack::MissCounter;
+    [exact.clone(), exact.with_backtrack(miss), half.clone(), half.with_backtrack(miss)]
+}
+
+/// A short name of a tracer's variant for messages.
+fn variant(tracer: &MlhmHierarchyTracer) -> String {
+    format!("{} {:?}", tracer.backtrack(), tracer.hierarchy().precision())
+}
+
+/// Every f16 value but NaN (one zero), as f32, ascending from `-inf` to `+inf`.
+fn f16_values() -> &'static [f32] {
+    static VALUES: OnceLock<Vec<f32>> = OnceLock::new();
+    VALUES.get_or_init(|| {
+        let mut all: Vec<f32> = (0..=u16::MAX)
+            .filter(|&bits| bits != 0x8000) // -0: one zero is enough
+            .map(|bits| f16::from_bits(bits).to_f32())
+            .filter(|v| !v.is_nan())
+            .collect();
+        all.sort_by(f32::total_cmp);
+        all
+    })
+}
+
+/// The smallest f16 `>= v`, searched for among all of them (independently of the library's
+/// rounding).
+fn f16_above(v: f32) -> f32 {
+    let all = f16_values();
+    all[all.partition_point(|&a| a < v)]
+}
+
+/// The largest f16 `<= v`.
+fn f16_below(v: f32) -> f32 {
+    let all = f16_values();
+    all[all.partition_point(|&a| a <= v) - 1]
+}
+
+/// Checks that the f16 hierarchy is the f32 one with every bound rounded outward to an f16:
+/// maxima to the f16 at or above, minima (and the sky) to the f16 at or below.
+fn check_f16_is_f32_rounded_outward(
+    exact: &MlhmHierarchy,
+    half: &MlhmHierarchy,
+) -> Result<(), String> {
+    for mode in MlhmMode::ALL {
+        if half.top(mode) != exact.top(mode) {
+            return Err(format!("{mode} top {} != {}", half.top(mode), exact.top(mode)));
+        }
+    }
+    for level in 1..=exact.level_count() {
+        let (nodes_x, nodes_y) = exact.nodes(level);
+        if half.nodes(level) != (nodes_x, nodes_y)
+            || half.layer_cap(level) != exact.layer_cap(level)
+        {
+            return Err(format!("shape of level {level}"));
+        }
+        for ny in 0..nodes_y {
+            for nx in 0..nodes_x {
+                let n = exact.layer_count(level, nx, ny);
+                if half.layer_count(level, nx, ny) != n {
+                    return Err(format!("layer count of node ({nx}, {ny}) of level {level}"));
+                }
+                for k in 0..n {
+                    let e = exact.node_layer(level, nx, ny, k);
+                    let expected = MlhmNodeLayer {
+                        water_max: f16_above(e.water_max),
+                        ceiling_min: f16_below(e.ceiling_min),
+                        solid_max: f16_above(e.solid_max),
+                        air_min: f16_below(e.air_min),
+                    };
+                    let got = half.node_layer(level, nx, ny, k);
+                    if got != expected {
+                        return Err(format!(
+                            "level {level} node ({nx}, {ny}) layer {k}: f16 {got:?}, f32 {e:?}"
+                        ));
+                    }
+                }
+                let sky = exact.sky_min(level, nx, ny);
+                if half.sky_min(level, nx, ny) != f16_below(sky) {
+                    return Err(format!("sky of node ({nx}, {ny}) of level {level}"));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `map` with every height multiplied by `2^exponent` (exactly: the invariants hold).
+fn scaled(map: &Mlhm, exponent: i32) -> Mlhm {
+    let factor = 2f32.powi(exponent);
+    let columns = map
+        .raw_columns()
+        .iter()
+        .map(|c| MlhmColumn::from_array(c.to_array().map(|v| v * factor)))
+        .collect();
+    Mlhm::from_parts(
+        map.width(),
+        map.height(),
+        map.max_layers(),
+        map.cell_size(),
+        map.layer_counts().to_vec(),
+        columns,
+    )
+    .unwrap()
+}
 
 /// The intervals of node `(x, y)` of `level` in `mode`.
 fn intervals(
@@ -164,7 +275,50 @@ proptest! {
             prop_assert_eq!(h.nodes(level), (width.div_ceil(1 << level), height.div_ceil(1 << level)));
         }
         if let Err(e) = check_bounds(&map, &h) {
+            prop_assert!(false, "f32: {}", e);
+        }
+        let half = MlhmHierarchy::build_with_precision(&map, Precision::F16);
+        if let Err(e) = check_bounds(&map, &half) {
+            prop_assert!(false, "f16: {}", e);
+        }
+        if let Err(e) = check_f16_is_f32_rounded_outward(&h, &half) {
             prop_assert!(false, "{}", e);
+        }
+    }
+
+    /// Heights scaled by a power of two: f16 steps of up to 64 m, and values beyond f16's
+    /// range (+-65504), whose maxima become +inf and minima -inf or -65504.
+    #[test]
+    fn f16_bounds_enclose_on_scaled_maps_and_give_the_naive_hits(
+        (width, height) in grid_size(),
+        max_columns in 1usize..=8,
+        exponent in prop_oneof![Just(7), Just(13), -20i32..14],
+        seed in any::<u64>(),
+    ) {
+        let mut rng = Rng::new(seed);
+        let map = Arc::new(scaled(&random_mlhm(&mut rng, width, height, max_columns, 1.0), exponent));
+        let h = MlhmHierarchy::build(&map);
+        let half = MlhmHierarchy::build_with_precision(&map, Precision::F16);
+        for (e, name) in [(check_bounds(&map, &h), "f32"), (check_bounds(&map, &half), "f16")] {
+            if let Err(e) = e {
+                prop_assert!(false, "{}: {}", name, e);
+            }
+        }
+        if let Err(e) = check_f16_is_f32_rounded_outward(&h, &half) {
+            prop_assert!(false, "{}", e);
+        }
+        let naive = MlhmNaiveTracer::new(map.clone(), DVec2::ZERO);
+        let tracers = hierarchy_tracers(&map, DVec2::ZERO);
+        for i in 0..MLHM_RAY_KINDS.len() * 2 {
+            let kind = MLHM_RAY_KINDS[i % MLHM_RAY_KINDS.len()];
+            let ray = random_ray(&mut rng, &map, DVec2::ZERO, kind);
+            for mode in MlhmMode::ALL {
+                let expected = naive.intersect_mode(&ray, mode);
+                for tracer in &tracers[2..] {
+                    prop_assert_eq!(tracer.intersect_mode(&ray, mode), expected,
+                        "{} {} {:?} {:?}", variant(tracer), mode, kind, ray);
+                }
+            }
         }
     }
 
@@ -179,8 +333,7 @@ proptest! {
         let mut rng = Rng::new(seed);
         let map = Arc::new(random_mlhm(&mut rng, width, height, max_columns, cell_size));
         let naive = MlhmNaiveTracer::new(map.clone(), origin);
-        let stack = MlhmHierarchyTracer::new(map.clone(), origin);
-        let miss = stack.clone().with_backtrack(MlhmBacktrack::MissCounter);
+        let tracers = hierarchy_tracers(&map, origin);
         for i in 0..MLHM_RAY_KINDS.len() * RAYS_PER_KIND {
             let kind = MLHM_RAY_KINDS[i % MLHM_RAY_KINDS.len()];
             let ray = random_ray(&mut rng, &map, origin, kind);
@@ -189,20 +342,23 @@ proptest! {
                 let reach = expected.map(|e| e.hit.t).unwrap_or(1.0).max(1e-3);
                 let shadow = ray.with_range(ray.t_min, reach * t_max_fraction);
                 let blocked = naive.occluded_mode(&shadow, mode);
-                for tracer in [&stack, &miss] {
-                    let b = tracer.backtrack();
+                for tracer in &tracers {
+                    let b = variant(tracer);
                     let hit = tracer.intersect_mode(&ray, mode);
                     prop_assert!(agree(hit.map(|h| h.hit.t), expected.map(|e| e.hit.t), 1e-5),
                         "{b} {mode} {kind:?} {ray:?}: hierarchy {hit:?} naive {expected:?}");
                     prop_assert_eq!(hit.map(|h| h.material), expected.map(|e| e.material),
                         "{} {} {:?} {:?}", b, mode, kind, ray);
+                    // Bit for bit: distance, position, normal, cell and column.
+                    prop_assert_eq!(hit, expected, "{} {} {:?} {:?}", b, mode, kind, ray);
                     prop_assert_eq!(tracer.occluded_mode(&shadow, mode), blocked,
                         "{} {} shadow {:?} {:?}", b, mode, kind, shadow);
                 }
             }
             let visible = naive.intersect(&ray);
-            prop_assert_eq!(stack.intersect(&ray), visible);
-            prop_assert_eq!(miss.intersect(&ray), visible);
+            for tracer in &tracers {
+                prop_assert_eq!(tracer.intersect(&ray), visible, "{}", variant(tracer));
+            }
         }
     }
 }
@@ -217,10 +373,8 @@ proptest! {
         range in prop::array::uniform2(prop_oneof![any::<f64>(), 0.0f64..10.0]),
     ) {
         let map = Arc::new(random_mlhm(&mut Rng::new(7), 33, 20, 4, 1.0));
-        let stack = MlhmHierarchyTracer::new(map, DVec2::ZERO);
-        let miss = stack.clone().with_backtrack(MlhmBacktrack::MissCounter);
         let ray = Ray::new(DVec3::from(origin), DVec3::from(dir)).with_range(range[0], range[1]);
-        for tracer in [&stack, &miss] {
+        for tracer in &hierarchy_tracers(&map, DVec2::ZERO) {
             for mode in MlhmMode::ALL {
                 if let Some(h) = tracer.intersect_mode(&ray, mode) {
                     prop_assert!(h.hit.t >= ray.t_min && h.hit.t <= ray.t_max, "{:?}", h);
@@ -238,19 +392,24 @@ fn long_rays_over_a_large_map_match_the_naive_tracer_bit_for_bit() {
     let map = Arc::new(random_mlhm(&mut rng, 150, 97, 3, 0.5));
     let origin = DVec2::new(-3.0, 7.0);
     let naive = MlhmNaiveTracer::new(map.clone(), origin);
-    let stack = MlhmHierarchyTracer::new(map.clone(), origin);
-    let miss = stack.clone().with_backtrack(MlhmBacktrack::MissCounter);
-    let (mut naive_steps, mut stack_steps, mut miss_steps) = (0u32, 0u32, 0u32);
+    let tracers = hierarchy_tracers(&map, origin);
+    let mut naive_steps = 0u32;
+    let mut steps = [0u32; 4];
     for i in 0..2000 {
         let kind = MLHM_RAY_KINDS[i % MLHM_RAY_KINDS.len()];
         let ray = random_ray(&mut rng, &map, origin, kind);
         for mode in MlhmMode::ALL {
             let expected = naive.intersect_mode_counted(&ray, mode, &mut naive_steps);
-            assert_eq!(stack.intersect_mode_counted(&ray, mode, &mut stack_steps), expected);
-            assert_eq!(miss.intersect_mode_counted(&ray, mode, &mut miss_steps), expected);
+            for (tracer, count) in tracers.iter().zip(&mut steps) {
+                let hit = tracer.intersect_mode_counted(&ray, mode, count);
+                assert_eq!(hit, expected, "{} {mode} {ray:?}", variant(tracer));
+            }
         }
     }
-    println!("steps: naive {naive_steps}, exit stack {stack_steps}, miss counter {miss_steps}");
+    println!(
+        "steps: naive {naive_steps}, exit stack {}, miss counter {} (f16 bounds: {}, {})",
+        steps[0], steps[1], steps[2], steps[3]
+    );
 }
 
 #[test]
@@ -283,6 +442,85 @@ fn build_time_on_a_256_square_scene() {
     let small = random_mlhm(&mut rng, 5, 9, 8, 1.0);
     h.rebuild(&small);
     assert_eq!(h, MlhmHierarchy::build(&small));
+}
+
+/// Rebuilding f16 bounds in place, or for a map of another shape, keeps the precision and
+/// gives what a fresh build gives.
+#[test]
+fn f16_hierarchy_rebuilds_in_place_and_from_scratch() {
+    let mut rng = Rng::new(5);
+    let (map, other) =
+        (random_mlhm(&mut rng, 64, 40, 4, 1.0), random_mlhm(&mut rng, 64, 40, 4, 1.0));
+    let mut h = MlhmHierarchy::build_with_precision(&other, Precision::F16);
+    let bytes = h.memory_bytes();
+    h.rebuild(&map);
+    assert_eq!(h, MlhmHierarchy::build_with_precision(&map, Precision::F16));
+    assert_eq!(h.memory_bytes(), bytes);
+    let exact = MlhmHierarchy::build(&map);
+    assert!(2 * h.memory_bytes() < exact.memory_bytes() + 64 * 40);
+    let small = scaled(&random_mlhm(&mut rng, 5, 9, 8, 1.0), 12);
+    h.rebuild(&small);
+    assert_eq!(h.precision(), Precision::F16);
+    assert_eq!(h, MlhmHierarchy::build_with_precision(&small, Precision::F16));
+    check_bounds(&small, &h).unwrap();
+}
+
+/// Heights between two f16s whose nearest f16 lies on the wrong side: a top of 1000.2 m
+/// (nearest f16 1000.0, below it) and a floor of 1000.3 m (nearest 1000.5, above it). Rounded
+/// to nearest, a node would claim nothing reaches 1000.1 m and nothing hangs below 1000.5 m,
+/// and cull the rays below; rounded outward it keeps them, and the hits are the naive ones.
+#[test]
+fn f16_bounds_keep_what_round_to_nearest_would_cull() {
+    let (top, floor) = (1000.2f32, 1000.3f32);
+    assert!(f16::from_f32(top).to_f32() < top && f16::from_f32(floor).to_f32() > floor);
+    // Room for 4 layers, so that levels 1 and 2 keep 2 layers a node: the slab's floor bounds
+    // the second layer there.
+    let mut map = Mlhm::new(64, 64, 4, 1.0).unwrap();
+    // A tower at (40, 21) whose top is at 1000.2 m; over cell (20, 41) a slab hangs from
+    // 1000.3 m to 1002 m, 0.5 m above a 999.8 m pillar.
+    map.set_cell(40, 21, &[MlhmColumn::new(top, 0.0, 0.0, f32::INFINITY)]).unwrap();
+    map.set_cell(
+        20,
+        41,
+        &[
+            MlhmColumn::new(999.8, 0.0, 0.0, floor),
+            MlhmColumn::new(1002.0, 0.0, 0.0, f32::INFINITY),
+        ],
+    )
+    .unwrap();
+    let map = Arc::new(map);
+    let naive = MlhmNaiveTracer::new(map.clone(), DVec2::ZERO);
+    let rays = [
+        // At about 1000.1 m, just under the tower's top, from the west: level and descending.
+        Ray::new(DVec3::new(-5.0, 21.5, 1000.1), DVec3::X),
+        Ray::new(DVec3::new(0.5, 21.5, 1000.15), DVec3::new(1.0, 0.0, -0.001).normalize()),
+        // Under the slab at 1000.4 m, between its floor and its nearest f16, from the east.
+        Ray::new(DVec3::new(70.0, 41.5, 1000.4), -DVec3::X),
+    ];
+    for ray in rays {
+        for mode in MlhmMode::ALL {
+            let expected = naive.intersect_mode(&ray, mode);
+            if mode != MlhmMode::SolidsAir {
+                assert!(expected.is_some(), "{mode} {ray:?}");
+            }
+            for tracer in &hierarchy_tracers(&map, DVec2::ZERO)[2..] {
+                let hit = tracer.intersect_mode(&ray, mode);
+                assert_eq!(hit, expected, "{} {mode} {ray:?}", variant(tracer));
+            }
+        }
+    }
+    // The stored bounds, rounded outward.
+    let half = MlhmHierarchy::build_with_precision(&map, Precision::F16);
+    check_bounds(&map, &half).unwrap();
+    for level in 1..=half.level_count() {
+        let tower = half.node_layer(level, 40 >> level, 21 >> level, 0);
+        assert_eq!(tower.solid_max, 1000.5, "level {level}");
+    }
+    for level in 1..=2 {
+        assert_eq!(half.layer_count(level, 20 >> level, 41 >> level), 2);
+        let below_slab = half.node_layer(level, 20 >> level, 41 >> level, 0);
+        assert_eq!(below_slab.ceiling_min, 1000.0, "level {level}");
+    }
 }
 
 #[test]
@@ -326,8 +564,7 @@ fn lattice_rays_through_corners_and_edges_match_the_naive_tracer_bit_for_bit() {
     for (width, height, layers) in [(20, 13, 3), (9, 16, 8), (33, 5, 2)] {
         let map = Arc::new(quantized_mlhm(&mut rng, width, height, layers));
         let naive = MlhmNaiveTracer::new(map.clone(), DVec2::ZERO);
-        let stack = MlhmHierarchyTracer::new(map.clone(), DVec2::ZERO);
-        let miss = stack.clone().with_backtrack(MlhmBacktrack::MissCounter);
+        let tracers = hierarchy_tracers(&map, DVec2::ZERO);
         for _ in 0..1500 {
             let o = DVec3::new(
                 rng.below(width + 1) as f64 + [0.0, 0.5][rng.below(2)],
@@ -345,8 +582,10 @@ fn lattice_rays_through_corners_and_edges_match_the_naive_tracer_bit_for_bit() {
             let ray = Ray::new(o, d).with_range(0.0, [f64::INFINITY, 3.0][rng.below(2)]);
             for mode in MlhmMode::ALL {
                 let expected = naive.intersect_mode(&ray, mode);
-                assert_eq!(stack.intersect_mode(&ray, mode), expected, "stack {mode} {ray:?}");
-                assert_eq!(miss.intersect_mode(&ray, mode), expected, "miss {mode} {ray:?}");
+                for tracer in &tracers {
+                    let hit = tracer.intersect_mode(&ray, mode);
+                    assert_eq!(hit, expected, "{} {mode} {ray:?}", variant(tracer));
+                }
             }
         }
     }
@@ -373,26 +612,149 @@ fn hierarchy_takes_fewer_steps_on_a_smooth_scene() {
     }
     let map = Arc::new(map);
     let naive = MlhmNaiveTracer::new(map.clone(), DVec2::ZERO);
-    let stack = MlhmHierarchyTracer::new(map.clone(), DVec2::ZERO);
-    let miss = stack.clone().with_backtrack(MlhmBacktrack::MissCounter);
+    let tracers = hierarchy_tracers(&map, DVec2::ZERO);
     let eye = DVec3::new(-10.0, -20.0, 25.0);
     for mode in MlhmMode::ALL {
-        let (mut naive_steps, mut stack_steps, mut miss_steps) = (0u32, 0u32, 0u32);
+        let mut naive_steps = 0u32;
+        let mut steps = [0u32; 4];
         for j in 0..48 {
             for i in 0..64 {
                 let target = DVec3::new(2.0 * i as f64, 2.7 * j as f64, 0.0);
                 let ray = Ray::new(eye, (target - eye).normalize());
                 let expected = naive.intersect_mode_counted(&ray, mode, &mut naive_steps);
-                assert_eq!(stack.intersect_mode_counted(&ray, mode, &mut stack_steps), expected);
-                assert_eq!(miss.intersect_mode_counted(&ray, mode, &mut miss_steps), expected);
+                for (tracer, count) in tracers.iter().zip(&mut steps) {
+                    let hit = tracer.intersect_mode_counted(&ray, mode, count);
+                    assert_eq!(hit, expected, "{} {mode} {ray:?}", variant(tracer));
+                }
             }
         }
         println!(
-            "{mode} steps: naive {naive_steps}, exit stack {stack_steps}, miss counter {miss_steps}"
+            "{mode} steps: naive {naive_steps}, exit stack {}, miss counter {} (f16 bounds: {}, \
+             {})",
+            steps[0], steps[1], steps[2], steps[3]
         );
         // From the sky, rays inside water (solids + air) are out of it at once.
         if mode != MlhmMode::SolidsAir {
-            assert!(2 * stack_steps < naive_steps && 2 * miss_steps < naive_steps, "{mode}");
+            assert!(steps.iter().all(|&s| 2 * s < naive_steps), "{mode} {steps:?}");
         }
     }
+}
+
+/// Build time, memory and render speed of the f32 and f16 hierarchies on the 1024 x 1024
+/// RiversRain scene (4 layer slots): a measurement, not a check of speed. Run it with
+/// `cargo test --release -p relief-trace --test mlhm_hierarchy -- --ignored --nocapture`.
+#[test]
+#[ignore = "a measurement: run it by hand, in release"]
+fn f16_against_f32_bounds_on_rivers_rain_1024() {
+    let map = Arc::new(relief_sim::rivers_rain(1024, 4, relief_sim::RIVERS_RAIN_SEED).unwrap());
+    let threads = rayon::current_num_threads();
+    println!("RiversRain 1024 x 1024, 4 layer slots, {threads} threads");
+    // Interleaved rounds, the best of each: other processes share the machine.
+    let precisions = [Precision::F32, Precision::F16];
+    let mut hierarchies: Vec<MlhmHierarchy> =
+        precisions.iter().map(|&p| MlhmHierarchy::build_with_precision(&map, p)).collect();
+    let (mut build_ms, mut rebuild_ms) = ([f64::INFINITY; 2], [f64::INFINITY; 2]);
+    let mut rebuild_cpu_ms = [f64::INFINITY; 2];
+    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    for _ in 0..10 {
+        for (k, &precision) in precisions.iter().enumerate() {
+            let start = Instant::now();
+            std::hint::black_box(MlhmHierarchy::build_with_precision(&map, precision));
+            build_ms[k] = build_ms[k].min(start.elapsed().as_secs_f64() * 1e3);
+            let start = Instant::now();
+            hierarchies[k].rebuild(std::hint::black_box(&map));
+            rebuild_ms[k] = rebuild_ms[k].min(start.elapsed().as_secs_f64() * 1e3);
+            // On one thread, by the CPU time it ran.
+            let cpu_ms = one_thread.install(|| {
+                let start = thread_cpu_ns();
+                hierarchies[k].rebuild(std::hint::black_box(&map));
+                (thread_cpu_ns() - start) as f64 * 1e-6
+            });
+            rebuild_cpu_ms[k] = rebuild_cpu_ms[k].min(cpu_ms);
+        }
+    }
+    for (k, h) in hierarchies.iter().enumerate() {
+        println!(
+            "{:?} bounds: build {:.2} ms, rebuild in place {:.2} ms on all threads, {:.2} ms of \
+             CPU on one (best of 10), {} bytes ({:.2} MiB) over {} levels",
+            h.precision(),
+            build_ms[k],
+            rebuild_ms[k],
+            rebuild_cpu_ms[k],
+            h.memory_bytes(),
+            h.memory_bytes() as f64 / (1 << 20) as f64,
+            h.level_count()
+        );
+    }
+    // The scene framed as `relief render` frames it: from the south-west at 30 degrees.
+    let naive = MlhmNaiveTracer::new(map.clone(), DVec2::ZERO);
+    let world = naive.world_bounds(MlhmMode::SolidsWater);
+    let bounds = Aabb::new(world.min.with_z(0.0), world.max);
+    let camera = Camera::frame(&bounds, 1024, 768).unwrap();
+    let sun = DVec3::new(1.0, 1.0, 1.2).normalize();
+    let pixels: Vec<(u32, u32)> =
+        (0..camera.height()).flat_map(|j| (0..camera.width()).map(move |i| (i, j))).collect();
+    // Primary rays, then a shadow ray to the sun from each hit: on all threads, and on this
+    // one alone, timed by the CPU time it ran (less disturbed by other processes).
+    let pixel = |tracer: &MlhmHierarchyTracer, (i, j): (u32, u32)| {
+        let hit = tracer.intersect_mode(&camera.ray(i, j), MlhmMode::SolidsWater)?;
+        let shadow = Ray::new(hit.hit.position + 1e-4 * hit.hit.normal, sun);
+        Some((hit, tracer.occluded_mode(&shadow, MlhmMode::Solids)))
+    };
+    let render = |tracer: &MlhmHierarchyTracer| {
+        pixels.par_iter().map(|&p| pixel(tracer, p)).collect::<Vec<_>>()
+    };
+    let render_alone =
+        |tracer: &MlhmHierarchyTracer| pixels.iter().map(|&p| pixel(tracer, p)).collect::<Vec<_>>();
+    let tracers: Vec<MlhmHierarchyTracer> = hierarchies
+        .iter()
+        .flat_map(|h| {
+            MlhmBacktrack::ALL.map(|b| {
+                MlhmHierarchyTracer::with_hierarchy(map.clone(), h.clone(), DVec2::ZERO)
+                    .with_backtrack(b)
+            })
+        })
+        .collect();
+    let mut images = vec![Vec::new(); tracers.len()];
+    let mut render_ms = vec![f64::INFINITY; tracers.len()];
+    let mut cpu_ms = vec![f64::INFINITY; tracers.len()];
+    for _ in 0..5 {
+        for (k, tracer) in tracers.iter().enumerate() {
+            let start = Instant::now();
+            images[k] = render(tracer);
+            render_ms[k] = render_ms[k].min(start.elapsed().as_secs_f64() * 1e3);
+            let cpu = thread_cpu_ns();
+            let image = render_alone(tracer);
+            cpu_ms[k] = cpu_ms[k].min((thread_cpu_ns() - cpu) as f64 * 1e-6);
+            assert!(image == images[k]);
+        }
+    }
+    for (k, tracer) in tracers.iter().enumerate() {
+        let mut steps = 0u32;
+        for &(i, j) in pixels.iter().step_by(7) {
+            tracer.intersect_mode_counted(&camera.ray(i, j), MlhmMode::SolidsWater, &mut steps);
+        }
+        println!(
+            "{:?} bounds, {}: {}x{} primary + shadow rays in {:.1} ms on all threads, {:.1} ms \
+             of CPU on one (best of 5), {} hits, {} steps on every 7th primary ray",
+            tracer.hierarchy().precision(),
+            tracer.backtrack(),
+            camera.width(),
+            camera.height(),
+            render_ms[k],
+            cpu_ms[k],
+            images[k].iter().filter(|p| p.is_some()).count(),
+            steps
+        );
+    }
+    // The bounds only cull: every variant gives the same image.
+    assert!(images.iter().all(|image| *image == images[0]));
+}
+
+/// Nanoseconds this thread has run on a CPU (Linux's schedstat), 0 where unavailable.
+fn thread_cpu_ns() -> u64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse().ok())
+        .unwrap_or(0)
 }

@@ -8,6 +8,7 @@ use indicatif::ProgressBar;
 use relief_core::{Mlhm, Precision};
 use relief_io::MlhmScene;
 use relief_sim::{carved_scene, rivers_rain, CarvedScene};
+use std::path::Path;
 use std::time::Duration;
 
 /// Runs `relief generate fbm` or `relief generate mlhm`.
@@ -74,6 +75,7 @@ fn bytes_per_slot(half: bool) -> u64 {
 /// Runs `relief generate mlhm`.
 fn run_mlhm(args: &MlhmArgs) -> Result<()> {
     let scene = MlhmSceneName::parse(&args.scene)?;
+    mlhm_file_kind(&args.output)?;
     if !(1..=MAX_FILE_LAYERS).contains(&args.max_layers) {
         bail!("--max-layers {} is outside 1..={MAX_FILE_LAYERS}", args.max_layers);
     }
@@ -97,7 +99,7 @@ fn run_mlhm(args: &MlhmArgs) -> Result<()> {
         spinner.enable_steady_tick(Duration::from_millis(200));
         spinner
     });
-    let written = relief_io::write_mlhm_scene(&args.output, &out);
+    let written = write_mlhm(&args.output, &out);
     if let Some(spinner) = spinner {
         spinner.finish_and_clear();
     }
@@ -111,6 +113,45 @@ fn run_mlhm(args: &MlhmArgs) -> Result<()> {
         layer_summary(&out.mlhm),
         generated.as_secs_f64() * 1e3
     );
+    Ok(())
+}
+
+/// The two kinds of file an MLHM is written to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum MlhmFileKind {
+    /// The reference simulator's scene: a JSON and a `.dat` beside it.
+    ReferenceScene,
+    /// relief's own `.mlhm` file (a NumPy `.npz` archive).
+    Native,
+}
+
+/// The kind of MLHM file `path` names by its extension (`.json` or `.mlhm`); anything else
+/// is refused.
+fn mlhm_file_kind(path: &Path) -> Result<MlhmFileKind> {
+    if input::is_reference_scene(path) {
+        Ok(MlhmFileKind::ReferenceScene)
+    } else if input::is_native_mlhm(path) {
+        Ok(MlhmFileKind::Native)
+    } else {
+        bail!(
+            "output {}: an MLHM is written as .mlhm (relief's own file) or .json (the reference \
+             simulator's scene, with its .dat beside it)",
+            path.display()
+        )
+    }
+}
+
+/// Writes `scene` to `path` in the file its extension names: a `.json` scene (and its
+/// `.dat`), or a `.mlhm` file of the scene's map at the scene's precision (no simulation
+/// state or other settings).
+pub(super) fn write_mlhm(path: &Path, scene: &MlhmScene) -> Result<()> {
+    match mlhm_file_kind(path)? {
+        MlhmFileKind::ReferenceScene => relief_io::write_mlhm_scene(path, scene)?,
+        MlhmFileKind::Native => {
+            let map = scene.mlhm.to_precision(scene.precision).context("rounding to f16")?;
+            relief_io::write_mlhm_native(path, &map)?;
+        }
+    }
     Ok(())
 }
 

@@ -65,10 +65,12 @@ fn refuse_mlhm_options(args: &RenderArgs) -> Result<()> {
         "--backtrack"
     } else if args.preset.is_some() {
         "--preset"
+    } else if args.hierarchy_bounds.is_some() {
+        "--hierarchy-bounds"
     } else {
         return Ok(());
     };
-    bail!("{what} applies to MLHM scenes (.json) only, not to height fields")
+    bail!("{what} applies to MLHM scenes (.json, .mlhm) only, not to height fields")
 }
 
 /// The PNG of the tone-mapped `rgb`, and the depth and normals of `gbuffer` where asked for.

@@ -6,7 +6,7 @@ use crate::args::{MlhmRenderMode, RenderArgs};
 use crate::tracers::TracerChoice;
 use crate::{input, progress};
 use anyhow::{bail, Result};
-use relief_core::{Aabb, DVec2, DVec3, Mlhm, Surface};
+use relief_core::{Aabb, DVec2, DVec3, Mlhm, Precision, Surface};
 use relief_shade::mlhm::{render_mlhm, MlhmShading};
 use relief_shade::{tonemap_reinhard_to_rgb8, Sun};
 use relief_trace::{
@@ -20,7 +20,7 @@ use std::time::Instant;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum MlhmTracerChoice {
     Naive,
-    Hierarchy(MlhmBacktrack),
+    Hierarchy(MlhmBacktrack, Precision),
 }
 
 /// Renders the MLHM scene at `path` as `args` say (outputs and image size already checked).
@@ -48,9 +48,10 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
     let started = Instant::now();
     let tracer: Box<dyn MlhmTracer> = match choice {
         MlhmTracerChoice::Naive => Box::new(naive),
-        MlhmTracerChoice::Hierarchy(backtrack) => {
-            Box::new(MlhmHierarchyTracer::new(map.clone(), origin).with_backtrack(backtrack))
-        }
+        MlhmTracerChoice::Hierarchy(backtrack, bounds) => Box::new(
+            MlhmHierarchyTracer::new_with_precision(map.clone(), origin, bounds)
+                .with_backtrack(backtrack),
+        ),
     };
     let build_ms = started.elapsed().as_secs_f64() * 1e3;
 
@@ -64,8 +65,14 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
     write_outputs(args, &camera, &image.gbuffer, &rgb)?;
     let how = match choice {
         MlhmTracerChoice::Naive => "naive tracer".to_string(),
-        MlhmTracerChoice::Hierarchy(b) => {
-            format!("hierarchy tracer, {b} backtracking, built in {build_ms:.1} ms")
+        MlhmTracerChoice::Hierarchy(b, bounds) => {
+            let bounds = match bounds {
+                Precision::F32 => "f32",
+                Precision::F16 => "f16",
+            };
+            format!(
+                "hierarchy tracer, {b} backtracking, {bounds} bounds, built in {build_ms:.1} ms"
+            )
         }
     };
     let rays_per_pixel = image.counts.rays() as f64 / (w as f64 * h as f64);
@@ -81,19 +88,22 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The tracer `--tracer` and `--backtrack` name for an MLHM scene (default: the hierarchy,
-/// climbing by its exit stack).
+/// The tracer `--tracer`, `--backtrack` and `--hierarchy-bounds` name for an MLHM scene
+/// (default: the hierarchy, climbing by its exit stack, with f32 bounds).
 fn tracer_choice(args: &RenderArgs) -> Result<MlhmTracerChoice> {
-    match (&args.tracer, args.backtrack) {
-        (None | Some(TracerChoice::Hierarchy), backtrack) => {
-            Ok(MlhmTracerChoice::Hierarchy(backtrack.unwrap_or_default()))
-        }
-        (Some(TracerChoice::Plain(TracerKind::Naive)), None) => Ok(MlhmTracerChoice::Naive),
-        (Some(TracerChoice::Plain(TracerKind::Naive)), Some(_)) => {
-            bail!("--backtrack applies to the hierarchy tracer only, not to --tracer naive")
-        }
-        (Some(other), _) => bail!(
-            "the {other} tracer renders height fields only; MLHM scenes (.json) take --tracer naive or hierarchy"
+    let hierarchy_options = args.backtrack.is_some() || args.hierarchy_bounds.is_some();
+    match &args.tracer {
+        None | Some(TracerChoice::Hierarchy) => Ok(MlhmTracerChoice::Hierarchy(
+            args.backtrack.unwrap_or_default(),
+            args.hierarchy_bounds.unwrap_or(Precision::F32),
+        )),
+        Some(TracerChoice::Plain(TracerKind::Naive)) if hierarchy_options => bail!(
+            "--backtrack and --hierarchy-bounds apply to the hierarchy tracer only, not to \
+             --tracer naive"
+        ),
+        Some(TracerChoice::Plain(TracerKind::Naive)) => Ok(MlhmTracerChoice::Naive),
+        Some(other) => bail!(
+            "the {other} tracer renders height fields only; MLHM scenes (.json, .mlhm) take --tracer naive or hierarchy"
         ),
     }
 }

@@ -26,7 +26,7 @@ pub fn material_colour(material: MlhmMaterial) -> DVec3 {
 /// solid is near (a degenerate neighbourhood).
 pub fn solid_albedo(volumes: &MaterialVolumes, hit_material: MlhmMaterial) -> DVec3 {
     let solid = volumes.bedrock + volumes.sand;
-    if !(solid > 0.0) {
+    if solid.is_nan() || solid <= 0.0 {
         return material_colour(hit_material);
     }
     (DVec3::from(BEDROCK_COLOUR) * volumes.bedrock + DVec3::from(SAND_COLOUR) * volumes.sand)
