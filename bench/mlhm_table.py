@@ -12,7 +12,8 @@ timed), seen from one fixed view (EYE and TARGET below). Not part of the tests.
     cargo build --release
     python3 bench/mlhm_table.py --sizes 1024 2048 4096 --res 1280x720 1920x1080
 
-Scenes are generated once into --work (default: a directory under /tmp) and reused.
+Scenes are generated once into --work (default: a directory under /tmp) as .mlhm files and
+reused.
 """
 
 import argparse
@@ -42,7 +43,7 @@ def run(cmd):
 
 def scene(work, name, size):
     """The path of scene `name` at `size` cells, generated on first use."""
-    path = os.path.join(work, f"{name}-{size}.json")
+    path = os.path.join(work, f"{name}-{size}.mlhm")
     if not os.path.exists(path):
         run([RELIEF, "generate", "mlhm", "--scene", name, "--size", str(size), "-o", path])
     return path
