@@ -33,4 +33,15 @@ pub trait MlhmTracer: Tracer {
     fn occluded_mode(&self, ray: &Ray, mode: MlhmMode) -> bool {
         self.intersect_mode(ray, mode).is_some()
     }
+
+    /// How much of a distant light reaches the origin of the shadow ray `ray` past the solids,
+    /// counting the nodes and cells visited into `steps`: 0 when the ray meets a solid, else
+    /// 1 for a hard shadow. Tracers of a smooth surface may return values in between, a soft
+    /// shadow's penumbra, but always 0 where the ray meets a solid.
+    fn light_visibility(&self, ray: &Ray, steps: &mut u32) -> f64 {
+        match self.intersect_mode_counted(ray, MlhmMode::Solids, steps) {
+            Some(_) => 0.0,
+            None => 1.0,
+        }
+    }
 }

@@ -297,8 +297,9 @@ impl Pass<'_> {
         DVec3::from(WATER_COLOUR) * self.sky.irradiance(DVec3::Z) / PI * 0.25
     }
 
-    /// Visibility of the sun from `p` (normal `n`): 0 or 1 by a shadow ray through the
-    /// solids when shadows are on for this bounce, else 1 on the lit side.
+    /// Visibility of the sun from `p` (normal `n`): by a shadow ray through the solids when
+    /// shadows are on for this bounce (see [`MlhmTracer::light_visibility`]), else 1 on the
+    /// lit side.
     fn sun_visibility(
         &self,
         p: DVec3,
@@ -315,13 +316,9 @@ impl Pass<'_> {
         }
         let ray = shadow_ray(p, n, along, self.to_sun);
         let mut steps = 0;
-        let blocked = self.tracer.intersect_mode_counted(&ray, MlhmMode::Solids, &mut steps);
-        counts.shadow.record(steps, blocked.is_some());
-        if blocked.is_some() {
-            0.0
-        } else {
-            1.0
-        }
+        let visibility = self.tracer.light_visibility(&ray, &mut steps);
+        counts.shadow.record(steps, visibility < 1.0);
+        visibility
     }
 
     /// The geometric ambient occlusion at `p` of normal `n`: with `V` the solid volume in the
