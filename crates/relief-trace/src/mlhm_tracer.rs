@@ -1,8 +1,8 @@
 //! What every MLHM box tracer offers besides the [`Tracer`] interface: hits with their material
 //! and column, in any intersection mode.
 
-use crate::{MlhmHit, MlhmMode, Tracer};
-use relief_core::{DVec2, Mlhm, Ray};
+use crate::{medium_at, Medium, MlhmHit, MlhmMode, Tracer};
+use relief_core::{DVec2, DVec3, Mlhm, Ray};
 use std::sync::Arc;
 
 /// An exact tracer of an [`Mlhm`]'s boxes, in every [`MlhmMode`]: the naive 2D DDA
@@ -32,6 +32,19 @@ pub trait MlhmTracer: Tracer {
     /// Whether `ray` meets a box of `mode` within its range (for shadow rays).
     fn occluded_mode(&self, ray: &Ray, mode: MlhmMode) -> bool {
         self.intersect_mode(ray, mode).is_some()
+    }
+
+    /// The medium at world point `p` as this tracer's surface sees it; for boxes, the column
+    /// of the cell below `p` decides ([`medium_at`]).
+    fn medium(&self, p: DVec3) -> Medium {
+        medium_at(self.map(), self.origin(), p)
+    }
+
+    /// How far off a hit, along its normal, secondary rays must start at least so that they
+    /// do not find the surface they leave: 0 for exact box faces; a smooth surface's hits
+    /// are found only to a tolerance.
+    fn surface_offset(&self) -> f64 {
+        0.0
     }
 
     /// How much of a distant light reaches the origin of the shadow ray `ray` past the solids,

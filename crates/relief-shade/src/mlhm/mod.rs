@@ -17,4 +17,4 @@ pub use environment::{reference_sky, SkyLight, GROUND_RADIANCE};
 pub use materials::{material_colour, solid_albedo, BEDROCK_COLOUR, SAND_COLOUR, WATER_COLOUR};
 pub use preset::{MlhmPreset, MlhmQuality, WaterAbsorption};
 pub use render::{render_mlhm, MlhmImage, MlhmRayCounts, MlhmShading, SKY_LIGHT};
-pub use water::{absorption_distance, medium_at, water_transmittance, Medium, WATER_EXTINCTION};
+pub use water::{absorption_distance, water_transmittance, WATER_EXTINCTION};

@@ -7,13 +7,13 @@ use super::brdf::{
 };
 use super::environment::{reference_sky, SkyLight};
 use super::materials::{solid_albedo, WATER_COLOUR};
-use super::water::{absorption_distance, medium_at, water_transmittance, Medium};
+use super::water::{absorption_distance, water_transmittance};
 use super::{MlhmPreset, MlhmQuality};
 use crate::error::non_negative;
-use crate::{shadow_ray, GBuffer, GBufferPixel, ShadeError, Sky, Sun, TraceStats, TILE_SIZE};
+use crate::{GBuffer, GBufferPixel, ShadeError, Sky, Sun, TraceStats, TILE_SIZE};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec2, DVec3, Mlhm, Ray};
-use relief_trace::{MlhmHit, MlhmMaterial, MlhmMode, MlhmTracer};
+use relief_trace::{Medium, MlhmHit, MlhmMaterial, MlhmMode, MlhmTracer};
 use std::f64::consts::PI;
 
 /// The default strength of the sky's light: with the default sun 35 degrees up, flat open
@@ -77,8 +77,9 @@ pub struct MlhmRayCounts {
     pub reflection: TraceStats,
     /// Rays refracted through water.
     pub refraction: TraceStats,
-    /// Upward rays to the water surface (expensive absorption), each resolved in one cell.
-    pub upward: u64,
+    /// Upward rays to the water surface (expensive absorption); in box mode each stays in
+    /// its cell.
+    pub upward: TraceStats,
     /// Ambient-occlusion volumes measured.
     pub occlusion: u64,
 }
@@ -92,7 +93,7 @@ impl MlhmRayCounts {
             shadow: self.shadow.merge(other.shadow),
             reflection: self.reflection.merge(other.reflection),
             refraction: self.refraction.merge(other.refraction),
-            upward: self.upward + other.upward,
+            upward: self.upward.merge(other.upward),
             occlusion: self.occlusion + other.occlusion,
         }
     }
@@ -103,7 +104,7 @@ impl MlhmRayCounts {
             + self.shadow.rays
             + self.reflection.rays
             + self.refraction.rays
-            + self.upward
+            + self.upward.rays
     }
 }
 
@@ -207,7 +208,7 @@ impl Pass<'_> {
     fn pixel(&self, i: usize, j: usize, counts: &mut MlhmRayCounts) -> (GBufferPixel, DVec3) {
         // (i, j) lies inside the camera's u32 image.
         let ray = self.camera.ray(i as u32, j as u32);
-        let in_water = matches!(self.medium(ray.origin), Medium::Water { .. });
+        let in_water = matches!(self.tracer.medium(ray.origin), Medium::Water { .. });
         let hit = self.trace(&ray, in_water, &mut counts.primary);
         let light = self.radiance(&ray, hit, in_water, 0.0, Bounce::Primary, counts);
         let Some(h) = hit else { return (GBufferPixel::MISS, light) };
@@ -242,10 +243,6 @@ impl Pass<'_> {
         hit
     }
 
-    fn medium(&self, p: DVec3) -> Medium {
-        medium_at(self.map, self.origin, p)
-    }
-
     /// Radiance arriving along `ray` from its first `hit` (`None`: it escaped), for a ray
     /// travelling in water when `in_water`; `travelled` is the path length before `ray`.
     fn radiance(
@@ -276,20 +273,24 @@ impl Pass<'_> {
             super::WaterAbsorption::Cheap => 0.0,
             super::WaterAbsorption::Expensive if h.material == MlhmMaterial::Air => 0.0,
             super::WaterAbsorption::Expensive => {
-                counts.upward += 1;
-                match self.medium(p + n * self.bias(p, along)) {
-                    Medium::Water { depth } => depth,
-                    Medium::Air | Medium::Solid => 0.0,
-                }
+                // Straight up through the water to where it ends: in box mode the ray stays
+                // in its cell.
+                let up = Ray::new(p + n * self.bias(p, along), DVec3::Z);
+                let mut steps = 0;
+                let end = self.tracer.intersect_mode_counted(&up, MlhmMode::SolidsAir, &mut steps);
+                counts.upward.record(steps, end.is_some());
+                end.map_or(0.0, |e| e.hit.t)
             }
         };
         surface * water_transmittance(absorption_distance(self.quality.absorption, t, depth))
     }
 
     /// The offset of a secondary ray's origin off the surface at `p`, `along` the path from
-    /// the eye (see [`shadow_ray`]).
+    /// the eye: as [`shadow_ray`](crate::shadow_ray)'s, at least the tracer's
+    /// [`surface_offset`](MlhmTracer::surface_offset).
     fn bias(&self, p: DVec3, along: f64) -> f64 {
-        crate::SHADOW_BIAS * along + 1e-12 * p.abs().max_element()
+        let bias = crate::SHADOW_BIAS * along + 1e-12 * p.abs().max_element();
+        bias.max(self.tracer.surface_offset())
     }
 
     /// The colour of water too deep to see through: its colour in the sky's light.
@@ -314,7 +315,7 @@ impl Pass<'_> {
         if !(self.quality.shadows && lit) {
             return 1.0;
         }
-        let ray = shadow_ray(p, n, along, self.to_sun);
+        let ray = Ray::new(p + n * self.bias(p, along), self.to_sun);
         let mut steps = 0;
         let visibility = self.tracer.light_visibility(&ray, &mut steps);
         counts.shadow.record(steps, visibility < 1.0);
