@@ -1,16 +1,20 @@
 #!/usr/bin/env python3
-"""MLHM box rendering per preset: the table of docs/mlhm.md (after Nilles & Müller 2025, Figs. 6-8).
+"""MLHM rendering per preset: the tables of docs/mlhm.md (after Nilles & Müller 2025, Figs. 6-8).
 
-For every scene (RiversRain at each size, and the carved `combined` scene with arches, a cave,
-a chasm, overhangs and water), every image size and every preset, this script runs
-`relief render scene.json --preset P --size WxH` with the hierarchy tracer (stack
-back-tracking) and with the naive 2D DDA, and prints one markdown table: hierarchy build ms,
-render ms of both tracers, rays per pixel and the hierarchy's speedup. Every figure is what
-`relief render` itself reports on stderr (build and render only: reading the scene is not
-timed), seen from one fixed view (EYE and TARGET below). Not part of the tests.
+For every scene (RiversRain at each size, the carved `combined` scene with arches, a cave, a
+chasm, overhangs and water, and optionally the reference simulator's real scene), every image
+size and every preset, this script runs `relief render SCENE --mode MODE --preset P --size WxH`
+with the hierarchy (stack back-tracking) and with the baseline: the naive 2D DDA for boxes,
+marching the whole ray without the padded hierarchy for the smooth surface. It prints one
+markdown table: hierarchy build ms, render ms of both, the hierarchy's speedup, rays per pixel
+and steps per camera ray; with --shares also the share of the render time spent on AO and on
+shadow rays (from renders with --no-ao and --no-shadows). Every figure is what `relief render`
+itself reports on stderr (build and render only: reading the scene is not timed), seen from
+one fixed view (EYE and TARGET below). Not part of the tests.
 
     cargo build --release
     python3 bench/mlhm_table.py --sizes 1024 2048 4096 --res 1280x720 1920x1080
+    python3 bench/mlhm_table.py --mode smooth --real ../shared/data/ngwm24-scene/scene.json --shares
 
 Scenes are generated once into --work (default: a directory under /tmp) as .mlhm files and
 reused.
@@ -49,48 +53,76 @@ def scene(work, name, size):
     return path
 
 
-def render(path, res, preset, tracer, work):
+def render(path, args, res, preset, tracer, extra=(), mode=None):
     """(build ms or None, render ms, rays per pixel, steps per camera ray) of one render."""
-    png = os.path.join(work, "out.png")
-    cmd = [RELIEF, "render", path, "--size", res, "--preset", preset, "--tracer", tracer]
-    cmd += ["--eye", EYE, "--target", TARGET, "--fov", "60"]
+    png = os.path.join(args.work, "out.png")
+    mode = mode or args.mode
+    cmd = [RELIEF, "render", path, "--mode", mode, "--size", res, "--preset", preset]
+    cmd += ["--tracer", tracer, "--eye", EYE, "--target", TARGET, "--fov", "60", *extra]
     match = REPORT.search(run(cmd + ["-o", png]))
     build = float(match["build"]) if match["build"] else None
     return build, float(match["render"]), float(match["rays"]), float(match["steps"])
 
 
+def share(full, without):
+    """The share of `full` ms that `without` ms saves, as a percentage."""
+    return f"{max(full - without, 0.0) / full * 100:.0f}%"
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--mode", choices=["boxes", "smooth"], default="boxes")
     p.add_argument("--sizes", type=int, nargs="+", default=[1024, 2048, 4096])
-    p.add_argument("--overhangs", type=int, default=1024, help="size of the combined scene")
+    p.add_argument("--overhangs", type=int, default=1024, help="size of `combined`, 0 for none")
+    p.add_argument("--real", help="also the reference scene at this path (its .json)")
     p.add_argument("--res", nargs="+", default=["1280x720", "1920x1080"])
     p.add_argument("--presets", nargs="+", default=["low", "mid", "high", "max"])
-    p.add_argument("--no-naive", action="store_true", help="skip the naive DDA")
+    p.add_argument("--baseline-up-to", type=int, default=1 << 30,
+                   help="run the baseline only on scenes of at most this many cells a side")
+    p.add_argument("--shares", action="store_true", help="time shares of AO and shadows")
+    p.add_argument("--boxes-too", action="store_true",
+                   help="in smooth mode, also the boxes' render ms (hierarchy) in the same run")
     p.add_argument("--work", default="/tmp/relief-mlhm-bench")
     args = p.parse_args()
     os.makedirs(args.work, exist_ok=True)
 
-    scenes = [("rivers-rain", s) for s in args.sizes] + [("combined", args.overhangs)]
+    scenes = [(f"rivers-rain {s}²", scene(args.work, "rivers-rain", s), s) for s in args.sizes]
+    if args.overhangs:
+        path = scene(args.work, "combined", args.overhangs)
+        scenes.append((f"combined {args.overhangs}²", path, args.overhangs))
+    if args.real:
+        scenes.append(("real scene 256²", args.real, 256))
+    baseline_tracer = "naive"
     print(
-        "| scene | resolution | preset | build ms | hierarchy ms | naive ms | speedup "
-        "| rays/pixel | steps hierarchy | steps naive |"
+        "| scene | resolution | preset | build ms | hierarchy ms | baseline ms | speedup "
+        "| rays/pixel | steps hierarchy | steps baseline |"
+        + (" AO | shadows |" if args.shares else "")
+        + (" boxes ms |" if args.boxes_too else "")
     )
-    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
-    for name, size in scenes:
-        path = scene(args.work, name, size)
+    print(
+        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|"
+        + ("---:|---:|" if args.shares else "")
+        + ("---:|" if args.boxes_too else "")
+    )
+    for label, path, size in scenes:
         for res in args.res:
             for preset in args.presets:
-                build, fast, rays, steps = render(path, res, preset, "hierarchy", args.work)
-                naive, speedup, naive_steps = "–", "–", "–"
-                if not args.no_naive:
-                    _, slow, _, slow_steps = render(path, res, preset, "naive", args.work)
-                    naive, speedup = f"{slow:.0f}", f"{slow / fast:.1f}x"
-                    naive_steps = f"{slow_steps:.0f}"
-                print(
-                    f"| {name} {size}² | {res} | {preset} | {build:.1f} | {fast:.0f} | "
-                    f"{naive} | {speedup} | {rays:.2f} | {steps:.0f} | {naive_steps} |",
-                    flush=True,
+                build, fast, rays, steps = render(path, args, res, preset, "hierarchy")
+                slow, speedup, slow_steps = "–", "–", "–"
+                if size <= args.baseline_up_to:
+                    _, ms, _, base_steps = render(path, args, res, preset, baseline_tracer)
+                    slow, speedup, slow_steps = f"{ms:.0f}", f"{ms / fast:.1f}x", f"{base_steps:.0f}"
+                row = (
+                    f"| {label} | {res} | {preset} | {build:.1f} | {fast:.0f} | {slow} | "
+                    f"{speedup} | {rays:.2f} | {steps:.0f} | {slow_steps} |"
                 )
+                if args.shares:
+                    no_ao = render(path, args, res, preset, "hierarchy", ["--no-ao"])[1]
+                    no_shadows = render(path, args, res, preset, "hierarchy", ["--no-shadows"])[1]
+                    row += f" {share(fast, no_ao)} | {share(fast, no_shadows)} |"
+                if args.boxes_too:
+                    row += f" {render(path, args, res, preset, 'hierarchy', mode='boxes')[1]:.0f} |"
+                print(row, flush=True)
 
 
 if __name__ == "__main__":

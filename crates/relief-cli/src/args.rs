@@ -114,9 +114,14 @@ pub struct RenderArgs {
     /// [default: mipmap]. For an MLHM scene (.json or .mlhm): naive or hierarchy [default: hierarchy].
     #[arg(long)]
     pub tracer: Option<TracerChoice>,
-    /// MLHM scenes: how their columns are rendered; boxes (the only mode so far) [default: boxes].
+    /// MLHM scenes: how their columns are rendered: boxes, or smooth (the terrain they stand
+    /// for, smoothed in all three dimensions over a cube of half-size --sigma) [default: boxes].
     #[arg(long, value_parser = parse_mlhm_render_mode)]
     pub mode: Option<MlhmRenderMode>,
+    /// MLHM smooth mode: the smoothing radius in metres, the half-size of the cube whose
+    /// terrain volume defines the surface [default: one cell].
+    #[arg(long)]
+    pub sigma: Option<f64>,
     /// MLHM scenes: quality preset (Nilles & Müller 2025, section 5): low (no secondary rays,
     /// no AO), mid (water reflections and refractions with cheap absorption, sun shadows, AO
     /// of radius 1 m), high (expensive absorption, shadows and AO on reflected and refracted
@@ -155,6 +160,9 @@ pub struct RenderArgs {
     /// Do not trace shadow rays.
     #[arg(long)]
     pub no_shadows: bool,
+    /// MLHM scenes: leave the preset's ambient occlusion out.
+    #[arg(long)]
+    pub no_ao: bool,
     /// Colour texture (PNG) draped over the terrain's footprint, top row north.
     #[arg(long)]
     pub texture: Option<PathBuf>,
@@ -177,6 +185,9 @@ pub struct RenderArgs {
 pub enum MlhmRenderMode {
     /// Every column as a box over its cell (Nilles & Müller 2025, 4.1).
     Boxes,
+    /// The smooth implicit surface of the boxes: where a cube of half-size `--sigma` around a
+    /// point is half full of terrain (Nilles & Müller 2025, 3.3 and 4.3-4.6).
+    Smooth,
 }
 
 fn parse_precision(s: &str) -> Result<Precision, String> {
@@ -190,8 +201,8 @@ fn parse_precision(s: &str) -> Result<Precision, String> {
 fn parse_mlhm_render_mode(s: &str) -> Result<MlhmRenderMode, String> {
     match s {
         "boxes" => Ok(MlhmRenderMode::Boxes),
-        "smooth" => Err("the smooth mode is not implemented yet (only boxes)".to_string()),
-        _ => Err(format!("unknown mode '{s}' (expected boxes)")),
+        "smooth" => Ok(MlhmRenderMode::Smooth),
+        _ => Err(format!("unknown mode '{s}' (expected boxes or smooth)")),
     }
 }
 
@@ -429,7 +440,7 @@ mod tests {
         assert!(parse_vec3("1,2").is_err() && parse_vec3("1,2,nan").is_err());
         assert!(parse_sun("10,95").is_err());
         assert_eq!(parse_mlhm_render_mode("boxes"), Ok(MlhmRenderMode::Boxes));
-        assert!(parse_mlhm_render_mode("smooth").unwrap_err().contains("not implemented"));
+        assert_eq!(parse_mlhm_render_mode("smooth"), Ok(MlhmRenderMode::Smooth));
         assert!(parse_mlhm_render_mode("spheres").is_err());
         assert_eq!(parse_bytes("512M"), Ok(512 << 20));
         assert_eq!(parse_bytes("2GiB"), Ok(2 << 30));

@@ -1,5 +1,6 @@
-//! Small golden images of the default pipeline and of an MLHM scene with water at the mid
-//! preset, compared with a tolerance.
+//! Small golden images of the default pipeline, of an MLHM scene with water at the mid preset
+//! as boxes and as a smooth surface, and of the real MLHM scene smoothed (its side walls show
+//! no box edges), compared with a tolerance.
 //!
 //! Regenerate after an intended change of the pictures with:
 //! `RELIEF_BLESS=1 cargo test -p relief-cli --test golden`
@@ -55,13 +56,53 @@ fn default_pipeline_matches_the_golden_image() {
 
 #[test]
 fn mlhm_scene_with_water_at_the_mid_preset_matches_the_golden_image() {
-    let scene = std::env::temp_dir().join(format!("relief-golden-{}.json", std::process::id()));
-    let scene = scene.to_str().unwrap();
+    let scene = combined_scene("boxes");
+    let args = ["render", &scene, "--preset", "mid", "--size", "96x64"];
+    assert_matches_golden(&args, "tests/golden/mlhm-combined-mid-96x64.png");
+}
+
+/// The `combined` scene at 64 x 64 cells, written once per test.
+fn combined_scene(name: &str) -> String {
+    let scene =
+        std::env::temp_dir().join(format!("relief-golden-{name}-{}.json", std::process::id()));
+    let scene = scene.to_str().unwrap().to_string();
     let out = Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args(["generate", "mlhm", "--scene", "combined", "--size", "64", "-o", scene])
+        .args(["generate", "mlhm", "--scene", "combined", "--size", "64", "-o", &scene])
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let args = ["render", scene, "--preset", "mid", "--size", "96x64"];
-    assert_matches_golden(&args, "tests/golden/mlhm-combined-mid-96x64.png");
+    scene
+}
+
+#[test]
+fn mlhm_scene_smooth_at_the_mid_preset_matches_the_golden_image() {
+    let scene = combined_scene("smooth");
+    let args = ["render", &scene, "--mode", "smooth", "--preset", "mid", "--size", "96x64"];
+    assert_matches_golden(&args, "tests/golden/mlhm-combined-smooth-mid-96x64.png");
+}
+
+#[test]
+fn the_real_scene_smoothed_matches_the_golden_image() {
+    let json =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/ngwm24-scene/scene.json");
+    if !json.exists() {
+        eprintln!("skipped: {} is absent (the reference scene lives in ../shared)", json.display());
+        return;
+    }
+    // Low over the scene's north-east corner, looking at the side walls of its terraces.
+    let args = [
+        "render",
+        json.to_str().unwrap(),
+        "--mode",
+        "smooth",
+        "--preset",
+        "high",
+        "--eye",
+        "230,250,70",
+        "--target",
+        "120,120,20",
+        "--size",
+        "128x72",
+    ];
+    assert_matches_golden(&args, "tests/golden/ngwm24-smooth-high-128x72.png");
 }

@@ -216,6 +216,48 @@ fn the_real_scene_renders_at_every_preset() {
 }
 
 #[test]
+fn the_smooth_surface_renders_at_every_preset_with_and_without_the_hierarchy() {
+    let mut previous = 0.0;
+    for preset in ["low", "mid", "high", "max"] {
+        let extra = ["--mode", "smooth", "--preset", preset];
+        let (depth, stderr) = render(cave(), &format!("smooth-{preset}"), &extra);
+        assert!(stderr.contains("as a smooth surface (sigma 8 m)"), "{stderr}");
+        let hits = depth.iter().filter(|d| d.is_finite()).count();
+        assert!(hits > depth.len() / 4, "{preset}: {hits} hits");
+        let rays = rays_per_pixel(&stderr);
+        assert!(rays >= previous, "{preset}: {rays} rays per pixel after {previous}");
+        previous = rays;
+    }
+    // Marching the whole ray finds the same surface as marching inside the padded nodes,
+    // within the march's tolerance (1% of sigma = 8 cm, plus the corrective step).
+    let (with, _) = render(cave(), "smooth-hierarchy", &["--mode", "smooth"]);
+    let (without, stderr) =
+        render(cave(), "smooth-marching", &["--mode", "smooth", "--tracer", "naive"]);
+    assert!(stderr.contains("marching without the hierarchy"), "{stderr}");
+    let differing =
+        with.iter().zip(&without).filter(|(a, b)| !(a == b || (*a - *b).abs() < 0.5)).count();
+    assert!(differing * 200 < with.len(), "{differing} of {} pixels differ", with.len());
+}
+
+#[test]
+fn a_flat_scene_renders_smooth_as_its_plane() {
+    let mut map = Mlhm::new(16, 16, 1, 0.5).unwrap();
+    for y in 0..16 {
+        for x in 0..16 {
+            map.set_cell(x, y, &[MlhmColumn::new(3.0, 0.0, 0.0, f32::INFINITY)]).unwrap();
+        }
+    }
+    let json = scratch("flat.json");
+    write_mlhm_scene(&json, &MlhmScene::new(map)).unwrap();
+    // At least sigma from the grid's edges, where the surface rounds off.
+    for (x, y) in [(4.0, 4.0), (1.3, 6.9), (7.25, 0.75)] {
+        let depth = depth_straight_down(&json, x, y, 10.0, &["--mode", "smooth"]);
+        // The march stops within 1% of sigma (0.5 m) of the plane z = 3.
+        assert!((7.0 - 0.005..=7.0).contains(&depth), "({x}, {y}): {depth}");
+    }
+}
+
+#[test]
 fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
     let cave = cave().to_str().unwrap().to_string();
     let garbage = scratch("garbage.json");
@@ -250,8 +292,16 @@ fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
             "--hierarchy-bounds",
         ),
         (vec![cave.clone(), "--preset".into(), "ultra".into()], "expected low, mid, high or max"),
-        (vec![cave.clone(), "--mode".into(), "smooth".into()], "not implemented"),
-        (vec![cave.clone(), "--mode".into(), "spheres".into()], "unknown mode"),
+        (vec![cave.clone(), "--sigma".into(), "1".into()], "--mode smooth only"),
+        (
+            vec![cave.clone(), "--mode".into(), "smooth".into(), "--sigma".into(), "0".into()],
+            "smoothing radius",
+        ),
+        (
+            vec![cave.clone(), "--mode".into(), "smooth".into(), "--sigma".into(), "nan".into()],
+            "smoothing radius",
+        ),
+        (vec![cave.clone(), "--mode".into(), "spheres".into()], "expected boxes or smooth"),
         (vec![cave.clone(), "--surface".into(), "triangles".into()], "--surface triangles"),
         (vec![cave.clone(), "--z-scale".into(), "2".into()], "--z-scale"),
         (vec![cave.clone(), "--max-memory".into(), "8K".into()], "memory limit"),

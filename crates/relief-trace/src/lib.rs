@@ -15,7 +15,10 @@
 //!   [`MlhmMode`]s (Nilles & Müller 2025, 4.1);
 //! - [`MlhmHierarchyTracer`]: the same hits through an [`MlhmHierarchy`] of conservative
 //!   node bounds, a 2D DDA per level climbing back by an exit stack or a miss counter
-//!   ([`MlhmBacktrack`]; Nilles & Müller 2025, 4.2).
+//!   ([`MlhmBacktrack`]; Nilles & Müller 2025, 4.2);
+//! - [`MlhmSmoothTracer`]: the smooth implicit surface of the boxes ([`MlhmImplicit`]), ray
+//!   marched with adaptive steps inside the level-1 nodes of a padded hierarchy, with
+//!   normals by finite differences and soft shadows (Nilles & Müller 2025, 3.3, 4.3-4.6).
 //!
 //! ```
 //! use std::sync::Arc;
@@ -32,12 +35,15 @@ mod cell_grid;
 mod error;
 mod max_mipmap;
 mod mipmap_tracer;
+mod mlhm_bounds;
 mod mlhm_box;
 mod mlhm_cells;
 mod mlhm_hierarchy;
 mod mlhm_hierarchy_tracer;
+mod mlhm_implicit;
 mod mlhm_medium;
 mod mlhm_naive;
+mod mlhm_smooth_tracer;
 mod mlhm_tracer;
 mod naive_tracer;
 pub mod safety;
@@ -50,8 +56,10 @@ pub use mipmap_tracer::MipmapTracer;
 pub use mlhm_box::{MlhmMaterial, MlhmMode};
 pub use mlhm_hierarchy::{MlhmHierarchy, MlhmNodeLayer, MAX_HIERARCHY_LEVELS};
 pub use mlhm_hierarchy_tracer::{MlhmBacktrack, MlhmHierarchyTracer};
+pub use mlhm_implicit::{MlhmField, MlhmFieldSample, MlhmImplicit, MlhmNormalScheme, HIT_FRACTION};
 pub use mlhm_medium::{medium_at, Medium};
 pub use mlhm_naive::{MlhmHit, MlhmNaiveTracer};
+pub use mlhm_smooth_tracer::{MlhmSmoothOptions, MlhmSmoothTracer};
 pub use mlhm_tracer::MlhmTracer;
 pub use naive_tracer::NaiveTracer;
 pub use safety::{SafetyOptions, SafetyShapes, SafetyTracer};

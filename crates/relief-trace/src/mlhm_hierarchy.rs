@@ -2,13 +2,12 @@
 //! its levels, layer caps and folding, its parallel bottom-up build, and its bounds stored as
 //! exact f32 or as f16 rounded outward.
 
+use crate::mlhm_bounds::{
+    pad_down, BoundScalar, LevelBounds, MergedLayer, StoredBounds, StoredLayer,
+};
 use crate::MlhmMode;
-use half::f16;
-use half::slice::HalfFloatSliceExt;
 use rayon::prelude::*;
 use relief_core::{Mlhm, Precision};
-use std::fmt::Debug;
-use std::mem::size_of;
 
 /// The four bounds of one layer of a hierarchy node, over every column it stands for.
 ///
@@ -55,316 +54,6 @@ impl MlhmNodeLayer {
     }
 }
 
-/// A scalar a stored bound is held as: `f32` exactly, or [`f16`] rounded outward, maxima up
-/// and minima down, so a stored interval always encloses the exact one.
-trait BoundScalar: Copy + PartialEq + Debug + Send + Sync {
-    /// `-inf`.
-    const NEG_INFINITY: Self;
-    /// `+inf`.
-    const INFINITY: Self;
-    /// The smallest stored value `>= v`.
-    fn upper(v: f32) -> Self;
-    /// The largest stored value `<= v`.
-    fn lower(v: f32) -> Self;
-    /// The stored value, exactly, as f32.
-    fn widen(self) -> f32;
-    /// The larger of two stored values (exact: no rounding).
-    fn larger(self, other: Self) -> Self;
-    /// The smaller of two stored values (exact: no rounding).
-    fn smaller(self, other: Self) -> Self;
-    /// Stores each of `exact` into `out` (as long), rounded outward.
-    fn store_layers(exact: &[MlhmNodeLayer], out: &mut [StoredLayer<Self>]);
-    /// Stores each of `exact` into `out` (as long), rounded down.
-    fn store_lower(exact: &[f32], out: &mut [Self]);
-}
-
-impl BoundScalar for f32 {
-    const NEG_INFINITY: f32 = f32::NEG_INFINITY;
-    const INFINITY: f32 = f32::INFINITY;
-    #[inline]
-    fn upper(v: f32) -> f32 {
-        v
-    }
-    #[inline]
-    fn lower(v: f32) -> f32 {
-        v
-    }
-    #[inline]
-    fn widen(self) -> f32 {
-        self
-    }
-    #[inline]
-    fn larger(self, other: f32) -> f32 {
-        self.max(other)
-    }
-    #[inline]
-    fn smaller(self, other: f32) -> f32 {
-        self.min(other)
-    }
-    fn store_layers(exact: &[MlhmNodeLayer], out: &mut [StoredLayer<f32>]) {
-        for (o, e) in out.iter_mut().zip(exact) {
-            *o = StoredLayer::store(*e);
-        }
-    }
-    fn store_lower(exact: &[f32], out: &mut [f32]) {
-        out.copy_from_slice(exact);
-    }
-}
-
-impl BoundScalar for f16 {
-    const NEG_INFINITY: f16 = f16::NEG_INFINITY;
-    const INFINITY: f16 = f16::INFINITY;
-    /// Rounds to nearest, then one f16 step up if that fell below: a finite `v` beyond f16's
-    /// range gives `+inf` (above `65504`) or `-65504` (below `-65504`); infinities stay.
-    #[inline]
-    fn upper(v: f32) -> f16 {
-        let nearest = f16::from_f32_const(v);
-        if nearest.to_f32_const() < v {
-            f16_step_up(nearest)
-        } else {
-            nearest
-        }
-    }
-    #[inline]
-    fn lower(v: f32) -> f16 {
-        -f16::upper(-v)
-    }
-    /// In software, which inlines: faster here than the runtime-dispatched F16C call.
-    #[inline]
-    fn widen(self) -> f32 {
-        self.to_f32_const()
-    }
-    /// Compares the bits, converting nothing.
-    #[inline]
-    fn larger(self, other: f16) -> f16 {
-        self.max(other)
-    }
-    #[inline]
-    fn smaller(self, other: f16) -> f16 {
-        self.min(other)
-    }
-    /// In bulk: see [`f16_outward`].
-    fn store_layers(exact: &[MlhmNodeLayer], out: &mut [StoredLayer<f16>]) {
-        // Maxima and minima apart, each rounded one way in one pass.
-        let mut maxima = vec![0.0; 2 * exact.len()];
-        let mut minima = vec![0.0; 2 * exact.len()];
-        for ((max, min), l) in maxima.chunks_exact_mut(2).zip(minima.chunks_exact_mut(2)).zip(exact)
-        {
-            max.copy_from_slice(&[l.water_max, l.solid_max]);
-            min.copy_from_slice(&[l.ceiling_min, l.air_min]);
-        }
-        let (maxima, minima) = (f16_outward(&maxima, true), f16_outward(&minima, false));
-        for ((o, max), min) in
-            out.iter_mut().zip(maxima.chunks_exact(2)).zip(minima.chunks_exact(2))
-        {
-            *o = StoredLayer {
-                water_max: max[0],
-                ceiling_min: min[0],
-                solid_max: max[1],
-                air_min: min[1],
-            };
-        }
-    }
-    fn store_lower(exact: &[f32], out: &mut [f16]) {
-        out.copy_from_slice(&f16_outward(exact, false));
-    }
-}
-
-/// `values` as f16s, rounded `up` or down: converted to nearest in bulk (the `half` crate's
-/// slice conversion, SIMD where the CPU has it, F16C on x86), then each one that went the
-/// wrong way stepped outward by one f16.
-fn f16_outward(values: &[f32], up: bool) -> Vec<f16> {
-    let mut rounded = vec![f16::ZERO; values.len()];
-    rounded.convert_from_f32_slice(values);
-    let mut back = vec![0.0f32; values.len()];
-    rounded.convert_to_f32_slice(&mut back);
-    for (r, (&v, &b)) in rounded.iter_mut().zip(values.iter().zip(&back)) {
-        // Half of them go the wrong way, at random: selects, not branches (it vectorizes).
-        let wrong = if up { b < v } else { b > v };
-        *r = if wrong { f16_step_up_or_down(*r, up) } else { *r };
-    }
-    rounded
-}
-
-/// The next f16 above `h` (`up`) or below it, for any `h` but the infinity it would step past
-/// and NaN (`-inf` steps up to `-65504`, `+inf` down to `65504`).
-#[inline]
-fn f16_step_up_or_down(h: f16, up: bool) -> f16 {
-    let bits = h.to_bits();
-    // Nonzero: one unit in the last place away from zero on the side it steps to, towards
-    // zero on the other. From +-0: the smallest subnormal of that side.
-    let away_from_zero = (bits & 0x8000 == 0) == up;
-    let step = if away_from_zero { 1 } else { u16::MAX };
-    let from_zero = if up { 0x0001 } else { 0x8001 };
-    f16::from_bits(if bits & 0x7fff == 0 { from_zero } else { bits.wrapping_add(step) })
-}
-
-/// The next f16 above `h`, for any `h` but `+inf` and NaN (`-inf` steps to `-65504`).
-#[inline]
-fn f16_step_up(h: f16) -> f16 {
-    f16_step_up_or_down(h, true)
-}
-
-/// Node layer bounds as a level's build merges them: in the stored type, where merging needs
-/// no rounding (f32 bounds, and the f16 bounds of the levels above level 1, which are f16s
-/// already), or exact f32 bounds of cells ([`MlhmNodeLayer`]) that are rounded to f16 once
-/// merged.
-trait MergedLayer<S: BoundScalar>: Copy + Send + Sync {
-    /// Bounds nothing reaches.
-    const EMPTY: Self;
-    /// Both bounds' enclosure.
-    fn merge(self, other: Self) -> Self;
-    /// Calls `merge` with a row of bounds as long as `out`, which it sets all of (each node
-    /// from [`EMPTY`](MergedLayer::EMPTY) up), then stores them into `out`, rounded outward.
-    /// Returns the highest solid and water tops merged when they are known exactly here and
-    /// would not be from `out` (rounded).
-    fn merge_row(out: &mut [StoredLayer<S>], merge: impl FnOnce(&mut [Self]))
-        -> Option<(f32, f32)>;
-}
-
-impl<S: BoundScalar> MergedLayer<S> for MlhmNodeLayer {
-    const EMPTY: Self = MlhmNodeLayer::EMPTY;
-    #[inline]
-    fn merge(self, other: Self) -> Self {
-        MlhmNodeLayer::merge(self, other)
-    }
-    /// Merges into scratch, then rounds the row in bulk.
-    fn merge_row(
-        out: &mut [StoredLayer<S>],
-        merge: impl FnOnce(&mut [Self]),
-    ) -> Option<(f32, f32)> {
-        let mut row = vec![MlhmNodeLayer::EMPTY; out.len()];
-        merge(&mut row);
-        S::store_layers(&row, out);
-        let tops = (f32::NEG_INFINITY, f32::NEG_INFINITY);
-        Some(row.iter().fold(tops, |t, l| (t.0.max(l.solid_max), t.1.max(l.water_max))))
-    }
-}
-
-impl<S: BoundScalar> MergedLayer<S> for StoredLayer<S> {
-    const EMPTY: Self = StoredLayer {
-        water_max: S::NEG_INFINITY,
-        ceiling_min: S::INFINITY,
-        solid_max: S::NEG_INFINITY,
-        air_min: S::INFINITY,
-    };
-    #[inline]
-    fn merge(self, other: Self) -> Self {
-        StoredLayer {
-            water_max: self.water_max.larger(other.water_max),
-            ceiling_min: self.ceiling_min.smaller(other.ceiling_min),
-            solid_max: self.solid_max.larger(other.solid_max),
-            air_min: self.air_min.smaller(other.air_min),
-        }
-    }
-    /// Merges in place.
-    fn merge_row(
-        out: &mut [StoredLayer<S>],
-        merge: impl FnOnce(&mut [Self]),
-    ) -> Option<(f32, f32)> {
-        merge(out);
-        None
-    }
-}
-
-/// [`MlhmNodeLayer`] as stored, in a [`BoundScalar`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct StoredLayer<S> {
-    water_max: S,
-    ceiling_min: S,
-    solid_max: S,
-    air_min: S,
-}
-
-impl<S: BoundScalar> StoredLayer<S> {
-    /// `layer` rounded outward.
-    #[inline]
-    fn store(layer: MlhmNodeLayer) -> Self {
-        StoredLayer {
-            water_max: S::upper(layer.water_max),
-            ceiling_min: S::lower(layer.ceiling_min),
-            solid_max: S::upper(layer.solid_max),
-            air_min: S::lower(layer.air_min),
-        }
-    }
-
-    /// The stored bounds, exactly, as f32.
-    #[inline]
-    fn load(self) -> MlhmNodeLayer {
-        MlhmNodeLayer {
-            water_max: self.water_max.widen(),
-            ceiling_min: self.ceiling_min.widen(),
-            solid_max: self.solid_max.widen(),
-            air_min: self.air_min.widen(),
-        }
-    }
-}
-
-/// The bounds of every node of one level, in one scalar type.
-#[derive(Debug, Clone, PartialEq)]
-struct LevelBounds<S> {
-    /// Per node, `cap` layer slots, node-major (node `i`'s layers at `i * cap..`).
-    layers: Vec<StoredLayer<S>>,
-    /// Per node, the lowest water top of the topmost column of any cell it covers.
-    sky: Vec<S>,
-}
-
-impl<S: BoundScalar> LevelBounds<S> {
-    fn empty(nodes: usize, cap: usize) -> Self {
-        LevelBounds {
-            layers: vec![StoredLayer::store(MlhmNodeLayer::EMPTY); nodes * cap],
-            sky: vec![S::lower(f32::INFINITY); nodes],
-        }
-    }
-
-    /// Bytes of storage.
-    fn memory_bytes(&self) -> usize {
-        self.layers.len() * size_of::<StoredLayer<S>>() + self.sky.len() * size_of::<S>()
-    }
-
-    /// [`MlhmHierarchy::for_each_interval`] on node `node`'s `n` layers (of `cap` slots).
-    #[inline]
-    fn for_each_interval(
-        &self,
-        node: usize,
-        cap: usize,
-        n: usize,
-        mode: MlhmMode,
-        mut f: impl FnMut(f64, f64) -> bool,
-    ) -> bool {
-        let layers = &self.layers[node * cap..][..n];
-        let mut below: Option<&StoredLayer<S>> = None;
-        for layer in layers {
-            let (bottom, top) = match mode {
-                MlhmMode::Solids => (
-                    below.map_or(f32::NEG_INFINITY, |b| b.ceiling_min.widen()),
-                    layer.solid_max.widen(),
-                ),
-                MlhmMode::SolidsWater => (
-                    below.map_or(f32::NEG_INFINITY, |b| b.ceiling_min.widen()),
-                    layer.water_max.widen(),
-                ),
-                MlhmMode::SolidsAir => (
-                    below.map_or(f32::NEG_INFINITY, |b| b.air_min.widen()),
-                    layer.solid_max.widen(),
-                ),
-            };
-            if f(bottom as f64, top as f64) {
-                return true;
-            }
-            below = Some(layer);
-        }
-        mode == MlhmMode::SolidsAir && f(self.sky[node].widen() as f64, f64::INFINITY)
-    }
-}
-
-/// A level's bounds at the hierarchy's [`Precision`].
-#[derive(Debug, Clone, PartialEq)]
-enum StoredBounds {
-    F32(LevelBounds<f32>),
-    F16(LevelBounds<f16>),
-}
-
 /// One level of the hierarchy above the cells.
 #[derive(Debug, Clone, PartialEq)]
 struct Level {
@@ -405,6 +94,10 @@ struct Level {
 /// interval it stands for, and a ray that misses all of a node's intervals misses every box of
 /// its cells. The bounds only cull: hits come from the cells (level 0, the map itself, at its
 /// own [`Mlhm::precision`]), and the scene top ([`MlhmHierarchy::top`]) is exact at both.
+///
+/// For the smooth implicit surface, [`build_padded`](MlhmHierarchy::build_padded) widens
+/// level 1 by the smoothing radius, so that the same intervals enclose every point the smooth
+/// surface can reach.
 ///
 /// The build runs bottom-up, each level's rows in parallel (rayon); it is cheap enough to
 /// redo every frame of a simulation.
@@ -450,6 +143,8 @@ pub struct MlhmHierarchy {
     solid_max: f32,
     /// Exact highest water top over the map.
     water_max: f32,
+    /// The smoothing radius level 1 is padded by, metres (0: the box hierarchy).
+    padding: f64,
 }
 
 /// Largest number of levels above the cells.
@@ -464,6 +159,60 @@ impl MlhmHierarchy {
     /// Builds the hierarchy of `map` with its bounds stored at `precision`: exact f32, or f16
     /// rounded outward (see [`MlhmHierarchy`]).
     pub fn build_with_precision(map: &Mlhm, precision: Precision) -> Self {
+        Self::build_inner(map, precision, 0.0)
+    }
+
+    /// Builds the hierarchy of `map` for the smooth implicit surface of smoothing radius
+    /// `radius` (σ, metres: the half-size of the cube whose terrain volume defines the
+    /// surface; Nilles & Müller 2025, 3.3 and 4.3), with its bounds stored at `precision`.
+    ///
+    /// Every point whose cube holds terrain lies within `radius`, along every axis, of some
+    /// terrain box, so level 1 is built wider than for the boxes: layer `k` of a level-1 node
+    /// merges layer `k` of its 2 x 2 cells and of a ring of `ceil(radius / cell size)` cells
+    /// around them (clipped to the grid), and then every maximum (`water_max`, `solid_max`)
+    /// is raised by `radius` and every minimum (`ceiling_min`, `air_min` and the sky's start,
+    /// [`sky_min`](MlhmHierarchy::sky_min)) lowered by it. The padding is computed in f64 and
+    /// rounded outward to f32 (maxima up, minima down), and at [`Precision::F16`] then to f16,
+    /// outward again. Layers beyond a cap fold as in [`build`](MlhmHierarchy::build), the
+    /// levels above take the plain maxima and minima of their 2 x 2 children, and the scene
+    /// tops ([`top`](MlhmHierarchy::top)) are raised by `radius` too. Everything else reads
+    /// as on a box hierarchy; [`rebuild`](MlhmHierarchy::rebuild) keeps the padding.
+    ///
+    /// The bounds cover the grid's footprint only: the smooth surface also reaches up to
+    /// `radius` beyond the grid's edges, which no node stands for.
+    ///
+    /// A `radius` of 0 gives the box hierarchy, as
+    /// [`build_with_precision`](MlhmHierarchy::build_with_precision) builds it.
+    ///
+    /// # Panics
+    /// When `radius` is negative, infinite or NaN.
+    ///
+    /// ```
+    /// use relief_core::{Mlhm, MlhmColumn, Precision};
+    /// use relief_trace::{MlhmHierarchy, MlhmMode};
+    /// let mut map = Mlhm::new(8, 8, 2, 1.0)?;
+    /// map.set_cell(2, 0, &[MlhmColumn::new(3.0, 0.0, 0.5, f32::INFINITY)])?;
+    /// let padded = MlhmHierarchy::build_padded(&map, 0.5, Precision::F32);
+    /// assert_eq!(padded.padding(), 0.5);
+    /// // Node (0, 0) of level 1 (cells 0..2) takes in cell 2, one ring cell away.
+    /// let layer = padded.node_layer(1, 0, 0, 0);
+    /// assert_eq!((layer.solid_max, layer.water_max), (3.5, 4.0));
+    /// assert_eq!(padded.sky_min(1, 0, 0), -0.5);
+    /// assert_eq!(padded.top(MlhmMode::Solids), 3.5);
+    /// // Node (2, 0) (cells 4..6) is two cells away: flat ground, padded.
+    /// assert_eq!(padded.node_layer(1, 2, 0, 0).solid_max, 0.5);
+    /// # Ok::<(), relief_core::CoreError>(())
+    /// ```
+    pub fn build_padded(map: &Mlhm, radius: f64, precision: Precision) -> Self {
+        assert!(
+            radius.is_finite() && radius >= 0.0,
+            "smoothing radius {radius} is not finite and >= 0"
+        );
+        Self::build_inner(map, precision, radius)
+    }
+
+    /// The hierarchy of `map` at `precision`, level 1 padded by `padding` metres.
+    fn build_inner(map: &Mlhm, precision: Precision, padding: f64) -> Self {
         let (width, height) = (map.width(), map.height());
         let levels = Self::level_shapes(map)
             .map(|(nodes_x, nodes_y, cap)| Level::empty(nodes_x, nodes_y, cap, precision))
@@ -475,13 +224,14 @@ impl MlhmHierarchy {
             levels,
             solid_max: f32::NEG_INFINITY,
             water_max: f32::NEG_INFINITY,
+            padding,
         };
         hierarchy.fill(map);
         hierarchy
     }
 
-    /// Rebuilds the hierarchy from `map` (say, after a simulation step) at its precision,
-    /// reusing its storage when the map's grid and layer count are those it was built for.
+    /// Rebuilds the hierarchy from `map` (say, after a simulation step) at its precision and
+    /// with its [`padding`](MlhmHierarchy::padding), reusing its storage when the map's grid and layer count are those it was built for.
     pub fn rebuild(&mut self, map: &Mlhm) {
         let same = (self.width, self.height) == (map.width(), map.height())
             && Self::level_shapes(map)
@@ -490,7 +240,7 @@ impl MlhmHierarchy {
         if same {
             self.fill(map);
         } else {
-            *self = Self::build_with_precision(map, self.precision);
+            *self = Self::build_inner(map, self.precision, self.padding);
         }
     }
 
@@ -508,10 +258,11 @@ impl MlhmHierarchy {
     }
 
     /// Computes every level's bounds from `map`, bottom-up, into storage of the right shape,
-    /// and the exact tops of the map: from level 1's bounds before they are rounded to f16, or
-    /// from the top level's exact f32 bounds.
+    /// and the exact tops of the map (on a padded hierarchy the padded tops, rounded up to
+    /// f32): from level 1's bounds before they are rounded to f16, or from the top level's
+    /// f32 bounds.
     fn fill(&mut self, map: &Mlhm) {
-        let rounded_tops = Self::fill_first(&mut self.levels[0], map);
+        let rounded_tops = Self::fill_first(&mut self.levels[0], map, self.padding);
         for i in 1..self.levels.len() {
             let (below, above) = self.levels.split_at_mut(i);
             Self::fill_above(&mut above[0], &below[i - 1]);
@@ -534,9 +285,10 @@ impl MlhmHierarchy {
         ceil_log2.saturating_sub(1).clamp(1, MAX_HIERARCHY_LEVELS)
     }
 
-    /// Level 1, from the map's cells; returns the exact highest solid and water tops when
-    /// the stored bounds are rounded.
-    fn fill_first(level: &mut Level, map: &Mlhm) -> Option<(f32, f32)> {
+    /// Level 1, from the map's cells, padded by `padding` metres (see
+    /// [`build_padded`](MlhmHierarchy::build_padded)); returns the highest solid and water
+    /// tops (padded, rounded up) when the stored bounds are rounded or padded.
+    fn fill_first(level: &mut Level, map: &Mlhm, padding: f64) -> Option<(f32, f32)> {
         let (w, h) = (map.width(), map.height());
         let (columns, counts, plane) = (map.raw_columns(), map.layer_counts(), w * h);
         let count = |cell: usize| usize::from(counts[cell]);
@@ -554,14 +306,19 @@ impl MlhmHierarchy {
         let sky = |cell: usize| columns[cell + (count(cell) - 1) * plane].water_top();
         let (nodes_x, cap) = (level.nodes_x, level.cap);
         let counts = &mut level.counts;
+        let children = Children::padded(w, h, padding, map.cell_size());
         match &mut level.bounds {
-            StoredBounds::F32(b) => {
+            StoredBounds::F32(b) if padding == 0.0 => {
                 // Stored as they are: merged in place.
                 let layer = |cell: usize, j: usize| StoredLayer::<f32>::store(layer(cell, j));
-                Self::merge_children(b, counts, nodes_x, cap, (w, h), count, layer, sky)
+                Self::merge_children(b, counts, nodes_x, cap, children, count, layer, sky)
+            }
+            // Padded exactly, then rounded outward to f32 (and returning the padded tops).
+            StoredBounds::F32(b) => {
+                Self::merge_children(b, counts, nodes_x, cap, children, count, layer, sky)
             }
             StoredBounds::F16(b) => {
-                Self::merge_children(b, counts, nodes_x, cap, (w, h), count, layer, sky)
+                Self::merge_children(b, counts, nodes_x, cap, children, count, layer, sky)
             }
         }
     }
@@ -569,7 +326,7 @@ impl MlhmHierarchy {
     /// The level above `below`, merging its 2 x 2 nodes.
     fn fill_above(level: &mut Level, below: &Level) {
         let count = |child: usize| usize::from(below.counts[child]);
-        let children = (below.nodes_x, below.nodes_y);
+        let children = Children::plain(below.nodes_x, below.nodes_y);
         let (nodes_x, cap, below_cap) = (level.nodes_x, level.cap, below.cap);
         let counts = &mut level.counts;
         match (&mut level.bounds, &below.bounds) {
@@ -588,8 +345,8 @@ impl MlhmHierarchy {
     }
 
     /// Fills every node of a level (`nodes_x` nodes a row, `cap` layers a node; `bounds` and
-    /// `counts` its storage) from its (up to) 2 x 2 children in a grid of `children` (x, y): a
-    /// child has `count(child)` layers, bottom to top, bounded by `layer(child, j)`, and its
+    /// `counts` its storage) from its (up to) 2 x 2 children in a grid of `children`, and the
+    /// ring of children around them and the padding `children` asks for: a child has `count(child)` layers, bottom to top, bounded by `layer(child, j)`, and its
     /// open sky starts at `sky(child)`. Layers past the level's cap fold into its top kept
     /// layer. Merges exactly, as `L`, and stores each bound rounded outward; returns the
     /// highest solid and water tops merged when `L` knows them exactly before rounding.
@@ -599,12 +356,12 @@ impl MlhmHierarchy {
         counts: &mut [u8],
         nodes_x: usize,
         cap: usize,
-        children: (usize, usize),
+        children: Children,
         count: impl Fn(usize) -> usize + Sync,
         layer: impl Fn(usize, usize) -> L + Sync,
         sky: impl Fn(usize) -> f32 + Sync,
     ) -> Option<(f32, f32)> {
-        let (children_x, children_y) = children;
+        let Children { x: children_x, y: children_y, ring, padding } = children;
         let max_pair = |a: Option<(f32, f32)>, b: Option<(f32, f32)>| match (a, b) {
             (Some(a), Some(b)) => Some((a.0.max(b.0), a.1.max(b.1))),
             (a, b) => a.or(b),
@@ -624,8 +381,11 @@ impl MlhmHierarchy {
                         merged.fill(L::EMPTY);
                         let lowest_sky = &mut lowest_sky[nx];
                         let mut used = 0;
-                        for y in 2 * ny..(2 * ny + 2).min(children_y) {
-                            for x in 2 * nx..(2 * nx + 2).min(children_x) {
+                        let ys = (2 * ny).saturating_sub(ring)..(2 * ny + 2 + ring).min(children_y);
+                        for y in ys {
+                            let xs =
+                                (2 * nx).saturating_sub(ring)..(2 * nx + 2 + ring).min(children_x);
+                            for x in xs {
                                 let child = x + y * children_x;
                                 let n = count(child);
                                 for j in 0..n {
@@ -637,6 +397,12 @@ impl MlhmHierarchy {
                             }
                         }
                         node_counts[nx] = used as u8;
+                        if padding > 0.0 {
+                            for m in merged {
+                                *m = m.padded(padding);
+                            }
+                            *lowest_sky = pad_down(*lowest_sky, padding);
+                        }
                     }
                 });
                 S::store_lower(&lowest_sky, node_sky);
@@ -737,8 +503,18 @@ impl MlhmHierarchy {
         }
     }
 
+    /// The smoothing radius level 1 is padded by, metres
+    /// ([`build_padded`](MlhmHierarchy::build_padded)); 0 for the box hierarchy
+    /// ([`build`](MlhmHierarchy::build),
+    /// [`build_with_precision`](MlhmHierarchy::build_with_precision)).
+    pub fn padding(&self) -> f64 {
+        self.padding
+    }
+
     /// Highest box top over the map in `mode` (`+inf` for [`MlhmMode::SolidsAir`]); exact at
-    /// either precision.
+    /// either precision, and on a padded hierarchy
+    /// ([`build_padded`](MlhmHierarchy::build_padded)) raised by the padding, rounded up to an
+    /// f32.
     pub fn top(&self, mode: MlhmMode) -> f64 {
         match mode {
             MlhmMode::Solids => self.solid_max as f64,
@@ -772,6 +548,42 @@ impl MlhmHierarchy {
     }
 }
 
+/// The grid of children a level's nodes merge, and for level 1 of a padded hierarchy the
+/// ring of extra children each node takes in and the padding of its bounds.
+#[derive(Debug, Clone, Copy)]
+struct Children {
+    /// Children along x.
+    x: usize,
+    /// Children along y.
+    y: usize,
+    /// Extra children merged on each side of a node's 2 x 2.
+    ring: usize,
+    /// Metres every merged maximum is raised and minimum lowered by.
+    padding: f64,
+}
+
+impl Children {
+    /// A grid of `x` by `y` children, merged 2 x 2.
+    fn plain(x: usize, y: usize) -> Self {
+        Children { x, y, ring: 0, padding: 0.0 }
+    }
+
+    /// A grid of `x` by `y` cells of `cell_size` metres, padded by `padding` metres: the ring
+    /// is the fewest cells at least `padding` wide, `ceil(padding / cell_size)`, checked in
+    /// f64 so rounding in the division cannot shrink it (and at most the grid).
+    fn padded(x: usize, y: usize, padding: f64, cell_size: f64) -> Self {
+        if padding == 0.0 {
+            return Self::plain(x, y);
+        }
+        let most = x.max(y);
+        let mut ring = (padding / cell_size).ceil().min(most as f64) as usize;
+        if ring < most && (ring as f64) * cell_size < padding {
+            ring += 1;
+        }
+        Children { x, y, ring, padding }
+    }
+}
+
 impl Level {
     fn empty(nodes_x: usize, nodes_y: usize, cap: usize, precision: Precision) -> Level {
         let nodes = nodes_x * nodes_y;
@@ -791,61 +603,8 @@ impl Level {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use half::f16;
     use relief_core::MlhmColumn;
-
-    /// Every f16 value but NaN (one zero), as f32, ascending: `-inf .. +inf`.
-    fn all_f16_ascending() -> Vec<f32> {
-        let mut all: Vec<f32> = (0..=u16::MAX)
-            .filter(|&bits| bits != 0x8000) // -0: one zero is enough
-            .map(|bits| f16::from_bits(bits).to_f32())
-            .filter(|v| !v.is_nan())
-            .collect();
-        all.sort_by(f32::total_cmp);
-        all
-    }
-
-    /// The next f32 above (`+1`) or below (`-1`) a finite nonzero `v` (by magnitude in bits).
-    fn f32_neighbours(v: f32) -> [f32; 2] {
-        let bits = v.to_bits();
-        [f32::from_bits(bits + 1), f32::from_bits(bits - 1)]
-    }
-
-    #[test]
-    fn f16_rounding_is_outward_and_tight_everywhere() {
-        let all = all_f16_ascending();
-        assert_eq!((all[0], all[all.len() - 1]), (f32::NEG_INFINITY, f32::INFINITY));
-        let mut values = vec![0.0, -0.0, 1e-9, -1e-9, 65504.5, 65520.0, 1e6, -1e6, f32::MAX];
-        values.extend([f32::MIN, f32::MIN_POSITIVE, f32::INFINITY, f32::NEG_INFINITY, 1000.3]);
-        // Every f16, the midpoints between neighbours (ties of round-to-nearest) and the
-        // f32s right beside both.
-        for pair in all[1..all.len() - 1].windows(2) {
-            let mid = 0.5 * (pair[0] + pair[1]);
-            values.extend([pair[0], mid]);
-            for v in [pair[0], mid] {
-                if v != 0.0 {
-                    values.extend(f32_neighbours(v));
-                }
-            }
-        }
-        // One by one and in bulk.
-        let bulk_up = f16_outward(&values, true);
-        let bulk_down = f16_outward(&values, false);
-        for (i, &v) in values.iter().enumerate() {
-            let (up, down) = (f16::upper(v).to_f32(), f16::lower(v).to_f32());
-            let expected_up = all[all.partition_point(|&a| a < v)];
-            let expected_down = all[all.partition_point(|&a| a <= v) - 1];
-            assert_eq!((up, down), (expected_up, expected_down), "{v:e}");
-            assert_eq!((bulk_up[i].to_f32(), bulk_down[i].to_f32()), (up, down), "{v:e}");
-        }
-        // Round to nearest goes the wrong way here, outward rounding does not.
-        assert!(f16::from_f32(1000.2).to_f32() < 1000.2);
-        assert_eq!(f16::upper(1000.2).to_f32(), 1000.5);
-        assert!(f16::from_f32(1000.3).to_f32() > 1000.3);
-        assert_eq!(f16::lower(1000.3).to_f32(), 1000.0);
-        assert_eq!(f16::upper(70000.0), f16::INFINITY);
-        assert_eq!(f16::lower(70000.0), f16::MAX);
-        assert_eq!(f16::lower(-70000.0), f16::NEG_INFINITY);
-    }
 
     #[test]
     fn f16_hierarchy_is_the_f32_one_rounded_outward_at_half_the_size() {

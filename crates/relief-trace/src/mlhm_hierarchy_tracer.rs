@@ -50,8 +50,8 @@ impl FromStr for MlhmBacktrack {
 }
 
 /// Misses in a row after which the miss counter climbs, above level 0 and on level 0.
-const MISSES: u32 = 8;
-const FINE_MISSES: u32 = 16;
+pub(crate) const MISSES: u32 = 8;
+pub(crate) const FINE_MISSES: u32 = 16;
 
 /// Box ray tracing of an [`Mlhm`] through its [`MlhmHierarchy`], exact: it returns the same
 /// hits as [`crate::MlhmNaiveTracer`], bit for bit.
@@ -108,12 +108,12 @@ pub struct MlhmHierarchyTracer {
 
 /// One horizontal axis of the ray in cell space.
 #[derive(Debug, Clone, Copy)]
-struct Axis {
-    o: f64,
-    d: f64,
-    inv: f64,
+pub(crate) struct Axis {
+    pub(crate) o: f64,
+    pub(crate) d: f64,
+    pub(crate) inv: f64,
     /// The start cell along this axis.
-    start: usize,
+    pub(crate) start: usize,
 }
 
 impl Axis {
@@ -121,7 +121,7 @@ impl Axis {
     /// it does not move along it): the crossing of the integer boundary, computed as the
     /// naive tracer computes a cell's.
     #[inline]
-    fn exit(self, n: usize, level: usize) -> f64 {
+    pub(crate) fn exit(self, n: usize, level: usize) -> f64 {
         if self.d > 0.0 {
             (((n + 1) << level) as f64 - self.o) * self.inv
         } else if self.d < 0.0 {
@@ -137,7 +137,14 @@ impl Axis {
     /// ray advanced to inside a node (`advanced`), the child before it until it is passed,
     /// since a cell whose part of the ray ends at `t` may still be hit there.
     #[inline]
-    fn child(self, n: usize, level: usize, t: f64, at_start: bool, advanced: bool) -> usize {
+    pub(crate) fn child(
+        self,
+        n: usize,
+        level: usize,
+        t: f64,
+        at_start: bool,
+        advanced: bool,
+    ) -> usize {
         if at_start || self.d == 0.0 {
             return self.start >> level;
         }
@@ -153,7 +160,7 @@ impl Axis {
 
     /// The next node along the axis, `None` past the grid's low end.
     #[inline]
-    fn step(self, n: usize) -> Option<usize> {
+    pub(crate) fn step(self, n: usize) -> Option<usize> {
         if self.d > 0.0 {
             Some(n + 1)
         } else {

@@ -67,6 +67,10 @@ fn refuse_mlhm_options(args: &RenderArgs) -> Result<()> {
         "--preset"
     } else if args.hierarchy_bounds.is_some() {
         "--hierarchy-bounds"
+    } else if args.sigma.is_some() {
+        "--sigma"
+    } else if args.no_ao {
+        "--no-ao"
     } else {
         return Ok(());
     };

@@ -1,5 +1,6 @@
-//! `relief render scene.json`: box ray tracing of a multi-layered height map scene, shaded as
-//! the MLHM paper does (Nilles & Müller 2025, sections 4.6 and 5) at a quality preset.
+//! `relief render scene.json`: box ray tracing or smooth-surface ray marching of a
+//! multi-layered height map scene, shaded as the MLHM paper does (Nilles & Müller 2025,
+//! sections 4.6 and 5) at a quality preset.
 
 use super::render::{camera, write_outputs};
 use crate::args::{MlhmRenderMode, RenderArgs};
@@ -10,7 +11,8 @@ use relief_core::{Aabb, DVec2, DVec3, Mlhm, Precision, Surface};
 use relief_shade::mlhm::{render_mlhm, MlhmShading};
 use relief_shade::{tonemap_reinhard_to_rgb8, Sun};
 use relief_trace::{
-    MlhmBacktrack, MlhmHierarchyTracer, MlhmMode, MlhmNaiveTracer, MlhmTracer, TracerKind,
+    MlhmBacktrack, MlhmHierarchyTracer, MlhmMode, MlhmNaiveTracer, MlhmNormalScheme,
+    MlhmSmoothOptions, MlhmSmoothTracer, MlhmTracer, TracerKind,
 };
 use std::path::Path;
 use std::sync::Arc;
@@ -25,8 +27,10 @@ enum MlhmTracerChoice {
 
 /// Renders the MLHM scene at `path` as `args` say (outputs and image size already checked).
 pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
-    // Boxes is the only mode so far (the parser refuses smooth): a match once there are more.
-    let MlhmRenderMode::Boxes = args.mode.unwrap_or(MlhmRenderMode::Boxes);
+    let mode = args.mode.unwrap_or(MlhmRenderMode::Boxes);
+    if args.sigma.is_some() && mode == MlhmRenderMode::Boxes {
+        bail!("--sigma applies to --mode smooth only");
+    }
     let choice = tracer_choice(args)?;
     refuse_height_field_options(args)?;
     let preset = args.preset.unwrap_or_default();
@@ -34,6 +38,9 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
     let (azimuth_deg, elevation_deg) = args.sun;
     shading.sun = Sun { azimuth_deg, elevation_deg, ..shading.sun };
     shading.quality.shadows &= !args.no_shadows;
+    if args.no_ao {
+        shading.quality.ao_radius = None;
+    }
     shading.exposure = args.exposure;
     shading.validate()?;
 
@@ -46,12 +53,30 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
     let camera = camera(args, &bounds)?;
 
     let started = Instant::now();
-    let tracer: Box<dyn MlhmTracer> = match choice {
-        MlhmTracerChoice::Naive => Box::new(naive),
-        MlhmTracerChoice::Hierarchy(backtrack, bounds) => Box::new(
+    let tracer: Box<dyn MlhmTracer> = match (mode, choice) {
+        (MlhmRenderMode::Boxes, MlhmTracerChoice::Naive) => Box::new(naive),
+        (MlhmRenderMode::Boxes, MlhmTracerChoice::Hierarchy(backtrack, bounds)) => Box::new(
             MlhmHierarchyTracer::new_with_precision(map.clone(), origin, bounds)
                 .with_backtrack(backtrack),
         ),
+        (MlhmRenderMode::Smooth, choice) => {
+            let mut options =
+                MlhmSmoothOptions { radius: args.sigma, ..MlhmSmoothOptions::default() };
+            if shading.quality.central_differences {
+                // Central differences at half the spacing follow the terrain more closely
+                // (section 4.4).
+                let sigma = args.sigma.unwrap_or(map.cell_size());
+                options.normals = MlhmNormalScheme::Central;
+                options.normal_spacing = Some(0.5 * sigma);
+            }
+            match choice {
+                MlhmTracerChoice::Naive => options.hierarchy = false,
+                MlhmTracerChoice::Hierarchy(backtrack, bounds) => {
+                    (options.backtrack, options.precision) = (backtrack, bounds);
+                }
+            }
+            Box::new(MlhmSmoothTracer::with_options(map.clone(), origin, options)?)
+        }
     };
     let build_ms = started.elapsed().as_secs_f64() * 1e3;
 
@@ -64,6 +89,9 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
     let rgb = tonemap_reinhard_to_rgb8(&image.radiance, shading.exposure)?;
     write_outputs(args, &camera, &image.gbuffer, &rgb)?;
     let how = match choice {
+        MlhmTracerChoice::Naive if mode == MlhmRenderMode::Smooth => {
+            "marching without the hierarchy".to_string()
+        }
         MlhmTracerChoice::Naive => "naive tracer".to_string(),
         MlhmTracerChoice::Hierarchy(b, bounds) => {
             let bounds = match bounds {
@@ -77,8 +105,14 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
     };
     let rays_per_pixel = image.counts.rays() as f64 / (w as f64 * h as f64);
     let steps = image.counts.primary.mean_steps();
+    let surface = match mode {
+        MlhmRenderMode::Boxes => "boxes".to_string(),
+        MlhmRenderMode::Smooth => {
+            format!("a smooth surface (sigma {} m)", args.sigma.unwrap_or(map.cell_size()))
+        }
+    };
     eprintln!(
-        "wrote {} ({w}x{h}, {}x{} MLHM scene as boxes, preset {preset}, {how}; \
+        "wrote {} ({w}x{h}, {}x{} MLHM scene as {surface}, preset {preset}, {how}; \
          rendered in {render_ms:.0} ms, {rays_per_pixel:.2} rays per pixel, \
          {steps:.1} steps per camera ray)",
         args.output.display(),

@@ -1,0 +1,791 @@
+//! Smooth implicit-surface ray marching of an MLHM (Nilles & Müller 2025, 4.3-4.6): a 2D DDA
+//! per level of a padded [`MlhmHierarchy`] down to level 1, adaptive ray marching inside the
+//! level-1 nodes the ray meets, normals by finite differences and soft shadows.
+
+use crate::cell_grid::axis_cell;
+use crate::mlhm_cells::ray_to_cells;
+use crate::mlhm_hierarchy_tracer::{Axis, FINE_MISSES, MISSES};
+use crate::{
+    medium_at, Hit, Medium, MlhmBacktrack, MlhmField, MlhmFieldSample, MlhmHierarchy, MlhmHit,
+    MlhmImplicit, MlhmMaterial, MlhmMode, MlhmNormalScheme, MlhmTracer, TraceError, Tracer,
+    MAX_HIERARCHY_LEVELS,
+};
+use relief_core::{Aabb, DVec2, DVec3, MaterialVolumes, Mlhm, Precision, Ray, Surface};
+use std::sync::Arc;
+
+/// The options of an [`MlhmSmoothTracer`]; [`Default`] gives the paper's settings
+/// (`σ = σ_n = h` = one cell, forward differences, exit stack, padded hierarchy, soft
+/// shadows).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MlhmSmoothOptions {
+    /// The smoothing radius σ, metres: the half-size of the cube whose material volume
+    /// defines the surface. Larger radii round edges more and blur detail finer than σ.
+    /// `None`: one cell.
+    pub radius: Option<f64>,
+    /// The smoothing radius σ_n of the volumes normals are computed from, metres: larger is
+    /// smoother. `None`: σ.
+    pub normal_radius: Option<f64>,
+    /// The spacing h of the normals' finite differences, metres. `h = σ_n` is smoother,
+    /// `h = 0.5 σ_n` (with central differences) follows the terrain more closely. `None`: σ_n.
+    pub normal_spacing: Option<f64>,
+    /// Forward (3 volume evaluations besides the hit's) or central (6) differences.
+    pub normals: MlhmNormalScheme,
+    /// How the hierarchical traversal climbs back to coarser levels.
+    pub backtrack: MlhmBacktrack,
+    /// Whether to traverse the padded hierarchy (`true`), marching only inside level-1 nodes
+    /// whose padded bounds the ray meets, or to march the ray's whole part over the grid
+    /// (`false`, the baseline: the same surface, many more steps).
+    pub hierarchy: bool,
+    /// The precision the hierarchy's bounds are stored at (rounded outward at f16).
+    pub precision: Precision,
+    /// Whether [`MlhmTracer::light_visibility`] returns soft shadows (eq. 8) or hard ones.
+    pub soft_shadows: bool,
+}
+
+impl Default for MlhmSmoothOptions {
+    fn default() -> Self {
+        MlhmSmoothOptions {
+            radius: None,
+            normal_radius: None,
+            normal_spacing: None,
+            normals: MlhmNormalScheme::Forward,
+            backtrack: MlhmBacktrack::ExitStack,
+            hierarchy: true,
+            precision: Precision::F32,
+            soft_shadows: true,
+        }
+    }
+}
+
+/// Heights that bound the scene, metres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Extent {
+    /// Lowest bedrock top of any cell's lowest column.
+    bedrock_min: f64,
+    /// Highest solid top.
+    solid_max: f64,
+    /// Highest water top.
+    water_max: f64,
+}
+
+impl Extent {
+    fn of(map: &Mlhm) -> Extent {
+        let mut e = Extent {
+            bedrock_min: f64::INFINITY,
+            solid_max: f64::NEG_INFINITY,
+            water_max: f64::NEG_INFINITY,
+        };
+        for y in 0..map.height() {
+            for x in 0..map.width() {
+                for (k, c) in map.cell_columns(x, y).enumerate() {
+                    if k == 0 {
+                        e.bedrock_min = e.bedrock_min.min(c.bedrock as f64);
+                    }
+                    e.solid_max = e.solid_max.max(c.solid_top() as f64);
+                    e.water_max = e.water_max.max(c.water_top() as f64);
+                }
+            }
+        }
+        e
+    }
+}
+
+/// Most level-1 node intervals marched apart; a node with more is marched over their hull.
+const MAX_PARTS: usize = 16;
+
+/// How far secondary rays start off a hit along its normal, in units of σ.
+const SURFACE_OFFSET: f64 = 0.03;
+
+/// The penumbra's growth with distance (`α_s`, per cell) and its largest size (`β_s`) in the
+/// soft shadow (eq. 8).
+const PENUMBRA_GROWTH: f64 = 0.01;
+const PENUMBRA_MAX: f64 = 0.5;
+
+/// Ray marching of the smooth implicit surface of an [`Mlhm`] ([`MlhmImplicit`]), in every
+/// [`MlhmMode`].
+///
+/// The surface of a mode is where the cube of half-size σ around a point holds half its
+/// volume of the mode's material (for [`MlhmMode::SolidsAir`], of solids or of air); a point
+/// is inside once the cube holds 99 % of that. The surface is clipped to the grid's
+/// footprint, as the boxes are (it would reach about 0.01 σ past the edges). The field
+/// changes with height only in a slab: from 2σ below the lowest bedrock top (below, the
+/// cube over the grid is all bedrock) to σ above the highest solid (water) top (above, it
+/// holds nothing), or 2σ above the highest water top for [`MlhmMode::SolidsAir`] (above,
+/// only air). The ray's part over the footprint is marched inside the slab; beyond it, the
+/// tracer evaluates the field once where the ray enters the footprint (below the slab, or
+/// above it for solids + air) and once where it leaves the slab through its bottom (or, for
+/// solids + air, its top), which decides the rest of the ray but near the grid's corners.
+///
+/// Traversal: the ray's part inside the slab walks the padded hierarchy
+/// ([`MlhmHierarchy::build_padded`], whose level-1 node bounds enclose the surface) from the
+/// coarsest level by a 2D DDA per level, slab-testing node layer intervals as
+/// [`MlhmHierarchyTracer`](crate::MlhmHierarchyTracer) does and climbing back by
+/// [`MlhmBacktrack`]. Where the box tracer would descend from level 1 to the cells, it
+/// marches the ray's parts inside the level-1 node's intervals instead: from each part's
+/// start, it evaluates the mode's volume `V`, stops when `V >= 0.99 target`, and otherwise
+/// advances by the step heuristic `H(target - V)` (eq. 5, 6), which moves the cube by no
+/// more than the volume missing to the isosurface in any direction: it never steps over a
+/// point where `V` exceeds the target. A hit takes one corrective step `H(target - V)`
+/// (eq. 7); its normal is `-grad V` by finite differences (radius σ_n, spacing h), facing
+/// against the ray, and its material is water where the solids alone would not be inside
+/// (in [`MlhmMode::SolidsWater`]), air where the ray leaves the water (in
+/// [`MlhmMode::SolidsAir`]), else bedrock or sand, whichever fills more of the cube.
+/// Without the hierarchy ([`MlhmSmoothOptions::hierarchy`]) it marches the whole part.
+///
+/// Hits are approximate, as the paper's: within the last step and the corrective step of the
+/// first crossing of `V >= 0.99 target`, and possibly past a stretch where `V` stays between
+/// 0.99 and 1 times the target. Steps counted are the nodes visited plus the volume
+/// evaluations of the march.
+///
+/// ```
+/// use std::sync::Arc;
+/// use relief_core::{DVec2, DVec3, Mlhm, Ray};
+/// use relief_trace::{MlhmMaterial, MlhmMode, MlhmSmoothTracer, MlhmTracer};
+/// let map = Arc::new(Mlhm::new(16, 16, 1, 1.0)?); // flat bedrock at z = 0
+/// let tracer = MlhmSmoothTracer::new(map, DVec2::ZERO);
+/// let down = Ray::new(DVec3::new(8.0, 8.0, 10.0), -DVec3::Z);
+/// let hit = tracer.intersect_mode(&down, MlhmMode::SolidsWater).unwrap();
+/// // The flat ground's smooth surface is its plane; the march stops within 0.01 σ of it.
+/// assert!(hit.hit.position.z >= 0.0 && hit.hit.position.z < 0.01);
+/// assert!((hit.hit.normal - DVec3::Z).length() < 1e-9);
+/// assert_eq!(hit.material, MlhmMaterial::Bedrock);
+/// # Ok::<(), relief_core::CoreError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct MlhmSmoothTracer {
+    map: Arc<Mlhm>,
+    origin: DVec2,
+    implicit: MlhmImplicit,
+    normal_implicit: MlhmImplicit,
+    normal_spacing: f64,
+    options: MlhmSmoothOptions,
+    hierarchy: Option<MlhmHierarchy>,
+    extent: Extent,
+    mode: MlhmMode,
+}
+
+/// Where a march stopped: the sample inside the surface.
+#[derive(Debug, Clone, Copy)]
+struct Marched {
+    t: f64,
+    sample: MlhmFieldSample,
+}
+
+/// What to evaluate along a ray (parameters of its part over the grid's footprint): a
+/// probe where it enters the footprint beyond the heights where the field changes with
+/// height, the march between those heights, a probe where it leaves them through the
+/// bottom (or, for solids + air, the top) over the footprint.
+#[derive(Debug, Clone, Copy)]
+struct Plan {
+    probe_first: Option<f64>,
+    march: Option<(f64, f64)>,
+    probe_last: Option<f64>,
+}
+
+/// A world ray in the grid-local metres the volumes are computed in.
+#[derive(Debug, Clone, Copy)]
+struct LocalRay {
+    origin: DVec3,
+    dir: DVec3,
+    /// `|dir|`: metres per unit of `t`.
+    speed: f64,
+}
+
+impl LocalRay {
+    #[inline]
+    fn at(&self, t: f64) -> DVec3 {
+        self.origin + t * self.dir
+    }
+}
+
+impl MlhmSmoothTracer {
+    /// A tracer of `map` placed with its south-west corner at world `origin`, with the default
+    /// options ([`MlhmSmoothOptions::default`]); intersects [`MlhmMode::SolidsWater`] as a
+    /// [`Tracer`].
+    ///
+    /// # Panics
+    /// When the map's cell size is so large (beyond 1e102 m) that the cube's volume
+    /// overflows; [`with_options`](MlhmSmoothTracer::with_options) returns an error then.
+    pub fn new(map: Arc<Mlhm>, origin: DVec2) -> Self {
+        Self::with_options(map, origin, MlhmSmoothOptions::default())
+            .expect("a smoothing radius of one cell")
+    }
+
+    /// A tracer of `map` at `origin` with `options`; builds the padded hierarchy when they ask
+    /// for it. Fails when a radius or the spacing is given but is not a finite number > 0.
+    pub fn with_options(
+        map: Arc<Mlhm>,
+        origin: DVec2,
+        options: MlhmSmoothOptions,
+    ) -> Result<Self, TraceError> {
+        let positive = |name: &str, v: Option<f64>| match v {
+            Some(v) if !(v > 0.0 && v.is_finite()) => {
+                Err(TraceError::Options(format!("{name} {v} m: expected a finite number > 0")))
+            }
+            _ => Ok(()),
+        };
+        positive("smoothing radius", options.radius)?;
+        positive("normal smoothing radius", options.normal_radius)?;
+        positive("normal spacing", options.normal_spacing)?;
+        let radius = options.radius.unwrap_or(map.cell_size());
+        let implicit = MlhmImplicit::new(radius)?;
+        let normal_implicit = MlhmImplicit::new(options.normal_radius.unwrap_or(radius))?;
+        let normal_spacing = options.normal_spacing.unwrap_or(normal_implicit.radius());
+        let hierarchy =
+            options.hierarchy.then(|| MlhmHierarchy::build_padded(&map, radius, options.precision));
+        let extent = Extent::of(&map);
+        Ok(MlhmSmoothTracer {
+            map,
+            origin,
+            implicit,
+            normal_implicit,
+            normal_spacing,
+            options,
+            hierarchy,
+            extent,
+            mode: MlhmMode::SolidsWater,
+        })
+    }
+
+    /// The same tracer intersecting `mode` when used as a [`Tracer`].
+    pub fn with_mode(self, mode: MlhmMode) -> Self {
+        MlhmSmoothTracer { mode, ..self }
+    }
+
+    /// The same tracer climbing back up by `backtrack`.
+    pub fn with_backtrack(self, backtrack: MlhmBacktrack) -> Self {
+        let options = MlhmSmoothOptions { backtrack, ..self.options };
+        MlhmSmoothTracer { options, ..self }
+    }
+
+    /// The mode intersected as a [`Tracer`].
+    pub fn mode(&self) -> MlhmMode {
+        self.mode
+    }
+
+    /// The options it was built with.
+    pub fn options(&self) -> &MlhmSmoothOptions {
+        &self.options
+    }
+
+    /// The implicit surface traced (its radius is σ).
+    pub fn implicit(&self) -> &MlhmImplicit {
+        &self.implicit
+    }
+
+    /// The padded hierarchy walked, `None` when it marches without one.
+    pub fn hierarchy(&self) -> Option<&MlhmHierarchy> {
+        self.hierarchy.as_ref()
+    }
+
+    /// The heights between which the field of `mode` changes with height (see
+    /// [`MlhmSmoothTracer`]): below `bottom` the cube over the grid is all bedrock, above
+    /// `top` it holds no solid (no water) or, for [`MlhmMode::SolidsAir`], only air.
+    fn heights(&self, mode: MlhmMode) -> (f64, f64) {
+        let r = self.implicit.radius();
+        let top = match mode {
+            MlhmMode::Solids => self.extent.solid_max + r,
+            MlhmMode::SolidsWater => self.extent.water_max + r,
+            MlhmMode::SolidsAir => self.extent.water_max + 2.0 * r,
+        };
+        (self.extent.bedrock_min - 2.0 * r, top)
+    }
+
+    /// What to evaluate along the cell-space `ray` in `mode`; `None` when it misses the
+    /// grid's footprint.
+    fn plan(&self, ray: &Ray, mode: MlhmMode) -> Option<Plan> {
+        let (w, h) = (self.map.width() as f64, self.map.height() as f64);
+        let footprint =
+            Aabb::new(DVec3::new(0.0, 0.0, f64::NEG_INFINITY), DVec3::new(w, h, f64::INFINITY));
+        // Finite: the footprint is along x and y, and the ray moves along one of them or,
+        // moving along z only, is cut to the slab below.
+        let clip = footprint.clip(ray)?;
+        let (bottom, top) = self.heights(mode);
+        let (oz, dz) = (ray.origin.z, ray.dir.z);
+        let probe_above = mode == MlhmMode::SolidsAir;
+        let (mut t0, mut t1) = (clip.t_enter, clip.t_exit);
+        if dz != 0.0 {
+            let (a, b) = ((bottom - oz) / dz, (top - oz) / dz);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        } else if !(bottom <= oz && oz <= top) {
+            (t0, t1) = (f64::INFINITY, f64::NEG_INFINITY);
+        }
+        let march = (t0 <= t1).then_some((t0, t1));
+        let z_enter = oz + clip.t_enter * dz;
+        let beyond = z_enter < bottom || (probe_above && z_enter > top);
+        let probe_first =
+            (beyond && march.is_none_or(|(t0, _)| clip.t_enter < t0)).then_some(clip.t_enter);
+        // Leaving the slab through its bottom (or, for solids + air, its top) over the grid.
+        let probe_last = march.and_then(|(_, t1)| {
+            (t1 < clip.t_exit && (dz < 0.0 || (dz > 0.0 && probe_above))).then_some(t1)
+        });
+        Some(Plan { probe_first, march, probe_last })
+    }
+
+    /// The first sample of `world_ray` inside the surface of `mode`, counting nodes and
+    /// samples into `steps` and showing every sample `(t, V)` to `observe`.
+    fn trace(
+        &self,
+        world_ray: &Ray,
+        mode: MlhmMode,
+        steps: &mut u32,
+        observe: &mut impl FnMut(f64, f64),
+    ) -> Option<Marched> {
+        let ray = ray_to_cells(&self.map, self.origin, world_ray)?;
+        let plan = self.plan(&ray, mode)?;
+        let local = LocalRay {
+            origin: world_ray.origin - self.origin.extend(0.0),
+            dir: world_ray.dir,
+            speed: world_ray.dir.length(),
+        };
+        let marcher = Marcher { tracer: self, ray: local, mode };
+        if let Some(t) = plan.probe_first {
+            if let Some(hit) = marcher.probe(t, steps, observe) {
+                return Some(hit);
+            }
+        }
+        if let Some((t0, t1)) = plan.march {
+            let hit = match &self.hierarchy {
+                None => marcher.march(t0, t1, steps, observe),
+                Some(hierarchy) => self.traverse(hierarchy, &ray, &marcher, t0, t1, steps, observe),
+            };
+            if hit.is_some() {
+                return hit;
+            }
+        }
+        plan.probe_last.and_then(|t| marcher.probe(t, steps, observe))
+    }
+
+    /// The hierarchical traversal of the clipped cell-space `ray` over `[t_enter, t_exit]`,
+    /// marching inside level-1 nodes (the structure of
+    /// [`MlhmHierarchyTracer`](crate::MlhmHierarchyTracer)'s).
+    #[allow(clippy::too_many_arguments)]
+    fn traverse(
+        &self,
+        hierarchy: &MlhmHierarchy,
+        ray: &Ray,
+        marcher: &Marcher<'_>,
+        t_enter: f64,
+        t_exit: f64,
+        steps: &mut u32,
+        observe: &mut impl FnMut(f64, f64),
+    ) -> Option<Marched> {
+        let mode = marcher.mode;
+        let inv = DVec3::ONE / ray.dir;
+        let (w, h) = (self.map.width(), self.map.height());
+        let ax = Axis {
+            o: ray.origin.x,
+            d: ray.dir.x,
+            inv: inv.x,
+            start: axis_cell(ray.origin.x, ray.dir.x, inv.x, t_enter, w),
+        };
+        let ay = Axis {
+            o: ray.origin.y,
+            d: ray.dir.y,
+            inv: inv.y,
+            start: axis_cell(ray.origin.y, ray.dir.y, inv.y, t_enter, h),
+        };
+        let (oz, dz, inv_z) = (ray.origin.z, ray.dir.z, inv.z);
+        let top_level = hierarchy.level_count();
+        let mut level = top_level;
+        let (mut nx, mut ny) = (ax.start >> level, ay.start >> level);
+        let mut t = t_enter;
+        let mut at_start = true;
+        let mut advanced = false;
+        let mut misses = 0u32;
+        let mut exits = [f64::INFINITY; MAX_HIERARCHY_LEVELS + 1];
+        loop {
+            *steps = steps.saturating_add(1);
+            let tx = ax.exit(nx, level);
+            let ty = ay.exit(ny, level);
+            let t_next = tx.min(ty);
+            let t_leave = t_exit.min(t_next);
+            // The ray's parameter range inside one node interval, within [t, t_leave].
+            let part = |lo: f64, hi: f64| -> Option<(f64, f64)> {
+                if dz == 0.0 {
+                    (lo <= oz && oz <= hi && t <= t_leave).then_some((t, t_leave))
+                } else {
+                    let (t_lo, t_hi) = ((lo - oz) * inv_z, (hi - oz) * inv_z);
+                    let (ta, tb) = if dz < 0.0 { (t_hi, t_lo) } else { (t_lo, t_hi) };
+                    let (t0, t1) = (ta.max(t), tb.min(t_leave));
+                    (t0 <= t1).then_some((t0, t1))
+                }
+            };
+            if level == 1 {
+                let hit = Self::march_node(hierarchy, nx, ny, &part, marcher, steps, observe);
+                if hit.is_some() {
+                    return hit;
+                }
+            } else {
+                let mut t_first = f64::INFINITY;
+                hierarchy.for_each_interval(level, nx, ny, mode, |lo, hi| {
+                    if let Some((t0, _)) = part(lo, hi) {
+                        t_first = t_first.min(t0);
+                    }
+                    t_first <= t
+                });
+                if t_first <= t_leave {
+                    if t_first > t {
+                        t = t_first;
+                        at_start = false;
+                        advanced = true;
+                    }
+                    exits[level] = t_next;
+                    level -= 1;
+                    misses = 0;
+                    nx = ax.child(nx, level, t, at_start, advanced);
+                    ny = ay.child(ny, level, t, at_start, advanced);
+                    let (nodes_x, nodes_y) = hierarchy.nodes(level);
+                    nx = nx.min(nodes_x - 1);
+                    ny = ny.min(nodes_y - 1);
+                    continue;
+                }
+            }
+            if t_next >= t_exit || t_next.is_nan() {
+                return None;
+            }
+            let (cross_x, cross_y) = (tx == t_next, ty == t_next);
+            if cross_x {
+                nx = ax.step(nx)?;
+            }
+            if cross_y {
+                ny = ay.step(ny)?;
+            }
+            let (nodes_x, nodes_y) = hierarchy.nodes(level);
+            if nx >= nodes_x || ny >= nodes_y {
+                return None;
+            }
+            t = t_next;
+            at_start = false;
+            advanced = false;
+            match self.options.backtrack {
+                MlhmBacktrack::ExitStack => {
+                    while level < top_level && t >= exits[level + 1] {
+                        level += 1;
+                        nx >>= 1;
+                        ny >>= 1;
+                    }
+                }
+                MlhmBacktrack::MissCounter => {
+                    misses += 1;
+                    // Level 1 is where this traversal's leaves are.
+                    let limit = if level == 1 { FINE_MISSES } else { MISSES };
+                    if misses >= limit && level < top_level {
+                        level += 1;
+                        nx >>= 1;
+                        ny >>= 1;
+                        misses = 0;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Marches the ray's parts inside the intervals of level-1 node `(nx, ny)` (`part` gives
+    /// the part inside one, if any), in order, merged where they overlap.
+    fn march_node(
+        hierarchy: &MlhmHierarchy,
+        nx: usize,
+        ny: usize,
+        part: &impl Fn(f64, f64) -> Option<(f64, f64)>,
+        marcher: &Marcher<'_>,
+        steps: &mut u32,
+        observe: &mut impl FnMut(f64, f64),
+    ) -> Option<Marched> {
+        let mut parts = [(0.0, 0.0); MAX_PARTS];
+        let mut n = 0;
+        let mut hull = (f64::INFINITY, f64::NEG_INFINITY);
+        hierarchy.for_each_interval(1, nx, ny, marcher.mode, |lo, hi| {
+            if let Some(p) = part(lo, hi) {
+                hull = (hull.0.min(p.0), hull.1.max(p.1));
+                if n < MAX_PARTS {
+                    parts[n] = p;
+                }
+                n += 1;
+            }
+            false
+        });
+        let parts: &mut [(f64, f64)] = if n > MAX_PARTS {
+            parts[0] = hull;
+            &mut parts[..1]
+        } else {
+            &mut parts[..n]
+        };
+        parts.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let mut current: Option<(f64, f64)> = None;
+        for &(a, b) in parts.iter() {
+            match current {
+                Some((s, e)) if a <= e => current = Some((s, e.max(b))),
+                _ => {
+                    if let Some((s, e)) = current {
+                        let hit = marcher.march(s, e, steps, observe);
+                        if hit.is_some() {
+                            return hit;
+                        }
+                    }
+                    current = Some((a, b));
+                }
+            }
+        }
+        current.and_then(|(s, e)| marcher.march(s, e, steps, observe))
+    }
+
+    /// The hit at the inside sample `marched` of `world_ray`: the corrective step (eq. 7),
+    /// material, normal, cell and column.
+    fn finish(&self, world_ray: &Ray, mode: MlhmMode, marched: Marched) -> MlhmHit {
+        let speed = world_ray.dir.length();
+        let missing = self.implicit.target() - marched.sample.volume;
+        let mut t = marched.t;
+        if missing > 0.0 {
+            t = (t + self.implicit.step(missing) / speed).min(world_ray.t_max);
+        }
+        let position = world_ray.at(t);
+        let local = position - self.origin.extend(0.0);
+        let volumes = self.implicit.volumes(&self.map, local);
+        let field = match mode {
+            MlhmMode::Solids => MlhmField::Solid,
+            MlhmMode::SolidsWater => MlhmField::SolidWater,
+            MlhmMode::SolidsAir => marched.sample.field,
+        };
+        let solid_material = if volumes.bedrock >= volumes.sand {
+            MlhmMaterial::Bedrock
+        } else {
+            MlhmMaterial::Sand
+        };
+        let material = match field {
+            MlhmField::Air => MlhmMaterial::Air,
+            MlhmField::SolidWater if !self.implicit.is_inside(volumes.solid()) => {
+                MlhmMaterial::Water
+            }
+            MlhmField::Solid | MlhmField::SolidWater => solid_material,
+        };
+        let normal = self.normal(local, field, &volumes, world_ray.dir);
+        let s = self.map.cell_size();
+        let cell_of = |v: f64, cells: usize| ((v / s).floor().max(0.0) as usize).min(cells - 1);
+        let cell = (cell_of(local.x, self.map.width()), cell_of(local.y, self.map.height()));
+        // The column whose span, from its floor up to its ceiling, holds the hit.
+        let mut column = 0;
+        let mut floor = f32::NEG_INFINITY;
+        for (k, c) in self.map.cell_columns(cell.0, cell.1).enumerate() {
+            if (floor as f64) <= local.z {
+                column = k;
+            }
+            floor = c.ceiling;
+        }
+        MlhmHit { hit: Hit { t, position, normal }, material, cell, column }
+    }
+
+    /// The unit normal `-grad V` of `field` at `local` (whose volumes at radius σ are
+    /// `volumes`), facing against `dir`; `-dir` normalised where the gradient vanishes.
+    fn normal(
+        &self,
+        local: DVec3,
+        field: MlhmField,
+        volumes: &MaterialVolumes,
+        dir: DVec3,
+    ) -> DVec3 {
+        let n = &self.normal_implicit;
+        let base = match self.options.normals {
+            MlhmNormalScheme::Central => 0.0,
+            MlhmNormalScheme::Forward if n.radius() == self.implicit.radius() => {
+                n.field_volume_from(&self.map, local, field, volumes)
+            }
+            MlhmNormalScheme::Forward => n.field_volume(&self.map, local, field),
+        };
+        let gradient = n.gradient_with_base(
+            &self.map,
+            local,
+            field,
+            self.normal_spacing,
+            self.options.normals,
+            base,
+        );
+        let length = gradient.length();
+        if !(length > 0.0 && length.is_finite()) {
+            return -dir.normalize();
+        }
+        let normal = -gradient / length;
+        if normal.dot(dir) > 0.0 {
+            -normal
+        } else {
+            normal
+        }
+    }
+
+    /// Where a shadow ray that starts on (or just inside) the solid surface leaves it: the
+    /// first parameter, within 2σ of its start, at which the solid volume is below the hit
+    /// volume; `None` when it stays inside that far (the ray starts in the terrain).
+    fn leave_start(&self, ray: &Ray, steps: &mut u32) -> Option<f64> {
+        let speed = ray.dir.length();
+        let limit = ray.t_min + 2.0 * self.implicit.radius() / speed;
+        let min_step = 0.01 * self.implicit.radius() / speed;
+        let mut t = ray.t_min;
+        while t <= limit && t <= ray.t_max {
+            *steps = steps.saturating_add(1);
+            let local = ray.at(t) - self.origin.extend(0.0);
+            let v = self.implicit.field_volume(&self.map, local, MlhmField::Solid);
+            if !self.implicit.is_inside(v) {
+                return Some(t);
+            }
+            let excess = v - self.implicit.hit_volume();
+            t += (self.implicit.step(excess) / speed).max(min_step);
+        }
+        None
+    }
+}
+
+/// Marching along one ray in one mode.
+struct Marcher<'a> {
+    tracer: &'a MlhmSmoothTracer,
+    ray: LocalRay,
+    mode: MlhmMode,
+}
+
+impl Marcher<'_> {
+    /// The sample at `t` when it is inside the surface.
+    fn probe(
+        &self,
+        t: f64,
+        steps: &mut u32,
+        observe: &mut impl FnMut(f64, f64),
+    ) -> Option<Marched> {
+        *steps = steps.saturating_add(1);
+        let sample = self.tracer.implicit.sample(&self.tracer.map, self.ray.at(t), self.mode);
+        observe(t, sample.volume);
+        self.tracer.implicit.is_inside(sample.volume).then_some(Marched { t, sample })
+    }
+
+    /// The first sample inside the surface over `[t0, t1]`: samples from `t0`, each step the
+    /// heuristic's safe distance for the volume missing to the target.
+    #[inline]
+    fn march(
+        &self,
+        t0: f64,
+        t1: f64,
+        steps: &mut u32,
+        observe: &mut impl FnMut(f64, f64),
+    ) -> Option<Marched> {
+        let implicit = &self.tracer.implicit;
+        let map = &*self.tracer.map;
+        let mut t = t0;
+        loop {
+            *steps = steps.saturating_add(1);
+            let sample = implicit.sample(map, self.ray.at(t), self.mode);
+            observe(t, sample.volume);
+            if implicit.is_inside(sample.volume) {
+                return Some(Marched { t, sample });
+            }
+            let next = t + implicit.step(implicit.target() - sample.volume) / self.ray.speed;
+            // `next <= t`: a step lost to rounding at an enormous `t`; give up.
+            if next <= t || next.is_nan() || next > t1 {
+                return None;
+            }
+            t = next;
+        }
+    }
+}
+
+impl MlhmTracer for MlhmSmoothTracer {
+    fn map(&self) -> &Arc<Mlhm> {
+        &self.map
+    }
+
+    fn origin(&self) -> DVec2 {
+        self.origin
+    }
+
+    fn intersect_mode_counted(
+        &self,
+        ray: &Ray,
+        mode: MlhmMode,
+        steps: &mut u32,
+    ) -> Option<MlhmHit> {
+        let marched = self.trace(ray, mode, steps, &mut |_, _| {})?;
+        Some(self.finish(ray, mode, marched))
+    }
+
+    /// The medium as the smooth surfaces see it: solid where the solids' surface holds `p`
+    /// inside, water where only the solid + water surface does (its depth the distance
+    /// straight up to where a ray leaves the water, or to the water top of the column below
+    /// `p` when a solid comes first), air elsewhere and outside the grid's footprint.
+    fn medium(&self, p: DVec3) -> Medium {
+        let local = p - self.origin.extend(0.0);
+        let (w, h) = (self.map.width() as f64, self.map.height() as f64);
+        let s = self.map.cell_size();
+        if !(local.x >= 0.0 && local.y >= 0.0 && local.x <= w * s && local.y <= h * s) {
+            return Medium::Air;
+        }
+        let volumes = self.implicit.volumes(&self.map, local);
+        if self.implicit.is_inside(volumes.solid()) {
+            return Medium::Solid;
+        }
+        if !self.implicit.is_inside(volumes.total()) {
+            return Medium::Air;
+        }
+        let up = Ray::new(p, DVec3::Z);
+        let depth = match self.intersect_mode(&up, MlhmMode::SolidsAir) {
+            Some(hit) if hit.material == MlhmMaterial::Air => hit.hit.t,
+            _ => match medium_at(&self.map, self.origin, p) {
+                Medium::Water { depth } => depth,
+                Medium::Air | Medium::Solid => 0.0,
+            },
+        };
+        Medium::Water { depth }
+    }
+
+    /// `0.03 σ`: a hit holds between 0.99 and 1 times the target volume, and 0.03 σ along
+    /// the normal of a flat surface changes that by 3 % of the target, out of the inside of
+    /// the surface left (and, for a ray entering water, into the inside of the water).
+    fn surface_offset(&self) -> f64 {
+        SURFACE_OFFSET * self.implicit.radius()
+    }
+
+    /// The soft shadow of eq. 8: with `V` the solid volume at each march sample (inside the
+    /// level-1 nodes the ray meets, where the surface is near) at distance `d` from the ray's
+    /// origin, `γ = min max(((target - V) / (2σ)³) / min(0.01 d / cell size, 0.5), 0)`,
+    /// clamped to `[0, 1]`; 0 when the ray meets the surface (the hard shadow, which stops
+    /// light leaking through thin features). Hard shadows only (0 or 1) when
+    /// [`MlhmSmoothOptions::soft_shadows`] is off.
+    ///
+    /// Shadow rays start on the surface they shade, where the solid volume is about the
+    /// target, so the march starts where the ray leaves the inside of the surface (at most
+    /// 2σ from its origin; a ray still inside there is in shadow).
+    fn light_visibility(&self, ray: &Ray, steps: &mut u32) -> f64 {
+        let Some(t_start) = self.leave_start(ray, steps) else {
+            return 0.0;
+        };
+        let ray = ray.with_range(t_start, ray.t_max);
+        let (target, cube) = (self.implicit.target(), self.implicit.cube_volume());
+        let per_metre = PENUMBRA_GROWTH / self.map.cell_size();
+        let speed = ray.dir.length();
+        let mut visibility = 1.0f64;
+        let soft = self.options.soft_shadows;
+        let hit = self.trace(&ray, MlhmMode::Solids, steps, &mut |t, v| {
+            let penumbra = (per_metre * t * speed).min(PENUMBRA_MAX);
+            if soft && penumbra > 0.0 {
+                visibility = visibility.min((((target - v) / cube) / penumbra).max(0.0));
+            }
+        });
+        if hit.is_some() {
+            0.0
+        } else {
+            visibility.clamp(0.0, 1.0)
+        }
+    }
+}
+
+impl Tracer for MlhmSmoothTracer {
+    fn name(&self) -> &'static str {
+        "mlhm-smooth"
+    }
+
+    /// [`Surface`] names no smooth surface; this one smooths the MLHM's boxes.
+    fn surface(&self) -> Surface {
+        Surface::Boxes
+    }
+
+    fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
+        self.intersect_mode_counted(ray, self.mode, steps).map(|h| h.hit)
+    }
+}
