@@ -45,6 +45,7 @@ mod mlhm_medium;
 mod mlhm_naive;
 mod mlhm_smooth_tracer;
 mod mlhm_tracer;
+mod mlhm_walk;
 mod naive_tracer;
 pub mod safety;
 mod tracer;

@@ -2,13 +2,11 @@
 //! per level of a padded [`MlhmHierarchy`] down to level 1, adaptive ray marching inside the
 //! level-1 nodes the ray meets, normals by finite differences and soft shadows.
 
-use crate::cell_grid::axis_cell;
 use crate::mlhm_cells::ray_to_cells;
-use crate::mlhm_hierarchy_tracer::{Axis, FINE_MISSES, MISSES};
+use crate::mlhm_walk::HierarchyWalk;
 use crate::{
     medium_at, Hit, Medium, MlhmBacktrack, MlhmField, MlhmFieldSample, MlhmHierarchy, MlhmHit,
     MlhmImplicit, MlhmMaterial, MlhmMode, MlhmNormalScheme, MlhmTracer, TraceError, Tracer,
-    MAX_HIERARCHY_LEVELS,
 };
 use relief_core::{Aabb, DVec2, DVec3, MaterialVolumes, Mlhm, Precision, Ray, Surface};
 use std::sync::Arc;
@@ -358,8 +356,8 @@ impl MlhmSmoothTracer {
     }
 
     /// The hierarchical traversal of the clipped cell-space `ray` over `[t_enter, t_exit]`,
-    /// marching inside level-1 nodes (the structure of
-    /// [`MlhmHierarchyTracer`](crate::MlhmHierarchyTracer)'s).
+    /// marching inside the level-1 nodes it reaches ([`HierarchyWalk`], as the box tracer
+    /// walks down to the cells).
     #[allow(clippy::too_many_arguments)]
     fn traverse(
         &self,
@@ -371,115 +369,24 @@ impl MlhmSmoothTracer {
         steps: &mut u32,
         observe: &mut impl FnMut(f64, f64),
     ) -> Option<Marched> {
-        let mode = marcher.mode;
+        let walk = HierarchyWalk {
+            hierarchy,
+            leaf_level: 1,
+            backtrack: self.options.backtrack,
+            mode: marcher.mode,
+        };
         let inv = DVec3::ONE / ray.dir;
-        let (w, h) = (self.map.width(), self.map.height());
-        let ax = Axis {
-            o: ray.origin.x,
-            d: ray.dir.x,
-            inv: inv.x,
-            start: axis_cell(ray.origin.x, ray.dir.x, inv.x, t_enter, w),
-        };
-        let ay = Axis {
-            o: ray.origin.y,
-            d: ray.dir.y,
-            inv: inv.y,
-            start: axis_cell(ray.origin.y, ray.dir.y, inv.y, t_enter, h),
-        };
-        let (oz, dz, inv_z) = (ray.origin.z, ray.dir.z, inv.z);
-        let top_level = hierarchy.level_count();
-        let mut level = top_level;
-        let (mut nx, mut ny) = (ax.start >> level, ay.start >> level);
-        let mut t = t_enter;
-        let mut at_start = true;
-        let mut advanced = false;
-        let mut misses = 0u32;
-        let mut exits = [f64::INFINITY; MAX_HIERARCHY_LEVELS + 1];
-        loop {
-            *steps = steps.saturating_add(1);
-            let tx = ax.exit(nx, level);
-            let ty = ay.exit(ny, level);
-            let t_next = tx.min(ty);
-            let t_leave = t_exit.min(t_next);
-            // The ray's parameter range inside one node interval, within [t, t_leave].
-            let part = |lo: f64, hi: f64| -> Option<(f64, f64)> {
-                if dz == 0.0 {
-                    (lo <= oz && oz <= hi && t <= t_leave).then_some((t, t_leave))
-                } else {
-                    let (t_lo, t_hi) = ((lo - oz) * inv_z, (hi - oz) * inv_z);
-                    let (ta, tb) = if dz < 0.0 { (t_hi, t_lo) } else { (t_lo, t_hi) };
-                    let (t0, t1) = (ta.max(t), tb.min(t_leave));
-                    (t0 <= t1).then_some((t0, t1))
-                }
-            };
-            if level == 1 {
-                let hit = Self::march_node(hierarchy, nx, ny, &part, marcher, steps, observe);
-                if hit.is_some() {
-                    return hit;
-                }
-            } else {
-                let mut t_first = f64::INFINITY;
-                hierarchy.for_each_interval(level, nx, ny, mode, |lo, hi| {
-                    if let Some((t0, _)) = part(lo, hi) {
-                        t_first = t_first.min(t0);
-                    }
-                    t_first <= t
-                });
-                if t_first <= t_leave {
-                    if t_first > t {
-                        t = t_first;
-                        at_start = false;
-                        advanced = true;
-                    }
-                    exits[level] = t_next;
-                    level -= 1;
-                    misses = 0;
-                    nx = ax.child(nx, level, t, at_start, advanced);
-                    ny = ay.child(ny, level, t, at_start, advanced);
-                    let (nodes_x, nodes_y) = hierarchy.nodes(level);
-                    nx = nx.min(nodes_x - 1);
-                    ny = ny.min(nodes_y - 1);
-                    continue;
-                }
-            }
-            if t_next >= t_exit || t_next.is_nan() {
-                return None;
-            }
-            let (cross_x, cross_y) = (tx == t_next, ty == t_next);
-            if cross_x {
-                nx = ax.step(nx)?;
-            }
-            if cross_y {
-                ny = ay.step(ny)?;
-            }
-            let (nodes_x, nodes_y) = hierarchy.nodes(level);
-            if nx >= nodes_x || ny >= nodes_y {
-                return None;
-            }
-            t = t_next;
-            at_start = false;
-            advanced = false;
-            match self.options.backtrack {
-                MlhmBacktrack::ExitStack => {
-                    while level < top_level && t >= exits[level + 1] {
-                        level += 1;
-                        nx >>= 1;
-                        ny >>= 1;
-                    }
-                }
-                MlhmBacktrack::MissCounter => {
-                    misses += 1;
-                    // Level 1 is where this traversal's leaves are.
-                    let limit = if level == 1 { FINE_MISSES } else { MISSES };
-                    if misses >= limit && level < top_level {
-                        level += 1;
-                        nx >>= 1;
-                        ny >>= 1;
-                        misses = 0;
-                    }
-                }
-            }
-        }
+        walk.walk(ray, inv, t_enter, t_exit, steps, |nx, ny, span, steps| {
+            Self::march_node(
+                hierarchy,
+                nx,
+                ny,
+                &|lo, hi| span.part(lo, hi),
+                marcher,
+                steps,
+                observe,
+            )
+        })
     }
 
     /// Marches the ray's parts inside the intervals of level-1 node `(nx, ny)` (`part` gives
