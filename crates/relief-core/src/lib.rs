@@ -30,7 +30,7 @@ pub use aabb::{Aabb, BoxFace, Clip};
 pub use camera::Camera;
 pub use error::CoreError;
 pub use height_field::{GridGeometry, HeightField};
-pub use mlhm::{Mlhm, MlhmColumn, Precision};
+pub use mlhm::{Mlhm, MlhmColumn, MlhmHeights, Precision};
 pub use mlhm_volume::MaterialVolumes;
 pub use ray::Ray;
 pub use surface::Surface;

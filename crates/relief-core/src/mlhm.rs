@@ -104,6 +104,17 @@ pub struct Mlhm {
 /// Largest finite f16, as f32.
 const F16_MAX: f32 = 65504.0;
 
+/// The heights that bound an [`Mlhm`] (see [`Mlhm::heights`]), in metres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MlhmHeights {
+    /// Lowest bedrock top of any cell's lowest column.
+    pub bedrock_min: f64,
+    /// Highest solid (bedrock + sand) top.
+    pub solid_max: f64,
+    /// Highest water top.
+    pub water_max: f64,
+}
+
 impl Mlhm {
     /// A flat map: every cell one column with bedrock, sand and water 0 and ceiling `+inf`.
     ///
@@ -257,6 +268,28 @@ impl Mlhm {
     /// The precision the values are held at.
     pub fn precision(&self) -> Precision {
         self.precision
+    }
+
+    /// The heights that bound the map: the lowest bedrock top of any cell's lowest column, and
+    /// the highest solid and water tops (infinite for a map with no cells).
+    pub fn heights(&self) -> MlhmHeights {
+        let mut heights = MlhmHeights {
+            bedrock_min: f64::INFINITY,
+            solid_max: f64::NEG_INFINITY,
+            water_max: f64::NEG_INFINITY,
+        };
+        for y in 0..self.height {
+            for x in 0..self.width {
+                for (k, c) in self.cell_columns(x, y).enumerate() {
+                    if k == 0 {
+                        heights.bedrock_min = heights.bedrock_min.min(c.bedrock as f64);
+                    }
+                    heights.solid_max = heights.solid_max.max(c.solid_top() as f64);
+                    heights.water_max = heights.water_max.max(c.water_top() as f64);
+                }
+            }
+        }
+        heights
     }
 
     /// The per-cell layer counts, index `x + y * width`.

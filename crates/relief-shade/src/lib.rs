@@ -54,7 +54,7 @@ pub use render::{render_gbuffer, TILE_SIZE};
 pub use shading::{ambient_lighting, direct_lighting, GgxSpecular, DIELECTRIC_F0};
 pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGONAL};
 pub use stats::TraceStats;
-pub use sun::{light_visibility, shadow_ray, sun_direction, Sun, SHADOW_BIAS};
+pub use sun::{light_visibility, shadow_ray, shadow_ray_offset, sun_direction, Sun, SHADOW_BIAS};
 pub use texture::RgbTexture;
 pub use tonemap::{
     aces_filmic, linear_to_srgb, srgb_to_linear, tonemap_reinhard_to_rgb8, tonemap_to_srgb8,

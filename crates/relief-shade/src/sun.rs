@@ -83,8 +83,14 @@ const COORDINATE_BIAS: f64 = 1e-12;
 /// `SHADOW_BIAS * distance + 1e-12 * max |coordinate|` (see [`SHADOW_BIAS`]), so the ray does
 /// not find the surface it starts on; it then runs to infinity.
 pub fn shadow_ray(position: DVec3, normal: DVec3, distance: f64, towards_light: DVec3) -> Ray {
-    let eps = SHADOW_BIAS * distance.abs() + COORDINATE_BIAS * position.abs().max_element();
+    let eps = shadow_ray_offset(position, distance);
     Ray::new(position + normal * eps, towards_light)
+}
+
+/// How far along its normal a secondary ray leaves a surface point at `position`, seen from
+/// `distance` away: `SHADOW_BIAS * distance + 1e-12 * max |coordinate|` (see [`SHADOW_BIAS`]).
+pub fn shadow_ray_offset(position: DVec3, distance: f64) -> f64 {
+    SHADOW_BIAS * distance.abs() + COORDINATE_BIAS * position.abs().max_element()
 }
 
 /// Visibility of a light from a surface point: 1 when the shadow ray (see [`shadow_ray`])

@@ -40,12 +40,22 @@ pub fn aces_filmic(x: f32) -> f32 {
 ///
 /// Fails when `exposure` is negative or not finite. Negative or NaN radiance gives 0.
 pub fn tonemap_to_srgb8(radiance: &[[f32; 3]], exposure: f64) -> Result<Vec<u8>, ShadeError> {
+    encode_rgb8(radiance, exposure, |x| linear_to_srgb(aces_filmic(x)))
+}
+
+/// Every channel of `radiance` times `exposure` through `curve` (onto `[0, 1]`), rounded to
+/// the nearest of 0..=255, interleaved; fails when `exposure` is negative or not finite.
+fn encode_rgb8(
+    radiance: &[[f32; 3]],
+    exposure: f64,
+    curve: impl Fn(f32) -> f32 + Sync,
+) -> Result<Vec<u8>, ShadeError> {
     non_negative("exposure", exposure)?;
     let exposure = exposure as f32;
     let mut out = vec![0u8; radiance.len() * 3];
     out.par_chunks_mut(3).zip(radiance.par_iter()).for_each(|(rgb, pixel)| {
         for (o, &channel) in rgb.iter_mut().zip(pixel) {
-            *o = (linear_to_srgb(aces_filmic(channel * exposure)) * 255.0).round() as u8;
+            *o = (curve(channel * exposure) * 255.0).round() as u8;
         }
     });
     Ok(out)
@@ -60,18 +70,11 @@ pub fn tonemap_reinhard_to_rgb8(
     radiance: &[[f32; 3]],
     exposure: f64,
 ) -> Result<Vec<u8>, ShadeError> {
-    non_negative("exposure", exposure)?;
-    let exposure = exposure as f32;
-    let mut out = vec![0u8; radiance.len() * 3];
-    out.par_chunks_mut(3).zip(radiance.par_iter()).for_each(|(rgb, pixel)| {
-        for (o, &channel) in rgb.iter_mut().zip(pixel) {
-            let x = clamp_unit(channel * exposure / (1.0 + channel * exposure));
-            // An infinite channel gives inf / inf: white, as its limit.
-            let x = if channel * exposure == f32::INFINITY { 1.0 } else { x };
-            *o = (x.powf(1.0 / 2.2) * 255.0).round() as u8;
-        }
-    });
-    Ok(out)
+    encode_rgb8(radiance, exposure, |x| {
+        // An infinite channel gives inf / inf: white, as its limit.
+        let compressed = if x == f32::INFINITY { 1.0 } else { clamp_unit(x / (1.0 + x)) };
+        compressed.powf(1.0 / 2.2)
+    })
 }
 
 fn clamp_unit(x: f32) -> f32 {

@@ -4,7 +4,7 @@
 use crate::cell_grid::axis_cell;
 use crate::mlhm_cells::{first_hit_in_cell, ray_to_cells, segment};
 use crate::{Hit, MlhmMaterial, MlhmMode, MlhmTracer, Tracer};
-use relief_core::{Aabb, DVec2, DVec3, Mlhm, Ray, Surface};
+use relief_core::{Aabb, DVec2, DVec3, Mlhm, MlhmHeights, Ray, Surface};
 use std::sync::Arc;
 
 /// The first hit of a ray with an MLHM's boxes.
@@ -66,25 +66,16 @@ pub struct MlhmNaiveTracer {
     map: Arc<Mlhm>,
     origin: DVec2,
     mode: MlhmMode,
-    /// Highest solid top and highest water top over the map.
-    solid_max: f64,
-    water_max: f64,
+    /// The heights bounding the map.
+    heights: MlhmHeights,
 }
 
 impl MlhmNaiveTracer {
     /// A tracer of `map` with its south-west corner at world `origin`, intersecting
     /// [`MlhmMode::SolidsWater`] as a [`Tracer`].
     pub fn new(map: Arc<Mlhm>, origin: DVec2) -> Self {
-        let (mut solid_max, mut water_max) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
-        for y in 0..map.height() {
-            for x in 0..map.width() {
-                for c in map.cell_columns(x, y) {
-                    solid_max = solid_max.max(c.solid_top() as f64);
-                    water_max = water_max.max(c.water_top() as f64);
-                }
-            }
-        }
-        MlhmNaiveTracer { map, origin, mode: MlhmMode::SolidsWater, solid_max, water_max }
+        let heights = map.heights();
+        MlhmNaiveTracer { map, origin, mode: MlhmMode::SolidsWater, heights }
     }
 
     /// The same tracer intersecting `mode` when used as a [`Tracer`].
@@ -104,8 +95,8 @@ impl MlhmNaiveTracer {
         let s = self.map.cell_size();
         let size = DVec2::new(self.map.width() as f64, self.map.height() as f64) * s;
         let top = match mode {
-            MlhmMode::Solids => self.solid_max,
-            MlhmMode::SolidsWater => self.water_max,
+            MlhmMode::Solids => self.heights.solid_max,
+            MlhmMode::SolidsWater => self.heights.water_max,
             MlhmMode::SolidsAir => f64::INFINITY,
         };
         Aabb::new(self.origin.extend(f64::NEG_INFINITY), (self.origin + size).extend(top))

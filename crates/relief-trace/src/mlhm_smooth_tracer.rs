@@ -8,7 +8,9 @@ use crate::{
     medium_at, Hit, Medium, MlhmBacktrack, MlhmField, MlhmFieldSample, MlhmHierarchy, MlhmHit,
     MlhmImplicit, MlhmMaterial, MlhmMode, MlhmNormalScheme, MlhmTracer, TraceError, Tracer,
 };
-use relief_core::{Aabb, DVec2, DVec3, MaterialVolumes, Mlhm, Precision, Ray, Surface};
+use relief_core::{
+    Aabb, DVec2, DVec3, MaterialVolumes, Mlhm, MlhmHeights, Precision, Ray, Surface,
+};
 use std::sync::Arc;
 
 /// The options of an [`MlhmSmoothTracer`]; [`Default`] gives the paper's settings
@@ -52,39 +54,6 @@ impl Default for MlhmSmoothOptions {
             precision: Precision::F32,
             soft_shadows: true,
         }
-    }
-}
-
-/// Heights that bound the scene, metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Extent {
-    /// Lowest bedrock top of any cell's lowest column.
-    bedrock_min: f64,
-    /// Highest solid top.
-    solid_max: f64,
-    /// Highest water top.
-    water_max: f64,
-}
-
-impl Extent {
-    fn of(map: &Mlhm) -> Extent {
-        let mut e = Extent {
-            bedrock_min: f64::INFINITY,
-            solid_max: f64::NEG_INFINITY,
-            water_max: f64::NEG_INFINITY,
-        };
-        for y in 0..map.height() {
-            for x in 0..map.width() {
-                for (k, c) in map.cell_columns(x, y).enumerate() {
-                    if k == 0 {
-                        e.bedrock_min = e.bedrock_min.min(c.bedrock as f64);
-                    }
-                    e.solid_max = e.solid_max.max(c.solid_top() as f64);
-                    e.water_max = e.water_max.max(c.water_top() as f64);
-                }
-            }
-        }
-        e
     }
 }
 
@@ -158,7 +127,7 @@ pub struct MlhmSmoothTracer {
     normal_spacing: f64,
     options: MlhmSmoothOptions,
     hierarchy: Option<MlhmHierarchy>,
-    extent: Extent,
+    heights: MlhmHeights,
     mode: MlhmMode,
 }
 
@@ -231,7 +200,7 @@ impl MlhmSmoothTracer {
         let normal_spacing = options.normal_spacing.unwrap_or(normal_implicit.radius());
         let hierarchy =
             options.hierarchy.then(|| MlhmHierarchy::build_padded(&map, radius, options.precision));
-        let extent = Extent::of(&map);
+        let heights = map.heights();
         Ok(MlhmSmoothTracer {
             map,
             origin,
@@ -240,7 +209,7 @@ impl MlhmSmoothTracer {
             normal_spacing,
             options,
             hierarchy,
-            extent,
+            heights,
             mode: MlhmMode::SolidsWater,
         })
     }
@@ -282,11 +251,11 @@ impl MlhmSmoothTracer {
     fn heights(&self, mode: MlhmMode) -> (f64, f64) {
         let r = self.implicit.radius();
         let top = match mode {
-            MlhmMode::Solids => self.extent.solid_max + r,
-            MlhmMode::SolidsWater => self.extent.water_max + r,
-            MlhmMode::SolidsAir => self.extent.water_max + 2.0 * r,
+            MlhmMode::Solids => self.heights.solid_max + r,
+            MlhmMode::SolidsWater => self.heights.water_max + r,
+            MlhmMode::SolidsAir => self.heights.water_max + 2.0 * r,
         };
-        (self.extent.bedrock_min - 2.0 * r, top)
+        (self.heights.bedrock_min - 2.0 * r, top)
     }
 
     /// What to evaluate along the cell-space `ray` in `mode`; `None` when it misses the

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::mlhm_reference::{random_mlhm, random_ray, Rng, MLHM_RAY_KINDS};
+use common::mlhm_reference::{clip, random_mlhm, random_ray, Rng, MLHM_RAY_KINDS};
 use proptest::prelude::*;
 use relief_core::{DVec2, DVec3, Mlhm, MlhmColumn, Precision, Ray};
 use relief_trace::{
@@ -162,24 +162,6 @@ fn heights(map: &Mlhm, radius: f64, mode: MlhmMode) -> (f64, f64) {
         MlhmMode::SolidsAir => water_max + 2.0 * radius,
     };
     (bedrock_min - 2.0 * radius, top)
-}
-
-/// The parameter range of `ray` inside the closed box `[lo, hi]`, within its own range.
-fn clip(ray: &Ray, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
-    let (mut t0, mut t1) = (ray.t_min, ray.t_max);
-    for axis in 0..3 {
-        let (o, d) = (ray.origin[axis], ray.dir[axis]);
-        if d == 0.0 {
-            if o < lo[axis] || o > hi[axis] {
-                return None;
-            }
-        } else {
-            let (a, b) = ((lo[axis] - o) / d, (hi[axis] - o) / d);
-            t0 = t0.max(a.min(b));
-            t1 = t1.min(a.max(b));
-        }
-    }
-    (t0 <= t1).then_some((t0, t1))
 }
 
 /// A dense march of `ray` (unit direction) in steps of `step` metres over its part above the

@@ -162,10 +162,7 @@ fn refuse_height_field_options(args: &RenderArgs) -> Result<()> {
 /// `bounds` with its bottom, minus infinity for a scene's lowest columns, raised to the lowest
 /// bedrock top: a finite box that holds every visible surface, for framing and colouring.
 fn finite_bounds(bounds: &Aabb, map: &Mlhm) -> Result<Aabb> {
-    let lowest = (0..map.height())
-        .flat_map(|y| (0..map.width()).map(move |x| (x, y)))
-        .map(|(x, y)| map.column(x, y, 0).bedrock)
-        .fold(f32::INFINITY, f32::min) as f64;
+    let lowest = map.heights().bedrock_min;
     let finite = Aabb::new(DVec3::new(bounds.min.x, bounds.min.y, lowest), bounds.max);
     if !(finite.min.is_finite() && finite.max.is_finite() && lowest <= finite.max.z) {
         bail!("the scene has no finite bounds ({finite:?})");

@@ -10,7 +10,9 @@ use super::materials::{solid_albedo, WATER_COLOUR};
 use super::water::{absorption_distance, water_transmittance};
 use super::{MlhmPreset, MlhmQuality};
 use crate::error::non_negative;
-use crate::{GBuffer, GBufferPixel, ShadeError, Sky, Sun, TraceStats, TILE_SIZE};
+use crate::{
+    shadow_ray_offset, GBuffer, GBufferPixel, ShadeError, Sky, Sun, TraceStats, TILE_SIZE,
+};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec2, DVec3, Mlhm, Ray};
 use relief_trace::{Medium, MlhmHit, MlhmMaterial, MlhmMode, MlhmTracer};
@@ -190,6 +192,13 @@ enum Bounce {
     Secondary,
 }
 
+/// Which of a water surface's two secondary rays a ray is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Secondary {
+    Reflected,
+    Refracted,
+}
+
 /// The per-rendering constants.
 struct Pass<'a> {
     tracer: &'a dyn MlhmTracer,
@@ -289,8 +298,7 @@ impl Pass<'_> {
     /// the eye: as [`shadow_ray`](crate::shadow_ray)'s, at least the tracer's
     /// [`surface_offset`](MlhmTracer::surface_offset).
     fn bias(&self, p: DVec3, along: f64) -> f64 {
-        let bias = crate::SHADOW_BIAS * along + 1e-12 * p.abs().max_element();
-        bias.max(self.tracer.surface_offset())
+        shadow_ray_offset(p, along).max(self.tracer.surface_offset())
     }
 
     /// The colour of water too deep to see through: its colour in the sky's light.
@@ -378,6 +386,26 @@ impl Pass<'_> {
         DVec3::splat(specular * self.sun.irradiance * n.dot(self.to_sun).max(0.0) * visibility)
     }
 
+    /// Radiance arriving along the secondary ray from `origin` in `dir`, which travels in
+    /// water when `in_water`, `along` the path from the eye so far; counted as `kind`.
+    fn secondary(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        in_water: bool,
+        along: f64,
+        kind: Secondary,
+        counts: &mut MlhmRayCounts,
+    ) -> DVec3 {
+        let ray = Ray::new(origin, dir);
+        let stats = match kind {
+            Secondary::Reflected => &mut counts.reflection,
+            Secondary::Refracted => &mut counts.refraction,
+        };
+        let hit = self.trace(&ray, in_water, stats);
+        self.radiance(&ray, hit, in_water, along, Bounce::Secondary, counts)
+    }
+
     /// The water surface seen from air at `p` (normal `n` facing the ray): a reflection and
     /// a refraction ray mixed by Fresnel, or an opaque water colour without secondary rays.
     fn water_from_air(
@@ -401,14 +429,11 @@ impl Pass<'_> {
             return (1.0 - f) * body + f * self.sky.radiance(mirror) + highlight;
         }
         let eps = self.bias(p, along);
-        let reflected = Ray::new(p + n * eps, mirror);
-        let hit = self.trace(&reflected, false, &mut counts.reflection);
-        let reflection = self.radiance(&reflected, hit, false, along, Bounce::Secondary, counts);
+        let reflection =
+            self.secondary(p + n * eps, mirror, false, along, Secondary::Reflected, counts);
         let refraction = match refract(ray.dir, n, 1.0 / WATER_IOR) {
             Some(dir) => {
-                let refracted = Ray::new(p - n * eps, dir);
-                let hit = self.trace(&refracted, true, &mut counts.refraction);
-                self.radiance(&refracted, hit, true, along, Bounce::Secondary, counts)
+                self.secondary(p - n * eps, dir, true, along, Secondary::Refracted, counts)
             }
             None => DVec3::ZERO,
         };
@@ -435,14 +460,12 @@ impl Pass<'_> {
             return (1.0 - f) * through + f * self.deep_water();
         }
         let eps = self.bias(p, along);
-        let reflected = Ray::new(p + n * eps, reflect(ray.dir, n));
-        let hit = self.trace(&reflected, true, &mut counts.reflection);
-        let reflection = self.radiance(&reflected, hit, true, along, Bounce::Secondary, counts);
+        let mirror = reflect(ray.dir, n);
+        let reflection =
+            self.secondary(p + n * eps, mirror, true, along, Secondary::Reflected, counts);
         let refraction = match refracted_dir {
             Some(dir) => {
-                let refracted = Ray::new(p - n * eps, dir);
-                let hit = self.trace(&refracted, false, &mut counts.refraction);
-                self.radiance(&refracted, hit, false, along, Bounce::Secondary, counts)
+                self.secondary(p - n * eps, dir, false, along, Secondary::Refracted, counts)
             }
             None => DVec3::ZERO,
         };

@@ -20,8 +20,8 @@ fn layers(columns: &[MlhmColumn], k: usize, mode: MlhmMode) -> Vec<(f64, f64, Ml
     out
 }
 
-/// Parameter range of `ray` inside the closed box `[lo, hi]`, intersected with its own range.
-fn slab(ray: &Ray, lo: DVec3, hi: DVec3) -> Option<f64> {
+/// The parameter range of `ray` inside the closed box `[lo, hi]`, within its own range.
+pub fn clip(ray: &Ray, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
     let (mut t0, mut t1) = (ray.t_min, ray.t_max);
     for axis in 0..3 {
         let (o, d) = (ray.origin[axis], ray.dir[axis]);
@@ -35,7 +35,12 @@ fn slab(ray: &Ray, lo: DVec3, hi: DVec3) -> Option<f64> {
             t1 = t1.min(a.max(b));
         }
     }
-    (t0 <= t1).then_some(t0)
+    (t0 <= t1).then_some((t0, t1))
+}
+
+/// Where `ray` enters the closed box `[lo, hi]` within its own range.
+fn slab(ray: &Ray, lo: DVec3, hi: DVec3) -> Option<f64> {
+    clip(ray, lo, hi).map(|(t0, _)| t0)
 }
 
 /// The first hit of `ray` with the material layers of `mode` of `map` placed with its
