@@ -1,7 +1,7 @@
 //! Primary visibility: traces a camera's rays through a tracer into a G-buffer, tile by tile.
 
 use rayon::prelude::*;
-use relief_core::{Aabb, Camera, DVec3};
+use relief_core::{Aabb, Camera, DVec3, Ray};
 use relief_trace::{Hit, Tracer};
 
 use crate::{GBuffer, GBufferPixel, ShadeError, TraceStats};
@@ -14,7 +14,8 @@ pub const TILE_SIZE: usize = 16;
 /// `bounds` is the terrain's world bounds (`HeightField::world_bounds` of the traced surface):
 /// texture coordinates span its footprint. Strips of [`TILE_SIZE`] rows are traced in parallel,
 /// tile by tile, straight into the G-buffer; every pixel is computed on its own, so the result
-/// does not depend on the thread count. `progress` is called from worker threads with the
+/// does not depend on the thread count. Each tile's rays go to the tracer as one batch
+/// ([`Tracer::intersect_batch`]). `progress` is called from worker threads with the
 /// number of pixels of each tile as it finishes. Fails only when the G-buffer cannot be
 /// allocated.
 ///
@@ -40,8 +41,6 @@ pub fn render_gbuffer(
     let (width, height) = (camera.width() as usize, camera.height() as usize);
     let mut gbuffer = GBuffer::new(width, height)?;
     let pixel = PixelTracer {
-        tracer,
-        camera,
         uv: UvMap::new(bounds),
         footprint_per_distance: 2.0 * (camera.fov_deg().to_radians() / 2.0).tan() / height as f64,
     };
@@ -60,19 +59,27 @@ pub fn render_gbuffer(
         .map(|(s, (((((distance, position), normal), material), uv), footprint))| {
             let mut stats = TraceStats::default();
             let rows = distance.len() / width;
+            let mut tile = TileRays::default();
             for tile_x in (0..width).step_by(TILE_SIZE) {
                 let cols = tile_x..(tile_x + TILE_SIZE).min(width);
+                tile.clear();
                 for r in 0..rows {
                     for i in cols.clone() {
-                        let p = pixel.trace(i, s * TILE_SIZE + r, &mut stats);
-                        let k = i + r * width;
-                        distance[k] = p.distance;
-                        position[k] = p.position;
-                        normal[k] = p.normal;
-                        material[k] = p.material;
-                        uv[k] = p.uv;
-                        footprint[k] = p.footprint;
+                        // i < width and the row < height, which the camera holds as u32.
+                        tile.rays.push(camera.ray(i as u32, (s * TILE_SIZE + r) as u32));
+                        tile.pixels.push(i + r * width);
                     }
+                }
+                tile.trace(tracer);
+                for (n, &k) in tile.pixels.iter().enumerate() {
+                    stats.record(tile.steps[n], tile.hits[n].is_some());
+                    let p = pixel.g_buffer_pixel(tile.hits[n]);
+                    distance[k] = p.distance;
+                    position[k] = p.position;
+                    normal[k] = p.normal;
+                    material[k] = p.material;
+                    uv[k] = p.uv;
+                    footprint[k] = p.footprint;
                 }
                 progress((cols.len() * rows) as u64);
             }
@@ -82,24 +89,42 @@ pub fn render_gbuffer(
     Ok((gbuffer, stats))
 }
 
-/// Everything needed to turn one pixel's ray into a G-buffer pixel.
-struct PixelTracer<'a> {
-    tracer: &'a dyn Tracer,
-    camera: &'a Camera,
+/// The rays of one tile, traced as one batch, and what came back.
+#[derive(Default)]
+struct TileRays {
+    rays: Vec<Ray>,
+    /// Index of each ray's pixel in the strip.
+    pixels: Vec<usize>,
+    hits: Vec<Option<Hit>>,
+    steps: Vec<u32>,
+}
+
+impl TileRays {
+    fn clear(&mut self) {
+        self.rays.clear();
+        self.pixels.clear();
+    }
+
+    fn trace(&mut self, tracer: &dyn Tracer) {
+        self.hits.clear();
+        self.hits.resize(self.rays.len(), None);
+        self.steps.clear();
+        self.steps.resize(self.rays.len(), 0);
+        tracer.intersect_batch(&self.rays, &mut self.hits, &mut self.steps);
+    }
+}
+
+/// Everything needed to turn one pixel's hit into a G-buffer pixel.
+struct PixelTracer {
     uv: UvMap,
     /// Pixel width at unit distance: `2 tan(fov / 2) / H`.
     footprint_per_distance: f64,
 }
 
-impl PixelTracer<'_> {
-    /// Traces pixel (i, j) (column from the left, row from the top), counting into `stats`.
+impl PixelTracer {
+    /// The G-buffer pixel of a camera ray's hit (or miss).
     #[inline]
-    fn trace(&self, i: usize, j: usize, stats: &mut TraceStats) -> GBufferPixel {
-        // i < width and j < height, which the camera holds as u32.
-        let ray = self.camera.ray(i as u32, j as u32);
-        let mut steps = 0;
-        let hit = self.tracer.intersect_counted(&ray, &mut steps);
-        stats.record(steps, hit.is_some());
+    fn g_buffer_pixel(&self, hit: Option<Hit>) -> GBufferPixel {
         match hit {
             None => GBufferPixel::MISS,
             Some(Hit { t, position, normal }) => GBufferPixel {

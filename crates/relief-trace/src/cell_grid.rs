@@ -112,7 +112,7 @@ impl CellGrid {
     }
 
     /// Whether cell (cx, cy) has no surface (it lies over a hole of the field).
-    #[inline]
+    #[inline(always)]
     pub fn is_empty_cell(&self, cx: usize, cy: usize) -> bool {
         self.empty_cells.as_ref().is_some_and(|e| e[cx + cy * self.cells_x])
     }
@@ -144,6 +144,7 @@ impl CellGrid {
 
     /// Highest point of the surface over cell (cx, cy): the texel for boxes, the highest of the
     /// four corners for triangles; minus infinity over a hole.
+    #[inline]
     pub fn cell_max(&self, samples: &[f32], cx: usize, cy: usize) -> f32 {
         if self.is_empty_cell(cx, cy) {
             return f32::NEG_INFINITY;
@@ -156,6 +157,22 @@ impl CellGrid {
                 samples[i].max(samples[i + 1]).max(samples[i + w]).max(samples[i + w + 1])
             }
         }
+    }
+
+    /// Where the sample at the lower left corner of cell (cx, cy) lives (for triangles; the
+    /// texel itself for boxes); `cy` may be one past the last cell row for triangles.
+    #[inline(always)]
+    pub(crate) fn sample_ref<'a>(&self, samples: &'a [f32], cx: usize, cy: usize) -> &'a f32 {
+        &samples[cx + cy * self.samples_width]
+    }
+
+    /// The heights at the four corners of `triangles` cell (cx, cy): lower left, lower right,
+    /// upper left, upper right.
+    #[inline(always)]
+    pub(crate) fn corners(&self, samples: &[f32], cx: usize, cy: usize) -> [f32; 4] {
+        let w = self.samples_width;
+        let i = cx + cy * w;
+        [samples[i], samples[i + 1], samples[i + w], samples[i + w + 1]]
     }
 
     /// Maps a world ray into cell space (same parameter `t`).
@@ -178,11 +195,35 @@ impl CellGrid {
 
     /// Clips a cell-space ray to the solid's bounds; `None` if it misses them or the grid has
     /// no cells.
+    ///
+    /// The same slab test as [`Aabb::clip`], with the ray's reciprocal direction instead of
+    /// dividing again (the same numbers, so the same clip).
+    #[inline]
     pub fn clip(&self, cell_ray: &CellRay) -> Option<Clip> {
         if self.is_empty() {
             return None;
         }
-        self.bounds.clip(cell_ray)
+        let (mut t_enter, mut t_exit) = (cell_ray.t_min, cell_ray.t_max);
+        let mut face = BoxFace::Inside;
+        for (axis, axis_face) in [BoxFace::X, BoxFace::Y, BoxFace::Z].into_iter().enumerate() {
+            let (o, d) = (cell_ray.origin[axis], cell_ray.dir[axis]);
+            let (lo, hi) = (self.bounds.min[axis], self.bounds.max[axis]);
+            if d == 0.0 {
+                if o < lo || o > hi {
+                    return None;
+                }
+                continue;
+            }
+            let inv = cell_ray.inv_dir[axis];
+            let (a, b) = ((lo - o) * inv, (hi - o) * inv);
+            let (near, far) = if a > b { (b, a) } else { (a, b) };
+            if near > t_enter {
+                t_enter = near;
+                face = axis_face;
+            }
+            t_exit = t_exit.min(far);
+        }
+        (t_enter <= t_exit).then_some(Clip { t_enter, t_exit, face })
     }
 
     /// The cell containing the ray's point at `t` (half-open cells, clamped into the grid).

@@ -47,6 +47,7 @@ mod mlhm_smooth_tracer;
 mod mlhm_tracer;
 mod mlhm_walk;
 mod naive_tracer;
+pub mod packet;
 pub mod safety;
 mod tracer;
 
@@ -63,6 +64,7 @@ pub use mlhm_naive::{MlhmHit, MlhmNaiveTracer};
 pub use mlhm_smooth_tracer::{MlhmSmoothOptions, MlhmSmoothTracer};
 pub use mlhm_tracer::MlhmTracer;
 pub use naive_tracer::NaiveTracer;
+pub use packet::Simd;
 pub use safety::{SafetyOptions, SafetyShapes, SafetyTracer};
 pub use tracer::{build_tracer, Hit, Tracer, TracerKind};
 

@@ -91,6 +91,19 @@ impl MaxMipmap {
         (x < l.nodes_x && y < l.nodes_y).then(|| self.values[l.offset + x + y * l.nodes_x])
     }
 
+    /// The maximum stored in node (x, y) of stored `level` (1 or more), which must exist.
+    #[inline(always)]
+    pub(crate) fn node_max(&self, level: usize, x: usize, y: usize) -> f32 {
+        *self.node_ref(level, x, y)
+    }
+
+    /// Where the maximum of node (x, y) of stored `level` (1 or more) lives.
+    #[inline(always)]
+    pub(crate) fn node_ref(&self, level: usize, x: usize, y: usize) -> &f32 {
+        let l = self.levels[level];
+        &self.values[l.offset + x + y * l.nodes_x]
+    }
+
     /// Bytes used by all levels.
     pub fn memory_bytes(&self) -> usize {
         self.values.len() * std::mem::size_of::<f32>()

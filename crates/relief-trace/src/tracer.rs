@@ -47,6 +47,29 @@ pub trait Tracer: Send + Sync {
     fn occluded(&self, ray: &Ray) -> bool {
         self.occluded_counted(ray, &mut 0)
     }
+
+    /// The first hits of many rays at once: `hits[k]` is `intersect(&rays[k])`, and the ray's
+    /// traversal steps are added to `steps[k]`.
+    ///
+    /// Callers pass neighbouring rays together (a tile of camera pixels, the shadow rays of a
+    /// tile): tracers that gain from coherence, such as [`crate::MipmapTracer`]'s ray
+    /// packets, override this. Panics when the three slices differ in length.
+    fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
+        assert!(rays.len() == hits.len() && rays.len() == steps.len(), "batch slices differ");
+        for ((ray, hit), steps) in rays.iter().zip(hits).zip(steps) {
+            *hit = self.intersect_counted(ray, steps);
+        }
+    }
+
+    /// Occlusion of many rays at once: `occluded[k]` is `occluded(&rays[k])`, with the ray's
+    /// steps added to `steps[k]` (see [`Tracer::intersect_batch`]). Panics when the three
+    /// slices differ in length.
+    fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
+        assert!(rays.len() == occluded.len() && rays.len() == steps.len(), "batch slices differ");
+        for ((ray, blocked), steps) in rays.iter().zip(occluded).zip(steps) {
+            *blocked = self.occluded_counted(ray, steps);
+        }
+    }
 }
 
 /// The height-field tracers relief offers.

@@ -10,7 +10,7 @@ use crate::{input, memory, progress};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec3, HeightField, Surface};
-use relief_shade::{light_visibility, render_gbuffer, sun_direction, GBuffer, TraceStats};
+use relief_shade::{render_gbuffer, shadow_ray, sun_direction, GBuffer, TraceStats, TILE_SIZE};
 use relief_trace::Tracer;
 use std::io::Write;
 use std::sync::Arc;
@@ -270,20 +270,36 @@ fn cover_view(field: &HeightField, w: u32, h: u32) -> Result<Camera> {
     Ok(Camera::look_at(target + towards_eye * distance * 0.999, target, DVec3::Z, 30.0, w, h)?)
 }
 
-/// Traces a shadow ray towards `sun` from every hit of `gbuffer`, in parallel by rows.
+/// Traces a shadow ray towards `sun` from every hit of `gbuffer`, in parallel by strips of
+/// tiles, each tile's rays as one batch.
 fn shadow_rays(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer, sun: DVec3) -> TraceStats {
-    (0..gbuffer.height)
+    let (width, height) = (gbuffer.width, gbuffer.height);
+    (0..height.div_ceil(TILE_SIZE))
         .into_par_iter()
-        .map(|j| {
+        .map(|strip| {
             let mut stats = TraceStats::default();
-            for i in 0..gbuffer.width {
-                let k = i + j * gbuffer.width;
-                let distance = gbuffer.distance[k] as f64;
-                if distance.is_finite() {
-                    let ray = camera.ray(i as u32, j as u32);
-                    let position = ray.at(distance);
-                    let normal = DVec3::from_array(gbuffer.normal[k].map(f64::from));
-                    light_visibility(tracer, position, normal, distance, sun, &mut stats);
+            let (mut rays, mut occluded, mut steps) = (Vec::new(), Vec::new(), Vec::new());
+            let rows = strip * TILE_SIZE..((strip + 1) * TILE_SIZE).min(height);
+            for tile_x in (0..width).step_by(TILE_SIZE) {
+                rays.clear();
+                for j in rows.clone() {
+                    for i in tile_x..(tile_x + TILE_SIZE).min(width) {
+                        let k = i + j * width;
+                        let distance = gbuffer.distance[k] as f64;
+                        if distance.is_finite() {
+                            let position = camera.ray(i as u32, j as u32).at(distance);
+                            let normal = DVec3::from_array(gbuffer.normal[k].map(f64::from));
+                            rays.push(shadow_ray(position, normal, distance, sun));
+                        }
+                    }
+                }
+                occluded.clear();
+                occluded.resize(rays.len(), false);
+                steps.clear();
+                steps.resize(rays.len(), 0);
+                tracer.occluded_batch(&rays, &mut occluded, &mut steps);
+                for (&s, &o) in steps.iter().zip(&occluded) {
+                    stats.record(s, o);
                 }
             }
             stats

@@ -1,0 +1,276 @@
+//! Front-to-back depth-first traversal of the max mipmap by a packet of rays.
+//!
+//! The pyramid is walked as a tree of boxes: a node's box is its footprint below its maximum.
+//! A node is opened when any ray of the packet may pass below its maximum over its
+//! footprint, and its four children are tested at once with the rays that passed. Children
+//! are visited in the order the packet's rays meet them (their direction signs are the same),
+//! so along every ray the nodes come in the order of `t`: the first cell whose exact test
+//! hits holds the ray's first hit, and the ray leaves the packet there.
+
+use super::kernel::Kernel;
+use super::ray_packet::{CellBox, Plane, Quad, RayPacket, LANES, PACKET_RAYS};
+use crate::cell_grid::CellGrid;
+use crate::MaxMipmap;
+use relief_core::{DVec3, Surface};
+
+/// What the traversal reads of the terrain.
+pub(crate) struct Terrain<'a> {
+    /// The surface's cells and their exact test.
+    pub grid: &'a CellGrid,
+    /// The height field's samples.
+    pub samples: &'a [f32],
+    /// The pyramid of maxima over the cells.
+    pub mipmap: &'a MaxMipmap,
+}
+
+/// A ray's first hit in cell space: the parameter and the grid-space normal, as
+/// [`CellGrid::intersect_cell`] gives them.
+pub(crate) type CellHit = Option<(f64, DVec3)>;
+
+/// The children of a node, or the cells of a level-1 node, in the order rays running towards
+/// growing x and y meet them (a ray crosses at most one of the middle two); mirrored along the
+/// axes the packet runs down.
+pub(crate) const ORDER: [(usize, usize); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
+
+/// Depth of the traversal stack: three siblings waiting per level, for up to 32 levels.
+pub(crate) const STACK: usize = 3 * 32 + 1;
+
+/// A node waiting on the stack with the rays that passed its test.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Pending {
+    rays: u64,
+    x: u32,
+    y: u32,
+    level: u32,
+}
+
+/// Traces every ray of the packet, writing the hits of those that hit into `hits` (indexed as
+/// the packet's rays; the others are left as they are) and counting node visits into the
+/// packet's steps. `stack` is scratch space.
+#[inline(always)]
+pub(crate) fn trace<K: Kernel>(
+    terrain: &Terrain,
+    p: &mut RayPacket,
+    hits: &mut [CellHit; PACKET_RAYS],
+    stack: &mut [Pending; STACK],
+) {
+    let walk = Walk { terrain, flip_x: p.negative_x as usize, flip_y: p.negative_y as usize };
+    let all = p.all();
+    let mut done = 0u64;
+    // A grid of one cell has no stored level: start from a virtual level-1 node over it.
+    let top = terrain.mipmap.top_level().max(1) as u32;
+    stack[0] = Pending { level: top, x: 0, y: 0, rays: all };
+    let mut len = 1;
+    while len > 0 {
+        len -= 1;
+        let node = stack[len];
+        let rays = node.rays & !done;
+        if rays == 0 {
+            continue;
+        }
+        let (x, y) = (node.x as usize, node.y as usize);
+        if node.level == 1 {
+            walk.cells_of::<K>(p, x, y, rays, &mut done, hits);
+            if done == all {
+                return;
+            }
+            continue;
+        }
+        let level = node.level as usize - 1;
+        let quad = walk.quad(level, x, y, |cx, cy| terrain.mipmap.node_max(level, cx, cy));
+        let open = test_children::<K>(p, &quad, rays);
+        for c in (0..4).rev() {
+            if open[c] != 0 {
+                let (i, j) = ORDER[c];
+                let (cx, cy) = (2 * x + (i ^ walk.flip_x), 2 * y + (j ^ walk.flip_y));
+                walk.prefetch_below(level, cx, cy);
+                stack[len] = Pending { level: level as u32, x: cx as u32, y: cy as u32, rays: open[c] };
+                len += 1;
+            }
+        }
+    }
+}
+
+/// For each child of `quad`, the rays among `rays` that pass `K::children`, group by group.
+#[inline(always)]
+fn test_children<K: Kernel>(p: &mut RayPacket, quad: &Quad, rays: u64) -> [u64; 4] {
+    let mut open = [0u64; 4];
+    for g in 0..p.groups() {
+        let active = (rays >> (g * LANES)) as u8;
+        if active != 0 {
+            let passed = K::children(p, g, quad, active);
+            for c in 0..4 {
+                open[c] |= (passed[c] as u64) << (g * LANES);
+            }
+        }
+    }
+    open
+}
+
+/// The walk's constants: the terrain and the packet's mirroring.
+struct Walk<'a> {
+    terrain: &'a Terrain<'a>,
+    /// 1 when the packet runs towards decreasing x: children are then met right to left.
+    flip_x: usize,
+    /// 1 when the packet runs towards decreasing y.
+    flip_y: usize,
+}
+
+impl Walk<'_> {
+    /// The four children at `level` (cells at 0) of node (x, y) one level up, clamped to the
+    /// grid, with their tops from `top_of(cx, cy)` (not asked for children outside the grid).
+    #[inline(always)]
+    fn quad(&self, level: usize, x: usize, y: usize, top_of: impl Fn(usize, usize) -> f32) -> Quad {
+        let grid = self.terrain.grid;
+        let (cells_x, cells_y) = (grid.cells_x(), grid.cells_y());
+        let side = 1usize << level;
+        let (x0, y0) = (2 * x * side, 2 * y * side);
+        let xs = [x0, (x0 + side).min(cells_x), (x0 + 2 * side).min(cells_x)];
+        let ys = [y0, (y0 + side).min(cells_y), (y0 + 2 * side).min(cells_y)];
+        let order = |b: [usize; 3], flip: usize| {
+            let b = b.map(|v| v as f32);
+            if flip == 1 {
+                [b[2], b[1], b[0]]
+            } else {
+                b
+            }
+        };
+        let mut top = [f32::NEG_INFINITY; 4];
+        for (c, &(i, j)) in ORDER.iter().enumerate() {
+            let (cx, cy) = (2 * x + (i ^ self.flip_x), 2 * y + (j ^ self.flip_y));
+            if cx * side < cells_x && cy * side < cells_y {
+                top[c] = top_of(cx, cy);
+            }
+        }
+        Quad { x: order(xs, self.flip_x), y: order(ys, self.flip_y), top }
+    }
+
+    /// Asks the memory system early for what testing the children of node (x, y) of `level`
+    /// will read: their maxima, or for a level-1 node the samples of its cells.
+    #[inline(always)]
+    fn prefetch_below(&self, level: usize, x: usize, y: usize) {
+        if level >= 2 {
+            let (nx, ny) = self.terrain.mipmap.nodes(level - 1);
+            let (cx, cy) = ((2 * x).min(nx - 1), (2 * y).min(ny - 1));
+            prefetch(self.terrain.mipmap.node_ref(level - 1, cx, cy));
+            prefetch(self.terrain.mipmap.node_ref(level - 1, cx, (cy + 1).min(ny - 1)));
+        } else {
+            let grid = self.terrain.grid;
+            let (cx, cy) = ((2 * x).min(grid.cells_x() - 1), (2 * y).min(grid.cells_y() - 1));
+            prefetch(grid.sample_ref(self.terrain.samples, cx, cy));
+            prefetch(grid.sample_ref(self.terrain.samples, cx, cy + 1));
+            prefetch(grid.sample_ref(self.terrain.samples, cx, (cy + 2).min(grid.cells_y())));
+        }
+    }
+
+    /// Tests the (up to four) cells of level-1 node (x, y) in the order the rays meet them.
+    #[inline(always)]
+    fn cells_of<K: Kernel>(
+        &self,
+        p: &mut RayPacket,
+        x: usize,
+        y: usize,
+        rays: u64,
+        done: &mut u64,
+        hits: &mut [CellHit; PACKET_RAYS],
+    ) {
+        let Terrain { grid, samples, .. } = *self.terrain;
+        let quad = self.quad(0, x, y, |cx, cy| grid.cell_max(samples, cx, cy));
+        let open = test_children::<K>(p, &quad, rays);
+        for (c, &(i, j)) in ORDER.iter().enumerate() {
+            let rays = open[c] & !*done;
+            if rays == 0 {
+                continue;
+            }
+            let (cx, cy) = (2 * x + (i ^ self.flip_x), 2 * y + (j ^ self.flip_y));
+            let candidates = match grid.surface() {
+                Surface::Boxes => rays,
+                Surface::Triangles => {
+                    let cell = CellBox {
+                        near_x: quad.x[i],
+                        far_x: quad.x[i + 1],
+                        near_y: quad.y[j],
+                        far_y: quad.y[j + 1],
+                    };
+                    below_planes::<K>(p, grid.corners(samples, cx, cy), (cx, cy), &cell, rays)
+                }
+            };
+            self.exact(p, cx, cy, candidates, done, hits);
+        }
+    }
+
+    /// The exact test of cell (cx, cy) for every ray of `candidates`; a ray that hits is done.
+    #[inline(always)]
+    fn exact(
+        &self,
+        p: &RayPacket,
+        cx: usize,
+        cy: usize,
+        mut candidates: u64,
+        done: &mut u64,
+        hits: &mut [CellHit; PACKET_RAYS],
+    ) {
+        let Terrain { grid, samples, .. } = *self.terrain;
+        while candidates != 0 {
+            let k = candidates.trailing_zeros() as usize;
+            candidates &= candidates - 1;
+            let (ray, clip) = (&p.rays[k], &p.clips[k]);
+            let seg = grid.segment(ray, clip, cx, cy);
+            if let Some(hit) = grid.intersect_cell(samples, ray, cx, cy, &seg) {
+                hits[k] = Some(hit);
+                *done |= 1 << k;
+            }
+        }
+    }
+}
+
+/// The rays among `rays` that may pass below the two planes of the `triangles` cell with
+/// corner heights `corners` (see [`triangle_planes`]).
+#[inline(always)]
+fn below_planes<K: Kernel>(
+    p: &mut RayPacket,
+    corners: [f32; 4],
+    (cx, cy): (usize, usize),
+    cell: &CellBox,
+    rays: u64,
+) -> u64 {
+    let (planes, magnitude) = triangle_planes(corners);
+    let slack = [p.plane_slack(&planes[0], magnitude), p.plane_slack(&planes[1], magnitude)];
+    let corner = (cx as f32, cy as f32);
+    let mut passed = 0;
+    for g in 0..p.groups() {
+        let active = (rays >> (g * LANES)) as u8;
+        if active != 0 {
+            let m = K::below_planes(p, g, cell, corner, &planes, slack, active);
+            passed |= (m as u64) << (g * LANES);
+        }
+    }
+    passed
+}
+
+/// The two planes of a `triangles` cell with corner heights `[a, b, c, d]` (lower left, lower
+/// right, upper left, upper right), split as [`CellGrid`]'s exact test splits it, and the sum
+/// of the corners' magnitudes (for the rounding slack).
+#[inline(always)]
+fn triangle_planes([a, b, c, d]: [f32; 4]) -> ([Plane; 2], f32) {
+    // The diagonal is chosen in f64, exactly as the exact test chooses it.
+    let planes = if a as f64 + d as f64 <= b as f64 + c as f64 {
+        [Plane { p0: a, pu: b - a, pv: d - b }, Plane { p0: a, pu: d - c, pv: c - a }]
+    } else {
+        [Plane { p0: a, pu: b - a, pv: c - a }, Plane { p0: b + c - d, pu: d - c, pv: d - b }]
+    };
+    (planes, a.abs() + b.abs() + c.abs() + d.abs())
+}
+
+/// A hint that `value` will be read soon.
+#[inline(always)]
+fn prefetch<T>(value: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: prefetching is a hint that never faults; SSE is part of x86-64.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>(value as *const T as *const i8);
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}
