@@ -4,7 +4,7 @@ use crate::tracers::TracerChoice;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use relief_core::{DVec3, Precision, Surface};
 use relief_shade::mlhm::MlhmPreset;
-use relief_trace::{MlhmBacktrack, SafetyOptions};
+use relief_trace::{MlhmBacktrack, SafetyOptions, Simd};
 use std::path::PathBuf;
 
 /// relief: exact, fast ray casting of terrain on the CPU.
@@ -351,6 +351,14 @@ pub struct BenchArgs {
     /// Write each measurement's depth image (.npy, as `render --depth`) into this folder.
     #[arg(long)]
     pub depth_dir: Option<PathBuf>,
+    /// Trace every view this many times and report the fastest (the G-buffer is allocated
+    /// once, as a renderer drawing frame after frame does).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    pub repeat: u32,
+    /// Instructions of the mipmap tracer's packet tests: auto (the fastest this processor
+    /// has), avx2 or portable.
+    #[arg(long, default_value = "auto")]
+    pub simd: Simd,
 }
 
 fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {

@@ -8,7 +8,7 @@ use relief_core::{HeightField, Surface};
 use relief_trace::safety::{
     CacheOutcome, FinalTest, SafetyShapes, SafetyTracer, ShapeCache, ShapeLayout,
 };
-use relief_trace::{build_tracer, SafetyOptions, Tracer, TracerKind};
+use relief_trace::{build_tracer, MipmapTracer, SafetyOptions, Simd, Tracer, TracerKind};
 use std::fmt;
 use std::str::FromStr;
 use std::sync::Arc;
@@ -77,7 +77,8 @@ pub fn safety_options(variant: Option<SafetyOptions>, args: &SafetyArgs) -> Resu
 
 /// Builds the chosen tracer for `surface` of `field`. Safety shapes come from the cache when
 /// `use_cache` and the cache has them; otherwise they are precomputed (with a progress bar,
-/// refused beyond `max_memory`) and, with `use_cache`, stored.
+/// refused beyond `max_memory`) and, with `use_cache`, stored. The mipmap tracer's packet
+/// tests run on `simd`.
 pub fn build(
     field: &Arc<HeightField>,
     surface: Surface,
@@ -85,11 +86,17 @@ pub fn build(
     args: &SafetyArgs,
     use_cache: bool,
     max_memory: u64,
+    simd: Simd,
 ) -> Result<Built> {
     let started = Instant::now();
     let variant = match choice {
         TracerChoice::Plain(kind) => {
-            let tracer = build_tracer(field.clone(), surface, *kind);
+            let tracer: Box<dyn Tracer> = match kind {
+                TracerKind::Mipmap => {
+                    Box::new(MipmapTracer::new(field.clone(), surface).with_simd(simd))
+                }
+                _ => build_tracer(field.clone(), surface, *kind),
+            };
             let build_s = started.elapsed().as_secs_f64();
             return Ok(Built { tracer, safety: None, build_s, note: String::new() });
         }

@@ -1,14 +1,14 @@
 //! The deferred shading pass: one parallel sweep over a G-buffer that lights every pixel.
 
 use rayon::prelude::*;
-use relief_core::{Aabb, Camera, DVec3};
+use relief_core::{Aabb, Camera, DVec3, Ray};
 use relief_trace::Tracer;
 
 use crate::error::non_negative;
 use crate::sky::validate_fog_density;
 use crate::{
-    aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, light_visibility,
-    Albedo, GBuffer, GgxSpecular, HypsometricRamp, ShadeError, Sky, Sun, TraceStats,
+    aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, shadow_ray, Albedo,
+    GBuffer, GgxSpecular, HypsometricRamp, ShadeError, Sky, Sun, TraceStats, TILE_SIZE,
 };
 
 /// Everything the deferred pass needs besides the G-buffer: lights, materials, atmosphere.
@@ -79,7 +79,8 @@ impl ShadingParams {
 /// A hit pixel gets [`direct_lighting`] from the sun (its visibility from a shadow ray when
 /// `params.shadows`), plus [`ambient_lighting`] from the sky, then [`aerial_perspective`]
 /// towards the sky colour along the view ray. A miss gets the sky's colour along its ray.
-/// Rows are shaded in parallel; the result does not depend on the thread count.
+/// Strips of tiles are shaded in parallel, each tile's shadow rays traced as one batch
+/// ([`Tracer::occluded_batch`]); the result does not depend on the thread count.
 ///
 /// The hit point is rebuilt from the eye and the stored distance in `f64` rather than read
 /// from the `f32` positions, which lose precision far from the world origin.
@@ -113,18 +114,87 @@ pub fn shade(
         to_sun: params.sun.direction(),
         sky_ambient: params.sky.ambient(),
     };
+    // Strips of TILE_SIZE rows, tile by tile: the shadow rays of a tile go to the tracer as
+    // one batch, then its pixels are shaded.
     let stats = radiance
-        .par_chunks_mut(width)
+        .par_chunks_mut(TILE_SIZE * width)
         .enumerate()
-        .map(|(j, row)| {
+        .map(|(s, strip)| {
             let mut stats = TraceStats::default();
-            for (i, out) in row.iter_mut().enumerate() {
-                *out = pass.pixel(i, j, &mut stats).as_vec3().to_array();
+            let mut tile = ShadowTile::default();
+            let rows = strip.len() / width;
+            for tile_x in (0..width).step_by(TILE_SIZE) {
+                let pixels = (0..rows).flat_map(|r| {
+                    (tile_x..(tile_x + TILE_SIZE).min(width)).map(move |i| (i, s * TILE_SIZE + r))
+                });
+                tile.trace(&pass, pixels.clone(), &mut stats);
+                for (n, (i, j)) in pixels.enumerate() {
+                    let visibility = tile.visibility[n];
+                    strip[i + (j - s * TILE_SIZE) * width] =
+                        pass.pixel(i, j, visibility).as_vec3().to_array();
+                }
             }
             stats
         })
         .reduce(TraceStats::default, TraceStats::merge);
     Ok((radiance, stats))
+}
+
+/// The shadow rays of one tile, traced as one batch.
+#[derive(Default)]
+struct ShadowTile {
+    rays: Vec<Ray>,
+    /// Which pixel of the tile each ray belongs to.
+    owners: Vec<usize>,
+    occluded: Vec<bool>,
+    steps: Vec<u32>,
+    /// The sun's visibility per pixel of the tile (0 for pixels that face away or miss).
+    visibility: Vec<f64>,
+}
+
+impl ShadowTile {
+    /// Traces the shadow rays of `pixels` that need one and records every pixel's visibility.
+    fn trace(
+        &mut self,
+        pass: &ShadingPass,
+        pixels: impl Iterator<Item = (usize, usize)>,
+        stats: &mut TraceStats,
+    ) {
+        self.rays.clear();
+        self.owners.clear();
+        self.visibility.clear();
+        for (n, (i, j)) in pixels.enumerate() {
+            let visibility = match pass.lighting(i, j) {
+                Lighting::Unlit => 0.0,
+                Lighting::Lit => 1.0,
+                Lighting::Shadowed(ray) => {
+                    self.rays.push(ray);
+                    self.owners.push(n);
+                    0.0
+                }
+            };
+            self.visibility.push(visibility);
+        }
+        self.occluded.clear();
+        self.occluded.resize(self.rays.len(), false);
+        self.steps.clear();
+        self.steps.resize(self.rays.len(), 0);
+        pass.tracer.occluded_batch(&self.rays, &mut self.occluded, &mut self.steps);
+        for ((&n, &occluded), &steps) in self.owners.iter().zip(&self.occluded).zip(&self.steps) {
+            stats.record(steps, occluded);
+            self.visibility[n] = if occluded { 0.0 } else { 1.0 };
+        }
+    }
+}
+
+/// How the sun reaches a pixel, before shadows are traced.
+enum Lighting {
+    /// Not at all: a miss, a surface facing away, or no sun.
+    Unlit,
+    /// Fully: shadows are off.
+    Lit,
+    /// Unless this shadow ray is occluded.
+    Shadowed(Ray),
 }
 
 /// The per-pass constants of [`shade`].
@@ -138,29 +208,48 @@ struct ShadingPass<'a> {
 }
 
 impl ShadingPass<'_> {
-    /// Radiance of pixel (i, j), counting its shadow ray (if any) into `stats`.
+    /// The hit of pixel (i, j): its view ray, distance, position and unit normal, or `None`
+    /// for a miss (with the view ray).
     #[inline]
-    fn pixel(&self, i: usize, j: usize, stats: &mut TraceStats) -> DVec3 {
-        let (g, p) = (self.gbuffer, self.params);
+    fn hit(&self, i: usize, j: usize) -> (Ray, Option<(f64, DVec3, DVec3)>) {
+        let g = self.gbuffer;
         let k = i + j * g.width;
         // (i, j) lies inside the camera's u32 image.
         let ray = self.camera.ray(i as u32, j as u32);
-        let sky = p.sky.radiance(ray.dir);
         let distance = g.distance[k] as f64;
         if !distance.is_finite() {
-            return sky;
+            return (ray, None);
         }
-        let position = ray.at(distance);
         let normal = DVec3::from(g.normal[k].map(f64::from)).normalize_or_zero();
-        let albedo = p.albedo.at(position, normal, g.uv[k]);
-        let lit = p.sun.is_up() && p.sun.irradiance > 0.0 && normal.dot(self.to_sun) > 0.0;
-        let visibility = match (lit, p.shadows) {
-            (false, _) => 0.0,
-            (true, false) => 1.0,
-            (true, true) => {
-                light_visibility(self.tracer, position, normal, distance, self.to_sun, stats)
-            }
+        (ray, Some((distance, ray.at(distance), normal)))
+    }
+
+    /// How the sun reaches pixel (i, j): whether it needs a shadow ray (see [`shadow_ray`]).
+    fn lighting(&self, i: usize, j: usize) -> Lighting {
+        let p = self.params;
+        let (_, Some((distance, position, normal))) = self.hit(i, j) else {
+            return Lighting::Unlit;
         };
+        let lit = p.sun.is_up() && p.sun.irradiance > 0.0 && normal.dot(self.to_sun) > 0.0;
+        match (lit, p.shadows) {
+            (false, _) => Lighting::Unlit,
+            (true, false) => Lighting::Lit,
+            (true, true) => {
+                Lighting::Shadowed(shadow_ray(position, normal, distance, self.to_sun))
+            }
+        }
+    }
+
+    /// Radiance of pixel (i, j), whose sun visibility is `visibility`.
+    #[inline]
+    fn pixel(&self, i: usize, j: usize, visibility: f64) -> DVec3 {
+        let (g, p) = (self.gbuffer, self.params);
+        let (ray, hit) = self.hit(i, j);
+        let sky = p.sky.radiance(ray.dir);
+        let Some((distance, position, normal)) = hit else {
+            return sky;
+        };
+        let albedo = p.albedo.at(position, normal, g.uv[i + j * g.width]);
         let direct = direct_lighting(
             albedo,
             normal,

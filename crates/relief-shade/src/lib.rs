@@ -50,7 +50,7 @@ pub use colour_ramp::{hypsometric_colour, HypsometricRamp};
 pub use deferred::{shade, ShadingParams};
 pub use error::ShadeError;
 pub use gbuffer::{GBuffer, GBufferPixel};
-pub use render::{render_gbuffer, TILE_SIZE};
+pub use render::{render_gbuffer, render_gbuffer_into, TILE_SIZE};
 pub use shading::{ambient_lighting, direct_lighting, GgxSpecular, DIELECTRIC_F0};
 pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGONAL};
 pub use stats::TraceStats;

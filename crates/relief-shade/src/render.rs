@@ -38,8 +38,30 @@ pub fn render_gbuffer(
     bounds: &Aabb,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(GBuffer, TraceStats), ShadeError> {
+    let mut gbuffer = GBuffer::new(camera.width() as usize, camera.height() as usize)?;
+    let stats = render_gbuffer_into(tracer, camera, bounds, &mut gbuffer, progress)?;
+    Ok((gbuffer, stats))
+}
+
+/// As [`render_gbuffer`], into an existing G-buffer of the camera's image size (every pixel
+/// is overwritten), so that a renderer drawing frame after frame allocates it once.
+///
+/// Fails when the G-buffer's size is not the camera's image size.
+pub fn render_gbuffer_into(
+    tracer: &dyn Tracer,
+    camera: &Camera,
+    bounds: &Aabb,
+    gbuffer: &mut GBuffer,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<TraceStats, ShadeError> {
     let (width, height) = (camera.width() as usize, camera.height() as usize);
-    let mut gbuffer = GBuffer::new(width, height)?;
+    gbuffer.validate()?;
+    if (gbuffer.width, gbuffer.height) != (width, height) {
+        return Err(ShadeError::Mismatch(format!(
+            "G-buffer is {} x {} but the camera's image is {width} x {height}",
+            gbuffer.width, gbuffer.height
+        )));
+    }
     let pixel = PixelTracer {
         uv: UvMap::new(bounds),
         footprint_per_distance: 2.0 * (camera.fov_deg().to_radians() / 2.0).tan() / height as f64,
@@ -47,7 +69,7 @@ pub fn render_gbuffer(
     // Strips of TILE_SIZE rows are disjoint slices of every array: each worker writes its own
     // strip in place, tile by tile, so nothing is copied and no pixel depends on the schedule.
     let strip = TILE_SIZE * width;
-    let GBuffer { distance, position, normal, material, uv, footprint, .. } = &mut gbuffer;
+    let GBuffer { distance, position, normal, material, uv, footprint, .. } = gbuffer;
     let stats = distance
         .par_chunks_mut(strip)
         .zip(position.par_chunks_mut(strip))
@@ -86,7 +108,7 @@ pub fn render_gbuffer(
             stats
         })
         .reduce(TraceStats::default, TraceStats::merge);
-    Ok((gbuffer, stats))
+    Ok(stats)
 }
 
 /// The rays of one tile, traced as one batch, and what came back.

@@ -75,6 +75,8 @@ pub struct CellGrid {
     geometry: GridGeometry,
     /// Cell space minus grid space: half a texel for triangles, none for boxes.
     shift: DVec3,
+    /// World to grid scale, `1 / (dx, dy, z_scale)`, as [`GridGeometry::ray_to_grid`] has it.
+    inv_scale: DVec3,
 }
 
 impl CellGrid {
@@ -108,6 +110,7 @@ impl CellGrid {
             empty_cells,
             geometry,
             shift,
+            inv_scale: DVec3::new(1.0 / geometry.dx, 1.0 / geometry.dy, 1.0 / geometry.z_scale),
         }
     }
 
@@ -160,10 +163,10 @@ impl CellGrid {
     }
 
     /// Where the sample at the lower left corner of cell (cx, cy) lives (for triangles; the
-    /// texel itself for boxes); `cy` may be one past the last cell row for triangles.
+    /// texel itself for boxes), if there is one.
     #[inline(always)]
-    pub(crate) fn sample_ref<'a>(&self, samples: &'a [f32], cx: usize, cy: usize) -> &'a f32 {
-        &samples[cx + cy * self.samples_width]
+    pub(crate) fn sample_ref<'a>(&self, samples: &'a [f32], cx: usize, cy: usize) -> Option<&'a f32> {
+        samples.get(cx + cy * self.samples_width)
     }
 
     /// The heights at the four corners of `triangles` cell (cx, cy): lower left, lower right,
@@ -177,9 +180,17 @@ impl CellGrid {
 
     /// Maps a world ray into cell space (same parameter `t`).
     #[inline]
+    ///
+    /// The same numbers as [`GridGeometry::ray_to_grid`] less the cell shift, with the scale
+    /// computed once.
     pub fn to_cell_space(&self, world_ray: &Ray) -> CellRay {
-        let grid_ray = self.geometry.ray_to_grid(world_ray);
-        let ray = Ray { origin: grid_ray.origin - self.shift, ..grid_ray };
+        let grid_origin = (world_ray.origin - self.geometry.origin.extend(0.0)) * self.inv_scale;
+        let ray = Ray {
+            origin: grid_origin - self.shift,
+            dir: world_ray.dir * self.inv_scale,
+            t_min: world_ray.t_min,
+            t_max: world_ray.t_max,
+        };
         CellRay { ray, inv_dir: DVec3::ONE / ray.dir }
     }
 

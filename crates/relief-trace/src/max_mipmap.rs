@@ -10,7 +10,11 @@ use rayon::prelude::*;
 /// is not stored: tracers test cells exactly instead. A node of level 1 holds the maximum over
 /// its (up to) 2x2 cells, one of level `l + 1` the maximum of the (up to) 2x2 nodes below it.
 /// Any grid size works: a level has `ceil(cells / 2^l)` nodes per axis, and the top level has
-/// one node. The pyramid takes a third of the memory of the samples.
+/// one node. The pyramid takes about a third of the memory of the samples.
+///
+/// Each level is stored in blocks of 2x2 nodes, one block per node of the level above, so the
+/// four children of a node sit side by side in 16 bytes ([`MaxMipmap::children`]); blocks
+/// follow the nodes above row by row, and entries outside the grid hold minus infinity.
 #[derive(Debug, Clone)]
 pub struct MaxMipmap {
     values: Vec<f32>,
@@ -23,48 +27,56 @@ struct Level {
     offset: usize,
     nodes_x: usize,
     nodes_y: usize,
+    /// Blocks of 2x2 nodes per row: the level above's nodes along x.
+    blocks_x: usize,
+}
+
+impl Level {
+    /// Index of node (x, y) inside the level.
+    #[inline(always)]
+    fn index(&self, x: usize, y: usize) -> usize {
+        4 * ((x >> 1) + (y >> 1) * self.blocks_x) + (x & 1) + 2 * (y & 1)
+    }
 }
 
 impl MaxMipmap {
-    /// Builds the pyramid of `grid` over the height field's `samples` (level 1 in parallel).
+    /// Builds the pyramid of `grid` over the height field's `samples` (in parallel).
     pub fn build(grid: &CellGrid, samples: &[f32]) -> Self {
         let (mut nx, mut ny) = (grid.cells_x(), grid.cells_y());
-        let mut levels = vec![Level { offset: 0, nodes_x: nx, nodes_y: ny }];
+        let mut levels = vec![Level { offset: 0, nodes_x: nx, nodes_y: ny, blocks_x: 0 }];
         let mut total = 0;
         while !grid.is_empty() && (nx > 1 || ny > 1) {
             nx = nx.div_ceil(2);
             ny = ny.div_ceil(2);
-            levels.push(Level { offset: total, nodes_x: nx, nodes_y: ny });
-            total += nx * ny;
+            let blocks_x = nx.div_ceil(2);
+            levels.push(Level { offset: total, nodes_x: nx, nodes_y: ny, blocks_x });
+            total += 4 * blocks_x * ny.div_ceil(2);
         }
         let mut values = vec![f32::NEG_INFINITY; total];
-        if let Some(first) = levels.get(1).copied() {
-            let (cells_x, cells_y) = (grid.cells_x(), grid.cells_y());
-            let level1 = &mut values[..first.nodes_x * first.nodes_y];
-            level1.par_chunks_mut(first.nodes_x).enumerate().for_each(|(y, row)| {
-                for (x, node) in row.iter_mut().enumerate() {
-                    for cy in (2 * y)..(2 * y + 2).min(cells_y) {
-                        for cx in (2 * x)..(2 * x + 2).min(cells_x) {
-                            *node = node.max(grid.cell_max(samples, cx, cy));
+        for l in 1..levels.len() {
+            let (below, level) = (levels[l - 1], levels[l]);
+            let (done, rest) = values.split_at_mut(level.offset);
+            let fine = &done[below.offset.min(done.len())..];
+            let end = 4 * level.blocks_x * level.nodes_y.div_ceil(2);
+            // One row of blocks (two rows of nodes) at a time, in parallel.
+            rest[..end].par_chunks_mut(4 * level.blocks_x).enumerate().for_each(|(by, row)| {
+                for (k, node) in row.iter_mut().enumerate() {
+                    let (x, y) = (2 * (k / 4) + (k & 1), 2 * by + ((k >> 1) & 1));
+                    if x >= level.nodes_x || y >= level.nodes_y {
+                        continue;
+                    }
+                    for cy in (2 * y)..(2 * y + 2).min(below.nodes_y) {
+                        for cx in (2 * x)..(2 * x + 2).min(below.nodes_x) {
+                            let v = if l == 1 {
+                                grid.cell_max(samples, cx, cy)
+                            } else {
+                                fine[below.index(cx, cy)]
+                            };
+                            *node = node.max(v);
                         }
                     }
                 }
             });
-        }
-        for l in 2..levels.len() {
-            let (fine, coarse) = (levels[l - 1], levels[l]);
-            let (below, above) = values.split_at_mut(coarse.offset);
-            let below = &below[fine.offset..];
-            for y in 0..coarse.nodes_y {
-                for x in 0..coarse.nodes_x {
-                    let node = &mut above[x + y * coarse.nodes_x];
-                    for fy in (2 * y)..(2 * y + 2).min(fine.nodes_y) {
-                        for fx in (2 * x)..(2 * x + 2).min(fine.nodes_x) {
-                            *node = node.max(below[fx + fy * fine.nodes_x]);
-                        }
-                    }
-                }
-            }
         }
         MaxMipmap { values, levels }
     }
@@ -88,24 +100,56 @@ impl MaxMipmap {
             return None;
         }
         let l = self.levels.get(level)?;
-        (x < l.nodes_x && y < l.nodes_y).then(|| self.values[l.offset + x + y * l.nodes_x])
+        (x < l.nodes_x && y < l.nodes_y).then(|| self.values[l.offset + l.index(x, y)])
     }
 
-    /// The maximum stored in node (x, y) of stored `level` (1 or more), which must exist.
+    /// The maxima of the four children at stored `level` (1 or more) of node (x, y) one level
+    /// up, which must exist: `[(2x, 2y), (2x+1, 2y), (2x, 2y+1), (2x+1, 2y+1)]`, minus
+    /// infinity for children outside the grid.
     #[inline(always)]
-    pub(crate) fn node_max(&self, level: usize, x: usize, y: usize) -> f32 {
-        *self.node_ref(level, x, y)
-    }
-
-    /// Where the maximum of node (x, y) of stored `level` (1 or more) lives.
-    #[inline(always)]
-    pub(crate) fn node_ref(&self, level: usize, x: usize, y: usize) -> &f32 {
+    pub(crate) fn children(&self, level: usize, x: usize, y: usize) -> &[f32; 4] {
         let l = self.levels[level];
-        &self.values[l.offset + x + y * l.nodes_x]
+        let start = l.offset + 4 * (x + y * l.blocks_x);
+        self.values[start..start + 4].try_into().expect("a block holds four nodes")
     }
 
     /// Bytes used by all levels.
     pub fn memory_bytes(&self) -> usize {
         self.values.len() * std::mem::size_of::<f32>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_core::{GridGeometry, HeightField, Surface};
+
+    #[test]
+    fn every_node_holds_the_maximum_of_its_cells() {
+        for (w, h) in [(1, 1), (2, 1), (5, 3), (8, 8), (9, 17)] {
+            let samples: Vec<f32> = (0..w * h).map(|k| ((k * 7919) % 23) as f32).collect();
+            let field = HeightField::new(w, h, samples, GridGeometry::unit()).unwrap();
+            let grid = CellGrid::new(&field, Surface::Boxes);
+            let mipmap = MaxMipmap::build(&grid, field.samples());
+            for level in 1..=mipmap.top_level() {
+                let (nx, ny) = mipmap.nodes(level);
+                for y in 0..ny {
+                    for x in 0..nx {
+                        let side = 1 << level;
+                        let mut want = f32::NEG_INFINITY;
+                        for cy in (y * side)..((y + 1) * side).min(h) {
+                            for cx in (x * side)..((x + 1) * side).min(w) {
+                                want = want.max(field.sample(cx, cy));
+                            }
+                        }
+                        assert_eq!(mipmap.get(level, x, y), Some(want), "{w}x{h} level {level}");
+                        let block = mipmap.children(level, x / 2, y / 2);
+                        assert_eq!(block[(x & 1) + 2 * (y & 1)], want);
+                    }
+                }
+                assert_eq!(mipmap.get(level, nx, 0), None);
+            }
+            assert_eq!(mipmap.nodes(mipmap.top_level()), (1, 1));
+        }
     }
 }

@@ -10,7 +10,7 @@ use relief_shade::{
     render_gbuffer, shade, sun_direction, tonemap_to_srgb8, Albedo, GBuffer, RgbTexture,
     ShadingParams, Sun,
 };
-use relief_trace::TracerKind;
+use relief_trace::{Simd, TracerKind};
 
 /// Runs `relief render`: an MLHM scene (`.json`) takes [`render_mlhm`], any other input the
 /// height-field path.
@@ -31,7 +31,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let field = input::load(&args.input)?;
     let camera = camera(args, &field.world_bounds(surface))?;
     let params = shading(args, &field.world_bounds(Surface::Boxes))?;
-    let built = tracers::build(&field, surface, &choice, &args.safety, true, max_memory)?;
+    let built = tracers::build(&field, surface, &choice, &args.safety, true, max_memory, Simd::detect())?;
     if let Some(safety) = &built.safety {
         let light = (!args.no_shadows).then(|| sun_direction(args.sun.0, args.sun.1));
         let (w, h) = (camera.width(), camera.height());

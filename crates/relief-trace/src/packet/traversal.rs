@@ -32,6 +32,9 @@ pub(crate) type CellHit = Option<(f64, DVec3)>;
 /// axes the packet runs down.
 pub(crate) const ORDER: [(usize, usize); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
 
+/// The positions 0..4 of [`ORDER`].
+const ORDER_INDEX: [usize; 4] = [0, 1, 2, 3];
+
 /// Depth of the traversal stack: three siblings waiting per level, for up to 32 levels.
 pub(crate) const STACK: usize = 3 * 32 + 1;
 
@@ -77,7 +80,8 @@ pub(crate) fn trace<K: Kernel>(
             continue;
         }
         let level = node.level as usize - 1;
-        let quad = walk.quad(level, x, y, |cx, cy| terrain.mipmap.node_max(level, cx, cy));
+        let block = terrain.mipmap.children(level, x, y);
+        let quad = walk.quad(level, x, y, ORDER_INDEX.map(|c| block[c ^ walk.flip()]));
         let open = test_children::<K>(p, &quad, rays);
         for c in (0..4).rev() {
             if open[c] != 0 {
@@ -117,10 +121,17 @@ struct Walk<'a> {
 }
 
 impl Walk<'_> {
-    /// The four children at `level` (cells at 0) of node (x, y) one level up, clamped to the
-    /// grid, with their tops from `top_of(cx, cy)` (not asked for children outside the grid).
+    /// `i + 2 j` of a child `(i, j)` of [`ORDER`] in the packet's mirroring: the child met
+    /// `c`-th is the one at `c ^ flip()` in a block of [`MaxMipmap::children`].
     #[inline(always)]
-    fn quad(&self, level: usize, x: usize, y: usize, top_of: impl Fn(usize, usize) -> f32) -> Quad {
+    fn flip(&self) -> usize {
+        self.flip_x + 2 * self.flip_y
+    }
+
+    /// The four children at `level` (cells at 0) of node (x, y) one level up, clamped to the
+    /// grid, with their tops in [`ORDER`].
+    #[inline(always)]
+    fn quad(&self, level: usize, x: usize, y: usize, top: [f32; 4]) -> Quad {
         let grid = self.terrain.grid;
         let (cells_x, cells_y) = (grid.cells_x(), grid.cells_y());
         let side = 1usize << level;
@@ -135,13 +146,6 @@ impl Walk<'_> {
                 b
             }
         };
-        let mut top = [f32::NEG_INFINITY; 4];
-        for (c, &(i, j)) in ORDER.iter().enumerate() {
-            let (cx, cy) = (2 * x + (i ^ self.flip_x), 2 * y + (j ^ self.flip_y));
-            if cx * side < cells_x && cy * side < cells_y {
-                top[c] = top_of(cx, cy);
-            }
-        }
         Quad { x: order(xs, self.flip_x), y: order(ys, self.flip_y), top }
     }
 
@@ -150,16 +154,14 @@ impl Walk<'_> {
     #[inline(always)]
     fn prefetch_below(&self, level: usize, x: usize, y: usize) {
         if level >= 2 {
-            let (nx, ny) = self.terrain.mipmap.nodes(level - 1);
-            let (cx, cy) = ((2 * x).min(nx - 1), (2 * y).min(ny - 1));
-            prefetch(self.terrain.mipmap.node_ref(level - 1, cx, cy));
-            prefetch(self.terrain.mipmap.node_ref(level - 1, cx, (cy + 1).min(ny - 1)));
+            prefetch(self.terrain.mipmap.children(level - 1, x, y));
         } else {
-            let grid = self.terrain.grid;
-            let (cx, cy) = ((2 * x).min(grid.cells_x() - 1), (2 * y).min(grid.cells_y() - 1));
-            prefetch(grid.sample_ref(self.terrain.samples, cx, cy));
-            prefetch(grid.sample_ref(self.terrain.samples, cx, cy + 1));
-            prefetch(grid.sample_ref(self.terrain.samples, cx, (cy + 2).min(grid.cells_y())));
+            let (grid, samples) = (self.terrain.grid, self.terrain.samples);
+            for row in 2 * y..2 * y + 3 {
+                if let Some(sample) = grid.sample_ref(samples, 2 * x, row) {
+                    prefetch(sample);
+                }
+            }
         }
     }
 
@@ -175,7 +177,15 @@ impl Walk<'_> {
         hits: &mut [CellHit; PACKET_RAYS],
     ) {
         let Terrain { grid, samples, .. } = *self.terrain;
-        let quad = self.quad(0, x, y, |cx, cy| grid.cell_max(samples, cx, cy));
+        let top = ORDER.map(|(i, j)| {
+            let (cx, cy) = (2 * x + (i ^ self.flip_x), 2 * y + (j ^ self.flip_y));
+            if cx < grid.cells_x() && cy < grid.cells_y() {
+                grid.cell_max(samples, cx, cy)
+            } else {
+                f32::NEG_INFINITY
+            }
+        });
+        let quad = self.quad(0, x, y, top);
         let open = test_children::<K>(p, &quad, rays);
         for (c, &(i, j)) in ORDER.iter().enumerate() {
             let rays = open[c] & !*done;
