@@ -3,8 +3,9 @@
 
 For each terrain size this script
   1. generates the seeded fBm terrain with `relief generate fbm`;
-  2. runs `relief bench --input` on it (mipmap tracer, triangles surface) and `relief render`
-     at the same resolution, for relief's throughput, build time, depth images and peak memory;
+  2. runs `relief bench --input` on it (triangles surface; the mipmap tracer, and with
+     --tracers any other exact tracer) and `relief render` at the same resolution, for
+     relief's throughput, build time, depth images and peak memory;
   3. builds Embree's BVH through Open3D's RaycastingScene over exactly the triangles of the
      `triangles` surface (the lower diagonal of every square) plus the side walls and bottom of
      the solid that relief's surface stands for, in the same world coordinates;
@@ -12,6 +13,9 @@ For each terrain size this script
      rays from their hits towards the benchmark's sun;
   5. prints, for Embree and relief: build seconds, Mrays/s, peak memory, the ratios, and the
      fraction of pixels whose depth differs by more than 1e-4 relative.
+
+Both sides trace every view --repeat times and report the fastest run: relief bench into one
+G-buffer allocated beforehand, Embree through repeated cast_rays / test_occlusions calls.
 
 Not part of the tests. Needs the Debian packages libusb-1.0-0 and libgomp1 and the PyPI
 packages open3d, plotly, dash and numpy:
@@ -113,6 +117,9 @@ def main():
     parser.add_argument("--res", default="1920x1080")
     parser.add_argument("--relief", default="target/release/relief")
     parser.add_argument("--work", default=None, help="folder for terrains and depth images")
+    parser.add_argument("--tracers", default="mipmap",
+                        help="relief tracers, comma-separated (mipmap, naive, cyl_all+cone_all, ...)")
+    parser.add_argument("--repeat", type=int, default=3, help="runs per view; the fastest counts")
     args = parser.parse_args()
     import open3d as o3d  # imported late so --help works without it
 
@@ -126,8 +133,9 @@ def main():
         run_child([args.relief, "generate", "fbm", "--size", str(n), "--seed", "1", "-o", terrain])
         depth_dir = os.path.join(work, f"depth-{n}")
         bench_out, relief_bench_peak = peak_of([
-            args.relief, "bench", "--input", terrain, "--res", args.res, "--tracers", "mipmap",
-            "--surfaces", "triangles", "--json", "--depth-dir", depth_dir])
+            args.relief, "bench", "--input", terrain, "--res", args.res, "--tracers", args.tracers,
+            "--surfaces", "triangles", "--json", "--depth-dir", depth_dir,
+            "--repeat", str(args.repeat)])
         relief = [json.loads(line) for line in bench_out.splitlines() if line.startswith("{")]
         _, relief_render_peak = peak_of([
             args.relief, "render", terrain, "--size", args.res, "-o", os.path.join(work, f"render-{n}.png")])
@@ -141,13 +149,18 @@ def main():
         scene.cast_rays(o3d.core.Tensor(np.zeros((1, 6), dtype=np.float32)))
         embree_build = time.perf_counter() - started
         del vertices
+        embree_views = {}
         for r in relief:
+            if r["view"] in embree_views:
+                continue
             eye, dirs = camera_rays(r["camera"])
             rays = np.concatenate([np.broadcast_to(eye, dirs.shape), dirs], axis=1).astype(np.float32)
             rays_t = o3d.core.Tensor(rays)
-            started = time.perf_counter()
-            hits = scene.cast_rays(rays_t)
-            primary_s = time.perf_counter() - started
+            primary_s = float("inf")
+            for _ in range(args.repeat):
+                started = time.perf_counter()
+                hits = scene.cast_rays(rays_t)
+                primary_s = min(primary_s, time.perf_counter() - started)
             t_hit = hits["t_hit"].numpy().astype(np.float64)
             normals = hits["primitive_normals"].numpy().astype(np.float64)
             hit = np.isfinite(t_hit)
@@ -156,23 +169,31 @@ def main():
             with np.errstate(invalid="ignore"):  # misses: inf * 0
                 origins = eye + dirs * t_hit[:, None] + facing * (1e-5 * t_hit[:, None])
             sun = sun_direction(r["sun"]["azimuth_deg"], r["sun"]["elevation_deg"])
-            shadow = np.concatenate([origins[hit], np.broadcast_to(sun, (hit.sum(), 3))], 1).astype(np.float32)
-            started = time.perf_counter()
-            scene.test_occlusions(o3d.core.Tensor(shadow))
-            shadow_s = time.perf_counter() - started
-
-            depth = np.load(os.path.join(depth_dir, f"{r['view']}-triangles-mipmap.npy")).astype(np.float64).ravel()
+            shadow = o3d.core.Tensor(
+                np.concatenate([origins[hit], np.broadcast_to(sun, (hit.sum(), 3))], 1).astype(np.float32))
+            shadow_s = float("inf")
+            for _ in range(args.repeat):
+                started = time.perf_counter()
+                scene.test_occlusions(shadow)
+                shadow_s = min(shadow_s, time.perf_counter() - started)
+            embree_views[r["view"]] = (t_hit, hit, len(rays) / primary_s / 1e6,
+                                       len(shadow) / shadow_s / 1e6)
+        embree_peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+        for r in relief:
+            t_hit, hit, embree_primary, embree_shadow = embree_views[r["view"]]
+            name = f"{r['view']}-triangles-{r['tracer']}.npy"
+            depth = np.load(os.path.join(depth_dir, name)).astype(np.float64).ravel()
             both = np.isfinite(depth) & hit
             with np.errstate(invalid="ignore"):
                 far_apart = np.abs(depth - t_hit) > 1e-4 * np.maximum(depth, t_hit)
             differ = (np.isfinite(depth) != hit) | (both & far_apart)
-            embree_peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
             rows.append({
-                "size": n, "view": r["view"], "hit_pct": 100.0 * hit.mean(),
+                "size": n, "view": r["view"], "tracer": r["tracer"], "simd": r.get("simd", ""),
+                "hit_pct": 100.0 * hit.mean(),
                 "embree_build_s": embree_build, "relief_build_s": r["build_ms"] / 1e3,
-                "embree_primary": len(rays) / primary_s / 1e6,
+                "embree_primary": embree_primary,
                 "relief_primary": r["primary_rays"] / r["primary_s"] / 1e6,
-                "embree_shadow": len(shadow) / shadow_s / 1e6,
+                "embree_shadow": embree_shadow,
                 "relief_shadow": r["shadow_rays"] / r["shadow_s"] / 1e6,
                 "embree_peak_mib": embree_peak, "relief_render_peak_mib": relief_render_peak,
                 "relief_bench_peak_mib": relief_bench_peak,
@@ -180,13 +201,14 @@ def main():
             })
         del scene
 
-    header = ("size", "view", "hit %", "build s E/r", "ratio", "primary Mr/s E/r", "ratio",
+    header = ("size", "view", "tracer", "hit %", "build s E/r", "ratio", "primary Mr/s E/r", "ratio",
               "shadow Mr/s E/r", "ratio", "peak MiB E/r", "ratio", "depth differs")
     print(" | ".join(header))
     for x in rows:
         print(" | ".join([
-            f"{x['size']}", x["view"], f"{x['hit_pct']:.1f}",
-            f"{x['embree_build_s']:.2f} / {x['relief_build_s']:.3f}", f"{x['embree_build_s'] / x['relief_build_s']:.0f}x",
+            f"{x['size']}", x["view"], x["tracer"], f"{x['hit_pct']:.1f}",
+            f"{x['embree_build_s']:.2f} / {x['relief_build_s']:.3f}",
+            f"{x['embree_build_s'] / x['relief_build_s']:.0f}x" if x["relief_build_s"] > 0 else "-",
             f"{x['embree_primary']:.2f} / {x['relief_primary']:.2f}", f"{x['relief_primary'] / x['embree_primary']:.2f}x",
             f"{x['embree_shadow']:.2f} / {x['relief_shadow']:.2f}", f"{x['relief_shadow'] / x['embree_shadow']:.2f}x",
             f"{x['embree_peak_mib']:.0f} / {x['relief_render_peak_mib']:.0f}",

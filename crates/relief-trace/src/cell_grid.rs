@@ -344,11 +344,17 @@ impl CellGrid {
         let (u0, v0) = (ray.origin.x - cx as f64, ray.origin.y - cy as f64);
         let local = |t: f64| (u0 + t * ray.dir.x, v0 + t * ray.dir.y);
         let ((u_in, v_in), (u_out, v_out)) = (local(seg.t_enter), local(seg.t_exit));
-        let mut best: Option<(f64, DVec3)> = None;
-        for (p0, pu, pv) in planes {
-            // Height of the ray above the plane, linear along the ray, at both ends.
+        // Height of the ray above each plane, linear along the ray, at both ends.
+        let above = planes.map(|(p0, pu, pv)| {
             let f_enter = seg.z_enter - (p0 + pu * u_in + pv * v_in);
             let f_exit = seg.z_exit - (p0 + pu * u_out + pv * v_out);
+            (f_enter, f_exit)
+        });
+        if above.iter().all(|&(f_enter, f_exit)| f_enter > 0.0 && f_exit > 0.0) {
+            return None;
+        }
+        let mut best: Option<(f64, DVec3)> = None;
+        for ((_, pu, pv), (f_enter, f_exit)) in planes.into_iter().zip(above) {
             let normal = DVec3::new(-pu, -pv, 1.0);
             let candidate = if f_enter <= 0.0 {
                 // Below the surface on entry: through an outer wall, from the start, or past
@@ -447,14 +453,17 @@ pub(crate) fn axis_cell(o: f64, d: f64, inv: f64, t: f64, cells: usize) -> usize
     }
 }
 
-/// Parameters where a ray enters and leaves the slab `[lo, lo + 1]` along one axis.
+/// Parameters where a ray enters and leaves the slab `[lo, lo + 1]` along one axis: all of
+/// the ray for a ray parallel to the slab inside it, none of it for one outside.
 #[inline]
 pub(crate) fn axis_span(o: f64, d: f64, inv: f64, lo: f64) -> (f64, f64) {
     if d > 0.0 {
         ((lo - o) * inv, (lo + 1.0 - o) * inv)
     } else if d < 0.0 {
         ((lo + 1.0 - o) * inv, (lo - o) * inv)
-    } else {
+    } else if lo <= o && o <= lo + 1.0 {
         (f64::NEG_INFINITY, f64::INFINITY)
+    } else {
+        (f64::INFINITY, f64::NEG_INFINITY)
     }
 }

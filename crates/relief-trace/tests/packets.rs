@@ -48,11 +48,16 @@ fn rays_of(field: &HeightField, draws: &[RayDraw]) -> Vec<Ray> {
 }
 
 /// Shadow-like versions of `rays` as agreement.rs builds them: each one's range ends at its
-/// draw's fraction of the distance to its brute-force first hit (or of 1 when it has none).
-fn shadow_rays(field: &HeightField, surface: Surface, rays: &[Ray], draws: &[RayDraw]) -> Vec<Ray> {
+/// fraction (one per ray) of the distance to its brute-force first hit, or of 1 without one.
+fn shadow_rays(
+    field: &HeightField,
+    surface: Surface,
+    rays: &[Ray],
+    fractions: impl IntoIterator<Item = f64>,
+) -> Vec<Ray> {
     rays.iter()
-        .zip(draws)
-        .map(|(ray, &(_, _, fraction))| {
+        .zip(fractions)
+        .map(|(ray, fraction)| {
             let reach = first_hit(field, surface, ray).unwrap_or(1.0).max(1e-3);
             ray.with_range(ray.t_min, reach * fraction)
         })
@@ -187,7 +192,8 @@ struct BoundaryDraw {
     line: [f64; 2],
     /// Signed offsets off the lines, in cells (1e-9 to 1e-3 in magnitude).
     offset: [f64; 2],
-    /// The start height, as a fraction of twice the terrain's height range around it.
+    /// The start height, as a fraction of the span from half the box's height below it to
+    /// half its height above it.
     height: f64,
     /// How far back along the direction the ray starts, as a fraction of the box's diagonal.
     back: f64,
@@ -262,6 +268,16 @@ fn boundary_ray(field: &HeightField, surface: Surface, draw: &BoundaryDraw) -> R
     Ray::new(start - dir * draw.back * size.length(), dir)
 }
 
+/// The pixels of a `width x height` image tile by tile ([`TILE`] pixels square, the tiles
+/// in row-major order), each tile's in row-major order.
+fn tiles(width: u32, height: u32) -> impl Iterator<Item = Vec<(u32, u32)>> {
+    (0..height / TILE).flat_map(move |ty| {
+        (0..width / TILE).map(move |tx| {
+            (0..TILE * TILE).map(|p| (tx * TILE + p % TILE, ty * TILE + p / TILE)).collect()
+        })
+    })
+}
+
 /// The shadow ray from `hit` towards `sun`: it starts a hair off the surface along the
 /// normal, as a renderer's shadow pass starts it, so that it does not hit its own face.
 fn sun_ray(hit: &Hit, sun: DVec3) -> Ray {
@@ -295,7 +311,8 @@ proptest! {
         let field = Arc::new(field);
         let rays = rays_of(&field, &draws);
         for surface in Surface::ALL {
-            let shadows = shadow_rays(&field, surface, &rays, &draws);
+            let fractions = draws.iter().map(|&(_, _, fraction)| fraction);
+            let shadows = shadow_rays(&field, surface, &rays, fractions);
             check_batch_occlusion(&field, surface, &shadows)?;
         }
     }
@@ -307,19 +324,16 @@ proptest! {
     /// Rays parallel to a grid axis a hair beside cell boundaries hit, and their shadow
     /// versions are blocked, where the naive tracer and the brute force say.
     #[test]
-    fn axis_parallel_rays_beside_cell_boundaries(field in terrain(), draws in boundary_batch()) {
+    fn axis_parallel_rays_beside_cell_boundaries(
+        field in terrain(),
+        draws in boundary_batch(),
+    ) {
         let field = Arc::new(field);
         for surface in Surface::ALL {
-            let rays: Vec<Ray> = draws.iter().map(|d| boundary_ray(&field, surface, d)).collect();
+            let rays: Vec<Ray> =
+                draws.iter().map(|d| boundary_ray(&field, surface, d)).collect();
             check_batch_hits(&field, surface, &rays)?;
-            let shadows: Vec<Ray> = rays
-                .iter()
-                .zip(&draws)
-                .map(|(ray, d)| {
-                    let reach = first_hit(&field, surface, ray).unwrap_or(1.0).max(1e-3);
-                    ray.with_range(ray.t_min, reach * d.fraction)
-                })
-                .collect();
+            let shadows = shadow_rays(&field, surface, &rays, draws.iter().map(|d| d.fraction));
             check_batch_occlusion(&field, surface, &shadows)?;
         }
     }
@@ -327,20 +341,25 @@ proptest! {
     /// The AVX2 and the portable node tests give bit-identical hits and the same occlusion
     /// answers, for first-hit rays and for their shadow versions.
     #[test]
-    fn avx2_and_portable_kernels_agree_bit_for_bit(field in terrain(), draws in incoherent_batch()) {
+    fn avx2_and_portable_kernels_agree_bit_for_bit(
+        field in terrain(),
+        draws in incoherent_batch(),
+    ) {
         let field = Arc::new(field);
         let rays = rays_of(&field, &draws);
         for surface in Surface::ALL {
-            let shadows = shadow_rays(&field, surface, &rays, &draws);
+            let fractions = draws.iter().map(|&(_, _, fraction)| fraction);
+            let shadows = shadow_rays(&field, surface, &rays, fractions);
             let [avx2, portable] =
                 KERNELS.map(|simd| MipmapTracer::new(field.clone(), surface).with_simd(simd));
             let (avx2_hits, _) = batch_hits(&avx2, &rays);
             let (portable_hits, _) = batch_hits(&portable, &rays);
-            for (k, (a, p)) in avx2_hits.iter().zip(&portable_hits).enumerate() {
-                prop_assert_eq!(bits(a), bits(p), "{} ray {} {:?}: {:?} {:?}", surface, k, rays[k], a, p);
+            for ((ray, a), p) in rays.iter().zip(&avx2_hits).zip(&portable_hits) {
+                prop_assert_eq!(bits(a), bits(p), "{} {:?}: {:?} {:?}", surface, ray, a, p);
             }
             for batch in [&rays, &shadows] {
-                prop_assert_eq!(batch_occluded(&avx2, batch), batch_occluded(&portable, batch), "{}", surface);
+                let (a, p) = (batch_occluded(&avx2, batch), batch_occluded(&portable, batch));
+                prop_assert_eq!(a, p, "{}", surface);
             }
         }
     }
@@ -370,10 +389,7 @@ proptest! {
             for simd in KERNELS {
                 let mipmap = MipmapTracer::new(field.clone(), surface).with_simd(simd);
                 let mut wrong = Vec::new();
-                for (ty, tx) in (0..height / TILE).flat_map(|ty| (0..width / TILE).map(move |tx| (ty, tx))) {
-                    let pixels: Vec<(u32, u32)> = (0..TILE * TILE)
-                        .map(|p| (tx * TILE + p % TILE, ty * TILE + p / TILE))
-                        .collect();
+                for pixels in tiles(width, height) {
                     let rays: Vec<Ray> = pixels.iter().map(|&(i, j)| camera.ray(i, j)).collect();
                     let (hits, _) = batch_hits(&mipmap, &rays);
                     for ((&(i, j), ray), hit) in pixels.iter().zip(&rays).zip(&hits) {
@@ -384,13 +400,16 @@ proptest! {
                             wrong.push((i, j, *hit, want));
                         }
                     }
-                    let shadows: Vec<Ray> = hits.iter().flatten().map(|h| sun_ray(h, sun)).collect();
+                    let shadows: Vec<Ray> =
+                        hits.iter().flatten().map(|h| sun_ray(h, sun)).collect();
                     let occluded = batch_occluded(&mipmap, &shadows);
-                    for (k, ray) in shadows.iter().enumerate() {
-                        prop_assert_eq!(occluded[k], mipmap.occluded(ray), "{} {} sun ray {:?}", surface, simd, ray);
+                    for (ray, blocked) in shadows.iter().zip(occluded) {
+                        let single = mipmap.occluded(ray);
+                        prop_assert_eq!(blocked, single, "{} {} sun ray {:?}", surface, simd, ray);
                     }
                 }
-                prop_assert!(wrong.len() <= 2, "{surface} {simd} on {}x{}: {wrong:?}", field.width(), field.height());
+                let (w, h) = (field.width(), field.height());
+                prop_assert!(wrong.len() <= 2, "{surface} {simd} on {w}x{h}: {wrong:?}");
             }
         }
     }
@@ -449,7 +468,8 @@ fn small_and_holed_fields_match_the_naive_tracer() {
         let draws = seeded_batch(seed as u64, 40);
         let rays = rays_of(&field, &draws);
         for surface in Surface::ALL {
-            let shadows = shadow_rays(&field, surface, &rays, &draws);
+            let shadows =
+                shadow_rays(&field, surface, &rays, draws.iter().map(|&(_, _, fraction)| fraction));
             check_batch_hits(&field, surface, &rays).unwrap_or_else(|e| panic!("{name}: {e}"));
             check_batch_occlusion(&field, surface, &shadows)
                 .unwrap_or_else(|e| panic!("{name}: {e}"));

@@ -14,7 +14,7 @@ use relief_core::{Camera, DVec3, HeightField, Surface};
 use relief_shade::{
     render_gbuffer_into, shadow_ray, sun_direction, GBuffer, TraceStats, TILE_SIZE,
 };
-use relief_trace::Tracer;
+use relief_trace::{Simd, Tracer};
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
@@ -35,6 +35,8 @@ struct Measurement<'a> {
     /// `None`: the tracer does not admit the sun's shadow rays.
     shadow_s: Option<f64>,
     peak_mib: f64,
+    /// What the mipmap tracer's packet tests ran on.
+    simd: Simd,
 }
 
 /// Runs `relief bench`.
@@ -71,7 +73,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if !args.json {
         writeln!(
             out,
-            "relief bench: {source} (ready in {load_s:.2} s), {w}x{h} pixels, {threads} threads"
+            "relief bench: {source} (ready in {load_s:.2} s), {w}x{h} pixels, {threads} threads, \
+             mipmap packet tests: {}, fastest of {}",
+            args.simd.effective(),
+            args.repeat
         )?;
         writeln!(
             out,
@@ -157,6 +162,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     shadow,
                     shadow_s,
                     peak_mib,
+                    simd: args.simd.effective(),
                 };
                 if args.json {
                     writeln!(out, "{}", m.json(threads))?;
@@ -203,7 +209,7 @@ impl Measurement<'_> {
         let c = self.camera;
         format!(
             concat!(
-                "{{\"view\": \"{}\", \"surface\": \"{}\", \"tracer\": \"{}\", \"threads\": {}, ",
+                "{{\"view\": \"{}\", \"surface\": \"{}\", \"tracer\": \"{}\", \"simd\": \"{}\", \"threads\": {}, ",
                 "\"build_ms\": {}, \"primary_rays\": {}, \"primary_s\": {}, \"primary_hits\": {}, ",
                 "\"primary_mean_steps\": {}, \"primary_max_steps\": {}, \"shadow_rays\": {}, ",
                 "\"shadow_s\": {}, \"shadow_mean_steps\": {}, \"peak_mib\": {}, ",
@@ -213,6 +219,7 @@ impl Measurement<'_> {
             self.view,
             self.surface,
             self.tracer,
+            self.simd,
             threads,
             self.build_ms,
             self.primary.rays,

@@ -22,7 +22,7 @@ use relief_core::{DVec3, Ray};
 use std::cell::RefCell;
 use std::fmt;
 use std::str::FromStr;
-use traversal::{CellHit, Pending, Terrain, STACK};
+use traversal::{CellHit, Pending, Terrain, Traversal, STACK};
 
 /// The instructions the packet traversal's node tests run on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -127,70 +127,102 @@ impl PacketTracing<'_> {
         let z_extent =
             bounds.min.z.abs().max(bounds.max.z.abs()) + (bounds.max.z - bounds.min.z) + 1e-30;
         let cells = self.grid.cells_x() + self.grid.cells_y();
-        for (class, packet) in scratch.packets.iter_mut().enumerate() {
-            packet.clear(class & 1 == 1, class & 2 == 2, cells);
-        }
-        // One packet per sign class, each traced as soon as it fills.
+        // The packet each sign class is filling, if any; full packets wait in `ready` until
+        // INTERLEAVED of them can be traced together.
+        let mut filling: [Option<usize>; 4] = [None; 4];
         for (k, world_ray) in rays.iter().enumerate() {
             let ray = self.grid.to_cell_space(world_ray);
             let Some(clip) = self.grid.clip(&ray) else { continue };
             let class = (ray.dir.x < 0.0) as usize + 2 * (ray.dir.y < 0.0) as usize;
-            scratch.packets[class].push(ray, clip, k, z_extent);
-            if scratch.packets[class].is_full() {
-                self.flush(scratch, class, steps, found);
+            let slot = *filling[class].get_or_insert_with(|| {
+                let slot = scratch.free.pop().expect("a free packet for every class");
+                scratch.packets[slot].clear(class & 1 == 1, class & 2 == 2, cells);
+                slot
+            });
+            let packet = &mut scratch.packets[slot];
+            packet.push(ray, clip, k, z_extent);
+            if packet.is_full() {
+                filling[class] = None;
+                scratch.ready.push(slot);
+                if scratch.ready.len() == INTERLEAVED {
+                    self.flush(scratch, steps, found);
+                }
             }
         }
-        for class in 0..4 {
-            if scratch.packets[class].len > 0 {
-                self.flush(scratch, class, steps, found);
-            }
+        scratch.ready.extend(filling.into_iter().flatten());
+        while !scratch.ready.is_empty() {
+            self.flush(scratch, steps, found);
         }
     }
 
-    /// Traces the packet of sign class `class`, reports its rays and empties it.
+    /// Traces up to [`INTERLEAVED`] waiting packets together, reports their rays and frees them.
     fn flush(
         &self,
         scratch: &mut Scratch,
-        class: usize,
         steps: &mut [u32],
         found: &mut impl FnMut(usize, f64, DVec3),
     ) {
-        let Scratch { packets, hits, stack } = scratch;
-        let p = &mut packets[class];
-        hits[..p.len].fill(None);
         let terrain = Terrain { grid: self.grid, samples: self.samples, mipmap: self.mipmap };
+        let take = scratch.ready.len().min(INTERLEAVED);
+        let slots: Vec<usize> = scratch.ready.drain(..take).collect();
+        let mut walks: Vec<Traversal> = scratch
+            .packets
+            .iter_mut()
+            .zip(scratch.hits.iter_mut())
+            .zip(scratch.stacks.iter_mut())
+            .enumerate()
+            .filter(|(slot, _)| slots.contains(slot))
+            .map(|(_, ((packet, hits), stack))| {
+                hits[..packet.len].fill(None);
+                Traversal::new(&terrain, packet, hits, stack)
+            })
+            .collect();
         match self.simd.effective() {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `effective` returns Avx2 only when the processor has AVX2 and FMA.
-            Simd::Avx2 => unsafe { trace_avx2(&terrain, p, hits, stack) },
-            _ => traversal::trace::<Portable>(&terrain, p, hits, stack),
-        }
-        for k in 0..p.len {
-            let source = p.source[k];
-            steps[source] += p.steps.0[k] as u32;
-            if let Some((t, normal)) = hits[k] {
-                found(source, t, normal);
-            }
+            Simd::Avx2 => unsafe { trace_avx2(&terrain, &mut walks) },
+            _ => traversal::trace::<Portable>(&terrain, &mut walks),
         }
         let cells = self.grid.cells_x() + self.grid.cells_y();
-        p.clear(p.negative_x, p.negative_y, cells);
+        for walk in walks {
+            let p = walk.packet;
+            for k in 0..p.len {
+                let source = p.source[k];
+                steps[source] += p.steps.0[k] as u32;
+                if let Some((t, normal)) = walk.hits[k] {
+                    found(source, t, normal);
+                }
+            }
+            p.clear(p.negative_x, p.negative_y, cells);
+        }
+        scratch.free.extend(slots);
     }
 }
 
-/// A thread's packets and traversal stack, kept between batches.
+/// Packets traced together, so that their cache misses overlap.
+const INTERLEAVED: usize = 4;
+
+/// A thread's packets and traversal stacks, kept between batches: enough for every sign class
+/// to be filling one while [`INTERLEAVED`] wait.
 struct Scratch {
-    /// One packet per sign class: x negative is bit 0, y negative bit 1.
-    packets: [Box<RayPacket>; 4],
-    hits: Box<[CellHit; PACKET_RAYS]>,
-    stack: Box<[Pending; STACK]>,
+    packets: Vec<Box<RayPacket>>,
+    hits: Vec<Box<[CellHit; PACKET_RAYS]>>,
+    stacks: Vec<Box<[Pending; STACK]>>,
+    /// Packets not in use.
+    free: Vec<usize>,
+    /// Full packets waiting to be traced.
+    ready: Vec<usize>,
 }
 
 impl Scratch {
     fn new() -> Self {
+        let n = INTERLEAVED + 4;
         Scratch {
-            packets: [0, 1, 2, 3].map(|class| RayPacket::new(class & 1 == 1, class & 2 == 2, 0)),
-            hits: Box::new([None; PACKET_RAYS]),
-            stack: Box::new([Pending::default(); STACK]),
+            packets: (0..n).map(|_| RayPacket::new(false, false, 0)).collect(),
+            hits: (0..n).map(|_| Box::new([None; PACKET_RAYS])).collect(),
+            stacks: (0..n).map(|_| Box::new([Pending::default(); STACK])).collect(),
+            free: (0..n).rev().collect(),
+            ready: Vec::with_capacity(n),
         }
     }
 }
@@ -205,11 +237,6 @@ thread_local! {
 /// The processor must support AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn trace_avx2(
-    terrain: &Terrain,
-    p: &mut RayPacket,
-    hits: &mut [CellHit; PACKET_RAYS],
-    stack: &mut [Pending; STACK],
-) {
-    traversal::trace::<avx2::Avx2>(terrain, p, hits, stack)
+unsafe fn trace_avx2(terrain: &Terrain, walks: &mut [Traversal]) {
+    traversal::trace::<avx2::Avx2>(terrain, walks)
 }

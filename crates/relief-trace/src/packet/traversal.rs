@@ -47,37 +47,57 @@ pub(crate) struct Pending {
     level: u32,
 }
 
-/// Traces every ray of the packet, writing the hits of those that hit into `hits` (indexed as
-/// the packet's rays; the others are left as they are) and counting node visits into the
-/// packet's steps. `stack` is scratch space.
-#[inline(always)]
-pub(crate) fn trace<K: Kernel>(
-    terrain: &Terrain,
-    p: &mut RayPacket,
-    hits: &mut [CellHit; PACKET_RAYS],
-    stack: &mut [Pending; STACK],
-) {
-    let walk = Walk { terrain, flip_x: p.negative_x as usize, flip_y: p.negative_y as usize };
-    let all = p.all();
-    let mut done = 0u64;
-    // A grid of one cell has no stored level: start from a virtual level-1 node over it.
-    let top = terrain.mipmap.top_level().max(1) as u32;
-    stack[0] = Pending { level: top, x: 0, y: 0, rays: all };
-    let mut len = 1;
-    while len > 0 {
-        len -= 1;
-        let node = stack[len];
-        let rays = node.rays & !done;
-        if rays == 0 {
-            continue;
-        }
+/// One packet's walk through the pyramid, advanced a node at a time by [`trace`].
+pub(crate) struct Traversal<'a> {
+    /// The rays; their steps count node visits.
+    pub packet: &'a mut RayPacket,
+    /// The hits of the rays that hit, indexed as the packet's rays (the others are left as
+    /// they are).
+    pub hits: &'a mut [CellHit; PACKET_RAYS],
+    stack: &'a mut [Pending; STACK],
+    /// Nodes waiting on the stack.
+    len: usize,
+    /// The rays that hit.
+    done: u64,
+}
+
+impl<'a> Traversal<'a> {
+    /// The walk of `packet` from the top of `terrain`'s pyramid, with `stack` as scratch.
+    pub fn new(
+        terrain: &Terrain,
+        packet: &'a mut RayPacket,
+        hits: &'a mut [CellHit; PACKET_RAYS],
+        stack: &'a mut [Pending; STACK],
+    ) -> Self {
+        // A grid of one cell has no stored level: start from a virtual level-1 node over it.
+        let top = terrain.mipmap.top_level().max(1) as u32;
+        stack[0] = Pending { level: top, x: 0, y: 0, rays: packet.all() };
+        Traversal { packet, hits, stack, len: 1, done: 0 }
+    }
+
+    /// Visits the next node; `false` once the walk is over.
+    #[inline(always)]
+    fn step<K: Kernel>(&mut self, terrain: &Terrain) -> bool {
+        let p = &mut *self.packet;
+        let walk = Walk { terrain, flip_x: p.negative_x as usize, flip_y: p.negative_y as usize };
+        let node = loop {
+            if self.len == 0 {
+                return false;
+            }
+            self.len -= 1;
+            let node = self.stack[self.len];
+            if node.rays & !self.done != 0 {
+                break node;
+            }
+        };
+        let rays = node.rays & !self.done;
         let (x, y) = (node.x as usize, node.y as usize);
         if node.level == 1 {
-            walk.cells_of::<K>(p, x, y, rays, &mut done, hits);
-            if done == all {
-                return;
+            walk.cells_of::<K>(p, x, y, rays, &mut self.done, self.hits);
+            if self.done == p.all() {
+                self.len = 0;
             }
-            continue;
+            return self.len > 0;
         }
         let level = node.level as usize - 1;
         let block = terrain.mipmap.children(level, x, y);
@@ -88,9 +108,24 @@ pub(crate) fn trace<K: Kernel>(
                 let (i, j) = ORDER[c];
                 let (cx, cy) = (2 * x + (i ^ walk.flip_x), 2 * y + (j ^ walk.flip_y));
                 walk.prefetch_below(level, cx, cy);
-                stack[len] = Pending { level: level as u32, x: cx as u32, y: cy as u32, rays: open[c] };
-                len += 1;
+                self.stack[self.len] =
+                    Pending { level: level as u32, x: cx as u32, y: cy as u32, rays: open[c] };
+                self.len += 1;
             }
+        }
+        self.len > 0
+    }
+}
+
+/// Walks every traversal to its end, a node of each in turn: the packets' memory accesses
+/// do not depend on each other, so the processor overlaps their cache misses.
+#[inline(always)]
+pub(crate) fn trace<K: Kernel>(terrain: &Terrain, walks: &mut [Traversal]) {
+    let mut busy = true;
+    while busy {
+        busy = false;
+        for walk in walks.iter_mut() {
+            busy |= walk.step::<K>(terrain);
         }
     }
 }
