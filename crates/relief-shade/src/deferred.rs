@@ -10,6 +10,7 @@ use crate::{
     aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, shadow_ray, Albedo,
     GBuffer, GgxSpecular, HypsometricRamp, ShadeError, Sky, Sun, TraceStats, TILE_SIZE,
 };
+use crate::tonemap::srgb8_pixel;
 
 /// Everything the deferred pass needs besides the G-buffer: lights, materials, atmosphere.
 #[derive(Debug, Clone, PartialEq)]
@@ -92,6 +93,31 @@ pub fn shade(
     camera: &Camera,
     params: &ShadingParams,
 ) -> Result<(Vec<[f32; 3]>, TraceStats), ShadeError> {
+    shade_with(gbuffer, tracer, camera, params, |radiance| radiance.as_vec3().to_array())
+}
+
+/// As [`shade`] followed by [`crate::tonemap_to_srgb8`] with `params.exposure`, pixel by
+/// pixel, without holding the linear image: the same bytes with a sixth of the memory.
+pub fn shade_to_srgb8(
+    gbuffer: &GBuffer,
+    tracer: &dyn Tracer,
+    camera: &Camera,
+    params: &ShadingParams,
+) -> Result<(Vec<[u8; 3]>, TraceStats), ShadeError> {
+    let exposure = params.exposure as f32;
+    shade_with(gbuffer, tracer, camera, params, |radiance| {
+        srgb8_pixel(radiance.as_vec3().to_array(), exposure)
+    })
+}
+
+/// The deferred pass of [`shade`], each pixel's radiance stored as `store` makes it.
+fn shade_with<T: Copy + Default + Send>(
+    gbuffer: &GBuffer,
+    tracer: &dyn Tracer,
+    camera: &Camera,
+    params: &ShadingParams,
+    store: impl Fn(DVec3) -> T + Sync,
+) -> Result<(Vec<T>, TraceStats), ShadeError> {
     params.validate()?;
     gbuffer.validate()?;
     let (width, height) = (camera.width() as usize, camera.height() as usize);
@@ -105,7 +131,7 @@ pub fn shade(
     radiance.try_reserve_exact(gbuffer.len()).map_err(|e| {
         ShadeError::Limits(format!("cannot allocate {} shaded pixels: {e}", gbuffer.len()))
     })?;
-    radiance.resize(gbuffer.len(), [0.0f32; 3]);
+    radiance.resize(gbuffer.len(), T::default());
     let pass = ShadingPass {
         gbuffer,
         tracer,
@@ -130,8 +156,7 @@ pub fn shade(
                 tile.trace(&pass, pixels.clone(), &mut stats);
                 for (n, (i, j)) in pixels.enumerate() {
                     let visibility = tile.visibility[n];
-                    strip[i + (j - s * TILE_SIZE) * width] =
-                        pass.pixel(i, j, visibility).as_vec3().to_array();
+                    strip[i + (j - s * TILE_SIZE) * width] = store(pass.pixel(i, j, visibility));
                 }
             }
             stats

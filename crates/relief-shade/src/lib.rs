@@ -47,7 +47,7 @@ mod tonemap;
 
 pub use albedo::Albedo;
 pub use colour_ramp::{hypsometric_colour, HypsometricRamp};
-pub use deferred::{shade, ShadingParams};
+pub use deferred::{shade, shade_to_srgb8, ShadingParams};
 pub use error::ShadeError;
 pub use gbuffer::{GBuffer, GBufferPixel};
 pub use render::{render_gbuffer, render_gbuffer_into, TILE_SIZE};

@@ -40,7 +40,17 @@ pub fn aces_filmic(x: f32) -> f32 {
 ///
 /// Fails when `exposure` is negative or not finite. Negative or NaN radiance gives 0.
 pub fn tonemap_to_srgb8(radiance: &[[f32; 3]], exposure: f64) -> Result<Vec<u8>, ShadeError> {
-    encode_rgb8(radiance, exposure, |x| linear_to_srgb(aces_filmic(x)))
+    encode_rgb8(radiance, exposure, srgb8_curve)
+}
+
+/// The curve of [`tonemap_to_srgb8`] for a channel already multiplied by the exposure.
+pub(crate) fn srgb8_curve(x: f32) -> f32 {
+    linear_to_srgb(aces_filmic(x))
+}
+
+/// One pixel of [`tonemap_to_srgb8`] (the exposure already checked).
+pub(crate) fn srgb8_pixel(radiance: [f32; 3], exposure: f32) -> [u8; 3] {
+    radiance.map(|channel| (srgb8_curve(channel * exposure) * 255.0).round() as u8)
 }
 
 /// Every channel of `radiance` times `exposure` through `curve` (onto `[0, 1]`), rounded to

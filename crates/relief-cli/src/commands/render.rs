@@ -7,7 +7,7 @@ use crate::{input, progress, tracers};
 use anyhow::{bail, Context, Result};
 use relief_core::{Aabb, Camera, Surface};
 use relief_shade::{
-    render_gbuffer, shade, sun_direction, tonemap_to_srgb8, Albedo, GBuffer, RgbTexture,
+    render_gbuffer, shade_to_srgb8, sun_direction, Albedo, GBuffer, RgbTexture,
     ShadingParams, Sun,
 };
 use relief_trace::{Simd, TracerKind};
@@ -47,9 +47,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let bounds = field.world_bounds(surface);
     let (gbuffer, _) = render_gbuffer(tracer.as_ref(), &camera, &bounds, &|n| bar.inc(n))?;
     bar.finish_and_clear();
-    let (radiance, _) = shade(&gbuffer, tracer.as_ref(), &camera, &params)?;
-    let rgb = tonemap_to_srgb8(&radiance, params.exposure)?;
-    write_outputs(args, &camera, &gbuffer, &rgb)?;
+    let (rgb, _) = shade_to_srgb8(&gbuffer, tracer.as_ref(), &camera, &params)?;
+    write_outputs(args, &camera, &gbuffer, rgb.as_flattened())?;
     let (w, h) = (camera.width(), camera.height());
     eprintln!("wrote {} ({w}x{h}, {surface} {choice} tracer)", args.output.display());
     Ok(())
