@@ -359,6 +359,10 @@ pub struct BenchArgs {
     /// has), avx2 or portable.
     #[arg(long, default_value = "auto")]
     pub simd: Simd,
+    /// Trace one ray at a time instead of in batches (the mipmap tracer's single-ray
+    /// traversal instead of its packets), for comparison.
+    #[arg(long)]
+    pub single_rays: bool,
 }
 
 fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {

@@ -6,11 +6,11 @@ use relief_trace::Tracer;
 
 use crate::error::non_negative;
 use crate::sky::validate_fog_density;
-use crate::{
-    aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, shadow_ray, Albedo,
-    GBuffer, GgxSpecular, HypsometricRamp, ShadeError, Sky, Sun, TraceStats, TILE_SIZE,
-};
 use crate::tonemap::srgb8_pixel;
+use crate::{
+    aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, shadow_ray,
+    Albedo, GBuffer, GgxSpecular, HypsometricRamp, ShadeError, Sky, Sun, TraceStats, TILE_SIZE,
+};
 
 /// Everything the deferred pass needs besides the G-buffer: lights, materials, atmosphere.
 #[derive(Debug, Clone, PartialEq)]
@@ -259,9 +259,7 @@ impl ShadingPass<'_> {
         match (lit, p.shadows) {
             (false, _) => Lighting::Unlit,
             (true, false) => Lighting::Lit,
-            (true, true) => {
-                Lighting::Shadowed(shadow_ray(position, normal, distance, self.to_sun))
-            }
+            (true, true) => Lighting::Shadowed(shadow_ray(position, normal, distance, self.to_sun)),
         }
     }
 

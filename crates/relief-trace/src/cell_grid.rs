@@ -165,7 +165,12 @@ impl CellGrid {
     /// Where the sample at the lower left corner of cell (cx, cy) lives (for triangles; the
     /// texel itself for boxes), if there is one.
     #[inline(always)]
-    pub(crate) fn sample_ref<'a>(&self, samples: &'a [f32], cx: usize, cy: usize) -> Option<&'a f32> {
+    pub(crate) fn sample_ref<'a>(
+        &self,
+        samples: &'a [f32],
+        cx: usize,
+        cy: usize,
+    ) -> Option<&'a f32> {
         samples.get(cx + cy * self.samples_width)
     }
 

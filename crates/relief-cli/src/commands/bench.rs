@@ -14,7 +14,7 @@ use relief_core::{Camera, DVec3, HeightField, Surface};
 use relief_shade::{
     render_gbuffer_into, shadow_ray, sun_direction, GBuffer, TraceStats, TILE_SIZE,
 };
-use relief_trace::{Simd, Tracer};
+use relief_trace::{Hit, Simd, Tracer};
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
@@ -37,6 +37,8 @@ struct Measurement<'a> {
     peak_mib: f64,
     /// What the mipmap tracer's packet tests ran on.
     simd: Simd,
+    /// Whether rays were traced one at a time rather than in batches.
+    single_rays: bool,
 }
 
 /// Runs `relief bench`.
@@ -74,8 +76,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         writeln!(
             out,
             "relief bench: {source} (ready in {load_s:.2} s), {w}x{h} pixels, {threads} threads, \
-             mipmap packet tests: {}, fastest of {}",
-            args.simd.effective(),
+             {}, fastest of {}",
+            if args.single_rays {
+                "one ray at a time".to_string()
+            } else {
+                format!("mipmap packet tests: {}", args.simd.effective())
+            },
             args.repeat
         )?;
         writeln!(
@@ -114,7 +120,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let shadows = built.safety.as_ref().is_none_or(|safety| {
                     safety.check_view(camera.eye(), std::iter::empty(), Some(sun)).is_ok()
                 });
-                let (traced, build_ms) = (built.tracer, built.build_s * 1e3);
+                let build_ms = built.build_s * 1e3;
+                let one_at_a_time = OneRayAtATime(built.tracer.as_ref());
+                let traced: &dyn Tracer =
+                    if args.single_rays { &one_at_a_time } else { built.tracer.as_ref() };
                 let bounds = field.world_bounds(surface);
                 let repeat = args.repeat as u64;
                 let bar = progress::bar(repeat * w as u64 * h as u64, &format!("{view}/{tracer}"));
@@ -122,13 +131,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let (mut primary, mut primary_s) = (TraceStats::default(), f64::INFINITY);
                 for _ in 0..repeat {
                     let timer = Instant::now();
-                    primary = render_gbuffer_into(
-                        traced.as_ref(),
-                        &camera,
-                        &bounds,
-                        &mut gbuffer,
-                        &|n| bar.inc(n),
-                    )?;
+                    primary = render_gbuffer_into(traced, &camera, &bounds, &mut gbuffer, &|n| {
+                        bar.inc(n)
+                    })?;
                     primary_s = primary_s.min(timer.elapsed().as_secs_f64());
                 }
                 bar.finish_and_clear();
@@ -136,7 +141,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 for _ in 0..repeat {
                     if shadows {
                         let timer = Instant::now();
-                        shadow = shadow_rays(traced.as_ref(), &camera, &gbuffer, sun);
+                        shadow = shadow_rays(traced, &camera, &gbuffer, sun);
                         let s = timer.elapsed().as_secs_f64();
                         shadow_s = Some(shadow_s.map_or(s, |best| best.min(s)));
                     }
@@ -163,6 +168,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     shadow_s,
                     peak_mib,
                     simd: args.simd.effective(),
+                    single_rays: args.single_rays,
                 };
                 if args.json {
                     writeln!(out, "{}", m.json(threads))?;
@@ -173,6 +179,27 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// A tracer seen one ray at a time: its batch methods are the trait's loops over single rays.
+struct OneRayAtATime<'a>(&'a dyn Tracer);
+
+impl Tracer for OneRayAtATime<'_> {
+    fn name(&self) -> &'static str {
+        self.0.name()
+    }
+
+    fn surface(&self) -> Surface {
+        self.0.surface()
+    }
+
+    fn intersect_counted(&self, ray: &relief_core::Ray, steps: &mut u32) -> Option<Hit> {
+        self.0.intersect_counted(ray, steps)
+    }
+
+    fn occluded_counted(&self, ray: &relief_core::Ray, steps: &mut u32) -> bool {
+        self.0.occluded_counted(ray, steps)
+    }
 }
 
 /// The names of the benchmark's views.
@@ -209,7 +236,7 @@ impl Measurement<'_> {
         let c = self.camera;
         format!(
             concat!(
-                "{{\"view\": \"{}\", \"surface\": \"{}\", \"tracer\": \"{}\", \"simd\": \"{}\", \"threads\": {}, ",
+                "{{\"view\": \"{}\", \"surface\": \"{}\", \"tracer\": \"{}\", \"simd\": \"{}\", \"single_rays\": {}, \"threads\": {}, ",
                 "\"build_ms\": {}, \"primary_rays\": {}, \"primary_s\": {}, \"primary_hits\": {}, ",
                 "\"primary_mean_steps\": {}, \"primary_max_steps\": {}, \"shadow_rays\": {}, ",
                 "\"shadow_s\": {}, \"shadow_mean_steps\": {}, \"peak_mib\": {}, ",
@@ -220,6 +247,7 @@ impl Measurement<'_> {
             self.surface,
             self.tracer,
             self.simd,
+            self.single_rays,
             threads,
             self.build_ms,
             self.primary.rays,

@@ -7,8 +7,7 @@ use crate::{input, progress, tracers};
 use anyhow::{bail, Context, Result};
 use relief_core::{Aabb, Camera, Surface};
 use relief_shade::{
-    render_gbuffer, shade_to_srgb8, sun_direction, Albedo, GBuffer, RgbTexture,
-    ShadingParams, Sun,
+    render_gbuffer, shade_to_srgb8, sun_direction, Albedo, GBuffer, RgbTexture, ShadingParams, Sun,
 };
 use relief_trace::{Simd, TracerKind};
 
@@ -31,7 +30,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let field = input::load(&args.input)?;
     let camera = camera(args, &field.world_bounds(surface))?;
     let params = shading(args, &field.world_bounds(Surface::Boxes))?;
-    let built = tracers::build(&field, surface, &choice, &args.safety, true, max_memory, Simd::detect())?;
+    let built =
+        tracers::build(&field, surface, &choice, &args.safety, true, max_memory, Simd::detect())?;
     if let Some(safety) = &built.safety {
         let light = (!args.no_shadows).then(|| sun_direction(args.sun.0, args.sun.1));
         let (w, h) = (camera.width(), camera.height());

@@ -59,8 +59,10 @@ impl Kernel for Avx2 {
         // SAFETY: see the type's documentation; every load stays inside the packet's lanes.
         unsafe {
             count_steps(p, g, active);
-            let (inv_x, enter_x, leave_x) = (load(&p.inv_x, g), load(&p.enter_x, g), load(&p.leave_x, g));
-            let (inv_y, enter_y, leave_y) = (load(&p.inv_y, g), load(&p.enter_y, g), load(&p.leave_y, g));
+            let (inv_x, enter_x, leave_x) =
+                (load(&p.inv_x, g), load(&p.enter_x, g), load(&p.leave_x, g));
+            let (inv_y, enter_y, leave_y) =
+                (load(&p.inv_y, g), load(&p.enter_y, g), load(&p.leave_y, g));
             let (zero, t_end) = (_mm256_setzero_ps(), load(&p.t_end, g));
             let x_in = [
                 _mm256_max_ps(cross(q.x[0], inv_x, enter_x), zero),
@@ -104,7 +106,8 @@ impl Kernel for Avx2 {
                 cross(b.far_y, inv_y, load(&p.leave_y, g)),
             );
             let (dz, z_low) = (load(&p.dz, g), load(&p.z_low, g));
-            let (z_in, z_out) = (_mm256_fmadd_ps(dz, t_in, z_low), _mm256_fmadd_ps(dz, t_out, z_low));
+            let (z_in, z_out) =
+                (_mm256_fmadd_ps(dz, t_in, z_low), _mm256_fmadd_ps(dz, t_out, z_low));
             let u0 = _mm256_sub_ps(load(&p.ox, g), _mm256_set1_ps(corner.0));
             let v0 = _mm256_sub_ps(load(&p.oy, g), _mm256_set1_ps(corner.1));
             let (dx, dy) = (load(&p.dx, g), load(&p.dy, g));

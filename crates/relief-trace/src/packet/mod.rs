@@ -74,7 +74,9 @@ impl FromStr for Simd {
             "auto" => Ok(Simd::detect()),
             "avx2" => Ok(Simd::Avx2),
             "portable" => Ok(Simd::Portable),
-            other => Err(format!("unknown SIMD choice '{other}' (expected auto, avx2 or portable)")),
+            other => {
+                Err(format!("unknown SIMD choice '{other}' (expected auto, avx2 or portable)"))
+            }
         }
     }
 }
@@ -206,8 +208,8 @@ const INTERLEAVED: usize = 4;
 /// to be filling one while [`INTERLEAVED`] wait.
 struct Scratch {
     packets: Vec<Box<RayPacket>>,
-    hits: Vec<Box<[CellHit; PACKET_RAYS]>>,
-    stacks: Vec<Box<[Pending; STACK]>>,
+    hits: Vec<[CellHit; PACKET_RAYS]>,
+    stacks: Vec<[Pending; STACK]>,
     /// Packets not in use.
     free: Vec<usize>,
     /// Full packets waiting to be traced.
@@ -218,9 +220,9 @@ impl Scratch {
     fn new() -> Self {
         let n = INTERLEAVED + 4;
         Scratch {
-            packets: (0..n).map(|_| RayPacket::new(false, false, 0)).collect(),
-            hits: (0..n).map(|_| Box::new([None; PACKET_RAYS])).collect(),
-            stacks: (0..n).map(|_| Box::new([Pending::default(); STACK])).collect(),
+            packets: (0..n).map(|_| RayPacket::new()).collect(),
+            hits: vec![[None; PACKET_RAYS]; n],
+            stacks: vec![[Pending::default(); STACK]; n],
             free: (0..n).rev().collect(),
             ready: Vec::with_capacity(n),
         }

@@ -124,9 +124,8 @@ pub(crate) struct RayPacket {
 const TINY: f32 = 1e-20;
 
 impl RayPacket {
-    /// An empty packet for rays of the given direction signs, over a grid of `cells` cells
-    /// along x plus y.
-    pub fn new(negative_x: bool, negative_y: bool, cells: usize) -> Box<Self> {
+    /// An empty packet; [`RayPacket::clear`] readies it for a sign class and a grid.
+    pub fn new() -> Box<Self> {
         let zero = Lanes([0.0; PACKET_RAYS]);
         let ray = CellRay {
             ray: relief_core::Ray::new(Default::default(), Default::default()),
@@ -148,13 +147,13 @@ impl RayPacket {
             z_low: zero,
             t_end: Lanes([-1.0; PACKET_RAYS]),
             steps: StepLanes([0; PACKET_RAYS]),
-            margin_xy: (MARGIN * (cells as f64 + 2.0)) as f32,
+            margin_xy: 0.0,
             rays: [ray; PACKET_RAYS],
             clips: [clip; PACKET_RAYS],
             source: [0; PACKET_RAYS],
             len: 0,
-            negative_x,
-            negative_y,
+            negative_x: false,
+            negative_y: false,
         })
     }
 
@@ -194,7 +193,8 @@ impl RayPacket {
                 TINY
             }
         };
-        let (dx, dy) = (direction(ray.dir.x, self.negative_x), direction(ray.dir.y, self.negative_y));
+        let (dx, dy) =
+            (direction(ray.dir.x, self.negative_x), direction(ray.dir.y, self.negative_y));
         let margin = self.margin_xy as f64;
         let (inv_x, inv_y) = (1.0 / dx, 1.0 / dy);
         // Moving the origin forwards by the margin moves the near boundary back, and the far
