@@ -208,7 +208,7 @@ def main():
         print(" | ".join([
             f"{x['size']}", x["view"], x["tracer"], f"{x['hit_pct']:.1f}",
             f"{x['embree_build_s']:.2f} / {x['relief_build_s']:.3f}",
-            f"{x['embree_build_s'] / x['relief_build_s']:.0f}x" if x["relief_build_s"] > 0 else "-",
+            f"{x['embree_build_s'] / x['relief_build_s']:.0f}x" if x["relief_build_s"] >= 1e-4 else "none",
             f"{x['embree_primary']:.2f} / {x['relief_primary']:.2f}", f"{x['relief_primary'] / x['embree_primary']:.2f}x",
             f"{x['embree_shadow']:.2f} / {x['relief_shadow']:.2f}", f"{x['relief_shadow'] / x['embree_shadow']:.2f}x",
             f"{x['embree_peak_mib']:.0f} / {x['relief_render_peak_mib']:.0f}",

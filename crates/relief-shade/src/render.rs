@@ -62,7 +62,7 @@ pub fn render_gbuffer_into(
             gbuffer.width, gbuffer.height
         )));
     }
-    let pixel = PixelTracer {
+    let pixel = HitEncoder {
         uv: UvMap::new(bounds),
         footprint_per_distance: 2.0 * (camera.fov_deg().to_radians() / 2.0).tan() / height as f64,
     };
@@ -137,13 +137,13 @@ impl TileRays {
 }
 
 /// Everything needed to turn one pixel's hit into a G-buffer pixel.
-struct PixelTracer {
+struct HitEncoder {
     uv: UvMap,
     /// Pixel width at unit distance: `2 tan(fov / 2) / H`.
     footprint_per_distance: f64,
 }
 
-impl PixelTracer {
+impl HitEncoder {
     /// The G-buffer pixel of a camera ray's hit (or miss).
     #[inline]
     fn g_buffer_pixel(&self, hit: Option<Hit>) -> GBufferPixel {

@@ -5,7 +5,9 @@
 //! [`relief_core::HeightField`], all exact and agreeing with each other to rounding:
 //!
 //! - [`NaiveTracer`]: cell-by-cell traversal (Amanatides-Woo), the reference;
-//! - [`MipmapTracer`]: max-mipmap quadtree traversal (Dick et al. 2009, section 3.2);
+//! - [`MipmapTracer`]: max-mipmap quadtree traversal (Dick et al. 2009, section 3.2), and for
+//!   batches of rays ([`Tracer::intersect_batch`]) coherent packets of up to 64 rays walking
+//!   the pyramid together with SIMD node tests ([`Simd`]);
 //! - [`SafetyTracer`]: marching with precomputed safety shapes, for static terrain and the
 //!   `triangles` surface (Baboud et al. 2011; see [`safety`]).
 //!
