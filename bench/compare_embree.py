@@ -87,6 +87,12 @@ def solid_triangles(h):
     return vertices, np.concatenate(tris).astype(np.uint32)
 
 
+def ratio(a, b):
+    """a / b as a factor: two decimals below 10, none above."""
+    r = a / b
+    return f"{r:.2f}x" if r < 10 else f"{r:.0f}x"
+
+
 def camera_rays(cam):
     """DESIGN.md's pinhole camera: unit directions of every pixel, row 0 the top row."""
     eye, target, up = (np.array(cam[k], dtype=np.float64) for k in ("eye", "target", "up"))
@@ -208,7 +214,7 @@ def main():
         print(" | ".join([
             f"{x['size']}", x["view"], x["tracer"], f"{x['hit_pct']:.1f}",
             f"{x['embree_build_s']:.2f} / {x['relief_build_s']:.3f}",
-            f"{x['embree_build_s'] / x['relief_build_s']:.0f}x" if x["relief_build_s"] >= 1e-4 else "none",
+            ratio(x["embree_build_s"], x["relief_build_s"]) if x["relief_build_s"] >= 1e-4 else "none",
             f"{x['embree_primary']:.2f} / {x['relief_primary']:.2f}", f"{x['relief_primary'] / x['embree_primary']:.2f}x",
             f"{x['embree_shadow']:.2f} / {x['relief_shadow']:.2f}", f"{x['relief_shadow'] / x['embree_shadow']:.2f}x",
             f"{x['embree_peak_mib']:.0f} / {x['relief_render_peak_mib']:.0f}",
