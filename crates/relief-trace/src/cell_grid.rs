@@ -174,13 +174,29 @@ impl CellGrid {
         samples.get(cx + cy * self.samples_width)
     }
 
-    /// The heights at the four corners of `triangles` cell (cx, cy): lower left, lower right,
-    /// upper left, upper right.
+    /// The corner heights (lower left, lower right, upper left, upper right; the texel's
+    /// height four times for boxes) of the four cells of level-1 node (x, y): cell
+    /// (2x + i, 2y + j) at `i + 2 j`. A cell outside the grid or over a hole has corners at
+    /// minus infinity.
     #[inline(always)]
-    pub(crate) fn corners(&self, samples: &[f32], cx: usize, cy: usize) -> [f32; 4] {
+    pub(crate) fn quad_corners(&self, samples: &[f32], x: usize, y: usize) -> [[f32; 4]; 4] {
         let w = self.samples_width;
-        let i = cx + cy * w;
-        [samples[i], samples[i + 1], samples[i + w], samples[i + w + 1]]
+        let at = |c: usize, r: usize| samples[c + r * w];
+        let (c0, r0) = (2 * x, 2 * y);
+        let mut quad = [[f32::NEG_INFINITY; 4]; 4];
+        for (k, corners) in quad.iter_mut().enumerate() {
+            let (cx, cy) = (c0 + (k & 1), r0 + (k >> 1));
+            if cx >= self.cells_x || cy >= self.cells_y || self.is_empty_cell(cx, cy) {
+                continue;
+            }
+            *corners = match self.surface {
+                Surface::Boxes => [at(cx, cy); 4],
+                Surface::Triangles => {
+                    [at(cx, cy), at(cx + 1, cy), at(cx, cy + 1), at(cx + 1, cy + 1)]
+                }
+            };
+        }
+        quad
     }
 
     /// Maps a world ray into cell space (same parameter `t`).

@@ -229,11 +229,6 @@ impl RayPacket {
         }
     }
 
-    /// The number of [`LANES`]-ray groups holding rays.
-    pub fn groups(&self) -> usize {
-        self.len.div_ceil(LANES)
-    }
-
     /// The slack of a plane test over a cell whose corner heights sum in magnitude to
     /// `corner_magnitude`: the plane's slopes times the boundary margin, plus the rounding of
     /// its heights.

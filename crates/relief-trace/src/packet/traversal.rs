@@ -134,16 +134,33 @@ pub(crate) fn trace<K: Kernel>(terrain: &Terrain, walks: &mut [Traversal]) {
 #[inline(always)]
 fn test_children<K: Kernel>(p: &mut RayPacket, quad: &Quad, rays: u64) -> [u64; 4] {
     let mut open = [0u64; 4];
-    for g in 0..p.groups() {
+    for g in groups(rays) {
         let active = (rays >> (g * LANES)) as u8;
-        if active != 0 {
-            let passed = K::children(p, g, quad, active);
-            for c in 0..4 {
-                open[c] |= (passed[c] as u64) << (g * LANES);
-            }
+        let passed = K::children(p, g, quad, active);
+        for c in 0..4 {
+            open[c] |= (passed[c] as u64) << (g * LANES);
         }
     }
     open
+}
+
+/// The groups of [`LANES`] rays that hold at least one ray of `rays`, in order.
+#[inline(always)]
+fn groups(rays: u64) -> impl Iterator<Item = usize> {
+    // Fold each byte onto its lowest bit, then gather those eight bits into one byte: bit
+    // 8g times bit 7(8 - g) of the constant lands on bit 56 + g, and no two products meet.
+    let mut folded = rays | (rays >> 4);
+    folded |= folded >> 2;
+    folded |= folded >> 1;
+    let mut mask =
+        ((folded & 0x0101_0101_0101_0101).wrapping_mul(0x0102_0408_1020_4080) >> 56) as u32;
+    std::iter::from_fn(move || {
+        (mask != 0).then(|| {
+            let g = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            g
+        })
+    })
 }
 
 /// The walk's constants: the terrain and the packet's mirroring.
@@ -212,13 +229,10 @@ impl Walk<'_> {
         hits: &mut [CellHit; PACKET_RAYS],
     ) {
         let Terrain { grid, samples, .. } = *self.terrain;
-        let top = ORDER.map(|(i, j)| {
-            let (cx, cy) = (2 * x + (i ^ self.flip_x), 2 * y + (j ^ self.flip_y));
-            if cx < grid.cells_x() && cy < grid.cells_y() {
-                grid.cell_max(samples, cx, cy)
-            } else {
-                f32::NEG_INFINITY
-            }
+        let corners = grid.quad_corners(samples, x, y);
+        let top = ORDER_INDEX.map(|c| {
+            let [a, b, c, d] = corners[c ^ self.flip()];
+            a.max(b).max(c).max(d)
         });
         let quad = self.quad(0, x, y, top);
         let open = test_children::<K>(p, &quad, rays);
@@ -237,7 +251,7 @@ impl Walk<'_> {
                         near_y: quad.y[j],
                         far_y: quad.y[j + 1],
                     };
-                    below_planes::<K>(p, grid.corners(samples, cx, cy), (cx, cy), &cell, rays)
+                    below_planes::<K>(p, corners[c ^ self.flip()], (cx, cy), &cell, rays)
                 }
             };
             self.exact(p, cx, cy, candidates, done, hits);
@@ -283,12 +297,10 @@ fn below_planes<K: Kernel>(
     let slack = [p.plane_slack(&planes[0], magnitude), p.plane_slack(&planes[1], magnitude)];
     let corner = (cx as f32, cy as f32);
     let mut passed = 0;
-    for g in 0..p.groups() {
+    for g in groups(rays) {
         let active = (rays >> (g * LANES)) as u8;
-        if active != 0 {
-            let m = K::below_planes(p, g, cell, corner, &planes, slack, active);
-            passed |= (m as u64) << (g * LANES);
-        }
+        let m = K::below_planes(p, g, cell, corner, &planes, slack, active);
+        passed |= (m as u64) << (g * LANES);
     }
     passed
 }
@@ -318,4 +330,17 @@ fn prefetch<T>(value: &T) {
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = value;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn groups_are_the_bytes_holding_rays() {
+        for rays in [0u64, 1, 0x80, 0x100, u64::MAX, 0x8000_0000_0000_0000, 0x00ff_0000_0100_0001] {
+            let want: Vec<usize> = (0..8).filter(|g| (rays >> (8 * g)) & 0xff != 0).collect();
+            assert_eq!(groups(rays).collect::<Vec<_>>(), want, "{rays:#x}");
+        }
+    }
 }
