@@ -235,27 +235,13 @@ impl CellGrid {
         if self.is_empty() {
             return None;
         }
-        let (mut t_enter, mut t_exit) = (cell_ray.t_min, cell_ray.t_max);
-        let mut face = BoxFace::Inside;
-        for (axis, axis_face) in [BoxFace::X, BoxFace::Y, BoxFace::Z].into_iter().enumerate() {
-            let (o, d) = (cell_ray.origin[axis], cell_ray.dir[axis]);
-            let (lo, hi) = (self.bounds.min[axis], self.bounds.max[axis]);
-            if d == 0.0 {
-                if o < lo || o > hi {
-                    return None;
-                }
-                continue;
-            }
-            let inv = cell_ray.inv_dir[axis];
-            let (a, b) = ((lo - o) * inv, (hi - o) * inv);
-            let (near, far) = if a > b { (b, a) } else { (a, b) };
-            if near > t_enter {
-                t_enter = near;
-                face = axis_face;
-            }
-            t_exit = t_exit.min(far);
-        }
-        (t_enter <= t_exit).then_some(Clip { t_enter, t_exit, face })
+        let mut clip =
+            Clip { t_enter: cell_ray.t_min, t_exit: cell_ray.t_max, face: BoxFace::Inside };
+        let (ray, (lo, hi)) = (cell_ray, (self.bounds.min, self.bounds.max));
+        clip_slab(&mut clip, ray.origin.x, ray.dir.x, ray.inv_dir.x, lo.x, hi.x, BoxFace::X)?;
+        clip_slab(&mut clip, ray.origin.y, ray.dir.y, ray.inv_dir.y, lo.y, hi.y, BoxFace::Y)?;
+        clip_slab(&mut clip, ray.origin.z, ray.dir.z, ray.inv_dir.z, lo.z, hi.z, BoxFace::Z)?;
+        (clip.t_enter <= clip.t_exit).then_some(clip)
     }
 
     /// The cell containing the ray's point at `t` (half-open cells, clamped into the grid).
@@ -420,6 +406,32 @@ impl CellGrid {
             _ => back(cy, ray.dir.y, self.cells_y).is_none_or(|by| self.is_empty_cell(cx, by)),
         }
     }
+}
+
+/// Narrows `clip` to the slab `[lo, hi]` along one axis of a ray with origin `o`, direction
+/// `d` and reciprocal `inv` there, entering through `face`; `None` when a ray parallel to the
+/// slab lies outside it.
+#[inline(always)]
+fn clip_slab(
+    clip: &mut Clip,
+    o: f64,
+    d: f64,
+    inv: f64,
+    lo: f64,
+    hi: f64,
+    face: BoxFace,
+) -> Option<()> {
+    if d == 0.0 {
+        return (!(o < lo || o > hi)).then_some(());
+    }
+    let (a, b) = ((lo - o) * inv, (hi - o) * inv);
+    let (near, far) = if a > b { (b, a) } else { (a, b) };
+    if near > clip.t_enter {
+        clip.t_enter = near;
+        clip.face = face;
+    }
+    clip.t_exit = clip.t_exit.min(far);
+    Some(())
 }
 
 /// Exact test of a flat-topped column of height `top` over a segment.
