@@ -9,7 +9,8 @@ use crate::sky::validate_fog_density;
 use crate::tonemap::srgb8_pixel;
 use crate::{
     aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, shadow_ray,
-    Albedo, GBuffer, GgxSpecular, HypsometricRamp, ShadeError, Sky, Sun, TraceStats, TILE_SIZE,
+    Albedo, GBuffer, GgxSpecular, HypsometricRamp, RayBatch, ShadeError, Sky, Sun, TraceStats,
+    TILE_SIZE,
 };
 
 /// Everything the deferred pass needs besides the G-buffer: lights, materials, atmosphere.
@@ -154,9 +155,9 @@ fn shade_with<T: Copy + Default + Send>(
                     (tile_x..(tile_x + TILE_SIZE).min(width)).map(move |i| (i, s * TILE_SIZE + r))
                 });
                 tile.trace(&pass, pixels.clone(), &mut stats);
-                for (n, (i, j)) in pixels.enumerate() {
-                    let visibility = tile.visibility[n];
-                    strip[i + (j - s * TILE_SIZE) * width] = store(pass.pixel(i, j, visibility));
+                for (((i, j), view), &visibility) in pixels.zip(&tile.views).zip(&tile.visibility) {
+                    strip[i + (j - s * TILE_SIZE) * width] =
+                        store(pass.radiance(i, j, view, visibility));
                 }
             }
             stats
@@ -165,51 +166,59 @@ fn shade_with<T: Copy + Default + Send>(
     Ok((radiance, stats))
 }
 
-/// The shadow rays of one tile, traced as one batch.
+/// The pixels of one tile, seen and lit, with their shadow rays traced as one batch.
 #[derive(Default)]
 struct ShadowTile {
-    rays: Vec<Ray>,
-    /// Which pixel of the tile each ray belongs to.
+    /// What each pixel sees.
+    views: Vec<View>,
+    /// The shadow rays of the pixels that need one.
+    batch: RayBatch,
+    /// Which pixel of the tile each shadow ray belongs to.
     owners: Vec<usize>,
-    occluded: Vec<bool>,
-    steps: Vec<u32>,
     /// The sun's visibility per pixel of the tile (0 for pixels that face away or miss).
     visibility: Vec<f64>,
 }
 
 impl ShadowTile {
-    /// Traces the shadow rays of `pixels` that need one and records every pixel's visibility.
+    /// Looks up what `pixels` see, traces the shadow rays of those that need one and records
+    /// every pixel's visibility.
     fn trace(
         &mut self,
         pass: &ShadingPass,
         pixels: impl Iterator<Item = (usize, usize)>,
         stats: &mut TraceStats,
     ) {
-        self.rays.clear();
+        self.views.clear();
+        self.batch.clear();
         self.owners.clear();
         self.visibility.clear();
         for (n, (i, j)) in pixels.enumerate() {
-            let visibility = match pass.lighting(i, j) {
+            let view = pass.view(i, j);
+            let visibility = match pass.lighting(&view) {
                 Lighting::Unlit => 0.0,
                 Lighting::Lit => 1.0,
                 Lighting::Shadowed(ray) => {
-                    self.rays.push(ray);
+                    self.batch.rays.push(ray);
                     self.owners.push(n);
                     0.0
                 }
             };
+            self.views.push(view);
             self.visibility.push(visibility);
         }
-        self.occluded.clear();
-        self.occluded.resize(self.rays.len(), false);
-        self.steps.clear();
-        self.steps.resize(self.rays.len(), 0);
-        pass.tracer.occluded_batch(&self.rays, &mut self.occluded, &mut self.steps);
-        for ((&n, &occluded), &steps) in self.owners.iter().zip(&self.occluded).zip(&self.steps) {
+        self.batch.occlude(pass.tracer);
+        let traced = self.owners.iter().zip(&self.batch.occluded).zip(&self.batch.steps);
+        for ((&n, &occluded), &steps) in traced {
             stats.record(steps, occluded);
             self.visibility[n] = if occluded { 0.0 } else { 1.0 };
         }
     }
+}
+
+/// What a pixel sees: its view ray and, on a hit, the distance, position and unit normal.
+struct View {
+    ray: Ray,
+    hit: Option<(f64, DVec3, DVec3)>,
 }
 
 /// How the sun reaches a pixel, before shadows are traced.
@@ -233,26 +242,26 @@ struct ShadingPass<'a> {
 }
 
 impl ShadingPass<'_> {
-    /// The hit of pixel (i, j): its view ray, distance, position and unit normal, or `None`
-    /// for a miss (with the view ray).
+    /// What pixel (i, j) sees.
     #[inline]
-    fn hit(&self, i: usize, j: usize) -> (Ray, Option<(f64, DVec3, DVec3)>) {
+    fn view(&self, i: usize, j: usize) -> View {
         let g = self.gbuffer;
         let k = i + j * g.width;
         // (i, j) lies inside the camera's u32 image.
         let ray = self.camera.ray(i as u32, j as u32);
         let distance = g.distance[k] as f64;
         if !distance.is_finite() {
-            return (ray, None);
+            return View { ray, hit: None };
         }
         let normal = DVec3::from(g.normal[k].map(f64::from)).normalize_or_zero();
-        (ray, Some((distance, ray.at(distance), normal)))
+        View { ray, hit: Some((distance, ray.at(distance), normal)) }
     }
 
-    /// How the sun reaches pixel (i, j): whether it needs a shadow ray (see [`shadow_ray`]).
-    fn lighting(&self, i: usize, j: usize) -> Lighting {
+    /// How the sun reaches what `view` sees: whether it needs a shadow ray (see
+    /// [`shadow_ray`]).
+    fn lighting(&self, view: &View) -> Lighting {
         let p = self.params;
-        let (_, Some((distance, position, normal))) = self.hit(i, j) else {
+        let Some((distance, position, normal)) = view.hit else {
             return Lighting::Unlit;
         };
         let lit = p.sun.is_up() && p.sun.irradiance > 0.0 && normal.dot(self.to_sun) > 0.0;
@@ -263,13 +272,13 @@ impl ShadingPass<'_> {
         }
     }
 
-    /// Radiance of pixel (i, j), whose sun visibility is `visibility`.
+    /// Radiance of pixel (i, j), which sees `view` with sun visibility `visibility`.
     #[inline]
-    fn pixel(&self, i: usize, j: usize, visibility: f64) -> DVec3 {
+    fn radiance(&self, i: usize, j: usize, view: &View, visibility: f64) -> DVec3 {
         let (g, p) = (self.gbuffer, self.params);
-        let (ray, hit) = self.hit(i, j);
+        let ray = view.ray;
         let sky = p.sky.radiance(ray.dir);
-        let Some((distance, position, normal)) = hit else {
+        let Some((distance, position, normal)) = view.hit else {
             return sky;
         };
         let albedo = p.albedo.at(position, normal, g.uv[i + j * g.width]);

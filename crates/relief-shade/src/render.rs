@@ -1,10 +1,10 @@
 //! Primary visibility: traces a camera's rays through a tracer into a G-buffer, tile by tile.
 
 use rayon::prelude::*;
-use relief_core::{Aabb, Camera, DVec3, Ray};
+use relief_core::{Aabb, Camera, DVec3};
 use relief_trace::{Hit, Tracer};
 
-use crate::{GBuffer, GBufferPixel, ShadeError, TraceStats};
+use crate::{GBuffer, GBufferPixel, RayBatch, ShadeError, TraceStats};
 
 /// Side of the square image tiles traced as one unit of parallel work, in pixels.
 pub const TILE_SIZE: usize = 16;
@@ -81,21 +81,21 @@ pub fn render_gbuffer_into(
         .map(|(s, (((((distance, position), normal), material), uv), footprint))| {
             let mut stats = TraceStats::default();
             let rows = distance.len() / width;
-            let mut tile = TileRays::default();
+            let mut batch = RayBatch::default();
             for tile_x in (0..width).step_by(TILE_SIZE) {
                 let cols = tile_x..(tile_x + TILE_SIZE).min(width);
-                tile.clear();
+                batch.clear();
                 for r in 0..rows {
                     for i in cols.clone() {
                         // i < width and the row < height, which the camera holds as u32.
-                        tile.rays.push(camera.ray(i as u32, (s * TILE_SIZE + r) as u32));
-                        tile.pixels.push(i + r * width);
+                        batch.rays.push(camera.ray(i as u32, (s * TILE_SIZE + r) as u32));
                     }
                 }
-                tile.trace(tracer);
-                for (n, &k) in tile.pixels.iter().enumerate() {
-                    stats.record(tile.steps[n], tile.hits[n].is_some());
-                    let p = pixel.g_buffer_pixel(tile.hits[n]);
+                batch.intersect(tracer);
+                let pixels = (0..rows).flat_map(|r| cols.clone().map(move |i| i + r * width));
+                for ((k, &hit), &steps) in pixels.zip(&batch.hits).zip(&batch.steps) {
+                    stats.record(steps, hit.is_some());
+                    let p = pixel.g_buffer_pixel(hit);
                     distance[k] = p.distance;
                     position[k] = p.position;
                     normal[k] = p.normal;
@@ -109,31 +109,6 @@ pub fn render_gbuffer_into(
         })
         .reduce(TraceStats::default, TraceStats::merge);
     Ok(stats)
-}
-
-/// The rays of one tile, traced as one batch, and what came back.
-#[derive(Default)]
-struct TileRays {
-    rays: Vec<Ray>,
-    /// Index of each ray's pixel in the strip.
-    pixels: Vec<usize>,
-    hits: Vec<Option<Hit>>,
-    steps: Vec<u32>,
-}
-
-impl TileRays {
-    fn clear(&mut self) {
-        self.rays.clear();
-        self.pixels.clear();
-    }
-
-    fn trace(&mut self, tracer: &dyn Tracer) {
-        self.hits.clear();
-        self.hits.resize(self.rays.len(), None);
-        self.steps.clear();
-        self.steps.resize(self.rays.len(), 0);
-        tracer.intersect_batch(&self.rays, &mut self.hits, &mut self.steps);
-    }
 }
 
 /// Everything needed to turn one pixel's hit into a G-buffer pixel.

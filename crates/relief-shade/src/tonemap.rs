@@ -50,7 +50,12 @@ pub(crate) fn srgb8_curve(x: f32) -> f32 {
 
 /// One pixel of [`tonemap_to_srgb8`] (the exposure already checked).
 pub(crate) fn srgb8_pixel(radiance: [f32; 3], exposure: f32) -> [u8; 3] {
-    radiance.map(|channel| (srgb8_curve(channel * exposure) * 255.0).round() as u8)
+    radiance.map(|channel| to_byte(srgb8_curve(channel * exposure)))
+}
+
+/// A value in `[0, 1]` rounded to the nearest of 0..=255.
+fn to_byte(value: f32) -> u8 {
+    (value * 255.0).round() as u8
 }
 
 /// Every channel of `radiance` times `exposure` through `curve` (onto `[0, 1]`), rounded to
@@ -65,7 +70,7 @@ fn encode_rgb8(
     let mut out = vec![0u8; radiance.len() * 3];
     out.par_chunks_mut(3).zip(radiance.par_iter()).for_each(|(rgb, pixel)| {
         for (o, &channel) in rgb.iter_mut().zip(pixel) {
-            *o = (curve(channel * exposure) * 255.0).round() as u8;
+            *o = to_byte(curve(channel * exposure));
         }
     });
     Ok(out)

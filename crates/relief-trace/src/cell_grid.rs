@@ -75,8 +75,8 @@ pub struct CellGrid {
     geometry: GridGeometry,
     /// Cell space minus grid space: half a texel for triangles, none for boxes.
     shift: DVec3,
-    /// World to grid scale, `1 / (dx, dy, z_scale)`, as [`GridGeometry::ray_to_grid`] has it.
-    inv_scale: DVec3,
+    /// The geometry's [`GridGeometry::grid_scale`], computed once.
+    grid_scale: DVec3,
 }
 
 impl CellGrid {
@@ -110,7 +110,7 @@ impl CellGrid {
             empty_cells,
             geometry,
             shift,
-            inv_scale: DVec3::new(1.0 / geometry.dx, 1.0 / geometry.dy, 1.0 / geometry.z_scale),
+            grid_scale: geometry.grid_scale(),
         }
     }
 
@@ -149,16 +149,23 @@ impl CellGrid {
     /// four corners for triangles; minus infinity over a hole.
     #[inline]
     pub fn cell_max(&self, samples: &[f32], cx: usize, cy: usize) -> f32 {
+        let [a, b, c, d] = self.corners(samples, cx, cy);
+        a.max(b).max(c).max(d)
+    }
+
+    /// The heights at the corners of cell (cx, cy): lower left, lower right, upper left,
+    /// upper right for triangles, the texel's height four times for boxes; minus infinity
+    /// over a hole.
+    #[inline(always)]
+    fn corners(&self, samples: &[f32], cx: usize, cy: usize) -> [f32; 4] {
         if self.is_empty_cell(cx, cy) {
-            return f32::NEG_INFINITY;
+            return [f32::NEG_INFINITY; 4];
         }
         let w = self.samples_width;
         let i = cx + cy * w;
         match self.surface {
-            Surface::Boxes => samples[i],
-            Surface::Triangles => {
-                samples[i].max(samples[i + 1]).max(samples[i + w]).max(samples[i + w + 1])
-            }
+            Surface::Boxes => [samples[i]; 4],
+            Surface::Triangles => [samples[i], samples[i + 1], samples[i + w], samples[i + w + 1]],
         }
     }
 
@@ -174,44 +181,25 @@ impl CellGrid {
         samples.get(cx + cy * self.samples_width)
     }
 
-    /// The corner heights (lower left, lower right, upper left, upper right; the texel's
-    /// height four times for boxes) of the four cells of level-1 node (x, y): cell
-    /// (2x + i, 2y + j) at `i + 2 j`. A cell outside the grid or over a hole has corners at
-    /// minus infinity.
+    /// The [`CellGrid::corners`] of the four cells of level-1 node (x, y): cell
+    /// (2x + i, 2y + j) at `i + 2 j`; minus infinity for a cell outside the grid.
     #[inline(always)]
     pub(crate) fn quad_corners(&self, samples: &[f32], x: usize, y: usize) -> [[f32; 4]; 4] {
-        let w = self.samples_width;
-        let at = |c: usize, r: usize| samples[c + r * w];
-        let (c0, r0) = (2 * x, 2 * y);
-        let mut quad = [[f32::NEG_INFINITY; 4]; 4];
-        for (k, corners) in quad.iter_mut().enumerate() {
-            let (cx, cy) = (c0 + (k & 1), r0 + (k >> 1));
-            if cx >= self.cells_x || cy >= self.cells_y || self.is_empty_cell(cx, cy) {
-                continue;
+        [0, 1, 2, 3].map(|k| {
+            let (cx, cy) = (2 * x + (k & 1), 2 * y + (k >> 1));
+            if cx < self.cells_x && cy < self.cells_y {
+                self.corners(samples, cx, cy)
+            } else {
+                [f32::NEG_INFINITY; 4]
             }
-            *corners = match self.surface {
-                Surface::Boxes => [at(cx, cy); 4],
-                Surface::Triangles => {
-                    [at(cx, cy), at(cx + 1, cy), at(cx, cy + 1), at(cx + 1, cy + 1)]
-                }
-            };
-        }
-        quad
+        })
     }
 
     /// Maps a world ray into cell space (same parameter `t`).
     #[inline]
-    ///
-    /// The same numbers as [`GridGeometry::ray_to_grid`] less the cell shift, with the scale
-    /// computed once.
     pub fn to_cell_space(&self, world_ray: &Ray) -> CellRay {
-        let grid_origin = (world_ray.origin - self.geometry.origin.extend(0.0)) * self.inv_scale;
-        let ray = Ray {
-            origin: grid_origin - self.shift,
-            dir: world_ray.dir * self.inv_scale,
-            t_min: world_ray.t_min,
-            t_max: world_ray.t_max,
-        };
+        let grid_ray = self.geometry.ray_to_grid_scaled(world_ray, self.grid_scale);
+        let ray = Ray { origin: grid_ray.origin - self.shift, ..grid_ray };
         CellRay { ray, inv_dir: DVec3::ONE / ray.dir }
     }
 
@@ -227,21 +215,12 @@ impl CellGrid {
 
     /// Clips a cell-space ray to the solid's bounds; `None` if it misses them or the grid has
     /// no cells.
-    ///
-    /// The same slab test as [`Aabb::clip`], with the ray's reciprocal direction instead of
-    /// dividing again (the same numbers, so the same clip).
     #[inline]
     pub fn clip(&self, cell_ray: &CellRay) -> Option<Clip> {
         if self.is_empty() {
             return None;
         }
-        let mut clip =
-            Clip { t_enter: cell_ray.t_min, t_exit: cell_ray.t_max, face: BoxFace::Inside };
-        let (ray, (lo, hi)) = (cell_ray, (self.bounds.min, self.bounds.max));
-        clip_slab(&mut clip, ray.origin.x, ray.dir.x, ray.inv_dir.x, lo.x, hi.x, BoxFace::X)?;
-        clip_slab(&mut clip, ray.origin.y, ray.dir.y, ray.inv_dir.y, lo.y, hi.y, BoxFace::Y)?;
-        clip_slab(&mut clip, ray.origin.z, ray.dir.z, ray.inv_dir.z, lo.z, hi.z, BoxFace::Z)?;
-        (clip.t_enter <= clip.t_exit).then_some(clip)
+        self.bounds.clip_with_inverse(cell_ray, cell_ray.inv_dir)
     }
 
     /// The cell containing the ray's point at `t` (half-open cells, clamped into the grid).
@@ -406,32 +385,6 @@ impl CellGrid {
             _ => back(cy, ray.dir.y, self.cells_y).is_none_or(|by| self.is_empty_cell(cx, by)),
         }
     }
-}
-
-/// Narrows `clip` to the slab `[lo, hi]` along one axis of a ray with origin `o`, direction
-/// `d` and reciprocal `inv` there, entering through `face`; `None` when a ray parallel to the
-/// slab lies outside it.
-#[inline(always)]
-fn clip_slab(
-    clip: &mut Clip,
-    o: f64,
-    d: f64,
-    inv: f64,
-    lo: f64,
-    hi: f64,
-    face: BoxFace,
-) -> Option<()> {
-    if d == 0.0 {
-        return (!(o < lo || o > hi)).then_some(());
-    }
-    let (a, b) = ((lo - o) * inv, (hi - o) * inv);
-    let (near, far) = if a > b { (b, a) } else { (a, b) };
-    if near > clip.t_enter {
-        clip.t_enter = near;
-        clip.face = face;
-    }
-    clip.t_exit = clip.t_exit.min(far);
-    Some(())
 }
 
 /// Exact test of a flat-topped column of height `top` over a segment.

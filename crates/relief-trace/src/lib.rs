@@ -49,7 +49,7 @@ mod mlhm_smooth_tracer;
 mod mlhm_tracer;
 mod mlhm_walk;
 mod naive_tracer;
-pub mod packet;
+mod packet;
 pub mod safety;
 mod tracer;
 

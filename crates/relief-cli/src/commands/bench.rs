@@ -12,7 +12,7 @@ use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec3, HeightField, Surface};
 use relief_shade::{
-    render_gbuffer_into, shadow_ray, sun_direction, GBuffer, TraceStats, TILE_SIZE,
+    render_gbuffer_into, shadow_ray, sun_direction, GBuffer, RayBatch, TraceStats, TILE_SIZE,
 };
 use relief_trace::{Hit, Simd, Tracer};
 use std::io::Write;
@@ -329,10 +329,10 @@ fn shadow_rays(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer, sun: DVe
         .into_par_iter()
         .map(|strip| {
             let mut stats = TraceStats::default();
-            let (mut rays, mut occluded, mut steps) = (Vec::new(), Vec::new(), Vec::new());
+            let mut batch = RayBatch::default();
             let rows = strip * TILE_SIZE..((strip + 1) * TILE_SIZE).min(height);
             for tile_x in (0..width).step_by(TILE_SIZE) {
-                rays.clear();
+                batch.clear();
                 for j in rows.clone() {
                     for i in tile_x..(tile_x + TILE_SIZE).min(width) {
                         let k = i + j * width;
@@ -340,16 +340,12 @@ fn shadow_rays(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer, sun: DVe
                         if distance.is_finite() {
                             let position = camera.ray(i as u32, j as u32).at(distance);
                             let normal = DVec3::from_array(gbuffer.normal[k].map(f64::from));
-                            rays.push(shadow_ray(position, normal, distance, sun));
+                            batch.rays.push(shadow_ray(position, normal, distance, sun));
                         }
                     }
                 }
-                occluded.clear();
-                occluded.resize(rays.len(), false);
-                steps.clear();
-                steps.resize(rays.len(), 0);
-                tracer.occluded_batch(&rays, &mut occluded, &mut steps);
-                for (&s, &o) in steps.iter().zip(&occluded) {
+                batch.occlude(tracer);
+                for (&s, &o) in batch.steps.iter().zip(&batch.occluded) {
                     stats.record(s, o);
                 }
             }

@@ -12,7 +12,7 @@
 mod avx2;
 mod kernel;
 mod ray_packet;
-pub mod traversal;
+mod traversal;
 
 use crate::cell_grid::CellGrid;
 use crate::MaxMipmap;
@@ -157,7 +157,8 @@ impl PacketTracing<'_> {
         }
     }
 
-    /// Traces up to [`INTERLEAVED`] waiting packets together, reports their rays and frees them.
+    /// Traces up to [`INTERLEAVED`] waiting packets together, reports their rays and frees them
+    /// (a packet is cleared when it is next taken).
     fn flush(
         &self,
         scratch: &mut Scratch,
@@ -185,7 +186,6 @@ impl PacketTracing<'_> {
             Simd::Avx2 => unsafe { trace_avx2(&terrain, &mut walks) },
             _ => traversal::trace::<Portable>(&terrain, &mut walks),
         }
-        let cells = self.grid.cells_x() + self.grid.cells_y();
         for walk in walks {
             let p = walk.packet;
             for k in 0..p.len {
@@ -195,7 +195,6 @@ impl PacketTracing<'_> {
                     found(source, t, normal);
                 }
             }
-            p.clear(p.negative_x, p.negative_y, cells);
         }
         scratch.free.extend(slots);
     }

@@ -99,7 +99,8 @@ pub(crate) struct RayPacket {
     pub dz: Lanes,
     /// Origin z less the height margin.
     pub z_low: Lanes,
-    /// Where the ray leaves the box (rounded up); negative for an unused lane.
+    /// Where the ray leaves the box (rounded up). Lanes past `len` hold stale values: every
+    /// test masks them out.
     pub t_end: Lanes,
     /// Node tests per ray.
     pub steps: StepLanes,
@@ -145,7 +146,7 @@ impl RayPacket {
             dy: zero,
             dz: zero,
             z_low: zero,
-            t_end: Lanes([-1.0; PACKET_RAYS]),
+            t_end: zero,
             steps: StepLanes([0; PACKET_RAYS]),
             margin_xy: 0.0,
             rays: [ray; PACKET_RAYS],
@@ -160,7 +161,6 @@ impl RayPacket {
     /// Empties the packet for rays of the given signs over a grid of `cells` cells along x
     /// plus y.
     pub fn clear(&mut self, negative_x: bool, negative_y: bool, cells: usize) {
-        self.t_end.0[..self.len].fill(-1.0);
         self.steps.0[..self.len].fill(0);
         self.len = 0;
         self.negative_x = negative_x;
