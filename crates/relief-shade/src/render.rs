@@ -92,16 +92,19 @@ pub fn render_gbuffer_into(
                     }
                 }
                 batch.intersect(tracer);
-                let pixels = (0..rows).flat_map(|r| cols.clone().map(move |i| i + r * width));
-                for ((k, &hit), &steps) in pixels.zip(&batch.hits).zip(&batch.steps) {
-                    stats.record(steps, hit.is_some());
-                    let p = pixel.g_buffer_pixel(hit);
-                    distance[k] = p.distance;
-                    position[k] = p.position;
-                    normal[k] = p.normal;
-                    material[k] = p.material;
-                    uv[k] = p.uv;
-                    footprint[k] = p.footprint;
+                let mut traced = batch.hits.iter().zip(&batch.steps);
+                for r in 0..rows {
+                    for k in cols.clone().map(|i| i + r * width) {
+                        let (&hit, &steps) = traced.next().expect("a hit per ray of the tile");
+                        stats.record(steps, hit.is_some());
+                        let p = pixel.g_buffer_pixel(hit);
+                        distance[k] = p.distance;
+                        position[k] = p.position;
+                        normal[k] = p.normal;
+                        material[k] = p.material;
+                        uv[k] = p.uv;
+                        footprint[k] = p.footprint;
+                    }
                 }
                 progress((cols.len() * rows) as u64);
             }

@@ -185,14 +185,14 @@ impl CellGrid {
     /// (2x + i, 2y + j) at `i + 2 j`; minus infinity for a cell outside the grid.
     #[inline(always)]
     pub(crate) fn quad_corners(&self, samples: &[f32], x: usize, y: usize) -> [[f32; 4]; 4] {
-        [0, 1, 2, 3].map(|k| {
+        let mut quad = [[f32::NEG_INFINITY; 4]; 4];
+        for (k, corners) in quad.iter_mut().enumerate() {
             let (cx, cy) = (2 * x + (k & 1), 2 * y + (k >> 1));
             if cx < self.cells_x && cy < self.cells_y {
-                self.corners(samples, cx, cy)
-            } else {
-                [f32::NEG_INFINITY; 4]
+                *corners = self.corners(samples, cx, cy);
             }
-        })
+        }
+        quad
     }
 
     /// Maps a world ray into cell space (same parameter `t`).
