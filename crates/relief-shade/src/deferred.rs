@@ -9,8 +9,8 @@ use crate::sky::validate_fog_density;
 use crate::tonemap::srgb8_pixel;
 use crate::{
     aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, shadow_ray,
-    Albedo, GBuffer, GgxSpecular, HypsometricRamp, RayBatch, ShadeError, Sky, Sun, TraceStats,
-    TILE_SIZE,
+    tile_pixels, Albedo, GBuffer, GgxSpecular, HypsometricRamp, RayBatch, ShadeError, Sky, Sun,
+    TraceStats, TILE_SIZE,
 };
 
 /// Everything the deferred pass needs besides the G-buffer: lights, materials, atmosphere.
@@ -151,9 +151,7 @@ fn shade_with<T: Copy + Default + Send>(
             let mut tile = ShadowTile::default();
             let rows = strip.len() / width;
             for tile_x in (0..width).step_by(TILE_SIZE) {
-                let pixels = (0..rows).flat_map(|r| {
-                    (tile_x..(tile_x + TILE_SIZE).min(width)).map(move |i| (i, s * TILE_SIZE + r))
-                });
+                let pixels = tile_pixels(tile_x, s * TILE_SIZE, width, s * TILE_SIZE + rows);
                 tile.trace(&pass, pixels.clone(), &mut stats);
                 for (((i, j), view), &visibility) in pixels.zip(&tile.views).zip(&tile.visibility) {
                     strip[i + (j - s * TILE_SIZE) * width] =

@@ -9,6 +9,39 @@ use crate::{GBuffer, GBufferPixel, RayBatch, ShadeError, TraceStats};
 /// Side of the square image tiles traced as one unit of parallel work, in pixels.
 pub const TILE_SIZE: usize = 16;
 
+/// The pixels `(column, row)` of the tile whose top left pixel is `(tile_x, tile_y)`, clipped
+/// to a `width x height` image, in Morton order: every run of 8 is a 4x2 block and every run
+/// of 64 an 8x8 block, so the rays a tracer takes together in a batch's order stay close.
+pub fn tile_pixels(
+    tile_x: usize,
+    tile_y: usize,
+    width: usize,
+    height: usize,
+) -> impl Iterator<Item = (usize, usize)> + Clone {
+    MORTON
+        .iter()
+        .map(move |&(i, j)| (tile_x + i as usize, tile_y + j as usize))
+        .filter(move |&(i, j)| i < width && j < height)
+}
+
+/// The offsets within a tile in Morton order: the even bits of the index give the column, the
+/// odd bits the row.
+const MORTON: [(u8, u8); TILE_SIZE * TILE_SIZE] = {
+    let mut order = [(0, 0); TILE_SIZE * TILE_SIZE];
+    let mut k = 0;
+    while k < order.len() {
+        let (mut i, mut j, mut b) = (0, 0, 0);
+        while b < 4 {
+            i |= ((k >> (2 * b)) & 1) << b;
+            j |= ((k >> (2 * b + 1)) & 1) << b;
+            b += 1;
+        }
+        order[k] = (i as u8, j as u8);
+        k += 1;
+    }
+    order
+};
+
 /// Traces the ray of every pixel of `camera` with `tracer` into a G-buffer.
 ///
 /// `bounds` is the terrain's world bounds (`HeightField::world_bounds` of the traced surface):
@@ -82,31 +115,25 @@ pub fn render_gbuffer_into(
             let mut stats = TraceStats::default();
             let rows = distance.len() / width;
             let mut batch = RayBatch::default();
+            let top = s * TILE_SIZE;
             for tile_x in (0..width).step_by(TILE_SIZE) {
-                let cols = tile_x..(tile_x + TILE_SIZE).min(width);
+                let pixels = tile_pixels(tile_x, top, width, top + rows);
                 batch.clear();
-                for r in 0..rows {
-                    for i in cols.clone() {
-                        // i < width and the row < height, which the camera holds as u32.
-                        batch.rays.push(camera.ray(i as u32, (s * TILE_SIZE + r) as u32));
-                    }
-                }
+                // Pixels lie in the image, whose size the camera holds as u32.
+                batch.rays.extend(pixels.clone().map(|(i, j)| camera.ray(i as u32, j as u32)));
                 batch.intersect(tracer);
-                let mut traced = batch.hits.iter().zip(&batch.steps);
-                for r in 0..rows {
-                    for k in cols.clone().map(|i| i + r * width) {
-                        let (&hit, &steps) = traced.next().expect("a hit per ray of the tile");
-                        stats.record(steps, hit.is_some());
-                        let p = pixel.g_buffer_pixel(hit);
-                        distance[k] = p.distance;
-                        position[k] = p.position;
-                        normal[k] = p.normal;
-                        material[k] = p.material;
-                        uv[k] = p.uv;
-                        footprint[k] = p.footprint;
-                    }
+                for ((i, j), (&hit, &steps)) in pixels.zip(batch.hits.iter().zip(&batch.steps)) {
+                    let k = i + (j - top) * width;
+                    stats.record(steps, hit.is_some());
+                    let p = pixel.g_buffer_pixel(hit);
+                    distance[k] = p.distance;
+                    position[k] = p.position;
+                    normal[k] = p.normal;
+                    material[k] = p.material;
+                    uv[k] = p.uv;
+                    footprint[k] = p.footprint;
                 }
-                progress((cols.len() * rows) as u64);
+                progress(batch.rays.len() as u64);
             }
             stats
         })
