@@ -185,6 +185,26 @@ impl CellGrid {
     /// (2x + i, 2y + j) at `i + 2 j`; minus infinity for a cell outside the grid.
     #[inline(always)]
     pub(crate) fn quad_corners(&self, samples: &[f32], x: usize, y: usize) -> [[f32; 4]; 4] {
+        let (cx, cy) = (2 * x, 2 * y);
+        if self.surface == Surface::Triangles
+            && self.empty_cells.is_none()
+            && cx + 2 <= self.cells_x
+            && cy + 2 <= self.cells_y
+        {
+            // All four cells inside and solid: their corners are a 3x3 block of samples.
+            let w = self.samples_width;
+            let row = |j: usize| -> [f32; 3] {
+                let start = cx + (cy + j) * w;
+                samples[start..start + 3].try_into().expect("three samples")
+            };
+            let [r0, r1, r2] = [row(0), row(1), row(2)];
+            return [
+                [r0[0], r0[1], r1[0], r1[1]],
+                [r0[1], r0[2], r1[1], r1[2]],
+                [r1[0], r1[1], r2[0], r2[1]],
+                [r1[1], r1[2], r2[1], r2[2]],
+            ];
+        }
         let mut quad = [[f32::NEG_INFINITY; 4]; 4];
         for (k, corners) in quad.iter_mut().enumerate() {
             let (cx, cy) = (2 * x + (k & 1), 2 * y + (k >> 1));
