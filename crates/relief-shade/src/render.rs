@@ -206,4 +206,25 @@ mod tests {
         let flat = UvMap::new(&Aabb::new(DVec3::ZERO, DVec3::new(0.0, 1.0, 0.0)));
         assert_eq!(flat.at(DVec3::new(0.0, 0.5, 0.0)), [0.5, 0.5]);
     }
+
+    #[test]
+    fn tile_pixels_cover_the_clipped_tile_once_in_morton_blocks() {
+        let all: Vec<_> = tile_pixels(32, 16, 100, 100).collect();
+        assert_eq!(all.len(), TILE_SIZE * TILE_SIZE);
+        // Eight in a row form a 4x2 block, 64 an 8x8 block.
+        for (run, block) in [(8, (4, 2)), (64, (8, 8))] {
+            for chunk in all.chunks(run) {
+                let (i0, j0) = chunk[0];
+                assert!(chunk.iter().all(|&(i, j)| i - i0 < block.0 && j - j0 < block.1));
+            }
+        }
+        // A tile at the image's corner keeps only its pixels inside the image, each once.
+        let clipped: Vec<_> = tile_pixels(16, 32, 21, 35).collect();
+        let mut sorted = clipped.clone();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(sorted.len(), clipped.len());
+        assert_eq!(clipped.len(), 5 * 3);
+        assert!(clipped.iter().all(|&(i, j)| (16..21).contains(&i) && (32..35).contains(&j)));
+    }
 }
