@@ -25,7 +25,7 @@ pub fn tile_pixels(
 }
 
 /// The offsets within a tile in Morton order: the even bits of the index give the column, the
-/// odd bits the row.
+/// odd bits the row (four bits each: the tile is 16 pixels square).
 const MORTON: [(u8, u8); TILE_SIZE * TILE_SIZE] = {
     let mut order = [(0, 0); TILE_SIZE * TILE_SIZE];
     let mut k = 0;
@@ -41,6 +41,7 @@ const MORTON: [(u8, u8); TILE_SIZE * TILE_SIZE] = {
     }
     order
 };
+const _: () = assert!(TILE_SIZE == 16, "MORTON spreads four bits per axis");
 
 /// Traces the ray of every pixel of `camera` with `tracer` into a G-buffer.
 ///
