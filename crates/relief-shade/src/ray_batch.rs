@@ -25,7 +25,7 @@ impl RayBatch {
 
     /// Traces the first hit of every ray with `tracer`.
     pub fn intersect(&mut self, tracer: &dyn Tracer) {
-        self.hits.clear();
+        // Only the length matters: the tracer writes every entry.
         self.hits.resize(self.rays.len(), None);
         self.reset_steps();
         tracer.intersect_batch(&self.rays, &mut self.hits, &mut self.steps);
@@ -33,7 +33,6 @@ impl RayBatch {
 
     /// Traces whether every ray is blocked within its range with `tracer`.
     pub fn occlude(&mut self, tracer: &dyn Tracer) {
-        self.occluded.clear();
         self.occluded.resize(self.rays.len(), false);
         self.reset_steps();
         tracer.occluded_batch(&self.rays, &mut self.occluded, &mut self.steps);

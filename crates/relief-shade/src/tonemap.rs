@@ -44,7 +44,7 @@ pub fn tonemap_to_srgb8(radiance: &[[f32; 3]], exposure: f64) -> Result<Vec<u8>,
 }
 
 /// The curve of [`tonemap_to_srgb8`] for a channel already multiplied by the exposure.
-pub(crate) fn srgb8_curve(x: f32) -> f32 {
+fn srgb8_curve(x: f32) -> f32 {
     linear_to_srgb(aces_filmic(x))
 }
 

@@ -139,8 +139,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 }
                 bar.finish_and_clear();
                 let (mut shadow, mut shadow_s) = (TraceStats::default(), None::<f64>);
-                for _ in 0..repeat {
-                    if shadows {
+                if shadows {
+                    for _ in 0..repeat {
                         let timer = Instant::now();
                         shadow = shadow_rays(traced, &camera, &gbuffer, sun);
                         let s = timer.elapsed().as_secs_f64();

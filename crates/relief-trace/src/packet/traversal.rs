@@ -117,8 +117,8 @@ impl<'a> Traversal<'a> {
     }
 }
 
-/// Walks every traversal to its end, a node of each in turn: the packets' memory accesses
-/// do not depend on each other, so the processor overlaps their cache misses.
+/// Walks every traversal to its end, a node of each in turn: the packets' work does not
+/// depend on each other, so the processor can overlap it.
 #[inline(always)]
 pub(crate) fn trace<K: Kernel>(terrain: &Terrain, walks: &mut [Traversal]) {
     let mut busy = true;
