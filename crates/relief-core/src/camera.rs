@@ -126,9 +126,27 @@ impl Camera {
     /// The ray through the centre of pixel (i, j), with a unit direction.
     #[inline]
     pub fn ray(&self, i: u32, j: u32) -> Ray {
+        self.ray_through(self.screen_x(i), self.screen_y(j))
+    }
+
+    /// `sx` of pixel column `i`: `(2 (i + 0.5) / W - 1) * t * W / H`. A renderer that traces
+    /// many pixels of the same columns and rows computes it once per column and passes it to
+    /// [`Camera::ray_through`], which then gives exactly [`Camera::ray`].
+    #[inline]
+    pub fn screen_x(&self, i: u32) -> f64 {
         let (w, h) = (self.width as f64, self.height as f64);
-        let sx = (2.0 * (i as f64 + 0.5) / w - 1.0) * self.tan_half * w / h;
-        let sy = (1.0 - 2.0 * (j as f64 + 0.5) / h) * self.tan_half;
+        (2.0 * (i as f64 + 0.5) / w - 1.0) * self.tan_half * w / h
+    }
+
+    /// `sy` of pixel row `j`: `(1 - 2 (j + 0.5) / H) * t` (see [`Camera::screen_x`]).
+    #[inline]
+    pub fn screen_y(&self, j: u32) -> f64 {
+        (1.0 - 2.0 * (j as f64 + 0.5) / self.height as f64) * self.tan_half
+    }
+
+    /// The ray along `normalize(forward + sx * right + sy * up')`.
+    #[inline]
+    pub fn ray_through(&self, sx: f64, sy: f64) -> Ray {
         let dir = (self.forward + sx * self.right + sy * self.true_up).normalize();
         Ray::new(self.eye, dir)
     }

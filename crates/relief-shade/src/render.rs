@@ -1,7 +1,7 @@
 //! Primary visibility: traces a camera's rays through a tracer into a G-buffer, tile by tile.
 
 use rayon::prelude::*;
-use relief_core::{Aabb, Camera, DVec3};
+use relief_core::{Aabb, Camera, DVec3, Ray};
 use relief_trace::{Hit, Tracer};
 
 use crate::{GBuffer, GBufferPixel, RayBatch, ShadeError, TraceStats};
@@ -18,10 +18,65 @@ pub fn tile_pixels(
     width: usize,
     height: usize,
 ) -> impl Iterator<Item = (usize, usize)> + Clone {
-    MORTON
-        .iter()
-        .map(move |&(i, j)| (tile_x + i as usize, tile_y + j as usize))
-        .filter(move |&(i, j)| i < width && j < height)
+    Tile::new(tile_x, tile_y, width, height).pixels()
+}
+
+/// A tile of the image: its top left pixel and its size, clipped to the image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Tile {
+    /// Column of the top left pixel.
+    pub x: usize,
+    /// Row of the top left pixel.
+    pub y: usize,
+    /// Columns of the tile inside the image (up to [`TILE_SIZE`]).
+    pub cols: usize,
+    /// Rows of the tile inside the image (up to [`TILE_SIZE`]).
+    pub rows: usize,
+}
+
+impl Tile {
+    /// The tile whose top left pixel is `(x, y)`, clipped to a `width x height` image.
+    pub fn new(x: usize, y: usize, width: usize, height: usize) -> Tile {
+        Tile {
+            x,
+            y,
+            cols: width.saturating_sub(x).min(TILE_SIZE),
+            rows: height.saturating_sub(y).min(TILE_SIZE),
+        }
+    }
+
+    /// The tile's pixels `(column, row)` in Morton order (see [`tile_pixels`]).
+    pub fn pixels(self) -> impl Iterator<Item = (usize, usize)> + Clone {
+        MORTON
+            .iter()
+            .filter(move |&&(i, j)| (i as usize) < self.cols && (j as usize) < self.rows)
+            .map(move |&(i, j)| (self.x + i as usize, self.y + j as usize))
+    }
+
+    /// Appends the camera rays of the tile's pixels, in the order of [`Tile::pixels`], to
+    /// `rays`: exactly [`Camera::ray`] of each, with the screen coordinates computed once per
+    /// column and row.
+    pub fn camera_rays(self, camera: &Camera, rays: &mut Vec<Ray>) {
+        if self.cols == 0 || self.rows == 0 {
+            return;
+        }
+        // Pixels lie in the image, whose size the camera holds as u32.
+        let sx: [f64; TILE_SIZE] =
+            std::array::from_fn(|c| camera.screen_x((self.x + c.min(self.cols - 1)) as u32));
+        let sy: [f64; TILE_SIZE] =
+            std::array::from_fn(|r| camera.screen_y((self.y + r.min(self.rows - 1)) as u32));
+        let ray = |&(i, j): &(u8, u8)| camera.ray_through(sx[i as usize], sy[j as usize]);
+        if self.cols == TILE_SIZE && self.rows == TILE_SIZE {
+            rays.extend(MORTON.iter().map(ray));
+        } else {
+            rays.extend(
+                MORTON
+                    .iter()
+                    .filter(|&&(i, j)| (i as usize) < self.cols && (j as usize) < self.rows)
+                    .map(ray),
+            );
+        }
+    }
 }
 
 /// The offsets within a tile in Morton order: the even bits of the index give the column, the
@@ -118,12 +173,13 @@ pub fn render_gbuffer_into(
             let mut batch = RayBatch::default();
             let top = s * TILE_SIZE;
             for tile_x in (0..width).step_by(TILE_SIZE) {
-                let pixels = tile_pixels(tile_x, top, width, top + rows);
+                let tile = Tile::new(tile_x, top, width, top + rows);
                 batch.clear();
-                // Pixels lie in the image, whose size the camera holds as u32.
-                batch.rays.extend(pixels.clone().map(|(i, j)| camera.ray(i as u32, j as u32)));
+                tile.camera_rays(camera, &mut batch.rays);
                 batch.intersect(tracer);
-                for ((i, j), (&hit, &steps)) in pixels.zip(batch.hits.iter().zip(&batch.steps)) {
+                for ((i, j), (&hit, &steps)) in
+                    tile.pixels().zip(batch.hits.iter().zip(&batch.steps))
+                {
                     let k = i + (j - top) * width;
                     stats.record(steps, hit.is_some());
                     let p = pixel.g_buffer_pixel(hit);
@@ -206,6 +262,21 @@ mod tests {
         assert_eq!(map.at(DVec3::new(11.0, 21.5, 0.5)), [0.25, 0.75]);
         let flat = UvMap::new(&Aabb::new(DVec3::ZERO, DVec3::new(0.0, 1.0, 0.0)));
         assert_eq!(flat.at(DVec3::new(0.0, 0.5, 0.0)), [0.5, 0.5]);
+    }
+
+    #[test]
+    fn tile_camera_rays_are_the_cameras_rays_of_its_pixels() {
+        let bounds = Aabb::new(DVec3::ZERO, DVec3::new(50.0, 40.0, 10.0));
+        let camera = Camera::frame(&bounds, 37, 21).unwrap();
+        // A whole tile, one clipped at the right and bottom edges, and one outside the image.
+        for (x, y) in [(16, 0), (32, 16), (48, 32)] {
+            let tile = Tile::new(x, y, 37, 21);
+            let mut rays = Vec::new();
+            tile.camera_rays(&camera, &mut rays);
+            let want: Vec<Ray> =
+                tile.pixels().map(|(i, j)| camera.ray(i as u32, j as u32)).collect();
+            assert_eq!(rays, want, "tile at {x}, {y}");
+        }
     }
 
     #[test]
