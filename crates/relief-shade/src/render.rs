@@ -177,9 +177,8 @@ pub fn render_gbuffer_into(
                 batch.clear();
                 tile.camera_rays(camera, &mut batch.rays);
                 batch.intersect(tracer);
-                for ((i, j), (&hit, &steps)) in
-                    tile.pixels().zip(batch.hits.iter().zip(&batch.steps))
-                {
+                let mut store = |n: usize, (i, j): (usize, usize)| {
+                    let (hit, steps) = (batch.hits[n], batch.steps[n]);
                     let k = i + (j - top) * width;
                     stats.record(steps, hit.is_some());
                     let p = pixel.g_buffer_pixel(hit);
@@ -189,7 +188,8 @@ pub fn render_gbuffer_into(
                     material[k] = p.material;
                     uv[k] = p.uv;
                     footprint[k] = p.footprint;
-                }
+                };
+                tile.pixels().enumerate().for_each(|(n, pixel)| store(n, pixel));
                 progress(batch.rays.len() as u64);
             }
             stats
