@@ -1,5 +1,5 @@
-//! How fast relief's primary-ray pipeline could be, whatever the tracer: the measurements
-//! behind "Why not 5x" in docs/performance.md.
+//! How fast relief's primary-ray render pass could be, whatever the tracer: the measurements
+//! behind "What 5x would take" in docs/performance.md.
 //!
 //! On `relief bench`'s three views of a terrain (an `.npy` from `relief generate fbm`) at
 //! 1920x1080, this renders the G-buffer (`render_gbuffer_into`, as `relief bench` does) with
@@ -8,10 +8,11 @@
 //! - `answer known`: a tracer that copies each tile's hits, found beforehand: camera rays and
 //!   the G-buffer writes of the real hits, the least any tracer could cost;
 //! - `mipmap`: the real tracer, in packets;
+//! - `mipmap, start known`: the same packets, with every ray that hits started half a pixel's
+//!   footprint before its hit, as a perfect lower bound on its distance would allow;
 //!
-//! and traces single rays with the mipmap tracer from the eye (`single rays`) and, for rays
-//! that hit, from a start given by an oracle half a pixel's footprint before the hit
-//! (`single rays, start known`): what a perfect lower bound on every ray's distance would buy.
+//! and traces single rays with the mipmap tracer from the eye (`single rays`) and from that
+//! same start (`single rays, start known`).
 //! Each figure is the fastest of five runs, in millions of rays per second (every pixel counts
 //! as a ray, misses included, as in `relief bench`).
 //!
@@ -22,7 +23,7 @@
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use relief_core::{Camera, DVec3, HeightField, Ray, Surface};
+use relief_core::{benchmark_views, Camera, DVec3, Ray, Surface};
 use relief_shade::{render_gbuffer_into, GBuffer, Tile, TILE_SIZE};
 use relief_trace::{Hit, MipmapTracer, Tracer};
 use std::sync::Arc;
@@ -143,7 +144,9 @@ impl Tracer for StartKnown<'_> {
     fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
         let starts: Vec<f64> = rays
             .iter()
-            .map(|ray| self.answers.intersect(ray).map_or(0.0, |h| h.t * (1.0 - 0.5 * self.footprint)))
+            .map(|ray| {
+                self.answers.intersect(ray).map_or(0.0, |h| h.t * (1.0 - 0.5 * self.footprint))
+            })
             .collect();
         let late: Vec<Ray> =
             rays.iter().zip(&starts).map(|(r, &s)| Ray::new(r.at(s), r.dir)).collect();
@@ -154,27 +157,6 @@ impl Tracer for StartKnown<'_> {
             }
         }
     }
-}
-
-/// `relief bench`'s views (see `commands/bench.rs`).
-fn views(field: &HeightField, w: u32, h: u32) -> Result<Vec<(&'static str, Camera)>> {
-    let bounds = field.world_bounds(Surface::Boxes);
-    let size = bounds.max - bounds.min;
-    let overview = Camera::frame_from(&bounds, 225.0, 30.0, 45.0, w, h)?;
-    let (col, row) = (field.width() / 5, field.height() / 5);
-    let ground = field.sample(col, row) as f64 * field.geometry().z_scale;
-    let eye = DVec3::new(
-        bounds.min.x + 0.2 * size.x,
-        bounds.min.y + 0.2 * size.y,
-        ground + 0.03 * size.x.max(size.y),
-    );
-    let target = DVec3::new(bounds.min.x + 0.8 * size.x, bounds.min.y + 0.8 * size.y, ground);
-    let flight = Camera::look_at(eye, target, DVec3::Z, 60.0, w, h)?;
-    let centre = bounds.center();
-    let above = DVec3::new(centre.x, centre.y, bounds.max.z + 1.2 * size.x.max(size.y));
-    let below = DVec3::new(centre.x, centre.y, bounds.min.z);
-    let top_down = Camera::look_at(above, below, DVec3::Y, 45.0, w, h)?;
-    Ok(vec![("three-quarter", overview), ("flight", flight), ("top-down", top_down)])
 }
 
 /// The shortest of five runs of `f`, in seconds.
@@ -211,7 +193,7 @@ fn main() -> Result<()> {
         "single rays",
         "single rays, start known"
     );
-    for (view, camera) in views(&field, w, h)? {
+    for (view, camera) in benchmark_views(&field, w, h)?.into_iter().take(3) {
         let mut gbuffer = GBuffer::new(w as usize, h as usize)?;
         let mut render = |tracer: &dyn Tracer| {
             let s = fastest(|| {
@@ -227,15 +209,14 @@ fn main() -> Result<()> {
         let footprint = 2.0 * (camera.fov_deg().to_radians() / 2.0).tan() / h as f64;
         let packets_late = render(&StartKnown { tracer: &tracer, answers: &answers, footprint });
         let pixels: Vec<(u32, u32)> = (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).collect();
-        let single = rays
-            / fastest(|| {
+        let single =
+            rays / fastest(|| {
                 pixels.par_iter().for_each(|&(i, j)| {
                     std::hint::black_box(tracer.intersect(&camera.ray(i, j)));
                 })
-            })
-            / 1e6;
-        let started_late = rays
-            / fastest(|| {
+            }) / 1e6;
+        let started_late =
+            rays / fastest(|| {
                 pixels.par_iter().for_each(|&(i, j)| {
                     let ray = camera.ray(i, j);
                     if let Some(hit) = answers.hits[(i + j * w) as usize] {
@@ -244,8 +225,7 @@ fn main() -> Result<()> {
                         std::hint::black_box(tracer.intersect(&late));
                     }
                 })
-            })
-            / 1e6;
+            }) / 1e6;
         println!(
             "{view:<14} {nothing:>8.1} {known:>13.1} {mipmap:>8.1} {packets_late:>21.1} {single:>12.1} {started_late:>25.1}"
         );

@@ -6,7 +6,8 @@
 //!   water and air) in the reference layout, with its invariants and conservative f16
 //!   [`Precision`];
 //! - [`Ray`], [`Aabb`]: geometry used by the tracers;
-//! - [`Camera`]: the pinhole camera of relief's conventions, with automatic framing.
+//! - [`Camera`]: the pinhole camera of relief's conventions, with automatic framing, and the
+//!   fixed [`benchmark_views`] every performance measurement traces.
 //!
 //! ```
 //! use relief_core::{HeightField, GridGeometry, Surface};
@@ -18,6 +19,7 @@
 #![deny(missing_docs)]
 
 mod aabb;
+mod benchmark_views;
 mod camera;
 mod error;
 mod height_field;
@@ -27,6 +29,7 @@ mod ray;
 mod surface;
 
 pub use aabb::{Aabb, BoxFace, Clip};
+pub use benchmark_views::{benchmark_views, BENCHMARK_VIEWS};
 pub use camera::Camera;
 pub use error::CoreError;
 pub use height_field::{GridGeometry, HeightField};

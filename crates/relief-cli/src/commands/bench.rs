@@ -10,7 +10,7 @@ use crate::tracers::{self, TracerChoice};
 use crate::{input, memory, progress};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
-use relief_core::{Camera, DVec3, HeightField, Surface};
+use relief_core::{benchmark_views, Camera, DVec3, Surface, BENCHMARK_VIEWS};
 use relief_shade::{
     render_gbuffer_into, shadow_ray, sun_direction, tile_pixels, GBuffer, RayBatch, TraceStats,
     TILE_SIZE,
@@ -44,8 +44,8 @@ struct Measurement<'a> {
 
 /// Runs `relief bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
-    if let Some(view) = args.views.iter().find(|v| !VIEWS.contains(&v.as_str())) {
-        bail!("unknown view '{view}': expected {}", VIEWS.join(", "));
+    if let Some(view) = args.views.iter().find(|v| !BENCHMARK_VIEWS.contains(&v.as_str())) {
+        bail!("unknown view '{view}': expected {}", BENCHMARK_VIEWS.join(", "));
     }
     let limit = relief_io::default_memory_limit();
     super::check_image(args.res.0, args.res.1, limit, "half the machine's memory")?;
@@ -102,7 +102,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         )?;
     }
     let sun = sun_direction(SUN.0, SUN.1);
-    for (view, camera) in views(&field, w, h)? {
+    for (view, camera) in benchmark_views(&field, w, h)? {
         if !args.views.iter().any(|v| v == view) {
             continue;
         }
@@ -203,9 +203,6 @@ impl Tracer for OneRayAtATime<'_> {
     }
 }
 
-/// The names of the benchmark's views.
-const VIEWS: [&str; 4] = ["three-quarter", "flight", "top-down", "cover"];
-
 impl Measurement<'_> {
     fn primary_mrays(&self) -> f64 {
         self.primary.rays as f64 / self.primary_s / 1e6
@@ -270,56 +267,6 @@ impl Measurement<'_> {
             SUN.1
         )
     }
-}
-
-/// The benchmark's views: a three-quarter overview, a low flight over the ground, top-down.
-fn views(field: &HeightField, w: u32, h: u32) -> Result<Vec<(&'static str, Camera)>> {
-    let bounds = field.world_bounds(Surface::Boxes);
-    let size = bounds.max - bounds.min;
-    let overview = Camera::frame_from(&bounds, 225.0, 30.0, 45.0, w, h)?;
-    // Flight: from the south-west quarter towards the north-east, a little above the ground.
-    let (col, row) = (field.width() / 5, field.height() / 5);
-    let ground = field.sample(col, row) as f64 * field.geometry().z_scale;
-    let eye = DVec3::new(
-        bounds.min.x + 0.2 * size.x,
-        bounds.min.y + 0.2 * size.y,
-        ground + 0.03 * size.x.max(size.y),
-    );
-    let target = DVec3::new(bounds.min.x + 0.8 * size.x, bounds.min.y + 0.8 * size.y, ground);
-    let flight = Camera::look_at(eye, target, DVec3::Z, 60.0, w, h)?;
-    let centre = bounds.center();
-    let above = DVec3::new(centre.x, centre.y, bounds.max.z + 1.2 * size.x.max(size.y));
-    let top_down =
-        Camera::look_at(above, DVec3::new(centre.x, centre.y, bounds.min.z), DVec3::Y, 45.0, w, h)?;
-    let cover = cover_view(field, w, h)?;
-    Ok(vec![(VIEWS[0], overview), (VIEWS[1], flight), (VIEWS[2], top_down), (VIEWS[3], cover)])
-}
-
-/// The terrain filling the whole image (as in Baboud et al.'s Table 1): looking at its centre
-/// from the south-west, 70 degrees up, with a 30 degree field of view, so every ray looks down
-/// at least 45 degrees; as far as possible while every corner ray still reaches the lowest
-/// level inside the triangles' footprint.
-fn cover_view(field: &HeightField, w: u32, h: u32) -> Result<Camera> {
-    let b = field.world_bounds(Surface::Triangles);
-    let target = DVec3::new(0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y), b.min.z);
-    let (az, el) = (225f64.to_radians(), 70f64.to_radians());
-    let towards_eye = DVec3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin());
-    let unit = Camera::look_at(target + towards_eye, target, DVec3::Z, 30.0, w, h)?;
-    // Where the corner rays of the camera at distance 1 meet the lowest level, relative to the
-    // target; the footprint grows linearly with the distance.
-    let mut distance = f64::INFINITY;
-    for (i, j) in [(0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1)] {
-        let ray = unit.ray(i, j);
-        let offset = ray.at((b.min.z - ray.origin.z) / ray.dir.z) - target;
-        for axis in 0..2 {
-            let (d, centre) = (offset[axis], target[axis]);
-            let room = if d > 0.0 { b.max[axis] - centre } else { centre - b.min[axis] };
-            if d != 0.0 {
-                distance = distance.min(room / d.abs());
-            }
-        }
-    }
-    Ok(Camera::look_at(target + towards_eye * distance * 0.999, target, DVec3::Z, 30.0, w, h)?)
 }
 
 /// Traces a shadow ray towards `sun` from every hit of `gbuffer`, in parallel by strips of
