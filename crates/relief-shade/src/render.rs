@@ -47,10 +47,12 @@ impl Tile {
 
     /// The tile's pixels `(column, row)` in Morton order (see [`tile_pixels`]).
     pub fn pixels(self) -> impl Iterator<Item = (usize, usize)> + Clone {
-        MORTON
-            .iter()
-            .filter(move |&&(i, j)| (i as usize) < self.cols && (j as usize) < self.rows)
-            .map(move |&(i, j)| (self.x + i as usize, self.y + j as usize))
+        self.offsets().map(move |&(i, j)| (self.x + i as usize, self.y + j as usize))
+    }
+
+    /// The offsets of [`MORTON`] that fall inside the image.
+    fn offsets(self) -> impl Iterator<Item = &'static (u8, u8)> + Clone {
+        MORTON.iter().filter(move |&&(i, j)| (i as usize) < self.cols && (j as usize) < self.rows)
     }
 
     /// Appends the camera rays of the tile's pixels, in the order of [`Tile::pixels`], to
@@ -67,14 +69,10 @@ impl Tile {
             std::array::from_fn(|r| camera.screen_y((self.y + r.min(self.rows - 1)) as u32));
         let ray = |&(i, j): &(u8, u8)| camera.ray_through(sx[i as usize], sy[j as usize]);
         if self.cols == TILE_SIZE && self.rows == TILE_SIZE {
+            // Whole tiles, most of them, without the per-pixel check.
             rays.extend(MORTON.iter().map(ray));
         } else {
-            rays.extend(
-                MORTON
-                    .iter()
-                    .filter(|&&(i, j)| (i as usize) < self.cols && (j as usize) < self.rows)
-                    .map(ray),
-            );
+            rays.extend(self.offsets().map(ray));
         }
     }
 }
@@ -177,7 +175,7 @@ pub fn render_gbuffer_into(
                 batch.clear();
                 tile.camera_rays(camera, &mut batch.rays);
                 batch.intersect(tracer);
-                let mut store = |n: usize, (i, j): (usize, usize)| {
+                for (n, (i, j)) in tile.pixels().enumerate() {
                     let (hit, steps) = (batch.hits[n], batch.steps[n]);
                     let k = i + (j - top) * width;
                     stats.record(steps, hit.is_some());
@@ -188,8 +186,7 @@ pub fn render_gbuffer_into(
                     material[k] = p.material;
                     uv[k] = p.uv;
                     footprint[k] = p.footprint;
-                };
-                tile.pixels().enumerate().for_each(|(n, pixel)| store(n, pixel));
+                }
                 progress(batch.rays.len() as u64);
             }
             stats
