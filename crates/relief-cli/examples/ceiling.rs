@@ -12,7 +12,9 @@
 //!   footprint before its hit, as a perfect lower bound on its distance would allow;
 //!
 //! and traces single rays with the mipmap tracer from the eye (`single rays`) and from that
-//! same start (`single rays, start known`).
+//! same start (`single rays, start known`). A second table traces the shadow rays of the
+//! mipmap's hits (as `relief bench` makes them) whole, and with their first 2, 8 and 32 units
+//! skipped: not exact, a diagnostic of where a shadow ray's time goes.
 //! Each figure is the fastest of five runs, in millions of rays per second (every pixel counts
 //! as a ray, misses included, as in `relief bench`).
 //!
@@ -24,7 +26,7 @@
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, DVec3, Ray, Surface};
-use relief_shade::{render_gbuffer_into, GBuffer, Tile, TILE_SIZE};
+use relief_shade::{render_gbuffer_into, shadow_ray, sun_direction, GBuffer, Tile, TILE_SIZE};
 use relief_trace::{Hit, MipmapTracer, Tracer};
 use std::sync::Arc;
 use std::time::Instant;
@@ -159,6 +161,48 @@ impl Tracer for StartKnown<'_> {
     }
 }
 
+/// How far along its ray each shadow ray starts in the shadow table: 0 is the real thing, the
+/// others skip the ray's first stretch (not exact: a diagnostic of where the time goes).
+const SHADOW_SKIPS: [f64; 4] = [0.0, 2.0, 8.0, 32.0];
+
+/// Shadow rays per second, in millions, from every hit of `gbuffer` towards the benchmark's
+/// sun, made as `relief bench` makes them and traced a tile at a time, started
+/// [`SHADOW_SKIPS`] along their rays.
+fn shadow_rates(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer) -> [f64; 4] {
+    let sun = sun_direction(315.0, 35.0);
+    let (w, h) = (gbuffer.width, gbuffer.height);
+    let mut tiles = Vec::new();
+    for y in (0..h).step_by(TILE_SIZE) {
+        for x in (0..w).step_by(TILE_SIZE) {
+            let shadow = |(i, j): (usize, usize)| {
+                let k = i + j * w;
+                let distance = gbuffer.distance[k] as f64;
+                distance.is_finite().then(|| {
+                    let position = camera.ray(i as u32, j as u32).at(distance);
+                    let normal = DVec3::from_array(gbuffer.normal[k].map(f64::from));
+                    shadow_ray(position, normal, distance, sun)
+                })
+            };
+            tiles.push(Tile::new(x, y, w, h).pixels().filter_map(shadow).collect::<Vec<_>>());
+        }
+    }
+    let count = tiles.iter().map(Vec::len).sum::<usize>() as f64;
+    SHADOW_SKIPS.map(|skip| {
+        let skipped: Vec<Vec<Ray>> = tiles
+            .iter()
+            .map(|rays| rays.iter().map(|r| Ray { origin: r.at(skip), ..*r }).collect())
+            .collect();
+        let s = fastest(|| {
+            skipped.par_iter().for_each(|rays| {
+                let (mut occluded, mut steps) = (vec![false; rays.len()], vec![0; rays.len()]);
+                tracer.occluded_batch(rays, &mut occluded, &mut steps);
+                std::hint::black_box(occluded);
+            })
+        });
+        count / s / 1e6
+    })
+}
+
 /// The shortest of five runs of `f`, in seconds.
 fn fastest(mut f: impl FnMut()) -> f64 {
     (0..5)
@@ -193,6 +237,7 @@ fn main() -> Result<()> {
         "single rays",
         "single rays, start known"
     );
+    let mut shadows = Vec::new();
     for (view, camera) in benchmark_views(&field, w, h)?.into_iter().take(3) {
         let mut gbuffer = GBuffer::new(w as usize, h as usize)?;
         let mut render = |tracer: &dyn Tracer| {
@@ -229,6 +274,16 @@ fn main() -> Result<()> {
         println!(
             "{view:<14} {nothing:>8.1} {known:>13.1} {mipmap:>8.1} {packets_late:>21.1} {single:>12.1} {started_late:>25.1}"
         );
+        shadows.push((view, shadow_rates(&tracer, &camera, &gbuffer)));
+    }
+    println!("\nshadow rays (mipmap packets), started this far along their ray; Mrays/s");
+    print!("{:<14}", "view");
+    SHADOW_SKIPS.iter().for_each(|skip| print!(" {skip:>8}"));
+    println!();
+    for (view, rates) in shadows {
+        print!("{view:<14}");
+        rates.iter().for_each(|rate| print!(" {rate:>8.1}"));
+        println!();
     }
     Ok(())
 }
