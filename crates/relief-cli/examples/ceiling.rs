@@ -26,7 +26,7 @@
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, DVec3, Ray, Surface};
-use relief_shade::{render_gbuffer_into, shadow_ray, sun_direction, GBuffer, Tile, TILE_SIZE};
+use relief_shade::{render_gbuffer_into, sun_direction, GBuffer, Tile, TILE_SIZE};
 use relief_trace::{Hit, MipmapTracer, Tracer};
 use std::sync::Arc;
 use std::time::Instant;
@@ -147,7 +147,7 @@ impl Tracer for StartKnown<'_> {
         let starts: Vec<f64> = rays
             .iter()
             .map(|ray| {
-                self.answers.intersect(ray).map_or(0.0, |h| h.t * (1.0 - 0.5 * self.footprint))
+                self.answers.intersect(ray).map_or(0.0, |h| oracle_start(&h, self.footprint))
             })
             .collect();
         let late: Vec<Ray> =
@@ -159,6 +159,12 @@ impl Tracer for StartKnown<'_> {
             }
         }
     }
+}
+
+/// Where the oracle starts a camera ray that hits at `hit`: half a pixel's footprint (per unit
+/// distance, `footprint`) before it.
+fn oracle_start(hit: &Hit, footprint: f64) -> f64 {
+    hit.t * (1.0 - 0.5 * footprint)
 }
 
 /// How far along its ray each shadow ray starts in the shadow table: 0 is the real thing, the
@@ -174,16 +180,9 @@ fn shadow_rates(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer) -> [f64
     let mut tiles = Vec::new();
     for y in (0..h).step_by(TILE_SIZE) {
         for x in (0..w).step_by(TILE_SIZE) {
-            let shadow = |(i, j): (usize, usize)| {
-                let k = i + j * w;
-                let distance = gbuffer.distance[k] as f64;
-                distance.is_finite().then(|| {
-                    let position = camera.ray(i as u32, j as u32).at(distance);
-                    let normal = DVec3::from_array(gbuffer.normal[k].map(f64::from));
-                    shadow_ray(position, normal, distance, sun)
-                })
-            };
-            tiles.push(Tile::new(x, y, w, h).pixels().filter_map(shadow).collect::<Vec<_>>());
+            let mut rays = Vec::new();
+            Tile::new(x, y, w, h).shadow_rays(camera, gbuffer, sun, &mut rays);
+            tiles.push(rays);
         }
     }
     let count = tiles.iter().map(Vec::len).sum::<usize>() as f64;
@@ -265,8 +264,7 @@ fn main() -> Result<()> {
                 pixels.par_iter().for_each(|&(i, j)| {
                     let ray = camera.ray(i, j);
                     if let Some(hit) = answers.hits[(i + j * w) as usize] {
-                        let start = hit.t * (1.0 - 0.5 * footprint);
-                        let late = Ray::new(ray.at(start), ray.dir);
+                        let late = Ray::new(ray.at(oracle_start(&hit, footprint)), ray.dir);
                         std::hint::black_box(tracer.intersect(&late));
                     }
                 })

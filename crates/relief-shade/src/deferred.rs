@@ -9,7 +9,7 @@ use crate::sky::validate_fog_density;
 use crate::tonemap::srgb8_pixel;
 use crate::{
     aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, shadow_ray,
-    tile_pixels, Albedo, GBuffer, GgxSpecular, HypsometricRamp, RayBatch, ShadeError, Sky, Sun,
+    Albedo, GBuffer, GgxSpecular, HypsometricRamp, RayBatch, ShadeError, Sky, Sun, Tile,
     TraceStats, TILE_SIZE,
 };
 
@@ -148,12 +148,13 @@ fn shade_with<T: Copy + Default + Send>(
         .enumerate()
         .map(|(s, strip)| {
             let mut stats = TraceStats::default();
-            let mut tile = ShadowTile::default();
+            let mut shadows = ShadowTile::default();
             let rows = strip.len() / width;
             for tile_x in (0..width).step_by(TILE_SIZE) {
-                let pixels = tile_pixels(tile_x, s * TILE_SIZE, width, s * TILE_SIZE + rows);
-                tile.trace(&pass, pixels.clone(), &mut stats);
-                for (((i, j), view), &visibility) in pixels.zip(&tile.views).zip(&tile.visibility) {
+                let tile = Tile::new(tile_x, s * TILE_SIZE, width, s * TILE_SIZE + rows);
+                shadows.trace(&pass, tile, &mut stats);
+                let seen = shadows.views.iter().zip(&shadows.visibility);
+                for ((i, j), (view, &visibility)) in tile.pixels().zip(seen) {
                     strip[i + (j - s * TILE_SIZE) * width] =
                         store(pass.radiance(i, j, view, visibility));
                 }
@@ -167,6 +168,8 @@ fn shade_with<T: Copy + Default + Send>(
 /// The pixels of one tile, seen and lit, with their shadow rays traced as one batch.
 #[derive(Default)]
 struct ShadowTile {
+    /// Each pixel's camera ray.
+    camera_rays: Vec<Ray>,
     /// What each pixel sees.
     views: Vec<View>,
     /// The shadow rays of the pixels that need one.
@@ -178,20 +181,17 @@ struct ShadowTile {
 }
 
 impl ShadowTile {
-    /// Looks up what `pixels` see, traces the shadow rays of those that need one and records
-    /// every pixel's visibility.
-    fn trace(
-        &mut self,
-        pass: &ShadingPass,
-        pixels: impl Iterator<Item = (usize, usize)>,
-        stats: &mut TraceStats,
-    ) {
+    /// Looks up what the pixels of `tile` see, traces the shadow rays of those that need one
+    /// and records every pixel's visibility.
+    fn trace(&mut self, pass: &ShadingPass, tile: Tile, stats: &mut TraceStats) {
+        self.camera_rays.clear();
         self.views.clear();
         self.batch.clear();
         self.owners.clear();
         self.visibility.clear();
-        for (n, (i, j)) in pixels.enumerate() {
-            let view = pass.view(i, j);
+        tile.camera_rays(pass.camera, &mut self.camera_rays);
+        for (n, ((i, j), &ray)) in tile.pixels().zip(&self.camera_rays).enumerate() {
+            let view = pass.view(i, j, ray);
             let visibility = match pass.lighting(&view) {
                 Lighting::Unlit => 0.0,
                 Lighting::Lit => 1.0,
@@ -240,13 +240,11 @@ struct ShadingPass<'a> {
 }
 
 impl ShadingPass<'_> {
-    /// What pixel (i, j) sees.
+    /// What pixel (i, j), whose camera ray is `ray`, sees.
     #[inline]
-    fn view(&self, i: usize, j: usize) -> View {
+    fn view(&self, i: usize, j: usize, ray: Ray) -> View {
         let g = self.gbuffer;
         let k = i + j * g.width;
-        // (i, j) lies inside the camera's u32 image.
-        let ray = self.camera.ray(i as u32, j as u32);
         let distance = g.distance[k] as f64;
         if !distance.is_finite() {
             return View { ray, hit: None };

@@ -52,7 +52,7 @@ pub use deferred::{shade, shade_to_srgb8, ShadingParams};
 pub use error::ShadeError;
 pub use gbuffer::{GBuffer, GBufferPixel};
 pub use ray_batch::RayBatch;
-pub use render::{render_gbuffer, render_gbuffer_into, tile_pixels, Tile, TILE_SIZE};
+pub use render::{render_gbuffer, render_gbuffer_into, Tile, TILE_SIZE};
 pub use shading::{ambient_lighting, direct_lighting, GgxSpecular, DIELECTRIC_F0};
 pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGONAL};
 pub use stats::TraceStats;

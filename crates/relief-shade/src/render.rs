@@ -4,22 +4,10 @@ use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, Ray};
 use relief_trace::{Hit, Tracer};
 
-use crate::{GBuffer, GBufferPixel, RayBatch, ShadeError, TraceStats};
+use crate::{shadow_ray, GBuffer, GBufferPixel, RayBatch, ShadeError, TraceStats};
 
 /// Side of the square image tiles traced as one unit of parallel work, in pixels.
 pub const TILE_SIZE: usize = 16;
-
-/// The pixels `(column, row)` of the tile whose top left pixel is `(tile_x, tile_y)`, clipped
-/// to a `width x height` image, in Morton order: every run of 8 is a 4x2 block and every run
-/// of 64 an 8x8 block, so the rays a tracer takes together in a batch's order stay close.
-pub fn tile_pixels(
-    tile_x: usize,
-    tile_y: usize,
-    width: usize,
-    height: usize,
-) -> impl Iterator<Item = (usize, usize)> + Clone {
-    Tile::new(tile_x, tile_y, width, height).pixels()
-}
 
 /// A tile of the image: its top left pixel and its size, clipped to the image.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -45,7 +33,9 @@ impl Tile {
         }
     }
 
-    /// The tile's pixels `(column, row)` in Morton order (see [`tile_pixels`]).
+    /// The tile's pixels `(column, row)`, in Morton order: every run of 8 is a 4x2 block and
+    /// every run of 64 an 8x8 block, so the rays a tracer takes together in a batch's order
+    /// stay close.
     pub fn pixels(self) -> impl Iterator<Item = (usize, usize)> + Clone {
         self.offsets().map(move |&(i, j)| (self.x + i as usize, self.y + j as usize))
     }
@@ -62,11 +52,7 @@ impl Tile {
         if self.cols == 0 || self.rows == 0 {
             return;
         }
-        // Pixels lie in the image, whose size the camera holds as u32.
-        let sx: [f64; TILE_SIZE] =
-            std::array::from_fn(|c| camera.screen_x((self.x + c.min(self.cols - 1)) as u32));
-        let sy: [f64; TILE_SIZE] =
-            std::array::from_fn(|r| camera.screen_y((self.y + r.min(self.rows - 1)) as u32));
+        let (sx, sy) = self.screen(camera);
         let ray = |&(i, j): &(u8, u8)| camera.ray_through(sx[i as usize], sy[j as usize]);
         if self.cols == TILE_SIZE && self.rows == TILE_SIZE {
             // Whole tiles, most of them, without the per-pixel check.
@@ -74,6 +60,41 @@ impl Tile {
         } else {
             rays.extend(self.offsets().map(ray));
         }
+    }
+
+    /// Appends the [`shadow_ray`] towards `towards_light` of every pixel of the tile that sees
+    /// a surface in `gbuffer` (the camera's image), in the order of [`Tile::pixels`], from the
+    /// point its camera ray reaches at the stored distance.
+    pub fn shadow_rays(
+        self,
+        camera: &Camera,
+        gbuffer: &GBuffer,
+        towards_light: DVec3,
+        rays: &mut Vec<Ray>,
+    ) {
+        if self.cols == 0 || self.rows == 0 {
+            return;
+        }
+        let (sx, sy) = self.screen(camera);
+        for &(i, j) in self.offsets() {
+            let k = self.x + i as usize + (self.y + j as usize) * gbuffer.width;
+            let distance = gbuffer.distance[k] as f64;
+            if distance.is_finite() {
+                let position = camera.ray_through(sx[i as usize], sy[j as usize]).at(distance);
+                let normal = DVec3::from_array(gbuffer.normal[k].map(f64::from));
+                rays.push(shadow_ray(position, normal, distance, towards_light));
+            }
+        }
+    }
+
+    /// The [`Camera::screen_x`] of the tile's columns and [`Camera::screen_y`] of its rows;
+    /// entries past a clipped edge repeat the last column or row (no pixel uses them). The
+    /// tile must hold a pixel.
+    fn screen(self, camera: &Camera) -> ([f64; TILE_SIZE], [f64; TILE_SIZE]) {
+        // Pixels lie in the image, whose size the camera holds as u32.
+        let sx = std::array::from_fn(|c| camera.screen_x((self.x + c.min(self.cols - 1)) as u32));
+        let sy = std::array::from_fn(|r| camera.screen_y((self.y + r.min(self.rows - 1)) as u32));
+        (sx, sy)
     }
 }
 
@@ -277,8 +298,35 @@ mod tests {
     }
 
     #[test]
+    fn tile_shadow_rays_start_at_the_hits_of_its_pixels() {
+        let bounds = Aabb::new(DVec3::ZERO, DVec3::new(50.0, 40.0, 10.0));
+        let camera = Camera::frame(&bounds, 37, 21).unwrap();
+        let mut gbuffer = GBuffer::new(37, 21).unwrap();
+        for (k, d) in gbuffer.distance.iter_mut().enumerate() {
+            *d = if k % 3 == 0 { f32::INFINITY } else { 10.0 + k as f32 };
+        }
+        gbuffer.normal.fill([0.0, 0.6, 0.8]);
+        let sun = DVec3::new(0.0, 0.0, 1.0);
+        for (x, y) in [(16, 0), (32, 16), (48, 32)] {
+            let tile = Tile::new(x, y, 37, 21);
+            let mut rays = Vec::new();
+            tile.shadow_rays(&camera, &gbuffer, sun, &mut rays);
+            let want: Vec<Ray> = tile
+                .pixels()
+                .filter(|&(i, j)| (i + j * 37) % 3 != 0)
+                .map(|(i, j)| {
+                    let d = gbuffer.distance[i + j * 37] as f64;
+                    let at = camera.ray(i as u32, j as u32).at(d);
+                    shadow_ray(at, DVec3::new(0.0, 0.6, 0.8).as_vec3().as_dvec3(), d, sun)
+                })
+                .collect();
+            assert_eq!(rays, want, "tile at {x}, {y}");
+        }
+    }
+
+    #[test]
     fn tile_pixels_cover_the_clipped_tile_once_in_morton_blocks() {
-        let all: Vec<_> = tile_pixels(32, 16, 100, 100).collect();
+        let all: Vec<_> = Tile::new(32, 16, 100, 100).pixels().collect();
         assert_eq!(all.len(), TILE_SIZE * TILE_SIZE);
         // Eight in a row form a 4x2 block, 64 an 8x8 block.
         for (run, block) in [(8, (4, 2)), (64, (8, 8))] {
@@ -288,7 +336,7 @@ mod tests {
             }
         }
         // A tile at the image's corner keeps only its pixels inside the image, each once.
-        let clipped: Vec<_> = tile_pixels(16, 32, 21, 35).collect();
+        let clipped: Vec<_> = Tile::new(16, 32, 21, 35).pixels().collect();
         let mut sorted = clipped.clone();
         sorted.sort();
         sorted.dedup();

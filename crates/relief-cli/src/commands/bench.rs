@@ -12,8 +12,7 @@ use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, DVec3, Surface, BENCHMARK_VIEWS};
 use relief_shade::{
-    render_gbuffer_into, shadow_ray, sun_direction, tile_pixels, GBuffer, RayBatch, TraceStats,
-    TILE_SIZE,
+    render_gbuffer_into, sun_direction, GBuffer, RayBatch, Tile, TraceStats, TILE_SIZE,
 };
 use relief_trace::{Hit, Simd, Tracer};
 use std::io::Write;
@@ -281,15 +280,8 @@ fn shadow_rays(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer, sun: DVe
             let rows = strip * TILE_SIZE..((strip + 1) * TILE_SIZE).min(height);
             for tile_x in (0..width).step_by(TILE_SIZE) {
                 batch.clear();
-                for (i, j) in tile_pixels(tile_x, rows.start, width, rows.end) {
-                    let k = i + j * width;
-                    let distance = gbuffer.distance[k] as f64;
-                    if distance.is_finite() {
-                        let position = camera.ray(i as u32, j as u32).at(distance);
-                        let normal = DVec3::from_array(gbuffer.normal[k].map(f64::from));
-                        batch.rays.push(shadow_ray(position, normal, distance, sun));
-                    }
-                }
+                let tile = Tile::new(tile_x, rows.start, width, rows.end);
+                tile.shadow_rays(camera, gbuffer, sun, &mut batch.rays);
                 batch.occlude(tracer);
                 for (&s, &o) in batch.steps.iter().zip(&batch.occluded) {
                     stats.record(s, o);

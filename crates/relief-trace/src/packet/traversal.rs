@@ -230,10 +230,8 @@ impl Walk<'_> {
     ) {
         let Terrain { grid, samples, .. } = *self.terrain;
         let corners = grid.quad_corners(samples, x, y);
-        let top = ORDER_INDEX.map(|c| {
-            let [a, b, c, d] = corners[c ^ self.flip()];
-            a.max(b).max(c).max(d)
-        });
+        let top = ORDER_INDEX
+            .map(|k| corners[k ^ self.flip()].into_iter().fold(f32::NEG_INFINITY, f32::max));
         let quad = self.quad(0, x, y, top);
         let open = test_children::<K>(p, &quad, rays);
         for (c, &(i, j)) in ORDER.iter().enumerate() {
