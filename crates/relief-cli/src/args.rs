@@ -1,5 +1,6 @@
 //! Command-line arguments of every subcommand.
 
+use crate::parse;
 use crate::tracers::TracerChoice;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use relief_core::{DVec3, Precision, Surface};
@@ -25,7 +26,7 @@ pub enum Command {
     /// Write a synthetic terrain.
     #[command(subcommand)]
     Generate(GenerateCommand),
-    /// Describe a height file.
+    /// Describe a height file or an MLHM scene (.json or .mlhm).
     Info(InfoArgs),
     /// Convert a height file to another format (by the output's extension).
     Convert(ConvertArgs),
@@ -41,12 +42,12 @@ pub struct ReadArgs {
     #[arg(long, value_enum)]
     pub voids: Option<Voids>,
     /// Memory a raster may take, e.g. 512M, 8G (default: half the machine's memory).
-    #[arg(long, value_parser = parse_bytes)]
+    #[arg(long, value_parser = parse::bytes, allow_hyphen_values = true)]
     pub max_memory: Option<u64>,
-    /// How a PNG encodes heights.
-    #[arg(long, value_enum, default_value = "grey")]
-    pub png_encoding: PngHeights,
-    /// The array to read from an .npz archive (default: the first).
+    /// How a PNG encodes heights (PNG input only) [default: grey].
+    #[arg(long, value_enum)]
+    pub png_encoding: Option<PngHeights>,
+    /// The array to read from an .npz archive (.npz input only) [default: the first].
     #[arg(long)]
     pub array: Option<String>,
 }
@@ -83,20 +84,21 @@ pub struct InputArgs {
     #[command(flatten)]
     pub read: ReadArgs,
     /// Texel spacing DX[,DY] in world units (default: from the file's georeference, else 1).
-    #[arg(long, value_parser = parse_spacing)]
+    #[arg(long, value_parser = parse::spacing, allow_hyphen_values = true)]
     pub spacing: Option<(f64, f64)>,
     /// The array's row 0 is its north edge (as in most north-up rasters): flip the rows.
     #[arg(long)]
     pub north_up: bool,
-    /// Multiply sample values by this to get world heights.
-    #[arg(long, default_value_t = 1.0)]
+    /// Multiply sample values by this to get world heights (1e-6 to 1e7).
+    #[arg(long, default_value = "1", value_parser = parse::z_scale, allow_hyphen_values = true)]
     pub z_scale: f64,
-    /// Size of the default fBm terrain (when no INPUT is given).
-    #[arg(long, default_value_t = 1024)]
-    pub fbm_size: usize,
-    /// Seed of the default fBm terrain.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
+    /// Terrain samples per side of the default fBm terrain, when no INPUT is given (1 to
+    /// 65536) [default: 1024].
+    #[arg(long, value_name = "N", value_parser = terrain_side, allow_hyphen_values = true)]
+    pub fbm_size: Option<usize>,
+    /// Seed of the default fBm terrain, when no INPUT is given [default: 1].
+    #[arg(long, value_parser = seed, allow_hyphen_values = true)]
+    pub seed: Option<u64>,
 }
 
 /// `relief render`.
@@ -119,8 +121,8 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_mlhm_render_mode)]
     pub mode: Option<MlhmRenderMode>,
     /// MLHM smooth mode: the smoothing radius in metres, the half-size of the cube whose
-    /// terrain volume defines the surface [default: one cell].
-    #[arg(long)]
+    /// terrain volume defines the surface (1/64 of a cell to 8 cells) [default: one cell].
+    #[arg(long, value_parser = parse::positive_length, allow_hyphen_values = true)]
     pub sigma: Option<f64>,
     /// MLHM scenes: quality preset (Nilles & Müller 2025, section 5): low (no secondary rays,
     /// no AO), mid (water reflections and refractions with cheap absorption, sun shadows, AO
@@ -130,7 +132,7 @@ pub struct RenderArgs {
     pub preset: Option<MlhmPreset>,
     /// MLHM scenes, hierarchy tracer: store its bounds as f32 or f16 (half the memory, rounded
     /// outwards so they stay conservative; the same image) [default: f32].
-    #[arg(long, value_parser = parse_precision)]
+    #[arg(long, value_parser = parse::precision)]
     pub hierarchy_bounds: Option<Precision>,
     /// MLHM scenes, hierarchy tracer: how its traversal climbs back up, by a stack of exit
     /// distances or a miss counter: stack or miss [default: stack].
@@ -139,23 +141,26 @@ pub struct RenderArgs {
     /// Safety-shape options.
     #[command(flatten)]
     pub safety: SafetyArgs,
-    /// Camera position X,Y,Z (world units); framed automatically when absent.
-    #[arg(long, value_parser = parse_vec3, requires = "target")]
+    /// Camera position X,Y,Z in world units, e.g. --eye -100,-150,420; framed automatically
+    /// when absent.
+    #[arg(long, value_parser = parse::point, requires = "target", allow_hyphen_values = true)]
     pub eye: Option<DVec3>,
     /// Point looked at X,Y,Z.
-    #[arg(long, value_parser = parse_vec3, requires = "eye")]
+    #[arg(long, value_parser = parse::point, requires = "eye", allow_hyphen_values = true)]
     pub target: Option<DVec3>,
-    /// Camera up vector X,Y,Z.
-    #[arg(long, value_parser = parse_vec3, default_value = "0,0,1")]
-    pub up: DVec3,
-    /// Vertical field of view in degrees.
-    #[arg(long, default_value_t = 45.0)]
+    /// Camera up vector X,Y,Z, with --eye and --target; when it is parallel to the view (a
+    /// camera looking straight down or up), north is at the top of the image [default: 0,0,1].
+    #[arg(long, value_parser = parse::direction, requires = "eye", allow_hyphen_values = true)]
+    pub up: Option<DVec3>,
+    /// Vertical field of view in degrees (0.01 to 179).
+    #[arg(long, default_value = "45", value_parser = parse::fov, allow_hyphen_values = true)]
     pub fov: f64,
-    /// Image size WxH in pixels.
-    #[arg(long, value_parser = parse_size, default_value = "1280x720")]
+    /// Image size WxH in pixels (not terrain samples: see --fbm-size).
+    #[arg(long, value_parser = parse::image_size, default_value = "1280x720")]
     pub size: (u32, u32),
-    /// Sun AZIMUTH,ELEVATION in degrees (azimuth clockwise from north).
-    #[arg(long, value_parser = parse_sun, default_value = "315,35", allow_hyphen_values = true)]
+    /// Sun AZIMUTH,ELEVATION in degrees (azimuth clockwise from north, -360 to 360; elevation
+    /// -90 to 90).
+    #[arg(long, value_parser = parse::sun, default_value = "315,35", allow_hyphen_values = true)]
     pub sun: (f64, f64),
     /// Do not trace shadow rays.
     #[arg(long)]
@@ -166,10 +171,10 @@ pub struct RenderArgs {
     /// Colour texture (PNG) draped over the terrain's footprint, top row north.
     #[arg(long)]
     pub texture: Option<PathBuf>,
-    /// Exposure applied before tone mapping.
-    #[arg(long, default_value_t = 1.0)]
+    /// Exposure applied before tone mapping (1e-4 to 1e4).
+    #[arg(long, default_value = "1", value_parser = parse::exposure, allow_hyphen_values = true)]
     pub exposure: f64,
-    /// Output PNG.
+    /// Output picture: .png, or .jpg/.jpeg.
     #[arg(short, long, default_value = "relief.png")]
     pub output: PathBuf,
     /// Also write the distance to the first hit per pixel (.npy, f32, H x W, +inf on a miss).
@@ -190,14 +195,6 @@ pub enum MlhmRenderMode {
     Smooth,
 }
 
-fn parse_precision(s: &str) -> Result<Precision, String> {
-    match s {
-        "f32" => Ok(Precision::F32),
-        "f16" => Ok(Precision::F16),
-        _ => Err(format!("unknown precision '{s}' (expected f32 or f16)")),
-    }
-}
-
 fn parse_mlhm_render_mode(s: &str) -> Result<MlhmRenderMode, String> {
     match s {
         "boxes" => Ok(MlhmRenderMode::Boxes),
@@ -212,11 +209,12 @@ pub struct SafetyArgs {
     /// Safety shapes: cyl_all or cyl_ext (cylinders for all rays, or for exterior rays only:
     /// cameras outside the terrain's box), optionally +cone_all (conservative cones), +cone_ext
     /// (exact cones for exterior rays) or +cone_exact (exact cones for all rays).
-    #[arg(long, default_value = "cyl_all+cone_all")]
-    pub safety: SafetyOptions,
+    /// [default: cyl_all+cone_all]
+    #[arg(long)]
+    pub safety: Option<SafetyOptions>,
     /// Build the shapes for rays at most this many degrees from horizontal (e.g. -45: views
     /// looking down at least 45 degrees); other views are refused.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::phi_max, allow_hyphen_values = true)]
     pub phi_max: Option<f64>,
     /// One shape per texel for all four ray classes (less memory, slower).
     #[arg(long)]
@@ -228,9 +226,9 @@ pub struct SafetyArgs {
     /// approximate between centerlines.
     #[arg(long)]
     pub linear_surface: bool,
-    /// Farthest step, in texels, a shape may allow.
-    #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u16).range(1..))]
-    pub safety_reach: u16,
+    /// Farthest step, in texels, a shape may allow (1 to 1024) [default: 128].
+    #[arg(long, value_name = "TEXELS", value_parser = safety_reach, allow_hyphen_values = true)]
+    pub safety_reach: Option<u16>,
     /// Where precomputed shapes are kept [default: $RELIEF_CACHE_DIR, $XDG_CACHE_HOME/relief
     /// or ~/.cache/relief].
     #[arg(long)]
@@ -256,21 +254,22 @@ pub struct MlhmArgs {
     /// overhangs: arches, cave, chasm, overhangs, combined. Every scene is 256 m square.
     #[arg(long, value_name = "NAME")]
     pub scene: String,
-    /// Cells per side (the cell size is 256 m / N).
-    #[arg(long, value_name = "N")]
+    /// Cells per side, 1 to 65536 (the cell size is 256 m / N; not image pixels).
+    #[arg(long, value_name = "N", value_parser = terrain_side, allow_hyphen_values = true)]
     pub size: usize,
-    /// Seed of rivers-rain's noise (the carved scenes are fixed shapes).
-    #[arg(long, default_value_t = relief_sim::RIVERS_RAIN_SEED)]
-    pub seed: u64,
+    /// Seed of rivers-rain's noise (the carved scenes are fixed shapes and take none)
+    /// [default: the reference simulator's].
+    #[arg(long, value_parser = seed, allow_hyphen_values = true)]
+    pub seed: Option<u64>,
     /// Column slots per cell, 1 to 127 (carved scenes need up to 4; fewer fills their
     /// thinnest air gaps).
-    #[arg(long, default_value_t = 4, value_name = "L")]
+    #[arg(long, default_value = "4", value_name = "L", value_parser = max_layers, allow_hyphen_values = true)]
     pub max_layers: usize,
     /// Store the values as f16 (rounded conservatively) instead of f32.
     #[arg(long)]
     pub half: bool,
     /// Memory generation may take, e.g. 512M, 8G (default: half the machine's memory).
-    #[arg(long, value_parser = parse_bytes)]
+    #[arg(long, value_parser = parse::bytes, allow_hyphen_values = true)]
     pub max_memory: Option<u64>,
     /// Output: scene.mlhm (relief's own file, an NPZ archive) or scene.json (the reference
     /// simulator's scene, its .dat written beside it with the same name).
@@ -281,13 +280,15 @@ pub struct MlhmArgs {
 /// `relief generate fbm`.
 #[derive(Debug, Args)]
 pub struct FbmArgs {
-    /// Width and height in samples.
-    #[arg(long, default_value_t = 1024)]
+    /// Terrain samples per side, width and height (1 to 65536; not image pixels).
+    #[arg(long, value_name = "N", default_value = "1024", value_parser = terrain_side, allow_hyphen_values = true)]
     pub size: usize,
     /// Random seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value = "1", value_parser = seed, allow_hyphen_values = true)]
     pub seed: u64,
-    /// Output file (.npy, float32).
+    /// Output height file, in the format its extension names: .npy (float32), .tif/.tiff
+    /// (float32 GeoTIFF), .asc, .png (16-bit grey: heights rounded to whole units 0..65535)
+    /// or .hgt (1201 or 3601 samples only).
     #[arg(short, long)]
     pub output: PathBuf,
 }
@@ -295,7 +296,7 @@ pub struct FbmArgs {
 /// `relief info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// Height file.
+    /// Height file, or an MLHM scene (.json or .mlhm).
     pub input: PathBuf,
     /// How to read it.
     #[command(flatten)]
@@ -318,15 +319,16 @@ pub struct ConvertArgs {
 /// `relief bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Size of the fBm terrain in samples per side.
-    #[arg(long, default_value_t = 4096)]
-    pub size: usize,
-    /// Image size WxH.
-    #[arg(long, value_parser = parse_size, default_value = "1920x1080")]
+    /// Terrain samples per side of the fBm terrain (1 to 65536; not image pixels: see
+    /// --res) [default: 4096].
+    #[arg(long, value_name = "N", value_parser = terrain_side, allow_hyphen_values = true)]
+    pub size: Option<usize>,
+    /// Image size WxH in pixels.
+    #[arg(long, value_parser = parse::image_size, default_value = "1920x1080")]
     pub res: (u32, u32),
-    /// Seed of the terrain.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
+    /// Seed of the fBm terrain [default: 1].
+    #[arg(long, value_parser = seed, allow_hyphen_values = true)]
+    pub seed: Option<u64>,
     /// Tracers to measure (comma-separated): naive, mipmap, safety, or safety variants by name
     /// (cyl_all, cyl_all+cone_all, cyl_ext, ...). Safety shapes are always precomputed afresh
     /// here, and their build time reported.
@@ -342,7 +344,8 @@ pub struct BenchArgs {
     /// fills the image, seen from 60 degrees up: every ray looks down at least 45 degrees).
     #[arg(long, value_delimiter = ',', default_values = ["three-quarter", "flight", "top-down"])]
     pub views: Vec<String>,
-    /// Measure this height file (spacing 1, z scale 1) instead of generating the fBm terrain.
+    /// Measure this height file (spacing 1, z scale 1) instead of generating the fBm terrain
+    /// (then --size and --seed do not apply).
     #[arg(long)]
     pub input: Option<PathBuf>,
     /// Print one JSON object per measurement (with the camera) instead of a table.
@@ -353,7 +356,7 @@ pub struct BenchArgs {
     pub depth_dir: Option<PathBuf>,
     /// Trace every view this many times and report the fastest (the G-buffer is allocated
     /// once, as a renderer drawing frame after frame does).
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, default_value = "3", value_parser = repeat, allow_hyphen_values = true)]
     pub repeat: u32,
     /// Instructions of the mipmap tracer's packet tests: auto (the fastest this processor
     /// has), avx2 or portable.
@@ -365,77 +368,29 @@ pub struct BenchArgs {
     pub single_rays: bool,
 }
 
-fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != N {
-        return Err(format!("expected {N} comma-separated numbers for {what}, got '{s}'"));
-    }
-    let mut out = [0.0; N];
-    for (o, p) in out.iter_mut().zip(&parts) {
-        *o = p.parse::<f64>().map_err(|_| format!("'{p}' is not a number"))?;
-        if !o.is_finite() {
-            return Err(format!("'{p}' is not a finite number"));
-        }
-    }
-    Ok(out)
+/// A terrain's samples (or an MLHM's cells) per side: 1 to 65536.
+fn terrain_side(s: &str) -> Result<usize, String> {
+    parse::whole_in(s, 1..=65536, "size").map(|v| v as usize)
 }
 
-fn parse_vec3(s: &str) -> Result<DVec3, String> {
-    parse_numbers::<3>(s, "X,Y,Z").map(DVec3::from_array)
+/// A seed: any whole number from 0 to 2^64 - 1.
+fn seed(s: &str) -> Result<u64, String> {
+    parse::whole_in(s, 0..=u64::MAX, "seed")
 }
 
-fn parse_sun(s: &str) -> Result<(f64, f64), String> {
-    let [azimuth, elevation] = parse_numbers::<2>(s, "AZIMUTH,ELEVATION")?;
-    if !(-90.0..=90.0).contains(&elevation) {
-        return Err(format!("sun elevation {elevation} is outside -90..90 degrees"));
-    }
-    Ok((azimuth, elevation))
+/// `--safety-reach`: 1 to 1024 texels (the precomputation's time grows with it).
+fn safety_reach(s: &str) -> Result<u16, String> {
+    parse::whole_in(s, 1..=1024, "--safety-reach").map(|v| v as u16)
 }
 
-fn parse_spacing(s: &str) -> Result<(f64, f64), String> {
-    let values = if s.contains(',') {
-        parse_numbers::<2>(s, "DX,DY")?
-    } else {
-        let [d] = parse_numbers::<1>(s, "DX")?;
-        [d, d]
-    };
-    if values.iter().any(|&v| v <= 0.0) {
-        return Err(format!("spacing '{s}' must be positive"));
-    }
-    Ok((values[0], values[1]))
+/// `--max-layers`: 1 to 127, what the scene format's int8 layer counts hold.
+fn max_layers(s: &str) -> Result<usize, String> {
+    parse::whole_in(s, 1..=127, "--max-layers").map(|v| v as usize)
 }
 
-fn parse_bytes(s: &str) -> Result<u64, String> {
-    let s = s.trim();
-    let (digits, unit) = match s.find(|c: char| !c.is_ascii_digit() && c != '.') {
-        Some(i) => s.split_at(i),
-        None => (s, ""),
-    };
-    let factor: u64 = match unit.to_ascii_uppercase().trim_end_matches("IB").trim_end_matches('B') {
-        "" => 1,
-        "K" => 1 << 10,
-        "M" => 1 << 20,
-        "G" => 1 << 30,
-        "T" => 1 << 40,
-        _ => return Err(format!("'{s}': expected a size like 512M or 8G")),
-    };
-    let value: f64 =
-        digits.parse().map_err(|_| format!("'{s}': expected a size like 512M or 8G"))?;
-    if !(value.is_finite() && value > 0.0) {
-        return Err(format!("'{s}' must be a positive size"));
-    }
-    Ok((value * factor as f64) as u64)
-}
-
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got '{s}'"))?;
-    let parse =
-        |v: &str| {
-            v.trim().parse::<u32>().ok().filter(|&n| (1..=32768).contains(&n)).ok_or_else(|| {
-                format!("'{v}' in '{s}' is not an image dimension between 1 and 32768")
-            })
-        };
-    Ok((parse(w)?, parse(h)?))
+/// `--repeat`: 1 to 1000 runs of every view.
+fn repeat(s: &str) -> Result<u32, String> {
+    parse::whole_in(s, 1..=1000, "--repeat").map(|v| v as u32)
 }
 
 #[cfg(test)]
@@ -443,20 +398,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn parses_and_refuses_values() {
-        assert_eq!(parse_size("96x64"), Ok((96, 64)));
-        assert!(parse_size("0x64").is_err() && parse_size("96").is_err());
-        assert_eq!(parse_spacing("2"), Ok((2.0, 2.0)));
-        assert_eq!(parse_spacing("2,3"), Ok((2.0, 3.0)));
-        assert!(parse_spacing("-1").is_err());
-        assert!(parse_vec3("1,2").is_err() && parse_vec3("1,2,nan").is_err());
-        assert!(parse_sun("10,95").is_err());
+    fn render_modes_parse() {
         assert_eq!(parse_mlhm_render_mode("boxes"), Ok(MlhmRenderMode::Boxes));
         assert_eq!(parse_mlhm_render_mode("smooth"), Ok(MlhmRenderMode::Smooth));
         assert!(parse_mlhm_render_mode("spheres").is_err());
-        assert_eq!(parse_bytes("512M"), Ok(512 << 20));
-        assert_eq!(parse_bytes("2GiB"), Ok(2 << 30));
-        assert_eq!(parse_bytes("1000"), Ok(1000));
-        assert!(parse_bytes("12Q").is_err() && parse_bytes("-1G").is_err());
+    }
+
+    #[test]
+    fn whole_numbers_are_held_to_their_ranges() {
+        assert_eq!(terrain_side("65536"), Ok(65536));
+        assert!(terrain_side("0").is_err() && terrain_side("-4").is_err());
+        assert_eq!(seed("18446744073709551615"), Ok(u64::MAX));
+        assert!(safety_reach("1025").is_err() && max_layers("128").is_err());
     }
 }

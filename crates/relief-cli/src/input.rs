@@ -1,6 +1,7 @@
 //! Loading the height field a command works on: a file, or the seeded fBm terrain.
 
 use crate::args::{InputArgs, PngHeights, ReadArgs, Voids};
+use crate::{applies, memory};
 use anyhow::{Context, Result};
 use relief_core::{GridGeometry, HeightField};
 use relief_io::{PngEncoding, Raster, ReadOptions, VoidPolicy};
@@ -9,15 +10,39 @@ use std::path::Path;
 use std::sync::Arc;
 
 /// Reads `args.input` (or generates the default terrain) and applies spacing and z scale.
+/// Options that do nothing for that input are refused.
 pub fn load(args: &InputArgs) -> Result<Arc<HeightField>> {
+    check_input_args(args)?;
     let field = match &args.input {
         Some(path) => read(path, &args.read, Voids::Fill)?.1,
-        None => fbm(args.fbm_size, args.seed)?,
+        None => fbm(
+            args.fbm_size.unwrap_or(DEFAULT_FBM_SIZE),
+            args.seed.unwrap_or(1),
+            &memory::budget(args.read.max_memory),
+        )?,
     };
     let field = if args.north_up { field.flip_rows() } else { field };
     let (dx, dy) = args.spacing.unwrap_or((field.geometry().dx, field.geometry().dy));
     let geometry = GridGeometry { dx, dy, z_scale: args.z_scale, ..*field.geometry() };
     Ok(Arc::new(field.with_geometry(geometry).context("invalid placement")?))
+}
+
+/// Samples per side of the default fBm terrain.
+pub const DEFAULT_FBM_SIZE: usize = 1024;
+
+/// Refuses the options of `args` that do nothing for its input.
+pub fn check_input_args(args: &InputArgs) -> Result<()> {
+    applies::check_read_args(&args.read, args.input.as_deref())?;
+    if args.input.is_some() {
+        let here = applies::input_kind(args.input.as_deref());
+        if args.fbm_size.is_some() {
+            return Err(applies::refuse("--fbm-size", "the default fBm terrain", &here));
+        }
+        if args.seed.is_some() {
+            return Err(applies::refuse("--seed", "the default fBm terrain", &here));
+        }
+    }
+    Ok(())
 }
 
 /// Reads the height file at `path` as a raster and as a height field with its voids resolved
@@ -42,7 +67,7 @@ pub fn read_options(args: &ReadArgs) -> ReadOptions {
     ReadOptions {
         max_memory: args.max_memory.unwrap_or(defaults.max_memory),
         array: args.array.clone(),
-        png_encoding: match args.png_encoding {
+        png_encoding: match args.png_encoding.unwrap_or(PngHeights::Grey) {
             PngHeights::Grey => PngEncoding::Grey,
             PngHeights::TerrainRgb => PngEncoding::TerrainRgb,
             PngHeights::Terrarium => PngEncoding::Terrarium,
@@ -50,19 +75,19 @@ pub fn read_options(args: &ReadArgs) -> ReadOptions {
     }
 }
 
-/// The seeded fBm terrain of `size` x `size` samples.
-pub fn fbm(size: usize, seed: u64) -> Result<HeightField> {
+/// The seeded fBm terrain of `size` x `size` samples, refused when it and the pyramid a
+/// render builds over it would not fit `budget`.
+pub fn fbm(size: usize, seed: u64, budget: &memory::Budget) -> Result<HeightField> {
     if size == 0 || size > 65536 {
         anyhow::bail!("terrain size {size} must be between 1 and 65536");
     }
-    // The samples, and the pyramid a render builds over them.
     let needed = (size as u64).pow(2) * 16 / 3;
-    let limit = relief_io::default_memory_limit();
-    if needed > limit {
+    if needed > budget.bytes {
         anyhow::bail!(
-            "a {size}x{size} terrain needs {} MiB, over the {} MiB memory limit (half the machine's memory)",
+            "a {size}x{size} terrain needs {} MiB, over the {} MiB memory limit ({})",
             needed >> 20,
-            limit >> 20
+            budget.bytes >> 20,
+            budget.origin
         );
     }
     fbm_terrain(size, size, seed, &FbmParams::for_size(size, size))

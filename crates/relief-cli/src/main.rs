@@ -1,10 +1,13 @@
 //! The `relief` command-line tool: argument parsing and wiring; the algorithms live in the
 //! library crates.
 
+mod applies;
 mod args;
 mod commands;
 mod input;
 mod memory;
+mod outputs;
+mod parse;
 mod progress;
 mod tracers;
 

@@ -66,11 +66,11 @@ pub struct Built {
 
 /// The safety options the command line asks for, for `choice`'s variant.
 pub fn safety_options(variant: Option<SafetyOptions>, args: &SafetyArgs) -> Result<SafetyOptions> {
-    let mut options = variant.unwrap_or(args.safety);
+    let mut options = variant.or(args.safety).unwrap_or_default();
     options.phi_max_deg = args.phi_max;
     options.layout = if args.isotropic { ShapeLayout::Isotropic } else { ShapeLayout::Directional };
     options.strictly_positive = args.positive;
-    options.reach = args.safety_reach;
+    options.reach = args.safety_reach.unwrap_or(options.reach);
     options.validate().map_err(anyhow::Error::msg)?;
     Ok(options)
 }
@@ -145,4 +145,15 @@ pub fn build(
     let safety =
         SafetyTracer::new(field.clone(), Arc::new(shapes), final_test).context("safety tracer")?;
     Ok(Built { tracer: Box::new(safety.clone()), safety: Some(safety), build_s, note })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_safety_variant_is_the_documented_one() {
+        let documented: SafetyOptions = "cyl_all+cone_all".parse().unwrap();
+        assert_eq!(documented, SafetyOptions::default());
+    }
 }

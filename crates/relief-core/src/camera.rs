@@ -58,6 +58,24 @@ impl Camera {
         Ok(Camera { eye, target, up, fov_deg, width, height, forward, right, true_up, tan_half })
     }
 
+    /// The up vector to give [`Camera::look_at`] for a camera at `eye` looking at `target`:
+    /// `up` itself, or, where `up` is parallel to the view (a camera looking straight down or
+    /// up with the default up `0,0,1`), north `0,1,0`, which puts north at the top of the
+    /// image (or, for a view along the north axis, `0,0,1`). The flag says whether `up` was
+    /// replaced.
+    pub fn usable_up(eye: DVec3, target: DVec3, up: DVec3) -> (DVec3, bool) {
+        let forward = (target - eye).normalize_or_zero();
+        let parallel = |u: DVec3| forward.cross(u).length() <= 1e-9 * u.length();
+        if forward == DVec3::ZERO || up.length() == 0.0 || !parallel(up) {
+            return (up, false);
+        }
+        if parallel(DVec3::Y) {
+            (DVec3::Z, true)
+        } else {
+            (DVec3::Y, true)
+        }
+    }
+
     /// A three-quarter view from the south-west at 30 degrees elevation that fits `bounds`
     /// into a `width x height` image with a 45 degree vertical field of view.
     pub fn frame(bounds: &Aabb, width: u32, height: u32) -> Result<Self, CoreError> {
@@ -207,6 +225,25 @@ mod tests {
         assert!(Camera::look_at(DVec3::ZERO, DVec3::Z, DVec3::Z, 45.0, 4, 4).is_err());
         assert!(Camera::look_at(DVec3::ZERO, DVec3::X, DVec3::Z, 180.0, 4, 4).is_err());
         assert!(Camera::look_at(DVec3::ZERO, DVec3::X, DVec3::Z, 45.0, 0, 4).is_err());
+    }
+
+    #[test]
+    fn a_camera_looking_straight_down_has_north_at_the_top() {
+        let (eye, target) = (DVec3::new(10.0, 10.0, 10.0), DVec3::new(10.0, 10.0, 0.0));
+        let (up, replaced) = Camera::usable_up(eye, target, DVec3::Z);
+        assert!(replaced);
+        let cam = Camera::look_at(eye, target, up, 45.0, 9, 9).unwrap();
+        let (top, bottom) = (cam.ray(4, 0).dir, cam.ray(4, 8).dir);
+        assert!(top.y > 0.0 && bottom.y < 0.0, "north at the top: {top} {bottom}");
+        let (left, right) = (cam.ray(0, 4).dir, cam.ray(8, 4).dir);
+        assert!(left.x < 0.0 && right.x > 0.0, "east on the right: {left} {right}");
+        // Looking up, and along the north axis with up = north, give usable cameras too.
+        let (up, _) = Camera::usable_up(DVec3::ZERO, DVec3::Z, DVec3::Z);
+        assert!(Camera::look_at(DVec3::ZERO, DVec3::Z, up, 45.0, 4, 4).is_ok());
+        let (up, replaced) = Camera::usable_up(DVec3::ZERO, DVec3::Y, DVec3::Y);
+        assert!(replaced && Camera::look_at(DVec3::ZERO, DVec3::Y, up, 45.0, 4, 4).is_ok());
+        // A usable up is kept.
+        assert_eq!(Camera::usable_up(DVec3::ZERO, DVec3::X, DVec3::Z), (DVec3::Z, false));
     }
 
     #[test]

@@ -17,7 +17,8 @@
 //!   encoding;
 //! - [`write_npy_f32`], [`write_height_field_npy`]: little-endian f32 `.npy` arrays (depth
 //!   images, normals, height fields);
-//! - [`write_png_rgb8`], [`write_png_gray16`], [`read_png_rgb`]: PNG images.
+//! - [`write_png_rgb8`], [`write_png_gray16`], [`read_png_rgb`]: PNG images;
+//!   [`write_jpeg_rgb8`]: JPEG pictures.
 //!
 //! Readers never trust a header: sizes are checked against the file before anything is
 //! allocated. Writers write a temporary file beside the target and rename it into place, so a
@@ -53,6 +54,7 @@ mod npy_write;
 mod npz;
 mod png_height;
 mod png_read;
+mod jpeg_write;
 mod png_write;
 mod raster;
 mod read;
@@ -83,6 +85,7 @@ pub use npy_write::{write_height_field_npy, write_npy_f32};
 pub use npz::read_npz;
 pub use png_height::{read_png_height, write_png16_height};
 pub use png_read::{read_png_rgb, RgbImage};
+pub use jpeg_write::{write_jpeg_rgb8, JPEG_QUALITY};
 pub use png_write::{write_png_gray16, write_png_rgb8};
 pub use raster::{
     default_memory_limit, DegreeSpacing, Format, PngEncoding, Raster, RasterInfo, ReadOptions,

@@ -7,7 +7,7 @@
 
 use crate::args::BenchArgs;
 use crate::tracers::{self, TracerChoice};
-use crate::{input, memory, progress};
+use crate::{applies, input, memory, progress};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, DVec3, Surface, BENCHMARK_VIEWS};
@@ -46,23 +46,25 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if let Some(view) = args.views.iter().find(|v| !BENCHMARK_VIEWS.contains(&v.as_str())) {
         bail!("unknown view '{view}': expected {}", BENCHMARK_VIEWS.join(", "));
     }
-    let limit = relief_io::default_memory_limit();
-    super::check_image(args.res.0, args.res.1, limit, "half the machine's memory")?;
+    let budget = memory::budget(None);
+    let limit = budget.bytes;
+    super::check_image(args.res.0, args.res.1, &budget)?;
+    refuse_unused_options(args)?;
     let started = Instant::now();
     let (field, source) = match &args.input {
         Some(path) => {
             let read = crate::args::ReadArgs {
                 voids: None,
                 max_memory: None,
-                png_encoding: crate::args::PngHeights::Grey,
+                png_encoding: None,
                 array: None,
             };
             (input::read(path, &read, crate::args::Voids::Fill)?.1, path.display().to_string())
         }
-        None => (
-            input::fbm(args.size, args.seed)?,
-            format!("fBm {0}x{0} seed {1}", args.size, args.seed),
-        ),
+        None => {
+            let (size, seed) = (args.size.unwrap_or(4096), args.seed.unwrap_or(1));
+            (input::fbm(size, seed, &budget)?, format!("fBm {size}x{size} seed {seed}"))
+        }
     };
     let field = Arc::new(field);
     let load_s = started.elapsed().as_secs_f64();
@@ -177,6 +179,24 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 }
             }
         }
+    }
+    Ok(())
+}
+
+/// Refuses the options that would do nothing: the fBm terrain's with `--input`, the safety
+/// shapes' when no safety tracer is measured.
+fn refuse_unused_options(args: &BenchArgs) -> Result<()> {
+    if let Some(path) = &args.input {
+        let here = format!("--input {}", path.display());
+        for (given, option) in [(args.size.is_some(), "--size"), (args.seed.is_some(), "--seed")] {
+            if given {
+                return Err(applies::refuse(option, "the generated fBm terrain", &here));
+            }
+        }
+    }
+    let safety_measured = args.tracers.iter().any(|t| matches!(t, TracerChoice::Safety(_)));
+    if let Some(option) = applies::safety_option_given(&args.safety).filter(|_| !safety_measured) {
+        return Err(applies::refuse(option, "the safety tracers", "the tracers measured"));
     }
     Ok(())
 }

@@ -1,15 +1,15 @@
 //! `relief convert`: read a height file and write it in another format, or an MLHM in the
 //! other MLHM file (`.json` scene <-> `.mlhm`).
 
-use super::check_output;
 use super::generate::write_mlhm;
 use crate::args::{ConvertArgs, Voids};
-use crate::input;
+use crate::{applies, input, outputs};
 use anyhow::{bail, Result};
 
 /// Runs `relief convert`.
 pub fn run(args: &ConvertArgs) -> Result<()> {
-    check_output(&args.output)?;
+    outputs::check_distinct(&[("OUT", &args.output)], &[&args.input])?;
+    outputs::check_writable(&args.output)?;
     if input::is_mlhm_scene(&args.input) {
         return convert_mlhm(args);
     }
@@ -20,7 +20,10 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
             args.output.display()
         );
     }
+    outputs::check_height_file(&args.output, None)?;
+    applies::check_read_args(&args.read, Some(&args.input))?;
     let (_, field, voids) = input::read(&args.input, &args.read, Voids::Hole)?;
+    outputs::check_height_file(&args.output, Some((field.width(), field.height())))?;
     relief_io::write_height_field(&args.output, &field)?;
     eprintln!(
         "wrote {} ({} x {}, {voids} voids)",
@@ -42,9 +45,10 @@ fn convert_mlhm(args: &ConvertArgs) -> Result<()> {
             args.output.display()
         );
     }
-    if args.read.voids.is_some() || args.read.array.is_some() {
-        bail!("--voids and --array apply to height files only, not to MLHM scenes");
+    if args.read.voids.is_some() {
+        return Err(applies::refuse("--voids", "height files", "MLHM scenes"));
     }
+    applies::check_read_args(&args.read, Some(&args.input))?;
     let scene = input::load_mlhm(&args.input, &args.read)?;
     write_mlhm(&args.output, &scene)?;
     let map = &scene.mlhm;

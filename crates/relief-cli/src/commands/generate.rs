@@ -1,13 +1,12 @@
 //! `relief generate`: write synthetic terrains.
 
-use super::check_output;
 use crate::args::{FbmArgs, GenerateCommand, MlhmArgs};
-use crate::input;
+use crate::{applies, input, memory, outputs};
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
 use relief_core::{Mlhm, Precision};
 use relief_io::MlhmScene;
-use relief_sim::{carved_scene, rivers_rain, CarvedScene};
+use relief_sim::{carved_scene, rivers_rain, CarvedScene, RIVERS_RAIN_SEED};
 use std::path::Path;
 use std::time::Duration;
 
@@ -19,11 +18,12 @@ pub fn run(command: &GenerateCommand) -> Result<()> {
     }
 }
 
-/// Runs `relief generate fbm`.
+/// Runs `relief generate fbm`: the terrain in the height format the output's extension names.
 fn run_fbm(args: &FbmArgs) -> Result<()> {
-    check_output(&args.output)?;
-    let field = input::fbm(args.size, args.seed)?;
-    relief_io::write_height_field_npy(&args.output, &field)?;
+    outputs::check_height_file(&args.output, Some((args.size, args.size)))?;
+    outputs::check_writable(&args.output)?;
+    let field = input::fbm(args.size, args.seed, &memory::budget(None))?;
+    relief_io::write_height_field(&args.output, &field)?;
     eprintln!(
         "wrote {} ({} x {}, heights {:.1}..{:.1})",
         args.output.display(),
@@ -75,15 +75,24 @@ fn bytes_per_slot(half: bool) -> u64 {
 /// Runs `relief generate mlhm`.
 fn run_mlhm(args: &MlhmArgs) -> Result<()> {
     let scene = MlhmSceneName::parse(&args.scene)?;
+    if let (MlhmSceneName::Carved(_), Some(_)) = (scene, args.seed) {
+        return Err(applies::refuse(
+            "--seed",
+            "rivers-rain",
+            &format!("the {} scene (a fixed shape)", args.scene),
+        ));
+    }
     mlhm_file_kind(&args.output)?;
     if !(1..=MAX_FILE_LAYERS).contains(&args.max_layers) {
         bail!("--max-layers {} is outside 1..={MAX_FILE_LAYERS}", args.max_layers);
     }
     check_memory(args)?;
-    check_output(&args.output)?;
+    outputs::check_writable(&args.output)?;
     let started = std::time::Instant::now();
     let map = match scene {
-        MlhmSceneName::RiversRain => rivers_rain(args.size, args.max_layers, args.seed),
+        MlhmSceneName::RiversRain => {
+            rivers_rain(args.size, args.max_layers, args.seed.unwrap_or(RIVERS_RAIN_SEED))
+        }
         MlhmSceneName::Carved(carved) => carved_scene(carved, args.size, args.max_layers),
     }
     .with_context(|| format!("generating the {} scene", args.scene))?;
@@ -160,10 +169,7 @@ fn check_memory(args: &MlhmArgs) -> Result<()> {
     if args.size == 0 {
         bail!("--size 0: a scene needs at least 1 x 1 cells");
     }
-    let (limit, origin) = match args.max_memory {
-        Some(limit) => (limit, "--max-memory"),
-        None => (relief_io::default_memory_limit(), "half the machine's memory"),
-    };
+    let memory::Budget { bytes: limit, origin } = memory::budget(args.max_memory);
     let cells = (args.size as u128).pow(2);
     let needed = cells * (1 + args.max_layers as u128 * u128::from(bytes_per_slot(args.half)));
     if needed > u128::from(limit) {

@@ -1,43 +1,51 @@
 //! `relief render`: trace, shade and write a picture (and optionally depth and normals).
 
-use super::{check_image, check_output, render_mlhm};
+use super::{check_image, render_mlhm};
 use crate::args::RenderArgs;
 use crate::tracers::TracerChoice;
-use crate::{input, progress, tracers};
-use anyhow::{bail, Context, Result};
-use relief_core::{Aabb, Camera, Surface};
+use crate::{applies, input, memory, outputs, progress, tracers};
+use anyhow::{Context, Result};
+use relief_core::{Aabb, Camera, DVec3, Surface};
 use relief_shade::{
     render_gbuffer, shade_to_srgb8, sun_direction, Albedo, GBuffer, RgbTexture, ShadingParams, Sun,
 };
 use relief_trace::{Simd, TracerKind};
+use std::path::Path;
 
 /// Runs `relief render`: an MLHM scene (`.json`) takes [`render_mlhm`], any other input the
 /// height-field path.
 pub fn run(args: &RenderArgs) -> Result<()> {
-    for path in
-        [Some(&args.output), args.depth.as_ref(), args.normals.as_ref()].into_iter().flatten()
-    {
-        check_output(path)?;
-    }
-    let max_memory = input::read_options(&args.input.read).max_memory;
-    check_image(args.size.0, args.size.1, max_memory, "raise it with --max-memory")?;
+    check_outputs(args)?;
+    let budget = memory::budget(args.input.read.max_memory);
+    check_image(args.size.0, args.size.1, &budget)?;
     if let Some(path) = args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
         return render_mlhm::run(args, path);
     }
     refuse_mlhm_options(args)?;
     let surface = args.surface.unwrap_or(Surface::Triangles);
     let choice = args.tracer.clone().unwrap_or(TracerChoice::Plain(TracerKind::Mipmap));
+    if !matches!(choice, TracerChoice::Safety(_)) {
+        if let Some(option) = applies::safety_option_given(&args.safety) {
+            return Err(applies::refuse(
+                option,
+                "the safety tracer",
+                &format!("the {choice} tracer"),
+            ));
+        }
+    }
     let field = input::load(&args.input)?;
     let camera = camera(args, &field.world_bounds(surface))?;
     let params = shading(args, &field.world_bounds(Surface::Boxes))?;
     let built =
-        tracers::build(&field, surface, &choice, &args.safety, true, max_memory, Simd::detect())?;
+        tracers::build(&field, surface, &choice, &args.safety, true, budget.bytes, Simd::detect())?;
     if let Some(safety) = &built.safety {
         let light = (!args.no_shadows).then(|| sun_direction(args.sun.0, args.sun.1));
         let (w, h) = (camera.width(), camera.height());
         let directions =
             (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).map(|(i, j)| camera.ray(i, j).dir);
         safety.check_view(camera.eye(), directions, light)?;
+    }
+    if !built.note.is_empty() {
         eprintln!("{}", built.note);
     }
     let tracer = built.tracer;
@@ -51,6 +59,26 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     write_outputs(args, &camera, &gbuffer, rgb.as_flattened())?;
     let (w, h) = (camera.width(), camera.height());
     eprintln!("wrote {} ({w}x{h}, {surface} {choice} tracer)", args.output.display());
+    Ok(())
+}
+
+/// Refuses, before any work, outputs whose format or folder is wrong, and two outputs (or an
+/// output and the input) that are one file.
+fn check_outputs(args: &RenderArgs) -> Result<()> {
+    outputs::picture_format("-o", &args.output)?;
+    let mut all = vec![("-o", args.output.as_path())];
+    for (option, path) in [("--depth", &args.depth), ("--normals", &args.normals)] {
+        if let Some(path) = path {
+            outputs::check_npy(option, path)?;
+            all.push((option, path.as_path()));
+        }
+    }
+    let inputs: Vec<&Path> =
+        [args.input.input.as_deref(), args.texture.as_deref()].into_iter().flatten().collect();
+    outputs::check_distinct(&all, &inputs)?;
+    for (_, path) in &all {
+        outputs::check_writable(path)?;
+    }
     Ok(())
 }
 
@@ -73,7 +101,8 @@ fn refuse_mlhm_options(args: &RenderArgs) -> Result<()> {
     } else {
         return Ok(());
     };
-    bail!("{what} applies to MLHM scenes (.json, .mlhm) only, not to height fields")
+    let here = applies::input_kind(args.input.input.as_deref());
+    Err(applies::refuse(what, "MLHM scenes (.json, .mlhm)", &here))
 }
 
 /// The PNG of the tone-mapped `rgb`, and the depth and normals of `gbuffer` where asked for.
@@ -83,7 +112,7 @@ pub(super) fn write_outputs(
     gbuffer: &GBuffer,
     rgb: &[u8],
 ) -> Result<()> {
-    relief_io::write_png_rgb8(&args.output, camera.width(), camera.height(), rgb)?;
+    outputs::write_picture(&args.output, camera.width(), camera.height(), rgb)?;
     let (h, w) = (camera.height() as usize, camera.width() as usize);
     if let Some(path) = &args.depth {
         relief_io::write_npy_f32(path, &[h, w], &gbuffer.depth_hw())?;
@@ -94,11 +123,24 @@ pub(super) fn write_outputs(
     Ok(())
 }
 
-/// The camera given on the command line, or a three-quarter view framing `bounds`.
+/// The camera given on the command line, or a three-quarter view framing `bounds`. An up
+/// vector parallel to the view (a camera looking straight down) is replaced by north, with a
+/// note saying so.
 pub(super) fn camera(args: &RenderArgs, bounds: &Aabb) -> Result<Camera> {
     let (w, h) = args.size;
     let camera = match (args.eye, args.target) {
-        (Some(eye), Some(target)) => Camera::look_at(eye, target, args.up, args.fov, w, h)?,
+        (Some(eye), Some(target)) => {
+            let given = args.up.unwrap_or(DVec3::Z);
+            let (up, replaced) = Camera::usable_up(eye, target, given);
+            if replaced {
+                eprintln!(
+                    "note: up {},{},{} is parallel to the view; using {},{},{} (north at the top \
+                     of the image; set --up to choose another)",
+                    given.x, given.y, given.z, up.x, up.y, up.z
+                );
+            }
+            Camera::look_at(eye, target, up, args.fov, w, h)?
+        }
         _ => Camera::frame_from(bounds, 225.0, 30.0, args.fov, w, h)?,
     };
     Ok(camera)
