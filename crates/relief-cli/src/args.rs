@@ -83,7 +83,7 @@ pub struct InputArgs {
     /// How to read it.
     #[command(flatten)]
     pub read: ReadArgs,
-    /// Texel spacing DX[,DY] in world units (default: from the file's georeference, else 1).
+    /// Texel spacing `DX[,DY]` in world units (default: from the file's georeference, else 1).
     #[arg(long, value_parser = parse::spacing, allow_hyphen_values = true)]
     pub spacing: Option<(f64, f64)>,
     /// The array's row 0 is its north edge (as in most north-up rasters): flip the rows.

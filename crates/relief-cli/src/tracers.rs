@@ -43,11 +43,12 @@ impl FromStr for TracerChoice {
 
 impl fmt::Display for TracerChoice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // `pad`, so that widths and alignment in format strings apply.
         match self {
-            TracerChoice::Plain(kind) => write!(f, "{kind}"),
-            TracerChoice::Safety(None) => f.write_str("safety"),
-            TracerChoice::Safety(Some(o)) => f.write_str(&o.variant()),
-            TracerChoice::Hierarchy => f.write_str("hierarchy"),
+            TracerChoice::Plain(kind) => kind.fmt(f),
+            TracerChoice::Safety(None) => f.pad("safety"),
+            TracerChoice::Safety(Some(o)) => f.pad(&o.variant()),
+            TracerChoice::Hierarchy => f.pad("hierarchy"),
         }
     }
 }
@@ -155,5 +156,15 @@ mod tests {
     fn the_default_safety_variant_is_the_documented_one() {
         let documented: SafetyOptions = "cyl_all+cone_all".parse().unwrap();
         assert_eq!(documented, SafetyOptions::default());
+    }
+
+    #[test]
+    fn names_honour_widths() {
+        let mipmap = TracerChoice::Plain(TracerKind::Mipmap);
+        assert_eq!(
+            format!("[{mipmap:<8}][{:>8}]", TracerChoice::Hierarchy),
+            "[mipmap  ][hierarchy]"
+        );
+        assert_eq!(format!("[{:<8}]", TracerChoice::Safety(None)), "[safety  ]");
     }
 }

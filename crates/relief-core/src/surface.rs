@@ -37,7 +37,7 @@ impl Surface {
 
 impl fmt::Display for Surface {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.pad(self.name())
     }
 }
 
@@ -49,5 +49,18 @@ impl FromStr for Surface {
             "triangles" => Ok(Surface::Triangles),
             other => Err(format!("unknown surface '{other}' (expected boxes or triangles)")),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_honour_widths_in_tables() {
+        assert_eq!(
+            format!("[{:<9}][{:>9}]", Surface::Boxes, Surface::Triangles),
+            "[boxes    ][triangles]"
+        );
     }
 }

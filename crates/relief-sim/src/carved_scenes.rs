@@ -61,7 +61,7 @@ impl CarvedScene {
 
 impl fmt::Display for CarvedScene {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.pad(self.name())
     }
 }
 

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 /// one node. The pyramid takes about a third of the memory of the samples.
 ///
 /// Each level is stored in blocks of 2x2 nodes, one block per node of the level above, so the
-/// four children of a node sit side by side in 16 bytes ([`MaxMipmap::children`]); blocks
+/// four children of a node sit side by side in 16 bytes (`MaxMipmap::children`); blocks
 /// follow the nodes above row by row, and entries outside the grid hold minus infinity.
 #[derive(Debug, Clone)]
 pub struct MaxMipmap {

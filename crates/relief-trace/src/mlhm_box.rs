@@ -49,7 +49,7 @@ impl MlhmMode {
 
 impl fmt::Display for MlhmMode {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.pad(self.name())
     }
 }
 

@@ -35,7 +35,7 @@ impl MlhmBacktrack {
 
 impl fmt::Display for MlhmBacktrack {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.pad(self.name())
     }
 }
 

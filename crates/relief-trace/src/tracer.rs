@@ -97,7 +97,7 @@ impl TracerKind {
 
 impl fmt::Display for TracerKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.pad(self.name())
     }
 }
 

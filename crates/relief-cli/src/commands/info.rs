@@ -1,12 +1,23 @@
-//! `relief info`: what a height file holds and what rendering it costs.
+//! `relief info`: what a height file holds and what rendering it costs (an MLHM scene:
+//! [`super::info_mlhm`]).
 
+use super::{info_mlhm, BYTES_PER_PIXEL};
 use crate::args::InfoArgs;
-use crate::input;
+use crate::{applies, input};
 use anyhow::Result;
 use std::io::Write;
 
 /// Runs `relief info`.
 pub fn run(args: &InfoArgs) -> Result<()> {
+    if input::is_mlhm_scene(&args.input) {
+        return info_mlhm::run(args);
+    }
+    if args.read.voids.is_some() {
+        // info counts the voids; how a render resolves them changes nothing it reports.
+        let here = "relief info, which reports the voids as they are stored";
+        return Err(applies::refuse("--voids", "render and convert", here));
+    }
+    applies::check_read_args(&args.read, Some(&args.input))?;
     let mut out = std::io::stdout().lock();
     let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
     let info = &raster.info;
@@ -44,7 +55,8 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     let render_mib = samples * per_sample / 1048576.0;
     writeln!(
         out,
-        "to render:   about {render_mib:.1} MiB for the terrain, plus about 60 bytes a pixel"
+        "to render:   about {render_mib:.1} MiB for the terrain, plus about {BYTES_PER_PIXEL} \
+         bytes a pixel"
     )?;
     Ok(())
 }

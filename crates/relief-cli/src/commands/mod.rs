@@ -4,6 +4,7 @@ mod bench;
 mod convert;
 mod generate;
 mod info;
+mod info_mlhm;
 mod render;
 mod render_mlhm;
 

@@ -89,7 +89,7 @@ impl MlhmPreset {
 
 impl fmt::Display for MlhmPreset {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.pad(self.name())
     }
 }
 

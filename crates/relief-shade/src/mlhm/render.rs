@@ -34,7 +34,7 @@ pub struct MlhmShading {
     /// How brightly the sky lights the terrain relative to how bright it looks (the reference
     /// renderer's ambient light intensity against its sun).
     pub sky_light: f64,
-    /// Exposure before tone mapping (see [`crate::tonemap_reinhard_to_srgb8`]).
+    /// Exposure before tone mapping (see [`crate::tonemap_reinhard_to_rgb8`]).
     pub exposure: f64,
 }
 
