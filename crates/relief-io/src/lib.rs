@@ -14,7 +14,8 @@
 //! - [`read_mlhm_native`], [`write_mlhm_native`]: relief's own `.mlhm` files, a NumPy `.npz`
 //!   archive of the layer counts, the columns (f32 or f16) and the cell size;
 //! - [`ReadOptions`]: the memory budget (refused before allocating), the `.npz` array, the PNG
-//!   encoding;
+//!   encoding; [`default_memory_budget`]: the default budget, half the smaller of the
+//!   machine's memory and its cgroup's limit, with the words saying which applied;
 //! - [`write_npy_f32`], [`write_height_field_npy`]: little-endian f32 `.npy` arrays (depth
 //!   images, normals, height fields);
 //! - [`write_png_rgb8`], [`write_png_gray16`], [`read_png_rgb`]: PNG images;
@@ -45,6 +46,8 @@ mod geotiff_read;
 mod geotiff_write;
 mod hgt;
 mod input_file;
+mod jpeg_write;
+mod memory_budget;
 mod mlhm_native;
 mod mlhm_scene;
 mod npy_header;
@@ -54,7 +57,6 @@ mod npy_write;
 mod npz;
 mod png_height;
 mod png_read;
-mod jpeg_write;
 mod png_write;
 mod raster;
 mod read;
@@ -72,6 +74,8 @@ pub use geodesy::metres_per_degree;
 pub use geotiff_read::read_geotiff;
 pub use geotiff_write::write_geotiff;
 pub use hgt::{hgt_tile_corner, read_hgt, write_hgt, HGT_VOID};
+pub use jpeg_write::{write_jpeg_rgb8, JPEG_QUALITY};
+pub use memory_budget::{default_memory_budget, default_memory_limit, MemoryBudget};
 pub use mlhm_native::{
     read_mlhm_native, read_mlhm_native_from_bytes, write_mlhm_native, MLHM_NATIVE_VERSION,
 };
@@ -85,11 +89,10 @@ pub use npy_write::{write_height_field_npy, write_npy_f32};
 pub use npz::read_npz;
 pub use png_height::{read_png_height, write_png16_height};
 pub use png_read::{read_png_rgb, RgbImage};
-pub use jpeg_write::{write_jpeg_rgb8, JPEG_QUALITY};
 pub use png_write::{write_png_gray16, write_png_rgb8};
 pub use raster::{
-    default_memory_limit, DegreeSpacing, Format, PngEncoding, Raster, RasterInfo, ReadOptions,
-    VoidPolicy, BYTES_PER_SAMPLE,
+    DegreeSpacing, Format, PngEncoding, Raster, RasterInfo, ReadOptions, VoidPolicy,
+    BYTES_PER_SAMPLE,
 };
 pub use read::{format_of, read_raster, read_raster_from_bytes};
 pub use void_fill::fill_voids;

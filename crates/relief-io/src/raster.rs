@@ -1,5 +1,6 @@
 //! A raster as read from a file, before its voids are resolved, and the options of reading.
 
+use crate::memory_budget::default_memory_limit;
 use crate::void_fill::fill_voids;
 use crate::IoError;
 use relief_core::{GridGeometry, HeightField};
@@ -45,7 +46,7 @@ impl Format {
 
 impl fmt::Display for Format {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.pad(self.name())
     }
 }
 
@@ -126,7 +127,8 @@ pub struct ReadOptions {
 }
 
 impl Default for ReadOptions {
-    /// Half the machine's memory (or 4 GiB where it cannot be read), first array, grey PNG.
+    /// The [`default_memory_limit`] (half the machine's memory or of its cgroup's limit,
+    /// whichever is smaller), first array, grey PNG.
     fn default() -> Self {
         ReadOptions {
             max_memory: default_memory_limit(),
@@ -162,15 +164,6 @@ impl ReadOptions {
         }
         Ok(())
     }
-}
-
-/// Half of the machine's physical memory (from /proc/meminfo), or 4 GiB if unknown.
-pub fn default_memory_limit() -> u64 {
-    let total = std::fs::read_to_string("/proc/meminfo").ok().and_then(|text| {
-        let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
-        line.split_whitespace().nth(1)?.parse::<u64>().ok()
-    });
-    total.map_or(4 << 30, |kib| kib * 1024 / 2)
 }
 
 impl Raster {
