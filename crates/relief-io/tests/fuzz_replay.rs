@@ -1,5 +1,7 @@
-//! Replays the fuzz seeds and every input that once crashed a reader: each must give a raster
-//! or an error, never a panic; the seeds, which are valid files, must read.
+//! Replays the fuzz seeds and the regression inputs of tests/fuzz_regressions (inputs that
+//! once crashed a reader or aim at one of its error paths): never a panic; every regression
+//! input is refused but those named `ok-*`, which read; the seeds, valid files but those named
+//! `short*`, read.
 
 use relief_io::{
     read_mlhm_native_from_bytes, read_mlhm_scene_from_bytes, read_raster_from_bytes, Format,
@@ -57,25 +59,51 @@ fn read(target: &str, bytes: &[u8]) -> Result<(), relief_io::IoError> {
     Ok(())
 }
 
+/// Whether the regression input `name` is one a reader may legitimately accept: those named
+/// `ok-*` must read, every other one must be refused.
+fn must_read(name: &str) -> bool {
+    name.starts_with("ok-")
+}
+
 #[test]
 fn crashing_inputs_now_give_errors() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz_regressions");
+    let mut count = 0;
     for target in TARGETS {
-        for file in files_in(&root.join(target)) {
+        let files: Vec<PathBuf> = files_in(&root.join(target))
+            .into_iter()
+            .filter(|f| !f.ends_with("README.md"))
+            .collect();
+        assert!(!files.is_empty(), "no regression input in {}", root.join(target).display());
+        for file in files {
             let bytes = std::fs::read(&file).unwrap();
-            // Ok or Err both fine: the point is that it returns.
-            let _ = read(target, &bytes);
+            let name = file.file_name().unwrap().to_string_lossy();
+            let result = read(target, &bytes);
+            if must_read(&name) {
+                assert!(result.is_ok(), "{target}/{name} should read: {result:?}");
+            } else {
+                let err = result.expect_err(&format!("{target}/{name} should be refused"));
+                // Bytes in memory: the operating system has no part in the refusal.
+                assert!(!matches!(err, relief_io::IoError::Io { .. }), "{target}/{name}: {err}");
+                println!("{target}/{name}: {err}");
+            }
+            count += 1;
         }
     }
+    assert!(count >= TARGETS.len(), "only {count} regression inputs found");
+}
+
+#[test]
+fn only_inputs_named_ok_must_read() {
+    assert!(must_read("ok-void-corner.hgt"));
+    assert!(!must_read("short-ok.hgt") && !must_read("huge-shape.npy"));
 }
 
 #[test]
 fn fuzz_seeds_are_valid_files() {
+    // Inside the repository: never skipped.
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds");
-    if !root.is_dir() {
-        println!("skipped: {} is absent", root.display());
-        return;
-    }
+    assert!(root.is_dir(), "{} is absent", root.display());
     let mut count = 0;
     for target in TARGETS {
         for file in files_in(&root.join(target)) {
