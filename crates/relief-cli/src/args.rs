@@ -41,7 +41,7 @@ pub struct ReadArgs {
     /// for convert, hole, so that they stay the output's nodata].
     #[arg(long, value_enum)]
     pub voids: Option<Voids>,
-    /// Memory a raster may take, e.g. 512M, 8G (default: half the machine's memory).
+    /// Memory a raster may take, e.g. 512M, 8G (default: half the machine's or cgroup's memory).
     #[arg(long, value_parser = parse::bytes, allow_hyphen_values = true)]
     pub max_memory: Option<u64>,
     /// How a PNG encodes heights (PNG input only) [default: grey].
@@ -268,7 +268,7 @@ pub struct MlhmArgs {
     /// Store the values as f16 (rounded conservatively) instead of f32.
     #[arg(long)]
     pub half: bool,
-    /// Memory generation may take, e.g. 512M, 8G (default: half the machine's memory).
+    /// Memory generation may take, e.g. 512M, 8G (default: half the machine's or cgroup's memory).
     #[arg(long, value_parser = parse::bytes, allow_hyphen_values = true)]
     pub max_memory: Option<u64>,
     /// Output: scene.mlhm (relief's own file, an NPZ archive) or scene.json (the reference
@@ -359,9 +359,9 @@ pub struct BenchArgs {
     #[arg(long, default_value = "3", value_parser = repeat, allow_hyphen_values = true)]
     pub repeat: u32,
     /// Instructions of the mipmap tracer's packet tests: auto (the fastest this processor
-    /// has), avx2 or portable.
-    #[arg(long, default_value = "auto")]
-    pub simd: Simd,
+    /// has, the default), avx2 or portable.
+    #[arg(long)]
+    pub simd: Option<Simd>,
     /// Trace one ray at a time instead of in batches (the mipmap tracer's single-ray
     /// traversal instead of its packets), for comparison.
     #[arg(long)]

@@ -17,10 +17,14 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     let cli = match args::Cli::try_parse() {
         Ok(cli) => cli,
-        Err(e) => {
-            // Help and version are not errors; everything else is bad usage (exit code 2).
+        // Help and version are not errors; everything else is bad usage (exit code 2).
+        Err(e) if !e.use_stderr() => {
             let _ = e.print();
-            return if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            eprintln!("{}", usage_error_line(&e.render().to_string()));
+            return ExitCode::from(2);
         }
     };
     match commands::run(cli) {
@@ -32,6 +36,24 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// clap's message for bad usage on one line: its error, with its tip (if any) after a
+/// semicolon, and without the "For more information" line.
+fn usage_error_line(rendered: &str) -> String {
+    let parts: Vec<&str> = rendered
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with("For more information"))
+        .collect();
+    let mut line = String::new();
+    for part in parts {
+        if !line.is_empty() {
+            line.push_str(if line.ends_with(':') { " " } else { "; " });
+        }
+        line.push_str(part);
+    }
+    line
 }
 
 /// Whether the error is a write to a closed pipe.
@@ -56,4 +78,21 @@ fn one_line(error: &anyhow::Error) -> String {
         }
     }
     message.replace('\n', " ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn usage_errors_fit_one_line() {
+        let rendered = "error: unexpected argument '-1' found\n\n  tip: to pass '-1' as a value, \
+                        use '-- -1'\n\nUsage: relief render\n\nFor more information, try '--help'.\n";
+        let line = usage_error_line(rendered);
+        assert_eq!(
+            line,
+            "error: unexpected argument '-1' found; tip: to pass '-1' as a value, use '-- -1'; \
+             Usage: relief render"
+        );
+    }
 }

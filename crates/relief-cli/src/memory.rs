@@ -14,7 +14,7 @@ pub fn peak_resident_bytes() -> Option<u64> {
 pub struct Budget {
     /// Bytes the work may take.
     pub bytes: u64,
-    /// Where the figure comes from, e.g. "--max-memory" or "half the machine's memory".
+    /// Where the figure comes from: "--max-memory", or the limit the default is half of.
     pub origin: String,
 }
 
@@ -22,9 +22,26 @@ pub struct Budget {
 pub fn budget(max_memory: Option<u64>) -> Budget {
     match max_memory {
         Some(bytes) => Budget { bytes, origin: "--max-memory".into() },
-        None => Budget {
-            bytes: relief_io::default_memory_limit(),
-            origin: "half the machine's memory; raise it with --max-memory".into(),
-        },
+        None => {
+            let default = relief_io::default_memory_budget();
+            Budget {
+                bytes: default.bytes,
+                origin: format!("{}; raise it with --max-memory", default.source),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_budget_says_which_limit_applied() {
+        let default = budget(None);
+        assert_eq!(default.bytes, relief_io::default_memory_budget().bytes);
+        assert!(default.origin.contains(&relief_io::default_memory_budget().source));
+        assert!(default.origin.ends_with("raise it with --max-memory"), "{}", default.origin);
+        assert_eq!(budget(Some(5)).origin, "--max-memory");
     }
 }

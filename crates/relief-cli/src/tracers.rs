@@ -135,6 +135,11 @@ pub fn build(
                 CacheOutcome::Built(path) => {
                     format!("{options} shapes cached in {}", path.display())
                 }
+                CacheOutcome::Rebuilt { path, reason } => format!(
+                    "warning: the cached {options} shapes in {} were not used: {reason}; \
+                     built again and rewritten",
+                    path.display()
+                ),
             };
             (shapes, note)
         }

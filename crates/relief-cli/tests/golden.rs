@@ -5,6 +5,9 @@
 //! Regenerate after an intended change of the pictures with:
 //! `RELIEF_BLESS=1 cargo test -p relief-cli --test golden`
 
+mod common;
+
+use common::shared_data;
 use std::path::Path;
 use std::process::Command;
 
@@ -83,12 +86,7 @@ fn mlhm_scene_smooth_at_the_mid_preset_matches_the_golden_image() {
 
 #[test]
 fn the_real_scene_smoothed_matches_the_golden_image() {
-    let json =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/ngwm24-scene/scene.json");
-    if !json.exists() {
-        eprintln!("skipped: {} is absent (the reference scene lives in ../shared)", json.display());
-        return;
-    }
+    let Some(json) = shared_data("data/ngwm24-scene/scene.json") else { return };
     // Low over the scene's north-east corner, looking at the side walls of its terraces.
     let args = [
         "render",

@@ -7,13 +7,21 @@ mod common;
 use common::{assert_refused, relief, render_depth, scratch};
 use std::path::Path;
 
-/// Renders the 48 x 48 fBm terrain with `extra` options; returns (depth, stderr).
+/// Renders the 48 x 48 fBm terrain with the safety tracer, its shapes cached in `cache`, and
+/// `extra` options; returns (depth, stderr).
 fn render(name: &str, cache: &Path, extra: &[&str]) -> (Vec<f32>, String) {
     let mut args = vec!["--fbm-size", "48", "--size", "40x30", "--cache-dir"];
     args.push(cache.to_str().unwrap());
     args.extend(extra);
     let (_, depth, stderr) = render_depth(name, &args);
     (depth, stderr)
+}
+
+/// The reference: the 48 x 48 fBm terrain rendered by the mipmap tracer with `extra` options.
+fn render_mipmap(name: &str, extra: &[&str]) -> Vec<f32> {
+    let mut args = vec!["--fbm-size", "48", "--size", "40x30", "--tracer", "mipmap"];
+    args.extend(extra);
+    render_depth(name, &args).1
 }
 
 fn assert_same_depth(a: &[f32], b: &[f32], what: &str) {
@@ -27,7 +35,7 @@ fn assert_same_depth(a: &[f32], b: &[f32], what: &str) {
 #[test]
 fn every_variant_renders_the_exact_depth() {
     let cache = scratch("cache-variants");
-    let (reference, _) = render("mipmap", &cache, &["--tracer", "mipmap"]);
+    let reference = render_mipmap("mipmap", &[]);
     assert!(reference.iter().any(|d| d.is_finite()));
     let variants = [
         "cyl_all",
@@ -55,8 +63,7 @@ fn phi_max_shapes_render_a_steep_view_exactly_and_refuse_a_shallow_one() {
     let cache = scratch("cache-phi");
     let view = ["--eye", "20,10,120", "--target", "24,24,0", "--fov", "30"];
     let high_sun = ["--sun", "0,60"];
-    let mipmap = [&view[..], &high_sun, &["--tracer", "mipmap"]].concat();
-    let (reference, _) = render("phi-mipmap", &cache, &mipmap);
+    let reference = render_mipmap("phi-mipmap", &[&view[..], &high_sun].concat());
     for variant in ["cyl_all+cone_all", "cyl_ext+cone_ext"] {
         let args = [&view[..], &high_sun, &["--tracer", variant, "--phi-max", "-45"]].concat();
         let (depth, _) = render("phi", &cache, &args);
@@ -107,6 +114,24 @@ fn shapes_are_cached_per_terrain_and_options() {
     let (_, stderr) = render("cache-e", &cache, &["--tracer", "safety", "--no-cache"]);
     assert!(!stderr.contains("cached in") && !stderr.contains("shapes from"), "{stderr}");
     assert_eq!(std::fs::read_dir(&cache).unwrap().count(), 3);
+}
+
+#[test]
+fn overwritten_cached_shapes_are_rebuilt_with_a_warning_and_the_same_image() {
+    let cache = scratch("cache-damaged");
+    let _ = std::fs::remove_dir_all(&cache);
+    let (first, _) = render("damaged-a", &cache, &["--tracer", "safety"]);
+    let file = std::fs::read_dir(&cache).unwrap().next().unwrap().unwrap().path();
+    // Radii overwritten in the middle of the file, its length and header intact.
+    let mut bytes = std::fs::read(&file).unwrap();
+    let middle = bytes.len() / 2;
+    bytes[middle..middle + 64].fill(0x00);
+    std::fs::write(&file, &bytes).unwrap();
+    let (second, stderr) = render("damaged-b", &cache, &["--tracer", "safety"]);
+    assert!(stderr.contains("warning:") && stderr.contains("checksum"), "{stderr}");
+    assert_eq!(first, second, "the damaged shapes were used");
+    let (_, stderr) = render("damaged-c", &cache, &["--tracer", "safety"]);
+    assert!(stderr.contains("shapes from") && !stderr.contains("warning"), "{stderr}");
 }
 
 #[test]

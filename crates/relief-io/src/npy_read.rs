@@ -336,7 +336,7 @@ mod tests {
     }
 
     #[test]
-    fn every_truncation_and_byte_corruption_gives_an_error_not_a_panic() {
+    fn truncations_are_refused_and_corruptions_refused_or_read_at_the_declared_size() {
         let dir = TestDir::new("npy-fuzz");
         let data: Vec<u8> = (0..6i16).flat_map(|v| v.to_be_bytes()).collect();
         let good = npy(">i2", true, "(2, 3)", &data);
@@ -344,9 +344,16 @@ mod tests {
         for len in 0..good.len() {
             assert!(read_bytes(&dir, &good[..len]).is_err(), "prefix of {len} bytes accepted");
         }
+        // No checksum: a copy whose changes all land in the 12 data bytes reads (any i16 is a
+        // height), about 1 copy in 1700; a changed header byte is refused, as the header's
+        // text must parse and its shape must fit the data exactly. So whatever reads is 3 x 2.
+        let mut accepted = 0;
         for bad in crate::test_corruption::corrupted_copies(&good, 2000, 3) {
-            // Either outcome is fine; reaching here without a panic is the test.
-            let _ = read_bytes(&dir, &bad);
+            if let Ok(field) = read_bytes(&dir, &bad) {
+                assert_eq!((field.width(), field.height()), (3, 2));
+                accepted += 1;
+            }
         }
+        assert!(accepted <= 10, "{accepted} of 2000 corrupted copies read");
     }
 }

@@ -36,17 +36,26 @@ fn read_bytes(
     read(path, options)
 }
 
+/// A changed copy of a file that a reader accepted.
+struct Accepted {
+    /// The offset of the changed byte.
+    at: usize,
+    /// The raster read.
+    raster: Raster,
+}
+
 /// Every proper prefix of `good` (but those `valid_prefix` accepts) is refused, and no single
-/// byte changed in any of a few ways makes the reader panic. Returns how many of the changed
-/// files were still read.
+/// byte changed in any of five ways (5 x `good.len()` copies) makes the reader panic. Returns
+/// the changed copies that were still read, and the raster of `good`, for the caller to judge
+/// against what the format can detect.
 fn check_truncations_and_flips(
     read: Reader,
     path: &Path,
     good: &[u8],
     options: &ReadOptions,
     valid_prefix: impl Fn(usize) -> bool,
-) -> usize {
-    read_bytes(read, path, good, options).expect("the intact file reads");
+) -> (Raster, Vec<Accepted>) {
+    let intact = read_bytes(read, path, good, options).expect("the intact file reads");
     for len in 0..good.len() {
         if valid_prefix(len) {
             continue;
@@ -54,17 +63,35 @@ fn check_truncations_and_flips(
         let result = read_bytes(read, path, &good[..len], options);
         assert!(result.is_err(), "prefix of {len} of {} bytes accepted", good.len());
     }
-    let mut accepted = 0;
+    let mut accepted = Vec::new();
     for at in 0..good.len() {
         let changes: [fn(u8) -> u8; 5] = [|b| b ^ 0x01, |b| b ^ 0x80, |_| 0xff, |_| 0, |_| b'9'];
         for change in changes {
             let mut bad = good.to_vec();
             bad[at] = change(bad[at]);
-            // Either outcome is fine; returning at all, without a panic, is the test.
-            accepted += usize::from(read_bytes(read, path, &bad, options).is_ok());
+            if bad[at] == good[at] {
+                continue;
+            }
+            if let Ok(raster) = read_bytes(read, path, &bad, options) {
+                // Whatever reads must be a raster consistent with itself.
+                assert_eq!(raster.samples.len(), raster.width * raster.height, "byte {at}");
+                accepted.push(Accepted { at, raster });
+            }
         }
     }
-    accepted
+    (intact, accepted)
+}
+
+/// Fails naming the changed bytes of the copies in `accepted`, if any.
+fn assert_none_read(accepted: &[Accepted]) {
+    let at: Vec<usize> = accepted.iter().map(|a| a.at).collect();
+    assert!(at.is_empty(), "copies with these bytes changed read: {at:?}");
+}
+
+/// Whether `a` and `b` have the same size and the same samples, bit for bit (voids too).
+fn same_samples(a: &Raster, b: &Raster) -> bool {
+    (a.width, a.height) == (b.width, b.height)
+        && a.samples.iter().zip(&b.samples).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 fn assert_format(result: Result<Raster, IoError>, needle: &str) {
@@ -438,13 +465,23 @@ fn asc_header_that_lies_about_its_size_is_refused_quickly() {
 }
 
 #[test]
-fn asc_truncations_and_corruptions_give_errors_not_panics() {
+fn asc_truncations_are_refused_and_changed_bytes_read_at_the_declared_size() {
     let dir = TestDir::new("asc-fuzz");
     let path = dir.join("grid.asc");
     let good = b"ncols 3\nnrows 2\nxllcorner 0.5\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n\
                  1.5 -9999 3\n4 5 6\n";
     // Dropping only the final line end still leaves a complete grid.
-    check_truncations_and_flips(read_asc, &path, good, &options(), |len| len == good.len() - 1);
+    let (intact, accepted) =
+        check_truncations_and_flips(read_asc, &path, good, &options(), |len| len == good.len() - 1);
+    // Text without a checksum: a digit changed in a sample, the corner, the cell size or the
+    // nodata value reads as another number. But ncols and nrows must match the samples, so
+    // whatever reads is 3 x 2, and a change before the nodata line keeps the samples.
+    let nodata_line = good.windows(6).position(|w| w == b"NODATA").unwrap();
+    assert!(accepted.len() <= 40, "{} of {} changed copies read", accepted.len(), 5 * good.len());
+    for Accepted { at, raster } in &accepted {
+        assert_eq!((raster.width, raster.height), (3, 2), "byte {at}");
+        assert!(*at >= nodata_line || same_samples(raster, &intact), "byte {at}");
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -585,11 +622,16 @@ fn png_truncations_corruptions_and_lying_headers_give_errors() {
             .unwrap();
     write_png16_height(&path, &field).unwrap();
     let good = std::fs::read(&path).unwrap();
-    check_truncations_and_flips(read_png_height, &path, &good, &options(), |_| false);
+    // Every chunk carries a CRC-32 and the image data an Adler-32: no changed byte reads.
+    let (_, accepted) =
+        check_truncations_and_flips(read_png_height, &path, &good, &options(), |_| false);
+    assert_none_read(&accepted);
     let data = [1, 2, 3, 4, 5, 6, 7, 8];
     let rgba = encode_png((2, 1), png::ColorType::Rgba, png::BitDepth::Eight, &data);
     let options = png_options(PngEncoding::TerrainRgb);
-    check_truncations_and_flips(read_png_height, &path, &rgba, &options, |_| false);
+    let (_, accepted) =
+        check_truncations_and_flips(read_png_height, &path, &rgba, &options, |_| false);
+    assert_none_read(&accepted);
 
     // IHDR claims 16384 x 16384 pixels in a file of a few dozen bytes.
     let mut bytes = good.clone();
@@ -630,7 +672,10 @@ fn interlaced_png_heights_are_read_with_the_top_row_north() {
     let path = dir.join("adam7.png");
     let raster = read_bytes(read_png_height, &path, &bytes, &options()).unwrap();
     assert_eq!(raster.samples, [40.0, 50.0, 60.0, 10.0, 20.0, 30.0]);
-    check_truncations_and_flips(read_png_height, &path, &bytes, &options(), |_| false);
+    // As every PNG: a CRC-32 per chunk, an Adler-32 over the pixels.
+    let (_, accepted) =
+        check_truncations_and_flips(read_png_height, &path, &bytes, &options(), |_| false);
+    assert_none_read(&accepted);
 }
 
 /// The CRC-32 of PNG chunks.
@@ -746,7 +791,7 @@ fn patch_sizes(archive: &mut [u8], size: u32) {
 }
 
 #[test]
-fn npz_truncations_and_corruptions_give_errors_not_panics() {
+fn npz_truncations_are_refused_and_changed_bytes_never_change_the_array() {
     let dir = TestDir::new("npz-fuzz");
     let path = dir.join("arrays.npz");
     let a = npy_bytes(&dir, &[2, 3], &[0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
@@ -754,7 +799,15 @@ fn npz_truncations_and_corruptions_give_errors_not_panics() {
     for deflated in [false, true] {
         let archive = zip_archive(&[("a.npy", &a, deflated), ("b.npy", &b, !deflated)]);
         let options = ReadOptions { array: Some("b".into()), ..options() };
-        check_truncations_and_flips(read_npz, &path, &archive, &options, |_| false);
+        let (intact, accepted) =
+            check_truncations_and_flips(read_npz, &path, &archive, &options, |_| false);
+        // Many bytes go unread or unchecked (member a, local header signatures, timestamps),
+        // so many changed copies read; but the CRC-32 of member b guards every byte read
+        // from it, so each reads exactly as the intact archive.
+        assert!(!accepted.is_empty() && accepted.len() < 5 * archive.len());
+        for Accepted { at, raster } in &accepted {
+            assert!(same_samples(raster, &intact), "byte {at}: {:?}", raster.samples);
+        }
     }
 }
 
@@ -770,5 +823,17 @@ fn npy_raster_keeps_array_rows_and_refuses_non_finite_samples() {
     let mut good = std::fs::read(&path).unwrap();
     let nan_at = good.len() - 8;
     good[nan_at..nan_at + 4].copy_from_slice(&2f32.to_le_bytes());
-    check_truncations_and_flips(read_npy, &path, &good, &options(), |_| false);
+    let (intact, accepted) =
+        check_truncations_and_flips(read_npy, &path, &good, &options(), |_| false);
+    // No checksum: a changed data byte reads as another height (or is refused as NaN or
+    // infinite). The header is text that must parse with a shape matching the data, so a
+    // changed header byte is refused unless it does not matter (the minor version, '<' made
+    // '=' on a little-endian machine): whatever reads is 1 x 3, and a header change keeps
+    // the samples.
+    let data_at = good.len() - 12;
+    assert!(accepted.iter().filter(|a| a.at < data_at).count() <= 8, "header changes read");
+    for Accepted { at, raster } in &accepted {
+        assert_eq!((raster.width, raster.height), (intact.width, intact.height), "byte {at}");
+        assert!(*at >= data_at || same_samples(raster, &intact), "byte {at}");
+    }
 }

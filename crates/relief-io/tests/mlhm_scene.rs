@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::TestDir;
+use common::{shared_data, TestDir};
 
 use relief_core::{Mlhm, MlhmColumn, Precision};
 use relief_io::{
@@ -14,18 +14,9 @@ use relief_io::{
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// The real scene, relative to this crate.
-const REAL_SCENE: &str = "../../../shared/data/ngwm24-scene/scene.json";
-
-/// The real scene's JSON path, or `None` (with the reason printed) where it is absent.
+/// The real scene's JSON path, or `None` (with the reason printed) in a bare clone.
 fn real_scene() -> Option<PathBuf> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(REAL_SCENE);
-    if path.is_file() {
-        Some(path)
-    } else {
-        println!("skipped: {} is absent (../shared is not beside the repository)", path.display());
-        None
-    }
+    shared_data("data/ngwm24-scene/scene.json")
 }
 
 /// Rounds to two decimals.
@@ -218,14 +209,18 @@ fn truncated_and_corrupted_streams_never_panic() {
     let json = std::fs::read(dir.join("s.json")).unwrap();
     let dat = std::fs::read(dir.join("s.dat")).unwrap();
     let options = ReadOptions::default();
-    assert!(read_mlhm_scene_from_bytes(&json, &dat, path, &options).is_ok());
+    let good = read_mlhm_scene_from_bytes(&json, &dat, path, &options).unwrap();
     for cut in 0..dat.len() {
         assert!(read_mlhm_scene_from_bytes(&json, &dat[..cut], path, &options).is_err());
     }
     for cut in 0..json.len() {
         assert!(read_mlhm_scene_from_bytes(&json[..cut], &dat, path, &options).is_err());
     }
-    let mut state = 0x2545_f491_4f6c_dd1du64;
+    // The .dat is a zlib stream: its Adler-32 sees every change to the decoded bytes, so a
+    // changed stream is refused with a format error, unless the change left the stream as it
+    // was (a byte overwritten with its own value, the padding bits after the final block)
+    // and the scene reads back unchanged.
+    let (mut state, mut refused, mut unchanged) = (0x2545_f491_4f6c_dd1du64, 0, 0);
     for _ in 0..2000 {
         let mut bad = dat.clone();
         for _ in 0..2 {
@@ -235,8 +230,19 @@ fn truncated_and_corrupted_streams_never_panic() {
             let at = (state % bad.len() as u64) as usize;
             bad[at] = (state >> 24) as u8;
         }
-        let _ = read_mlhm_scene_from_bytes(&json, &bad, path, &options);
+        match read_mlhm_scene_from_bytes(&json, &bad, path, &options) {
+            Err(err) => {
+                assert!(matches!(err, IoError::Format { .. }), "{err}");
+                refused += 1;
+            }
+            Ok(scene) => {
+                assert_eq!(scene, good, "a changed stream read as another scene");
+                unchanged += 1;
+            }
+        }
     }
+    assert!(refused >= 1900, "only {refused} of 2000 corrupted streams refused");
+    println!("{refused} refused, {unchanged} read back unchanged");
 }
 
 #[test]

@@ -104,7 +104,8 @@ mod tests {
         assert_eq!(t.sample_bilinear(0.5, 0.75), DVec3::new(0.5, 0.5, 0.0));
         assert_eq!(t.sample_bilinear(0.5, 0.5), DVec3::new(0.5, 0.5, 0.5));
         assert_eq!(t.sample_bilinear(-5.0, 9.0), DVec3::X);
-        let _ = t.sample_bilinear(f64::NAN, f64::INFINITY);
+        // A NaN coordinate samples the centre; an infinite one clamps to the edge.
+        assert_eq!(t.sample_bilinear(f64::NAN, f64::INFINITY), DVec3::new(0.5, 0.5, 0.0));
     }
 
     #[test]

@@ -256,11 +256,15 @@ mod tests {
                 assert_eq!(t.intersect_mode(&ray, mode), None, "{ray:?}");
             }
         }
-        // Huge values lose all precision but must not panic.
+        // Huge values lose all precision but must not panic: a miss and a hit are both
+        // legitimate answers, but a hit is a point at a real distance, in the scene.
         let huge = Ray::new(DVec3::splat(1e308), DVec3::splat(-1e308));
         let tiny = Ray::new(DVec3::new(10.0, 21.0, 5.0), DVec3::new(1e-320, 0.0, -1.0));
         for mode in MlhmMode::ALL {
-            let _ = t.intersect_mode(&huge, mode);
+            if let Some(found) = t.intersect_mode(&huge, mode) {
+                assert!(found.hit.t.is_finite() && found.hit.t >= 0.0, "{mode}: {found:?}");
+                assert!(found.cell.0 < 2 && found.cell.1 < 1, "{mode}: {found:?}");
+            }
             assert_eq!(t.intersect_mode(&tiny, mode), None, "{mode}");
         }
     }

@@ -137,10 +137,12 @@ proptest! {
         let t = arch();
         let ray = Ray::new(DVec3::from(origin), DVec3::from(dir)).with_range(range[0], range[1]);
         for mode in MlhmMode::ALL {
-            if let Some(h) = t.intersect_mode(&ray, mode) {
+            let hit = t.intersect_mode(&ray, mode);
+            if let Some(h) = hit {
                 prop_assert!(h.hit.t >= ray.t_min && h.hit.t <= ray.t_max, "{:?}", h);
             }
-            let _ = t.occluded_mode(&ray, mode);
+            // A shadow ray is blocked exactly where the same ray finds a first hit.
+            prop_assert_eq!(t.occluded_mode(&ray, mode), hit.is_some(), "{}", mode);
         }
     }
 }

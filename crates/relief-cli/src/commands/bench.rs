@@ -14,7 +14,7 @@ use relief_core::{benchmark_views, Camera, DVec3, Surface, BENCHMARK_VIEWS};
 use relief_shade::{
     render_gbuffer_into, sun_direction, GBuffer, RayBatch, Tile, TraceStats, TILE_SIZE,
 };
-use relief_trace::{Hit, Simd, Tracer};
+use relief_trace::{Hit, Simd, Tracer, TracerKind};
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
@@ -50,6 +50,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let limit = budget.bytes;
     super::check_image(args.res.0, args.res.1, &budget)?;
     refuse_unused_options(args)?;
+    let simd = args.simd.unwrap_or_else(Simd::detect);
     let started = Instant::now();
     let (field, source) = match &args.input {
         Some(path) => {
@@ -82,7 +83,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             if args.single_rays {
                 "one ray at a time".to_string()
             } else {
-                format!("mipmap packet tests: {}", args.simd.effective())
+                format!("mipmap packet tests: {}", simd.effective())
             },
             args.repeat
         )?;
@@ -110,7 +111,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         for &surface in &args.surfaces {
             for tracer in &args.tracers {
                 let built =
-                    tracers::build(&field, surface, tracer, &args.safety, false, limit, args.simd)?;
+                    tracers::build(&field, surface, tracer, &args.safety, false, limit, simd)?;
                 if let Some(safety) = &built.safety {
                     let (w, h) = (camera.width(), camera.height());
                     let directions = (0..h)
@@ -169,7 +170,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     shadow,
                     shadow_s,
                     peak_mib,
-                    simd: args.simd.effective(),
+                    simd: simd.effective(),
                     single_rays: args.single_rays,
                 };
                 if args.json {
@@ -184,7 +185,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 }
 
 /// Refuses the options that would do nothing: the fBm terrain's with `--input`, the safety
-/// shapes' when no safety tracer is measured.
+/// shapes' when no safety tracer is measured, `--simd` when no mipmap packets are traced.
 fn refuse_unused_options(args: &BenchArgs) -> Result<()> {
     if let Some(path) = &args.input {
         let here = format!("--input {}", path.display());
@@ -197,6 +198,15 @@ fn refuse_unused_options(args: &BenchArgs) -> Result<()> {
     let safety_measured = args.tracers.iter().any(|t| matches!(t, TracerChoice::Safety(_)));
     if let Some(option) = applies::safety_option_given(&args.safety).filter(|_| !safety_measured) {
         return Err(applies::refuse(option, "the safety tracers", "the tracers measured"));
+    }
+    if args.simd.is_some() {
+        let mipmap = TracerChoice::Plain(TracerKind::Mipmap);
+        if args.single_rays {
+            return Err(applies::refuse("--simd", "ray packets", "--single-rays"));
+        }
+        if !args.tracers.contains(&mipmap) {
+            return Err(applies::refuse("--simd", "the mipmap tracer", "the tracers measured"));
+        }
     }
     Ok(())
 }

@@ -20,8 +20,8 @@ pub fn run(command: &GenerateCommand) -> Result<()> {
 
 /// Runs `relief generate fbm`: the terrain in the height format the output's extension names.
 fn run_fbm(args: &FbmArgs) -> Result<()> {
-    outputs::check_height_file(&args.output, Some((args.size, args.size)))?;
     outputs::check_writable(&args.output)?;
+    outputs::check_height_file(&args.output, Some((args.size, args.size)))?;
     let field = input::fbm(args.size, args.seed, &memory::budget(None))?;
     relief_io::write_height_field(&args.output, &field)?;
     eprintln!(

@@ -65,21 +65,19 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 /// Refuses, before any work, outputs whose format or folder is wrong, and two outputs (or an
 /// output and the input) that are one file.
 fn check_outputs(args: &RenderArgs) -> Result<()> {
+    outputs::check_writable(&args.output)?;
     outputs::picture_format("-o", &args.output)?;
     let mut all = vec![("-o", args.output.as_path())];
     for (option, path) in [("--depth", &args.depth), ("--normals", &args.normals)] {
         if let Some(path) = path {
+            outputs::check_writable(path)?;
             outputs::check_npy(option, path)?;
             all.push((option, path.as_path()));
         }
     }
     let inputs: Vec<&Path> =
         [args.input.input.as_deref(), args.texture.as_deref()].into_iter().flatten().collect();
-    outputs::check_distinct(&all, &inputs)?;
-    for (_, path) in &all {
-        outputs::check_writable(path)?;
-    }
-    Ok(())
+    outputs::check_distinct(&all, &inputs)
 }
 
 /// Refuses the options only an MLHM scene takes, for a height field.

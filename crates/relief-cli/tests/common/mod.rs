@@ -1,4 +1,4 @@
-//! Helpers shared by the end-to-end tests: running the binary and scratch files.
+//! Helpers shared by the end-to-end tests: running the binary, scratch files, shared data.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -75,4 +75,24 @@ pub fn assert_refused(out: &Output, mentions: &str) {
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
     assert!(stderr.contains(mentions), "stderr should mention '{mentions}': {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+/// `relative` (say `data/jacksboro_fault_dem.npy`) in the project's shared folder, ../shared
+/// beside the repository; `None`, with the reason printed, where that folder is absent (a bare
+/// clone). Where the folder is present, or `RELIEF_REQUIRE_SHARED_DATA=1`, a missing file
+/// fails the test instead: a test must not skip silently where its data should be.
+pub fn shared_data(relative: &str) -> Option<PathBuf> {
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared");
+    let path = shared.join(relative);
+    if path.is_file() {
+        return Some(path);
+    }
+    let required = std::env::var("RELIEF_REQUIRE_SHARED_DATA").is_ok_and(|v| v == "1");
+    assert!(
+        !shared.is_dir() && !required,
+        "{} is missing, though ../shared is present or RELIEF_REQUIRE_SHARED_DATA=1",
+        path.display()
+    );
+    println!("skipped: {} is absent (../shared is not beside the repository)", path.display());
+    None
 }

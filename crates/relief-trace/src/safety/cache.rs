@@ -2,8 +2,9 @@
 //! of the same terrain skips the precomputation.
 //!
 //! The file name is a hash of the samples, the grid geometry, the options and the format
-//! version; the header repeats all of them but the samples, and a file whose header does not
-//! match exactly is rebuilt, never used.
+//! version; the header repeats all of them but the samples, and an XXH3-64 checksum of all
+//! that precedes it ends the file. A file that fails the checksum or whose header does not
+//! match exactly is never used: it is rebuilt, and [`CacheOutcome::Rebuilt`] says why.
 
 use super::options::SafetyOptions;
 use super::shapes::{Progress, SafetyShapes};
@@ -13,7 +14,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"RLFSAFE\0";
-const VERSION: u32 = 1;
+/// Version 2 added the checksum.
+const VERSION: u32 = 2;
+/// The checksum's length at the end of the file.
+const CHECKSUM_LEN: usize = 8;
 
 /// Whether [`ShapeCache::load_or_build`] found the shapes or computed them.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -22,6 +26,13 @@ pub enum CacheOutcome {
     Loaded(PathBuf),
     /// Computed and written to this file.
     Built(PathBuf),
+    /// The file held damaged or foreign data (the reason): computed again and rewritten.
+    Rebuilt {
+        /// The file, now rewritten.
+        path: PathBuf,
+        /// What was wrong with what it held.
+        reason: String,
+    },
 }
 
 /// A directory of precomputed safety shapes.
@@ -72,7 +83,9 @@ impl ShapeCache {
         self.dir.join(format!("{:016x}.safety", Self::key(field, options)))
     }
 
-    /// The cached shapes of `field` with `options`, if a matching file exists.
+    /// The cached shapes of `field` with `options`, or `None` if no file holds them. A file
+    /// that fails its checksum or was written for another terrain or options is an error,
+    /// [`TraceError::CacheFormat`].
     pub fn load(
         &self,
         field: &HeightField,
@@ -85,7 +98,10 @@ impl ShapeCache {
             Err(source) => return Err(TraceError::CacheIo { path, source }),
         };
         let key = Self::key(field, options);
-        Ok(decode(&bytes, key, field, options))
+        match decode(&bytes, key, field, options) {
+            Ok(shapes) => Ok(Some(shapes)),
+            Err(reason) => Err(TraceError::CacheFormat { path, reason: reason.to_string() }),
+        }
     }
 
     /// Writes `shapes` (built for `field`) to the cache, atomically.
@@ -106,19 +122,29 @@ impl ShapeCache {
         Ok(path)
     }
 
-    /// The shapes from the cache, or built (with progress) and stored.
+    /// The shapes from the cache, or built (with progress) and stored; a damaged file is
+    /// rebuilt and overwritten.
     pub fn load_or_build(
         &self,
         field: &HeightField,
         options: SafetyOptions,
         progress: Progress,
     ) -> Result<(SafetyShapes, CacheOutcome), TraceError> {
-        if let Some(shapes) = self.load(field, &options)? {
-            return Ok((shapes, CacheOutcome::Loaded(self.path(field, &options))));
-        }
+        let damage = match self.load(field, &options) {
+            Ok(Some(shapes)) => {
+                return Ok((shapes, CacheOutcome::Loaded(self.path(field, &options))));
+            }
+            Ok(None) => None,
+            Err(TraceError::CacheFormat { reason, .. }) => Some(reason),
+            Err(other) => return Err(other),
+        };
         let shapes = SafetyShapes::build(field, options, progress)?;
         let path = self.store(field, &shapes)?;
-        Ok((shapes, CacheOutcome::Built(path)))
+        let outcome = match damage {
+            None => CacheOutcome::Built(path),
+            Some(reason) => CacheOutcome::Rebuilt { path, reason },
+        };
+        Ok((shapes, outcome))
     }
 }
 
@@ -141,40 +167,59 @@ fn encode(shapes: &SafetyShapes, key: u64) -> Vec<u8> {
     for c in cones.iter().flatten().flatten() {
         out.extend_from_slice(&c.to_le_bytes());
     }
+    let checksum = xxhash_rust::xxh3::xxh3_64(&out);
+    out.extend_from_slice(&checksum.to_le_bytes());
     out
 }
 
-/// The shapes in `bytes` if the header matches `key`, `field` and `options` exactly.
+/// Why a cache file's content was not used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+enum Damage {
+    #[error("shorter than a checksum")]
+    Short,
+    #[error("its checksum does not match its content (the file was changed or cut)")]
+    Checksum,
+    #[error("written for another terrain, options or version of relief")]
+    Foreign,
+    #[error("its content does not hold the shapes its header describes")]
+    Malformed,
+}
+
+/// The shapes in `bytes` if the checksum holds and the header matches `key`, `field` and
+/// `options` exactly.
 fn decode(
     bytes: &[u8],
     key: u64,
     field: &HeightField,
     options: &SafetyOptions,
-) -> Option<SafetyShapes> {
-    let mut r = Reader { bytes, at: 0 };
-    if r.take(8)? != MAGIC || r.u32()? != VERSION || r.u64()? != key {
-        return None;
+) -> Result<SafetyShapes, Damage> {
+    let split = bytes.len().checked_sub(CHECKSUM_LEN).ok_or(Damage::Short)?;
+    let (content, checksum) = bytes.split_at(split);
+    if xxhash_rust::xxh3::xxh3_64(content).to_le_bytes() != checksum {
+        return Err(Damage::Checksum);
     }
+    let mut r = Reader { bytes: content, at: 0 };
+    let foreign = |same: bool| if same { Ok(()) } else { Err(Damage::Foreign) };
+    foreign(r.take(8)? == MAGIC && r.u32()? == VERSION && r.u64()? == key)?;
     let (width, height) = (r.u64()? as usize, r.u64()? as usize);
-    if (width, height) != (field.width(), field.height()) {
-        return None;
-    }
+    foreign((width, height) == (field.width(), field.height()))?;
     let name_len = r.u32()? as usize;
-    if r.take(name_len)? != options.to_string().as_bytes() {
-        return None;
-    }
+    foreign(r.take(name_len)? == options.to_string().as_bytes())?;
     let (slots, cone_slots) = (r.u32()? as usize, r.u32()? as usize);
-    let n = width.checked_mul(height)?;
+    let n = width.checked_mul(height).ok_or(Damage::Malformed)?;
     if !(slots == 1 || slots == 4) || !(cone_slots == 0 || cone_slots == slots) {
-        return None;
+        return Err(Damage::Malformed);
     }
     let radii = (0..slots)
         .map(|_| (0..n).map(|_| r.take(2).map(|b| u16::from_le_bytes([b[0], b[1]]))).collect())
-        .collect::<Option<Vec<Vec<u16>>>>()?;
+        .collect::<Result<Vec<Vec<u16>>, Damage>>()?;
     let cones = (0..cone_slots)
-        .map(|_| (0..n).map(|_| Some([r.f32()?, r.f32()?])).collect())
-        .collect::<Option<Vec<Vec<[f32; 2]>>>>()?;
-    (r.at == bytes.len()).then(|| SafetyShapes::from_parts(width, height, *options, radii, cones))
+        .map(|_| (0..n).map(|_| Ok([r.f32()?, r.f32()?])).collect())
+        .collect::<Result<Vec<Vec<[f32; 2]>>, Damage>>()?;
+    if r.at != content.len() {
+        return Err(Damage::Malformed);
+    }
+    Ok(SafetyShapes::from_parts(width, height, *options, radii, cones))
 }
 
 struct Reader<'a> {
@@ -183,18 +228,19 @@ struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize) -> Option<&'a [u8]> {
-        let s = self.bytes.get(self.at..self.at.checked_add(n)?)?;
-        self.at += n;
-        Some(s)
+    fn take(&mut self, n: usize) -> Result<&'a [u8], Damage> {
+        let end = self.at.checked_add(n).ok_or(Damage::Malformed)?;
+        let s = self.bytes.get(self.at..end).ok_or(Damage::Malformed)?;
+        self.at = end;
+        Ok(s)
     }
-    fn u32(&mut self) -> Option<u32> {
+    fn u32(&mut self) -> Result<u32, Damage> {
         self.take(4).map(|b| u32::from_le_bytes(b.try_into().unwrap()))
     }
-    fn u64(&mut self) -> Option<u64> {
+    fn u64(&mut self) -> Result<u64, Damage> {
         self.take(8).map(|b| u64::from_le_bytes(b.try_into().unwrap()))
     }
-    fn f32(&mut self) -> Option<f32> {
+    fn f32(&mut self) -> Result<f32, Damage> {
         self.take(4).map(|b| f32::from_le_bytes(b.try_into().unwrap()))
     }
 }
@@ -224,14 +270,60 @@ mod tests {
         assert_eq!(cache.load(&b, &options).unwrap(), None);
         let other = SafetyOptions { strictly_positive: true, ..options };
         assert_eq!(cache.load(&a, &other).unwrap(), None);
-        // A file under the right name whose header says otherwise is not used.
+        // A file under the right name whose header says otherwise is not used, but rebuilt.
         std::fs::copy(cache.path(&a, &options), cache.path(&b, &options)).unwrap();
-        assert_eq!(cache.load(&b, &options).unwrap(), None);
-        // Nor is a truncated one.
+        assert_damaged(cache.load(&b, &options), "another terrain");
+        let (rebuilt, outcome) = cache.load_or_build(&b, options, &|_, _| {}).unwrap();
+        assert!(matches!(outcome, CacheOutcome::Rebuilt { .. }), "{outcome:?}");
+        assert_eq!(cache.load(&b, &options).unwrap(), Some(rebuilt));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    fn assert_damaged(result: Result<Option<SafetyShapes>, TraceError>, needle: &str) {
+        match result {
+            Err(TraceError::CacheFormat { reason, .. }) => {
+                assert!(reason.contains(needle), "{reason}")
+            }
+            other => panic!("expected a damaged cache file, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn damaged_files_are_refused_and_rebuilt_to_the_same_shapes() {
+        let dir = std::env::temp_dir().join(format!("relief-safety-damage-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let cache = ShapeCache::new(&dir);
+        let a = field(0.0);
+        let options: SafetyOptions = "cyl_all+cone_all".parse().unwrap();
+        let (built, _) = cache.load_or_build(&a, options, &|_, _| {}).unwrap();
         let path = cache.path(&a, &options);
-        let bytes = std::fs::read(&path).unwrap();
-        std::fs::write(&path, &bytes[..bytes.len() - 3]).unwrap();
-        assert_eq!(cache.load(&a, &options).unwrap(), None);
+        let good = std::fs::read(&path).unwrap();
+        // Every byte changed, one at a time, and every cut: refused, never other shapes.
+        for at in (0..good.len()).step_by(7) {
+            let mut bad = good.clone();
+            bad[at] ^= 0x5a;
+            std::fs::write(&path, &bad).unwrap();
+            assert_damaged(cache.load(&a, &options), "checksum");
+        }
+        for cut in [0, 3, good.len() / 2, good.len() - 1] {
+            std::fs::write(&path, &good[..cut]).unwrap();
+            let needle = if cut < CHECKSUM_LEN { "shorter" } else { "checksum" };
+            assert_damaged(cache.load(&a, &options), needle);
+        }
+        // Overwritten radii (the header intact): rebuilt, with the reason, to the same shapes.
+        let mut bad = good.clone();
+        let radii_at = 48 + options.to_string().len() + 10;
+        bad[radii_at..radii_at + 16].fill(0xff);
+        std::fs::write(&path, &bad).unwrap();
+        let (rebuilt, outcome) = cache.load_or_build(&a, options, &|_, _| {}).unwrap();
+        match outcome {
+            CacheOutcome::Rebuilt { reason, .. } => assert!(reason.contains("checksum")),
+            other => panic!("expected a rebuild, got {other:?}"),
+        }
+        assert_eq!(rebuilt, built);
+        assert_eq!(std::fs::read(&path).unwrap(), good, "the rewritten file is the first");
+        let (_, outcome) = cache.load_or_build(&a, options, &|_, _| {}).unwrap();
+        assert!(matches!(outcome, CacheOutcome::Loaded(_)));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -1,0 +1,498 @@
+//! relief as a new user types it: every command of the README as written there, every option
+//! of every `--help` driven at least once (negative numbers, every output extension,
+//! conflicting outputs, options that do nothing, a top-down camera, out-of-range values), and
+//! what relief writes read back by the real clients of its formats (GDAL through rasterio,
+//! Pillow, NumPy) where they are installed.
+
+mod common;
+
+use common::{read_f32_npy, relief, scratch, shared_data};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::OnceLock;
+
+/// The repository's root.
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Small inputs every case below may use, made once: `f.npy` (48², fBm), `f.tif`, `f.png`
+/// (16-bit grey), `t.png` (an RGB picture, as a texture), `s.mlhm` (a carved MLHM scene).
+fn inputs() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = scratch("inputs");
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = |name: &str| dir.join(name).to_str().unwrap().to_string();
+        for out in ["f.npy", "f.tif", "f.png"] {
+            let run = relief(&["generate", "fbm", "--size", "48", "-o", &p(out)]);
+            assert!(run.status.success(), "{out}: {}", stderr(&run));
+        }
+        let run = relief(&["render", "--fbm-size", "32", "--size", "16x16", "-o", &p("t.png")]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        let run =
+            relief(&["generate", "mlhm", "--scene", "arches", "--size", "32", "-o", &p("s.mlhm")]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        dir
+    })
+}
+
+/// What a case must do.
+#[derive(Debug, Clone, Copy)]
+enum Expect {
+    /// Exit 0.
+    Ok,
+    /// Exit 2 with one line of error on stderr that holds this text.
+    Refused(&'static str),
+}
+
+/// Runs `relief` with `line` split at spaces, `{in}` replaced by the inputs' folder and
+/// `{out}` by a fresh scratch folder, and checks the outcome.
+fn case(line: &str, expect: Expect) -> Output {
+    let out_dir = scratch(&format!("case-{:x}", fnv(line)));
+    std::fs::create_dir_all(&out_dir).unwrap();
+    let args: Vec<String> = line
+        .split_whitespace()
+        .map(|a| {
+            a.replace("{in}", inputs().to_str().unwrap())
+                .replace("{out}", out_dir.to_str().unwrap())
+        })
+        .collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = relief(&args);
+    let err = stderr(&out);
+    assert!(!err.contains("panicked"), "{line}: {err}");
+    match expect {
+        Expect::Ok => assert!(out.status.success(), "{line}: {err}"),
+        Expect::Refused(text) => {
+            assert_eq!(out.status.code(), Some(2), "{line} should be refused: {err}");
+            let error_lines: Vec<&str> = err.lines().filter(|l| l.starts_with("error")).collect();
+            assert_eq!(error_lines.len(), 1, "{line}: one error line: {err}");
+            assert!(err.contains(text), "{line}: the error should say '{text}': {err}");
+            assert!(!err.contains("unexpected argument"), "{line}: {err}");
+        }
+    }
+    out
+}
+
+/// A stable hash of a case's text, to name its scratch folder.
+fn fnv(text: &str) -> u64 {
+    text.bytes().fold(0xcbf29ce484222325, |h, b| (h ^ u64::from(b)).wrapping_mul(0x100000001b3))
+}
+
+/// Every subcommand and the cases that drive its options. Each option its `--help` lists
+/// must appear in at least one case (checked by `every_option_of_every_help_is_driven`).
+const CASES: &[(&str, &[(&str, Expect)])] = &[
+    (
+        "render",
+        &[
+            ("render --fbm-size 24 --seed 3 --size 32x18 --output {out}/a.png", Expect::Ok),
+            ("render --eye -100,-150,420 --target 0,0,0 --fbm-size 24 --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render --eye=-100,-150,420 --target=-5,0,0 --up 0,0,1 --fov 30 --fbm-size 24 --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/f.npy --spacing -5 -o {out}/a.png", Expect::Refused("must be positive")),
+            ("render {in}/f.npy --spacing 2,3 --north-up --z-scale 3 --size 16x9 -o {out}/a.jpg", Expect::Ok),
+            ("render {in}/f.npy --z-scale -3 -o {out}/a.png", Expect::Refused("outside")),
+            ("render {in}/f.npy --exposure -1 -o {out}/a.png", Expect::Refused("outside 0.0001..10000")),
+            ("render {in}/f.npy --exposure 2 --sun -45,-10 --no-shadows --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/f.npy --sun 10,95 -o {out}/a.png", Expect::Refused("-90..90")),
+            ("render {in}/f.npy --fov 0 -o {out}/a.png", Expect::Refused("field of view")),
+            ("render {in}/f.npy --fov 180 -o {out}/a.png", Expect::Refused("field of view")),
+            ("render {in}/f.npy --surface boxes --tracer naive --size 16x9 -o {out}/a.png --depth {out}/d.npy --normals {out}/n.npy", Expect::Ok),
+            ("render {in}/f.npy --tracer safety --safety cyl_ext+cone_ext --phi-max -5 --no-shadows --isotropic --positive --linear-surface --safety-reach 16 --no-cache --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/f.npy --tracer safety --cache-dir {out} --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/f.npy --tracer safety --safety-reach 5000 -o {out}/a.png", Expect::Refused("between 1 and 1024")),
+            ("render {in}/f.npy --phi-max -45 -o {out}/a.png", Expect::Refused("--phi-max applies to the safety tracer only")),
+            ("render {in}/f.npy --no-cache -o {out}/a.png", Expect::Refused("--no-cache applies to the safety tracer only")),
+            ("render {in}/f.npy --seed 3 -o {out}/a.png", Expect::Refused("--seed applies to the default fBm terrain only")),
+            ("render {in}/f.npy --fbm-size 64 -o {out}/a.png", Expect::Refused("--fbm-size applies to the default fBm terrain only")),
+            ("render --voids hole -o {out}/a.png", Expect::Refused("--voids applies to input files only")),
+            ("render {in}/f.tif --array heights -o {out}/a.png", Expect::Refused("--array applies to NumPy archives (.npz) only")),
+            ("render {in}/f.tif --png-encoding terrain-rgb -o {out}/a.png", Expect::Refused("--png-encoding applies to PNG input (.png) only")),
+            ("render {in}/f.png --png-encoding grey --voids fill --max-memory 1G --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/f.tif --texture {in}/t.png --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/f.tif --mode smooth -o {out}/a.png", Expect::Refused("--mode applies to MLHM scenes")),
+            ("render {in}/s.mlhm --texture {in}/t.png -o {out}/a.png", Expect::Refused("--texture")),
+            ("render {in}/s.mlhm --mode smooth --sigma 1 --preset low --no-ao --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/s.mlhm --tracer hierarchy --backtrack miss --hierarchy-bounds f16 --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/s.mlhm --mode smooth --sigma 1e-6 -o {out}/a.png", Expect::Refused("1/64 of a cell to 8 cells")),
+            ("render {in}/s.mlhm --sigma 1 -o {out}/a.png", Expect::Refused("--sigma applies to --mode smooth only")),
+            ("render {in}/s.mlhm --phi-max -45 -o {out}/a.png", Expect::Refused("--phi-max applies to the safety tracer")),
+            ("render {in}/f.npy -o {out}/a.bmp", Expect::Refused(".png or .jpg")),
+            ("render {in}/f.npy -o {out}/y.png --depth {out}/y.png", Expect::Refused("must end in .npy")),
+            ("render {in}/f.npy -o {out}/y.png --depth {out}/d.npy --normals {out}/./d.npy", Expect::Refused("--depth and --normals both write")),
+            ("render {in}/f.png -o {in}/f.png", Expect::Refused("would overwrite the input")),
+            ("render {in}/f.npy --size 0x10 -o {out}/a.png", Expect::Refused("between 1 and 32768")),
+        ],
+    ),
+    (
+        "generate fbm",
+        &[
+            ("generate fbm --size 32 --seed 7 --output {out}/f.npy", Expect::Ok),
+            ("generate fbm --size 32 -o {out}/f.tif", Expect::Ok),
+            ("generate fbm --size 32 -o {out}/f.png", Expect::Ok),
+            ("generate fbm --size 32 -o {out}/f.asc", Expect::Ok),
+            ("generate fbm --size 32 -o {out}/f.hgt", Expect::Refused("1201 x 1201 or 3601 x 3601")),
+            ("generate fbm --size 32 -o {out}/f.jpg", Expect::Refused("a height file is written as")),
+            ("generate fbm --size -32 -o {out}/f.npy", Expect::Refused("between 1 and 65536")),
+            ("generate fbm --seed -1 -o {out}/f.npy", Expect::Refused("seed '-1'")),
+        ],
+    ),
+    (
+        "generate mlhm",
+        &[
+            ("generate mlhm --scene rivers-rain --size 16 --seed 5 --max-layers 2 --half --max-memory 1G -o {out}/s.mlhm", Expect::Ok),
+            ("generate mlhm --scene cave --size 16 --output {out}/s.json", Expect::Ok),
+            ("generate mlhm --scene arches --size 16 --seed 5 -o {out}/s.mlhm", Expect::Refused("--seed applies to rivers-rain only")),
+            ("generate mlhm --scene arches --size 16 --max-layers 0 -o {out}/s.mlhm", Expect::Refused("between 1 and 127")),
+            ("generate mlhm --scene arches --size 16 -o {out}/s.npy", Expect::Refused(".mlhm")),
+        ],
+    ),
+    (
+        "info",
+        &[
+            ("info {in}/f.tif", Expect::Ok),
+            ("info {in}/f.png --png-encoding terrarium --max-memory 1G", Expect::Refused("Terrarium heights need 8-bit RGB")),
+            ("info {in}/s.mlhm", Expect::Ok),
+            ("info {in}/f.tif --voids hole", Expect::Refused("--voids applies to render and convert only")),
+            ("info {in}/f.tif --array a", Expect::Refused("--array applies to NumPy archives")),
+        ],
+    ),
+    (
+        "convert",
+        &[
+            ("convert {in}/f.tif {out}/f.asc --voids fill --max-memory 1G", Expect::Ok),
+            ("convert {in}/f.png {out}/f.npy --png-encoding grey", Expect::Ok),
+            ("convert {in}/s.mlhm {out}/s.json", Expect::Ok),
+            ("convert {in}/f.tif {in}/f.tif", Expect::Refused("would overwrite the input")),
+            ("convert {in}/f.tif {out}/f.jpg", Expect::Refused("a height file is written as")),
+            ("convert {in}/f.tif {out}/f.npy --array a", Expect::Refused("--array applies to NumPy archives")),
+            ("convert {in}/s.mlhm {out}/s.json --voids fill", Expect::Refused("--voids applies to height files only")),
+        ],
+    ),
+    (
+        "bench",
+        &[
+            ("bench --size 24 --res 16x9 --seed 2 --tracers mipmap --surfaces boxes --views flight --repeat 1 --simd portable --json --depth-dir {out}", Expect::Ok),
+            ("bench --size 24 --res 16x9 --tracers naive,mipmap --surfaces boxes --views flight --repeat 1 --single-rays", Expect::Ok),
+            ("bench --size 24 --simd avx2 --single-rays", Expect::Refused("--simd applies to ray packets only, not to --single-rays")),
+            ("bench --size 24 --simd portable --tracers naive", Expect::Refused("--simd applies to the mipmap tracer only")),
+            ("bench --input {in}/f.npy --res 16x9 --tracers cyl_all --safety cyl_all --phi-max -30 --isotropic --positive --linear-surface --safety-reach 8 --cache-dir {out} --no-cache --surfaces triangles --views cover --repeat 1", Expect::Ok),
+            ("bench --input {in}/f.npy --size 64", Expect::Refused("--size applies to the generated fBm terrain only")),
+            ("bench --size 24 --phi-max -30 --tracers mipmap", Expect::Refused("--phi-max applies to the safety tracers only")),
+            ("bench --size 24 --repeat 0", Expect::Refused("between 1 and 1000")),
+        ],
+    ),
+];
+
+/// The long options a subcommand's `--help` lists.
+fn options_in_help(command: &str) -> BTreeSet<String> {
+    let mut args: Vec<&str> = command.split(' ').collect();
+    args.push("--help");
+    let out = relief(&args);
+    assert!(out.status.success());
+    let help = String::from_utf8_lossy(&out.stdout).into_owned();
+    // An option's line starts with it: `  -o, --output <OUTPUT>` or `      --north-up`.
+    help.lines()
+        .filter(|l| l.trim_start().starts_with('-'))
+        .filter_map(|l| l.split_whitespace().find(|w| w.starts_with("--")))
+        .map(|w| w.trim_end_matches(',').to_string())
+        .filter(|o| {
+            o[2..].chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+        })
+        .filter(|o| o != "--help" && o != "--version")
+        .collect()
+}
+
+#[test]
+fn every_option_of_every_help_is_driven() {
+    for (command, cases) in CASES {
+        let driven: BTreeSet<String> = cases
+            .iter()
+            .flat_map(|(line, _)| line.split_whitespace())
+            .filter(|w| w.starts_with("--"))
+            .map(|w| w.split('=').next().unwrap().to_string())
+            .collect();
+        let listed = options_in_help(command);
+        assert!(!listed.is_empty(), "{command} --help lists no options");
+        let missing: Vec<&String> = listed.difference(&driven).collect();
+        assert!(missing.is_empty(), "relief {command}: no case drives {missing:?}");
+        for (line, expect) in *cases {
+            case(line, *expect);
+        }
+    }
+}
+
+#[test]
+fn help_says_which_size_each_command_means() {
+    let help = |command: &str| {
+        let mut args: Vec<&str> = command.split(' ').collect();
+        args.push("--help");
+        String::from_utf8_lossy(&relief(&args).stdout).into_owned()
+    };
+    assert!(help("render").contains("Image size WxH in pixels (not terrain samples"));
+    assert!(help("bench").contains("Terrain samples per side of the fBm terrain"));
+    assert!(help("bench").contains("not image pixels"));
+    assert!(help("generate fbm").contains("Terrain samples per side"));
+    assert!(help("generate mlhm").contains("Cells per side"));
+}
+
+#[test]
+fn negative_numbers_are_values_of_every_numeric_option() {
+    // Each numeric option given a negative value: clap must take it as the value (whatever
+    // the option then makes of it), never as an unknown flag.
+    let numeric = [
+        "render --eye -1,-2,-3 --target -4,-5,-6",
+        "render --target -1,0,0 --eye 1,1,1",
+        "render --eye 1,1,1 --target 0,0,0 --up -1,0,0",
+        "render --spacing -5",
+        "render --z-scale -1",
+        "render --fov -1",
+        "render --exposure -1",
+        "render --sun -1,-1",
+        "render --sigma -1",
+        "render --phi-max -1",
+        "render --safety-reach -1",
+        "render --fbm-size -1",
+        "render --seed -1",
+        "render --max-memory -1",
+        "generate fbm --size -1",
+        "generate fbm --seed -1",
+        "generate mlhm --scene cave --size -1",
+        "generate mlhm --scene cave --max-layers -1",
+        "bench --size -1",
+        "bench --seed -1",
+        "bench --repeat -1",
+    ];
+    for line in numeric {
+        let out_dir = scratch("negative");
+        std::fs::create_dir_all(&out_dir).unwrap();
+        let mut args: Vec<String> = line.split(' ').map(String::from).collect();
+        args.extend(
+            ["--size".into(), "8x8".into()].into_iter().filter(|_| line.starts_with("render")),
+        );
+        args.extend(
+            ["-o".into(), out_dir.join("x.png").to_str().unwrap().into()]
+                .into_iter()
+                .filter(|_| !line.starts_with("bench")),
+        );
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = relief(&args);
+        let err = stderr(&out);
+        assert!(!err.contains("unexpected argument"), "{line}: {err}");
+        assert!(!err.contains("panicked"), "{line}: {err}");
+    }
+}
+
+#[test]
+fn a_top_down_camera_puts_north_at_the_top() {
+    // A ramp rising to the north, seen from straight above: the top rows (north) are nearer.
+    let ramp = scratch("ramp.npy");
+    let heights: Vec<f32> = (0..32 * 32).map(|k| (k / 32) as f32).collect();
+    relief_io::write_npy_f32(&ramp, &[32, 32], &heights).unwrap();
+    let depth = scratch("ramp-depth.npy");
+    let out = relief(&[
+        "render",
+        ramp.to_str().unwrap(),
+        "--eye",
+        "16,16,100",
+        "--target",
+        "16,16,0",
+        "--size",
+        "9x9",
+        "--fov",
+        "20",
+        "-o",
+        scratch("ramp.png").to_str().unwrap(),
+        "--depth",
+        depth.to_str().unwrap(),
+    ]);
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("parallel to the view") && err.contains("north"), "{err}");
+    let (shape, d) = read_f32_npy(&depth);
+    assert_eq!(shape, [9, 9]);
+    let (top, bottom) = (d[4], d[8 * 9 + 4]);
+    assert!(top < bottom, "the north (top) row is nearer: {top} vs {bottom}");
+    let (left, right) = (d[4 * 9], d[4 * 9 + 8]);
+    assert!((left - right).abs() < 1e-3, "east-west is level: {left} vs {right}");
+}
+
+#[test]
+fn info_describes_mlhm_scenes() {
+    let out = case("info {in}/s.mlhm", Expect::Ok);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    for key in ["32 x 32 cells of 8 m", "cells by columns", "bedrock tops", "water:", "to render:"]
+    {
+        assert!(text.contains(key), "missing '{key}':\n{text}");
+    }
+    if let Some(scene) = shared_data("data/ngwm24-scene/scene.json") {
+        let out = relief(&["info", scene.to_str().unwrap()]);
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(out.status.success(), "{}", stderr(&out));
+        assert!(
+            text.contains("256 x 256 cells") && text.contains("with simulation state"),
+            "{text}"
+        );
+    }
+}
+
+#[test]
+fn numbers_in_messages_are_readable() {
+    for (line, range) in [
+        ("render {in}/f.npy --spacing 1e300 -o {out}/a.png", "1e-6..10000000"),
+        ("render --eye 1e300,0,0 --target 0,0,0 -o {out}/a.png", "farther than 1e9 m"),
+        ("render {in}/s.mlhm --mode smooth --sigma 1e-300 -o {out}/a.png", "0.125..64 m"),
+    ] {
+        let out = case(line, Expect::Refused(range));
+        assert!(stderr(&out).len() < 300, "{line}: {}", stderr(&out));
+    }
+}
+
+#[test]
+fn the_bench_table_is_aligned() {
+    let out =
+        relief(&["bench", "--size", "24", "--res", "16x9", "--repeat", "1", "--views", "flight"]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let lines: Vec<&str> = text.lines().skip(1).collect();
+    let header = lines[0];
+    assert!(lines.len() == 5, "{text}");
+    for row in &lines[1..] {
+        assert_eq!(row.len(), header.len(), "row and header differ in width:\n{header}\n{row}");
+        for column in ["surface", "tracer"] {
+            let at = header.find(column).unwrap();
+            assert!(
+                row.as_bytes()[at - 1] == b' ' && row.as_bytes()[at] != b' ',
+                "{column}:\n{header}\n{row}"
+            );
+        }
+    }
+}
+
+/// Runs a Python snippet with the real client of a format; `None` (after saying so) when the
+/// client is not installed and RELIEF_REQUIRE_CLIENTS is not 1 (.ci/run sets it).
+fn python(module: &str, script: &str) -> Option<String> {
+    let probe = Command::new("python3").args(["-c", &format!("import {module}")]).output();
+    if !probe.is_ok_and(|o| o.status.success()) {
+        assert!(
+            std::env::var("RELIEF_REQUIRE_CLIENTS").as_deref() != Ok("1"),
+            "python3 with {module} is required (RELIEF_REQUIRE_CLIENTS=1); .ci/run installs it"
+        );
+        println!("skipped: python3 cannot import {module}");
+        return None;
+    }
+    let out = Command::new("python3").args(["-c", script]).output().unwrap();
+    assert!(out.status.success(), "{script}: {}", String::from_utf8_lossy(&out.stderr));
+    Some(String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
+#[test]
+fn outputs_are_read_back_by_the_clients_of_their_formats() {
+    let dir = scratch("clients");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    for ext in ["tif", "png", "asc", "npy"] {
+        case(&format!("generate fbm --size 40 -o {}", path(&format!("f.{ext}"))), Expect::Ok);
+    }
+    let hgt = path("N36W085.hgt");
+    case(&format!("generate fbm --size 1201 -o {hgt}"), Expect::Ok);
+    // relief reads each back as the format its name says.
+    for (name, format) in [
+        ("f.tif", "GeoTIFF"),
+        ("f.png", "PNG"),
+        ("f.asc", "ESRI"),
+        ("f.npy", "NumPy"),
+        ("N36W085.hgt", "SRTM"),
+    ] {
+        let out = relief(&["info", &path(name)]);
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(out.status.success() && text.contains(format), "{name}: {text}{}", stderr(&out));
+    }
+    let shapes = python(
+        "rasterio",
+        &format!(
+            "import rasterio\nfor n in ['f.tif', 'f.asc', 'f.png', 'N36W085.hgt']:\n    \
+             r = rasterio.open('{0}/' + n)\n    print(n, r.driver, r.width, r.height, r.dtypes[0])",
+            dir.display()
+        ),
+    );
+    if let Some(shapes) = shapes {
+        for expected in [
+            "f.tif GTiff 40 40 float32",
+            "f.asc AAIGrid 40 40",
+            "f.png PNG 40 40 uint16",
+            "N36W085.hgt SRTMHGT 1201 1201 int16",
+        ] {
+            assert!(shapes.contains(expected), "GDAL read {shapes}, expected {expected}");
+        }
+    }
+    case(
+        &format!(
+            "render --fbm-size 24 --size 20x10 -o {} --depth {}",
+            path("a.jpg"),
+            path("d.npy")
+        ),
+        Expect::Ok,
+    );
+    case(&format!("render --fbm-size 24 --size 20x10 -o {}", path("a.jpeg")), Expect::Ok);
+    let bytes = std::fs::read(path("a.jpg")).unwrap();
+    assert_eq!(&bytes[..3], &[0xFF, 0xD8, 0xFF], "a JPEG starts with SOI");
+    if let Some(read) = python(
+        "PIL",
+        &format!("from PIL import Image\nfor n in ['a.jpg', 'a.jpeg']:\n    i = Image.open('{}/' + n)\n    print(i.format, i.size)", dir.display()),
+    ) {
+        assert_eq!(read, "JPEG (20, 10)\nJPEG (20, 10)");
+    }
+    if let Some(shape) =
+        python("numpy", &format!("import numpy\nprint(numpy.load('{}').shape)", path("d.npy")))
+    {
+        assert_eq!(shape, "(10, 20)");
+    }
+}
+
+#[test]
+fn every_readme_command_runs_as_typed() {
+    // The README's `cargo run --release -- ...` lines, continuation lines joined, run in a
+    // scratch folder that sees the repository's crates/ and data/ as the README's paths do.
+    let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
+    let mut commands = Vec::new();
+    let mut pending = String::new();
+    for line in readme.lines() {
+        let line = line.split(" #").next().unwrap().trim();
+        if pending.is_empty() && !line.starts_with("cargo run --release -- ") {
+            continue;
+        }
+        pending.push_str(line.trim_end_matches('\\'));
+        pending.push(' ');
+        if !line.ends_with('\\') {
+            commands.push(pending.trim_start_matches("cargo run --release -- ").trim().to_string());
+            pending.clear();
+        }
+    }
+    assert!(commands.len() >= 8, "README commands: {commands:?}");
+    let dir = scratch("readme");
+    std::fs::create_dir_all(&dir).unwrap();
+    for link in ["crates", "data"] {
+        let _ = std::fs::remove_file(dir.join(link));
+        std::os::unix::fs::symlink(repo().join(link), dir.join(link)).unwrap();
+    }
+    for command in &commands {
+        let mut args: Vec<&str> = command.split_whitespace().collect();
+        // The full benchmark (4096², 1920x1080, naive and mipmap) takes minutes: as typed,
+        // but on a small terrain and image.
+        if args == ["bench"] {
+            args.extend(["--size", "128", "--res", "64x36", "--repeat", "1"]);
+        }
+        let out = Command::new(env!("CARGO_BIN_EXE_relief"))
+            .args(&args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "relief {command}: {}", stderr(&out));
+    }
+}
