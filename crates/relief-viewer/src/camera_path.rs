@@ -1,0 +1,132 @@
+//! Camera paths: the viewer records them (R) as JSON, in the format docs/camera-path.md
+//! describes, for a fly-through to replay.
+
+use crate::ViewerError;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The `format` value every camera-path file carries.
+pub const CAMERA_PATH_FORMAT: &str = "relief-camera-path";
+/// The version of the format written.
+pub const CAMERA_PATH_VERSION: u32 = 1;
+
+/// One recorded camera: when, where from, where to, which way is up, how wide.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CameraKey {
+    /// Seconds since the recording started.
+    pub time_s: f64,
+    /// The eye, world coordinates in metres.
+    pub eye: [f64; 3],
+    /// The point looked at.
+    pub target: [f64; 3],
+    /// The up vector.
+    pub up: [f64; 3],
+    /// Vertical field of view, degrees.
+    pub fov_deg: f64,
+}
+
+/// A recorded flight: keys in time order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CameraPath {
+    /// Always [`CAMERA_PATH_FORMAT`].
+    pub format: String,
+    /// [`CAMERA_PATH_VERSION`].
+    pub version: u32,
+    /// The keys, at strictly increasing times.
+    pub keys: Vec<CameraKey>,
+}
+
+impl Default for CameraPath {
+    fn default() -> Self {
+        CameraPath { format: CAMERA_PATH_FORMAT.into(), version: CAMERA_PATH_VERSION, keys: vec![] }
+    }
+}
+
+impl CameraPath {
+    /// Appends `key` unless it repeats the last camera or goes back in time.
+    pub fn push(&mut self, key: CameraKey) {
+        if let Some(last) = self.keys.last() {
+            let same = last.eye == key.eye && last.target == key.target && last.up == key.up;
+            if same || key.time_s <= last.time_s {
+                return;
+            }
+        }
+        self.keys.push(key);
+    }
+
+    /// Writes the path as JSON to `path` (through a temporary file, renamed into place).
+    pub fn write(&self, path: &Path) -> Result<(), ViewerError> {
+        let text = serde_json::to_string_pretty(self).expect("a camera path serialises");
+        let temp = path.with_extension("json.partial");
+        let io = |source| ViewerError::Io { path: path.to_path_buf(), source };
+        std::fs::write(&temp, text + "\n").map_err(io)?;
+        std::fs::rename(&temp, path).map_err(io)
+    }
+
+    /// Reads and checks a path written by [`CameraPath::write`] (or by hand).
+    pub fn read(path: &Path) -> Result<CameraPath, ViewerError> {
+        let bad = |reason: String| ViewerError::CameraPath { path: path.to_path_buf(), reason };
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| ViewerError::Io { path: path.to_path_buf(), source })?;
+        let parsed: CameraPath = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+        if parsed.format != CAMERA_PATH_FORMAT || parsed.version != CAMERA_PATH_VERSION {
+            return Err(bad(format!(
+                "not a {CAMERA_PATH_FORMAT} version {CAMERA_PATH_VERSION} file (format '{}', \
+                 version {})",
+                parsed.format, parsed.version
+            )));
+        }
+        for (k, key) in parsed.keys.iter().enumerate() {
+            let finite = key.eye.iter().chain(&key.target).chain(&key.up).all(|v| v.is_finite());
+            if !(finite && key.fov_deg > 0.0 && key.fov_deg < 180.0 && key.time_s.is_finite()) {
+                return Err(bad(format!(
+                    "key {k}: a coordinate, time or field of view is invalid"
+                )));
+            }
+            if k > 0 && key.time_s <= parsed.keys[k - 1].time_s {
+                return Err(bad(format!("key {k}: its time is not after the key before")));
+            }
+        }
+        Ok(parsed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(t: f64, x: f64) -> CameraKey {
+        CameraKey {
+            time_s: t,
+            eye: [x, 0.0, 10.0],
+            target: [0.0; 3],
+            up: [0.0, 0.0, 1.0],
+            fov_deg: 45.0,
+        }
+    }
+
+    #[test]
+    fn paths_round_trip_and_repeats_are_dropped() {
+        let dir = std::env::temp_dir().join(format!("relief-viewer-path-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut path = CameraPath::default();
+        path.push(key(0.0, 1.0));
+        path.push(key(0.5, 1.0)); // the same camera
+        path.push(key(0.4, 2.0)); // back in time
+        path.push(key(1.0, 2.0));
+        assert_eq!(path.keys.len(), 2);
+        let file = dir.join("flight.json");
+        path.write(&file).unwrap();
+        assert_eq!(CameraPath::read(&file).unwrap(), path);
+        std::fs::write(&file, r#"{"format":"x","version":1,"keys":[]}"#).unwrap();
+        assert!(CameraPath::read(&file)
+            .unwrap_err()
+            .to_string()
+            .contains("not a relief-camera-path"));
+        let mut bad = path.clone();
+        bad.keys[1].time_s = 0.0;
+        std::fs::write(&file, serde_json::to_string(&bad).unwrap()).unwrap();
+        assert!(CameraPath::read(&file).unwrap_err().to_string().contains("key 1"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,64 @@
+//! relief's interactive viewer: a window (winit, X11) with a CPU framebuffer (softbuffer) in
+//! which the user flies over a terrain that a [`SceneRenderer`] draws. The viewer has no
+//! rendering logic of its own: it moves the camera, decides what resolution to render next
+//! ([`ProgressiveScheduler`]: reduced while moving, refined to full at rest), hands the frame
+//! to a render thread so that the event loop never blocks, and shows the result with an
+//! overlay of figures and keys.
+//!
+//! `relief view` (in relief-cli) is its front end; the same loop runs scripted for tests
+//! ([`Script`], `--frames N --screenshot S.png`).
+#![deny(missing_docs)]
+
+mod camera_controller;
+mod camera_path;
+mod frame;
+mod input_map;
+mod overlay;
+mod progressive;
+mod script;
+mod view_settings;
+mod window;
+
+pub use camera_controller::{CameraController, Motion, Navigation};
+pub use camera_path::{CameraKey, CameraPath, CAMERA_PATH_FORMAT, CAMERA_PATH_VERSION};
+pub use frame::{blit, Frame, FrameStats, SceneRenderer};
+pub use input_map::{action_for, motion_from, Action, Key, KEY_HELP};
+pub use progressive::{FrameRequest, ProgressiveScheduler};
+pub use script::{Script, ScriptFrame, SCRIPT_FRAME_S};
+pub use view_settings::{SceneChoices, ViewSettings};
+pub use window::{run, FrameRecord, ViewerConfig, ViewerSummary};
+
+use std::path::PathBuf;
+
+/// What can go wrong in the viewer, by cause.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewerError {
+    /// No display to open a window on.
+    #[error("no display: {0}")]
+    NoDisplay(String),
+    /// The window or its framebuffer could not be made or drawn.
+    #[error("window: {0}")]
+    Window(String),
+    /// The scene renderer failed.
+    #[error("render: {0}")]
+    Render(String),
+    /// A file could not be written or read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// A camera-path file that is not one.
+    #[error("camera path {path}: {reason}")]
+    CameraPath {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A script that does not parse.
+    #[error("script: {0}")]
+    Script(String),
+}

@@ -1,0 +1,610 @@
+//! The window and its event loop: input goes to the camera and the settings, frames are
+//! rendered on a separate thread (the loop never waits for one), and the newest frame is
+//! shown scaled to the window with the overlay.
+
+use crate::camera_path::{CameraKey, CameraPath};
+use crate::frame::{blit, Frame, SceneRenderer};
+use crate::input_map::{action_for, motion_from, Action, Key, KEY_HELP};
+use crate::progressive::{FrameRequest, ProgressiveScheduler};
+use crate::script::{Script, SCRIPT_FRAME_S};
+use crate::{overlay, CameraController, Navigation, ViewSettings, ViewerError};
+use relief_core::Camera;
+use serde::Serialize;
+use std::collections::BTreeSet;
+use std::num::NonZeroU32;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::sync::{mpsc, Arc};
+use std::time::{Duration, Instant};
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, EventLoopProxy};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+/// How long after the last mouse movement a drag still counts as moving.
+const DRAG_SETTLE: Duration = Duration::from_millis(150);
+
+/// What the viewer opens with.
+#[derive(Debug, Clone)]
+pub struct ViewerConfig {
+    /// The full image size (and the window's first inner size), pixels.
+    pub size: (u32, u32),
+    /// The starting camera.
+    pub camera: Camera,
+    /// The starting settings.
+    pub settings: ViewSettings,
+    /// Stop after this many frames shown (and once the view is at full resolution), saving
+    /// the last one to `screenshot`.
+    pub frames: Option<u32>,
+    /// Input played frame by frame instead of the keyboard (with `frames`).
+    pub script: Script,
+    /// Where the last frame goes when `frames` ends the run.
+    pub screenshot: Option<PathBuf>,
+    /// Where screenshots (P) and camera paths (R) are written.
+    pub output_dir: PathBuf,
+    /// Where to write every frame's timing as JSON when the viewer closes.
+    pub stats: Option<PathBuf>,
+    /// The time a frame may take while the camera moves.
+    pub frame_budget: Duration,
+}
+
+/// One frame shown, for `--stats`.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrameRecord {
+    /// Its width.
+    pub width: u32,
+    /// Its height.
+    pub height: u32,
+    /// Whether the camera was moving when it was asked for.
+    pub moving: bool,
+    /// Rendering it took, milliseconds.
+    pub render_ms: f64,
+    /// Rays cast.
+    pub rays: u64,
+}
+
+/// How a run ended.
+#[derive(Debug, Clone)]
+pub struct ViewerSummary {
+    /// Frames shown.
+    pub frames: Vec<FrameRecord>,
+    /// The screenshot written at the end of a `frames` run.
+    pub screenshot: Option<PathBuf>,
+}
+
+/// Opens the window and runs until it is closed (or `config.frames` are done).
+pub fn run(
+    renderer: Arc<dyn SceneRenderer>,
+    config: ViewerConfig,
+) -> Result<ViewerSummary, ViewerError> {
+    if std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty()) {
+        return Err(ViewerError::NoDisplay(
+            "relief view opens an X11 window and DISPLAY is not set (on a machine without a \
+             screen, run it under Xvfb: xvfb-run relief view ...)"
+                .into(),
+        ));
+    }
+    let event_loop = EventLoop::<Rendered>::with_user_event()
+        .build()
+        .map_err(|e| ViewerError::NoDisplay(format!("cannot connect to the X server: {e}")))?;
+    let (jobs, worker) = spawn_render_thread(renderer.clone(), event_loop.create_proxy());
+    let mut app = App::new(renderer, config, jobs);
+    let ran = event_loop.run_app(&mut app);
+    drop(app.jobs.take());
+    let _ = worker.join();
+    ran.map_err(|e| ViewerError::Window(e.to_string()))?;
+    app.finish()
+}
+
+/// A frame to render.
+struct Job {
+    request: FrameRequest,
+    camera: Camera,
+    settings: ViewSettings,
+    moving: bool,
+}
+
+/// What the render thread sends back.
+enum Rendered {
+    Frame { request: FrameRequest, frame: Frame, elapsed: Duration, moving: bool },
+    Failed(String),
+}
+
+fn spawn_render_thread(
+    renderer: Arc<dyn SceneRenderer>,
+    proxy: EventLoopProxy<Rendered>,
+) -> (mpsc::Sender<Job>, std::thread::JoinHandle<()>) {
+    let (send, receive) = mpsc::channel::<Job>();
+    let worker = std::thread::spawn(move || {
+        for job in receive {
+            let started = Instant::now();
+            let rendered = match renderer.render(&job.camera, &job.settings) {
+                Ok(frame) => Rendered::Frame {
+                    request: job.request,
+                    frame,
+                    elapsed: started.elapsed(),
+                    moving: job.moving,
+                },
+                Err(e) => Rendered::Failed(e),
+            };
+            if proxy.send_event(rendered).is_err() {
+                return;
+            }
+        }
+    });
+    (send, worker)
+}
+
+/// The window's state.
+struct App {
+    renderer: Arc<dyn SceneRenderer>,
+    config: ViewerConfig,
+    jobs: Option<mpsc::Sender<Job>>,
+    window: Option<Rc<Window>>,
+    surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
+    busy: bool,
+    controller: CameraController,
+    home: CameraController,
+    settings: ViewSettings,
+    scheduler: ProgressiveScheduler,
+    held: BTreeSet<Key>,
+    cursor: Option<(f64, f64)>,
+    dragging: bool,
+    last_drag: Option<Instant>,
+    last_tick: Instant,
+    shown: Option<(Frame, Duration)>,
+    show_help: bool,
+    show_hud: bool,
+    recording: Option<(Instant, CameraPath)>,
+    saved: u32,
+    script_frame: usize,
+    records: Vec<FrameRecord>,
+    screenshot: Option<PathBuf>,
+    error: Option<ViewerError>,
+}
+
+impl App {
+    fn new(
+        renderer: Arc<dyn SceneRenderer>,
+        config: ViewerConfig,
+        jobs: mpsc::Sender<Job>,
+    ) -> Self {
+        let controller = CameraController::new(&config.camera, renderer.scene_size());
+        let scheduler = ProgressiveScheduler::new(config.size, config.frame_budget);
+        App {
+            home: controller.clone(),
+            controller,
+            settings: config.settings.clone(),
+            scheduler,
+            renderer,
+            config,
+            jobs: Some(jobs),
+            window: None,
+            surface: None,
+            busy: false,
+            held: BTreeSet::new(),
+            cursor: None,
+            dragging: false,
+            last_drag: None,
+            last_tick: Instant::now(),
+            shown: None,
+            show_help: false,
+            show_hud: true,
+            recording: None,
+            saved: 0,
+            script_frame: 0,
+            records: Vec::new(),
+            screenshot: None,
+            error: None,
+        }
+    }
+
+    fn scripted(&self) -> bool {
+        self.config.frames.is_some()
+    }
+
+    /// Ends the run: the camera path being recorded and the stats are written.
+    fn finish(mut self) -> Result<ViewerSummary, ViewerError> {
+        if let Some(error) = self.error.take() {
+            return Err(error);
+        }
+        if self.recording.is_some() {
+            self.toggle_recording()?;
+        }
+        if let Some(path) = &self.config.stats {
+            let text = serde_json::to_string_pretty(&serde_json::json!({ "frames": self.records }))
+                .expect("frame records serialise");
+            std::fs::write(path, text + "\n")
+                .map_err(|source| ViewerError::Io { path: path.clone(), source })?;
+        }
+        Ok(ViewerSummary { frames: self.records, screenshot: self.screenshot })
+    }
+
+    /// Stops the event loop with `error`.
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: ViewerError) {
+        self.error.get_or_insert(error);
+        event_loop.exit();
+    }
+
+    /// Sends the next frame to the render thread, if it is idle and there is one to render.
+    fn schedule(&mut self, event_loop: &ActiveEventLoop) {
+        if self.busy {
+            return;
+        }
+        let Some(request) = self.scheduler.next() else { return };
+        let camera = match self.controller.camera(request.width, request.height) {
+            Ok(camera) => camera,
+            Err(e) => return self.fail(event_loop, ViewerError::Render(e.to_string())),
+        };
+        let job = Job { request, camera, settings: self.settings.clone(), moving: self.moving() };
+        if let Some(jobs) = &self.jobs {
+            self.busy = jobs.send(job).is_ok();
+        }
+    }
+
+    fn moving(&self) -> bool {
+        let dragged = self.last_drag.is_some_and(|t| t.elapsed() < DRAG_SETTLE);
+        motion_from(&self.held).is_moving() || dragged
+    }
+
+    /// Carries out `action`.
+    fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) {
+        let result = match action {
+            Action::Quit => {
+                event_loop.exit();
+                Ok(())
+            }
+            Action::ToggleHelp => {
+                self.show_help = !self.show_help;
+                Ok(())
+            }
+            Action::ToggleHud => {
+                self.show_hud = !self.show_hud;
+                Ok(())
+            }
+            Action::ToggleNavigation => {
+                self.controller.toggle_navigation();
+                Ok(())
+            }
+            Action::ResetView => {
+                let navigation = self.controller.navigation();
+                self.controller = self.home.clone();
+                if self.controller.navigation() != navigation {
+                    self.controller.toggle_navigation();
+                }
+                self.scheduler.changed();
+                Ok(())
+            }
+            Action::Screenshot => self.save_screenshot(None).map(|_| ()),
+            Action::ToggleRecording => self.toggle_recording(),
+            other => {
+                if self.settings.apply(other) {
+                    self.scheduler.changed();
+                }
+                Ok(())
+            }
+        };
+        if let Err(e) = result {
+            self.fail(event_loop, e);
+        }
+        if let Some(window) = &self.window {
+            window.request_redraw();
+        }
+    }
+
+    /// Writes the frame shown (without the overlay) to `path`, or to the next
+    /// `relief-view-NNN.png` of the output folder.
+    fn save_screenshot(&mut self, path: Option<&Path>) -> Result<Option<PathBuf>, ViewerError> {
+        let Some((frame, _)) = &self.shown else { return Ok(None) };
+        let path = match path {
+            Some(p) => p.to_path_buf(),
+            None => {
+                self.saved += 1;
+                self.config.output_dir.join(format!("relief-view-{:03}.png", self.saved))
+            }
+        };
+        let rgb: Vec<u8> = frame.rgb.iter().flatten().copied().collect();
+        relief_io::write_png_rgb8(&path, frame.width, frame.height, &rgb).map_err(|e| {
+            ViewerError::Io { path: path.clone(), source: std::io::Error::other(e) }
+        })?;
+        eprintln!("saved {} ({}x{})", path.display(), frame.width, frame.height);
+        Ok(Some(path))
+    }
+
+    /// Starts recording, or stops and writes the next `relief-path-NNN.json`.
+    fn toggle_recording(&mut self) -> Result<(), ViewerError> {
+        match self.recording.take() {
+            None => self.recording = Some((Instant::now(), CameraPath::default())),
+            Some((_, path)) => {
+                self.saved += 1;
+                let file =
+                    self.config.output_dir.join(format!("relief-path-{:03}.json", self.saved));
+                path.write(&file)?;
+                eprintln!("saved {} ({} cameras)", file.display(), path.keys.len());
+            }
+        }
+        Ok(())
+    }
+
+    /// Applies the script's frame `k`: its presses, then its held keys for one frame's time.
+    fn play_script_frame(&mut self, event_loop: &ActiveEventLoop, k: usize) {
+        let frame = self.config.script.frame(k);
+        for key in frame.pressed {
+            if let Some(action) = action_for(key) {
+                self.act(event_loop, action);
+            }
+        }
+        let motion = motion_from(&frame.held);
+        if self.controller.apply(motion, SCRIPT_FRAME_S) {
+            self.scheduler.changed();
+        }
+        self.scheduler.set_moving(motion.is_moving());
+    }
+
+    /// A frame came back from the render thread.
+    fn on_rendered(&mut self, event_loop: &ActiveEventLoop, rendered: Rendered) {
+        self.busy = false;
+        let (request, frame, elapsed, moving) = match rendered {
+            Rendered::Frame { request, frame, elapsed, moving } => {
+                (request, frame, elapsed, moving)
+            }
+            Rendered::Failed(e) => return self.fail(event_loop, ViewerError::Render(e)),
+        };
+        self.scheduler.shown(request, elapsed);
+        self.records.push(FrameRecord {
+            width: frame.width,
+            height: frame.height,
+            moving,
+            render_ms: elapsed.as_secs_f64() * 1e3,
+            rays: frame.stats.rays,
+        });
+        self.shown = Some((frame, elapsed));
+        if let Some((started, path)) = &mut self.recording {
+            let c = &self.controller;
+            path.push(CameraKey {
+                time_s: started.elapsed().as_secs_f64(),
+                eye: c.eye().to_array(),
+                target: c.target().to_array(),
+                up: c.up().to_array(),
+                fov_deg: c.fov_deg(),
+            });
+        }
+        if let Some(window) = &self.window {
+            window.request_redraw();
+        }
+        if let Some(frames) = self.config.frames {
+            if self.scheduler.version() == request.version {
+                self.script_frame += 1;
+                self.play_script_frame(event_loop, self.script_frame);
+            }
+            let script_done = self.script_frame >= self.config.script.len();
+            if self.records.len() >= frames as usize && script_done && self.scheduler.is_complete()
+            {
+                let target = self.config.screenshot.clone();
+                match target.map(|p| self.save_screenshot(Some(&p))).transpose() {
+                    Ok(saved) => self.screenshot = saved.flatten(),
+                    Err(e) => return self.fail(event_loop, e),
+                }
+                event_loop.exit();
+                return;
+            }
+        }
+        self.schedule(event_loop);
+    }
+
+    /// Draws the newest frame, scaled to the window, and the overlay.
+    fn present(&mut self) -> Result<(), ViewerError> {
+        let (Some(window), Some(surface)) = (&self.window, &mut self.surface) else {
+            return Ok(());
+        };
+        let size = window.inner_size();
+        let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
+            return Ok(());
+        };
+        let err = |e: softbuffer::SoftBufferError| ViewerError::Window(e.to_string());
+        surface.resize(w, h).map_err(err)?;
+        let mut buffer = surface.buffer_mut().map_err(err)?;
+        buffer.fill(0);
+        let mut lines = Vec::new();
+        if let Some((frame, elapsed)) = &self.shown {
+            blit(frame, &mut buffer, w.get(), h.get());
+            if self.show_hud {
+                let seconds = elapsed.as_secs_f64().max(1e-9);
+                let steps = frame
+                    .stats
+                    .steps_per_ray
+                    .map_or(String::new(), |s| format!(", {s:.1} steps/ray"));
+                let navigation = match self.controller.navigation() {
+                    Navigation::Fly => "fly",
+                    Navigation::Orbit => "orbit",
+                };
+                lines.push(format!("{} - {navigation}", self.renderer.describe()));
+                lines.push(format!(
+                    "{:.1} ms at {}x{}, {:.1} Mrays/s{steps}",
+                    seconds * 1e3,
+                    frame.width,
+                    frame.height,
+                    frame.stats.rays as f64 / seconds / 1e6
+                ));
+                lines.push(self.settings.describe());
+                if self.recording.is_some() {
+                    lines.push("recording the camera path (R stops)".into());
+                }
+                lines.push("F1: keys".into());
+            }
+        }
+        if self.show_help {
+            lines.extend(KEY_HELP.iter().map(|(keys, what)| format!("{keys:<11} {what}")));
+        }
+        overlay::draw_panel(&mut buffer, w.get() as usize, h.get() as usize, &lines);
+        buffer.present().map_err(err)
+    }
+}
+
+impl ApplicationHandler<Rendered> for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
+        }
+        let (w, h) = self.config.size;
+        let attributes = Window::default_attributes()
+            .with_title(format!("relief view: {}", self.renderer.describe()))
+            .with_inner_size(winit::dpi::PhysicalSize::new(w, h));
+        let made =
+            event_loop.create_window(attributes).map_err(|e| e.to_string()).and_then(|window| {
+                let window = Rc::new(window);
+                let context =
+                    softbuffer::Context::new(window.clone()).map_err(|e| e.to_string())?;
+                let surface = softbuffer::Surface::new(&context, window.clone())
+                    .map_err(|e| e.to_string())?;
+                Ok((window, surface))
+            });
+        match made {
+            Ok((window, surface)) => {
+                self.window = Some(window);
+                self.surface = Some(surface);
+            }
+            Err(e) => return self.fail(event_loop, ViewerError::Window(e)),
+        }
+        if self.scripted() {
+            self.play_script_frame(event_loop, 0);
+        }
+        self.last_tick = Instant::now();
+        self.schedule(event_loop);
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.present() {
+                    self.fail(event_loop, e);
+                }
+            }
+            WindowEvent::KeyboardInput { event, .. } => {
+                let PhysicalKey::Code(code) = event.physical_key else { return };
+                let Some(key) = key_of(code) else { return };
+                // A scripted run takes only Esc from the keyboard.
+                if self.scripted() && key != Key::Escape {
+                    return;
+                }
+                match event.state {
+                    ElementState::Pressed => {
+                        if !event.repeat {
+                            if let Some(action) = action_for(key) {
+                                self.act(event_loop, action);
+                            }
+                        }
+                        self.held.insert(key);
+                    }
+                    ElementState::Released => {
+                        self.held.remove(&key);
+                    }
+                }
+            }
+            WindowEvent::MouseInput { state, button: MouseButton::Left, .. } => {
+                self.dragging = state == ElementState::Pressed && !self.scripted();
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                let now = (position.x, position.y);
+                if let (true, Some((x, y))) = (self.dragging, self.cursor) {
+                    self.controller.drag(now.0 - x, now.1 - y);
+                    self.last_drag = Some(Instant::now());
+                    self.scheduler.changed();
+                }
+                self.cursor = Some(now);
+            }
+            WindowEvent::MouseWheel { delta, .. } if !self.scripted() => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    MouseScrollDelta::PixelDelta(p) => p.y / 50.0,
+                };
+                self.controller.wheel(steps);
+                self.scheduler.changed();
+            }
+            WindowEvent::Resized(_) => {
+                if let Some(window) = &self.window {
+                    window.request_redraw();
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn user_event(&mut self, event_loop: &ActiveEventLoop, rendered: Rendered) {
+        self.on_rendered(event_loop, rendered);
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_tick).as_secs_f64().min(0.25);
+        self.last_tick = now;
+        if !self.scripted() {
+            if self.controller.apply(motion_from(&self.held), dt) {
+                self.scheduler.changed();
+            }
+            self.scheduler.set_moving(self.moving());
+        }
+        self.schedule(event_loop);
+        event_loop.set_control_flow(if self.moving() {
+            ControlFlow::WaitUntil(now + Duration::from_millis(10))
+        } else {
+            ControlFlow::Wait
+        });
+    }
+}
+
+/// The viewer's key for a physical key code (layout-independent: WASD stay where they are).
+fn key_of(code: KeyCode) -> Option<Key> {
+    use KeyCode::*;
+    let letters = [
+        (KeyA, 'A'),
+        (KeyB, 'B'),
+        (KeyC, 'C'),
+        (KeyD, 'D'),
+        (KeyE, 'E'),
+        (KeyF, 'F'),
+        (KeyG, 'G'),
+        (KeyH, 'H'),
+        (KeyI, 'I'),
+        (KeyJ, 'J'),
+        (KeyK, 'K'),
+        (KeyL, 'L'),
+        (KeyM, 'M'),
+        (KeyN, 'N'),
+        (KeyO, 'O'),
+        (KeyP, 'P'),
+        (KeyQ, 'Q'),
+        (KeyR, 'R'),
+        (KeyS, 'S'),
+        (KeyT, 'T'),
+        (KeyU, 'U'),
+        (KeyV, 'V'),
+        (KeyW, 'W'),
+        (KeyX, 'X'),
+        (KeyY, 'Y'),
+        (KeyZ, 'Z'),
+    ];
+    if let Some(&(_, c)) = letters.iter().find(|(k, _)| *k == code) {
+        return Some(Key::Letter(c));
+    }
+    let digits = [Digit0, Digit1, Digit2, Digit3, Digit4, Digit5, Digit6, Digit7, Digit8, Digit9];
+    if let Some(d) = digits.iter().position(|&k| k == code) {
+        return Some(Key::Digit(d as u8));
+    }
+    Some(match code {
+        ArrowUp => Key::Up,
+        ArrowDown => Key::Down,
+        ArrowLeft => Key::Left,
+        ArrowRight => Key::Right,
+        Tab => Key::Tab,
+        Space => Key::Space,
+        Equal | NumpadAdd => Key::Plus,
+        Minus | NumpadSubtract => Key::Minus,
+        F1 => Key::F1,
+        F2 => Key::F2,
+        Escape => Key::Escape,
+        _ => return None,
+    })
+}
