@@ -58,6 +58,9 @@ pub enum ViewerError {
         /// What is wrong with it.
         reason: String,
     },
+    /// A screenshot could not be written.
+    #[error("screenshot: {0}")]
+    Screenshot(#[from] relief_io::IoError),
     /// A script that does not parse.
     #[error("script: {0}")]
     Script(String),

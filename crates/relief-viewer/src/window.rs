@@ -305,9 +305,7 @@ impl App {
             }
         };
         let rgb: Vec<u8> = frame.rgb.iter().flatten().copied().collect();
-        relief_io::write_png_rgb8(&path, frame.width, frame.height, &rgb).map_err(|e| {
-            ViewerError::Io { path: path.clone(), source: std::io::Error::other(e) }
-        })?;
+        relief_io::write_png_rgb8(&path, frame.width, frame.height, &rgb)?;
         eprintln!("saved {} ({}x{})", path.display(), frame.width, frame.height);
         Ok(Some(path))
     }

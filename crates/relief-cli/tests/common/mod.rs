@@ -77,22 +77,7 @@ pub fn assert_refused(out: &Output, mentions: &str) {
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
-/// `relative` (say `data/jacksboro_fault_dem.npy`) in the project's shared folder, ../shared
-/// beside the repository; `None`, with the reason printed, where that folder is absent (a bare
-/// clone). Where the folder is present, or `RELIEF_REQUIRE_SHARED_DATA=1`, a missing file
-/// fails the test instead: a test must not skip silently where its data should be.
-pub fn shared_data(relative: &str) -> Option<PathBuf> {
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared");
-    let path = shared.join(relative);
-    if path.is_file() {
-        return Some(path);
-    }
-    let required = std::env::var("RELIEF_REQUIRE_SHARED_DATA").is_ok_and(|v| v == "1");
-    assert!(
-        !shared.is_dir() && !required,
-        "{} is missing, though ../shared is present or RELIEF_REQUIRE_SHARED_DATA=1",
-        path.display()
-    );
-    println!("skipped: {} is absent (../shared is not beside the repository)", path.display());
-    None
-}
+#[path = "../../../relief-io/tests/common/shared_data.rs"]
+mod shared_data_lookup;
+#[allow(unused_imports)]
+pub use shared_data_lookup::shared_data;
