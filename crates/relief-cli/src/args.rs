@@ -32,6 +32,10 @@ pub enum Command {
     Convert(ConvertArgs),
     /// Measure the tracers on fixed views of the seeded fBm terrain.
     Bench(BenchArgs),
+    /// Fly over a height field or an MLHM scene in a window (X11), rendered live: reduced
+    /// while the camera moves, refined to full size at rest. Keys: F1 in the window, or the
+    /// README.
+    View(Box<ViewArgs>),
 }
 
 /// How height files are read.
@@ -101,9 +105,10 @@ pub struct InputArgs {
     pub seed: Option<u64>,
 }
 
-/// `relief render`.
+/// What to render and how: the scene, the tracer, the camera and the light, shared by
+/// `relief render` and `relief view`.
 #[derive(Debug, Args)]
-pub struct RenderArgs {
+pub struct SceneArgs {
     /// Input and its placement.
     #[command(flatten)]
     pub input: InputArgs,
@@ -174,6 +179,14 @@ pub struct RenderArgs {
     /// Exposure applied before tone mapping (1e-4 to 1e4).
     #[arg(long, default_value = "1", value_parser = parse::exposure, allow_hyphen_values = true)]
     pub exposure: f64,
+}
+
+/// `relief render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The scene, tracer, camera and light.
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Output picture: .png, or .jpg/.jpeg.
     #[arg(short, long, default_value = "relief.png")]
     pub output: PathBuf,
@@ -183,6 +196,41 @@ pub struct RenderArgs {
     /// Also write the unit world normal per pixel (.npy, f32, H x W x 3, zero on a miss).
     #[arg(long)]
     pub normals: Option<PathBuf>,
+}
+
+/// `relief view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// The scene, tracer, starting camera and light (--size is the window's and the full
+    /// frame's size).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Render this many frames through the viewer's loop (playing --script, if given), then
+    /// wait for the view to be complete at full size, save it to --screenshot and close: for
+    /// tests and scripts (1 to 100000).
+    #[arg(long, value_name = "N", value_parser = frames, allow_hyphen_values = true)]
+    pub frames: Option<u32>,
+    /// With --frames: the PNG the last frame is saved to (without the overlay).
+    #[arg(long, value_name = "PNG", requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// With --frames: keys held or pressed frame by frame, instead of the keyboard: steps
+    /// COUNT:KEYS separated by commas, keys joined by +, !K pressed once, - nothing. E.g.
+    /// "30:W+Left,1:!T,10:-" flies forward turning left for 30 frames, switches the tracer and
+    /// rests. Each frame moves the camera by 1/30 s.
+    #[arg(long, requires = "frames", allow_hyphen_values = true)]
+    pub script: Option<String>,
+    /// Write every frame shown (size, whether the camera moved, render_ms, rays) to this JSON
+    /// file when the viewer closes.
+    #[arg(long, value_name = "JSON")]
+    pub stats: Option<PathBuf>,
+    /// Folder for screenshots (P: relief-view-NNN.png) and camera paths (R:
+    /// relief-path-NNN.json) [default: the current folder].
+    #[arg(long, value_name = "DIR")]
+    pub output_dir: Option<PathBuf>,
+    /// Time a frame may take while the camera moves, in milliseconds: the viewer renders at
+    /// the largest reduced size that fits (5 to 1000; 50 is 20 frames/s).
+    #[arg(long, value_name = "MS", default_value = "50", value_parser = frame_budget, allow_hyphen_values = true)]
+    pub frame_budget: u64,
 }
 
 /// `--mode`: how an MLHM scene's columns are rendered.
@@ -386,6 +434,16 @@ fn safety_reach(s: &str) -> Result<u16, String> {
 /// `--max-layers`: 1 to 127, what the scene format's int8 layer counts hold.
 fn max_layers(s: &str) -> Result<usize, String> {
     parse::whole_in(s, 1..=127, "--max-layers").map(|v| v as usize)
+}
+
+/// `--frames`: 1 to 100000 frames.
+fn frames(s: &str) -> Result<u32, String> {
+    parse::whole_in(s, 1..=100_000, "--frames").map(|v| v as u32)
+}
+
+/// `--frame-budget`: 5 to 1000 milliseconds.
+fn frame_budget(s: &str) -> Result<u64, String> {
+    parse::whole_in(s, 5..=1000, "--frame-budget")
 }
 
 /// `--repeat`: 1 to 1000 runs of every view.

@@ -5,10 +5,12 @@ mod applies;
 mod args;
 mod commands;
 mod input;
+mod live;
 mod memory;
 mod outputs;
 mod parse;
 mod progress;
+mod scene;
 mod tracers;
 
 use clap::Parser;

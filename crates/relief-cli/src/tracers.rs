@@ -92,12 +92,7 @@ pub fn build(
     let started = Instant::now();
     let variant = match choice {
         TracerChoice::Plain(kind) => {
-            let tracer: Box<dyn Tracer> = match kind {
-                TracerKind::Mipmap => {
-                    Box::new(MipmapTracer::new(field.clone(), surface).with_simd(simd))
-                }
-                _ => build_tracer(field.clone(), surface, *kind),
-            };
+            let tracer = build_plain(field, surface, *kind, simd);
             let build_s = started.elapsed().as_secs_f64();
             return Ok(Built { tracer, safety: None, build_s, note: String::new() });
         }
@@ -151,6 +146,20 @@ pub fn build(
     let safety =
         SafetyTracer::new(field.clone(), Arc::new(shapes), final_test).context("safety tracer")?;
     Ok(Built { tracer: Box::new(safety.clone()), safety: Some(safety), build_s, note })
+}
+
+/// Builds the tracer `kind`, which needs no precomputation, for `surface` of `field`; the
+/// mipmap tracer's packet tests run on `simd`.
+pub fn build_plain(
+    field: &Arc<HeightField>,
+    surface: Surface,
+    kind: TracerKind,
+    simd: Simd,
+) -> Box<dyn Tracer> {
+    match kind {
+        TracerKind::Mipmap => Box::new(MipmapTracer::new(field.clone(), surface).with_simd(simd)),
+        _ => build_tracer(field.clone(), surface, kind),
+    }
 }
 
 #[cfg(test)]

@@ -23,6 +23,9 @@ pub struct Frame {
     pub rgb: Vec<[u8; 3]>,
     /// What it cost.
     pub stats: FrameStats,
+    /// What the renderer did other than asked, if anything (e.g. "the safety tracer draws
+    /// triangles only: drawn by the mipmap tracer"), shown in the overlay.
+    pub note: Option<String>,
 }
 
 /// Renders frames of one scene: the viewer's only way to draw, so that it has no rendering
@@ -68,6 +71,7 @@ mod tests {
             height: 1,
             rgb: vec![[255, 0, 0], [0, 0, 255]],
             stats: FrameStats::default(),
+            note: None,
         };
         let mut target = vec![0u32; 4 * 2];
         blit(&frame, &mut target, 4, 2);

@@ -16,6 +16,7 @@ mod input_map;
 mod overlay;
 mod progressive;
 mod script;
+mod summary;
 mod view_settings;
 mod window;
 
@@ -25,8 +26,9 @@ pub use frame::{blit, Frame, FrameStats, SceneRenderer};
 pub use input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 pub use progressive::{FrameRequest, ProgressiveScheduler};
 pub use script::{Script, ScriptFrame, SCRIPT_FRAME_S};
+pub use summary::{FrameRecord, ViewerSummary};
 pub use view_settings::{SceneChoices, ViewSettings};
-pub use window::{run, FrameRecord, ViewerConfig, ViewerSummary};
+pub use window::{check_display, run, ViewerConfig};
 
 use std::path::PathBuf;
 

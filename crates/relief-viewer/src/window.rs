@@ -7,9 +7,9 @@ use crate::frame::{blit, Frame, SceneRenderer};
 use crate::input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 use crate::progressive::{FrameRequest, ProgressiveScheduler};
 use crate::script::{Script, SCRIPT_FRAME_S};
+use crate::summary::{FrameRecord, ViewerSummary};
 use crate::{overlay, CameraController, Navigation, ViewSettings, ViewerError};
 use relief_core::Camera;
-use serde::Serialize;
 use std::collections::BTreeSet;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
@@ -49,35 +49,9 @@ pub struct ViewerConfig {
     pub frame_budget: Duration,
 }
 
-/// One frame shown, for `--stats`.
-#[derive(Debug, Clone, Serialize)]
-pub struct FrameRecord {
-    /// Its width.
-    pub width: u32,
-    /// Its height.
-    pub height: u32,
-    /// Whether the camera was moving when it was asked for.
-    pub moving: bool,
-    /// Rendering it took, milliseconds.
-    pub render_ms: f64,
-    /// Rays cast.
-    pub rays: u64,
-}
-
-/// How a run ended.
-#[derive(Debug, Clone)]
-pub struct ViewerSummary {
-    /// Frames shown.
-    pub frames: Vec<FrameRecord>,
-    /// The screenshot written at the end of a `frames` run.
-    pub screenshot: Option<PathBuf>,
-}
-
-/// Opens the window and runs until it is closed (or `config.frames` are done).
-pub fn run(
-    renderer: Arc<dyn SceneRenderer>,
-    config: ViewerConfig,
-) -> Result<ViewerSummary, ViewerError> {
+/// Refuses, before any scene is loaded, to run where there is no X display to open a window
+/// on (`DISPLAY` unset or empty).
+pub fn check_display() -> Result<(), ViewerError> {
     if std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty()) {
         return Err(ViewerError::NoDisplay(
             "relief view opens an X11 window and DISPLAY is not set (on a machine without a \
@@ -85,6 +59,15 @@ pub fn run(
                 .into(),
         ));
     }
+    Ok(())
+}
+
+/// Opens the window and runs until it is closed (or `config.frames` are done).
+pub fn run(
+    renderer: Arc<dyn SceneRenderer>,
+    config: ViewerConfig,
+) -> Result<ViewerSummary, ViewerError> {
+    check_display()?;
     let event_loop = EventLoop::<Rendered>::with_user_event()
         .build()
         .map_err(|e| ViewerError::NoDisplay(format!("cannot connect to the X server: {e}")))?;
@@ -159,7 +142,10 @@ struct App {
     recording: Option<(Instant, CameraPath)>,
     saved: u32,
     script_frame: usize,
+    /// Whether the script's current frame holds keys that move the camera.
+    script_moving: bool,
     records: Vec<FrameRecord>,
+    last_shown: Option<Instant>,
     screenshot: Option<PathBuf>,
     error: Option<ViewerError>,
 }
@@ -194,7 +180,9 @@ impl App {
             recording: None,
             saved: 0,
             script_frame: 0,
+            script_moving: false,
             records: Vec::new(),
+            last_shown: None,
             screenshot: None,
             error: None,
         }
@@ -244,6 +232,9 @@ impl App {
     }
 
     fn moving(&self) -> bool {
+        if self.scripted() {
+            return self.script_moving;
+        }
         let dragged = self.last_drag.is_some_and(|t| t.elapsed() < DRAG_SETTLE);
         motion_from(&self.held).is_moving() || dragged
     }
@@ -337,7 +328,8 @@ impl App {
         if self.controller.apply(motion, SCRIPT_FRAME_S) {
             self.scheduler.changed();
         }
-        self.scheduler.set_moving(motion.is_moving());
+        self.script_moving = motion.is_moving();
+        self.scheduler.set_moving(self.script_moving);
     }
 
     /// A frame came back from the render thread.
@@ -350,11 +342,15 @@ impl App {
             Rendered::Failed(e) => return self.fail(event_loop, ViewerError::Render(e)),
         };
         self.scheduler.shown(request, elapsed);
+        let now = Instant::now();
+        let interval = self.last_shown.map(|t| now.duration_since(t));
+        self.last_shown = Some(now);
         self.records.push(FrameRecord {
             width: frame.width,
             height: frame.height,
             moving,
             render_ms: elapsed.as_secs_f64() * 1e3,
+            interval_ms: interval.map(|d| d.as_secs_f64() * 1e3),
             rays: frame.stats.rays,
         });
         self.shown = Some((frame, elapsed));
@@ -426,6 +422,7 @@ impl App {
                     frame.stats.rays as f64 / seconds / 1e6
                 ));
                 lines.push(self.settings.describe());
+                lines.extend(frame.note.clone());
                 if self.recording.is_some() {
                     lines.push("recording the camera path (R stops)".into());
                 }

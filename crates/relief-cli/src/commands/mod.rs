@@ -7,6 +7,7 @@ mod info;
 mod info_mlhm;
 mod render;
 mod render_mlhm;
+mod view;
 
 use crate::args::{Cli, Command};
 use crate::memory::Budget;
@@ -20,6 +21,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Info(args) => info::run(&args),
         Command::Convert(args) => convert::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::View(args) => view::run(&args),
     }
 }
 

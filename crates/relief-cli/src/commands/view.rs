@@ -1,0 +1,97 @@
+//! `relief view`: the interactive viewer (relief-viewer) over any scene `relief render`
+//! takes, drawn by the live scenes of [`crate::live`].
+
+use super::check_image;
+use crate::args::ViewArgs;
+use crate::live::{LiveHeightField, LiveMlhm};
+use crate::scene::height_field::HeightFieldScene;
+use crate::scene::mlhm::LayeredScene;
+use crate::{applies, input, memory, outputs};
+use anyhow::{bail, Result};
+use relief_core::Camera;
+use relief_viewer::{SceneRenderer, Script, ViewSettings, ViewerConfig};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// Runs `relief view`: checks the outputs and the display, opens the scene, and runs the
+/// window until it is closed (or `--frames` are done), then prints what the frames took.
+pub fn run(args: &ViewArgs) -> Result<()> {
+    let script = args.script.as_deref().map(Script::parse).transpose()?.unwrap_or_default();
+    let output_dir = check_outputs(args)?;
+    relief_viewer::check_display()?;
+    let scene_args = &args.scene;
+    let budget = memory::budget(scene_args.input.read.max_memory);
+    check_image(scene_args.size.0, scene_args.size.1, &budget)?;
+    let (renderer, camera, settings) = open(args, budget.bytes)?;
+    eprintln!("viewing the {}; F1 in the window lists the keys", renderer.describe());
+    let config = ViewerConfig {
+        size: scene_args.size,
+        camera,
+        settings,
+        frames: args.frames,
+        script,
+        screenshot: args.screenshot.clone(),
+        output_dir,
+        stats: args.stats.clone(),
+        frame_budget: Duration::from_millis(args.frame_budget),
+    };
+    let summary = relief_viewer::run(renderer, config)?;
+    for line in summary.report() {
+        eprintln!("{line}");
+    }
+    if let Some(path) = &args.stats {
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// The scene's renderer, its starting camera and settings.
+fn open(
+    args: &ViewArgs,
+    max_memory: u64,
+) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
+    let scene_args = &args.scene;
+    if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
+        let live = LiveMlhm::new(
+            LayeredScene::open(scene_args, path)?,
+            scene_args.no_shadows,
+            scene_args.no_ao,
+        );
+        let (camera, settings) = (live.camera(), live.settings());
+        return Ok((Arc::new(live), camera, settings));
+    }
+    let scene = HeightFieldScene::open(scene_args)?;
+    let live = LiveHeightField::new(scene, &scene_args.safety, max_memory)?;
+    let (camera, settings) = (live.camera(), live.settings());
+    Ok((Arc::new(live), camera, settings))
+}
+
+/// Refuses, before any work, a screenshot that is not a PNG, outputs in folders that do not
+/// exist or that overwrite the input; the folder screenshots (P) and paths (R) go to.
+fn check_outputs(args: &ViewArgs) -> Result<PathBuf> {
+    let mut all = Vec::new();
+    if let Some(path) = &args.screenshot {
+        outputs::check_writable(path)?;
+        if applies::extension(path).as_deref() != Some("png") {
+            bail!("--screenshot {}: a screenshot is written as .png", path.display());
+        }
+        all.push(("--screenshot", path.as_path()));
+    }
+    if let Some(path) = &args.stats {
+        outputs::check_writable(path)?;
+        if applies::extension(path).as_deref() != Some("json") {
+            bail!("--stats {}: the frame times are written as .json", path.display());
+        }
+        all.push(("--stats", path.as_path()));
+    }
+    let scene = &args.scene;
+    let inputs: Vec<&Path> =
+        [scene.input.input.as_deref(), scene.texture.as_deref()].into_iter().flatten().collect();
+    outputs::check_distinct(&all, &inputs)?;
+    let dir = args.output_dir.clone().unwrap_or_else(|| PathBuf::from("."));
+    if !dir.is_dir() {
+        bail!("--output-dir {} is not a folder", dir.display());
+    }
+    Ok(dir)
+}

@@ -1,0 +1,153 @@
+//! A height field drawn live: the tracers (built when first asked for, then kept), the
+//! deferred shading with the viewer's sun, exposure and shadows.
+
+use crate::args::SafetyArgs;
+use crate::scene::height_field::{check_safety_view, HeightFieldScene};
+use crate::tracers::{self, TracerChoice};
+use anyhow::{bail, Result};
+use relief_core::{Camera, Surface};
+use relief_shade::{render_gbuffer, shade_to_srgb8, ShadingParams, Sun};
+use relief_trace::safety::SafetyTracer;
+use relief_trace::{Simd, Tracer, TracerKind};
+use relief_viewer::{Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+/// The surfaces a height field offers, in the order the viewer cycles them.
+const SURFACES: [Surface; 2] = [Surface::Triangles, Surface::Boxes];
+
+/// A height field and the tracers drawing it.
+pub struct LiveHeightField {
+    scene: HeightFieldScene,
+    /// The tracers offered, in the order the viewer cycles them.
+    choices: Vec<TracerChoice>,
+    /// The safety tracer, when one was asked for (built before the window opens).
+    safety: Option<SafetyTracer>,
+    /// The tracers built so far, by choice index and surface.
+    built: Mutex<HashMap<(usize, Surface), Arc<dyn Tracer>>>,
+    /// The scene's shading, the viewer's settings applied frame by frame.
+    params: Mutex<ShadingParams>,
+}
+
+impl LiveHeightField {
+    /// Draws `scene`: the mipmap and naive tracers, and the safety tracer too when the scene
+    /// names it (its shapes are built, or read from the cache, now, as `safety` says).
+    pub fn new(scene: HeightFieldScene, safety: &SafetyArgs, max_memory: u64) -> Result<Self> {
+        let mut choices =
+            vec![TracerChoice::Plain(TracerKind::Mipmap), TracerChoice::Plain(TracerKind::Naive)];
+        let mut built = HashMap::new();
+        let mut safety_tracer = None;
+        if matches!(scene.choice, TracerChoice::Safety(_)) {
+            let made = tracers::build(
+                &scene.field,
+                Surface::Triangles,
+                &scene.choice,
+                safety,
+                true,
+                max_memory,
+                Simd::detect(),
+            )?;
+            if !made.note.is_empty() {
+                eprintln!("{}", made.note);
+            }
+            choices.push(scene.choice.clone());
+            built.insert((choices.len() - 1, Surface::Triangles), Arc::from(made.tracer));
+            safety_tracer = made.safety;
+        }
+        let params = Mutex::new(scene.params.clone());
+        Ok(LiveHeightField {
+            scene,
+            choices,
+            safety: safety_tracer,
+            built: Mutex::new(built),
+            params,
+        })
+    }
+
+    /// The viewer's starting settings: the scene's tracer, surface, sun, exposure and shadows.
+    pub fn settings(&self) -> ViewSettings {
+        let names = SceneChoices {
+            tracers: self.choices.iter().map(ToString::to_string).collect(),
+            surfaces: SURFACES.iter().map(ToString::to_string).collect(),
+            ..SceneChoices::default()
+        };
+        let params = &self.scene.params;
+        let sun = (params.sun.azimuth_deg, params.sun.elevation_deg);
+        let mut settings = ViewSettings::new(names, sun, params.exposure, params.shadows);
+        settings.tracer =
+            super::position(&settings.choices.tracers, &self.scene.choice.to_string());
+        settings.surface =
+            super::position(&settings.choices.surfaces, &self.scene.surface.to_string());
+        settings
+    }
+
+    /// The starting camera.
+    pub fn camera(&self) -> Camera {
+        self.scene.camera
+    }
+
+    /// The tracer of choice `index` for `surface`, built now if it was not yet.
+    fn tracer(&self, index: usize, surface: Surface) -> Result<Arc<dyn Tracer>> {
+        let mut built = self.built.lock().expect("no render panicked");
+        if let Some(tracer) = built.get(&(index, surface)) {
+            return Ok(tracer.clone());
+        }
+        let TracerChoice::Plain(kind) = self.choices[index] else {
+            bail!("the safety tracer draws the triangles surface only");
+        };
+        let tracer: Arc<dyn Tracer> =
+            Arc::from(tracers::build_plain(&self.scene.field, surface, kind, Simd::detect()));
+        built.insert((index, surface), tracer.clone());
+        Ok(tracer)
+    }
+
+    fn render_frame(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame> {
+        let surface = SURFACES[settings.surface.min(SURFACES.len() - 1)];
+        let mut index = settings.tracer.min(self.choices.len() - 1);
+        let mut params = self.params.lock().expect("no render panicked");
+        params.sun = Sun {
+            azimuth_deg: settings.sun_azimuth_deg,
+            elevation_deg: settings.sun_elevation_deg,
+            ..params.sun
+        };
+        params.shadows = settings.shadows;
+        params.exposure = settings.exposure;
+        let mut note = None;
+        if let (TracerChoice::Safety(_), Some(safety)) = (&self.choices[index], &self.safety) {
+            let refused = if surface != Surface::Triangles {
+                Some("the safety tracer draws triangles only".to_string())
+            } else {
+                check_safety_view(safety, camera, &params).err().map(|e| e.to_string())
+            };
+            if let Some(why) = refused {
+                note = Some(format!("{why}: drawn by the mipmap tracer"));
+                index = 0;
+            }
+        }
+        let tracer = self.tracer(index, surface)?;
+        let bounds = self.scene.field.world_bounds(surface);
+        let (gbuffer, traced) = render_gbuffer(tracer.as_ref(), camera, &bounds, &|_| {})?;
+        let (rgb, shaded) = shade_to_srgb8(&gbuffer, tracer.as_ref(), camera, &params)?;
+        let stats = FrameStats {
+            rays: traced.rays + shaded.rays,
+            steps_per_ray: Some(traced.mean_steps()),
+        };
+        Ok(Frame { width: camera.width(), height: camera.height(), rgb, stats, note })
+    }
+}
+
+impl SceneRenderer for LiveHeightField {
+    fn describe(&self) -> String {
+        let field = &self.scene.field;
+        format!("{}x{} height field", field.width(), field.height())
+    }
+
+    fn scene_size(&self) -> f64 {
+        let bounds = self.scene.bounds();
+        (bounds.max - bounds.min).length()
+    }
+
+    fn render(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame, String> {
+        self.render_frame(camera, settings).map_err(|e| format!("{e:#}"))
+    }
+}

@@ -1,0 +1,137 @@
+//! An MLHM scene drawn live: boxes or the smooth surface, by the hierarchy or the naive
+//! tracer (built when first asked for, then kept), shaded at the preset the viewer selects.
+
+use crate::args::MlhmRenderMode;
+use crate::scene::mlhm::{LayeredScene, MlhmTracerChoice};
+use anyhow::Result;
+use relief_core::Camera;
+use relief_shade::mlhm::{render_mlhm, MlhmPreset, MlhmShading};
+use relief_shade::{tonemap_reinhard_to_rgb8, Sun};
+use relief_trace::MlhmTracer;
+use relief_viewer::{Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+/// The modes an MLHM scene offers, in the order the viewer cycles them.
+const MODES: [(MlhmRenderMode, &str); 2] =
+    [(MlhmRenderMode::Boxes, "boxes"), (MlhmRenderMode::Smooth, "smooth")];
+
+/// A tracer: the mode it draws, the choice of tracer, and whether the smooth surface's
+/// normals are central differences.
+type TracerKey = (usize, usize, bool);
+
+/// An MLHM scene and the tracers drawing it.
+pub struct LiveMlhm {
+    scene: LayeredScene,
+    /// The tracers offered: the hierarchy (with the command line's options) and the naive one.
+    choices: [(MlhmTracerChoice, &'static str); 2],
+    /// Whether the command line left out shadows.
+    no_shadows: bool,
+    /// Whether the command line left out ambient occlusion.
+    no_ao: bool,
+    /// The tracers built so far.
+    built: Mutex<HashMap<TracerKey, Arc<dyn MlhmTracer>>>,
+}
+
+impl LiveMlhm {
+    /// Draws `scene`; `no_shadows` and `no_ao` leave out every preset's shadows and ambient
+    /// occlusion (shadows can be switched back on in the viewer).
+    pub fn new(scene: LayeredScene, no_shadows: bool, no_ao: bool) -> Self {
+        let hierarchy = match scene.choice {
+            MlhmTracerChoice::Hierarchy(..) => scene.choice,
+            MlhmTracerChoice::Naive => {
+                MlhmTracerChoice::Hierarchy(Default::default(), relief_core::Precision::F32)
+            }
+        };
+        let choices = [(hierarchy, "hierarchy"), (MlhmTracerChoice::Naive, "naive")];
+        LiveMlhm { scene, choices, no_shadows, no_ao, built: Mutex::new(HashMap::new()) }
+    }
+
+    /// The viewer's starting settings: the scene's mode, tracer, preset, sun, exposure and
+    /// shadows.
+    pub fn settings(&self) -> ViewSettings {
+        let names = SceneChoices {
+            tracers: self.choices.iter().map(|(_, name)| name.to_string()).collect(),
+            modes: MODES.iter().map(|(_, name)| name.to_string()).collect(),
+            presets: MlhmPreset::ALL.iter().map(|p| p.name().to_string()).collect(),
+            ..SceneChoices::default()
+        };
+        let shading = &self.scene.shading;
+        let sun = (shading.sun.azimuth_deg, shading.sun.elevation_deg);
+        // The preset decides whether there are shadows at all; this switch can only take them
+        // away, as --no-shadows does.
+        let mut settings = ViewSettings::new(names, sun, shading.exposure, !self.no_shadows);
+        settings.tracer = usize::from(self.scene.choice == MlhmTracerChoice::Naive);
+        settings.mode = MODES.iter().position(|(m, _)| *m == self.scene.mode).unwrap_or(0);
+        settings.preset = MlhmPreset::ALL.iter().position(|p| *p == self.scene.preset).unwrap_or(0);
+        settings
+    }
+
+    /// The starting camera.
+    pub fn camera(&self) -> Camera {
+        self.scene.camera
+    }
+
+    /// The shading of `settings`: its preset with the viewer's sun, exposure and shadows.
+    fn shading(&self, settings: &ViewSettings) -> MlhmShading {
+        let preset = MlhmPreset::ALL[settings.preset.min(MlhmPreset::ALL.len() - 1)];
+        let mut shading = MlhmShading::new(preset);
+        shading.sun = Sun {
+            azimuth_deg: settings.sun_azimuth_deg,
+            elevation_deg: settings.sun_elevation_deg,
+            ..shading.sun
+        };
+        shading.quality.shadows &= settings.shadows;
+        if self.no_ao {
+            shading.quality.ao_radius = None;
+        }
+        shading.exposure = settings.exposure;
+        shading
+    }
+
+    /// The tracer of `key`, built now if it was not yet.
+    fn tracer(&self, key: TracerKey) -> Result<Arc<dyn MlhmTracer>> {
+        let mut built = self.built.lock().expect("no render panicked");
+        if let Some(tracer) = built.get(&key) {
+            return Ok(tracer.clone());
+        }
+        let (mode, choice, central) = key;
+        let tracer: Arc<dyn MlhmTracer> =
+            Arc::from(self.scene.tracer(MODES[mode].0, self.choices[choice].0, central)?);
+        built.insert(key, tracer.clone());
+        Ok(tracer)
+    }
+
+    fn render_frame(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame> {
+        let shading = self.shading(settings);
+        let mode = settings.mode.min(MODES.len() - 1);
+        let choice = settings.tracer.min(self.choices.len() - 1);
+        // Only the smooth surface's normals depend on the preset.
+        let central =
+            MODES[mode].0 == MlhmRenderMode::Smooth && shading.quality.central_differences;
+        let tracer = self.tracer((mode, choice, central))?;
+        let image = render_mlhm(tracer.as_ref(), camera, &shading, &|_| {})?;
+        let rgb = tonemap_reinhard_to_rgb8(&image.radiance, shading.exposure)?;
+        let stats = FrameStats {
+            rays: image.counts.rays(),
+            steps_per_ray: Some(image.counts.primary.mean_steps()),
+        };
+        let rgb = rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+        Ok(Frame { width: camera.width(), height: camera.height(), rgb, stats, note: None })
+    }
+}
+
+impl SceneRenderer for LiveMlhm {
+    fn describe(&self) -> String {
+        format!("{}x{} MLHM scene", self.scene.map.width(), self.scene.map.height())
+    }
+
+    fn scene_size(&self) -> f64 {
+        let bounds = &self.scene.bounds;
+        (bounds.max - bounds.min).length()
+    }
+
+    fn render(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame, String> {
+        self.render_frame(camera, settings).map_err(|e| format!("{e:#}"))
+    }
+}

@@ -1,0 +1,16 @@
+//! The scenes `relief view` draws frame after frame: [`SceneRenderer`]s over the scenes the
+//! command line opens, rendering with relief's tracers and shading exactly as `relief
+//! render` does, with the settings the viewer switches at run time.
+//!
+//! [`SceneRenderer`]: relief_viewer::SceneRenderer
+
+mod height_field;
+mod mlhm;
+
+pub use height_field::LiveHeightField;
+pub use mlhm::LiveMlhm;
+
+/// The index of `name` in `names`, or 0.
+fn position(names: &[String], name: &str) -> usize {
+    names.iter().position(|n| n == name).unwrap_or(0)
+}
