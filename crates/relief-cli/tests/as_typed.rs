@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{read_f32_npy, relief, scratch, shared_data};
+use common::{read_f32_npy, relief, scratch, shared_data, x_server};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -42,6 +42,17 @@ fn inputs() -> &'static Path {
     })
 }
 
+/// Runs `relief` with `args` in `dir`, on the X display `display` (none: without `DISPLAY`).
+fn relief_with_display(args: &[&str], display: Option<&str>, dir: &Path) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_relief"));
+    command.args(args).current_dir(dir);
+    match display {
+        Some(display) => command.env("DISPLAY", display),
+        None => command.env_remove("DISPLAY"),
+    };
+    command.output().unwrap()
+}
+
 /// What a case must do.
 #[derive(Debug, Clone, Copy)]
 enum Expect {
@@ -64,7 +75,12 @@ fn case(line: &str, expect: Expect) -> Output {
         })
         .collect();
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let out = relief(&args);
+    // `relief view` opens a window: on a virtual X server of its own.
+    let x = (args[0] == "view").then(x_server).flatten();
+    let out = match &x {
+        Some(x) => relief_with_display(&args, Some(&x.display), Path::new(".")),
+        None => relief(&args),
+    };
     let err = stderr(&out);
     assert!(!err.contains("panicked"), "{line}: {err}");
     match expect {
@@ -127,6 +143,30 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("render {in}/f.npy -o {out}/y.png --depth {out}/d.npy --normals {out}/./d.npy", Expect::Refused("--depth and --normals both write")),
             ("render {in}/f.png -o {in}/f.png", Expect::Refused("would overwrite the input")),
             ("render {in}/f.npy --size 0x10 -o {out}/a.png", Expect::Refused("between 1 and 32768")),
+        ],
+    ),
+    (
+        "view",
+        &[
+            ("view --fbm-size 24 --seed 3 --size 32x18 --frames 2 --screenshot {out}/a.png --stats {out}/s.json --output-dir {out} --frame-budget 20 --script 2:W+Left,1:!P", Expect::Ok),
+            ("view --eye=-100,-150,420 --target=-5,0,0 --up 0,0,1 --fov 30 --fbm-size 24 --size 16x9 --frames 1 --sun -45,-10 --no-shadows --exposure 2", Expect::Ok),
+            ("view {in}/f.npy --spacing 2,3 --north-up --z-scale 3 --surface boxes --tracer naive --size 16x9 --frames 1", Expect::Ok),
+            ("view {in}/f.npy --tracer safety --safety cyl_ext+cone_ext --phi-max -5 --no-shadows --isotropic --positive --linear-surface --safety-reach 16 --no-cache --size 16x9 --frames 1", Expect::Ok),
+            ("view {in}/f.npy --tracer safety --cache-dir {out} --size 16x9 --frames 1", Expect::Ok),
+            ("view {in}/f.png --png-encoding grey --voids fill --max-memory 1G --texture {in}/t.png --size 16x9 --frames 1", Expect::Ok),
+            ("view {in}/s.mlhm --mode smooth --sigma 1 --preset low --no-ao --size 16x9 --frames 1", Expect::Ok),
+            ("view {in}/s.mlhm --tracer hierarchy --backtrack miss --hierarchy-bounds f16 --size 16x9 --frames 1", Expect::Ok),
+            ("view {in}/f.tif --array heights", Expect::Refused("--array applies to NumPy archives (.npz) only")),
+            ("view {in}/s.mlhm --texture {in}/t.png", Expect::Refused("--texture")),
+            ("view {in}/f.npy --phi-max -45", Expect::Refused("--phi-max applies to the safety tracer only")),
+            ("view --screenshot {out}/a.png", Expect::Refused("--frames")),
+            ("view --frames 2 --screenshot {out}/a.jpg", Expect::Refused("written as .png")),
+            ("view --frames 2 --stats {out}/s.txt", Expect::Refused("written as .json")),
+            ("view --frames 0", Expect::Refused("between 1 and 100000")),
+            ("view --frames 2 --script 3:W+Nope", Expect::Refused("unknown key 'Nope'")),
+            ("view --frame-budget 1", Expect::Refused("between 5 and 1000")),
+            ("view --output-dir {out}/missing", Expect::Refused("is not a folder")),
+            ("view {in}/f.png --frames 1 --screenshot {in}/f.png", Expect::Refused("would overwrite the input")),
         ],
     ),
     (
@@ -221,6 +261,9 @@ fn every_option_of_every_help_is_driven() {
         assert!(!listed.is_empty(), "{command} --help lists no options");
         let missing: Vec<&String> = listed.difference(&driven).collect();
         assert!(missing.is_empty(), "relief {command}: no case drives {missing:?}");
+        if *command == "view" && x_server().is_none() {
+            continue;
+        }
         for (line, expect) in *cases {
             case(line, *expect);
         }
@@ -267,6 +310,8 @@ fn negative_numbers_are_values_of_every_numeric_option() {
         "bench --size -1",
         "bench --seed -1",
         "bench --repeat -1",
+        "view --frames -1",
+        "view --frame-budget -1",
     ];
     for line in numeric {
         let out_dir = scratch("negative");
@@ -278,7 +323,7 @@ fn negative_numbers_are_values_of_every_numeric_option() {
         args.extend(
             ["-o".into(), out_dir.join("x.png").to_str().unwrap().into()]
                 .into_iter()
-                .filter(|_| !line.starts_with("bench")),
+                .filter(|_| !line.starts_with("bench") && !line.starts_with("view")),
         );
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let out = relief(&args);
@@ -488,11 +533,18 @@ fn every_readme_command_runs_as_typed() {
         if args == ["bench"] {
             args.extend(["--size", "128", "--res", "64x36", "--repeat", "1"]);
         }
-        let out = Command::new(env!("CARGO_BIN_EXE_relief"))
-            .args(&args)
-            .current_dir(&dir)
-            .output()
-            .unwrap();
+        // The viewer runs until its window is closed: as typed, on a virtual X server, for a
+        // few frames.
+        let x = if args[0] == "view" {
+            let Some(x) = x_server() else { continue };
+            if !args.contains(&"--frames") {
+                args.extend(["--frames", "3"]);
+            }
+            Some(x)
+        } else {
+            None
+        };
+        let out = relief_with_display(&args, x.as_ref().map(|x| x.display.as_str()), &dir);
         assert!(out.status.success(), "relief {command}: {}", stderr(&out));
     }
 }

@@ -89,6 +89,12 @@ impl ProgressiveScheduler {
         Some(FrameRequest { version: self.version, divisor, width, height })
     }
 
+    /// The current view at full size, whatever is shown: to render it again (a scripted run
+    /// that measures frames at rest).
+    pub fn full_request(&self) -> FrameRequest {
+        FrameRequest { version: self.version, divisor: 1, width: self.full.0, height: self.full.1 }
+    }
+
     /// `request` was rendered in `elapsed` and is shown.
     pub fn shown(&mut self, request: FrameRequest, elapsed: Duration) {
         let pixels = f64::from(request.width) * f64::from(request.height);

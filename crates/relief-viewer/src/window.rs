@@ -139,8 +139,8 @@ struct App {
     shown: Option<(Frame, Duration)>,
     show_help: bool,
     show_hud: bool,
-    recording: Option<(Instant, CameraPath)>,
-    saved: u32,
+    /// The camera path being recorded, and when (and at which script frame) it started.
+    recording: Option<(Instant, usize, CameraPath)>,
     script_frame: usize,
     /// Whether the script's current frame holds keys that move the camera.
     script_moving: bool,
@@ -178,7 +178,6 @@ impl App {
             show_help: false,
             show_hud: true,
             recording: None,
-            saved: 0,
             script_frame: 0,
             script_moving: false,
             records: Vec::new(),
@@ -221,6 +220,11 @@ impl App {
             return;
         }
         let Some(request) = self.scheduler.next() else { return };
+        self.send(event_loop, request);
+    }
+
+    /// Sends `request` to the render thread with the current camera and settings.
+    fn send(&mut self, event_loop: &ActiveEventLoop, request: FrameRequest) {
         let camera = match self.controller.camera(request.width, request.height) {
             Ok(camera) => camera,
             Err(e) => return self.fail(event_loop, ViewerError::Render(e.to_string())),
@@ -285,15 +289,12 @@ impl App {
     }
 
     /// Writes the frame shown (without the overlay) to `path`, or to the next
-    /// `relief-view-NNN.png` of the output folder.
+    /// free `relief-view-NNN.png` of the output folder.
     fn save_screenshot(&mut self, path: Option<&Path>) -> Result<Option<PathBuf>, ViewerError> {
         let Some((frame, _)) = &self.shown else { return Ok(None) };
         let path = match path {
             Some(p) => p.to_path_buf(),
-            None => {
-                self.saved += 1;
-                self.config.output_dir.join(format!("relief-view-{:03}.png", self.saved))
-            }
+            None => next_free(&self.config.output_dir, "relief-view", "png"),
         };
         let rgb: Vec<u8> = frame.rgb.iter().flatten().copied().collect();
         relief_io::write_png_rgb8(&path, frame.width, frame.height, &rgb)?;
@@ -301,14 +302,14 @@ impl App {
         Ok(Some(path))
     }
 
-    /// Starts recording, or stops and writes the next `relief-path-NNN.json`.
+    /// Starts recording, or stops and writes the next free `relief-path-NNN.json`.
     fn toggle_recording(&mut self) -> Result<(), ViewerError> {
         match self.recording.take() {
-            None => self.recording = Some((Instant::now(), CameraPath::default())),
-            Some((_, path)) => {
-                self.saved += 1;
-                let file =
-                    self.config.output_dir.join(format!("relief-path-{:03}.json", self.saved));
+            None => {
+                self.recording = Some((Instant::now(), self.script_frame, CameraPath::default()))
+            }
+            Some((_, _, path)) => {
+                let file = next_free(&self.config.output_dir, "relief-path", "json");
                 path.write(&file)?;
                 eprintln!("saved {} ({} cameras)", file.display(), path.keys.len());
             }
@@ -354,10 +355,18 @@ impl App {
             rays: frame.stats.rays,
         });
         self.shown = Some((frame, elapsed));
-        if let Some((started, path)) = &mut self.recording {
+        let (scripted, script_frame) = (self.scripted(), self.script_frame);
+        if let Some((started, start_frame, path)) = &mut self.recording {
+            // A scripted run's clock is its frames, so that its recordings are the same every
+            // run.
+            let time_s = if scripted {
+                (script_frame - *start_frame) as f64 * SCRIPT_FRAME_S
+            } else {
+                started.elapsed().as_secs_f64()
+            };
             let c = &self.controller;
             path.push(CameraKey {
-                time_s: started.elapsed().as_secs_f64(),
+                time_s,
                 eye: c.eye().to_array(),
                 target: c.target().to_array(),
                 up: c.up().to_array(),
@@ -367,24 +376,46 @@ impl App {
         if let Some(window) = &self.window {
             window.request_redraw();
         }
-        if let Some(frames) = self.config.frames {
+        if self.scripted() {
+            // One script frame for each view shown.
             if self.scheduler.version() == request.version {
-                self.script_frame += 1;
-                self.play_script_frame(event_loop, self.script_frame);
+                self.advance_script(event_loop);
             }
-            let script_done = self.script_frame >= self.config.script.len();
-            if self.records.len() >= frames as usize && script_done && self.scheduler.is_complete()
-            {
-                let target = self.config.screenshot.clone();
-                match target.map(|p| self.save_screenshot(Some(&p))).transpose() {
-                    Ok(saved) => self.screenshot = saved.flatten(),
-                    Err(e) => return self.fail(event_loop, e),
-                }
-                event_loop.exit();
-                return;
-            }
+            return self.drive_script(event_loop);
         }
         self.schedule(event_loop);
+    }
+
+    /// Plays the script's next frame.
+    fn advance_script(&mut self, event_loop: &ActiveEventLoop) {
+        self.script_frame += 1;
+        self.play_script_frame(event_loop, self.script_frame);
+    }
+
+    /// Keeps a scripted run going while nothing is being rendered: renders the next frame the
+    /// scheduler asks for; where it asks for none, plays the script's next frame, renders the
+    /// full view again until `frames` were shown, or saves the screenshot and ends the run.
+    fn drive_script(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(frames) = self.config.frames else { return };
+        while !self.busy && self.error.is_none() {
+            if self.scheduler.next().is_some() {
+                return self.schedule(event_loop);
+            }
+            if self.script_frame < self.config.script.len() {
+                self.advance_script(event_loop);
+                continue;
+            }
+            if self.records.len() < frames as usize {
+                let request = self.scheduler.full_request();
+                return self.send(event_loop, request);
+            }
+            let target = self.config.screenshot.clone();
+            match target.map(|p| self.save_screenshot(Some(&p))).transpose() {
+                Ok(saved) => self.screenshot = saved.flatten(),
+                Err(e) => return self.fail(event_loop, e),
+            }
+            return event_loop.exit();
+        }
     }
 
     /// Draws the newest frame, scaled to the window, and the overlay.
@@ -462,10 +493,11 @@ impl ApplicationHandler<Rendered> for App {
             }
             Err(e) => return self.fail(event_loop, ViewerError::Window(e)),
         }
+        self.last_tick = Instant::now();
         if self.scripted() {
             self.play_script_frame(event_loop, 0);
+            return self.drive_script(event_loop);
         }
-        self.last_tick = Instant::now();
         self.schedule(event_loop);
     }
 
@@ -540,14 +572,25 @@ impl ApplicationHandler<Rendered> for App {
                 self.scheduler.changed();
             }
             self.scheduler.set_moving(self.moving());
+            self.schedule(event_loop);
+        } else {
+            self.drive_script(event_loop);
         }
-        self.schedule(event_loop);
         event_loop.set_control_flow(if self.moving() {
             ControlFlow::WaitUntil(now + Duration::from_millis(10))
         } else {
             ControlFlow::Wait
         });
     }
+}
+
+/// `dir/PREFIX-NNN.EXT` with the smallest number from 001 that names no file yet, so that
+/// a new run does not overwrite the screenshots and paths of an earlier one.
+fn next_free(dir: &Path, prefix: &str, extension: &str) -> PathBuf {
+    (1u32..)
+        .map(|n| dir.join(format!("{prefix}-{n:03}.{extension}")))
+        .find(|path| !path.exists())
+        .expect("a free number")
 }
 
 /// The viewer's key for a physical key code (layout-independent: WASD stay where they are).

@@ -81,3 +81,7 @@ pub fn assert_refused(out: &Output, mentions: &str) {
 mod shared_data_lookup;
 #[allow(unused_imports)]
 pub use shared_data_lookup::shared_data;
+
+mod x_server;
+#[allow(unused_imports)]
+pub use x_server::{x_server, XServer};

@@ -1,0 +1,221 @@
+//! `relief view` end to end: refused without a display, and under a real X server (Xvfb) it
+//! opens its window, renders frames progressively, plays a script, records a camera path,
+//! and saves screenshots that are exactly `relief render` of the same camera.
+
+mod common;
+
+use common::{assert_refused, relief, scratch, x_server};
+use relief_viewer::CameraPath;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs `relief` with `args` on the X server `display`.
+fn relief_on(display: &str, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(args)
+        .env("DISPLAY", display)
+        .output()
+        .expect("relief runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A fresh scratch folder.
+fn folder(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The decoded RGB pixels of a PNG.
+fn pixels(path: &Path) -> (u32, u32, Vec<u8>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    buf.truncate(info.buffer_size());
+    (info.width, info.height, buf)
+}
+
+/// Fails unless the picture at `path` has at least `n` distinct colours (it is no blank).
+fn assert_not_blank(path: &Path, n: usize) {
+    let (_, _, rgb) = pixels(path);
+    let mut colours: Vec<&[u8]> = rgb.chunks_exact(3).collect();
+    colours.sort();
+    colours.dedup();
+    assert!(colours.len() >= n, "{}: only {} colours", path.display(), colours.len());
+}
+
+#[test]
+fn without_a_display_it_says_so_in_one_line_and_exits_2() {
+    let out = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["view", "--fbm-size", "16"])
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    assert_refused(&out, "DISPLAY is not set");
+    assert_eq!(stderr(&out).lines().count(), 1, "{}", stderr(&out));
+    // A display that names no server.
+    let out = relief_on(":7391", &["view", "--fbm-size", "16", "--size", "32x18"]);
+    assert_refused(&out, "cannot connect to the X server");
+}
+
+#[test]
+fn bad_viewer_options_are_refused_before_any_window() {
+    let dir = folder("view-refused");
+    let shot = dir.join("s.jpg");
+    let cases: [(Vec<&str>, &str); 5] = [
+        (vec!["--frames", "2", "--screenshot", shot.to_str().unwrap()], "written as .png"),
+        (vec!["--frames", "2", "--script", "5:W+Nope"], "unknown key 'Nope'"),
+        (vec!["--frames", "2", "--script", "0:W"], "COUNT must be 1 to 100000"),
+        (vec!["--output-dir", "/no/such/folder"], "is not a folder"),
+        (vec!["--frame-budget", "2"], "between 5 and 1000"),
+    ];
+    for (extra, message) in cases {
+        let mut args = vec!["view", "--fbm-size", "16"];
+        args.extend(extra);
+        // Refused whether or not there is a display.
+        assert_refused(&relief(&args), message);
+    }
+    assert_refused(&relief(&["view", "--screenshot", "a.png"]), "--frames");
+}
+
+#[test]
+fn a_screenshot_at_rest_is_relief_render_of_the_same_camera() {
+    let Some(x) = x_server() else { return };
+    let dir = folder("view-equals-render");
+    let scene = dir.join("arches scene.mlhm");
+    let run = relief(&["generate", "mlhm", "--scene", "arches", "--size", "32"]);
+    assert!(!run.status.success(), "generate mlhm needs -o");
+    let run =
+        relief(&["generate", "mlhm", "--scene", "arches", "--size", "32", "-o", path(&scene)]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let camera = ["--eye", "-40,-60,90", "--target", "16,16,0", "--size", "160x90"];
+    let views: [(&str, Vec<&str>); 4] = [
+        ("fbm", vec!["--fbm-size", "64"]),
+        ("fbm-boxes-naive", vec!["--fbm-size", "64", "--surface", "boxes", "--tracer", "naive"]),
+        ("mlhm", vec![path(&scene)]),
+        ("mlhm-smooth", vec![path(&scene), "--mode", "smooth", "--preset", "high"]),
+    ];
+    for (name, scene_args) in views {
+        let (shot, picture) =
+            (dir.join(format!("{name}-view.png")), dir.join(format!("{name}.png")));
+        let mut view = vec!["view", "--frames", "3", "--screenshot", path(&shot)];
+        view.extend(&scene_args);
+        view.extend(camera);
+        let out = relief_on(&x.display, &view);
+        assert!(out.status.success(), "{view:?}: {}", stderr(&out));
+        let mut render = vec!["render", "-o", path(&picture)];
+        render.extend(&scene_args);
+        render.extend(camera);
+        let out = relief(&render);
+        assert!(out.status.success(), "{render:?}: {}", stderr(&out));
+        assert_not_blank(&shot, 50);
+        assert_eq!(pixels(&shot), pixels(&picture), "{name}: the view's frame at rest");
+    }
+}
+
+#[test]
+fn a_scripted_flight_moves_switches_records_and_replays_as_render() {
+    let Some(x) = x_server() else { return };
+    let dir = folder("view-script");
+    let (stats, last) = (dir.join("frames.json"), dir.join("last.png"));
+    // Orbit closer and round for 12 frames, start recording, fly (Tab) forward turning for
+    // 8, switch tracer, surface, shadows, the sun and exposure, stop recording, screenshot.
+    let script = "12:W+A,1:!R,1:!Tab,8:W+Left+Up,1:!T,1:!G,1:!H,1:!L,1:!Plus,1:!R,1:!P,3:-";
+    let out = relief_on(
+        &x.display,
+        &[
+            "view",
+            "--fbm-size",
+            "96",
+            "--size",
+            "384x216",
+            "--frames",
+            "30",
+            "--script",
+            script,
+            "--frame-budget",
+            "5",
+            "--stats",
+            path(&stats),
+            "--output-dir",
+            path(&dir),
+            "--screenshot",
+            path(&last),
+        ],
+    );
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("while moving:") && err.contains("at full size:"), "{err}");
+
+    // Moving frames are reduced; the last one is at full size.
+    let text = std::fs::read_to_string(&stats).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let frames = json["frames"].as_array().unwrap();
+    assert!(frames.len() >= 30, "{text}");
+    let width = |f: &serde_json::Value| f["width"].as_u64().unwrap();
+    let moving: Vec<u64> = frames.iter().filter(|f| f["moving"] == true).map(width).collect();
+    assert!(moving.len() >= 20, "{text}");
+    // (Which sizes fit the budget is the scheduler's unit tests' business; here, on any
+    // machine, not every 384x216 frame fits 5 ms.)
+    assert!(moving.iter().any(|&w| w < 384), "no reduced frame while moving: {moving:?}");
+    assert!(frames.iter().all(|f| f["render_ms"].as_f64().unwrap() > 0.0), "{text}");
+    assert_eq!(width(frames.last().unwrap()), 384);
+
+    // P saved the frame shown; R wrote the path in the documented format.
+    assert_not_blank(&dir.join("relief-view-001.png"), 20);
+    let recorded = dir.join("relief-path-001.json");
+    let json = std::fs::read_to_string(&recorded).unwrap();
+    for key in ["\"format\": \"relief-camera-path\"", "\"version\": 1", "\"time_s\"", "\"fov_deg\""]
+    {
+        assert!(json.contains(key), "{key}: {json}");
+    }
+    let path_read = CameraPath::read(&recorded).unwrap();
+    assert!(path_read.keys.len() >= 5, "{json}");
+    assert!(path_read.keys.windows(2).all(|k| k[0].time_s < k[1].time_s));
+    assert_eq!(path_read.keys[0].time_s, 0.0);
+
+    // The last camera of the path, rendered with the tracer, surface and light the script
+    // switched to, is the screenshot the run ended with.
+    let key = path_read.keys.last().unwrap();
+    let triple = |v: [f64; 3]| format!("{},{},{}", v[0], v[1], v[2]);
+    let (eye, target, up, fov) =
+        (triple(key.eye), triple(key.target), triple(key.up), key.fov_deg.to_string());
+    let picture = dir.join("replayed.png");
+    let out = relief(&[
+        "render",
+        "--fbm-size",
+        "96",
+        "--size",
+        "384x216",
+        "--eye",
+        &eye,
+        "--target",
+        &target,
+        "--up",
+        &up,
+        "--fov",
+        &fov,
+        "--tracer",
+        "naive",
+        "--surface",
+        "boxes",
+        "--no-shadows",
+        "--sun",
+        "330,35",
+        "--exposure",
+        "1.25",
+        "-o",
+        path(&picture),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(pixels(&last), pixels(&picture), "the replayed camera");
+}
+
+fn path(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
