@@ -219,3 +219,62 @@ fn a_scripted_flight_moves_switches_records_and_replays_as_render() {
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
 }
+
+/// Runs `xdotool` with `args` on `display`; whether it could (it is installed).
+fn xdotool(display: &str, args: &[&str]) -> bool {
+    Command::new("xdotool")
+        .args(args)
+        .env("DISPLAY", display)
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+#[test]
+fn keys_and_the_mouse_typed_into_the_window_fly_it_save_and_close_it() {
+    let Some(x) = x_server() else { return };
+    if !xdotool(&x.display, &["version"]) {
+        assert!(
+            std::env::var("RELIEF_REQUIRE_CLIENTS").as_deref() != Ok("1"),
+            "xdotool is required (RELIEF_REQUIRE_CLIENTS=1; .ci/run installs it)"
+        );
+        println!("skipped: xdotool is not installed");
+        return;
+    }
+    let dir = folder("view-typed");
+    let stats = dir.join("frames.json");
+    let mut viewer = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["view", "--fbm-size", "128", "--size", "320x180", "--output-dir", path(&dir)])
+        .args(["--stats", path(&stats)])
+        .env("DISPLAY", &x.display)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait for the window, give it the keyboard, then type as a user does: fly forward,
+    // drag the view, screenshot, quit.
+    let d = x.display.as_str();
+    assert!(xdotool(d, &["search", "--sync", "--name", "relief view", "windowfocus", "--sync"]));
+    let pause = |ms| std::thread::sleep(std::time::Duration::from_millis(ms));
+    pause(300);
+    assert!(xdotool(d, &["keydown", "w"]));
+    pause(600);
+    assert!(xdotool(d, &["keyup", "w"]));
+    assert!(xdotool(d, &["mousemove", "100", "100", "mousedown", "1"]));
+    for _ in 0..10 {
+        assert!(xdotool(d, &["mousemove_relative", "6", "0"]));
+        pause(20);
+    }
+    assert!(xdotool(d, &["mouseup", "1"]));
+    pause(600);
+    assert!(xdotool(d, &["key", "p"]));
+    pause(300);
+    assert!(xdotool(d, &["key", "Escape"]));
+    let out = viewer.wait_with_output().unwrap();
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("while moving:"), "{err}");
+    assert_not_blank(&dir.join("relief-view-001.png"), 50);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert!(json["frames"].as_array().unwrap().iter().any(|f| f["moving"] == true), "{json}");
+}
