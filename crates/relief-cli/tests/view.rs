@@ -278,3 +278,15 @@ fn keys_and_the_mouse_typed_into_the_window_fly_it_save_and_close_it() {
         serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
     assert!(json["frames"].as_array().unwrap().iter().any(|f| f["moving"] == true), "{json}");
 }
+
+#[test]
+fn the_readme_and_the_viewer_docs_list_every_key_as_f1_does() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    for doc in ["README.md", "docs/viewer.md"] {
+        let text = std::fs::read_to_string(root.join(doc)).unwrap();
+        for (keys, what) in relief_viewer::KEY_HELP {
+            let row = format!("| {keys} | {what} |");
+            assert!(text.contains(&row), "{doc} lacks the row {row}");
+        }
+    }
+}

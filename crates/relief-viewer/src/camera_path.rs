@@ -83,6 +83,12 @@ impl CameraPath {
                     "key {k}: a coordinate, time or field of view is invalid"
                 )));
             }
+            let view = relief_core::DVec3::from(key.target) - relief_core::DVec3::from(key.eye);
+            if view.cross(relief_core::DVec3::from(key.up)).length_squared() == 0.0 {
+                return Err(bad(format!(
+                    "key {k}: its eye is its target, or its up is parallel to the view"
+                )));
+            }
             if k > 0 && key.time_s <= parsed.keys[k - 1].time_s {
                 return Err(bad(format!("key {k}: its time is not after the key before")));
             }
@@ -127,6 +133,10 @@ mod tests {
         bad.keys[1].time_s = 0.0;
         std::fs::write(&file, serde_json::to_string(&bad).unwrap()).unwrap();
         assert!(CameraPath::read(&file).unwrap_err().to_string().contains("key 1"));
+        let mut bad = path.clone();
+        bad.keys[0].up = [2.0, 0.0, 20.0]; // along the view, from (1, 0, 10) to the origin
+        std::fs::write(&file, serde_json::to_string(&bad).unwrap()).unwrap();
+        assert!(CameraPath::read(&file).unwrap_err().to_string().contains("parallel"));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
