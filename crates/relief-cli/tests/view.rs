@@ -243,7 +243,7 @@ fn keys_and_the_mouse_typed_into_the_window_fly_it_save_and_close_it() {
     }
     let dir = folder("view-typed");
     let stats = dir.join("frames.json");
-    let mut viewer = Command::new(env!("CARGO_BIN_EXE_relief"))
+    let viewer = Command::new(env!("CARGO_BIN_EXE_relief"))
         .args(["view", "--fbm-size", "128", "--size", "320x180", "--output-dir", path(&dir)])
         .args(["--stats", path(&stats)])
         .env("DISPLAY", &x.display)
