@@ -225,6 +225,7 @@ fn xdotool(display: &str, args: &[&str]) -> bool {
     Command::new("xdotool")
         .args(args)
         .env("DISPLAY", display)
+        .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
         .status()
         .is_ok_and(|s| s.success())

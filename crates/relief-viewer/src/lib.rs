@@ -19,6 +19,7 @@ mod script;
 mod summary;
 mod view_settings;
 mod window;
+mod winit_keys;
 
 pub use camera_controller::{CameraController, Motion, Navigation};
 pub use camera_path::{CameraKey, CameraPath, CAMERA_PATH_FORMAT, CAMERA_PATH_VERSION};

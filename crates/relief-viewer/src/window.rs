@@ -8,6 +8,7 @@ use crate::input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 use crate::progressive::{FrameRequest, ProgressiveScheduler};
 use crate::script::{Script, SCRIPT_FRAME_S};
 use crate::summary::{FrameRecord, ViewerSummary};
+use crate::winit_keys::key_of;
 use crate::{overlay, CameraController, Navigation, ViewSettings, ViewerError};
 use relief_core::Camera;
 use std::collections::BTreeSet;
@@ -19,7 +20,7 @@ use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, EventLoopProxy};
-use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::keyboard::PhysicalKey;
 use winit::window::{Window, WindowId};
 
 /// How long after the last mouse movement a drag still counts as moving.
@@ -591,58 +592,4 @@ fn next_free(dir: &Path, prefix: &str, extension: &str) -> PathBuf {
         .map(|n| dir.join(format!("{prefix}-{n:03}.{extension}")))
         .find(|path| !path.exists())
         .expect("a free number")
-}
-
-/// The viewer's key for a physical key code (layout-independent: WASD stay where they are).
-fn key_of(code: KeyCode) -> Option<Key> {
-    use KeyCode::*;
-    let letters = [
-        (KeyA, 'A'),
-        (KeyB, 'B'),
-        (KeyC, 'C'),
-        (KeyD, 'D'),
-        (KeyE, 'E'),
-        (KeyF, 'F'),
-        (KeyG, 'G'),
-        (KeyH, 'H'),
-        (KeyI, 'I'),
-        (KeyJ, 'J'),
-        (KeyK, 'K'),
-        (KeyL, 'L'),
-        (KeyM, 'M'),
-        (KeyN, 'N'),
-        (KeyO, 'O'),
-        (KeyP, 'P'),
-        (KeyQ, 'Q'),
-        (KeyR, 'R'),
-        (KeyS, 'S'),
-        (KeyT, 'T'),
-        (KeyU, 'U'),
-        (KeyV, 'V'),
-        (KeyW, 'W'),
-        (KeyX, 'X'),
-        (KeyY, 'Y'),
-        (KeyZ, 'Z'),
-    ];
-    if let Some(&(_, c)) = letters.iter().find(|(k, _)| *k == code) {
-        return Some(Key::Letter(c));
-    }
-    let digits = [Digit0, Digit1, Digit2, Digit3, Digit4, Digit5, Digit6, Digit7, Digit8, Digit9];
-    if let Some(d) = digits.iter().position(|&k| k == code) {
-        return Some(Key::Digit(d as u8));
-    }
-    Some(match code {
-        ArrowUp => Key::Up,
-        ArrowDown => Key::Down,
-        ArrowLeft => Key::Left,
-        ArrowRight => Key::Right,
-        Tab => Key::Tab,
-        Space => Key::Space,
-        Equal | NumpadAdd => Key::Plus,
-        Minus | NumpadSubtract => Key::Minus,
-        F1 => Key::F1,
-        F2 => Key::F2,
-        Escape => Key::Escape,
-        _ => return None,
-    })
 }
