@@ -2,6 +2,8 @@
 //! framebuffer, scaled to the window.
 
 use relief_core::Camera;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// What rendering a frame cost.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -28,6 +30,29 @@ pub struct Frame {
     pub note: Option<String>,
 }
 
+/// Set by the viewer when it no longer needs the frame being rendered (the view changed while
+/// a frame at rest was on its way); a renderer may then stop early, and its frame is
+/// discarded.
+#[derive(Debug, Clone, Default)]
+pub struct Cancel(Arc<AtomicBool>);
+
+impl Cancel {
+    /// A token not set.
+    pub fn new() -> Self {
+        Cancel::default()
+    }
+
+    /// Asks the renderer to stop.
+    pub fn set(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether the frame is no longer wanted.
+    pub fn is_set(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
 /// Renders frames of one scene: the viewer's only way to draw, so that it has no rendering
 /// logic of its own. Called from the viewer's render thread.
 pub trait SceneRenderer: Send + Sync {
@@ -37,8 +62,13 @@ pub trait SceneRenderer: Send + Sync {
     /// The diagonal of the scene's bounds, in metres: sets the flying speed.
     fn scene_size(&self) -> f64;
 
-    /// Renders the view of `camera` with `settings`.
-    fn render(&self, camera: &Camera, settings: &crate::ViewSettings) -> Result<Frame, String>;
+    /// Renders the view of `camera` with `settings`; it may stop early once `cancel` is set.
+    fn render(
+        &self,
+        camera: &Camera,
+        settings: &crate::ViewSettings,
+        cancel: &Cancel,
+    ) -> Result<Frame, String>;
 }
 
 /// Copies `frame` into `target` (0RGB pixels, `width` x `height`), scaled to fill it by the

@@ -23,7 +23,7 @@ mod winit_keys;
 
 pub use camera_controller::{CameraController, Motion, Navigation};
 pub use camera_path::{CameraKey, CameraPath, CAMERA_PATH_FORMAT, CAMERA_PATH_VERSION};
-pub use frame::{blit, Frame, FrameStats, SceneRenderer};
+pub use frame::{blit, Cancel, Frame, FrameStats, SceneRenderer};
 pub use input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 pub use progressive::{FrameRequest, ProgressiveScheduler};
 pub use script::{Script, ScriptFrame, SCRIPT_FRAME_S};

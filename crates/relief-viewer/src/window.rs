@@ -3,7 +3,7 @@
 //! shown scaled to the window with the overlay.
 
 use crate::camera_path::{CameraKey, CameraPath};
-use crate::frame::{blit, Frame, SceneRenderer};
+use crate::frame::{blit, Cancel, Frame, SceneRenderer};
 use crate::input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 use crate::progressive::{FrameRequest, ProgressiveScheduler};
 use crate::script::{Script, SCRIPT_FRAME_S};
@@ -87,11 +87,19 @@ struct Job {
     camera: Camera,
     settings: ViewSettings,
     moving: bool,
+    cancel: Cancel,
 }
 
 /// What the render thread sends back.
 enum Rendered {
-    Frame { request: FrameRequest, frame: Frame, elapsed: Duration, moving: bool },
+    Frame {
+        request: FrameRequest,
+        frame: Frame,
+        elapsed: Duration,
+        moving: bool,
+    },
+    /// A frame the viewer cancelled.
+    Cancelled,
     Failed(String),
 }
 
@@ -103,7 +111,8 @@ fn spawn_render_thread(
     let worker = std::thread::spawn(move || {
         for job in receive {
             let started = Instant::now();
-            let rendered = match renderer.render(&job.camera, &job.settings) {
+            let rendered = match renderer.render(&job.camera, &job.settings, &job.cancel) {
+                Ok(_) if job.cancel.is_set() => Rendered::Cancelled,
                 Ok(frame) => Rendered::Frame {
                     request: job.request,
                     frame,
@@ -128,6 +137,9 @@ struct App {
     window: Option<Rc<Window>>,
     surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
     busy: bool,
+    /// The frame being rendered: its view's version, whether the camera was moving, and
+    /// its cancel token.
+    in_flight: Option<(u64, bool, Cancel)>,
     controller: CameraController,
     home: CameraController,
     settings: ViewSettings,
@@ -170,6 +182,7 @@ impl App {
             window: None,
             surface: None,
             busy: false,
+            in_flight: None,
             held: BTreeSet::new(),
             cursor: None,
             dragging: false,
@@ -230,9 +243,22 @@ impl App {
             Ok(camera) => camera,
             Err(e) => return self.fail(event_loop, ViewerError::Render(e.to_string())),
         };
-        let job = Job { request, camera, settings: self.settings.clone(), moving: self.moving() };
+        let (moving, cancel) = (self.moving(), Cancel::new());
+        self.in_flight = Some((request.version, moving, cancel.clone()));
+        let job = Job { request, camera, settings: self.settings.clone(), moving, cancel };
         if let Some(jobs) = &self.jobs {
             self.busy = jobs.send(job).is_ok();
+        }
+    }
+
+    /// Cancels the frame being rendered if it was asked for at rest and the view has changed
+    /// since: a full-size frame can take long, and the new view should not wait for it.
+    /// (Frames asked for while moving fit the frame budget and are shown.)
+    fn cancel_outdated(&self) {
+        if let Some((version, false, cancel)) = &self.in_flight {
+            if *version != self.scheduler.version() {
+                cancel.set();
+            }
         }
     }
 
@@ -337,10 +363,12 @@ impl App {
     /// A frame came back from the render thread.
     fn on_rendered(&mut self, event_loop: &ActiveEventLoop, rendered: Rendered) {
         self.busy = false;
+        self.in_flight = None;
         let (request, frame, elapsed, moving) = match rendered {
             Rendered::Frame { request, frame, elapsed, moving } => {
                 (request, frame, elapsed, moving)
             }
+            Rendered::Cancelled => return self.schedule(event_loop),
             Rendered::Failed(e) => return self.fail(event_loop, ViewerError::Render(e)),
         };
         self.scheduler.shown(request, elapsed);
@@ -573,6 +601,7 @@ impl ApplicationHandler<Rendered> for App {
                 self.scheduler.changed();
             }
             self.scheduler.set_moving(self.moving());
+            self.cancel_outdated();
             self.schedule(event_loop);
         } else {
             self.drive_script(event_loop);

@@ -1,6 +1,7 @@
 //! A height field drawn live: the tracers (built when first asked for, then kept), the
 //! deferred shading with the viewer's sun, exposure and shadows.
 
+use super::interruptible::Interruptible;
 use crate::args::SafetyArgs;
 use crate::scene::height_field::{check_safety_view, HeightFieldScene};
 use crate::tracers::{self, TracerChoice};
@@ -9,7 +10,7 @@ use relief_core::{Camera, Surface};
 use relief_shade::{render_gbuffer, shade_to_srgb8, ShadingParams, Sun};
 use relief_trace::safety::SafetyTracer;
 use relief_trace::{Simd, Tracer, TracerKind};
-use relief_viewer::{Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
+use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
@@ -101,7 +102,13 @@ impl LiveHeightField {
         Ok(tracer)
     }
 
-    fn render_frame(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame> {
+    /// The frame of `camera` with `settings`, its tracer stopped by `cancel`.
+    fn render_frame(
+        &self,
+        camera: &Camera,
+        settings: &ViewSettings,
+        cancel: &Cancel,
+    ) -> Result<Frame> {
         let surface = SURFACES[settings.surface.min(SURFACES.len() - 1)];
         let mut index = settings.tracer.min(self.choices.len() - 1);
         let mut params = self.params.lock().expect("no render panicked");
@@ -124,10 +131,11 @@ impl LiveHeightField {
                 index = 0;
             }
         }
-        let tracer = self.tracer(index, surface)?;
+        let built = self.tracer(index, surface)?;
+        let tracer = Interruptible { inner: built.as_ref(), cancel };
         let bounds = self.scene.field.world_bounds(surface);
-        let (gbuffer, traced) = render_gbuffer(tracer.as_ref(), camera, &bounds, &|_| {})?;
-        let (rgb, shaded) = shade_to_srgb8(&gbuffer, tracer.as_ref(), camera, &params)?;
+        let (gbuffer, traced) = render_gbuffer(&tracer, camera, &bounds, &|_| {})?;
+        let (rgb, shaded) = shade_to_srgb8(&gbuffer, &tracer, camera, &params)?;
         let stats = FrameStats {
             rays: traced.rays + shaded.rays,
             steps_per_ray: Some(traced.mean_steps()),
@@ -147,7 +155,12 @@ impl SceneRenderer for LiveHeightField {
         (bounds.max - bounds.min).length()
     }
 
-    fn render(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame, String> {
-        self.render_frame(camera, settings).map_err(|e| format!("{e:#}"))
+    fn render(
+        &self,
+        camera: &Camera,
+        settings: &ViewSettings,
+        cancel: &Cancel,
+    ) -> Result<Frame, String> {
+        self.render_frame(camera, settings, cancel).map_err(|e| format!("{e:#}"))
     }
 }

@@ -1,6 +1,7 @@
 //! An MLHM scene drawn live: boxes or the smooth surface, by the hierarchy or the naive
 //! tracer (built when first asked for, then kept), shaded at the preset the viewer selects.
 
+use super::interruptible::Interruptible;
 use crate::args::MlhmRenderMode;
 use crate::scene::mlhm::{LayeredScene, MlhmTracerChoice};
 use anyhow::Result;
@@ -8,7 +9,7 @@ use relief_core::Camera;
 use relief_shade::mlhm::{render_mlhm, MlhmPreset, MlhmShading};
 use relief_shade::{tonemap_reinhard_to_rgb8, Sun};
 use relief_trace::MlhmTracer;
-use relief_viewer::{Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
+use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
@@ -102,15 +103,22 @@ impl LiveMlhm {
         Ok(tracer)
     }
 
-    fn render_frame(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame> {
+    /// The frame of `camera` with `settings`, its tracer stopped by `cancel`.
+    fn render_frame(
+        &self,
+        camera: &Camera,
+        settings: &ViewSettings,
+        cancel: &Cancel,
+    ) -> Result<Frame> {
         let shading = self.shading(settings);
         let mode = settings.mode.min(MODES.len() - 1);
         let choice = settings.tracer.min(self.choices.len() - 1);
         // Only the smooth surface's normals depend on the preset.
         let central =
             MODES[mode].0 == MlhmRenderMode::Smooth && shading.quality.central_differences;
-        let tracer = self.tracer((mode, choice, central))?;
-        let image = render_mlhm(tracer.as_ref(), camera, &shading, &|_| {})?;
+        let built = self.tracer((mode, choice, central))?;
+        let tracer = Interruptible { inner: built.as_ref(), cancel };
+        let image = render_mlhm(&tracer, camera, &shading, &|_| {})?;
         let rgb = tonemap_reinhard_to_rgb8(&image.radiance, shading.exposure)?;
         let stats = FrameStats {
             rays: image.counts.rays(),
@@ -131,7 +139,12 @@ impl SceneRenderer for LiveMlhm {
         (bounds.max - bounds.min).length()
     }
 
-    fn render(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame, String> {
-        self.render_frame(camera, settings).map_err(|e| format!("{e:#}"))
+    fn render(
+        &self,
+        camera: &Camera,
+        settings: &ViewSettings,
+        cancel: &Cancel,
+    ) -> Result<Frame, String> {
+        self.render_frame(camera, settings, cancel).map_err(|e| format!("{e:#}"))
     }
 }

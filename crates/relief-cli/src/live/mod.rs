@@ -5,6 +5,7 @@
 //! [`SceneRenderer`]: relief_viewer::SceneRenderer
 
 mod height_field;
+mod interruptible;
 mod mlhm;
 
 pub use height_field::LiveHeightField;

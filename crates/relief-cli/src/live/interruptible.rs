@@ -1,0 +1,121 @@
+//! A tracer that stops when the viewer no longer needs its frame: once the frame's
+//! [`Cancel`] is set, every ray misses at once, so that an outdated full-size frame ends in
+//! moments and the viewer, which discards it, can render the new view. Until then it is the
+//! tracer it wraps, method for method, so the frames it finishes are exact.
+
+use relief_core::{DVec2, DVec3, Mlhm, Ray, Surface};
+use relief_trace::{Hit, Medium, MlhmHit, MlhmMode, MlhmTracer, Tracer};
+use relief_viewer::Cancel;
+use std::sync::Arc;
+
+/// `inner`, stopped by `cancel`.
+pub struct Interruptible<'a, T: ?Sized> {
+    /// The tracer.
+    pub inner: &'a T,
+    /// Set when the frame is no longer wanted.
+    pub cancel: &'a Cancel,
+}
+
+impl<T: Tracer + ?Sized> Tracer for Interruptible<'_, T> {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn surface(&self) -> Surface {
+        self.inner.surface()
+    }
+
+    fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
+        if self.cancel.is_set() {
+            return None;
+        }
+        self.inner.intersect_counted(ray, steps)
+    }
+
+    fn occluded_counted(&self, ray: &Ray, steps: &mut u32) -> bool {
+        !self.cancel.is_set() && self.inner.occluded_counted(ray, steps)
+    }
+
+    fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
+        if self.cancel.is_set() {
+            return hits.fill(None);
+        }
+        self.inner.intersect_batch(rays, hits, steps)
+    }
+
+    fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
+        if self.cancel.is_set() {
+            return occluded.fill(false);
+        }
+        self.inner.occluded_batch(rays, occluded, steps)
+    }
+}
+
+impl<T: MlhmTracer + ?Sized> MlhmTracer for Interruptible<'_, T> {
+    fn map(&self) -> &Arc<Mlhm> {
+        self.inner.map()
+    }
+
+    fn origin(&self) -> DVec2 {
+        self.inner.origin()
+    }
+
+    fn intersect_mode_counted(
+        &self,
+        ray: &Ray,
+        mode: MlhmMode,
+        steps: &mut u32,
+    ) -> Option<MlhmHit> {
+        if self.cancel.is_set() {
+            return None;
+        }
+        self.inner.intersect_mode_counted(ray, mode, steps)
+    }
+
+    fn occluded_mode(&self, ray: &Ray, mode: MlhmMode) -> bool {
+        !self.cancel.is_set() && self.inner.occluded_mode(ray, mode)
+    }
+
+    fn medium(&self, p: DVec3) -> Medium {
+        self.inner.medium(p)
+    }
+
+    fn surface_offset(&self) -> f64 {
+        self.inner.surface_offset()
+    }
+
+    fn light_visibility(&self, ray: &Ray, steps: &mut u32) -> f64 {
+        if self.cancel.is_set() {
+            return 1.0;
+        }
+        self.inner.light_visibility(ray, steps)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_core::{GridGeometry, HeightField};
+    use relief_trace::{build_tracer, TracerKind};
+
+    #[test]
+    fn it_is_its_tracer_until_cancelled_and_then_every_ray_misses() {
+        let samples = (0..16 * 16).map(|k| (k % 7) as f32).collect();
+        let field = Arc::new(HeightField::new(16, 16, samples, GridGeometry::unit()).unwrap());
+        let inner = build_tracer(field, Surface::Triangles, TracerKind::Mipmap);
+        let cancel = Cancel::new();
+        let tracer = Interruptible { inner: inner.as_ref(), cancel: &cancel };
+        let rays: Vec<Ray> = (0..16)
+            .map(|k| Ray::new(DVec3::new(k as f64, -5.0, 20.0), DVec3::new(0.1, 1.0, -1.0)))
+            .collect();
+        let (mut hits, mut steps) = (vec![None; 16], vec![0; 16]);
+        tracer.intersect_batch(&rays, &mut hits, &mut steps);
+        let expected: Vec<Option<Hit>> = rays.iter().map(|r| inner.intersect(r)).collect();
+        assert_eq!(hits, expected);
+        assert!(hits.iter().any(Option::is_some));
+        cancel.set();
+        tracer.intersect_batch(&rays, &mut hits, &mut steps);
+        assert!(hits.iter().all(Option::is_none));
+        assert!(rays.iter().all(|r| tracer.intersect(r).is_none() && !tracer.occluded(r)));
+    }
+}
