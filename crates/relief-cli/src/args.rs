@@ -201,8 +201,8 @@ pub struct RenderArgs {
 /// `relief view`.
 #[derive(Debug, Args)]
 pub struct ViewArgs {
-    /// The scene, tracer, starting camera and light (--size is the window's and the full
-    /// frame's size).
+    /// The scene, tracer, starting camera and light (--size is the window's size when it
+    /// opens; the full frame then follows the window, except in a --frames run).
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Render this many frames through the viewer's loop (playing --script, if given), then

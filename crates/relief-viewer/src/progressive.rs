@@ -51,6 +51,16 @@ impl ProgressiveScheduler {
         self.full
     }
 
+    /// The full image is now `full` (width, height) pixels (the window was resized): what is
+    /// shown is out of date unless it already had that size.
+    pub fn resize(&mut self, full: (u32, u32)) {
+        let full = (full.0.max(1), full.1.max(1));
+        if full != self.full {
+            self.full = full;
+            self.changed();
+        }
+    }
+
     /// The version of the view now (it grows with every change).
     pub fn version(&self) -> u64 {
         self.version
@@ -130,6 +140,25 @@ impl ProgressiveScheduler {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_resize_refines_to_the_new_size() {
+        let mut s = ProgressiveScheduler::new((640, 360), 40 * MS);
+        while let Some(request) = s.next() {
+            s.shown(request, MS);
+        }
+        s.resize((640, 360));
+        assert!(s.is_complete(), "the same size changes nothing");
+        s.resize((1000, 500));
+        let mut last = None;
+        while let Some(request) = s.next() {
+            s.shown(request, MS);
+            last = Some((request.width, request.height));
+        }
+        assert_eq!(last, Some((1000, 500)));
+        s.resize((0, 0));
+        assert_eq!(s.full_size(), (1, 1));
+    }
 
     const MS: Duration = Duration::from_millis(1);
 

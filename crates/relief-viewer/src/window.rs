@@ -579,7 +579,12 @@ impl ApplicationHandler<Rendered> for App {
                 self.controller.wheel(steps);
                 self.scheduler.changed();
             }
-            WindowEvent::Resized(_) => {
+            WindowEvent::Resized(size) => {
+                // The full frame follows the window, but a scripted run keeps --size, so that
+                // it renders the same frames whatever a window manager does to its window.
+                if !self.scripted() {
+                    self.scheduler.resize((size.width, size.height));
+                }
                 if let Some(window) = &self.window {
                     window.request_redraw();
                 }
