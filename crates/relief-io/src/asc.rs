@@ -18,7 +18,7 @@
 use crate::atomic_write::write_atomically;
 use crate::input_file::open_input;
 use crate::raster::{mark_voids, Format, Raster, RasterInfo, ReadOptions};
-use crate::IoError;
+use crate::{Georeference, IoError};
 use relief_core::{DVec2, GridGeometry, HeightField};
 use std::fmt::Write as _;
 use std::io::{BufRead, BufReader, Read, Write};
@@ -76,6 +76,8 @@ pub(crate) fn read_asc_from<R: Read>(
     read_rows(&mut words, width, height, &mut samples)?;
     mark_voids(path, &mut samples, width, header.nodata, true)?;
     let origin = DVec2::new(header.x.corner(header.dx), header.y.corner(header.dy));
+    let north = origin.y + height as f64 * header.dy;
+    let georeference = Georeference::north_up_grid(origin.x, north, header.dx, header.dy);
     Ok(Raster {
         width,
         height,
@@ -87,6 +89,7 @@ pub(crate) fn read_asc_from<R: Read>(
             georeferenced: true,
             from_degrees: None,
             nodata: header.nodata,
+            georeference: Some(georeference),
         },
     })
 }

@@ -8,11 +8,17 @@ use relief_core::{DVec2, GridGeometry};
 use std::path::Path;
 
 /// GTModelTypeGeoKey: 1 projected, 2 geographic (degrees), 3 geocentric.
-const GT_MODEL_TYPE: u16 = 1024;
+pub(crate) const GT_MODEL_TYPE: u16 = 1024;
+/// GTModelTypeGeoKey's value for a geographic model (longitude and latitude).
+pub(crate) const MODEL_GEOGRAPHIC: u16 = 2;
 /// GTRasterTypeGeoKey: 1 PixelIsArea, 2 PixelIsPoint.
-const GT_RASTER_TYPE: u16 = 1025;
+pub(crate) const GT_RASTER_TYPE: u16 = 1025;
+/// GTRasterTypeGeoKey's value for PixelIsArea.
+pub(crate) const PIXEL_IS_AREA: u16 = 1;
+/// GTRasterTypeGeoKey's value for PixelIsPoint.
+pub(crate) const PIXEL_IS_POINT: u16 = 2;
 /// GeographicTypeGeoKey: the geographic CRS (EPSG code).
-const GEOGRAPHIC_TYPE: u16 = 2048;
+pub(crate) const GEOGRAPHIC_TYPE: u16 = 2048;
 /// GeogAngularUnitsGeoKey: the unit of longitudes and latitudes (EPSG unit code).
 const GEOG_ANGULAR_UNITS: u16 = 2054;
 /// ProjectedCSTypeGeoKey: the projected CRS (EPSG code).

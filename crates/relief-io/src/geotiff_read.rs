@@ -2,22 +2,25 @@
 //! (compression, predictors, byte order); placement, nodata and row order are read here.
 
 use crate::geokeys::{model_placement, GeoKeys, ModelTags, Placement};
+use crate::geotiff_chunks::ChunkGrid;
 use crate::input_file::open_input;
 use crate::raster::mark_voids;
 use crate::sample_type::SampleType;
-use crate::{Format, IoError, Raster, RasterInfo, ReadOptions};
+use crate::zstd_chunk::{Predictor, ZstdChunkDecoder, COMPRESSION_ZSTD};
+use crate::{Format, GeoTiffTags, Georeference, IoError, Raster, RasterInfo, ReadOptions};
 use std::fmt::Display;
 use std::io::{BufReader, ErrorKind, Read, Seek, SeekFrom};
 use std::path::Path;
-use tiff::decoder::{ChunkType, Decoder, DecodingResult, Limits};
-use tiff::tags::{CompressionMethod, Tag};
+use tiff::decoder::{Decoder, DecodingResult, Limits};
+use tiff::tags::{ByteOrder, CompressionMethod, Tag, Type};
 use tiff::TiffError;
 
 /// Reads the first image of the GeoTIFF at `path` as a [`Raster`].
 ///
 /// The image must have one sample per pixel of type int8, uint8, int16, uint16, int32,
 /// uint32, int64, uint64, float32 or float64, in strips or tiles, uncompressed or compressed
-/// with LZW, Deflate or PackBits, with or without the horizontal or floating-point predictor.
+/// with LZW, Deflate, ZSTD or PackBits, with or without the horizontal or floating-point
+/// predictor.
 /// It is decoded one strip or tile at a time into the f32 samples, so reading needs the
 /// samples plus one decoded strip or tile; larger rasters than `options.max_memory` allows are
 /// refused before anything is allocated.
@@ -39,6 +42,8 @@ use tiff::TiffError;
 /// without a georeference, whose first row is its top) are flipped, south-up ones (negative
 /// ModelPixelScale y, or a transformation whose y grows with the row) are not. Samples equal
 /// to GDAL_NODATA become NaN voids; GDAL's sparse strips and tiles (no bytes) are nodata.
+/// [`RasterInfo::georeference`] keeps the georeferencing tags as stored (model tags, GeoKey
+/// directory, its double and ASCII parameters) and the geotransform GDAL derives from them.
 ///
 /// Errors: [`IoError::Io`] when the file cannot be read; [`IoError::Format`] for a file that is
 /// not a TIFF, is truncated, or whose header disagrees with itself or the file's length;
@@ -67,11 +72,15 @@ pub(crate) fn read_geotiff_from<R: Read + Seek>(
     let (width, height) = (width as usize, height as usize);
     let (sample_type, compression) = check_layout(&mut decoder, path)?;
     let nodata = read_nodata(&mut decoder, path)?;
-    let placement = read_placement(&mut decoder, path, width, height)?;
+    let (placement, tags) = read_placement(&mut decoder, path, width, height)?;
     let chunks =
         ChunkGrid::read(&mut decoder, path, file_len, (sample_type, compression), width, height)?;
 
-    let needed = (width as u64 * height as u64 * 4).saturating_add(chunks.stored_bytes);
+    let mut needed = (width as u64 * height as u64 * 4).saturating_add(chunks.stored_bytes);
+    if compression == COMPRESSION_ZSTD {
+        // The stored bytes of the largest chunk are read whole before decompression.
+        needed = needed.saturating_add(chunks.byte_counts.iter().copied().max().unwrap_or(0));
+    }
     if needed > options.max_memory {
         return Err(IoError::Limits {
             path: path.to_path_buf(),
@@ -82,7 +91,11 @@ pub(crate) fn read_geotiff_from<R: Read + Seek>(
         });
     }
     let fill = nodata.map_or(0.0, |v| v as f32);
-    let mut samples = decode_chunks(&mut decoder, path, &chunks, sample_type, fill, width)?;
+    let mut samples = if compression == COMPRESSION_ZSTD {
+        decode_zstd_chunks(&mut decoder, path, &chunks, sample_type, fill, width)?
+    } else {
+        decode_chunks(&mut decoder, path, &chunks, sample_type, fill, width)?
+    };
     if placement.north_up {
         flip_rows(&mut samples, width);
     }
@@ -98,6 +111,7 @@ pub(crate) fn read_geotiff_from<R: Read + Seek>(
             georeferenced: placement.georeferenced,
             from_degrees: placement.from_degrees,
             nodata,
+            georeference: Georeference::from_geotiff_tags(tags),
         },
     })
 }
@@ -155,6 +169,74 @@ fn decode_chunks<R: Read + Seek>(
     Ok(samples)
 }
 
+/// [`decode_chunks`] for ZSTD-compressed chunks, which the `tiff` crate does not decode
+/// without the C library: each chunk's stored bytes are read, decompressed and unpredicted
+/// here (see [`ZstdChunkDecoder`]).
+fn decode_zstd_chunks<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+    chunks: &ChunkGrid,
+    sample_type: SampleType,
+    fill: f32,
+    width: usize,
+) -> Result<Vec<f32>, IoError> {
+    let predictor = decoder
+        .find_tag_unsigned::<u16>(Tag::Predictor)
+        .map_err(tag_error(path, "Predictor"))?
+        .unwrap_or(1);
+    let predictor = Predictor::from_tag(predictor)
+        .ok_or_else(|| IoError::unsupported(path, format!("predictor {predictor}")))?;
+    let big_endian = decoder.byte_order() == ByteOrder::BigEndian;
+    let mut zstd = ZstdChunkDecoder::new(predictor, sample_type.size(), big_endian);
+    let mut samples = vec![0f32; width * chunks.raster_height];
+    let stride = chunks.chunk_width * sample_type.size();
+    // stored_bytes (one whole stored chunk) was counted in the memory budget.
+    let mut buffer = vec![0u8; stride * chunks.chunk_height];
+    let mut compressed = Vec::new();
+    for index in 0..chunks.count {
+        let region = chunks.region(index, width);
+        let out = |row: usize| (region.y + row) * width + region.x;
+        if chunks.sparse[index] {
+            for row in 0..region.height {
+                samples[out(row)..][..region.width].fill(fill);
+            }
+            continue;
+        }
+        let chunk = || format!("{} {index}", chunks.name());
+        // ChunkGrid::read checked that the bytes lie within the file.
+        let (offset, count) = (chunks.offsets[index], chunks.byte_counts[index]);
+        let count = usize::try_from(count)
+            .map_err(|_| IoError::format(path, format!("{}: {count} bytes", chunk())))?;
+        compressed.resize(count, 0);
+        let reader = decoder.inner();
+        reader
+            .seek(SeekFrom::Start(offset))
+            .and_then(|_| reader.read_exact(&mut compressed))
+            .map_err(|e| tiff_error(path, &chunk(), TiffError::IoError(e)))?;
+        let decoded = zstd
+            .decode(&compressed, &mut buffer, stride)
+            .map_err(|reason| IoError::format(path, format!("{}: {reason}", chunk())))?;
+        let row_bytes = region.width * sample_type.size();
+        if decoded < (region.height - 1) * stride + row_bytes {
+            return Err(IoError::format(
+                path,
+                format!(
+                    "{}: ZSTD data decodes to {decoded} bytes; its {} x {} samples need {}",
+                    chunk(),
+                    region.width,
+                    region.height,
+                    (region.height - 1) * stride + row_bytes
+                ),
+            ));
+        }
+        for row in 0..region.height {
+            let raw = &buffer[row * stride..][..row_bytes];
+            convert(raw, sample_type, &mut samples[out(row)..][..region.width]);
+        }
+    }
+    Ok(samples)
+}
+
 /// Checks the byte-order mark and version of a TIFF or BigTIFF header; returns the length of
 /// the source and leaves it at its start.
 fn check_magic<R: Read + Seek>(reader: &mut R, path: &Path) -> Result<u64, IoError> {
@@ -190,7 +272,7 @@ fn limits(options: &ReadOptions) -> Limits {
 }
 
 /// Maps errors of the `tiff` crate reading `context` (a tag name, "strip 3") to [`IoError`]s.
-fn tag_error<'a>(path: &'a Path, context: &'a str) -> impl Fn(TiffError) -> IoError + Copy + 'a {
+pub(crate) fn tag_error<'a>(path: &'a Path, context: &'a str) -> impl Fn(TiffError) -> IoError + Copy + 'a {
     move |e| tiff_error(path, context, e)
 }
 
@@ -322,12 +404,13 @@ fn check_layout<R: Read + Seek>(
         | CompressionMethod::LZW
         | CompressionMethod::Deflate
         | CompressionMethod::OldDeflate
-        | CompressionMethod::PackBits => Ok((sample_type, compression)),
+        | CompressionMethod::PackBits
+        | CompressionMethod::ZSTD => Ok((sample_type, compression)),
         other => Err(IoError::unsupported(
             path,
             format!(
                 "compression {other:?} (TIFF code {compression}); relief reads uncompressed, \
-                 LZW, Deflate and PackBits"
+                 LZW, Deflate, ZSTD and PackBits"
             ),
         )),
     }
@@ -365,180 +448,68 @@ fn f64_values<R: Read + Seek>(
     value.into_f64_vec().map(Some).map_err(tag_error(path, name))
 }
 
-/// Reads the georeference of a `width x height` raster.
+/// Reads the georeference of a `width x height` raster: its placement, and its tags as stored.
 fn read_placement<R: Read + Seek>(
     decoder: &mut Decoder<R>,
     path: &Path,
     width: usize,
     height: usize,
-) -> Result<Placement, IoError> {
+) -> Result<(Placement, GeoTiffTags), IoError> {
     let scale = f64_values(decoder, path, Tag::ModelPixelScaleTag, "ModelPixelScaleTag")?;
     let ties = f64_values(decoder, path, Tag::ModelTiepointTag, "ModelTiepointTag")?;
     let transform =
         f64_values(decoder, path, Tag::ModelTransformationTag, "ModelTransformationTag")?;
     let keys_error = tag_error(path, "GeoKeyDirectoryTag");
-    let keys = match decoder.find_tag(Tag::GeoKeyDirectoryTag).map_err(keys_error)? {
-        Some(value) => GeoKeys::parse(path, &value.into_u16_vec().map_err(keys_error)?)?,
+    let directory = match decoder.find_tag(Tag::GeoKeyDirectoryTag).map_err(keys_error)? {
+        Some(value) => Some(value.into_u16_vec().map_err(keys_error)?),
+        None => None,
+    };
+    let keys = match &directory {
+        Some(directory) => GeoKeys::parse(path, directory)?,
         None => GeoKeys::default(),
     };
-    model_placement(path, &ModelTags { scale, ties, transform }, &keys, (width, height))
+    let tags = ModelTags { scale, ties, transform };
+    let placement = model_placement(path, &tags, &keys, (width, height))?;
+    let geo_double_params =
+        f64_values(decoder, path, Tag::GeoDoubleParamsTag, "GeoDoubleParamsTag")?;
+    let geo_ascii_params = ascii_bytes(decoder, path, Tag::GeoAsciiParamsTag, "GeoAsciiParamsTag")?;
+    let tags = GeoTiffTags {
+        model_pixel_scale: tags.scale,
+        model_tiepoint: tags.ties,
+        model_transformation: tags.transform,
+        geo_key_directory: directory,
+        geo_double_params,
+        geo_ascii_params,
+    };
+    Ok((placement, tags))
 }
 
-/// The strips or tiles of an image, checked against the file before anything is decoded.
-struct ChunkGrid {
-    kind: ChunkType,
-    /// Stored chunk width: the raster's width for strips, the tile width for tiles.
-    chunk_width: usize,
-    /// Stored chunk height: rows per strip (at most the raster's height), or the tile height.
-    chunk_height: usize,
-    /// Chunks per row of chunks.
-    across: usize,
-    count: usize,
-    /// Chunks stored with no bytes (GDAL's sparse files): filled with nodata.
-    sparse: Vec<bool>,
-    /// Bytes of the largest stored chunk once decoded, padding included.
-    stored_bytes: u64,
-    /// Rows of the raster.
-    raster_height: usize,
+/// The bytes of the ASCII tag `tag` as stored, terminating NUL included, if present.
+fn ascii_bytes<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+    tag: Tag,
+    name: &str,
+) -> Result<Option<Vec<u8>>, IoError> {
+    let mut ifd = decoder.image_ifd();
+    let Some(entry) = ifd.find_entry(tag) else {
+        return Ok(None);
+    };
+    if entry.field_type() != Type::ASCII {
+        return Err(IoError::format(path, format!("{name} is not ASCII text")));
+    }
+    // The limits bound the count before anything is allocated.
+    let len = usize::try_from(entry.count())
+        .ok()
+        .filter(|&n| n <= MAX_ASCII_TAG)
+        .ok_or_else(|| IoError::format(path, format!("{name} of {} bytes", entry.count())))?;
+    let mut bytes = vec![0u8; len];
+    ifd.find_tag_bytes(tag, &mut bytes, 0).map_err(tag_error(path, name))?;
+    Ok(Some(bytes))
 }
 
-/// The part of the raster a chunk covers, in the file's rows (row 0 first in the file).
-struct Region {
-    x: usize,
-    y: usize,
-    width: usize,
-    height: usize,
-}
-
-impl ChunkGrid {
-    /// Reads the chunk layout of a `width x height` image of `(sample type, compression)`
-    /// and checks every chunk's bytes lie within the `file_len`-byte file, and that
-    /// uncompressed chunks hold all their samples.
-    fn read<R: Read + Seek>(
-        decoder: &mut Decoder<R>,
-        path: &Path,
-        file_len: u64,
-        (sample_type, compression): (SampleType, u16),
-        width: usize,
-        height: usize,
-    ) -> Result<ChunkGrid, IoError> {
-        let kind = decoder.get_chunk_type();
-        let (chunk_width, chunk_height) = decoder.chunk_dimensions();
-        let (chunk_width, chunk_height) = (chunk_width as usize, chunk_height as usize);
-        let (offsets_tag, counts_tag, name) = match kind {
-            ChunkType::Strip => (Tag::StripOffsets, Tag::StripByteCounts, "strip"),
-            ChunkType::Tile => (Tag::TileOffsets, Tag::TileByteCounts, "tile"),
-        };
-        let mut u64_values = |tag: Tag, tag_name: &'static str| -> Result<Vec<u64>, IoError> {
-            let error = tag_error(path, tag_name);
-            let value = decoder.find_tag(tag).map_err(error)?;
-            value.map_or(Ok(Vec::new()), |v| v.into_u64_vec().map_err(error))
-        };
-        let offsets = u64_values(offsets_tag, "chunk offsets")?;
-        let counts = u64_values(counts_tag, "chunk byte counts")?;
-        let size = sample_type.size() as u64;
-        let grid = match kind {
-            ChunkType::Strip => {
-                let rows = chunk_height.min(height);
-                ChunkGrid {
-                    kind,
-                    chunk_width: width,
-                    chunk_height: rows,
-                    across: 1,
-                    count: height.div_ceil(rows),
-                    sparse: Vec::new(),
-                    stored_bytes: (width * rows) as u64 * size,
-                    raster_height: height,
-                }
-            }
-            ChunkType::Tile => {
-                let across = width.div_ceil(chunk_width);
-                ChunkGrid {
-                    kind,
-                    chunk_width,
-                    chunk_height,
-                    across,
-                    count: across * height.div_ceil(chunk_height),
-                    sparse: Vec::new(),
-                    stored_bytes: (chunk_width as u64)
-                        .saturating_mul(chunk_height as u64)
-                        .saturating_mul(size),
-                    raster_height: height,
-                }
-            }
-        };
-        if offsets.len() != grid.count || counts.len() != grid.count {
-            return Err(IoError::format(
-                path,
-                format!(
-                    "{} offsets and {} byte counts for {} {name}s",
-                    offsets.len(),
-                    counts.len(),
-                    grid.count
-                ),
-            ));
-        }
-        let mut sparse = Vec::with_capacity(grid.count);
-        for (index, (&offset, &count)) in offsets.iter().zip(&counts).enumerate() {
-            sparse.push(count == 0);
-            if count == 0 {
-                continue;
-            }
-            if offset.checked_add(count).is_none_or(|end| end > file_len) {
-                return Err(IoError::format(
-                    path,
-                    format!(
-                        "truncated: {name} {index} claims bytes {offset}..{} of a {file_len}-byte \
-                         file",
-                        offset.saturating_add(count)
-                    ),
-                ));
-            }
-            // The decoder reads whole stored rows of an uncompressed chunk.
-            let rows = grid.region(index, width).height as u64;
-            let needed = (rows * grid.chunk_width as u64).saturating_mul(size);
-            if compression == 1 && count < needed {
-                return Err(IoError::format(
-                    path,
-                    format!(
-                        "uncompressed {name} {index} holds {count} bytes; its {} x {} samples \
-                         need {needed}",
-                        grid.chunk_width.min(width),
-                        rows
-                    ),
-                ));
-            }
-        }
-        Ok(ChunkGrid { sparse, ..grid })
-    }
-
-    /// "strip" or "tile".
-    fn name(&self) -> &'static str {
-        match self.kind {
-            ChunkType::Strip => "strip",
-            ChunkType::Tile => "tile",
-        }
-    }
-
-    /// The region chunk `index` (< count) covers in a `width`-sample-wide raster, edge chunks
-    /// cut to the raster.
-    fn region(&self, index: usize, width: usize) -> Region {
-        let x = index % self.across * self.chunk_width;
-        let y = index / self.across * self.chunk_height;
-        Region {
-            x,
-            y,
-            width: self.chunk_width.min(width - x),
-            height: self.chunk_height.min(self.raster_height - y),
-        }
-    }
-
-    /// Bytes of the largest chunk's samples once decoded, padding excluded, in a
-    /// `width`-sample-wide raster.
-    fn largest_decoded_bytes(&self, sample_type: SampleType, width: usize) -> usize {
-        self.chunk_width.min(width) * self.chunk_height.min(self.raster_height) * sample_type.size()
-    }
-}
+/// The longest GeoAsciiParams accepted: far more than any CRS's citations need.
+const MAX_ASCII_TAG: usize = 1 << 20;
 
 /// Reverses the order of the rows of a row-major grid in place.
 fn flip_rows(samples: &mut [f32], width: usize) {

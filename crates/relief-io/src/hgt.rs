@@ -9,7 +9,7 @@ use crate::atomic_write::write_atomically;
 use crate::geodesy::metres_per_degree;
 use crate::input_file::open_input;
 use crate::raster::{mark_voids, DegreeSpacing, Format, Raster, RasterInfo, ReadOptions};
-use crate::IoError;
+use crate::{Georeference, IoError};
 use relief_core::{DVec2, GridGeometry, HeightField};
 use std::io::{BufReader, ErrorKind, Read, Write};
 use std::path::Path;
@@ -105,7 +105,9 @@ pub(crate) fn read_hgt_from<R: Read>(
     }
     let nodata = f64::from(HGT_VOID);
     mark_voids(path, &mut samples, n, Some(nodata), true)?;
-    let (geometry, from_degrees) = match hgt_tile_corner(path) {
+    let corner = hgt_tile_corner(path);
+    let georeference = corner.map(|(lat, lon)| Georeference::srtm_tile(lat, lon, n));
+    let (geometry, from_degrees) = match corner {
         Some((lat, lon)) => {
             let step = 1.0 / (n - 1) as f64;
             let latitude = f64::from(lat) + 0.5;
@@ -131,6 +133,7 @@ pub(crate) fn read_hgt_from<R: Read>(
             georeferenced: from_degrees.is_some(),
             from_degrees,
             nodata: Some(nodata),
+            georeference,
         },
     })
 }

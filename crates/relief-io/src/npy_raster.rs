@@ -56,6 +56,7 @@ pub(crate) fn npy_raster(path: &Path, array: NpyArray, format: Format) -> Result
             sample_type: dtype.kind.name().to_owned(),
             georeferenced: false,
             from_degrees: None,
+            georeference: None,
             nodata: None,
         },
     })

@@ -127,6 +127,7 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
             sample_type: sample_type.into(),
             georeferenced: false,
             from_degrees: None,
+            georeference: None,
             nodata: None,
         },
     })

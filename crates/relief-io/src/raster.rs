@@ -2,7 +2,7 @@
 
 use crate::memory_budget::default_memory_limit;
 use crate::void_fill::fill_voids;
-use crate::IoError;
+use crate::{Georeference, IoError};
 use relief_core::{GridGeometry, HeightField};
 use std::fmt;
 use std::path::Path;
@@ -86,6 +86,11 @@ pub struct RasterInfo {
     pub from_degrees: Option<DegreeSpacing>,
     /// The value the file declares for missing samples, if any.
     pub nodata: Option<f64>,
+    /// The file's placement and CRS as stored, for writing outputs aligned with it: a
+    /// GeoTIFF's own georeferencing tags, an SRTM tile's WGS 84 placement from its name, an
+    /// ESRI grid's corner and cell size (in no stated CRS: a `.prj` sidecar is not read);
+    /// `None` for a file without one (`.npy`, `.npz`, PNG, a TIFF without model tags).
+    pub georeference: Option<Georeference>,
 }
 
 /// A grid of samples as a reader found it: row 0 southernmost (north-up files are flipped),
