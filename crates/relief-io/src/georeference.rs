@@ -3,8 +3,7 @@
 //! GDAL geotransform they amount to.
 
 use crate::geokeys::{
-    GEOGRAPHIC_TYPE, GT_MODEL_TYPE, GT_RASTER_TYPE, MODEL_GEOGRAPHIC, PIXEL_IS_AREA,
-    PIXEL_IS_POINT,
+    GEOGRAPHIC_TYPE, GT_MODEL_TYPE, GT_RASTER_TYPE, MODEL_GEOGRAPHIC, PIXEL_IS_AREA, PIXEL_IS_POINT,
 };
 use std::fmt::Write as _;
 
@@ -158,8 +157,7 @@ fn raster_type(directory: &[u16]) -> u16 {
 /// GDAL's geotransform of GeoTIFF tags: from a ModelTransformation, else from ModelPixelScale
 /// and the first ModelTiepoint; PixelIsPoint shifts the corner by half a pixel.
 fn geotransform_of(tags: &GeoTiffTags) -> Option<[f64; 6]> {
-    let mut gt = match (&tags.model_transformation, &tags.model_pixel_scale, &tags.model_tiepoint)
-    {
+    let mut gt = match (&tags.model_transformation, &tags.model_pixel_scale, &tags.model_tiepoint) {
         (Some(m), _, _) if m.len() == 16 => [m[3], m[0], m[1], m[7], m[4], m[5]],
         (_, Some(s), Some(t)) if s.len() >= 2 && t.len() >= 6 => {
             let (dx, dy) = (s[0], -s[1]);

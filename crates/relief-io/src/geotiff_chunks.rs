@@ -177,4 +177,3 @@ impl ChunkGrid {
         self.chunk_width.min(width) * self.chunk_height.min(self.raster_height) * sample_type.size()
     }
 }
-

@@ -272,7 +272,10 @@ fn limits(options: &ReadOptions) -> Limits {
 }
 
 /// Maps errors of the `tiff` crate reading `context` (a tag name, "strip 3") to [`IoError`]s.
-pub(crate) fn tag_error<'a>(path: &'a Path, context: &'a str) -> impl Fn(TiffError) -> IoError + Copy + 'a {
+pub(crate) fn tag_error<'a>(
+    path: &'a Path,
+    context: &'a str,
+) -> impl Fn(TiffError) -> IoError + Copy + 'a {
     move |e| tiff_error(path, context, e)
 }
 

@@ -8,7 +8,7 @@ use relief_core::HeightField;
 use std::io::{Seek, Write};
 use std::path::Path;
 use tiff::encoder::compression::{CompressionAlgorithm, Deflate, DeflateLevel};
-use tiff::encoder::{TiffEncoder, TiffKind, TiffKindBig, TiffKindStandard};
+use tiff::encoder::{DirectoryEncoder, TiffEncoder, TiffKind, TiffKindBig, TiffKindStandard};
 use tiff::tags::{CompressionMethod, Predictor, Tag};
 use tiff::TiffError;
 
@@ -16,7 +16,7 @@ use tiff::TiffError;
 const STRIP_BYTES: usize = 1 << 18;
 /// Rasters whose samples alone reach this size are written as BigTIFF, whose offsets may pass
 /// 4 GiB.
-const BIG_TIFF_FROM: u64 = 3 << 30;
+pub(crate) const BIG_TIFF_FROM: u64 = 3 << 30;
 
 /// Writes `field` to `path` as a GeoTIFF that GDAL, QGIS and [`read_geotiff`] read back.
 ///
@@ -55,7 +55,7 @@ fn write_geotiff_to<W: Write + Seek>(
 }
 
 /// An error of the `tiff` encoder as an [`IoError`].
-fn encoding_error(path: &Path, error: TiffError) -> IoError {
+pub(crate) fn encoding_error(path: &Path, error: TiffError) -> IoError {
     match error {
         TiffError::IoError(e) => IoError::io(path, e),
         other => IoError::invalid_data(path, format!("encoding the GeoTIFF: {other}")),
@@ -70,66 +70,32 @@ fn encode<W: Write + Seek, K: TiffKind>(
 ) -> Result<(), IoError> {
     let error = |e| encoding_error(path, e);
     let (width, height) = (field.width(), field.height());
-    let (Ok(width_u32), Ok(height_u32)) = (u32::try_from(width), u32::try_from(height)) else {
-        return Err(IoError::unsupported(
-            path,
-            format!("{width} x {height} samples in a GeoTIFF (at most 2^32 - 1 a side)"),
-        ));
-    };
     let geometry = field.geometry();
-    let rows_per_strip = (STRIP_BYTES / (width * 4)).clamp(1, height);
+    let mut strips = FloatStrips::new(path, width, height)?;
     let mut directory = tiff.image_directory().map_err(error)?;
-    let (mut offsets, mut byte_counts) = (Vec::new(), Vec::new());
     let mut values = vec![0f32; width];
-    let mut strip = Vec::with_capacity(rows_per_strip * width * 4);
-    let mut packed = Vec::new();
-    for first in (0..height).step_by(rows_per_strip) {
-        strip.clear();
-        for file_row in first..(first + rows_per_strip).min(height) {
-            let row = height - 1 - file_row;
-            for (col, value) in values.iter_mut().enumerate() {
-                *value = if field.is_hole(col, row) {
-                    f32::NAN
-                } else {
-                    (f64::from(field.sample(col, row)) * geometry.z_scale) as f32
-                };
-                if value.is_infinite() {
-                    return Err(IoError::invalid_data(
-                        path,
-                        format!(
-                            "sample at column {col}, row {row} times z scale {} overflows f32",
-                            geometry.z_scale
-                        ),
-                    ));
-                }
+    for file_row in 0..height {
+        let row = height - 1 - file_row;
+        for (col, value) in values.iter_mut().enumerate() {
+            *value = if field.is_hole(col, row) {
+                f32::NAN
+            } else {
+                (f64::from(field.sample(col, row)) * geometry.z_scale) as f32
+            };
+            if value.is_infinite() {
+                return Err(IoError::invalid_data(
+                    path,
+                    format!(
+                        "sample at column {col}, row {row} times z scale {} overflows f32",
+                        geometry.z_scale
+                    ),
+                ));
             }
-            predict_floats(&values, &mut strip);
         }
-        packed.clear();
-        Deflate::with_level(DeflateLevel::Balanced)
-            .write_to(&mut packed, &strip)
-            .map_err(|e| IoError::io(path, e))?;
-        let offset = directory.write_data(&packed[..]).map_err(error)?;
-        offsets.push(K::convert_offset(offset).map_err(error)?);
-        byte_counts.push(K::convert_offset(packed.len() as u64).map_err(error)?);
+        strips.push_row(&mut directory, &values)?;
     }
     let d = &mut directory;
-    d.write_tag(Tag::ImageWidth, width_u32).map_err(error)?;
-    d.write_tag(Tag::ImageLength, height_u32).map_err(error)?;
-    d.write_tag(Tag::BitsPerSample, 32u16).map_err(error)?;
-    d.write_tag(Tag::Compression, CompressionMethod::Deflate.to_u16()).map_err(error)?;
-    // BlackIsZero: plain values, as for any single-band raster.
-    d.write_tag(Tag::PhotometricInterpretation, 1u16).map_err(error)?;
-    d.write_tag(Tag::StripOffsets, K::convert_slice(&offsets)).map_err(error)?;
-    d.write_tag(Tag::SamplesPerPixel, 1u16).map_err(error)?;
-    // rows_per_strip <= height, which fits in u32.
-    d.write_tag(Tag::RowsPerStrip, rows_per_strip as u32).map_err(error)?;
-    d.write_tag(Tag::StripByteCounts, K::convert_slice(&byte_counts)).map_err(error)?;
-    // Chunky: the only layout of one band.
-    d.write_tag(Tag::PlanarConfiguration, 1u16).map_err(error)?;
-    d.write_tag(Tag::Predictor, Predictor::FloatingPoint.to_u16()).map_err(error)?;
-    // IEEE floating point.
-    d.write_tag(Tag::SampleFormat, 3u16).map_err(error)?;
+    strips.write_layout_tags(d, 1)?;
     let north = geometry.origin.y + height as f64 * geometry.dy;
     d.write_tag(Tag::ModelPixelScaleTag, &[geometry.dx, geometry.dy, 0.0][..]).map_err(error)?;
     let tiepoint = [0.0, 0.0, 0.0, geometry.origin.x, north, 0.0];
@@ -137,6 +103,117 @@ fn encode<W: Write + Seek, K: TiffKind>(
     d.write_tag(Tag::GeoKeyDirectoryTag, &PROJECTED_METRES[..]).map_err(error)?;
     d.write_tag(Tag::GdalNodata, "nan").map_err(error)?;
     directory.finish().map_err(error)
+}
+
+/// The Deflate-compressed strips of float32 bands stored one after the other (planar
+/// configuration 2 when there are several), written as their rows come, north row first.
+pub(crate) struct FloatStrips<'p> {
+    path: &'p Path,
+    width: u32,
+    height: u32,
+    rows_per_strip: usize,
+    /// Rows in the strip being filled.
+    rows: usize,
+    strip: Vec<u8>,
+    packed: Vec<u8>,
+    offsets: Vec<u64>,
+    byte_counts: Vec<u64>,
+}
+
+impl<'p> FloatStrips<'p> {
+    /// Strips of `width x height` bands; `path` names the file in errors.
+    /// [`IoError::Unsupported`] for a side longer than 2^32 - 1 samples.
+    pub(crate) fn new(path: &'p Path, width: usize, height: usize) -> Result<Self, IoError> {
+        let (Ok(width_u32), Ok(height_u32)) = (u32::try_from(width), u32::try_from(height)) else {
+            return Err(IoError::unsupported(
+                path,
+                format!("{width} x {height} samples in a GeoTIFF (at most 2^32 - 1 a side)"),
+            ));
+        };
+        let rows_per_strip = (STRIP_BYTES / (width.max(1) * 4)).clamp(1, height.max(1));
+        Ok(FloatStrips {
+            path,
+            width: width_u32,
+            height: height_u32,
+            rows_per_strip,
+            rows: 0,
+            strip: Vec::with_capacity(rows_per_strip * width * 4),
+            packed: Vec::new(),
+            offsets: Vec::new(),
+            byte_counts: Vec::new(),
+        })
+    }
+
+    /// Appends the next row of a band (`width` values; a band's rows, north first, follow the
+    /// previous band's), writing the strip to `directory`'s file once it is full or the band
+    /// ends.
+    pub(crate) fn push_row<W: Write + Seek, K: TiffKind>(
+        &mut self,
+        directory: &mut DirectoryEncoder<'_, W, K>,
+        values: &[f32],
+    ) -> Result<(), IoError> {
+        predict_floats(values, &mut self.strip);
+        self.rows += 1;
+        let band_row =
+            self.offsets.len() % self.strips_per_band() * self.rows_per_strip + self.rows;
+        if self.rows == self.rows_per_strip || band_row == self.height as usize {
+            self.packed.clear();
+            Deflate::with_level(DeflateLevel::Balanced)
+                .write_to(&mut self.packed, &self.strip)
+                .map_err(|e| IoError::io(self.path, e))?;
+            let offset =
+                directory.write_data(&self.packed[..]).map_err(|e| encoding_error(self.path, e))?;
+            self.offsets.push(offset);
+            self.byte_counts.push(self.packed.len() as u64);
+            self.strip.clear();
+            self.rows = 0;
+        }
+        Ok(())
+    }
+
+    /// Strips of one band.
+    fn strips_per_band(&self) -> usize {
+        (self.height as usize).div_ceil(self.rows_per_strip)
+    }
+
+    /// Writes the tags that say how the `bands` bands written are stored: size, strips,
+    /// float32 samples, Deflate, the floating-point predictor, BlackIsZero, separate planes
+    /// when several (the bands after the first as unspecified extra samples, as GDAL writes).
+    pub(crate) fn write_layout_tags<W: Write + Seek, K: TiffKind>(
+        &self,
+        d: &mut DirectoryEncoder<'_, W, K>,
+        bands: u16,
+    ) -> Result<(), IoError> {
+        let error = |e| encoding_error(self.path, e);
+        let convert = |values: &[u64]| -> Result<Vec<K::OffsetType>, IoError> {
+            values.iter().map(|&v| K::convert_offset(v).map_err(error)).collect()
+        };
+        let offsets = convert(&self.offsets)?;
+        let byte_counts = convert(&self.byte_counts)?;
+        let per_band = |value: u16| vec![value; usize::from(bands)];
+        d.write_tag(Tag::ImageWidth, self.width).map_err(error)?;
+        d.write_tag(Tag::ImageLength, self.height).map_err(error)?;
+        d.write_tag(Tag::BitsPerSample, &per_band(32)[..]).map_err(error)?;
+        d.write_tag(Tag::Compression, CompressionMethod::Deflate.to_u16()).map_err(error)?;
+        // BlackIsZero: plain values, as for any single-band raster.
+        d.write_tag(Tag::PhotometricInterpretation, 1u16).map_err(error)?;
+        d.write_tag(Tag::StripOffsets, K::convert_slice(&offsets)).map_err(error)?;
+        d.write_tag(Tag::SamplesPerPixel, bands).map_err(error)?;
+        // rows_per_strip <= height, which fits in u32.
+        d.write_tag(Tag::RowsPerStrip, self.rows_per_strip as u32).map_err(error)?;
+        d.write_tag(Tag::StripByteCounts, K::convert_slice(&byte_counts)).map_err(error)?;
+        // Chunky for one band; each band in its own strips for several.
+        let planar = if bands > 1 { 2u16 } else { 1 };
+        d.write_tag(Tag::PlanarConfiguration, planar).map_err(error)?;
+        d.write_tag(Tag::Predictor, Predictor::FloatingPoint.to_u16()).map_err(error)?;
+        if bands > 1 {
+            // ExtraSamples: unspecified.
+            d.write_tag(Tag::ExtraSamples, &vec![0u16; usize::from(bands) - 1][..])
+                .map_err(error)?;
+        }
+        // IEEE floating point.
+        d.write_tag(Tag::SampleFormat, &per_band(3)[..]).map_err(error)
+    }
 }
 
 /// Appends one row of f32 values encoded with TIFF's floating-point predictor (predictor 3):

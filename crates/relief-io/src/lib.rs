@@ -40,6 +40,7 @@
 mod asc;
 mod atomic_write;
 mod error;
+mod gdal_metadata;
 mod geodesy;
 mod geokeys;
 mod georeference;
@@ -49,6 +50,9 @@ mod geotiff_write;
 mod hgt;
 mod input_file;
 mod jpeg_write;
+mod layer_png_write;
+mod layer_raster;
+mod layers_geotiff_write;
 mod memory_budget;
 mod mlhm_native;
 mod mlhm_scene;
@@ -79,6 +83,9 @@ pub use geotiff_read::read_geotiff;
 pub use geotiff_write::write_geotiff;
 pub use hgt::{hgt_tile_corner, read_hgt, write_hgt, HGT_VOID};
 pub use jpeg_write::{write_jpeg_rgb8, JPEG_QUALITY};
+pub use layer_png_write::{world_file_path, write_layer_png};
+pub use layer_raster::{Layer, LayerRaster};
+pub use layers_geotiff_write::write_layers_geotiff;
 pub use memory_budget::{default_memory_budget, default_memory_limit, MemoryBudget};
 pub use mlhm_native::{
     read_mlhm_native, read_mlhm_native_from_bytes, write_mlhm_native, MLHM_NATIVE_VERSION,

@@ -104,7 +104,8 @@ impl ZstdChunkDecoder {
                 self.scratch.extend_from_slice(row);
                 for i in 0..n {
                     for byte in 0..size {
-                        let plane = if cfg!(target_endian = "big") { byte } else { size - 1 - byte };
+                        let plane =
+                            if cfg!(target_endian = "big") { byte } else { size - 1 - byte };
                         row[i * size + byte] = self.scratch[plane * n + i];
                     }
                 }
@@ -166,10 +167,8 @@ mod tests {
     #[test]
     fn raw_frames_decode_and_predictors_are_undone() {
         // Horizontal, 16-bit little-endian samples 5, 7, 4 stored as 5, +2, -3.
-        let stored: Vec<u8> = [5u16, 2, 0u16.wrapping_sub(3)]
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
+        let stored: Vec<u8> =
+            [5u16, 2, 0u16.wrapping_sub(3)].iter().flat_map(|v| v.to_le_bytes()).collect();
         let mut decoder = ZstdChunkDecoder::new(Predictor::Horizontal, 2, false);
         let mut out = vec![0u8; 6];
         assert_eq!(decoder.decode(&raw_frame(&stored), &mut out, 6), Ok(6));
