@@ -18,9 +18,9 @@ pub(crate) struct ChunkGrid {
     pub(crate) chunk_height: usize,
     /// Chunks per row of chunks.
     across: usize,
-    /// Chunks of the image.
+    /// Chunks of one plane (band) of the image.
     pub(crate) count: usize,
-    /// Chunks stored with no bytes (GDAL's sparse files): filled with nodata.
+    /// Chunks stored with no bytes (GDAL's sparse files), every plane's: filled with nodata.
     pub(crate) sparse: Vec<bool>,
     /// Where each chunk's bytes start in the file.
     pub(crate) offsets: Vec<u64>,
@@ -45,14 +45,15 @@ pub(crate) struct Region {
 }
 
 impl ChunkGrid {
-    /// Reads the chunk layout of a `width x height` image of `(sample type, compression)`
+    /// Reads the chunk layout of a `width x height` image of `(sample type, compression,
+    /// planes)` (each plane, a band, in `count` chunks of its own, one plane after the other)
     /// and checks every chunk's bytes lie within the `file_len`-byte file, and that
     /// uncompressed chunks hold all their samples.
     pub(crate) fn read<R: Read + Seek>(
         decoder: &mut Decoder<R>,
         path: &Path,
         file_len: u64,
-        (sample_type, compression): (SampleType, u16),
+        (sample_type, compression, planes): (SampleType, u16, usize),
         width: usize,
         height: usize,
     ) -> Result<ChunkGrid, IoError> {
@@ -105,14 +106,15 @@ impl ChunkGrid {
                 }
             }
         };
-        if offsets.len() != grid.count || counts.len() != grid.count {
+        let all = grid.count.saturating_mul(planes);
+        if offsets.len() != all || counts.len() != all {
             return Err(IoError::format(
                 path,
                 format!(
                     "{} offsets and {} byte counts for {} {name}s",
                     offsets.len(),
                     counts.len(),
-                    grid.count
+                    all
                 ),
             ));
         }
@@ -133,7 +135,7 @@ impl ChunkGrid {
                 ));
             }
             // The decoder reads whole stored rows of an uncompressed chunk.
-            let rows = grid.region(index, width).height as u64;
+            let rows = grid.region(index % grid.count, width).height as u64;
             let needed = (rows * grid.chunk_width as u64).saturating_mul(size);
             if compression == 1 && count < needed {
                 return Err(IoError::format(

@@ -59,69 +59,122 @@ pub fn read_geotiff(path: &Path, options: &ReadOptions) -> Result<Raster, IoErro
 /// [`read_geotiff`] from any seekable reader (a file, or bytes in memory when fuzzing); `path`
 /// only names the source in errors.
 pub(crate) fn read_geotiff_from<R: Read + Seek>(
-    mut reader: R,
+    reader: R,
     path: &Path,
     options: &ReadOptions,
 ) -> Result<Raster, IoError> {
-    let file_len = check_magic(&mut reader, path)?;
-    let mut decoder =
-        Decoder::new(reader).map_err(|e| tiff_error(path, "", e))?.with_limits(limits(options));
-    let (width, height) = decoder.dimensions().map_err(|e| tiff_error(path, "", e))?;
-    options.check_size(path, width.into(), height.into())?;
-    // check_size guarantees that width * height fits in usize.
-    let (width, height) = (width as usize, height as usize);
-    let (sample_type, compression) = check_layout(&mut decoder, path)?;
-    let nodata = read_nodata(&mut decoder, path)?;
-    let (placement, tags) = read_placement(&mut decoder, path, width, height)?;
-    let chunks =
-        ChunkGrid::read(&mut decoder, path, file_len, (sample_type, compression), width, height)?;
+    let mut image = GeoTiffImage::open(reader, path, options, false)?;
+    let samples = image.decode_band(0)?;
+    let GeoTiffImage { width, height, placement, info, .. } = image;
+    Ok(Raster { width, height, samples, geometry: placement.geometry, info })
+}
 
-    let mut needed = (width as u64 * height as u64 * 4).saturating_add(chunks.stored_bytes);
-    if compression == COMPRESSION_ZSTD {
-        // The stored bytes of the largest chunk are read whole before decompression.
-        needed = needed.saturating_add(chunks.byte_counts.iter().copied().max().unwrap_or(0));
-    }
-    if needed > options.max_memory {
-        return Err(IoError::Limits {
-            path: path.to_path_buf(),
-            width: width as u64,
-            height: height as u64,
-            needed,
-            limit: options.max_memory,
-        });
-    }
-    let fill = nodata.map_or(0.0, |v| v as f32);
-    let mut samples = if compression == COMPRESSION_ZSTD {
-        decode_zstd_chunks(&mut decoder, path, &chunks, sample_type, fill, width)?
-    } else {
-        decode_chunks(&mut decoder, path, &chunks, sample_type, fill, width)?
-    };
-    if placement.north_up {
-        flip_rows(&mut samples, width);
-    }
-    mark_voids(path, &mut samples, width, nodata, placement.north_up)?;
-    Ok(Raster {
-        width,
-        height,
-        samples,
-        geometry: placement.geometry,
-        info: RasterInfo {
+/// The first image of a GeoTIFF, its layout and georeference read and checked, its samples
+/// not yet decoded.
+pub(crate) struct GeoTiffImage<'p, R: Read + Seek> {
+    pub(crate) decoder: Decoder<R>,
+    path: &'p Path,
+    /// Columns.
+    pub(crate) width: usize,
+    /// Rows.
+    pub(crate) height: usize,
+    /// Bands (samples per pixel), each in its own planes when several.
+    pub(crate) bands: usize,
+    sample_type: SampleType,
+    compression: u16,
+    chunks: ChunkGrid,
+    /// Where the raster lies.
+    pub(crate) placement: Placement,
+    /// What the file says about itself.
+    pub(crate) info: RasterInfo,
+}
+
+impl<'p, R: Read + Seek> GeoTiffImage<'p, R> {
+    /// Reads and checks the first image's tags. A single band unless `several_bands`, then
+    /// any number of bands stored in separate planes (PlanarConfiguration 2); the memory budget
+    /// must hold every band's samples and one stored chunk.
+    pub(crate) fn open(
+        mut reader: R,
+        path: &'p Path,
+        options: &ReadOptions,
+        several_bands: bool,
+    ) -> Result<Self, IoError> {
+        let file_len = check_magic(&mut reader, path)?;
+        let mut decoder =
+            Decoder::new(reader).map_err(|e| tiff_error(path, "", e))?.with_limits(limits(options));
+        let (width, height) = decoder.dimensions().map_err(|e| tiff_error(path, "", e))?;
+        options.check_size(path, width.into(), height.into())?;
+        // check_size guarantees that width * height fits in usize.
+        let (width, height) = (width as usize, height as usize);
+        let (sample_type, compression, bands) = check_layout(&mut decoder, path, several_bands)?;
+        let nodata = read_nodata(&mut decoder, path)?;
+        let (placement, tags) = read_placement(&mut decoder, path, width, height)?;
+        let layout = (sample_type, compression, bands);
+        let chunks = ChunkGrid::read(&mut decoder, path, file_len, layout, width, height)?;
+        let samples = (width as u64 * height as u64).saturating_mul(bands as u64);
+        let mut needed = samples.saturating_mul(4).saturating_add(chunks.stored_bytes);
+        if compression == COMPRESSION_ZSTD {
+            // The stored bytes of the largest chunk are read whole before decompression.
+            needed = needed.saturating_add(chunks.byte_counts.iter().copied().max().unwrap_or(0));
+        }
+        if needed > options.max_memory {
+            return Err(IoError::Limits {
+                path: path.to_path_buf(),
+                width: width as u64,
+                height: height as u64,
+                needed,
+                limit: options.max_memory,
+            });
+        }
+        let info = RasterInfo {
             format: Format::GeoTiff,
             sample_type: sample_type.name().to_string(),
             georeferenced: placement.georeferenced,
             from_degrees: placement.from_degrees,
             nodata,
             georeference: Georeference::from_geotiff_tags(tags),
-        },
-    })
+        };
+        Ok(GeoTiffImage {
+            decoder,
+            path,
+            width,
+            height,
+            bands,
+            sample_type,
+            compression,
+            chunks,
+            placement,
+            info,
+        })
+    }
+
+    /// The samples of band `band` (< bands): row 0 south, voids NaN.
+    pub(crate) fn decode_band(&mut self, band: usize) -> Result<Vec<f32>, IoError> {
+        let (path, width, nodata) = (self.path, self.width, self.info.nodata);
+        let fill = nodata.map_or(0.0, |v| v as f32);
+        let first = band * self.chunks.count;
+        let (decoder, chunks, sample_type) = (&mut self.decoder, &self.chunks, self.sample_type);
+        let mut samples = if self.compression == COMPRESSION_ZSTD {
+            decode_zstd_chunks(decoder, path, chunks, first, sample_type, fill, width)?
+        } else {
+            decode_chunks(decoder, path, chunks, first, sample_type, fill, width)?
+        };
+        if self.placement.north_up {
+            flip_rows(&mut samples, width);
+        }
+        mark_voids(path, &mut samples, width, nodata, self.placement.north_up)?;
+        Ok(samples)
+    }
 }
 
 /// Decodes every chunk of a `width`-sample-wide image into f32 samples in the file's row
-/// order, one chunk at a time; sparse chunks become `fill`.
+/// order, one chunk at a time, from chunk `first` on (the first chunk of a band); sparse
+/// chunks become `fill`.
 fn decode_chunks<R: Read + Seek>(
     decoder: &mut Decoder<R>,
     path: &Path,
     chunks: &ChunkGrid,
+    first: usize,
     sample_type: SampleType,
     fill: f32,
     width: usize,
@@ -130,8 +183,8 @@ fn decode_chunks<R: Read + Seek>(
     let mut samples = vec![0f32; width * height];
     let mut buffer = vec![0u8; chunks.largest_decoded_bytes(sample_type, width)];
     let mut padded = DecodingResult::U8(Vec::new());
-    for index in 0..chunks.count {
-        let region = chunks.region(index, width);
+    for index in first..first + chunks.count {
+        let region = chunks.region(index - first, width);
         let out = |row: usize| (region.y + row) * width + region.x;
         if chunks.sparse[index] {
             // GDAL's sparse files omit blocks that hold nothing but nodata (or zeros).
@@ -176,6 +229,7 @@ fn decode_zstd_chunks<R: Read + Seek>(
     decoder: &mut Decoder<R>,
     path: &Path,
     chunks: &ChunkGrid,
+    first: usize,
     sample_type: SampleType,
     fill: f32,
     width: usize,
@@ -193,8 +247,8 @@ fn decode_zstd_chunks<R: Read + Seek>(
     // stored_bytes (one whole stored chunk) was counted in the memory budget.
     let mut buffer = vec![0u8; stride * chunks.chunk_height];
     let mut compressed = Vec::new();
-    for index in 0..chunks.count {
-        let region = chunks.region(index, width);
+    for index in first..first + chunks.count {
+        let region = chunks.region(index - first, width);
         let out = |row: usize| (region.y + row) * width + region.x;
         if chunks.sparse[index] {
             for row in 0..region.height {
@@ -353,16 +407,30 @@ fn convert(bytes: &[u8], sample_type: SampleType, out: &mut [f32]) {
 fn check_layout<R: Read + Seek>(
     decoder: &mut Decoder<R>,
     path: &Path,
-) -> Result<(SampleType, u16), IoError> {
+    several_bands: bool,
+) -> Result<(SampleType, u16, usize), IoError> {
     let tag_error = |name| tag_error(path, name);
     let bands = decoder
         .find_tag_unsigned::<u16>(Tag::SamplesPerPixel)
         .map_err(tag_error("SamplesPerPixel"))?
         .unwrap_or(1);
-    if bands != 1 {
+    if bands != 1 && !several_bands {
         return Err(IoError::unsupported(
             path,
             format!("image of {bands} bands (samples per pixel); relief reads single-band rasters"),
+        ));
+    }
+    let planar = decoder
+        .find_tag_unsigned::<u16>(Tag::PlanarConfiguration)
+        .map_err(tag_error("PlanarConfiguration"))?
+        .unwrap_or(1);
+    if bands == 0 || (bands > 1 && planar != 2) {
+        return Err(IoError::unsupported(
+            path,
+            format!(
+                "image of {bands} bands in planar configuration {planar}; relief reads several \
+                 bands stored in separate planes (2)"
+            ),
         ));
     }
     let first = |values: Option<Vec<u16>>, default: u16| {
@@ -408,7 +476,7 @@ fn check_layout<R: Read + Seek>(
         | CompressionMethod::Deflate
         | CompressionMethod::OldDeflate
         | CompressionMethod::PackBits
-        | CompressionMethod::ZSTD => Ok((sample_type, compression)),
+        | CompressionMethod::ZSTD => Ok((sample_type, compression, usize::from(bands))),
         other => Err(IoError::unsupported(
             path,
             format!(

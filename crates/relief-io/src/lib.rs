@@ -52,6 +52,7 @@ mod input_file;
 mod jpeg_write;
 mod layer_png_write;
 mod layer_raster;
+mod layers_geotiff_read;
 mod layers_geotiff_write;
 mod memory_budget;
 mod mlhm_native;
@@ -85,6 +86,7 @@ pub use hgt::{hgt_tile_corner, read_hgt, write_hgt, HGT_VOID};
 pub use jpeg_write::{write_jpeg_rgb8, JPEG_QUALITY};
 pub use layer_png_write::{world_file_path, write_layer_png};
 pub use layer_raster::{Layer, LayerRaster};
+pub use layers_geotiff_read::read_layers_geotiff;
 pub use layers_geotiff_write::write_layers_geotiff;
 pub use memory_budget::{default_memory_budget, default_memory_limit, MemoryBudget};
 pub use mlhm_native::{

@@ -6,8 +6,8 @@ mod common;
 
 use common::{python, TestDir};
 use relief_io::{
-    read_geotiff, read_npy, read_raster, write_layers_geotiff, write_npy_f32, IoError, Layer,
-    LayerRaster, ReadOptions,
+    read_geotiff, read_layers_geotiff, read_npy, read_raster, write_layers_geotiff, write_npy_f32,
+    IoError, Layer, LayerRaster, ReadOptions,
 };
 use std::path::Path;
 
@@ -195,6 +195,14 @@ print('ok', out.tags().get('AREA_OR_POINT'), src.tags().get('AREA_OR_POINT'))
         // AREA_OR_POINT as the input's (Point for an SRTM tile).
         let words: Vec<&str> = out.split_whitespace().collect();
         assert_eq!(words[1], words[2], "{input}: {out}");
+        // relief reads its own layer file back: names, samples, georeference, nodata.
+        let back = read_layers_geotiff(&output, &ReadOptions::default()).unwrap();
+        assert_eq!(back.georeference, layers.georeference, "{input}");
+        assert_eq!(back.nodata, layers.nodata, "{input}");
+        for (a, b) in back.layers.iter().zip(&layers.layers) {
+            assert_eq!(a.name, b.name, "{input}");
+            assert!(a.samples.iter().zip(&b.samples).all(|(&x, &y)| same(x, y)), "{input}");
+        }
     }
 }
 
@@ -241,4 +249,66 @@ fn layer_rasters_that_do_not_add_up_are_refused() {
         assert!(matches!(err, IoError::InvalidData { .. }), "{err}");
     }
     assert!(!Path::new(&path).exists());
+}
+
+#[test]
+fn corrupt_zstd_chunks_and_other_codecs_give_errors() {
+    let dir = TestDir::new("gis-zstd-corrupt");
+    let script = format!(
+        r#"
+import numpy as np, rasterio, warnings
+warnings.filterwarnings('ignore')
+d = '{dir}'
+data = (np.arange(40 * 24).reshape(24, 40) % 251).astype('uint8')
+for name, opts in [('zstd', dict(compress='ZSTD', predictor=2, tiled=True, blockxsize=16,
+                                 blockysize=16)),
+                   ('lerc', dict(compress='LERC')), ('jpeg', dict(compress='JPEG'))]:
+    with rasterio.open(f'{{d}}/{{name}}.tif', 'w', driver='GTiff', width=40, height=24,
+                       count=1, dtype='uint8', **opts) as out:
+        out.write(data, 1)
+"#,
+        dir = dir.path().display()
+    );
+    if python("rasterio", &script).is_none() {
+        return;
+    }
+    let options = ReadOptions::default();
+    let path = dir.join("zstd.tif");
+    let good = std::fs::read(&path).unwrap();
+    let raster = read_geotiff(&path, &options).unwrap();
+    assert_eq!(raster.samples[0], (23 * 40 % 251) as f32);
+    // Where tile 1's bytes lie.
+    let mut decoder = tiff::decoder::Decoder::new(std::io::Cursor::new(&good)).unwrap();
+    let offsets = decoder.get_tag_u64_vec(tiff::tags::Tag::TileOffsets).unwrap();
+    let counts = decoder.get_tag_u64_vec(tiff::tags::Tag::TileByteCounts).unwrap();
+    let (start, len) = (offsets[1] as usize, counts[1] as usize);
+    // A broken frame magic: a format error naming the file and the tile.
+    let mut bad = good.clone();
+    bad[start] ^= 0xff;
+    let bad_path = dir.file("bad.tif", &bad);
+    let err = read_geotiff(&bad_path, &options).unwrap_err();
+    assert!(matches!(err, IoError::Format { .. }), "{err}");
+    let text = err.to_string();
+    assert!(text.contains("bad.tif") && text.contains("tile 1") && text.contains("ZSTD"), "{text}");
+    // Every single-byte change of the tile's data: an error or a raster, never a panic.
+    for at in start..start + len {
+        let mut bad = good.clone();
+        bad[at] = bad[at].wrapping_add(0x41);
+        let result = relief_io::read_raster_from_bytes(
+            &bad,
+            relief_io::Format::GeoTiff,
+            Path::new("bad.tif"),
+            &options,
+        );
+        if let Ok(raster) = result {
+            assert_eq!(raster.samples.len(), 40 * 24);
+        }
+    }
+    // LERC and JPEG are still refused, by name.
+    for (name, codec) in [("lerc.tif", "LERC"), ("jpeg.tif", "JPEG")] {
+        let err = read_geotiff(&dir.join(name), &options).unwrap_err();
+        assert!(matches!(err, IoError::Unsupported { .. }), "{err}");
+        let text = err.to_string();
+        assert!(text.to_uppercase().contains(codec) && text.contains("ZSTD"), "{text}");
+    }
 }
