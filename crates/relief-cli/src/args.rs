@@ -5,6 +5,7 @@ use crate::tracers::TracerChoice;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use relief_core::{DVec3, Precision, Surface};
 use relief_shade::mlhm::MlhmPreset;
+use relief_shade::ShadeLayer;
 use relief_trace::{MlhmBacktrack, SafetyOptions, Simd};
 use std::path::PathBuf;
 
@@ -36,6 +37,10 @@ pub enum Command {
     /// while the camera moves, refined to full size at rest. Keys: F1 in the window, or the
     /// README.
     View(Box<ViewArgs>),
+    /// Make shade rasters of a DEM, aligned with it sample for sample (its georeference, CRS
+    /// and nodata): exact cast shadows, the sky-view factor, the Lambert hillshade and a map
+    /// layer combining them.
+    Shade(Box<ShadeArgs>),
 }
 
 /// How height files are read.
@@ -339,6 +344,66 @@ pub struct FbmArgs {
     /// or .hgt (1201 or 3601 samples only).
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+/// `relief shade`.
+#[derive(Debug, Args)]
+pub struct ShadeArgs {
+    /// The DEM: .tif/.tiff (GeoTIFF), .hgt, .asc, .png, .npy or .npz.
+    pub input: PathBuf,
+    /// How to read it (voids are filled for tracing, and are nodata in every layer).
+    #[command(flatten)]
+    pub read: ReadArgs,
+    /// The file to write: .tif (a float32 GeoTIFF, one band per layer, each described by its
+    /// layer's name) or .png (one layer, 16-bit grey, with a .pgw world file).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// The layers, comma-separated, in the order of the bands: shadow, sky, hillshade,
+    /// combined. Each is 0 (dark, or closed to the sky) to 1 (lit, or open).
+    #[arg(long, value_delimiter = ',', default_values = ["combined"])]
+    pub layers: Vec<ShadeLayer>,
+    /// A sun, AZIMUTH,ELEVATION in degrees (azimuth clockwise from north, elevation above the
+    /// horizon, above 0); give it again for more suns (`--sun 315,45 --sun 45,30`), which are
+    /// averaged [default: 315,45].
+    #[arg(long, value_parser = parse::sun, allow_hyphen_values = true,
+          action = clap::ArgAction::Append, value_name = "AZ,EL")]
+    pub sun: Vec<(f64, f64)>,
+    /// Angular radius of each sun's disc in degrees, for soft shadows (the real sun's is 0.27)
+    /// [default: 0, a point].
+    #[arg(long, value_name = "DEG", value_parser = sun_radius, allow_hyphen_values = true)]
+    pub sun_radius: Option<f64>,
+    /// Rays over each sun's disc, with --sun-radius (1 to 4096) [default: 16].
+    #[arg(long, value_name = "N", value_parser = shade_rays, allow_hyphen_values = true)]
+    pub sun_rays: Option<u32>,
+    /// Directions over the sky for the sky-view factor, for the sky and combined layers (1 to
+    /// 4096) [default: 64].
+    #[arg(long, value_name = "N", value_parser = shade_rays, allow_hyphen_values = true)]
+    pub sky_rays: Option<u32>,
+    /// The surface the rays meet: triangles (through the samples) or boxes (a flat-topped
+    /// column per sample).
+    #[arg(long, default_value = "triangles")]
+    pub surface: Surface,
+    /// Texel spacing `DX[,DY]` in metres (default: from the file's georeference, else 1).
+    #[arg(long, value_parser = parse::spacing, allow_hyphen_values = true)]
+    pub spacing: Option<(f64, f64)>,
+    /// Multiply sample values by this to get heights in metres (1e-6 to 1e7).
+    #[arg(long, default_value = "1", value_parser = parse::z_scale, allow_hyphen_values = true)]
+    pub z_scale: f64,
+    /// Write the stage timings and ray counts to this .json file.
+    #[arg(long, value_name = "F.json")]
+    pub stats: Option<PathBuf>,
+}
+
+/// A sun's angular radius: 0 to 45 degrees.
+fn sun_radius(s: &str) -> Result<f64, String> {
+    parse::number_in(s, "sun radius", &(0.0..=relief_shade::shade_map::MAX_SUN_RADIUS_DEG))
+        .map_err(|e| format!("{e} degrees"))
+}
+
+/// Rays per sample of a shade map: 1 to 4096.
+fn shade_rays(s: &str) -> Result<u32, String> {
+    let max = u64::from(relief_shade::shade_map::MAX_RAYS_PER_SAMPLE);
+    parse::whole_in(s, 1..=max, "ray count").map(|n| n as u32)
 }
 
 /// `relief info`.

@@ -50,7 +50,7 @@ pub fn readable(v: f64) -> String {
 }
 
 /// One number within `range`; `what` names it in the message.
-fn number_in(s: &str, what: &str, range: &RangeInclusive<f64>) -> Result<f64, String> {
+pub fn number_in(s: &str, what: &str, range: &RangeInclusive<f64>) -> Result<f64, String> {
     let [v] = numbers::<1>(s, what)?;
     if !range.contains(&v) {
         return Err(format!("{what} {s} is outside {}", range_text(range)));

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{read_f32_npy, relief, scratch, shared_data, x_server};
+use common::{python, read_f32_npy, relief, scratch, shared_data, x_server};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -143,6 +143,27 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("render {in}/f.npy -o {out}/y.png --depth {out}/d.npy --normals {out}/./d.npy", Expect::Refused("--depth and --normals both write")),
             ("render {in}/f.png -o {in}/f.png", Expect::Refused("would overwrite the input")),
             ("render {in}/f.npy --size 0x10 -o {out}/a.png", Expect::Refused("between 1 and 32768")),
+        ],
+    ),
+    (
+        "shade",
+        &[
+            ("shade {in}/f.tif -o {out}/s.tif --layers shadow,sky,hillshade,combined --sun 315,45 --sun -45,30 --sun-radius 0.5 --sun-rays 4 --sky-rays 8 --surface boxes --stats {out}/s.json", Expect::Ok),
+            ("shade {in}/f.npy --spacing 2,3 --z-scale 3 --voids hole --max-memory 1G --output {out}/s.png --layers hillshade", Expect::Ok),
+            ("shade {in}/f.png --png-encoding grey -o {out}/s.tif --layers sky --sky-rays 4", Expect::Ok),
+            ("shade {in}/f.tif --array heights -o {out}/s.tif", Expect::Refused("--array applies to NumPy archives (.npz) only")),
+            ("shade {in}/f.tif -o {out}/s.tif --layers shadows", Expect::Refused("unknown layer 'shadows'")),
+            ("shade {in}/f.tif -o {out}/s.png --layers shadow,sky", Expect::Refused("a PNG holds one layer")),
+            ("shade {in}/f.tif -o {out}/s.jpg", Expect::Refused(".tif (GeoTIFF) or .png")),
+            ("shade {in}/f.tif -o {in}/f.tif", Expect::Refused("f.tif")),
+            ("shade {in}/f.tif -o {out}/s.tif --layers shadow --sky-rays 8", Expect::Refused("--sky-rays applies to the sky and combined layers only")),
+            ("shade {in}/f.tif -o {out}/s.tif --sun-rays 8", Expect::Refused("--sun-rays applies to a sun with --sun-radius above 0 only")),
+            ("shade {in}/f.tif -o {out}/s.tif --layers sky --sun 10,10", Expect::Refused("--sun applies to")),
+            ("shade {in}/f.tif -o {out}/s.tif --layers hillshade --sun-radius 1", Expect::Refused("--sun-radius applies to")),
+            ("shade {in}/f.tif -o {out}/s.tif --sun 10,0", Expect::Refused("sun elevation")),
+            ("shade {in}/f.tif -o {out}/s.tif --sky-rays 0", Expect::Refused("between 1 and 4096")),
+            ("shade {in}/s.mlhm -o {out}/s.tif", Expect::Refused("MLHM")),
+            ("shade {in}/f.tif -o {out}/s.tif --stats {out}/s.txt", Expect::Refused("--stats")),
         ],
     ),
     (
@@ -312,6 +333,10 @@ fn negative_numbers_are_values_of_every_numeric_option() {
         "bench --repeat -1",
         "view --frames -1",
         "view --frame-budget -1",
+        "shade no.tif --sun -45,-30",
+        "shade no.tif --sun-radius -1",
+        "shade no.tif --sun-rays -1",
+        "shade no.tif --sky-rays -1",
     ];
     for line in numeric {
         let out_dir = scratch("negative");
@@ -417,23 +442,6 @@ fn the_bench_table_is_aligned() {
             );
         }
     }
-}
-
-/// Runs a Python snippet with the real client of a format; `None` (after saying so) when the
-/// client is not installed and RELIEF_REQUIRE_CLIENTS is not 1 (.ci/run sets it).
-fn python(module: &str, script: &str) -> Option<String> {
-    let probe = Command::new("python3").args(["-c", &format!("import {module}")]).output();
-    if !probe.is_ok_and(|o| o.status.success()) {
-        assert!(
-            std::env::var("RELIEF_REQUIRE_CLIENTS").as_deref() != Ok("1"),
-            "python3 with {module} is required (RELIEF_REQUIRE_CLIENTS=1); .ci/run installs it"
-        );
-        println!("skipped: python3 cannot import {module}");
-        return None;
-    }
-    let out = Command::new("python3").args(["-c", script]).output().unwrap();
-    assert!(out.status.success(), "{script}: {}", String::from_utf8_lossy(&out.stderr));
-    Some(String::from_utf8_lossy(&out.stdout).trim().to_string())
 }
 
 #[test]

@@ -7,6 +7,9 @@
 //!    [`Sky`], albedo from a [`HypsometricRamp`] or an [`RgbTexture`].
 //! 3. [`tonemap_to_srgb8`] maps the linear radiance to 8-bit sRGB.
 //!
+//! [`shade_map`] makes the rasters GIS users overlay on their DEM: cast shadows, the sky-view
+//! factor and the hillshade at every sample, aligned with the height field.
+//!
 //! Multi-layered height maps have their own renderer in [`mlhm`]: the reference shading of
 //! Nilles & Müller (2025) with water, shadows and ambient occlusion, at four quality presets.
 //!
@@ -39,6 +42,7 @@ mod gbuffer;
 pub mod mlhm;
 mod ray_batch;
 mod render;
+pub mod shade_map;
 mod shading;
 mod sky;
 mod stats;
@@ -53,6 +57,7 @@ pub use error::ShadeError;
 pub use gbuffer::{GBuffer, GBufferPixel};
 pub use ray_batch::RayBatch;
 pub use render::{render_gbuffer, render_gbuffer_into, Tile, TILE_SIZE};
+pub use shade_map::{shade_map, ShadeLayer, ShadeMap, ShadeMapParams, SunPosition};
 pub use shading::{ambient_lighting, direct_lighting, GgxSpecular, DIELECTRIC_F0};
 pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGONAL};
 pub use stats::TraceStats;

@@ -7,6 +7,7 @@ mod info;
 mod info_mlhm;
 mod render;
 mod render_mlhm;
+mod shade;
 mod view;
 
 use crate::args::{Cli, Command};
@@ -22,6 +23,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Convert(args) => convert::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::View(args) => view::run(&args),
+        Command::Shade(args) => shade::run(&args),
     }
 }
 

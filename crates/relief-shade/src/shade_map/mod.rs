@@ -1,0 +1,253 @@
+//! Shade maps: rasters aligned with a height field, sample for sample, that say how much of
+//! the sun and of the sky each sample sees (exact cast shadows, the sky-view factor), its Lambert
+//! hillshade, and a map layer combining them. Every ray starts on the surface at a sample
+//! point ([`surface_ray`]) and is traced exactly by the tracer handed in.
+
+mod directions;
+mod hillshade;
+mod layer;
+mod params;
+mod surface_ray;
+
+pub use directions::{disc_directions, sky_directions};
+pub use hillshade::{horn_normal, lambert};
+pub use layer::ShadeLayer;
+pub use params::{ShadeMapParams, SunPosition, MAX_RAYS_PER_SAMPLE, MAX_SUN_RADIUS_DEG, SKY_SHARE};
+pub use surface_ray::{surface_origin, surface_ray, SURFACE_LIFT};
+
+use crate::ShadeError;
+use rayon::prelude::*;
+use relief_core::{DVec3, HeightField, Ray};
+use relief_trace::Tracer;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The layers of a shade map, each `width * height` values in the height field's sample order
+/// (row-major, row 0 south), from 0 to 1, NaN on a void.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShadeMap {
+    /// Samples per row (the height field's width).
+    pub width: usize,
+    /// Rows (the height field's height).
+    pub height: usize,
+    /// The layers in the order they were asked for.
+    pub layers: Vec<(ShadeLayer, Vec<f32>)>,
+    /// Rays cast.
+    pub rays: u64,
+}
+
+impl ShadeMap {
+    /// The values of `layer`, if it was made.
+    pub fn layer(&self, layer: ShadeLayer) -> Option<&[f32]> {
+        self.layers.iter().find(|(l, _)| *l == layer).map(|(_, values)| values.as_slice())
+    }
+}
+
+/// Rows of samples traced together: a band is one parallel task.
+const BAND_ROWS: usize = 8;
+/// Samples per row of a tile, whose rays in one direction are traced as one batch.
+const TILE_COLS: usize = 32;
+
+/// Makes the shade map `params` asks for over every sample of `field`, tracing with `tracer`,
+/// which must trace `field` (any tracer and surface: the map is exact for that surface).
+///
+/// A sample of `field` that is a hole, or is marked in `void` (indexed like the samples; the
+/// voids a reader found before they were filled), is NaN in every layer. For each other sample:
+/// - [`ShadeLayer::Shadow`]: the mean over the suns of the fraction of each sun's rays (one,
+///   or `sun_rays` over its disc) that escape the terrain;
+/// - [`ShadeLayer::Sky`]: the fraction of the `sky_rays` [`sky_directions`] that escape;
+/// - [`ShadeLayer::Hillshade`]: the mean over the suns of [`lambert`] with the [`horn_normal`];
+/// - [`ShadeLayer::Combined`]: `(1 - SKY_SHARE)` times the mean over the suns of Lambert times
+///   that sun's fraction seen, plus `SKY_SHARE` times the sky-view factor.
+///
+/// `progress` is called with the number of rows done, from any thread. The result is the same
+/// whatever the number of threads. Errors: parameters out of range, a `void` mask of the
+/// wrong length, or layers too large to allocate.
+pub fn shade_map(
+    field: &HeightField,
+    tracer: &dyn Tracer,
+    void: Option<&[bool]>,
+    params: &ShadeMapParams,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ShadeMap, ShadeError> {
+    params.validate()?;
+    let (width, height) = (field.width(), field.height());
+    let samples = width * height;
+    if let Some(void) = void {
+        if void.len() != samples {
+            return Err(ShadeError::Mismatch(format!(
+                "a void mask of {} samples for a {width}x{height} height field",
+                void.len()
+            )));
+        }
+    }
+    let mut layers = Vec::with_capacity(params.layers.len());
+    for &layer in &params.layers {
+        let mut values = Vec::new();
+        values.try_reserve_exact(samples).map_err(|_| {
+            ShadeError::Limits(format!("a {width}x{height} {layer} layer does not fit in memory"))
+        })?;
+        layers.push((layer, values));
+    }
+
+    let rays = Rays::for_params(params);
+    let done_rows = AtomicU64::new(0);
+    let bands: Vec<Band> = (0..height.div_ceil(BAND_ROWS))
+        .into_par_iter()
+        .map(|band| {
+            let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(height);
+            let result = shade_band(field, tracer, void, params, &rays, rows.clone());
+            progress(done_rows.fetch_add(rows.len() as u64, Ordering::Relaxed) + rows.len() as u64);
+            result
+        })
+        .collect();
+    let mut cast = 0;
+    for band in bands {
+        cast += band.rays;
+        for ((_, values), band_values) in layers.iter_mut().zip(band.layers) {
+            values.extend_from_slice(&band_values);
+        }
+    }
+    Ok(ShadeMap { width, height, layers, rays: cast })
+}
+
+/// The directions a map's rays take, the same for every sample.
+struct Rays {
+    /// Per sun, the directions over its disc (its centre alone for a point sun).
+    suns: Vec<Vec<DVec3>>,
+    /// Per sun, the direction of its centre (for the hillshade).
+    sun_centres: Vec<DVec3>,
+    /// The sky's directions (empty when no layer needs them).
+    sky: Vec<DVec3>,
+}
+
+impl Rays {
+    fn for_params(params: &ShadeMapParams) -> Rays {
+        let sun_centres: Vec<DVec3> = params.suns.iter().map(|s| s.direction()).collect();
+        let per_sun = if params.sun_radius_deg > 0.0 { params.sun_rays } else { 1 };
+        let suns = if params.needs_sun_rays() {
+            sun_centres
+                .iter()
+                .map(|&c| disc_directions(c, params.sun_radius_deg, per_sun))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let sky =
+            if params.needs_sky_rays() { sky_directions(params.sky_rays) } else { Vec::new() };
+        Rays { suns, sun_centres, sky }
+    }
+}
+
+/// One band's layers (`rows * width` values each) and the rays it cast.
+struct Band {
+    layers: Vec<Vec<f32>>,
+    rays: u64,
+}
+
+/// Shades the samples of `rows`, tile by tile.
+fn shade_band(
+    field: &HeightField,
+    tracer: &dyn Tracer,
+    void: Option<&[bool]>,
+    params: &ShadeMapParams,
+    rays: &Rays,
+    rows: std::ops::Range<usize>,
+) -> Band {
+    let width = field.width();
+    let count = rows.len() * width;
+    let mut layers = vec![vec![f32::NAN; count]; params.layers.len()];
+    let mut cast = 0;
+    let mut tile = TileRays::default();
+    for row in rows.clone() {
+        for first_col in (0..width).step_by(TILE_COLS) {
+            let cols = first_col..(first_col + TILE_COLS).min(width);
+            tile.gather(field, void, row, cols);
+            if tile.samples.is_empty() {
+                continue;
+            }
+            let seen_per_sun: Vec<Vec<f32>> =
+                rays.suns.iter().map(|dirs| tile.fraction_seen(tracer, dirs)).collect();
+            let sky = tile.fraction_seen(tracer, &rays.sky);
+            cast += tile.samples.len() as u64
+                * (rays.suns.iter().map(Vec::len).sum::<usize>() + rays.sky.len()) as u64;
+            for (k, &col) in tile.samples.iter().enumerate() {
+                let normal = horn_normal(field, void, col, row);
+                let lamberts = rays.sun_centres.iter().map(|&d| lambert(normal, d));
+                let suns = rays.sun_centres.len().max(1) as f64;
+                let index = col + (row - rows.start) * width;
+                for (layer, values) in params.layers.iter().zip(layers.iter_mut()) {
+                    let value = match layer {
+                        ShadeLayer::Shadow => {
+                            seen_per_sun.iter().map(|seen| seen[k] as f64).sum::<f64>() / suns
+                        }
+                        ShadeLayer::Sky => sky[k] as f64,
+                        ShadeLayer::Hillshade => lamberts.clone().sum::<f64>() / suns,
+                        ShadeLayer::Combined => {
+                            let sun = lamberts
+                                .clone()
+                                .zip(&seen_per_sun)
+                                .map(|(l, seen)| l * seen[k] as f64)
+                                .sum::<f64>()
+                                / suns;
+                            (1.0 - SKY_SHARE) * sun + SKY_SHARE * sky[k] as f64
+                        }
+                    };
+                    values[index] = value as f32;
+                }
+            }
+        }
+    }
+    Band { layers, rays: cast }
+}
+
+/// The rays of one tile of samples in one direction, and the buffers to trace them.
+#[derive(Default)]
+struct TileRays {
+    /// Columns of the tile's samples that are shaded (not void).
+    samples: Vec<usize>,
+    /// Their rays' origins.
+    origins: Vec<DVec3>,
+    rays: Vec<Ray>,
+    occluded: Vec<bool>,
+    steps: Vec<u32>,
+}
+
+impl TileRays {
+    /// Takes the samples of `cols` in `row` that are not void.
+    fn gather(
+        &mut self,
+        field: &HeightField,
+        void: Option<&[bool]>,
+        row: usize,
+        cols: std::ops::Range<usize>,
+    ) {
+        self.samples.clear();
+        self.origins.clear();
+        for col in cols {
+            let index = col + row * field.width();
+            if field.is_hole(col, row) || void.is_some_and(|v| v[index]) {
+                continue;
+            }
+            self.samples.push(col);
+            self.origins.push(surface_origin(field, col, row));
+        }
+    }
+
+    /// Per sample, the fraction of `directions` whose rays escape the terrain.
+    fn fraction_seen(&mut self, tracer: &dyn Tracer, directions: &[DVec3]) -> Vec<f32> {
+        let n = self.samples.len();
+        let mut seen = vec![0u32; n];
+        self.occluded.resize(n, false);
+        self.steps.resize(n, 0);
+        for &dir in directions {
+            self.rays.clear();
+            self.rays.extend(self.origins.iter().map(|&o| Ray::new(o, dir)));
+            tracer.occluded_batch(&self.rays, &mut self.occluded, &mut self.steps);
+            for (count, &blocked) in seen.iter_mut().zip(&self.occluded) {
+                *count += u32::from(!blocked);
+            }
+        }
+        let total = directions.len().max(1) as f32;
+        seen.into_iter().map(|c| c as f32 / total).collect()
+    }
+}

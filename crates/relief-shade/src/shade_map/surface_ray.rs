@@ -1,0 +1,51 @@
+//! Where a shade map's rays start: on the terrain's surface at a sample, just above it.
+
+use relief_core::{DVec3, HeightField, Ray};
+
+/// How far above its sample point a shade map's ray starts, in cell sizes (the smaller of
+/// `dx` and `dy`).
+///
+/// The rule for rays that start on the surface: the sample point `(x, y, value * z_scale)`
+/// is a vertex of the `triangles` surface and the centre of a texel's top for `boxes`; the ray
+/// starts `SURFACE_LIFT` cells (plus `1e-9` of the terrain's height range, and `1e-12` of the
+/// point's largest coordinate for far-off georeferenced origins) straight above it and runs to infinity. So it does not find the
+/// surface it starts on, and the surface still shadows itself: a ray that leaves the point
+/// below a neighbouring face's plane meets that face within a few lifts. A sample on the
+/// grid's border starts the same distance inside it, so that a ray along the border (the sun
+/// due north of the west edge) runs over the surface, not exactly in the plane of the solid's
+/// wall. The tracers work in `f64`, whose rounding at the point stays more than a million
+/// times smaller.
+pub const SURFACE_LIFT: f64 = 1e-6;
+
+/// Lift per metre of the terrain's height range: the solid's walls reach down to its lowest
+/// sample, and a tracer's tolerance on such a face grows with its size.
+const RELIEF_LIFT: f64 = 1e-9;
+
+/// Relative lift that covers the rounding of large world coordinates.
+const COORDINATE_LIFT: f64 = 1e-12;
+
+/// The ray from the surface at sample (`col`, `row`) of `field` in direction `dir` (see
+/// [`SURFACE_LIFT`]).
+pub fn surface_ray(field: &HeightField, col: usize, row: usize, dir: DVec3) -> Ray {
+    Ray::new(surface_origin(field, col, row), dir)
+}
+
+/// The origin of every ray from sample (`col`, `row`): its point lifted by [`SURFACE_LIFT`].
+pub fn surface_origin(field: &HeightField, col: usize, row: usize) -> DVec3 {
+    let g = field.geometry();
+    let grid = DVec3::new(col as f64 + 0.5, row as f64 + 0.5, field.sample(col, row) as f64);
+    let point = g.point_to_world(grid);
+    let relief = (field.max_sample() - field.min_sample()) as f64 * g.z_scale;
+    let lift = SURFACE_LIFT * g.dx.min(g.dy)
+        + RELIEF_LIFT * relief
+        + COORDINATE_LIFT * point.abs().max_element();
+    let inward = |k: usize, n: usize| -> f64 {
+        match (k, n) {
+            (_, 1) => 0.0,
+            (0, _) => lift,
+            (k, n) if k + 1 == n => -lift,
+            _ => 0.0,
+        }
+    };
+    point + DVec3::new(inward(col, field.width()), inward(row, field.height()), lift)
+}
