@@ -6,6 +6,11 @@
 //!   [`read_geotiff`], [`read_hgt`] (SRTM tiles), [`read_asc`] (ESRI ASCII grids),
 //!   [`read_png_height`] (greyscale, terrain-RGB and Terrarium PNGs), [`read_npy`],
 //!   [`read_npz`] (NumPy), and [`read_npy_height_field`] for a plain `.npy` grid;
+//! - [`RasterInfo::georeference`]: the file's placement and CRS as stored ([`Georeference`]:
+//!   its GeoTIFF tags and GDAL geotransform), for outputs aligned with the input;
+//!   [`write_layers_geotiff`] writes named float32 layers ([`LayerRaster`]) with it, one band
+//!   each, and [`read_layers_geotiff`] reads them back; [`write_layer_png`] writes one layer
+//!   as a 16-bit PNG with a world file;
 //! - [`write_height_field`]: a height field by extension, through [`write_geotiff`],
 //!   [`write_hgt`], [`write_asc`], [`write_png16_height`] or [`write_height_field_npy`];
 //! - [`read_mlhm_scene`], [`write_mlhm_scene`]: multi-layered height map scenes of the
