@@ -85,7 +85,8 @@ impl AnswerKnown {
             camera: *camera,
             right,
             true_up: right.cross(camera.forward()),
-            tan_half: (camera.fov_deg().to_radians() / 2.0).tan(),
+            // The benchmark views are pinholes.
+            tan_half: camera.half_height(),
             hits,
             by_tile,
             tile_start,
@@ -250,7 +251,7 @@ fn main() -> Result<()> {
         let answers = AnswerKnown::new(&camera, &tracer);
         let known = render(&answers);
         let mipmap = render(&tracer);
-        let footprint = 2.0 * (camera.fov_deg().to_radians() / 2.0).tan() / h as f64;
+        let footprint = camera.pixel_footprint(1.0);
         let packets_late = render(&StartKnown { tracer: &tracer, answers: &answers, footprint });
         let pixels: Vec<(u32, u32)> = (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).collect();
         let single =

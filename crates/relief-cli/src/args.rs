@@ -153,18 +153,36 @@ pub struct SceneArgs {
     pub safety: SafetyArgs,
     /// Camera position X,Y,Z in world units, e.g. --eye -100,-150,420; framed automatically
     /// when absent.
-    #[arg(long, value_parser = parse::point, requires = "target", allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, requires = "target", group = "placement", allow_hyphen_values = true)]
     pub eye: Option<DVec3>,
-    /// Point looked at X,Y,Z.
-    #[arg(long, value_parser = parse::point, requires = "eye", allow_hyphen_values = true)]
+    /// Point looked at X,Y,Z (with --eye, or with --view instead of the terrain's centre).
+    #[arg(long, value_parser = parse::point, requires = "placement", allow_hyphen_values = true)]
     pub target: Option<DVec3>,
     /// Camera up vector X,Y,Z, with --eye and --target; when it is parallel to the view (a
     /// camera looking straight down or up), north is at the top of the image [default: 0,0,1].
     #[arg(long, value_parser = parse::direction, requires = "eye", allow_hyphen_values = true)]
     pub up: Option<DVec3>,
-    /// Vertical field of view in degrees (0.01 to 179).
-    #[arg(long, default_value = "45", value_parser = parse::fov, allow_hyphen_values = true)]
-    pub fov: f64,
+    /// The camera looking towards compass AZ degrees (clockwise from north: north is +y, east
+    /// +x, z is up; -360 to 360) from EL degrees above the horizon (more than 0, up to 90:
+    /// straight down, with AZ at the top of the image, so 0,90 is a north-up map), at
+    /// DISTANCE metres from the target (default: the framing's, at which the terrain fills the
+    /// image). It looks at the terrain's centre, or at --target. Without --view and --eye the
+    /// camera is --view 45,30 (from the south-west).
+    #[arg(long, value_name = "AZ,EL[,DISTANCE]", value_parser = parse::view, group = "placement", allow_hyphen_values = true)]
+    pub view: Option<parse::ViewAngles>,
+    /// Orthographic camera: parallel rays along the view, from the plane through the eye
+    /// perpendicular to it (the depth is measured from that plane); with --view 0,90 a map
+    /// with a fixed ground size per pixel.
+    #[arg(long)]
+    pub ortho: bool,
+    /// With --ortho: the image's height in metres [default: the framing's, at which the
+    /// terrain fills the image].
+    #[arg(long, value_name = "M", value_parser = parse::ortho_height, allow_hyphen_values = true)]
+    pub ortho_height: Option<f64>,
+    /// Vertical field of view in degrees (0.01 to 179) of the perspective camera [default:
+    /// 45].
+    #[arg(long, value_parser = parse::fov, allow_hyphen_values = true)]
+    pub fov: Option<f64>,
     /// Image size WxH in pixels (not terrain samples: see --fbm-size).
     #[arg(long, value_parser = parse::image_size, default_value = "1280x720")]
     pub size: (u32, u32),

@@ -91,6 +91,64 @@ pub fn sun(s: &str) -> Result<(f64, f64), String> {
     Ok((azimuth, elevation))
 }
 
+/// `--view AZ,EL[,DISTANCE]`: the compass direction a framed camera looks towards, its
+/// elevation above the horizon, and its distance from the target, if given.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewAngles {
+    /// Degrees clockwise from north (+y), -360..360.
+    pub azimuth_deg: f64,
+    /// Degrees above the horizon, more than 0 and at most 90.
+    pub elevation_deg: f64,
+    /// Metres from the target, positive, at most [`MAX_COORDINATE`].
+    pub distance: Option<f64>,
+}
+
+/// `AZ,EL[,DISTANCE]`: azimuth -360..360 degrees, elevation more than 0 and at most 90,
+/// distance positive and at most [`MAX_COORDINATE`] metres.
+pub fn view(s: &str) -> Result<ViewAngles, String> {
+    let (azimuth_deg, elevation_deg, distance) = match s.split(',').count() {
+        3 => {
+            let [a, e, d] = numbers::<3>(s, "AZ,EL,DISTANCE")?;
+            (a, e, Some(d))
+        }
+        _ => {
+            let [a, e] = numbers::<2>(s, "AZ,EL[,DISTANCE]")?;
+            (a, e, None)
+        }
+    };
+    if !(-360.0..=360.0).contains(&azimuth_deg) {
+        return Err(format!("view azimuth in '{s}' is outside -360..360 degrees"));
+    }
+    if !(elevation_deg > 0.0 && elevation_deg <= 90.0) {
+        return Err(format!(
+            "view elevation in '{s}' must be more than 0 and at most 90 degrees (90: straight \
+             down)"
+        ));
+    }
+    if let Some(d) = distance {
+        if !(d > 0.0 && d <= MAX_COORDINATE) {
+            return Err(format!(
+                "view distance in '{s}' must be more than 0 and at most {} m",
+                readable(MAX_COORDINATE)
+            ));
+        }
+    }
+    Ok(ViewAngles { azimuth_deg, elevation_deg, distance })
+}
+
+/// `--ortho-height`: the orthographic image's height in metres, positive and at most
+/// 2 [`MAX_COORDINATE`].
+pub fn ortho_height(s: &str) -> Result<f64, String> {
+    let [h] = numbers::<1>(s, "metres")?;
+    if !(h > 0.0 && h <= 2.0 * MAX_COORDINATE) {
+        return Err(format!(
+            "orthographic height {s} must be more than 0 and at most {} m",
+            readable(2.0 * MAX_COORDINATE)
+        ));
+    }
+    Ok(h)
+}
+
 /// `DX[,DY]`: texel spacing, each within [`SCALE_RANGE`].
 pub fn spacing(s: &str) -> Result<(f64, f64), String> {
     let values = if s.contains(',') {
@@ -217,6 +275,14 @@ mod tests {
         assert!(point("1,2").is_err() && point("1,2,nan").is_err() && point("1e10,0,0").is_err());
         assert!(direction("0,0,0").is_err());
         assert!(sun("10,95").is_err() && sun("-45,-10").is_ok());
+        let v = view("-45,30").unwrap();
+        assert_eq!((v.azimuth_deg, v.elevation_deg, v.distance), (-45.0, 30.0, None));
+        assert_eq!(view("0,90,250").unwrap().distance, Some(250.0));
+        assert!(view("0,0").is_err() && view("0,-10").is_err() && view("0,91").is_err());
+        assert!(view("400,30").is_err() && view("0,30,0").is_err() && view("0,30,-5").is_err());
+        assert!(view("0").is_err() && view("0,30,5,6").is_err() && view("0,nan").is_err());
+        assert!(ortho_height("0").is_err() && ortho_height("-2").is_err());
+        assert_eq!(ortho_height("120"), Ok(120.0));
         assert!(fov("0").is_err() && fov("180").is_err() && fov("60").is_ok());
         assert!(exposure("-1").is_err() && exposure("0").is_err() && exposure("2").is_ok());
         assert!(z_scale("-3").is_err() && z_scale("3").is_ok());

@@ -1,30 +1,61 @@
-//! The pinhole camera of relief's conventions, and automatic framing of a scene.
+//! The camera of relief's conventions: a pinhole or an orthographic projection, one ray per
+//! pixel. Automatic framing of a scene is in `framing.rs`.
 
-use crate::{Aabb, CoreError, Ray};
+use crate::{CoreError, Ray};
 use glam::DVec3;
 
-/// A pinhole camera producing one ray per pixel of a `width x height` image.
+/// How a camera's pixels map to rays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Projection {
+    /// A pinhole at the eye: every ray starts at the eye; `fov_deg` is the vertical field of
+    /// view in degrees (strictly between 0 and 180).
+    Perspective {
+        /// Vertical field of view in degrees.
+        fov_deg: f64,
+    },
+    /// Parallel rays along the view direction, starting on the plane through the eye
+    /// perpendicular to it; `height` is the image's vertical extent on that plane, in world
+    /// units (metres), positive.
+    Orthographic {
+        /// Vertical extent of the image in world units.
+        height: f64,
+    },
+}
+
+/// A camera producing one ray per pixel of a `width x height` image.
 ///
 /// forward = normalize(target - eye); right = normalize(forward x up); up' = right x forward.
-/// Pixel (i, j), i the column from the left and j the row from the top, looks along
-/// normalize(forward + sx * right + sy * up') with t = tan(fov / 2),
-/// sx = (2 (i + 0.5) / W - 1) * t * W / H and sy = (1 - 2 (j + 0.5) / H) * t.
+/// Pixel (i, j), i the column from the left and j the row from the top, has the screen
+/// coordinates sx = (2 (i + 0.5) / W - 1) * s * W / H and sy = (1 - 2 (j + 0.5) / H) * s, where
+/// s is half the image's height:
+///
+/// - [`Projection::Perspective`]: s = tan(fov / 2); the ray starts at the eye and looks along
+///   normalize(forward + sx * right + sy * up').
+/// - [`Projection::Orthographic`]: s = height / 2 (world units); the ray starts at
+///   eye + sx * right + sy * up', on the plane through the eye perpendicular to forward, and
+///   looks along forward.
+///
+/// Either way the direction is a unit vector, so a hit's ray parameter `t` is its distance from
+/// the ray's origin (the eye, or the point on the eye's plane): the depth relief writes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     eye: DVec3,
     target: DVec3,
     up: DVec3,
-    fov_deg: f64,
+    projection: Projection,
     width: u32,
     height: u32,
     forward: DVec3,
     right: DVec3,
     true_up: DVec3,
-    tan_half: f64,
+    /// Half the image's height: `tan(fov / 2)` at unit distance for a pinhole, `height / 2`
+    /// world units for an orthographic camera.
+    half_height: f64,
 }
 
 impl Camera {
-    /// The camera at `eye` looking at `target`, with `up` and a vertical field of view in degrees.
+    /// The pinhole camera at `eye` looking at `target`, with `up` and a vertical field of view
+    /// in degrees.
     pub fn look_at(
         eye: DVec3,
         target: DVec3,
@@ -33,13 +64,44 @@ impl Camera {
         width: u32,
         height: u32,
     ) -> Result<Self, CoreError> {
+        Self::new(eye, target, up, Projection::Perspective { fov_deg }, width, height)
+    }
+
+    /// The camera at `eye` looking at `target`, with `up` and `projection`.
+    ///
+    /// Fails when a point is not finite, the eye is the target, `up` is zero or parallel to
+    /// the view, the image has no pixels, or the projection's field of view is not strictly
+    /// between 0 and 180 degrees (its orthographic height not positive and finite).
+    pub fn new(
+        eye: DVec3,
+        target: DVec3,
+        up: DVec3,
+        projection: Projection,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, CoreError> {
         let bad = |msg: String| Err(CoreError::Camera(msg));
         if !(eye.is_finite() && target.is_finite() && up.is_finite()) {
             return bad("eye, target and up must be finite".into());
         }
-        if !(fov_deg.is_finite() && fov_deg > 0.0 && fov_deg < 180.0) {
-            return bad(format!("field of view {fov_deg} must be between 0 and 180 degrees"));
-        }
+        let half_height = match projection {
+            Projection::Perspective { fov_deg } => {
+                if !(fov_deg.is_finite() && fov_deg > 0.0 && fov_deg < 180.0) {
+                    return bad(format!(
+                        "field of view {fov_deg} must be between 0 and 180 degrees"
+                    ));
+                }
+                (fov_deg.to_radians() / 2.0).tan()
+            }
+            Projection::Orthographic { height } => {
+                if !(height.is_finite() && height > 0.0) {
+                    return bad(format!(
+                        "orthographic height {height} must be a positive, finite length"
+                    ));
+                }
+                height / 2.0
+            }
+        };
         if width == 0 || height == 0 {
             return bad(format!("image size {width}x{height} has no pixels"));
         }
@@ -54,8 +116,18 @@ impl Camera {
         }
         let right = side.normalize();
         let true_up = right.cross(forward);
-        let tan_half = (fov_deg.to_radians() / 2.0).tan();
-        Ok(Camera { eye, target, up, fov_deg, width, height, forward, right, true_up, tan_half })
+        Ok(Camera {
+            eye,
+            target,
+            up,
+            projection,
+            width,
+            height,
+            forward,
+            right,
+            true_up,
+            half_height,
+        })
     }
 
     /// The up vector to give [`Camera::look_at`] for a camera at `eye` looking at `target`:
@@ -76,100 +148,55 @@ impl Camera {
         }
     }
 
-    /// A three-quarter view from the south-west at 30 degrees elevation that fits `bounds`
-    /// into a `width x height` image with a 45 degree vertical field of view.
-    pub fn frame(bounds: &Aabb, width: u32, height: u32) -> Result<Self, CoreError> {
-        Self::frame_from(bounds, 225.0, 30.0, 45.0, width, height)
-    }
-
-    /// Frames `bounds` seen from the compass `azimuth_deg` (0 = north, 90 = east) at
-    /// `elevation_deg` above the horizon: the eye sits on that side of the box's centre, at the
-    /// smallest distance (plus a 5% margin) at which every corner of the box is in the image.
-    pub fn frame_from(
-        bounds: &Aabb,
-        azimuth_deg: f64,
-        elevation_deg: f64,
-        fov_deg: f64,
-        width: u32,
-        height: u32,
-    ) -> Result<Self, CoreError> {
-        let (az, el) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
-        let towards_eye = DVec3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin());
-        let up = if el.cos().abs() < 1e-6 { DVec3::Y } else { DVec3::Z };
-        let corners: [DVec3; 8] = std::array::from_fn(|k| {
-            DVec3::new(
-                if k & 1 == 0 { bounds.min.x } else { bounds.max.x },
-                if k & 2 == 0 { bounds.min.y } else { bounds.max.y },
-                if k & 4 == 0 { bounds.min.z } else { bounds.max.z },
-            )
-        });
-        // Orientation is fixed by the direction; find the distance at which every corner fits,
-        // then move the target so the box's image is centred, and fit again.
-        let mut target = bounds.center();
-        let mut camera = Camera::look_at(target + towards_eye, target, up, fov_deg, width, height)?;
-        let tan_v = camera.tan_half;
-        let tan_h = tan_v * width as f64 / height as f64;
-        for _ in 0..4 {
-            let mut distance: f64 = 0.0;
-            for corner in corners {
-                let c = corner - target;
-                let depth = c.dot(camera.forward);
-                let needed_x = c.dot(camera.right).abs() / tan_h - depth;
-                let needed_y = c.dot(camera.true_up).abs() / tan_v - depth;
-                distance = distance.max(needed_x).max(needed_y);
-            }
-            let distance = (distance * 1.05).max(1e-3 * bounds.diagonal().max(1e-9));
-            camera = Camera::look_at(
-                target + towards_eye * distance,
-                target,
-                up,
-                fov_deg,
-                width,
-                height,
-            )?;
-            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-            for corner in corners {
-                let v = corner - camera.eye;
-                let depth = v.dot(camera.forward);
-                let p = DVec3::new(v.dot(camera.right) / depth, v.dot(camera.true_up) / depth, 0.0);
-                lo = lo.min(p);
-                hi = hi.max(p);
-            }
-            let mid = 0.5 * (lo + hi) * distance;
-            target += camera.right * mid.x + camera.true_up * mid.y;
-        }
-        Ok(camera)
-    }
-
-    /// The ray through the centre of pixel (i, j), with a unit direction.
+    /// The ray through the centre of pixel (i, j), with a unit direction (see [`Camera`]).
     #[inline]
     pub fn ray(&self, i: u32, j: u32) -> Ray {
         self.ray_through(self.screen_x(i), self.screen_y(j))
     }
 
-    /// `sx` of pixel column `i`: `(2 (i + 0.5) / W - 1) * t * W / H`. A renderer that traces
+    /// `sx` of pixel column `i`: `(2 (i + 0.5) / W - 1) * s * W / H`. A renderer that traces
     /// many pixels of the same columns and rows computes it once per column and passes it to
     /// [`Camera::ray_through`], which then gives exactly [`Camera::ray`].
     #[inline]
     pub fn screen_x(&self, i: u32) -> f64 {
         let (w, h) = (self.width as f64, self.height as f64);
-        (2.0 * (i as f64 + 0.5) / w - 1.0) * self.tan_half * w / h
+        (2.0 * (i as f64 + 0.5) / w - 1.0) * self.half_height * w / h
     }
 
-    /// `sy` of pixel row `j`: `(1 - 2 (j + 0.5) / H) * t` (see [`Camera::screen_x`]).
+    /// `sy` of pixel row `j`: `(1 - 2 (j + 0.5) / H) * s` (see [`Camera::screen_x`]).
     #[inline]
     pub fn screen_y(&self, j: u32) -> f64 {
-        (1.0 - 2.0 * (j as f64 + 0.5) / self.height as f64) * self.tan_half
+        (1.0 - 2.0 * (j as f64 + 0.5) / self.height as f64) * self.half_height
     }
 
-    /// The ray along `normalize(forward + sx * right + sy * up')`.
+    /// The ray of screen coordinates `(sx, sy)`: from the eye along
+    /// `normalize(forward + sx * right + sy * up')` for a pinhole, from
+    /// `eye + sx * right + sy * up'` along `forward` for an orthographic camera.
     #[inline]
     pub fn ray_through(&self, sx: f64, sy: f64) -> Ray {
-        let dir = (self.forward + sx * self.right + sy * self.true_up).normalize();
-        Ray::new(self.eye, dir)
+        match self.projection {
+            Projection::Perspective { .. } => {
+                let dir = (self.forward + sx * self.right + sy * self.true_up).normalize();
+                Ray::new(self.eye, dir)
+            }
+            Projection::Orthographic { .. } => {
+                Ray::new(self.eye + sx * self.right + sy * self.true_up, self.forward)
+            }
+        }
     }
 
-    /// Eye position.
+    /// The width of a pixel where its ray has travelled `t` (the G-buffer's footprint, for
+    /// texture filtering): `t * 2 tan(fov / 2) / H` for a pinhole, growing with the distance;
+    /// `height / H` for an orthographic camera, the same at every distance.
+    #[inline]
+    pub fn pixel_footprint(&self, t: f64) -> f64 {
+        match self.projection {
+            Projection::Perspective { .. } => t * (2.0 * self.half_height / self.height as f64),
+            Projection::Orthographic { height } => height / self.height as f64,
+        }
+    }
+
+    /// Eye position: the pinhole, or the centre of an orthographic camera's image plane.
     pub fn eye(&self) -> DVec3 {
         self.eye
     }
@@ -184,9 +211,17 @@ impl Camera {
         self.up
     }
 
-    /// Vertical field of view in degrees.
-    pub fn fov_deg(&self) -> f64 {
-        self.fov_deg
+    /// The projection.
+    pub fn projection(&self) -> Projection {
+        self.projection
+    }
+
+    /// Vertical field of view in degrees of a pinhole camera; `None` for an orthographic one.
+    pub fn fov_deg(&self) -> Option<f64> {
+        match self.projection {
+            Projection::Perspective { fov_deg } => Some(fov_deg),
+            Projection::Orthographic { .. } => None,
+        }
     }
 
     /// Image width in pixels.
@@ -202,6 +237,22 @@ impl Camera {
     /// Unit viewing direction.
     pub fn forward(&self) -> DVec3 {
         self.forward
+    }
+
+    /// Unit vector to the image's right: `normalize(forward x up)`.
+    pub fn right(&self) -> DVec3 {
+        self.right
+    }
+
+    /// Unit vector to the image's top: `right x forward` (up made perpendicular to the view).
+    pub fn image_up(&self) -> DVec3 {
+        self.true_up
+    }
+
+    /// Half the image's height: `tan(fov / 2)` for a pinhole (at unit distance), `height / 2`
+    /// world units for an orthographic camera.
+    pub fn half_height(&self) -> f64 {
+        self.half_height
     }
 }
 
@@ -247,20 +298,48 @@ mod tests {
     }
 
     #[test]
-    fn framing_keeps_every_corner_in_view() {
-        let b = Aabb::new(DVec3::new(0.0, 0.0, 0.0), DVec3::new(100.0, 50.0, 10.0));
-        let cam = Camera::frame(&b, 160, 90).unwrap();
-        for k in 0..8 {
-            let c = DVec3::new(
-                if k & 1 == 0 { 0.0 } else { 100.0 },
-                if k & 2 == 0 { 0.0 } else { 50.0 },
-                if k & 4 == 0 { 0.0 } else { 10.0 },
-            );
-            let v = c - cam.eye();
-            let depth = v.dot(cam.forward);
-            let x = v.dot(cam.right) / depth / (cam.tan_half * 160.0 / 90.0);
-            let y = v.dot(cam.true_up) / depth / cam.tan_half;
-            assert!(x.abs() <= 1.0 && y.abs() <= 1.0, "corner {c} at ({x}, {y})");
+    fn orthographic_rays_start_on_the_eyes_plane_and_look_forward() {
+        let (eye, target) = (DVec3::new(1.0, 2.0, 30.0), DVec3::new(11.0, 2.0, 0.0));
+        let ortho = Projection::Orthographic { height: 6.0 };
+        let cam = Camera::new(eye, target, DVec3::Z, ortho, 4, 3).unwrap();
+        let (forward, right, up) = (cam.forward(), cam.right(), cam.image_up());
+        for j in 0..3 {
+            for i in 0..4 {
+                let r = cam.ray(i, j);
+                assert_eq!(r.dir, forward);
+                // On the plane through the eye perpendicular to forward ...
+                assert!((r.origin - eye).dot(forward).abs() < 1e-12);
+                // ... at sx = (2 (i + 0.5) / W - 1) * (h / 2) * W / H, sy = (1 - 2 (j + 0.5) / H) * h / 2.
+                let sx = (2.0 * (i as f64 + 0.5) / 4.0 - 1.0) * 3.0 * 4.0 / 3.0;
+                let sy = (1.0 - 2.0 * (j as f64 + 0.5) / 3.0) * 3.0;
+                assert!((r.origin - (eye + sx * right + sy * up)).length() < 1e-12);
+            }
+        }
+        // Neighbouring pixels are h / H apart, across and down; the footprint is the same.
+        assert!(((cam.ray(1, 0).origin - cam.ray(0, 0).origin).length() - 2.0).abs() < 1e-12);
+        assert!(((cam.ray(0, 1).origin - cam.ray(0, 0).origin).length() - 2.0).abs() < 1e-12);
+        assert_eq!(cam.pixel_footprint(1.0), 2.0);
+        assert_eq!(cam.pixel_footprint(1e6), 2.0);
+        assert_eq!(cam.fov_deg(), None);
+        assert_eq!(cam.projection(), ortho);
+        // The top-left pixel is up and to the left (right = forward x z points to -y).
+        let tl = cam.ray(0, 0).origin - eye;
+        assert!(tl.dot(up) > 0.0 && tl.y > 0.0);
+    }
+
+    #[test]
+    fn a_pinhole_footprint_grows_with_the_distance() {
+        let cam = Camera::look_at(DVec3::ZERO, DVec3::X, DVec3::Z, 90.0, 8, 4).unwrap();
+        assert!((cam.pixel_footprint(2.0) - 2.0 * 2.0 / 4.0).abs() < 1e-12);
+        assert_eq!(cam.fov_deg(), Some(90.0));
+        assert!(cam.ray(0, 0).origin == DVec3::ZERO && cam.ray(7, 3).origin == DVec3::ZERO);
+    }
+
+    #[test]
+    fn refuses_orthographic_nonsense() {
+        for height in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let ortho = Projection::Orthographic { height };
+            assert!(Camera::new(DVec3::ZERO, DVec3::X, DVec3::Z, ortho, 4, 4).is_err());
         }
     }
 }

@@ -6,8 +6,9 @@
 //!   water and air) in the reference layout, with its invariants and conservative f16
 //!   [`Precision`];
 //! - [`Ray`], [`Aabb`]: geometry used by the tracers;
-//! - [`Camera`]: the pinhole camera of relief's conventions, with automatic framing, and the
-//!   fixed [`benchmark_views`] every performance measurement traces.
+//! - [`Camera`]: the camera of relief's conventions, pinhole or orthographic ([`Projection`]),
+//!   with automatic [`Framing`], and the fixed [`benchmark_views`] every performance
+//!   measurement traces.
 //!
 //! ```
 //! use relief_core::{HeightField, GridGeometry, Surface};
@@ -22,6 +23,7 @@ mod aabb;
 mod benchmark_views;
 mod camera;
 mod error;
+mod framing;
 mod height_field;
 mod mlhm;
 mod mlhm_volume;
@@ -30,8 +32,9 @@ mod surface;
 
 pub use aabb::{Aabb, BoxFace, Clip};
 pub use benchmark_views::{benchmark_views, BENCHMARK_VIEWS};
-pub use camera::Camera;
+pub use camera::{Camera, Projection};
 pub use error::CoreError;
+pub use framing::{Framing, Lens};
 pub use height_field::{GridGeometry, HeightField};
 pub use mlhm::{Mlhm, MlhmColumn, MlhmHeights, Precision};
 pub use mlhm_volume::MaterialVolumes;

@@ -170,10 +170,7 @@ pub fn render_gbuffer_into(
             gbuffer.width, gbuffer.height
         )));
     }
-    let pixel = HitEncoder {
-        uv: UvMap::new(bounds),
-        footprint_per_distance: 2.0 * (camera.fov_deg().to_radians() / 2.0).tan() / height as f64,
-    };
+    let pixel = HitEncoder { uv: UvMap::new(bounds), camera };
     // Strips of TILE_SIZE rows are disjoint slices of every array: each worker writes its own
     // strip in place, tile by tile, so nothing is copied and no pixel depends on the schedule.
     let strip = TILE_SIZE * width;
@@ -217,26 +214,27 @@ pub fn render_gbuffer_into(
 }
 
 /// Everything needed to turn one pixel's hit into a G-buffer pixel.
-struct HitEncoder {
+struct HitEncoder<'a> {
     uv: UvMap,
-    /// Pixel width at unit distance: `2 tan(fov / 2) / H`.
-    footprint_per_distance: f64,
+    /// The camera, for the pixel's footprint ([`Camera::pixel_footprint`]).
+    camera: &'a Camera,
 }
 
-impl HitEncoder {
+impl HitEncoder<'_> {
     /// The G-buffer pixel of a camera ray's hit (or miss).
     #[inline]
     fn g_buffer_pixel(&self, hit: Option<Hit>) -> GBufferPixel {
         match hit {
             None => GBufferPixel::MISS,
             Some(Hit { t, position, normal }) => GBufferPixel {
-                // The camera's directions are unit, so t is the distance from the eye.
+                // The camera's directions are unit, so t is the distance from the ray's origin
+                // (the eye, or its plane for an orthographic camera).
                 distance: t as f32,
                 position: position.as_vec3().to_array(),
                 normal: normal.as_vec3().to_array(),
                 material: GBufferPixel::HEIGHT_FIELD_MATERIAL,
                 uv: self.uv.at(position),
-                footprint: (t * self.footprint_per_distance) as f32,
+                footprint: self.camera.pixel_footprint(t) as f32,
             },
         }
     }

@@ -43,6 +43,9 @@ const DRAG_DEG_PER_PIXEL: f64 = 0.25;
 /// The steepest pitch a turn may reach, so that up (z) never lines up with the view.
 const MAX_PITCH_DEG: f64 = 89.0;
 
+/// The field of view an orthographic starting camera is flown with, in degrees.
+pub const DEFAULT_FOV_DEG: f64 = 45.0;
+
 /// The viewer's camera: eye, target and up, moved by input.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CameraController {
@@ -57,13 +60,15 @@ pub struct CameraController {
 
 impl CameraController {
     /// Starts at `camera`'s eye, target, up and field of view; `scene_size` (the diagonal of
-    /// the scene's bounds) sets how fast it flies.
+    /// the scene's bounds) sets how fast it flies. The viewer flies pinhole cameras: an
+    /// orthographic `camera` starts it at the same eye and target with a field of view of
+    /// [`DEFAULT_FOV_DEG`].
     pub fn new(camera: &Camera, scene_size: f64) -> Self {
         CameraController {
             eye: camera.eye(),
             target: camera.target(),
             up: camera.up(),
-            fov_deg: camera.fov_deg(),
+            fov_deg: camera.fov_deg().unwrap_or(DEFAULT_FOV_DEG),
             scene_size: if scene_size.is_finite() && scene_size > 0.0 { scene_size } else { 1.0 },
             speed: 1.0,
             navigation: Navigation::Orbit,

@@ -21,7 +21,7 @@ mod view_settings;
 mod window;
 mod winit_keys;
 
-pub use camera_controller::{CameraController, Motion, Navigation};
+pub use camera_controller::{CameraController, Motion, Navigation, DEFAULT_FOV_DEG};
 pub use camera_path::{CameraKey, CameraPath, CAMERA_PATH_FORMAT, CAMERA_PATH_VERSION};
 pub use frame::{blit, Cancel, Frame, FrameStats, SceneRenderer};
 pub use input_map::{action_for, motion_from, Action, Key, KEY_HELP};

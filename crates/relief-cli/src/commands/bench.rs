@@ -289,7 +289,7 @@ impl Measurement<'_> {
             v(c.eye()),
             v(c.target()),
             v(c.up()),
-            c.fov_deg(),
+            c.fov_deg().map_or("null".into(), |f| f.to_string()),
             c.width(),
             c.height(),
             SUN.0,

@@ -16,7 +16,11 @@ use std::time::Duration;
 
 /// Runs `relief view`: checks the outputs and the display, opens the scene, and runs the
 /// window until it is closed (or `--frames` are done), then prints what the frames took.
+/// The viewer flies pinhole cameras only: `--ortho` is refused.
 pub fn run(args: &ViewArgs) -> Result<()> {
+    if args.scene.ortho {
+        return Err(applies::refuse("--ortho", "relief render", "relief view"));
+    }
     let script = args.script.as_deref().map(Script::parse).transpose()?.unwrap_or_default();
     let output_dir = check_outputs(args)?;
     relief_viewer::check_display()?;

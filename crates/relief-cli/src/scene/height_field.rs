@@ -63,9 +63,9 @@ pub fn check_safety_view(
     let light =
         params.shadows.then(|| sun_direction(params.sun.azimuth_deg, params.sun.elevation_deg));
     let (w, h) = (camera.width(), camera.height());
-    let directions =
-        (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).map(|(i, j)| camera.ray(i, j).dir);
-    safety.check_view(camera.eye(), directions, light)?;
+    // Every ray with its own origin: an orthographic camera's do not start at its eye.
+    let rays = (0..h).flat_map(|j| (0..w).map(move |i| camera.ray(i, j)));
+    safety.check_rays(rays, light)?;
     Ok(())
 }
 

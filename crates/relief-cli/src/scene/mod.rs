@@ -6,15 +6,32 @@
 pub mod height_field;
 pub mod mlhm;
 
+use crate::applies;
 use crate::args::SceneArgs;
 use anyhow::Result;
-use relief_core::{Aabb, Camera, DVec3};
+use relief_core::{Aabb, Camera, DVec3, Framing, Lens, Projection};
 
-/// The camera given on the command line, or a three-quarter view framing `bounds`. An up
-/// vector parallel to the view (a camera looking straight down) is replaced by north, with a
-/// note saying so.
+/// The vertical field of view when `--fov` is not given, in degrees.
+pub const DEFAULT_FOV_DEG: f64 = 45.0;
+
+/// The camera given on the command line: `--eye` and `--target`, or the framing of `bounds`
+/// from `--view` (default: from the south-west, 30 degrees up), pinhole or (`--ortho`)
+/// orthographic. An up vector parallel to the view (a camera looking straight down) is
+/// replaced by north, with a note saying so. `--fov` with `--ortho`, and `--ortho-height`
+/// without it, are refused: they would do nothing.
 pub fn camera(args: &SceneArgs, bounds: &Aabb) -> Result<Camera> {
     let (w, h) = args.size;
+    if args.ortho && args.fov.is_some() {
+        return Err(applies::refuse("--fov", "perspective cameras", "--ortho"));
+    }
+    if !args.ortho && args.ortho_height.is_some() {
+        return Err(applies::refuse("--ortho-height", "--ortho", "a perspective camera"));
+    }
+    let fov_deg = args.fov.unwrap_or(DEFAULT_FOV_DEG);
+    let lens = match args.ortho {
+        true => Lens::Orthographic { height: args.ortho_height },
+        false => Lens::Perspective { fov_deg },
+    };
     let camera = match (args.eye, args.target) {
         (Some(eye), Some(target)) => {
             let given = args.up.unwrap_or(DVec3::Z);
@@ -26,9 +43,42 @@ pub fn camera(args: &SceneArgs, bounds: &Aabb) -> Result<Camera> {
                     given.x, given.y, given.z, up.x, up.y, up.z
                 );
             }
-            Camera::look_at(eye, target, up, args.fov, w, h)?
+            match lens {
+                Lens::Perspective { fov_deg } => Camera::look_at(eye, target, up, fov_deg, w, h)?,
+                Lens::Orthographic { height } => {
+                    // Checks the eye, target and up before framing with them.
+                    let probe = Projection::Orthographic { height: height.unwrap_or(1.0) };
+                    let camera = Camera::new(eye, target, up, probe, w, h)?;
+                    if height.is_some() {
+                        camera
+                    } else {
+                        let framing = Framing {
+                            towards_eye: eye - target,
+                            up,
+                            target: Some(target),
+                            distance: Some((eye - target).length()),
+                            lens,
+                        };
+                        let fitted = Camera::framed(bounds, &framing, w, h)?.projection();
+                        Camera::new(eye, target, up, fitted, w, h)?
+                    }
+                }
+            }
         }
-        _ => Camera::frame_from(bounds, 225.0, 30.0, args.fov, w, h)?,
+        _ => match args.view {
+            Some(view) => {
+                let framing = Framing {
+                    target: args.target,
+                    distance: view.distance,
+                    ..Framing::heading(view.azimuth_deg, view.elevation_deg, lens)
+                };
+                Camera::framed(bounds, &framing, w, h)?
+            }
+            None if args.ortho => {
+                Camera::framed(bounds, &Framing::heading(45.0, 30.0, lens), w, h)?
+            }
+            None => Camera::frame_from(bounds, 225.0, 30.0, fov_deg, w, h)?,
+        },
     };
     Ok(camera)
 }

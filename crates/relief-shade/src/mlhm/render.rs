@@ -154,7 +154,6 @@ pub fn render_mlhm(
         sun: shading.sun,
         to_sun: shading.sun.direction(),
         sky: SkyLight::new(shading.sky, shading.sky_light),
-        footprint_per_distance: 2.0 * (camera.fov_deg().to_radians() / 2.0).tan() / height as f64,
     };
     let mut pixels = vec![GBufferPixel::MISS; width * height];
     let strip = TILE_SIZE * width;
@@ -209,7 +208,6 @@ struct Pass<'a> {
     sun: Sun,
     to_sun: DVec3,
     sky: SkyLight,
-    footprint_per_distance: f64,
 }
 
 impl Pass<'_> {
@@ -237,7 +235,7 @@ impl Pass<'_> {
             normal: h.hit.normal.as_vec3().to_array(),
             material,
             uv: uv.as_vec2().to_array(),
-            footprint: (h.hit.t * self.footprint_per_distance) as f32,
+            footprint: self.camera.pixel_footprint(h.hit.t) as f32,
         };
         (pixel, light)
     }

@@ -85,25 +85,60 @@ impl SafetyTracer {
     }
 
     /// Refuses, with a reason, a view whose rays the shapes were not built for: `eye` and the
-    /// directions of its primary rays, and (for shadows) the direction towards the light.
+    /// directions of its primary rays, and (for shadows) the direction towards the light. For
+    /// a camera whose rays do not all start at one eye (an orthographic one), see
+    /// [`SafetyTracer::check_rays`].
     pub fn check_view(
         &self,
         eye: DVec3,
         directions: impl Iterator<Item = DVec3>,
         light: Option<DVec3>,
     ) -> Result<(), TraceError> {
+        self.check_origin(eye)?;
+        self.check_directions(directions, light)
+    }
+
+    /// As [`SafetyTracer::check_view`], for primary rays that may each start elsewhere (an
+    /// orthographic camera's start on the plane through its eye): every ray's origin and
+    /// direction is checked.
+    pub fn check_rays(
+        &self,
+        rays: impl Iterator<Item = Ray>,
+        light: Option<DVec3>,
+    ) -> Result<(), TraceError> {
+        let mut directions = Vec::new();
+        for ray in rays {
+            self.check_origin(ray.origin)?;
+            directions.push(ray.dir);
+        }
+        self.check_directions(directions.into_iter(), light)
+    }
+
+    /// Refuses a ray origin inside the terrain's box for exterior shapes.
+    fn check_origin(&self, eye: DVec3) -> Result<(), TraceError> {
         let options = self.shapes.options();
-        let variant = options.variant();
         if options.rays == RaySet::Exterior {
             let bounds = self.field.world_bounds(Surface::Triangles);
             let inside = (0..3).all(|k| eye[k] > bounds.min[k] && eye[k] < bounds.max[k]);
             if inside {
                 return Err(TraceError::ViewNotAdmitted(format!(
-                    "{variant} shapes serve exterior rays only, and the eye is inside the \
-                     terrain's bounding box; use cyl_all shapes or move the camera out"
+                    "{} shapes serve exterior rays only, and the eye is inside the \
+                     terrain's bounding box; use cyl_all shapes or move the camera out",
+                    options.variant()
                 )));
             }
         }
+        Ok(())
+    }
+
+    /// Refuses primary ray `directions`, or shadow rays towards `light`, steeper than the
+    /// shapes' `phi_max`.
+    fn check_directions(
+        &self,
+        directions: impl Iterator<Item = DVec3>,
+        light: Option<DVec3>,
+    ) -> Result<(), TraceError> {
+        let options = self.shapes.options();
         if let Some(max_slope) = options.max_slope() {
             let phi = options.phi_max_deg.unwrap_or(90.0);
             let steep = |d: DVec3| too_steep(d, max_slope);
