@@ -8,7 +8,6 @@ use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::prelude::*;
 use numpy::{PyArray1, PyArray2, PyArray3, PyReadonlyArray2, PyUntypedArray};
 use pyo3::prelude::*;
-use relief_core::DVec3;
 
 /// A grid of samples as the caller gave it: row-major, row 0 the array's first row.
 pub struct ArrayGrid {
@@ -29,7 +28,7 @@ pub fn heights(value: &Bound<'_, PyAny>) -> PyResult<ArrayGrid> {
         return Err(invalid(format!(
             "heights must be a 2-D array (rows, columns), got a {}-D array of shape {}",
             shape.len(),
-            shape_text(&shape)
+            shape_text(shape)
         )));
     }
     let (height, width) = (shape[0], shape[1]);
@@ -37,7 +36,7 @@ pub fn heights(value: &Bound<'_, PyAny>) -> PyResult<ArrayGrid> {
         return Err(invalid(format!("heights: raster of {width} x {height} samples is empty")));
     }
     let readonly: PyReadonlyArray2<'_, f32> = array.as_any().extract()?;
-    let samples: Vec<f32> = readonly.as_array().iter().copied().collect();
+    let samples = logical_order(&readonly);
     if let Some(i) = samples.iter().position(|v| v.is_infinite()) {
         return Err(invalid(format!(
             "heights: sample at column {}, row {} is {}",
@@ -49,25 +48,41 @@ pub fn heights(value: &Bound<'_, PyAny>) -> PyResult<ArrayGrid> {
     Ok(ArrayGrid { width, height, samples })
 }
 
-/// The `(N, 3)` array of finite vectors `value` (ray origins or directions), named `name` in
-/// messages.
-pub fn vectors(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<DVec3>> {
+/// The `(N, 3)` array `value` (ray origins or directions), named `name` in messages, as its
+/// `3 N` values in row order. Only the copy happens here, with the GIL held; see
+/// [`check_finite_rows`] for the check that follows without it.
+pub fn vectors(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
     let array = real_array(value, name, "float64")?;
     let shape = array.shape();
     if shape.len() != 2 || shape[1] != 3 {
         return Err(invalid(format!(
             "{name} must be an array of shape (N, 3), got shape {}",
-            shape_text(&shape)
+            shape_text(shape)
         )));
     }
     let readonly: PyReadonlyArray2<'_, f64> = array.as_any().extract()?;
-    let view = readonly.as_array();
-    let rows: Vec<DVec3> = view.rows().into_iter().map(|r| DVec3::new(r[0], r[1], r[2])).collect();
-    if let Some(k) = rows.iter().position(|v| !v.is_finite()) {
-        let v = rows[k];
-        return Err(invalid(format!("{name}: row {k} ({}, {}, {}) is not finite", v.x, v.y, v.z)));
+    Ok(logical_order(&readonly))
+}
+
+/// Refuses a row of the vectors `values` (three numbers a row) that is not finite, naming
+/// the array `name` and the row.
+pub fn check_finite_rows(values: &[f64], name: &str) -> Result<(), String> {
+    match values.chunks_exact(3).position(|v| !v.iter().all(|x| x.is_finite())) {
+        Some(k) => {
+            let v = &values[3 * k..3 * k + 3];
+            Err(format!("{name}: row {k} ({}, {}, {}) is not finite", v[0], v[1], v[2]))
+        }
+        None => Ok(()),
     }
-    Ok(rows)
+}
+
+/// The values of `array` in its logical (row-major) order, whatever its memory layout: one
+/// copy of the memory when it is C-contiguous.
+fn logical_order<T: numpy::Element + Copy>(array: &PyReadonlyArray2<'_, T>) -> Vec<T> {
+    match array.as_slice() {
+        Ok(slice) => slice.to_vec(),
+        Err(_) => array.as_array().iter().copied().collect(),
+    }
 }
 
 /// `value` as a NumPy array of `dtype` (`float32` or `float64`), converted from any other real

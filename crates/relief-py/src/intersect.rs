@@ -1,6 +1,6 @@
 //! `relief.intersect`: the tracer's first hits of an array of rays, in relief's world.
 
-use crate::arrays::{heights as heights_array, vector_f64, vectors};
+use crate::arrays::{check_finite_rows, heights as heights_array, vector_f64, vectors};
 use crate::errors::invalid;
 use crate::options;
 use crate::terrain::height_field;
@@ -8,7 +8,7 @@ use crate::tracer::tracer as build;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use rayon::prelude::*;
-use relief_core::Ray;
+use relief_core::{DVec3, Ray};
 
 /// Rays traced together as one batch (neighbouring rays gain from the mipmap tracer's
 /// packets).
@@ -55,27 +55,34 @@ pub fn intersect<'py>(
     if starts.len() != dirs.len() {
         return Err(invalid(format!(
             "origins and directions must have the same number of rays, got {} and {}",
-            starts.len(),
-            dirs.len()
+            starts.len() / 3,
+            dirs.len() / 3
         )));
     }
-    if let Some(k) = dirs.iter().position(|d| d.length_squared() == 0.0) {
-        return Err(invalid(format!("directions: row {k} is zero, not a direction")));
-    }
-    let rays: Vec<Ray> = starts.iter().zip(&dirs).map(|(&o, &d)| Ray::new(o, d)).collect();
     let t = py.detach(|| {
+        check_finite_rows(&starts, "origins")?;
+        check_finite_rows(&dirs, "directions")?;
+        if let Some(k) = dirs.chunks_exact(3).position(|d| d.iter().all(|&x| x == 0.0)) {
+            return Err(format!("directions: row {k} is zero, not a direction"));
+        }
         let field = height_field(&grid, geometry, voids)?;
         let tracer = build(&field, surface, kind);
-        let mut t = vec![f64::INFINITY; rays.len()];
-        rays.par_chunks(BATCH).zip(t.par_chunks_mut(BATCH)).for_each(|(rays, t)| {
+        let mut t = vec![f64::INFINITY; starts.len() / 3];
+        let (starts, dirs) = (starts.par_chunks(3 * BATCH), dirs.par_chunks(3 * BATCH));
+        starts.zip(dirs).zip(t.par_chunks_mut(BATCH)).for_each(|((starts, dirs), t)| {
+            let rays: Vec<Ray> = starts
+                .chunks_exact(3)
+                .zip(dirs.chunks_exact(3))
+                .map(|(o, d)| Ray::new(DVec3::from_slice(o), DVec3::from_slice(d)))
+                .collect();
             let mut hits = vec![None; rays.len()];
             let mut steps = vec![0; rays.len()];
-            tracer.intersect_batch(rays, &mut hits, &mut steps);
+            tracer.intersect_batch(&rays, &mut hits, &mut steps);
             for (t, hit) in t.iter_mut().zip(hits) {
                 *t = hit.map_or(f64::INFINITY, |h| h.t);
             }
         });
-        Ok::<_, String>(t)
+        Ok(t)
     });
     Ok(vector_f64(py, t.map_err(invalid)?))
 }

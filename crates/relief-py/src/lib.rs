@@ -1,5 +1,5 @@
-//! The native part of relief's Python package: [`render`](render::render),
-//! [`intersect`](intersect::intersect) and [`read`](read::read) over NumPy arrays, with
+//! The native part of relief's Python package: `render`, `intersect` and `read` over NumPy
+//! arrays, with
 //! relief's errors raised as Python exceptions. The package `relief` (python/relief)
 //! re-exports them; its `_relief.pyi` holds their type stubs.
 //!

@@ -13,6 +13,9 @@ use pyo3::types::PyDict;
 use relief_core::Surface;
 use relief_shade::{render_gbuffer, shade_to_srgb8, ShadingParams, Sun};
 
+/// What `render` returns: the RGB image and its depth.
+type Rendered<'py> = (Bound<'py, PyArray3<u8>>, Bound<'py, PyArray2<f32>>);
+
 /// Bytes an image takes per pixel while it is rendered (as the command line counts them): the
 /// G-buffer (56), the linear radiance (12) and the 8-bit output (3).
 const BYTES_PER_PIXEL: u64 = 71;
@@ -58,7 +61,7 @@ pub fn render<'py>(
     shadows: bool,
     exposure: f64,
     voids: &str,
-) -> PyResult<(Bound<'py, PyArray3<u8>>, Bound<'py, PyArray2<f32>>)> {
+) -> PyResult<Rendered<'py>> {
     let (width, height) = options::image_size(size)?;
     check_image(width, height)?;
     let geometry = options::geometry(spacing, origin, z_scale)?;
