@@ -79,9 +79,10 @@ pub fn check_finite_rows(values: &[f64], name: &str) -> Result<(), String> {
 /// The values of `array` in its logical (row-major) order, whatever its memory layout: one
 /// copy of the memory when it is C-contiguous.
 fn logical_order<T: numpy::Element + Copy>(array: &PyReadonlyArray2<'_, T>) -> Vec<T> {
+    // `as_slice` also takes a Fortran-ordered array, in its memory order: C order only.
     match array.as_slice() {
-        Ok(slice) => slice.to_vec(),
-        Err(_) => array.as_array().iter().copied().collect(),
+        Ok(slice) if array.is_c_contiguous() => slice.to_vec(),
+        _ => array.as_array().iter().copied().collect(),
     }
 }
 

@@ -8,14 +8,14 @@ import relief
 
 rasterio = pytest.importorskip("rasterio")
 from rasterio.crs import CRS  # noqa: E402
-from rasterio.transform import from_origin  # noqa: E402
+from rasterio.transform import Affine  # noqa: E402
 
 
 def write_geotiff(path, heights, west, north, dx, dy, nodata=None, crs="EPSG:32633"):
     rows, cols = heights.shape
     with rasterio.open(
         path, "w", driver="GTiff", width=cols, height=rows, count=1, dtype=heights.dtype,
-        crs=CRS.from_string(crs), transform=from_origin(west, north, dx, dy), nodata=nodata,
+        crs=CRS.from_string(crs), transform=Affine(dx, 0.0, west, 0.0, -dy, north), nodata=nodata,
     ) as out:
         out.write(heights, 1)
 

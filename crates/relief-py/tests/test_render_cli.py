@@ -61,14 +61,14 @@ def test_render_equals_the_command_line(tmp_path, run_relief, terrain, kwargs, a
 
 def test_render_of_read_equals_the_command_line_on_a_geotiff(tmp_path, run_relief, terrain):
     rasterio = pytest.importorskip("rasterio")
-    from rasterio.transform import from_origin
+    from rasterio.transform import Affine
 
     heights = terrain.copy()
     heights[10:13, 20:24] = -32768.0
     path = tmp_path / "dem.tif"
     with rasterio.open(
         path, "w", driver="GTiff", width=48, height=40, count=1, dtype="float32",
-        crs="EPSG:32633", transform=from_origin(500000.0, 4100000.0, 2.0, 2.0), nodata=-32768.0,
+        crs="EPSG:32633", transform=Affine(2.0, 0.0, 500000.0, 0.0, -2.0, 4100000.0), nodata=-32768.0,
     ) as out:
         out.write(heights, 1)
     read = relief.read(path)
