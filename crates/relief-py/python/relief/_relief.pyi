@@ -1,0 +1,102 @@
+"""Type stubs of relief's native module (re-exported by the package ``relief``)."""
+
+from collections.abc import Mapping
+from os import PathLike
+from typing import Any, Literal, Optional, Sequence, Tuple, TypedDict, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class ReliefError(ValueError):
+    """An argument relief cannot use, with the command line's message."""
+
+class DegreeSpacing(TypedDict):
+    """A georeference given in degrees, converted to metres at ``latitude``."""
+
+    dlon: float
+    dlat: float
+    latitude: float
+
+class Georeference(TypedDict):
+    """Where a grid read from a file sits in relief's world, and what the file said."""
+
+    spacing: Tuple[float, float]
+    origin: Tuple[float, float]
+    geotransform: Tuple[float, float, float, float, float, float]
+    nodata: Optional[float]
+    format: str
+    sample_type: str
+    georeferenced: bool
+    from_degrees: Optional[DegreeSpacing]
+
+class Camera(TypedDict, total=False):
+    """A pinhole camera: ``eye`` and ``target`` together, ``up`` and ``fov`` optional."""
+
+    eye: Sequence[float]
+    target: Sequence[float]
+    up: Sequence[float]
+    fov: float
+
+Spacing = Union[float, Tuple[float, float], Mapping[str, Any], None]
+Surface = Literal["triangles", "boxes"]
+TracerName = Literal["mipmap", "naive"]
+Voids = Literal["fill", "hole"]
+
+def read(
+    path: Union[str, PathLike[str]],
+    *,
+    array: Optional[str] = None,
+    png_encoding: Literal["grey", "terrain-rgb", "terrarium"] = "grey",
+    max_memory: Optional[int] = None,
+) -> Tuple[npt.NDArray[np.float32], Georeference]:
+    """Read a height file as ``(heights, georeference)``.
+
+    ``heights`` is float32 of shape (rows, columns) with row 0 the north edge and NaN for
+    voids; ``relief.render(*relief.read(path))`` draws what ``relief render PATH`` draws. A
+    .npy/.npz grid's row 0 is relief's south edge, so its heights are
+    ``numpy.flipud(numpy.load(path))``. Raises ``OSError`` (``FileNotFoundError``, ...)
+    with relief's message.
+    """
+
+def render(
+    heights: npt.ArrayLike,
+    spacing: Spacing = None,
+    *,
+    origin: Optional[Tuple[float, float]] = None,
+    z_scale: float = 1.0,
+    camera: Optional[Camera] = None,
+    size: Tuple[int, int] = (1280, 720),
+    surface: Surface = "triangles",
+    tracer: TracerName = "mipmap",
+    sun: Tuple[float, float] = (315.0, 35.0),
+    shadows: bool = True,
+    exposure: float = 1.0,
+    voids: Voids = "fill",
+) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
+    """Render a north-up heights array as ``relief render`` does: ``(rgb, depth)``.
+
+    ``rgb`` is uint8 (height, width, 3); ``depth`` float32 (height, width), row 0 the top
+    row, the distance from the eye along each pixel's unit ray, +inf for a miss.
+    ``spacing`` is a number, ``(dx, dy)`` or the georeference dict ``read`` returns.
+    ``camera`` is ``None`` (automatic framing) or ``{eye, target, up, fov}``.
+    """
+
+def intersect(
+    heights: npt.ArrayLike,
+    origins: npt.ArrayLike,
+    directions: npt.ArrayLike,
+    spacing: Spacing = None,
+    *,
+    origin: Optional[Tuple[float, float]] = None,
+    z_scale: float = 1.0,
+    surface: Surface = "triangles",
+    tracer: TracerName = "mipmap",
+    voids: Voids = "fill",
+) -> npt.NDArray[np.float64]:
+    """The ray parameter ``t`` (N,) of each ray's first hit, +inf for a miss.
+
+    ``origins`` and ``directions`` have shape (N, 3) in world coordinates; directions need
+    not be unit: the hit is at ``origins + t[:, None] * directions``.
+    """

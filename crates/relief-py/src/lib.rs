@@ -1,0 +1,34 @@
+//! The native part of relief's Python package: `render`, `intersect` and `read` over NumPy
+//! arrays, with
+//! relief's errors raised as Python exceptions. The package `relief` (python/relief)
+//! re-exports them; its `_relief.pyi` holds their type stubs.
+//!
+//! Every function validates its arguments before any work (no panic crosses into Python),
+//! builds its tracer once per call and releases the GIL while it traces.
+
+#![deny(missing_docs)]
+
+mod arrays;
+mod camera;
+mod errors;
+mod georeference;
+mod intersect;
+mod options;
+mod read;
+mod render;
+mod terrain;
+mod tracer;
+
+use pyo3::prelude::*;
+
+/// The module `relief._relief`.
+#[pymodule]
+fn _relief(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("ReliefError", m.py().get_type::<errors::ReliefError>())?;
+    m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(intersect::intersect, m)?)?;
+    m.add_function(wrap_pyfunction!(read::read, m)?)?;
+    // `shade` (hillshading of an array) is registered here once relief-shade offers it.
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

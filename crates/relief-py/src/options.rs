@@ -1,0 +1,184 @@
+//! The options of the Python functions, each held to the range the relief command line holds
+//! it to, with the command line's messages: placement (spacing, origin, z scale), surface,
+//! tracer, voids, image size, sun and exposure.
+
+use crate::errors::invalid;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use relief_core::{DVec2, GridGeometry, Surface};
+use relief_io::VoidPolicy;
+use relief_trace::TracerKind;
+use std::ops::RangeInclusive;
+
+/// Texel spacing and height scale relief places grids with (as `relief --spacing`,
+/// `--z-scale`).
+pub const SCALE_RANGE: RangeInclusive<f64> = 1e-6..=1e7;
+
+/// Largest distance from the origin, in metres, a coordinate may have on an axis (as the
+/// command line's `--eye`, `--target`).
+pub const MAX_COORDINATE: f64 = 1e9;
+
+/// Vertical field of view in degrees (as `--fov`).
+pub const FOV_RANGE: RangeInclusive<f64> = 0.01..=179.0;
+
+/// Exposure before tone mapping (as `--exposure`).
+pub const EXPOSURE_RANGE: RangeInclusive<f64> = 1e-4..=1e4;
+
+/// Largest image side in pixels (as `--size`).
+pub const MAX_IMAGE_SIDE: i64 = 32768;
+
+/// A number for a message: plain decimals for everyday magnitudes, scientific notation for
+/// the rest (as the command line prints them).
+pub fn readable(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e9).contains(&v.abs()) || !v.is_finite() {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// A range's ends as a reader wants them: `0.01..179`, `1e-6..10000000`.
+fn range_text(range: &RangeInclusive<f64>) -> String {
+    format!("{}..{}", readable(*range.start()), readable(*range.end()))
+}
+
+/// The grid geometry of `spacing` (a number, `(dx, dy)`, or the georeference dict `read`
+/// returns, whose spacing and origin are taken), `origin` (the south-west corner `(x, y)`,
+/// overriding the dict's) and `z_scale`.
+pub fn geometry(
+    spacing: Option<&Bound<'_, PyAny>>,
+    origin: Option<(f64, f64)>,
+    z_scale: f64,
+) -> PyResult<GridGeometry> {
+    let (mut dx, mut dy, mut corner) = (1.0, 1.0, DVec2::ZERO);
+    if let Some(spacing) = spacing {
+        if let Ok(georeference) = spacing.cast::<PyDict>() {
+            let item = |key: &str| -> PyResult<(f64, f64)> {
+                georeference
+                    .get_item(key)?
+                    .ok_or_else(|| invalid(format!("the georeference dict has no '{key}'")))?
+                    .extract()
+                    .map_err(|_| {
+                        invalid(format!("georeference['{key}'] must be a pair of numbers"))
+                    })
+            };
+            (dx, dy) = item("spacing")?;
+            corner = DVec2::from(item("origin")?);
+        } else if let Ok(d) = spacing.extract::<f64>() {
+            (dx, dy) = (d, d);
+        } else {
+            (dx, dy) = spacing.extract().map_err(|_| {
+                invalid("spacing must be a number, a pair (dx, dy) or the georeference dict read() returns")
+            })?;
+        }
+    }
+    for d in [dx, dy] {
+        if !SCALE_RANGE.contains(&d) {
+            return Err(invalid(format!(
+                "spacing {} must be positive, within {} world units",
+                readable(d),
+                range_text(&SCALE_RANGE)
+            )));
+        }
+    }
+    if let Some(origin) = origin {
+        corner = DVec2::from(origin);
+    }
+    if !corner.is_finite() || corner.abs().max_element() > MAX_COORDINATE {
+        return Err(invalid(format!(
+            "origin ({}, {}) is farther than {} m from the world's origin on an axis",
+            corner.x,
+            corner.y,
+            readable(MAX_COORDINATE)
+        )));
+    }
+    if !SCALE_RANGE.contains(&z_scale) {
+        return Err(invalid(format!(
+            "z scale {} is outside {}",
+            readable(z_scale),
+            range_text(&SCALE_RANGE)
+        )));
+    }
+    Ok(GridGeometry { dx, dy, z_scale, origin: corner })
+}
+
+/// The surface named `name`: `triangles` or `boxes`.
+pub fn surface(name: &str) -> PyResult<Surface> {
+    name.parse().map_err(invalid)
+}
+
+/// The tracer named `name`: `mipmap` or `naive` (the safety tracer's precomputed shapes are
+/// the command line's, with their cache).
+pub fn tracer(name: &str) -> PyResult<TracerKind> {
+    if name == "safety" || name.starts_with("cyl_") {
+        return Err(invalid(format!(
+            "the {name} tracer is not offered by the Python module (expected naive or mipmap)"
+        )));
+    }
+    name.parse().map_err(invalid)
+}
+
+/// The void policy named `name`: `fill` (nearest valid sample, then smoothed, as the command
+/// line does by default) or `hole` (empty texels the rays pass through).
+pub fn voids(name: &str) -> PyResult<VoidPolicy> {
+    match name {
+        "fill" => Ok(VoidPolicy::Fill),
+        "hole" => Ok(VoidPolicy::Hole),
+        _ => Err(invalid(format!("unknown voids '{name}' (expected fill or hole)"))),
+    }
+}
+
+/// The image size `(width, height)`, each side 1 to 32768 pixels.
+pub fn image_size((width, height): (i64, i64)) -> PyResult<(u32, u32)> {
+    for side in [width, height] {
+        if !(1..=MAX_IMAGE_SIDE).contains(&side) {
+            return Err(invalid(format!(
+                "size: {side} in ({width}, {height}) is not an image dimension between 1 and \
+                 {MAX_IMAGE_SIDE}"
+            )));
+        }
+    }
+    Ok((width as u32, height as u32))
+}
+
+/// The sun `(azimuth, elevation)` in degrees: azimuth clockwise from north, -360 to 360;
+/// elevation -90 to 90.
+pub fn sun((azimuth, elevation): (f64, f64)) -> PyResult<(f64, f64)> {
+    if !(-360.0..=360.0).contains(&azimuth) {
+        return Err(invalid(format!(
+            "sun azimuth {} is outside -360..360 degrees",
+            readable(azimuth)
+        )));
+    }
+    if !(-90.0..=90.0).contains(&elevation) {
+        return Err(invalid(format!(
+            "sun elevation {} is outside -90..90 degrees",
+            readable(elevation)
+        )));
+    }
+    Ok((azimuth, elevation))
+}
+
+/// The exposure, within [`EXPOSURE_RANGE`].
+pub fn exposure(exposure: f64) -> PyResult<f64> {
+    if !EXPOSURE_RANGE.contains(&exposure) {
+        return Err(invalid(format!(
+            "exposure {} is outside {}",
+            readable(exposure),
+            range_text(&EXPOSURE_RANGE)
+        )));
+    }
+    Ok(exposure)
+}
+
+/// The vertical field of view in degrees, within [`FOV_RANGE`].
+pub fn fov(fov: f64) -> PyResult<f64> {
+    if !FOV_RANGE.contains(&fov) {
+        return Err(invalid(format!(
+            "field of view {} is outside {} degrees",
+            readable(fov),
+            range_text(&FOV_RANGE)
+        )));
+    }
+    Ok(fov)
+}

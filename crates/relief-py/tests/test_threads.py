@@ -1,0 +1,53 @@
+"""relief releases the GIL while it traces: other Python threads run meanwhile, and calls
+from several threads at once give the results of one call alone."""
+
+import threading
+import time
+
+import numpy as np
+
+import relief
+from conftest import hills
+
+
+def test_other_threads_run_while_relief_traces():
+    heights = hills(512, 512)
+    rng = np.random.default_rng(1)
+    n = 1_000_000
+    origins = np.column_stack([rng.uniform(0, 512, n), rng.uniform(0, 512, n), np.full(n, 20.0)])
+    directions = np.column_stack([rng.uniform(-1, 1, n), rng.uniform(-1, 1, n), np.full(n, -0.01)])
+    took = []
+
+    def trace():
+        start = time.perf_counter()
+        relief.intersect(heights, origins, directions, tracer="naive")
+        took.append(time.perf_counter() - start)
+
+    worker = threading.Thread(target=trace)
+    ticks = []
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    worker.join()
+    gaps = np.diff(ticks)
+    # With the GIL held for the whole call this thread would stall for all of it.
+    assert took[0] > 0.2, took
+    assert len(gaps) > 10 and gaps.max() < 0.5 * took[0], (gaps.max(), took)
+
+
+def test_concurrent_calls_give_the_results_of_one_call():
+    heights = hills()
+    alone = relief.render(heights, size=(48, 32))
+    results = [None] * 4
+
+    def run(k):
+        results[k] = relief.render(heights, size=(48, 32))
+
+    threads = [threading.Thread(target=run, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for rgb, depth in results:
+        assert np.array_equal(rgb, alone[0]) and np.array_equal(depth, alone[1])
