@@ -1,6 +1,5 @@
-//! The native part of relief's Python package: `render`, `intersect` and `read` over NumPy
-//! arrays, with
-//! relief's errors raised as Python exceptions. The package `relief` (python/relief)
+//! The native part of relief's Python package: `render`, `shade`, `intersect` and `read` over
+//! NumPy arrays, with relief's errors raised as Python exceptions. The package `relief` (python/relief)
 //! re-exports them; its `_relief.pyi` holds their type stubs.
 //!
 //! Every function validates its arguments before any work (no panic crosses into Python),
@@ -16,6 +15,7 @@ mod intersect;
 mod options;
 mod read;
 mod render;
+mod shade;
 mod terrain;
 mod tracer;
 
@@ -28,7 +28,7 @@ fn _relief(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(intersect::intersect, m)?)?;
     m.add_function(wrap_pyfunction!(read::read, m)?)?;
-    // `shade` (hillshading of an array) is registered here once relief-shade offers it.
+    m.add_function(wrap_pyfunction!(shade::shade, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -33,6 +33,7 @@ pub fn height_field(
             georeferenced: false,
             from_degrees: None,
             nodata: None,
+            georeference: None,
         },
     };
     let field = raster.into_height_field(Path::new("heights"), voids).map_err(|e| e.to_string())?;

@@ -1,6 +1,7 @@
 """relief: exact, fast ray casting of terrain, from NumPy.
 
-Render a height field to a picture and its depth, read height files as north-up arrays with
+Render a height field to a picture and its depth, make its shade layers (cast shadows, the
+sky-view factor, the hillshade) on its own grid, read height files as north-up arrays with
 their georeference, and trace arrays of rays against a terrain's surface, with the same
 conventions, defaults and messages as the ``relief`` command line:
 
@@ -13,7 +14,6 @@ georeferenced file). Arrays of heights have row 0 at the north edge. Bad argumen
 ``relief.ReliefError`` (a ``ValueError``); files that cannot be read raise ``OSError``.
 """
 
-from ._relief import ReliefError, __version__, intersect, read, render
+from ._relief import ReliefError, __version__, intersect, read, render, shade
 
-# `shade` (hillshading of an array, relief-shade's) joins these once the library has it.
-__all__ = ["ReliefError", "__version__", "intersect", "read", "render"]
+__all__ = ["ReliefError", "__version__", "intersect", "read", "render", "shade"]

@@ -83,6 +83,30 @@ def render(
     ``camera`` is ``None`` (automatic framing) or ``{eye, target, up, fov}``.
     """
 
+ShadeLayer = Literal["shadow", "sky", "hillshade", "combined"]
+
+def shade(
+    heights: npt.ArrayLike,
+    spacing: Spacing = None,
+    *,
+    origin: Optional[Tuple[float, float]] = None,
+    z_scale: float = 1.0,
+    layers: Sequence[ShadeLayer] = ("combined",),
+    suns: Sequence[Tuple[float, float]] = ((315.0, 45.0),),
+    sun_radius: float = 0.0,
+    sun_rays: int = 16,
+    sky_rays: int = 64,
+    surface: Surface = "triangles",
+    voids: Voids = "fill",
+) -> dict[str, npt.NDArray[np.float32]]:
+    """The shade layers of ``heights``, each shaped like it (north-up, NaN at its voids).
+
+    ``shadow``: the fraction of the suns each sample sees (exact cast shadows); ``sky``: the
+    sky-view factor from ``sky_rays`` directions; ``hillshade``: Lambert's cosine with Horn's
+    gradient; ``combined``: the map layer. 0 dark or closed, 1 lit or open, as ``relief
+    shade`` writes them.
+    """
+
 def intersect(
     heights: npt.ArrayLike,
     origins: npt.ArrayLike,

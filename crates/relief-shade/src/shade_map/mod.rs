@@ -42,10 +42,11 @@ impl ShadeMap {
     }
 }
 
-/// Rows of samples traced together: a band is one parallel task.
+/// Rows of samples traced together: a band is one parallel task, and a tile's height.
 const BAND_ROWS: usize = 8;
-/// Samples per row of a tile, whose rays in one direction are traced as one batch.
-const TILE_COLS: usize = 32;
+/// Samples per row of a tile: a tile's 8 x 8 rays in one direction are traced as one batch,
+/// a full packet of the mipmap tracer's.
+const TILE_COLS: usize = 8;
 
 /// Makes the shade map `params` asks for over every sample of `field`, tracing with `tracer`,
 /// which must trace `field` (any tracer and surface: the map is exact for that surface).
@@ -158,42 +159,40 @@ fn shade_band(
     let mut layers = vec![vec![f32::NAN; count]; params.layers.len()];
     let mut cast = 0;
     let mut tile = TileRays::default();
-    for row in rows.clone() {
-        for first_col in (0..width).step_by(TILE_COLS) {
-            let cols = first_col..(first_col + TILE_COLS).min(width);
-            tile.gather(field, void, row, cols);
-            if tile.samples.is_empty() {
-                continue;
-            }
-            let seen_per_sun: Vec<Vec<f32>> =
-                rays.suns.iter().map(|dirs| tile.fraction_seen(tracer, dirs)).collect();
-            let sky = tile.fraction_seen(tracer, &rays.sky);
-            cast += tile.samples.len() as u64
-                * (rays.suns.iter().map(Vec::len).sum::<usize>() + rays.sky.len()) as u64;
-            for (k, &col) in tile.samples.iter().enumerate() {
-                let normal = horn_normal(field, void, col, row);
-                let lamberts = rays.sun_centres.iter().map(|&d| lambert(normal, d));
-                let suns = rays.sun_centres.len().max(1) as f64;
-                let index = col + (row - rows.start) * width;
-                for (layer, values) in params.layers.iter().zip(layers.iter_mut()) {
-                    let value = match layer {
-                        ShadeLayer::Shadow => {
-                            seen_per_sun.iter().map(|seen| seen[k] as f64).sum::<f64>() / suns
-                        }
-                        ShadeLayer::Sky => sky[k] as f64,
-                        ShadeLayer::Hillshade => lamberts.clone().sum::<f64>() / suns,
-                        ShadeLayer::Combined => {
-                            let sun = lamberts
-                                .clone()
-                                .zip(&seen_per_sun)
-                                .map(|(l, seen)| l * seen[k] as f64)
-                                .sum::<f64>()
-                                / suns;
-                            (1.0 - SKY_SHARE) * sun + SKY_SHARE * sky[k] as f64
-                        }
-                    };
-                    values[index] = value as f32;
-                }
+    for first_col in (0..width).step_by(TILE_COLS) {
+        let cols = first_col..(first_col + TILE_COLS).min(width);
+        tile.gather(field, void, rows.clone(), cols);
+        if tile.samples.is_empty() {
+            continue;
+        }
+        let seen_per_sun: Vec<Vec<f32>> =
+            rays.suns.iter().map(|dirs| tile.fraction_seen(tracer, dirs)).collect();
+        let sky = tile.fraction_seen(tracer, &rays.sky);
+        cast += tile.samples.len() as u64
+            * (rays.suns.iter().map(Vec::len).sum::<usize>() + rays.sky.len()) as u64;
+        for (k, &(col, row)) in tile.samples.iter().enumerate() {
+            let normal = horn_normal(field, void, col, row);
+            let lamberts = rays.sun_centres.iter().map(|&d| lambert(normal, d));
+            let suns = rays.sun_centres.len().max(1) as f64;
+            let index = col + (row - rows.start) * width;
+            for (layer, values) in params.layers.iter().zip(layers.iter_mut()) {
+                let value = match layer {
+                    ShadeLayer::Shadow => {
+                        seen_per_sun.iter().map(|seen| seen[k] as f64).sum::<f64>() / suns
+                    }
+                    ShadeLayer::Sky => sky[k] as f64,
+                    ShadeLayer::Hillshade => lamberts.clone().sum::<f64>() / suns,
+                    ShadeLayer::Combined => {
+                        let sun = lamberts
+                            .clone()
+                            .zip(&seen_per_sun)
+                            .map(|(l, seen)| l * seen[k] as f64)
+                            .sum::<f64>()
+                            / suns;
+                        (1.0 - SKY_SHARE) * sun + SKY_SHARE * sky[k] as f64
+                    }
+                };
+                values[index] = value as f32;
             }
         }
     }
@@ -203,8 +202,8 @@ fn shade_band(
 /// The rays of one tile of samples in one direction, and the buffers to trace them.
 #[derive(Default)]
 struct TileRays {
-    /// Columns of the tile's samples that are shaded (not void).
-    samples: Vec<usize>,
+    /// The tile's samples that are shaded (not void), as (column, row).
+    samples: Vec<(usize, usize)>,
     /// Their rays' origins.
     origins: Vec<DVec3>,
     rays: Vec<Ray>,
@@ -213,23 +212,25 @@ struct TileRays {
 }
 
 impl TileRays {
-    /// Takes the samples of `cols` in `row` that are not void.
+    /// Takes the samples of `cols` x `rows` that are not void, row by row.
     fn gather(
         &mut self,
         field: &HeightField,
         void: Option<&[bool]>,
-        row: usize,
+        rows: std::ops::Range<usize>,
         cols: std::ops::Range<usize>,
     ) {
         self.samples.clear();
         self.origins.clear();
-        for col in cols {
-            let index = col + row * field.width();
-            if field.is_hole(col, row) || void.is_some_and(|v| v[index]) {
-                continue;
+        for row in rows {
+            for col in cols.clone() {
+                let index = col + row * field.width();
+                if field.is_hole(col, row) || void.is_some_and(|v| v[index]) {
+                    continue;
+                }
+                self.samples.push((col, row));
+                self.origins.push(surface_origin(field, col, row));
             }
-            self.samples.push(col);
-            self.origins.push(surface_origin(field, col, row));
         }
     }
 
