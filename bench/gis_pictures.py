@@ -35,13 +35,23 @@ def main():
                     "111120", "-alt", "20", "-q"],
                    check=True)
     with rasterio.open(work / "gdaldem.tif") as f:
-        grey(f.read(1) / 255.0).save(OUT / "gdaldem-hillshade.png")
+        grey(f.read(1) / 255.0).save(work / "gdaldem-hillshade.png")
     subprocess.run([RELIEF, "shade", DEM, "-o", str(work / "shade.tif"), "--layers",
                     "shadow,sky,hillshade,combined", "--sun", "315,20", "--sky-rays", "64"],
                    check=True)
     with rasterio.open(work / "shade.tif") as f:
         for band, name in enumerate(f.descriptions, start=1):
-            grey(f.read(band)).save(OUT / f"relief-{name}.png")
+            grey(f.read(band)).save(work / f"relief-{name}.png")
+    names = ["gdaldem-hillshade", "relief-hillshade", "relief-shadow", "relief-sky", "relief-combined"]
+    pictures = [Image.open(work / f"{name}.png").convert("L") for name in names]
+    gap = 6
+    row = Image.new("L", (sum(p.width for p in pictures) + gap * (len(pictures) - 1),
+                          max(p.height for p in pictures)), 255)
+    x = 0
+    for picture in pictures:
+        row.paste(picture, (x, 0))
+        x += picture.width + gap
+    row.save(OUT / "comparison.png")
     # 2. A map composed in Python: a colour ramp of the heights lit by relief's layers.
     heights, georeference = relief.read(DEM)
     layers = relief.shade(heights, georeference, layers=["shadow", "sky", "hillshade"],
