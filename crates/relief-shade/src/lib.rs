@@ -7,7 +7,7 @@
 //!    [`Sky`], albedo from a [`HypsometricRamp`] or an [`RgbTexture`].
 //! 3. [`tonemap_to_srgb8`] maps the linear radiance to 8-bit sRGB.
 //!
-//! [`shade_map`] makes the rasters GIS users overlay on their DEM: cast shadows, the sky-view
+//! [`shade_map()`] makes the rasters GIS users overlay on their DEM: cast shadows, the sky-view
 //! factor and the hillshade at every sample, aligned with the height field.
 //!
 //! Multi-layered height maps have their own renderer in [`mlhm`]: the reference shading of
