@@ -68,19 +68,20 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
     bar.finish_and_clear();
     let trace_ms = elapsed_ms(start);
 
+    let (width, height, rays) = (map.width, map.height, map.rays);
     let start = Instant::now();
-    write(&args.output, format, map.clone(), &info, voids > 0)?;
+    write(&args.output, format, map, &info, voids > 0)?;
     let write_ms = elapsed_ms(start);
 
     let names: Vec<&str> = params.layers.iter().map(|l| l.name()).collect();
-    let rays_per_s = map.rays as f64 / (trace_ms / 1e3).max(1e-9);
+    let rays_per_s = rays as f64 / (trace_ms / 1e3).max(1e-9);
     eprintln!(
         "wrote {} ({} x {} samples, {}; {} rays in {:.2} s, {:.1} Mrays/s)",
         args.output.display(),
-        map.width,
-        map.height,
+        width,
+        height,
         names.join(", "),
-        map.rays,
+        rays,
         trace_ms / 1e3,
         rays_per_s / 1e6
     );
@@ -89,7 +90,7 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
             "samples": samples,
             "voids": voids,
             "layers": names,
-            "rays": map.rays,
+            "rays": rays,
             "rays_per_s": rays_per_s,
             "read_ms": read_ms,
             "build_ms": build_ms,
