@@ -4,6 +4,7 @@
 use crate::atomic_write::write_atomically;
 use crate::geokeys::PROJECTED_METRES;
 use crate::IoError;
+use rayon::prelude::*;
 use relief_core::HeightField;
 use std::io::{Seek, Write};
 use std::path::Path;
@@ -167,6 +168,45 @@ impl<'p> FloatStrips<'p> {
             self.byte_counts.push(self.packed.len() as u64);
             self.strip.clear();
             self.rows = 0;
+        }
+        Ok(())
+    }
+
+    /// Appends a whole band, after whole bands only: `row(file_row, values)` fills its rows,
+    /// north first. Its strips are predicted and compressed in parallel, then written in
+    /// order: the same bytes as pushing its rows one by one.
+    pub(crate) fn push_band<W: Write + Seek, K: TiffKind>(
+        &mut self,
+        directory: &mut DirectoryEncoder<'_, W, K>,
+        row: impl Fn(usize, &mut [f32]) + Sync,
+    ) -> Result<(), IoError> {
+        debug_assert_eq!(self.rows, 0, "a band starts on a strip boundary");
+        let (width, height, per_strip) =
+            (self.width as usize, self.height as usize, self.rows_per_strip);
+        let path = self.path;
+        let packed: Vec<Result<Vec<u8>, IoError>> = (0..self.strips_per_band())
+            .into_par_iter()
+            .map(|strip_index| {
+                let rows = strip_index * per_strip..((strip_index + 1) * per_strip).min(height);
+                let mut strip = Vec::with_capacity(rows.len() * width * 4);
+                let mut values = vec![0f32; width];
+                for file_row in rows {
+                    row(file_row, &mut values);
+                    predict_floats(&values, &mut strip);
+                }
+                let mut packed = Vec::new();
+                Deflate::with_level(DeflateLevel::Balanced)
+                    .write_to(&mut packed, &strip)
+                    .map_err(|e| IoError::io(path, e))?;
+                Ok(packed)
+            })
+            .collect();
+        for packed in packed {
+            let packed = packed?;
+            let offset =
+                directory.write_data(&packed[..]).map_err(|e| encoding_error(self.path, e))?;
+            self.offsets.push(offset);
+            self.byte_counts.push(packed.len() as u64);
         }
         Ok(())
     }

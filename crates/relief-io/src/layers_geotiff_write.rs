@@ -66,15 +66,13 @@ fn encode<W: Write + Seek, K: TiffKind>(
     let mut strips = FloatStrips::new(path, width, height)?;
     let mut directory = tiff.image_directory().map_err(error)?;
     let (south_up, void) = (layers.south_up(), layers.void_value());
-    let mut values = vec![0f32; width];
     for layer in &layers.layers {
-        for file_row in 0..height {
+        strips.push_band(&mut directory, |file_row, values| {
             let row = if south_up { file_row } else { height - 1 - file_row };
             for (value, &sample) in values.iter_mut().zip(&layer.samples[row * width..]) {
                 *value = if sample.is_nan() { void } else { sample };
             }
-            strips.push_row(&mut directory, &values)?;
-        }
+        })?;
     }
     let d = &mut directory;
     // check() bounds the layer count by u16::MAX.
