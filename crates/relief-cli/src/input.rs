@@ -22,9 +22,14 @@ pub fn load(args: &InputArgs) -> Result<Arc<HeightField>> {
         )?,
     };
     let field = if args.north_up { field.flip_rows() } else { field };
-    let (dx, dy) = args.spacing.unwrap_or((field.geometry().dx, field.geometry().dy));
-    let geometry = GridGeometry { dx, dy, z_scale: args.z_scale, ..*field.geometry() };
-    Ok(Arc::new(field.with_geometry(geometry).context("invalid placement")?))
+    Ok(Arc::new(place(field, args.spacing, args.z_scale)?))
+}
+
+/// Applies `--spacing` (where given; else the file's) and `--z-scale` to `field`.
+pub fn place(field: HeightField, spacing: Option<(f64, f64)>, z_scale: f64) -> Result<HeightField> {
+    let (dx, dy) = spacing.unwrap_or((field.geometry().dx, field.geometry().dy));
+    let geometry = GridGeometry { dx, dy, z_scale, ..*field.geometry() };
+    field.with_geometry(geometry).context("invalid placement")
 }
 
 /// Samples per side of the default fBm terrain.

@@ -4,7 +4,6 @@
 use crate::args::{ShadeArgs, Voids};
 use crate::{applies, input, memory, outputs, progress};
 use anyhow::{bail, Context, Result};
-use relief_core::{GridGeometry, HeightField};
 use relief_io::{Layer, LayerRaster, RasterInfo, VoidPolicy};
 use relief_shade::shade_map::{shade_map, ShadeMap, ShadeMapParams, SunPosition};
 use relief_trace::{build_tracer, TracerKind};
@@ -53,7 +52,8 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
         Voids::Fill => VoidPolicy::Fill,
         Voids::Hole => VoidPolicy::Hole,
     };
-    let field = place(raster.into_height_field(&args.input, policy)?, args)?;
+    let field =
+        input::place(raster.into_height_field(&args.input, policy)?, args.spacing, args.z_scale)?;
     let read_ms = elapsed_ms(start);
 
     let start = Instant::now();
@@ -176,13 +176,6 @@ fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
     };
     params.validate()?;
     Ok(params)
-}
-
-/// Applies `--spacing` and `--z-scale` to the field read.
-fn place(field: HeightField, args: &ShadeArgs) -> Result<HeightField> {
-    let (dx, dy) = args.spacing.unwrap_or((field.geometry().dx, field.geometry().dy));
-    let geometry = GridGeometry { dx, dy, z_scale: args.z_scale, ..*field.geometry() };
-    field.with_geometry(geometry).context("invalid placement")
 }
 
 /// Writes `map` to `path` on the input's grid: its georeference and CRS, and its nodata (NaN

@@ -69,24 +69,6 @@ pub fn read_f32_npy(path: &Path) -> (Vec<usize>, Vec<f32>) {
     (shape, values)
 }
 
-/// Runs `script` with python3 and returns its standard output, or `None` (printing why) when
-/// python3 cannot import `module` and RELIEF_REQUIRE_CLIENTS is not 1 (.ci/run sets it and
-/// installs the clients). A script that fails fails the test, with its error output.
-pub fn python(module: &str, script: &str) -> Option<String> {
-    let probe = Command::new("python3").args(["-c", &format!("import {module}")]).output();
-    if !probe.is_ok_and(|o| o.status.success()) {
-        assert!(
-            std::env::var("RELIEF_REQUIRE_CLIENTS").as_deref() != Ok("1"),
-            "python3 with {module} is required (RELIEF_REQUIRE_CLIENTS=1); .ci/run installs it"
-        );
-        println!("skipped: python3 cannot import {module}");
-        return None;
-    }
-    let out = Command::new("python3").args(["-c", script]).output().unwrap();
-    assert!(out.status.success(), "{script}: {}", String::from_utf8_lossy(&out.stderr));
-    Some(String::from_utf8_lossy(&out.stdout).trim().to_string())
-}
-
 /// Fails with a readable message unless the command failed with code 2 and one line on stderr.
 pub fn assert_refused(out: &Output, mentions: &str) {
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -94,6 +76,11 @@ pub fn assert_refused(out: &Output, mentions: &str) {
     assert!(stderr.contains(mentions), "stderr should mention '{mentions}': {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+#[path = "../../../relief-io/tests/common/python_client.rs"]
+mod python_client;
+#[allow(unused_imports)]
+pub use python_client::python;
 
 #[path = "../../../relief-io/tests/common/shared_data.rs"]
 mod shared_data_lookup;

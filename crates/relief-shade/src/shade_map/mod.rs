@@ -159,6 +159,8 @@ fn shade_band(
     let mut layers = vec![vec![f32::NAN; count]; params.layers.len()];
     let mut cast = 0;
     let mut tile = TileRays::default();
+    let needs_slope =
+        params.layers.iter().any(|l| matches!(l, ShadeLayer::Hillshade | ShadeLayer::Combined));
     for first_col in (0..width).step_by(TILE_COLS) {
         let cols = first_col..(first_col + TILE_COLS).min(width);
         tile.gather(field, void, rows.clone(), cols);
@@ -171,8 +173,9 @@ fn shade_band(
         cast += tile.samples.len() as u64
             * (rays.suns.iter().map(Vec::len).sum::<usize>() + rays.sky.len()) as u64;
         for (k, &(col, row)) in tile.samples.iter().enumerate() {
-            let normal = horn_normal(field, void, col, row);
-            let lamberts = rays.sun_centres.iter().map(|&d| lambert(normal, d));
+            // The slope only where a layer needs it.
+            let normal = needs_slope.then(|| horn_normal(field, void, col, row));
+            let lamberts = rays.sun_centres.iter().map(|&d| normal.map_or(0.0, |n| lambert(n, d)));
             let suns = rays.sun_centres.len().max(1) as f64;
             let index = col + (row - rows.start) * width;
             for (layer, values) in params.layers.iter().zip(layers.iter_mut()) {
