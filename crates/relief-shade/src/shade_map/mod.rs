@@ -9,7 +9,7 @@ mod layer;
 mod params;
 mod surface_ray;
 
-pub use directions::{disc_directions, sky_directions};
+pub use directions::{disc_directions, sky_directions, SkyDirections};
 pub use hillshade::{horn_normal, lambert};
 pub use layer::ShadeLayer;
 pub use params::{ShadeMapParams, SunPosition, MAX_RAYS_PER_SAMPLE, MAX_SUN_RADIUS_DEG, SKY_SHARE};
@@ -31,7 +31,7 @@ pub struct ShadeMap {
     pub height: usize,
     /// The layers in the order they were asked for.
     pub layers: Vec<(ShadeLayer, Vec<f32>)>,
-    /// Rays cast.
+    /// Rays cast (the sky's search decides some directions without casting their rays).
     pub rays: u64,
 }
 
@@ -55,7 +55,8 @@ const TILE_COLS: usize = 8;
 /// voids a reader found before they were filled), is NaN in every layer. For each other sample:
 /// - [`ShadeLayer::Shadow`]: the mean over the suns of the fraction of each sun's rays (one,
 ///   or `sun_rays` over its disc) that escape the terrain;
-/// - [`ShadeLayer::Sky`]: the fraction of the `sky_rays` [`sky_directions`] that escape;
+/// - [`ShadeLayer::Sky`]: the fraction of the `sky_rays` [`SkyDirections`] that escape (each
+///   azimuth's decided by a search that traces a few of its rays);
 /// - [`ShadeLayer::Hillshade`]: the mean over the suns of [`lambert`] with the [`horn_normal`];
 /// - [`ShadeLayer::Combined`]: `(1 - SKY_SHARE)` times the mean over the suns of Lambert times
 ///   that sun's fraction seen, plus `SKY_SHARE` times the sky-view factor.
@@ -117,8 +118,8 @@ struct Rays {
     suns: Vec<Vec<DVec3>>,
     /// Per sun, the direction of its centre (for the hillshade).
     sun_centres: Vec<DVec3>,
-    /// The sky's directions (empty when no layer needs them).
-    sky: Vec<DVec3>,
+    /// The sky's directions (`None` when no layer needs them).
+    sky: Option<SkyDirections>,
 }
 
 impl Rays {
@@ -133,8 +134,7 @@ impl Rays {
         } else {
             Vec::new()
         };
-        let sky =
-            if params.needs_sky_rays() { sky_directions(params.sky_rays) } else { Vec::new() };
+        let sky = params.needs_sky_rays().then(|| SkyDirections::new(params.sky_rays));
         Rays { suns, sun_centres, sky }
     }
 }
@@ -169,9 +169,15 @@ fn shade_band(
         }
         let seen_per_sun: Vec<Vec<f32>> =
             rays.suns.iter().map(|dirs| tile.fraction_seen(tracer, dirs)).collect();
-        let sky = tile.fraction_seen(tracer, &rays.sky);
-        cast += tile.samples.len() as u64
-            * (rays.suns.iter().map(Vec::len).sum::<usize>() + rays.sky.len()) as u64;
+        cast += tile.samples.len() as u64 * rays.suns.iter().map(Vec::len).sum::<usize>() as u64;
+        let sky = match &rays.sky {
+            Some(sky) => {
+                let (seen, sky_cast) = tile.sky_seen(tracer, sky);
+                cast += sky_cast;
+                seen
+            }
+            None => Vec::new(),
+        };
         for (k, &(col, row)) in tile.samples.iter().enumerate() {
             // The slope only where a layer needs it.
             let normal = needs_slope.then(|| horn_normal(field, void, col, row));
@@ -253,5 +259,59 @@ impl TileRays {
         }
         let total = directions.len().max(1) as f32;
         seen.into_iter().map(|c| c as f32 / total).collect()
+    }
+
+    /// Per sample, the fraction of the `sky`'s directions whose rays escape the terrain, and
+    /// the rays cast to find it.
+    ///
+    /// An azimuth's escaping rays are its highest ones (see [`SkyDirections`]), so per sample
+    /// and azimuth only the lowest escaping band is searched for: the lowest band first (open
+    /// terrain sees it, with one ray), then by bisection between the highest band known to be
+    /// hidden and the lowest known to escape. An escaping ray crosses the whole grid and costs
+    /// far more than a hidden one, which is why the search starts low rather than in the
+    /// middle (measured on 1201² with 64 directions: 4.0 s, against 11.9 s for bisection from
+    /// the start and 10.0 s for tracing every ray).
+    fn sky_seen(&mut self, tracer: &dyn Tracer, sky: &SkyDirections) -> (Vec<f32>, u64) {
+        let n = self.samples.len();
+        let mut seen = vec![0usize; n];
+        // Per sample, the bands below `hidden` are known to be hidden and those from `open`
+        // up to escape.
+        let mut hidden = vec![0usize; n];
+        let mut open = vec![0usize; n];
+        let mut probes: Vec<(usize, usize)> = Vec::with_capacity(n);
+        let mut cast = 0;
+        for azimuth in 0..sky.azimuths() {
+            hidden.fill(0);
+            open.fill(sky.bands());
+            for round in 0.. {
+                probes.clear();
+                self.rays.clear();
+                for k in (0..n).filter(|&k| hidden[k] < open[k]) {
+                    let band = if round == 0 { 0 } else { (hidden[k] + open[k]) / 2 };
+                    probes.push((k, band));
+                    self.rays.push(Ray::new(self.origins[k], sky.direction(azimuth, band)));
+                }
+                if probes.is_empty() {
+                    break;
+                }
+                let m = probes.len();
+                self.occluded.resize(m, false);
+                self.steps.resize(m, 0);
+                tracer.occluded_batch(&self.rays, &mut self.occluded, &mut self.steps);
+                cast += m as u64;
+                for (&(k, band), &blocked) in probes.iter().zip(&self.occluded) {
+                    if blocked {
+                        hidden[k] = band + 1;
+                    } else {
+                        open[k] = band;
+                    }
+                }
+            }
+            for (seen, &hidden) in seen.iter_mut().zip(&hidden) {
+                *seen += sky.bands() - hidden;
+            }
+        }
+        let total = sky.all().len() as f32;
+        (seen.into_iter().map(|c| c as f32 / total).collect(), cast)
     }
 }
