@@ -173,8 +173,9 @@ impl<'p> FloatStrips<'p> {
     }
 
     /// Appends a whole band, after whole bands only: `row(file_row, values)` fills its rows,
-    /// north first. Its strips are predicted and compressed in parallel, then written in
-    /// order: the same bytes as pushing its rows one by one.
+    /// north first. Its strips are predicted and compressed in parallel, at Deflate's fast
+    /// level, then written in order. (A 3601² hillshade band: 0.31 s and 26.7 MB against 1.6 s
+    /// and 23.4 MB at the balanced level, measured in `relief shade`.)
     pub(crate) fn push_band<W: Write + Seek, K: TiffKind>(
         &mut self,
         directory: &mut DirectoryEncoder<'_, W, K>,
@@ -195,7 +196,7 @@ impl<'p> FloatStrips<'p> {
                     predict_floats(&values, &mut strip);
                 }
                 let mut packed = Vec::new();
-                Deflate::with_level(DeflateLevel::Balanced)
+                Deflate::with_level(DeflateLevel::Fast)
                     .write_to(&mut packed, &strip)
                     .map_err(|e| IoError::io(path, e))?;
                 Ok(packed)
