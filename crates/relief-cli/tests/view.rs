@@ -1,6 +1,7 @@
 //! `relief view` end to end: refused without a display, and under a real X server (Xvfb) it
-//! opens its window, renders frames progressively, plays a script, records a camera path,
-//! and saves screenshots that are exactly `relief render` of the same camera.
+//! opens its window, renders frames progressively, plays a script (switching an MLHM scene's
+//! mode and preset too), records a camera path, and saves each screenshot once, exactly
+//! `relief render` of the same camera.
 
 mod common;
 
@@ -108,6 +109,7 @@ fn a_screenshot_at_rest_is_relief_render_of_the_same_camera() {
         view.extend(camera);
         let out = relief_on(&x.display, &view);
         assert!(out.status.success(), "{view:?}: {}", stderr(&out));
+        assert_saved_once(&out, &shot);
         let mut render = vec!["render", "-o", path(&picture)];
         render.extend(&scene_args);
         render.extend(camera);
@@ -116,6 +118,47 @@ fn a_screenshot_at_rest_is_relief_render_of_the_same_camera() {
         assert_not_blank(&shot, 50);
         assert_eq!(pixels(&shot), pixels(&picture), "{name}: the view's frame at rest");
     }
+}
+
+#[test]
+fn mlhm_mode_and_preset_switched_at_run_time_render_as_relief_render_does() {
+    let Some(x) = x_server() else { return };
+    let dir = folder("view-mlhm-switch");
+    let scene = dir.join("s.mlhm");
+    let run =
+        relief(&["generate", "mlhm", "--scene", "combined", "--size", "64", "-o", path(&scene)]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let camera = ["--eye", "-50,-80,110", "--target", "32,32,0", "--size", "160x90"];
+    // The scene opens in its own mode and preset (boxes, mid). Switch to smooth (M), rest
+    // until the view is at full size and screenshot it (P), then switch to the max preset
+    // (4) and rest again: the run ends with that view.
+    let (last, script) = (dir.join("last.png"), "1:!M,8:-,1:!P,1:!4,8:-");
+    let mut view = vec!["view", path(&scene), "--frames", "3", "--script", script];
+    view.extend(["--output-dir", path(&dir), "--screenshot", path(&last)]);
+    view.extend(camera);
+    let out = relief_on(&x.display, &view);
+    assert!(out.status.success(), "{view:?}: {}", stderr(&out));
+    assert_eq!(saved(&out).len(), 2, "P and the run's end: {}", stderr(&out));
+
+    let render = |name: &str, extra: &[&str]| {
+        let picture = dir.join(format!("{name}.png"));
+        let mut args = vec!["render", path(&scene), "-o", path(&picture)];
+        args.extend(extra);
+        args.extend(camera);
+        let out = relief(&args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        pixels(&picture)
+    };
+    let opened = render("boxes-mid", &[]);
+    let smooth = render("smooth-mid", &["--mode", "smooth"]);
+    let max = render("smooth-max", &["--mode", "smooth", "--preset", "max"]);
+    // Each switch changes the picture, so the equalities below see it made.
+    assert_ne!(opened, smooth, "the mode changes the picture");
+    assert_ne!(smooth, max, "the preset changes the picture");
+    let shot = dir.join("relief-view-001.png");
+    assert_not_blank(&shot, 50);
+    assert_eq!(pixels(&shot), smooth, "after M: the smooth mode at the mid preset");
+    assert_eq!(pixels(&last), max, "after M and 4: the smooth mode at the max preset");
 }
 
 #[test]
@@ -151,6 +194,7 @@ fn a_scripted_flight_moves_switches_records_and_replays_as_render() {
     let err = stderr(&out);
     assert!(out.status.success(), "{err}");
     assert!(err.contains("while moving:") && err.contains("at full size:"), "{err}");
+    assert_eq!(saved(&out).len(), 3, "P, the path (R) and the run's end: {err}");
 
     // Moving frames are reduced; the last one is at full size.
     let text = std::fs::read_to_string(&stats).unwrap();
@@ -214,6 +258,19 @@ fn a_scripted_flight_moves_switches_records_and_replays_as_render() {
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(pixels(&last), pixels(&picture), "the replayed camera");
+}
+
+/// The lines of the run's stderr that say it saved a file.
+fn saved(out: &Output) -> Vec<String> {
+    stderr(out).lines().filter(|l| l.starts_with("saved ")).map(String::from).collect()
+}
+
+/// Fails unless the run's stderr says exactly once that it saved a file, and that file is
+/// `shot`: a `--frames` run writes its screenshot once.
+fn assert_saved_once(out: &Output, shot: &Path) {
+    let saved = saved(out);
+    assert_eq!(saved.len(), 1, "{}", stderr(out));
+    assert!(saved[0].starts_with(&format!("saved {}", shot.display())), "{}", stderr(out));
 }
 
 fn path(p: &Path) -> &str {

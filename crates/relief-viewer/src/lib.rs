@@ -12,6 +12,7 @@
 mod camera_controller;
 mod camera_path;
 mod frame;
+mod hud;
 mod input_map;
 mod overlay;
 mod progressive;

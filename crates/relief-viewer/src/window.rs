@@ -4,12 +4,13 @@
 
 use crate::camera_path::{CameraKey, CameraPath};
 use crate::frame::{blit, Cancel, Frame, SceneRenderer};
+use crate::hud::{hud_lines, HudState};
 use crate::input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 use crate::progressive::{FrameRequest, ProgressiveScheduler};
 use crate::script::{Script, SCRIPT_FRAME_S};
 use crate::summary::{FrameRecord, ViewerSummary};
 use crate::winit_keys::key_of;
-use crate::{overlay, CameraController, Navigation, ViewSettings, ViewerError};
+use crate::{overlay, CameraController, ViewSettings, ViewerError};
 use relief_core::Camera;
 use std::collections::BTreeSet;
 use std::num::NonZeroU32;
@@ -424,9 +425,11 @@ impl App {
     /// Keeps a scripted run going while nothing is being rendered: renders the next frame the
     /// scheduler asks for; where it asks for none, plays the script's next frame, renders the
     /// full view again until `frames` were shown, or saves the screenshot and ends the run.
+    /// Once the run is ending it does nothing: the loop calls it again (`about_to_wait`)
+    /// before it stops, and the screenshot is saved once.
     fn drive_script(&mut self, event_loop: &ActiveEventLoop) {
         let Some(frames) = self.config.frames else { return };
-        while !self.busy && self.error.is_none() {
+        while !self.busy && self.error.is_none() && !event_loop.exiting() {
             if self.scheduler.next().is_some() {
                 return self.schedule(event_loop);
             }
@@ -464,29 +467,14 @@ impl App {
         if let Some((frame, elapsed)) = &self.shown {
             blit(frame, &mut buffer, w.get(), h.get());
             if self.show_hud {
-                let seconds = elapsed.as_secs_f64().max(1e-9);
-                let steps = frame
-                    .stats
-                    .steps_per_ray
-                    .map_or(String::new(), |s| format!(", {s:.1} steps/ray"));
-                let navigation = match self.controller.navigation() {
-                    Navigation::Fly => "fly",
-                    Navigation::Orbit => "orbit",
-                };
-                lines.push(format!("{} - {navigation}", self.renderer.describe()));
-                lines.push(format!(
-                    "{:.1} ms at {}x{}, {:.1} Mrays/s{steps}",
-                    seconds * 1e3,
-                    frame.width,
-                    frame.height,
-                    frame.stats.rays as f64 / seconds / 1e6
-                ));
-                lines.push(self.settings.describe());
-                lines.extend(frame.note.clone());
-                if self.recording.is_some() {
-                    lines.push("recording the camera path (R stops)".into());
-                }
-                lines.push("F1: keys".into());
+                lines = hud_lines(&HudState {
+                    scene: &self.renderer.describe(),
+                    navigation: self.controller.navigation(),
+                    frame,
+                    elapsed: *elapsed,
+                    settings: &self.settings,
+                    recording: self.recording.is_some(),
+                });
             }
         }
         if self.show_help {
