@@ -2,8 +2,8 @@
 //! per level of a padded [`MlhmHierarchy`] down to level 1, adaptive ray marching inside the
 //! level-1 nodes the ray meets, normals by finite differences and soft shadows.
 
-use crate::mlhm_cells::ray_to_cells;
-use crate::mlhm_walk::HierarchyWalk;
+use super::cells::ray_to_cells;
+use super::walk::HierarchyWalk;
 use crate::{
     medium_at, Hit, Medium, MlhmBacktrack, MlhmField, MlhmFieldSample, MlhmHierarchy, MlhmHit,
     MlhmImplicit, MlhmMaterial, MlhmMode, MlhmNormalScheme, MlhmTracer, TraceError, Tracer,

@@ -2,9 +2,7 @@
 //! its levels, layer caps and folding, its parallel bottom-up build, and its bounds stored as
 //! exact f32 or as f16 rounded outward.
 
-use crate::mlhm_bounds::{
-    pad_down, BoundScalar, LevelBounds, MergedLayer, StoredBounds, StoredLayer,
-};
+use super::bounds::{pad_down, BoundScalar, LevelBounds, MergedLayer, StoredBounds, StoredLayer};
 use crate::MlhmMode;
 use rayon::prelude::*;
 use relief_core::{Mlhm, Precision};
