@@ -5,7 +5,8 @@
 //! - [`boxes`]: the boxes a cell stands for in each [`MlhmMode`] and the exact slab test;
 //! - [`cells`]: cells placed in the world, a cell's part of a ray and its first hit;
 //! - [`naive`]: the baseline 2D DDA over every cell ([`MlhmNaiveTracer`]);
-//! - [`hierarchy`]: the 2D hierarchy of node bounds ([`MlhmHierarchy`]) and its build;
+//! - [`hierarchy`]: the 2D hierarchy of node bounds ([`MlhmHierarchy`]) and their access;
+//! - [`build`]: the hierarchy's parallel bottom-up build;
 //! - [`bounds`]: how the hierarchy stores its bounds, as f32 or as f16 rounded outward;
 //! - [`walk`]: the walk through the hierarchy both hierarchical tracers share;
 //! - [`hierarchy_tracer`]: the hierarchical box tracer ([`MlhmHierarchyTracer`]);
@@ -16,6 +17,7 @@
 
 mod bounds;
 mod boxes;
+mod build;
 mod cells;
 mod hierarchy;
 mod hierarchy_tracer;
