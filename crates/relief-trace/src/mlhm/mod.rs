@@ -12,6 +12,7 @@
 //! - [`hierarchy_tracer`]: the hierarchical box tracer ([`MlhmHierarchyTracer`]);
 //! - [`implicit`]: the smooth implicit surface of the boxes ([`MlhmImplicit`]);
 //! - [`smooth_tracer`]: that surface ray marched ([`MlhmSmoothTracer`]);
+//! - [`smooth_shading`]: the smooth tracer's hits, normals, medium and soft shadows;
 //! - [`medium`]: which medium a point lies in ([`Medium`]);
 //! - [`tracer`]: what every MLHM box tracer offers ([`MlhmTracer`]).
 
@@ -24,6 +25,7 @@ mod hierarchy_tracer;
 mod implicit;
 mod medium;
 mod naive;
+mod smooth_shading;
 mod smooth_tracer;
 mod tracer;
 mod walk;
