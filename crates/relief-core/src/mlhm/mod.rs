@@ -1,8 +1,12 @@
 //! The multi-layered height map (MLHM): a grid of cells holding stacks of columns of bedrock,
 //! sand, water and air, in the reference simulator's layer-major layout.
 
+mod volume;
+
 use crate::CoreError;
 use half::f16;
+
+pub use volume::MaterialVolumes;
 
 /// One column of an MLHM cell: four values in the reference order.
 ///
