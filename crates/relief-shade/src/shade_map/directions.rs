@@ -38,7 +38,7 @@ impl SkyDirections {
     /// `sqrt(n / 2)`: 64 directions are 16 azimuths of 4 elevations, 256 are 32 of 8.
     pub fn new(n: u32) -> SkyDirections {
         let n = n.max(1) as usize;
-        let bands = (1..=n).filter(|b| n % b == 0 && 2 * b * b <= n).max().unwrap_or(1);
+        let bands = (1..=n).filter(|b| n.is_multiple_of(*b) && 2 * b * b <= n).max().unwrap_or(1);
         let azimuths = n / bands;
         let golden = (5f64.sqrt() - 1.0) / 2.0;
         let mut order: Vec<usize> = (0..azimuths).collect();
