@@ -26,7 +26,6 @@ mod error;
 mod framing;
 mod height_field;
 mod mlhm;
-mod mlhm_volume;
 mod ray;
 mod surface;
 
@@ -36,8 +35,7 @@ pub use camera::{Camera, Projection};
 pub use error::CoreError;
 pub use framing::{Framing, Lens};
 pub use height_field::{GridGeometry, HeightField};
-pub use mlhm::{Mlhm, MlhmColumn, MlhmHeights, Precision};
-pub use mlhm_volume::MaterialVolumes;
+pub use mlhm::{MaterialVolumes, Mlhm, MlhmColumn, MlhmHeights, Precision};
 pub use ray::Ray;
 pub use surface::Surface;
 

@@ -37,17 +37,7 @@ mod cell_grid;
 mod error;
 mod max_mipmap;
 mod mipmap_tracer;
-mod mlhm_bounds;
-mod mlhm_box;
-mod mlhm_cells;
-mod mlhm_hierarchy;
-mod mlhm_hierarchy_tracer;
-mod mlhm_implicit;
-mod mlhm_medium;
-mod mlhm_naive;
-mod mlhm_smooth_tracer;
-mod mlhm_tracer;
-mod mlhm_walk;
+mod mlhm;
 mod naive_tracer;
 mod packet;
 pub mod safety;
@@ -57,14 +47,12 @@ pub use cell_grid::{CellGrid, CellRay, Entry, Segment};
 pub use error::TraceError;
 pub use max_mipmap::MaxMipmap;
 pub use mipmap_tracer::MipmapTracer;
-pub use mlhm_box::{MlhmMaterial, MlhmMode};
-pub use mlhm_hierarchy::{MlhmHierarchy, MlhmNodeLayer, MAX_HIERARCHY_LEVELS};
-pub use mlhm_hierarchy_tracer::{MlhmBacktrack, MlhmHierarchyTracer};
-pub use mlhm_implicit::{MlhmField, MlhmFieldSample, MlhmImplicit, MlhmNormalScheme, HIT_FRACTION};
-pub use mlhm_medium::{medium_at, Medium};
-pub use mlhm_naive::{MlhmHit, MlhmNaiveTracer};
-pub use mlhm_smooth_tracer::{MlhmSmoothOptions, MlhmSmoothTracer};
-pub use mlhm_tracer::MlhmTracer;
+pub use mlhm::{
+    medium_at, Medium, MlhmBacktrack, MlhmField, MlhmFieldSample, MlhmHierarchy,
+    MlhmHierarchyTracer, MlhmHit, MlhmImplicit, MlhmMaterial, MlhmMode, MlhmNaiveTracer,
+    MlhmNodeLayer, MlhmNormalScheme, MlhmSmoothOptions, MlhmSmoothTracer, MlhmTracer, HIT_FRACTION,
+    MAX_HIERARCHY_LEVELS,
+};
 pub use naive_tracer::NaiveTracer;
 pub use packet::Simd;
 pub use safety::{SafetyOptions, SafetyShapes, SafetyTracer};

@@ -1,8 +1,8 @@
 //! Hierarchical MLHM box ray tracing: a 2D DDA per level of an [`MlhmHierarchy`], descending
 //! into nodes whose bounds the ray meets, with two ways back up (Nilles & Müller 2025, 4.2).
 
-use crate::mlhm_cells::{first_hit_in_cell, ray_to_cells, segment};
-use crate::mlhm_walk::HierarchyWalk;
+use super::cells::{first_hit_in_cell, ray_to_cells, segment};
+use super::walk::HierarchyWalk;
 use crate::{Hit, MlhmHierarchy, MlhmHit, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, Precision, Ray, Surface};
 use std::fmt;

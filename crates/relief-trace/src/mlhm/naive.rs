@@ -1,8 +1,8 @@
 //! The baseline MLHM box ray tracer: a 2D DDA over every cell of level 0, testing each cell's
 //! column boxes exactly (Nilles & Müller 2025, section 4.1).
 
+use super::cells::{first_hit_in_cell, ray_to_cells, segment};
 use crate::cell_grid::axis_cell;
-use crate::mlhm_cells::{first_hit_in_cell, ray_to_cells, segment};
 use crate::{Hit, MlhmMaterial, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, MlhmHeights, Ray, Surface};
 use std::sync::Arc;

@@ -3,8 +3,8 @@
 //! exact first hit among a cell's boxes. Shared, so the naive and hierarchical tracers compute
 //! bit-identical hits.
 
+use super::boxes::{for_each_box, BoxEntry, Layer};
 use crate::cell_grid::axis_span;
-use crate::mlhm_box::{for_each_box, BoxEntry, Layer};
 use crate::{Hit, MlhmHit, MlhmMode};
 use relief_core::{BoxFace, Clip, DVec2, DVec3, Mlhm, Ray};
 
