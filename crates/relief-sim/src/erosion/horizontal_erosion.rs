@@ -88,6 +88,10 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) {
                     *e *= limit;
                 }
                 damage += erosions.iter().sum::<f32>();
+                if strongest <= 0.0 {
+                    // Nothing eroded: no window to split at.
+                    split = [f32::NAN; 2];
+                }
                 // SAFETY: as above.
                 unsafe {
                     damages.set(s, damage);
