@@ -15,14 +15,25 @@
 use super::slots::{fit_column, neighbour, opposite, par_rows, smoothstep, Slots, OFFSETS};
 use super::{ErosionParams, ErosionState, StepVolumes};
 
-/// Erodes bedrock sideways into neighbouring water; returns the sand created.
-pub(crate) fn horizontal_erosion(state: &mut ErosionState, params: &ErosionParams) -> StepVolumes {
-    record_erosions(state, params);
-    gather_sand(state)
+/// Erodes bedrock sideways into neighbouring water; returns the sand created and whether
+/// any column has a window to split at.
+pub(crate) fn horizontal_erosion(
+    state: &mut ErosionState,
+    params: &ErosionParams,
+) -> (StepVolumes, bool) {
+    let mut volumes = record_erosions(state, params);
+    // `splits` counts the columns with a window here; the split kernel counts splits.
+    let windows = volumes.splits > 0;
+    volumes.splits = 0;
+    if volumes.horizontal_erosion_sand > 0.0 {
+        volumes.add(&gather_sand(state));
+    }
+    (volumes, windows)
 }
 
-/// Computes each column's erosions, their receivers, its damage and its split window.
-fn record_erosions(state: &mut ErosionState, params: &ErosionParams) {
+/// Computes each column's erosions, their receivers, its damage and its split window;
+/// returns the sand the erosions create, and in `splits` the number of columns with a window.
+fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolumes {
     let (width, height, cells, cs) = (state.width, state.height, state.cells(), state.cell_size);
     let counts = &state.layer_counts;
     let columns = &state.columns;
@@ -34,7 +45,11 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) {
     let targets_out = Slots::new(&mut scratch.erosion_targets);
     let integration = params.dt / (cs * cs);
     let eps = f32::EPSILON;
+    // sin(atan2(rise, cs)) > m exactly when rise > 0 and rise² > m² cs² / (1 - m²).
+    let m = params.min_horizontal_erosion_slope;
+    let steep = m * m * cs * cs / (1.0 - m * m);
     par_rows(height, |y| {
+        let mut v = StepVolumes::default();
         for x in 0..width {
             let i = x + y * width;
             let mut floor = f32::NEG_INFINITY;
@@ -54,6 +69,10 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) {
                         let top = c.bedrock.min(nc.water_top());
                         if top - bottom > 0.0 {
                             let rise = c.bedrock - nc.solid_top();
+                            targets[d] = nk as i8;
+                            if rise <= 0.0 || rise * rise <= steep {
+                                break;
+                            }
                             let sine = rise / (rise * rise + cs * cs).sqrt();
                             let slope_scale =
                                 smoothstep(params.min_horizontal_erosion_slope, 1.0, sine) * sine;
@@ -71,7 +90,6 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) {
                                 * integration;
                             let e = e.min(0.25 * (nc.ceiling - nc.water_top())).max(0.0);
                             erosions[d] = e;
-                            targets[d] = nk as i8;
                             if e > strongest {
                                 strongest = e;
                                 split = [bottom, top];
@@ -88,9 +106,12 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) {
                     *e *= limit;
                 }
                 damage += erosions.iter().sum::<f32>();
+                v.horizontal_erosion_sand += erosions.iter().map(|&e| f64::from(e)).sum::<f64>();
                 if strongest <= 0.0 {
                     // Nothing eroded: no window to split at.
                     split = [f32::NAN; 2];
+                } else {
+                    v.splits += 1;
                 }
                 // SAFETY: as above.
                 unsafe {
@@ -102,8 +123,8 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) {
                 floor = c.ceiling;
             }
         }
-        StepVolumes::default()
-    });
+        v
+    })
 }
 
 /// Adds to each column the sand its neighbours eroded into it.
@@ -137,7 +158,7 @@ fn gather_sand(state: &mut ErosionState) -> StepVolumes {
                     c.sand += received;
                     let (water, sand) = fit_column(&mut c);
                     let exact = f64::from(before) + f64::from(received);
-                    v.horizontal_erosion_sand += f64::from(received);
+
                     v.water_clamped += f64::from(water);
                     // What f32 rounding of the sum lost counts as clamped.
                     v.sand_clamped += f64::from(sand) + exact - f64::from(before + received);

@@ -31,6 +31,10 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
     let slopes = Slots::new(&mut state.scratch.slopes);
     let dt = params.dt;
     let area = cs * cs;
+    let inverse_range = 1.0 / params.slippage_interpolation_range;
+    let flow = dt * params.gravity * cs;
+    let taken_scale = dt / area;
+
     let damping = 1.0 - params.flux_damping * dt;
     let dry = params.dry_talus_angle.to_radians().tan();
     let wet = params.wet_talus_angle.to_radians().tan();
@@ -56,15 +60,13 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                             let n_water = nc.water_top();
                             if c.bedrock < nc.ceiling && n_water + eps < nc.ceiling {
                                 let dh = water.min(nc.ceiling) - n_water.max(sand);
-                                let mut f =
-                                    (damping * flux[d] + dt * params.gravity * cs * dh).max(0.0);
+                                let mut f = (damping * flux[d] + flow * dh).max(0.0);
                                 if nc.ceiling.is_finite() {
-                                    let free = (nc.ceiling - n_water).max(0.0);
-                                    let taken = f * dt / area;
-                                    f *= (0.25 * free / (taken + eps)).min(1.0);
+                                    let free = 0.25 * (nc.ceiling - n_water).max(0.0);
+                                    f *= ratio(free, f * taken_scale + eps);
                                 }
                                 let mean_water = 0.5 * (c.water + nc.water);
-                                let t = (mean_water / params.slippage_interpolation_range).min(1.0);
+                                let t = (mean_water * inverse_range).min(1.0);
                                 let talus = dry + (wet - dry) * t;
                                 let excess =
                                     params.slippage_rate * (sand - nc.solid_top() - talus * cs);
@@ -84,18 +86,20 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                 }
                 let slope = slope_sine(tops, cs);
                 let out = (flux[0] + flux[1] + flux[2] + flux[3]) * dt;
-                let scale = (c.water * area / (out + eps)).min(1.0);
-                for f in &mut flux {
-                    *f *= scale;
+                let scale = ratio(c.water * area, out + eps);
+                if scale < 1.0 {
+                    for f in &mut flux {
+                        *f *= scale;
+                    }
                 }
                 let out = (flux[0] + flux[1] + flux[2] + flux[3]) * dt;
-                // SAFETY: as above, slot `s` is this row's.
-                let sed = sediment[s];
-                let sediment_scale = (sed * area / (out + eps)).min(1.0);
+                let sediment_scale = ratio(sediment[s] * area, out + eps);
                 let slipped = slip[0] + slip[1] + slip[2] + slip[3];
-                let slip_scale = (c.sand / (slipped + eps)).min(1.0);
-                for v in &mut slip {
-                    *v *= slip_scale;
+                let slip_scale = ratio(c.sand, slipped + eps);
+                if slip_scale < 1.0 {
+                    for v in &mut slip {
+                        *v *= slip_scale;
+                    }
                 }
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
                 unsafe {
@@ -109,6 +113,16 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
         }
         StepVolumes::default()
     });
+}
+
+/// `min(a / b, 1)` for `b > 0`, without dividing when `a >= b`.
+#[inline]
+fn ratio(a: f32, b: f32) -> f32 {
+    if a >= b {
+        1.0
+    } else {
+        a / b
+    }
 }
 
 /// sin of the slope of the surface through the four neighbouring sand tops `tops` (right,

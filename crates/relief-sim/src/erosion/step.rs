@@ -38,8 +38,12 @@ impl ErosionState {
         pipes(self, params);
         volumes.add(&transport(self, params));
         if params.horizontal_erosion {
-            volumes.add(&horizontal_erosion(self, params));
-            volumes.add(&split_columns(self, params));
+            let (eroded, windows) = horizontal_erosion(self, params);
+            volumes.add(&eroded);
+            // Only a column that eroded this step has a window to split at.
+            if windows {
+                volumes.add(&split_columns(self, params));
+            }
         }
         volumes.add(&vertical_erosion(self, params));
         if params.support_check {

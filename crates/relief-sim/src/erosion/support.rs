@@ -58,8 +58,12 @@ fn half_pass(state: &mut ErosionState, params: &ErosionParams, colour: usize) {
     par_rows(height, |y| {
         for x in ((y + colour) % 2..width).step_by(2) {
             let i = x + y * width;
+            let n = usize::from(counts[i]);
+            if n < 2 {
+                continue;
+            }
             let mut own_floor = columns[i].ceiling;
-            for k in 1..usize::from(counts[i]) {
+            for k in 1..n {
                 let s = i + k * cells;
                 let c = columns[s];
                 let top = c.bedrock;
