@@ -112,10 +112,11 @@ impl PartialEq for ErosionState {
 impl ErosionState {
     /// The state of `mlhm` with room for `max_layers` columns per cell (at least the map's
     /// own layer planes), the saved `planes` (one value per slot of `mlhm`, zeros when
-    /// `None`) and `step` steps simulated so far.
+    /// `None`) and `step` steps simulated so far. Negative fluxes, sediment and damage (as
+    /// f32 rounding leaves them in the reference's scenes) are taken as 0.
     ///
-    /// Errors: a plane of the wrong length, a flux, sediment or damage that is negative or not
-    /// finite or a NaN stability (naming cell and column); `max_layers` above 255.
+    /// Errors: a plane of the wrong length, a flux, sediment or damage that is not finite or a
+    /// NaN stability (naming cell and column); `max_layers` above 255.
     pub fn from_mlhm(
         mlhm: &Mlhm,
         planes: Option<&SimulationPlanes>,
@@ -163,10 +164,11 @@ impl ErosionState {
                 let s = i + k * cells;
                 state.columns[s] = mlhm.raw_columns()[s];
                 if let Some(p) = planes {
-                    state.fluxes[s] = p.fluxes[s];
+                    // The reference's f32 arithmetic leaves values a few ulps below zero.
+                    state.fluxes[s] = p.fluxes[s].map(|f| f.max(0.0));
                     state.stability[s] = p.stability[s];
-                    state.sediment[s] = p.sediment[s];
-                    state.damage[s] = p.damage[s];
+                    state.sediment[s] = p.sediment[s].max(0.0);
+                    state.damage[s] = p.damage[s].max(0.0);
                 }
             }
         }
@@ -270,24 +272,60 @@ impl ErosionState {
     /// The terrain as an [`Mlhm`] of `max_layers` layer planes (checked by
     /// [`Mlhm::validate`]).
     pub fn to_mlhm(&self) -> Result<Mlhm, ErosionError> {
-        Ok(Mlhm::from_parts(
-            self.width,
-            self.height,
-            self.max_layers,
-            f64::from(self.cell_size),
-            self.layer_counts.clone(),
-            self.columns.clone(),
-        )?)
+        self.to_mlhm_with_layers(self.max_layers)
     }
 
     /// The simulator's planes, one value per slot of [`ErosionState::to_mlhm`]'s map.
     pub fn planes(&self) -> SimulationPlanes {
+        self.planes_with_layers(self.max_layers)
+    }
+
+    /// The largest number of columns any cell holds.
+    pub fn used_layers(&self) -> usize {
+        self.layer_counts.iter().map(|&n| usize::from(n)).max().unwrap_or(1)
+    }
+
+    /// The terrain as an [`Mlhm`] of `layers` layer planes, at least
+    /// [`ErosionState::used_layers`] (else an error naming `layers`).
+    pub fn to_mlhm_with_layers(&self, layers: usize) -> Result<Mlhm, ErosionError> {
+        let slots = self.check_layers(layers)?;
+        Ok(Mlhm::from_parts(
+            self.width,
+            self.height,
+            layers,
+            f64::from(self.cell_size),
+            self.layer_counts.clone(),
+            (0..slots).map(|s| self.slot(&self.columns, s)).collect(),
+        )?)
+    }
+
+    /// The simulator's planes for `layers` layer planes (as [`ErosionState::to_mlhm_with_layers`]);
+    /// slots beyond the state's own planes are zero.
+    pub fn planes_with_layers(&self, layers: usize) -> SimulationPlanes {
+        let slots = self.cells() * layers;
         SimulationPlanes {
-            fluxes: self.fluxes.clone(),
-            stability: self.stability.clone(),
-            sediment: self.sediment.clone(),
-            damage: self.damage.clone(),
+            fluxes: (0..slots).map(|s| self.slot(&self.fluxes, s)).collect(),
+            stability: (0..slots).map(|s| self.slot(&self.stability, s)).collect(),
+            sediment: (0..slots).map(|s| self.slot(&self.sediment, s)).collect(),
+            damage: (0..slots).map(|s| self.slot(&self.damage, s)).collect(),
         }
+    }
+
+    /// The value at slot `s` of `plane`, the default beyond it.
+    fn slot<T: Copy + Default>(&self, plane: &[T], s: usize) -> T {
+        plane.get(s).copied().unwrap_or_default()
+    }
+
+    /// Checks that `layers` planes hold every cell's columns; returns their slot count.
+    fn check_layers(&self, layers: usize) -> Result<usize, ErosionError> {
+        let used = self.used_layers();
+        if layers < used || layers > 255 {
+            return Err(ErosionError::Parameter {
+                name: "layers",
+                reason: format!("{layers} planes cannot hold cells of up to {used} columns"),
+            });
+        }
+        Ok(self.cells() * layers)
     }
 
     /// Number of cells.
@@ -325,13 +363,13 @@ fn check_planes(
     };
     for s in 0..slots {
         for &f in &p.fluxes[s] {
-            if !(f.is_finite() && f >= 0.0) {
-                return Err(at("flux", s, f, "not a finite number >= 0"));
+            if !f.is_finite() {
+                return Err(at("flux", s, f, "not a finite number"));
             }
         }
         for (plane, v) in [("sediment", p.sediment[s]), ("damage", p.damage[s])] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(at(plane, s, v, "not a finite number >= 0"));
+            if !v.is_finite() {
+                return Err(at(plane, s, v, "not a finite number"));
             }
         }
         if p.stability[s].is_nan() {
@@ -372,7 +410,7 @@ mod tests {
             Err(ErosionError::PlaneLength { plane: "fluxes", found: 3, expected: 4 })
         ));
         let mut bad = SimulationPlanes::zeros(4);
-        bad.sediment[3] = -1.0;
+        bad.sediment[3] = f32::INFINITY;
         let e = ErosionState::from_mlhm(&map, Some(&bad), 1, 0).unwrap_err();
         assert!(matches!(e, ErosionError::PlaneValue { plane: "sediment", x: 1, y: 1, .. }), "{e}");
     }
