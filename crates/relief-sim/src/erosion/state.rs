@@ -402,6 +402,25 @@ mod tests {
     }
 
     #[test]
+    fn output_planes_hold_the_used_layers() {
+        let mut map = Mlhm::new(2, 1, 2, 1.0).unwrap();
+        map.set_cell(
+            1,
+            0,
+            &[MlhmColumn::new(1.0, 0.5, 0.0, 3.0), MlhmColumn::new(5.0, 0.0, 1.0, f32::INFINITY)],
+        )
+        .unwrap();
+        let state = ErosionState::from_mlhm(&map, None, 8, 0).unwrap();
+        assert_eq!((state.max_layers(), state.used_layers()), (8, 2));
+        assert_eq!(state.to_mlhm_with_layers(2).unwrap(), map);
+        assert_eq!(state.planes_with_layers(3).damage.len(), 6);
+        assert!(matches!(
+            state.to_mlhm_with_layers(1),
+            Err(ErosionError::Parameter { name: "layers", .. })
+        ));
+    }
+
+    #[test]
     fn bad_planes_are_refused_with_their_cell() {
         let map = Mlhm::new(2, 2, 1, 1.0).unwrap();
         let short = SimulationPlanes::zeros(3);
