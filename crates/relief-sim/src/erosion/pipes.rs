@@ -133,11 +133,11 @@ fn slope_sine(tops: [f32; 4], cs: f32) -> f32 {
     let bx = tops[0] - tops[2];
     let by = tops[1] - tops[3];
     // Tangents (a, bx, 0) and (0, by, a), normalised; the normal's second component is
-    // -t0.x * t1.z, and the reference takes sqrt(1 - n.y²) as sin(alpha).
-    let t0x = a / (a * a + bx * bx).sqrt();
-    let t1z = a / (a * a + by * by).sqrt();
-    let ny = t0x * t1z;
-    (1.0 - ny * ny).max(0.0).sqrt()
+    // -t0.x * t1.z = -a² / sqrt((a² + bx²)(a² + by²)), and the reference takes
+    // sqrt(1 - n.y²) as sin(alpha).
+    let a2 = a * a;
+    let ny2 = a2 * a2 / ((a2 + bx * bx) * (a2 + by * by));
+    (1.0 - ny2).max(0.0).sqrt()
 }
 
 #[cfg(test)]

@@ -36,50 +36,58 @@ pub(crate) fn vertical_erosion(state: &mut ErosionState, params: &ErosionParams)
                 // SAFETY (every access below): slots of cell (x, y) are this row's only.
                 let (mut c, mut sed, mut damage) =
                     unsafe { (columns.get(s), sediments.get(s), damages.get(s)) };
-                let sine = slopes[s];
-                let fade = smoothstep(params.slope_fade_start, 1.0, sine);
-                let slope_factor = params.min_slope_erosion_scale
-                    + (params.max_slope_erosion_scale - params.min_slope_erosion_scale)
-                        * sine
-                        * (1.0 - fade);
-                let [vx, vy] = velocities[s];
-                let speed = (vx * vx + vy * vy).sqrt();
-                let speed_factor =
-                    params.min_speed_erosion_scale + (1.0 - params.min_speed_erosion_scale) * speed;
-                let water_factor = (1.0 - (c.water * water_scale).tanh()).clamp(0.0, 1.0);
                 let wet = c.water > 0.0;
-                let gap = c.ceiling - c.water_top();
-                let top_factor = (1.0 - (gap / params.top_erosion_distance).max(0.0)).max(0.0);
-                let top_rate =
-                    params.bedrock_dissolving * speed * top_factor * params.min_slope_erosion_scale;
-                let sand_cover = (1.0 - c.sand / params.sand_threshold).max(0.0);
-                let bedrock_rate = sand_cover
-                    * params.bedrock_dissolving
-                    * slope_factor
-                    * speed_factor
-                    * water_factor;
+                if !wet && sed == 0.0 && damage == 0.0 {
+                    // Nothing to erode, deposit or recover.
+                    floor = c.ceiling;
+                    continue;
+                }
                 let capacity = if wet {
+                    let sine = slopes[s];
+                    let fade = smoothstep(params.slope_fade_start, 1.0, sine);
+                    let slope_factor = params.min_slope_erosion_scale
+                        + (params.max_slope_erosion_scale - params.min_slope_erosion_scale)
+                            * sine
+                            * (1.0 - fade);
+                    let [vx, vy] = velocities[s];
+                    let speed = (vx * vx + vy * vy).sqrt();
+                    let speed_factor = params.min_speed_erosion_scale
+                        + (1.0 - params.min_speed_erosion_scale) * speed;
+                    let water_factor = (1.0 - (c.water * water_scale).tanh()).clamp(0.0, 1.0);
+                    if params.vertical_erosion {
+                        if k + 1 < n {
+                            let gap = c.ceiling - c.water_top();
+                            let top_factor =
+                                (1.0 - (gap / params.top_erosion_distance).max(0.0)).max(0.0);
+                            let top_rate = params.bedrock_dissolving
+                                * speed
+                                * top_factor
+                                * params.min_slope_erosion_scale;
+                            let next_bedrock = unsafe { columns.get(s + cells) }.bedrock;
+                            let worn = (top_rate * dt).min((next_bedrock - c.ceiling).max(0.0));
+                            if worn > 0.0 {
+                                let ceiling = (c.ceiling + worn).min(next_bedrock);
+                                c.sand += ceiling - c.ceiling;
+                                c.ceiling = ceiling;
+                            }
+                        }
+                        let sand_cover = (1.0 - c.sand / params.sand_threshold).max(0.0);
+                        let bedrock_rate = sand_cover
+                            * params.bedrock_dissolving
+                            * slope_factor
+                            * speed_factor
+                            * water_factor;
+                        let dissolved = (bedrock_rate * dt).min((c.bedrock - floor).max(0.0));
+                        if dissolved > 0.0 {
+                            let bedrock = (c.bedrock - dissolved).max(floor);
+                            c.sand += c.bedrock - bedrock;
+                            c.bedrock = bedrock;
+                        }
+                    }
                     params.sediment_capacity * slope_factor * speed_factor * water_factor
                 } else {
                     0.0
                 };
-                if params.vertical_erosion && wet {
-                    if k + 1 < n {
-                        let next_bedrock = unsafe { columns.get(s + cells) }.bedrock;
-                        let worn = (top_rate * dt).min((next_bedrock - c.ceiling).max(0.0));
-                        if worn > 0.0 {
-                            let ceiling = (c.ceiling + worn).min(next_bedrock);
-                            c.sand += ceiling - c.ceiling;
-                            c.ceiling = ceiling;
-                        }
-                    }
-                    let dissolved = (bedrock_rate * dt).min((c.bedrock - floor).max(0.0));
-                    if dissolved > 0.0 {
-                        let bedrock = (c.bedrock - dissolved).max(floor);
-                        c.sand += c.bedrock - bedrock;
-                        c.bedrock = bedrock;
-                    }
-                }
                 if capacity > sed {
                     if params.vertical_erosion {
                         let taken = (params.sand_dissolving * (capacity - sed) * dt).min(c.sand);
