@@ -113,7 +113,8 @@ impl ErosionState {
     /// The state of `mlhm` with room for `max_layers` columns per cell (at least the map's
     /// own layer planes), the saved `planes` (one value per slot of `mlhm`, zeros when
     /// `None`) and `step` steps simulated so far. Negative fluxes, sediment and damage (as
-    /// f32 rounding leaves them in the reference's scenes) are taken as 0.
+    /// f32 rounding leaves them in the reference's scenes) are taken as 0, and every cell's
+    /// lowest column stands on the ground ([`GROUND_STABILITY`]).
     ///
     /// Errors: a plane of the wrong length, a flux, sediment or damage that is not finite or a
     /// NaN stability (naming cell and column); `max_layers` above 255.
@@ -160,13 +161,19 @@ impl ErosionState {
             scratch: Scratch::new(slots),
         };
         for i in 0..cells {
+            // A cell's lowest column stands on the ground whatever was saved.
+            state.stability[i] = GROUND_STABILITY;
+            for k in 1..usize::from(mlhm.layer_counts()[i]) {
+                if let Some(p) = planes {
+                    state.stability[i + k * cells] = p.stability[i + k * cells];
+                }
+            }
             for k in 0..usize::from(mlhm.layer_counts()[i]) {
                 let s = i + k * cells;
                 state.columns[s] = mlhm.raw_columns()[s];
                 if let Some(p) = planes {
                     // The reference's f32 arithmetic leaves values a few ulps below zero.
                     state.fluxes[s] = p.fluxes[s].map(|f| f.max(0.0));
-                    state.stability[s] = p.stability[s];
                     state.sediment[s] = p.sediment[s].max(0.0);
                     state.damage[s] = p.damage[s].max(0.0);
                 }
@@ -397,6 +404,8 @@ mod tests {
         planes.damage[3] = 0.5;
         let state = ErosionState::from_mlhm(&map, Some(&planes), 2, 7).unwrap();
         assert_eq!(state.to_mlhm().unwrap(), map);
+        planes.stability[0] = GROUND_STABILITY;
+        planes.stability[1] = GROUND_STABILITY;
         assert_eq!(state.planes(), planes);
         assert_eq!(state.step_count(), 7);
     }
