@@ -65,7 +65,8 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
                 c.bedrock += petrified;
                 c.sand -= petrified;
                 let unclamped = sed - scale * sediment_flux.iter().sum::<f32>();
-                let new_sediment = unclamped.max(0.0);
+                // Below f32's normal range sediment is flushed to 0: subnormal arithmetic is slow.
+                let new_sediment = if unclamped < f32::MIN_POSITIVE { 0.0 } else { unclamped };
                 v.sediment_clamped += f64::from(new_sediment) - f64::from(unclamped);
                 let (water, sand) = fit_column(&mut c);
                 v.water_clamped += f64::from(water);
