@@ -1,5 +1,6 @@
 //! Times erosion steps on the RiversRain scene: `cargo run --release -p relief-sim --example
-//! erosion_bench -- SIZE STEPS` prints the median milliseconds per step and the volumes.
+//! erosion_bench -- SIZE STEPS` prints the median milliseconds per step and the volumes, and
+//! checks the final terrain's invariants.
 
 use relief_sim::erosion::{ErosionParams, ErosionState, StepVolumes};
 use std::time::Instant;
@@ -26,6 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         times[times.len() / 2]
     );
     println!("{volumes:?}");
+    state.to_mlhm()?.validate()?;
     println!("{:?}", state.totals());
     Ok(())
 }

@@ -78,3 +78,30 @@ fn rivers_rain_erodes_validly() {
     assert!(volumes.rain > 0.0 && volumes.evaporation > 0.0);
     assert!(end.sediment > 0.0, "water carries sediment after 200 steps");
 }
+
+/// The carved scenes (arches, a cave, a chasm, overhangs) under the default parameters for
+/// 150 steps: valid after every step, and material accounted for.
+#[test]
+fn carved_scenes_erode_validly() {
+    use relief_sim::{carved_scene, CarvedScene};
+    for scene in
+        [CarvedScene::Arches, CarvedScene::Cave, CarvedScene::Chasm, CarvedScene::Overhangs]
+    {
+        let map = carved_scene(scene, 48, 4).unwrap();
+        let mut state = ErosionState::from_mlhm(&map, None, 6, 0).unwrap();
+        let start = state.totals();
+        let mut volumes = StepVolumes::default();
+        for step in 0..150 {
+            volumes.add(&state.step(&ErosionParams::default(), 11).unwrap());
+            assert_valid(&state, &format!("{scene}, step {step}"));
+        }
+        let end = state.totals();
+        let expected = start.material() + volumes.material_created() - volumes.material_removed();
+        assert!(
+            (end.material() - expected).abs() <= 1e-4 * start.material(),
+            "{scene}: {} -> {}, expected {expected}: {volumes:?}",
+            start.material(),
+            end.material()
+        );
+    }
+}
