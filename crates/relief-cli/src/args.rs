@@ -41,6 +41,10 @@ pub enum Command {
     /// and nodata): exact cast shadows, the sky-view factor, the Lambert hillshade and a map
     /// layer combining them.
     Shade(Box<ShadeArgs>),
+    /// Run the reference simulator's layered hydraulic erosion on an MLHM scene (.json or
+    /// .mlhm) and write the result; a .json scene keeps the simulation state (fluxes,
+    /// stability, sediment, damage) and its step count, so runs continue where they stopped.
+    Simulate(Box<SimulateArgs>),
 }
 
 /// How height files are read.
@@ -552,4 +556,57 @@ mod tests {
         assert_eq!(seed("18446744073709551615"), Ok(u64::MAX));
         assert!(safety_reach("1025").is_err() && max_layers("128").is_err());
     }
+}
+
+/// `relief simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// MLHM scene to simulate: the reference simulator's .json (with its .dat) or a .mlhm.
+    pub input: PathBuf,
+    /// Steps to simulate (1 to 10000000).
+    #[arg(long, value_parser = simulation_steps, allow_hyphen_values = true)]
+    pub steps: u64,
+    /// Scene to write: .json (with a .dat beside it, simulation state included) or .mlhm (the
+    /// terrain only).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Seed of the rain's random numbers.
+    #[arg(long, default_value = "1")]
+    pub seed: u64,
+    /// Rain in metres of water per second (0 to 100) [default: the scene's, else 0.07].
+    #[arg(long, value_name = "M_PER_S", value_parser = water_rate, allow_hyphen_values = true)]
+    pub rain: Option<f32>,
+    /// Evaporation in metres of water per second (0 to 100) [default: the scene's, else 0.09].
+    #[arg(long, value_name = "M_PER_S", value_parser = water_rate, allow_hyphen_values = true)]
+    pub evaporation: Option<f32>,
+    /// Time step in seconds (0.001 to 10) [default: the scene's, else 0.15].
+    #[arg(long, value_name = "S", value_parser = time_step, allow_hyphen_values = true)]
+    pub dt: Option<f32>,
+    /// Write the step count, the median step time and the volumes added and removed by
+    /// design to this .json file.
+    #[arg(long, value_name = "F.json")]
+    pub stats: Option<PathBuf>,
+    /// Memory the scene may take, e.g. 512M, 8G (default: half the machine's or cgroup's
+    /// memory).
+    #[arg(long, value_parser = parse::bytes, allow_hyphen_values = true)]
+    pub max_memory: Option<u64>,
+}
+
+/// Simulation steps: 1 to 10^7.
+fn simulation_steps(s: &str) -> Result<u64, String> {
+    parse::whole_in(s, 1..=10_000_000, "step count")
+}
+
+/// A rate of rain or evaporation: 0 to 100 m/s.
+fn water_rate(s: &str) -> Result<f32, String> {
+    parse::number_in(s, "water rate", &(0.0..=100.0))
+        .map(|v| v as f32)
+        .map_err(|e| format!("{e} m/s"))
+}
+
+/// A time step: 0.001 to 10 s.
+fn time_step(s: &str) -> Result<f32, String> {
+    parse::number_in(s, "time step", &(0.001..=10.0))
+        .map(|v| v as f32)
+        .map_err(|e| format!("{e} s"))
 }

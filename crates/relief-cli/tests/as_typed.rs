@@ -259,6 +259,20 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("bench --size 24 --repeat 0", Expect::Refused("between 1 and 1000")),
         ],
     ),
+    (
+        "simulate",
+        &[
+            ("simulate {in}/s.mlhm --steps 3 --seed 4 --rain 0.1 --evaporation 0.02 --dt 0.1 --stats {out}/s.json --max-memory 1G -o {out}/a.json", Expect::Ok),
+            ("simulate {in}/s.mlhm --steps 2 --output {out}/a.mlhm", Expect::Ok),
+            ("simulate {in}/s.mlhm --steps 0 -o {out}/a.mlhm", Expect::Refused("between 1 and 10000000")),
+            ("simulate {in}/s.mlhm --steps 1 --dt -1 -o {out}/a.mlhm", Expect::Refused("time step -1 is outside 0.001..10")),
+            ("simulate {in}/s.mlhm --steps 1 --rain -0.5 -o {out}/a.mlhm", Expect::Refused("water rate -0.5 is outside 0..100")),
+            ("simulate {in}/f.npy --steps 1 -o {out}/a.mlhm", Expect::Refused("takes an MLHM scene")),
+            ("simulate {in}/s.mlhm --steps 1 -o {out}/a.png", Expect::Refused("the result is written as .json")),
+            ("simulate {in}/s.mlhm --steps 1 -o {out}/a.mlhm --stats {out}/s.txt", Expect::Refused("the statistics are written as .json")),
+            ("simulate {in}/s.mlhm --steps 1 -o {in}/s.mlhm", Expect::Refused("would overwrite the input")),
+        ],
+    ),
 ];
 
 /// The long options a subcommand's `--help` lists.

@@ -5,16 +5,20 @@
 //! - [`rivers_rain`]: the reference MLHM simulator's procedural RiversRain scene (fBm hills on
 //!   a slope, 256 m square) at any grid size, as a multi-layered height map;
 //! - [`carved_scene`]: MLHM scenes of the same extent with arches, a cave, a chasm and
-//!   overhanging cliffs carved explicitly ([`CarvedScene`]), for tests and benchmarks.
+//!   overhanging cliffs carved explicitly ([`CarvedScene`]), for tests and benchmarks;
+//! - [`erosion`]: the reference simulator's layered hydraulic erosion ([`ErosionState`],
+//!   [`ErosionParams`]), parallel and deterministic.
 #![deny(missing_docs)]
 
 mod carved_scenes;
+pub mod erosion;
 mod fbm_params;
 mod fbm_terrain;
 mod gradient_noise;
 mod rivers_rain;
 
 pub use carved_scenes::{carved_scene, CarvedScene, CARVED_EXTENT};
+pub use erosion::{ErosionError, ErosionParams, ErosionState, SimulationPlanes, StepVolumes};
 pub use fbm_params::{FbmParams, MAX_OCTAVES};
 pub use fbm_terrain::fbm_terrain;
 pub use rivers_rain::{rivers_rain, RIVERS_RAIN_EXTENT, RIVERS_RAIN_SEED};

@@ -8,6 +8,7 @@ mod info_mlhm;
 mod render;
 mod render_mlhm;
 mod shade;
+mod simulate;
 mod view;
 
 use crate::args::{Cli, Command};
@@ -24,6 +25,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bench(args) => bench::run(&args),
         Command::View(args) => view::run(&args),
         Command::Shade(args) => shade::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
     }
 }
 

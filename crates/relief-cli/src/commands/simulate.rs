@@ -1,0 +1,209 @@
+//! `relief simulate`: run the layered erosion simulation (relief_sim::erosion) on an MLHM
+//! scene and write the result, the simulation state and step count included in a `.json`
+//! scene so a later run continues it.
+
+use super::generate::write_mlhm;
+use crate::args::{ReadArgs, SimulateArgs};
+use crate::{applies, input, memory, outputs, progress};
+use anyhow::{bail, Context, Result};
+use relief_io::{MlhmScene, SimulationState};
+use relief_sim::erosion::{ErosionParams, ErosionState, SimulationPlanes, StepVolumes};
+use serde_json::{Map, Value};
+use std::time::Instant;
+
+/// The scene key holding the steps simulated so far (the reference simulator's).
+const STEP_KEY: &str = "Simulation/CurrentSimulationStep";
+
+/// Bytes the simulation holds per column slot: the terrain, the saved planes and the
+/// per-step scratch planes.
+const BYTES_PER_SLOT: u64 = 16 + 16 + 12 + 64;
+
+/// Runs `relief simulate`.
+pub fn run(args: &SimulateArgs) -> Result<()> {
+    check_files(args)?;
+    let read =
+        ReadArgs { voids: None, max_memory: args.max_memory, png_encoding: None, array: None };
+    let scene = input::load_mlhm(&args.input, &read)?;
+    let params = params(args, &scene.settings)?;
+    let capacity = scene.max_layer_count.clamp(scene.mlhm.max_layers(), 255);
+    check_memory(args, &scene, capacity)?;
+    let first_step = scene.settings.get(STEP_KEY).and_then(Value::as_u64).unwrap_or(0);
+    let planes = scene.simulation.as_ref().map(|s| SimulationPlanes {
+        fluxes: s.fluxes.clone(),
+        stability: s.stability.clone(),
+        sediment: s.sediment.clone(),
+        damage: s.damage.clone(),
+    });
+    let mut state = ErosionState::from_mlhm(&scene.mlhm, planes.as_ref(), capacity, first_step)
+        .with_context(|| format!("{}", args.input.display()))?;
+    let bar = progress::bar(args.steps, "simulating");
+    let mut times = Vec::with_capacity(args.steps as usize);
+    let mut volumes = StepVolumes::default();
+    for _ in 0..args.steps {
+        let start = Instant::now();
+        volumes.add(&state.step(&params, args.seed)?);
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let layers = state.used_layers().max(scene.mlhm.max_layers());
+    let map = state.to_mlhm_with_layers(layers)?;
+    let planes = state.planes_with_layers(layers);
+    let mut settings = scene.settings.clone();
+    settings.insert(STEP_KEY.into(), Value::from(state.step_count()));
+    let out = MlhmScene {
+        mlhm: map,
+        max_layer_count: scene.max_layer_count.max(layers),
+        precision: scene.precision,
+        simulation: Some(SimulationState {
+            fluxes: planes.fluxes,
+            stability: planes.stability,
+            sediment: planes.sediment,
+            damage: planes.damage,
+        }),
+        settings,
+        repaired: 0,
+    };
+    write_mlhm(&args.output, &out)?;
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    eprintln!(
+        "wrote {} after {} steps (now at step {}): median {median:.2} ms per step; {} splits, \
+         {} collapses",
+        args.output.display(),
+        args.steps,
+        state.step_count(),
+        volumes.splits,
+        volumes.collapses
+    );
+    if let Some(path) = &args.stats {
+        let stats = serde_json::json!({
+            "steps": args.steps,
+            "first_step": first_step,
+            "median_step_ms": median,
+            "rain_m3": volumes.rain,
+            "evaporation_m3": volumes.evaporation,
+            "water_clamped_m3": volumes.water_clamped,
+            "horizontal_erosion_sand_m3": volumes.horizontal_erosion_sand,
+            "damage_recovery_m3": volumes.damage_recovery,
+            "split_bedrock_m3": volumes.split_bedrock,
+            "split_sand_m3": volumes.split_sand,
+            "collapse_damage_m3": volumes.collapse_damage,
+            "sand_clamped_m3": volumes.sand_clamped,
+            "sediment_clamped_m3": volumes.sediment_clamped,
+            "material_created_m3": volumes.material_created(),
+            "material_removed_m3": volumes.material_removed(),
+            "splits": volumes.splits,
+            "collapses": volumes.collapses,
+        });
+        let text = serde_json::to_string_pretty(&stats).context("writing the stats")?;
+        std::fs::write(path, text + "\n")
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// Refuses an input or output that is not an MLHM file, unwritable outputs, and outputs that
+/// would overwrite the input or each other, before any work.
+fn check_files(args: &SimulateArgs) -> Result<()> {
+    if !input::is_mlhm_scene(&args.input) {
+        bail!(
+            "{}: relief simulate takes an MLHM scene (.json with its .dat, or .mlhm)",
+            args.input.display()
+        );
+    }
+    if !input::is_mlhm_scene(&args.output) {
+        bail!(
+            "-o {}: the result is written as .json (the reference simulator's scene, with its .dat \
+             beside it) or .mlhm",
+            args.output.display()
+        );
+    }
+    outputs::check_writable(&args.output)?;
+    let mut all = vec![("-o", args.output.as_path())];
+    if let Some(stats) = &args.stats {
+        outputs::check_writable(stats)?;
+        if applies::extension(stats).as_deref() != Some("json") {
+            bail!("--stats {}: the statistics are written as .json", stats.display());
+        }
+        all.push(("--stats", stats.as_path()));
+    }
+    outputs::check_distinct(&all, &[&args.input])
+}
+
+/// Refuses a scene whose simulation would not fit the memory budget.
+fn check_memory(args: &SimulateArgs, scene: &MlhmScene, capacity: usize) -> Result<()> {
+    let memory::Budget { bytes: limit, origin } = memory::budget(args.max_memory);
+    let map = &scene.mlhm;
+    let needed =
+        (map.width() * map.height()) as u128 * capacity as u128 * u128::from(BYTES_PER_SLOT);
+    if needed > u128::from(limit) {
+        bail!(
+            "simulating {} x {} cells of {capacity} layers needs {} MiB, over the {} MiB memory \
+             limit ({origin})",
+            map.width(),
+            map.height(),
+            needed >> 20,
+            limit >> 20
+        );
+    }
+    Ok(())
+}
+
+/// The parameters: the reference defaults, the scene's `Simulation/*` settings over them,
+/// and the command line's over those.
+fn params(args: &SimulateArgs, settings: &Map<String, Value>) -> Result<ErosionParams> {
+    let number = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_f64);
+    let flag = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_bool);
+    let mut p = ErosionParams::default();
+    let numbers: [(&str, &mut f32); 13] = [
+        ("DeltaTime", &mut p.dt),
+        ("Rain", &mut p.rain),
+        ("Evaporation", &mut p.evaporation),
+        ("Petrification", &mut p.petrification),
+        ("SlippageInterpolationRange", &mut p.slippage_interpolation_range),
+        ("SedimentCapacityConstant", &mut p.sediment_capacity),
+        ("BedrockDissolvingConstant", &mut p.bedrock_dissolving),
+        ("SandDissolvingConstant", &mut p.sand_dissolving),
+        ("SedimentDepositionConstant", &mut p.deposition),
+        ("MinSlopeErosionScale", &mut p.min_slope_erosion_scale),
+        ("MaxSlopeErosionScale", &mut p.max_slope_erosion_scale),
+        ("HorizontalErosionStrength", &mut p.horizontal_erosion_strength),
+        ("Gravity", &mut p.gravity),
+    ];
+    for (key, field) in numbers {
+        if let Some(v) = number(key) {
+            *field = v as f32;
+        }
+    }
+    // The reference stores gravity as a negative acceleration and talus angles in radians.
+    p.gravity = p.gravity.abs();
+    if let Some(v) = number("DryTalusAngle") {
+        p.dry_talus_angle = v.to_degrees() as f32;
+    }
+    if let Some(v) = number("WetTalusAngle") {
+        p.wet_talus_angle = v.to_degrees() as f32;
+    }
+    let flags: [(&str, &mut bool); 4] = [
+        ("EnableSlippage", &mut p.slippage),
+        ("EnableVerticalErosion", &mut p.vertical_erosion),
+        ("EnableHorizontalErosion", &mut p.horizontal_erosion),
+        ("EnableSupportCheck", &mut p.support_check),
+    ];
+    for (key, field) in flags {
+        if let Some(v) = flag(key) {
+            *field = v;
+        }
+    }
+    if let Some(v) = args.rain {
+        p.rain = v;
+    }
+    if let Some(v) = args.evaporation {
+        p.evaporation = v;
+    }
+    if let Some(v) = args.dt {
+        p.dt = v;
+    }
+    p.validate().with_context(|| format!("the simulation settings of {}", args.input.display()))?;
+    Ok(p)
+}

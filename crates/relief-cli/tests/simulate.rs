@@ -1,0 +1,107 @@
+//! `relief simulate` end to end: a generated RiversRain scene simulated, written with its
+//! state and step count, continued by a second run exactly as one unbroken run, and the real
+//! scene the reference simulator saved (../shared/data/ngwm24-scene) simulated further.
+
+mod common;
+
+use common::{relief, scratch, shared_data};
+use relief_io::{read_mlhm_scene, ReadOptions};
+use std::path::Path;
+
+fn run(args: &[&str]) -> String {
+    let out = relief(args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{args:?}: {stderr}");
+    stderr
+}
+
+fn scene(path: &Path) -> relief_io::MlhmScene {
+    read_mlhm_scene(path, &ReadOptions::default()).unwrap()
+}
+
+fn p(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+#[test]
+fn a_generated_scene_simulates_and_continues_exactly() {
+    let input = scratch("sim-rivers.json");
+    run(&["generate", "mlhm", "--scene", "rivers-rain", "--size", "32", "-o", p(&input)]);
+    let (whole, half, resumed, stats) = (
+        scratch("sim-20.json"),
+        scratch("sim-10.json"),
+        scratch("sim-10-10.json"),
+        scratch("sim.json.stats.json"),
+    );
+    let message = run(&[
+        "simulate",
+        p(&input),
+        "--steps",
+        "20",
+        "--seed",
+        "7",
+        "-o",
+        p(&whole),
+        "--stats",
+        p(&stats),
+    ]);
+    assert!(message.contains("after 20 steps (now at step 20)"), "{message}");
+    run(&["simulate", p(&input), "--steps", "10", "--seed", "7", "-o", p(&half)]);
+    run(&["simulate", p(&half), "--steps", "10", "--seed", "7", "-o", p(&resumed)]);
+
+    let (a, b) = (scene(&whole), scene(&resumed));
+    a.mlhm.validate().unwrap();
+    assert_eq!(a.settings["Simulation/CurrentSimulationStep"], 20);
+    assert_eq!(b.settings["Simulation/CurrentSimulationStep"], 20);
+    assert_eq!(a.mlhm, b.mlhm, "10 + 10 steps equal 20");
+    assert_eq!(a.simulation, b.simulation);
+    let state = a.simulation.as_ref().unwrap();
+    assert!(state.sediment.iter().any(|&s| s > 0.0), "water carries sediment");
+    assert_ne!(a.mlhm, scene(&input).mlhm);
+
+    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    assert_eq!(stats["steps"], 20);
+    assert!(stats["median_step_ms"].as_f64().unwrap() > 0.0);
+    for key in [
+        "rain_m3",
+        "evaporation_m3",
+        "split_sand_m3",
+        "split_bedrock_m3",
+        "collapse_damage_m3",
+        "damage_recovery_m3",
+        "horizontal_erosion_sand_m3",
+    ] {
+        assert!(stats[key].as_f64().is_some(), "{key} in {stats}");
+    }
+    assert!(stats["rain_m3"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn a_truncated_dat_is_refused() {
+    let input = scratch("sim-cut.json");
+    run(&["generate", "mlhm", "--scene", "arches", "--size", "16", "-o", p(&input)]);
+    let dat = input.with_extension("dat");
+    let bytes = std::fs::read(&dat).unwrap();
+    std::fs::write(&dat, &bytes[..bytes.len() / 2]).unwrap();
+    let out =
+        relief(&["simulate", p(&input), "--steps", "1", "-o", p(&scratch("sim-cut-out.json"))]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(!scratch("sim-cut-out.json").exists());
+}
+
+#[test]
+fn the_reference_scene_simulates_further() {
+    let Some(input) = shared_data("data/ngwm24-scene/scene.json") else { return };
+    let output = scratch("ngwm24-simulated.json");
+    let stats = scratch("ngwm24-stats.json");
+    let message =
+        run(&["simulate", p(&input), "--steps", "4", "-o", p(&output), "--stats", p(&stats)]);
+    assert!(message.contains("(now at step 1488)"), "{message}");
+    let out = scene(&output);
+    out.mlhm.validate().unwrap();
+    assert_eq!((out.mlhm.width(), out.mlhm.height()), (256, 256));
+    assert!(out.simulation.is_some());
+    assert_eq!(out.settings["Simulation/CurrentSimulationStep"], 1488);
+    // The scene's own settings are kept (its evaporation is 0.01 m/s).
+    assert!((out.settings["Simulation/Evaporation"].as_f64().unwrap() - 0.01).abs() < 1e-6);
+}

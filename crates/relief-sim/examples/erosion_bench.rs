@@ -1,0 +1,33 @@
+//! Times erosion steps on the RiversRain scene: `cargo run --release -p relief-sim --example
+//! erosion_bench -- SIZE STEPS` prints the median milliseconds per step and the volumes, and
+//! checks the final terrain's invariants.
+
+use relief_sim::erosion::{ErosionParams, ErosionState, StepVolumes};
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let size: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(256);
+    let steps: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(50);
+    let map = relief_sim::rivers_rain(size, 8, relief_sim::RIVERS_RAIN_SEED)?;
+    let mut state = ErosionState::from_mlhm(&map, None, 8, 0)?;
+    let params = ErosionParams::default();
+    let mut times = Vec::with_capacity(steps);
+    let mut volumes = StepVolumes::default();
+    for _ in 0..steps {
+        let t = Instant::now();
+        volumes.add(&state.step(&params, 1)?);
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    let layered = state.layer_counts().iter().filter(|&&n| n > 1).count();
+    println!(
+        "{size}^2, {steps} steps on {} threads: median {:.2} ms/step; cells with overhangs {layered}",
+        rayon::current_num_threads(),
+        times[times.len() / 2]
+    );
+    println!("{volumes:?}");
+    state.to_mlhm()?.validate()?;
+    println!("{:?}", state.totals());
+    Ok(())
+}
