@@ -583,13 +583,39 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "S", value_parser = time_step, allow_hyphen_values = true)]
     pub dt: Option<f32>,
     /// Write the step count, the median step time and the volumes added and removed by
-    /// design to this .json file.
+    /// design to this .json file (with --frames, also the median and per-frame rebuild and
+    /// render times).
     #[arg(long, value_name = "F.json")]
     pub stats: Option<PathBuf>,
     /// Memory the scene may take, e.g. 512M, 8G (default: half the machine's or cgroup's
     /// memory).
     #[arg(long, value_parser = parse::bytes, allow_hyphen_values = true)]
     pub max_memory: Option<u64>,
+    /// With --frames: every K steps, rebuild the MLHM hierarchy and render a frame (1 to
+    /// 10000000).
+    #[arg(long, value_name = "K", value_parser = render_every, allow_hyphen_values = true)]
+    pub render_every: Option<u64>,
+    /// With --render-every: the folder the frames are written to as frame-00001.png, ...
+    /// (created if missing), each stage's time printed per frame.
+    #[arg(long, value_name = "DIR")]
+    pub frames: Option<PathBuf>,
+    /// With --frames: the frames' quality preset, as in render: low, mid, high or max
+    /// [default: low].
+    #[arg(long)]
+    pub preset: Option<MlhmPreset>,
+    /// With --frames: frame size WxH in pixels [default: 1280x720].
+    #[arg(long, value_parser = parse::image_size)]
+    pub size: Option<(u32, u32)>,
+    /// With --frames: the camera looking towards compass AZ degrees from EL degrees above the
+    /// horizon, at DISTANCE metres from the terrain's centre, as in render [default: render's
+    /// framing, 45,30], fixed over the run.
+    #[arg(long, value_name = "AZ,EL[,DISTANCE]", value_parser = parse::view, allow_hyphen_values = true)]
+    pub view: Option<parse::ViewAngles>,
+}
+
+/// `--render-every`: 1 to 10^7 steps.
+fn render_every(s: &str) -> Result<u64, String> {
+    parse::whole_in(s, 1..=10_000_000, "--render-every")
 }
 
 /// Simulation steps: 1 to 10^7.

@@ -105,3 +105,88 @@ fn the_reference_scene_simulates_further() {
     // The scene's own settings are kept (its evaporation is 0.01 m/s).
     assert!((out.settings["Simulation/Evaporation"].as_f64().unwrap() - 0.01).abs() < 1e-6);
 }
+
+#[test]
+fn frames_are_rendered_every_k_steps_with_their_times() {
+    let input = scratch("sim-frames-in.json");
+    run(&["generate", "mlhm", "--scene", "rivers-rain", "--size", "24", "-o", p(&input)]);
+    let dir = scratch("sim-frames");
+    let _ = std::fs::remove_dir_all(&dir);
+    let stats = scratch("sim-frames-stats.json");
+    let message = run(&[
+        "simulate",
+        p(&input),
+        "--steps",
+        "7",
+        "--render-every",
+        "3",
+        "--frames",
+        p(&dir.join("new")),
+        "--size",
+        "64x36",
+        "--preset",
+        "mid",
+        "--view",
+        "30,40",
+        "-o",
+        p(&scratch("sim-frames-out.mlhm")),
+        "--stats",
+        p(&stats),
+    ]);
+    // 7 steps every 3: frames at steps 3 and 6, one line each with every stage's time.
+    for (frame, step) in [(1, 3), (2, 6)] {
+        let line = message
+            .lines()
+            .find(|l| l.starts_with(&format!("frame {frame} (step {step}): simulate ")))
+            .unwrap_or_else(|| panic!("frame {frame}: {message}"));
+        for stage in ["ms (3 steps), convert ", " ms, rebuild ", " ms, render ", " ms, write "] {
+            assert!(line.contains(stage), "{line}");
+        }
+        let png = dir.join("new").join(format!("frame-{frame:05}.png"));
+        let image = relief_io::read_png_rgb(&png).unwrap();
+        assert_eq!((image.width, image.height), (64, 36));
+        let first = image.pixels[0];
+        assert!(image.pixels.iter().any(|&px| px != first), "{}: blank", png.display());
+    }
+    assert!(!dir.join("new/frame-00003.png").exists());
+
+    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    assert_eq!(stats["steps"], 7);
+    assert_eq!(stats["frames"], 2);
+    assert_eq!(stats["preset"], "mid");
+    for key in ["median_step_ms", "rebuild_ms", "render_ms", "convert_ms", "write_ms"] {
+        assert!(stats[key].as_f64().is_some_and(|v| v >= 0.0), "{key} in {stats}");
+    }
+    for key in ["rebuild_ms_each", "render_ms_each", "frame_simulate_ms_each"] {
+        assert_eq!(stats[key].as_array().map(Vec::len), Some(2), "{key} in {stats}");
+    }
+}
+
+#[test]
+fn frame_options_out_of_place_are_refused() {
+    let input = scratch("sim-frames-bad.json");
+    run(&["generate", "mlhm", "--scene", "arches", "--size", "16", "-o", p(&input)]);
+    let out = scratch("sim-frames-bad-out.mlhm");
+    let file = scratch("sim-frames-a-file");
+    std::fs::write(&file, b"not a folder").unwrap();
+    let dir = scratch("sim-frames-bad");
+    let not_creatable = file.join("frames");
+    let cases: [(&[&str], &str); 6] = [
+        (&["--frames", p(&dir)], "--frames needs --render-every"),
+        (&["--render-every", "2"], "--render-every needs --frames"),
+        (&["--render-every", "0", "--frames", p(&dir)], "between 1 and"),
+        (&["--render-every", "1", "--frames", p(&not_creatable)], "cannot create the folder"),
+        (&["--preset", "low"], "--preset applies to --frames only"),
+        (&["--size", "64x36"], "--size applies to --frames only"),
+    ];
+    for (extra, text) in cases {
+        let mut args = vec!["simulate", p(&input), "--steps", "2", "-o", p(&out)];
+        args.extend_from_slice(extra);
+        let result = relief(&args);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{extra:?}: one line: {stderr}");
+        assert!(stderr.contains(text), "{extra:?}: {stderr}");
+        assert!(!out.exists(), "{extra:?} wrote the output");
+    }
+}

@@ -9,6 +9,7 @@ mod render;
 mod render_mlhm;
 mod shade;
 mod simulate;
+mod simulate_frames;
 mod view;
 
 use crate::args::{Cli, Command};

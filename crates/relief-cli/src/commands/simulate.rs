@@ -3,12 +3,14 @@
 //! scene so a later run continues it.
 
 use super::generate::write_mlhm;
+use super::simulate_frames::{self, Frames};
 use crate::args::{ReadArgs, SimulateArgs};
 use crate::{applies, input, memory, outputs, progress};
 use anyhow::{bail, Context, Result};
 use relief_io::{MlhmScene, SimulationState};
 use relief_sim::erosion::{ErosionParams, ErosionState, SimulationPlanes, StepVolumes};
 use serde_json::{Map, Value};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The scene key holding the steps simulated so far (the reference simulator's).
@@ -21,6 +23,7 @@ const BYTES_PER_SLOT: u64 = 16 + 16 + 12 + 64;
 /// Runs `relief simulate`.
 pub fn run(args: &SimulateArgs) -> Result<()> {
     check_files(args)?;
+    simulate_frames::check(args)?;
     let read =
         ReadArgs { voids: None, max_memory: args.max_memory, png_encoding: None, array: None };
     let scene = input::load_mlhm(&args.input, &read)?;
@@ -36,13 +39,19 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     });
     let mut state = ErosionState::from_mlhm(&scene.mlhm, planes.as_ref(), capacity, first_step)
         .with_context(|| format!("{}", args.input.display()))?;
+    let mut frames = Frames::new(args, &Arc::new(scene.mlhm.clone()))?;
     let bar = progress::bar(args.steps, "simulating");
+    let log = |line: &str| bar.suspend(|| eprintln!("{line}"));
     let mut times = Vec::with_capacity(args.steps as usize);
     let mut volumes = StepVolumes::default();
     for _ in 0..args.steps {
         let start = Instant::now();
         volumes.add(&state.step(&params, args.seed)?);
-        times.push(start.elapsed().as_secs_f64() * 1e3);
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        times.push(ms);
+        if let Some(frames) = &mut frames {
+            frames.after_step(&state, ms, &log)?;
+        }
         bar.inc(1);
     }
     bar.finish_and_clear();
@@ -65,8 +74,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         repaired: 0,
     };
     write_mlhm(&args.output, &out)?;
-    times.sort_by(f64::total_cmp);
-    let median = times[times.len() / 2];
+    let median = simulate_frames::median(times);
     eprintln!(
         "wrote {} after {} steps (now at step {}): median {median:.2} ms per step; {} splits, \
          {} collapses",
@@ -76,8 +84,11 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         volumes.splits,
         volumes.collapses
     );
+    if let Some(frames) = &frames {
+        eprintln!("{}", frames.summary());
+    }
     if let Some(path) = &args.stats {
-        let stats = serde_json::json!({
+        let mut stats = serde_json::json!({
             "steps": args.steps,
             "first_step": first_step,
             "median_step_ms": median,
@@ -96,6 +107,9 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             "splits": volumes.splits,
             "collapses": volumes.collapses,
         });
+        if let (Some(frames), Some(map)) = (&frames, stats.as_object_mut()) {
+            map.extend(frames.stats().into_iter().map(|(k, v)| (k.to_string(), v)));
+        }
         let text = serde_json::to_string_pretty(&stats).context("writing the stats")?;
         std::fs::write(path, text + "\n")
             .with_context(|| format!("cannot write {}", path.display()))?;
