@@ -1,6 +1,7 @@
 //! Times erosion steps on the RiversRain scene: `cargo run --release -p relief-sim --example
 //! erosion_bench -- SIZE STEPS` prints the median milliseconds per step and the volumes, and
-//! checks the final terrain's invariants.
+//! checks the final terrain's invariants, with a hash of the final state's bytes (layer counts,
+//! columns, fluxes, stability, sediment, damage) to compare runs.
 
 use relief_sim::erosion::{ErosionParams, ErosionState, StepVolumes};
 use std::time::Instant;
@@ -29,5 +30,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("{volumes:?}");
     state.to_mlhm()?.validate()?;
     println!("{:?}", state.totals());
+    println!("state hash {:016x}", state_hash(&state));
     Ok(())
+}
+
+/// FNV-1a over the bytes of the final state: layer counts, then every slot's column, fluxes,
+/// stability, sediment and damage.
+fn state_hash(state: &ErosionState) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    let mut eat = |bytes: &[u8]| {
+        for &b in bytes {
+            h = (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
+        }
+    };
+    eat(state.layer_counts());
+    for (s, c) in state.columns().iter().enumerate() {
+        for v in [c.bedrock, c.sand, c.water, c.ceiling] {
+            eat(&v.to_bits().to_le_bytes());
+        }
+        for v in state.fluxes()[s] {
+            eat(&v.to_bits().to_le_bytes());
+        }
+        for v in [state.stability()[s], state.sediment()[s], state.damage()[s]] {
+            eat(&v.to_bits().to_le_bytes());
+        }
+    }
+    h
 }

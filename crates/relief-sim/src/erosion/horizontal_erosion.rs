@@ -12,7 +12,7 @@
 //! The reference adds the sand with atomics; here each column first records its erosion per
 //! direction, then each column gathers what its neighbours sent it, in a fixed order.
 
-use super::slots::{fit_column, neighbour, opposite, par_rows, smoothstep, Slots, OFFSETS};
+use super::slots::{fit_column, neighbours, opposite, par_rows, smoothstep, Slots, OFFSETS};
 use super::{ErosionParams, ErosionState, StepVolumes};
 
 /// Erodes bedrock sideways into neighbouring water; returns the sand created and whether
@@ -43,6 +43,11 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
     let splits = Slots::new(&mut scratch.splits);
     let erosions_out = Slots::new(&mut scratch.erosions);
     let targets_out = Slots::new(&mut scratch.erosion_targets);
+    if scratch.eroded_rows.len() != height {
+        // A new state: every row's records are written.
+        scratch.eroded_rows = vec![true; height];
+    }
+    let eroded_rows = Slots::new(&mut scratch.eroded_rows);
     let integration = params.dt / (cs * cs);
     let eps = f32::EPSILON;
     // sin(atan2(rise, cs)) > m exactly when rise > 0 and rise² > m² cs² / (1 - m²).
@@ -50,8 +55,21 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
     let steep = m * m * cs * cs / (1.0 - m * m);
     par_rows(height, |y| {
         let mut v = StepVolumes::default();
+        // A row whose columns erode nothing (no window) leaves its records at their defaults
+        // (no erosion, no window), written once when the row stops eroding: the kernels that
+        // read the records see the same values, and most rows skip the writes.
+        // SAFETY (eroded_rows): entry `y` is this row's only.
+        let mut write = unsafe { eroded_rows.get(y) };
+        // SAFETY: slot `s` belongs to a cell of this row.
+        let clear = |s: usize| unsafe {
+            splits.set(s, [f32::NAN; 2]);
+            erosions_out.set(s, [0.0; 4]);
+            targets_out.set(s, [-1; 4]);
+        };
+        let mut eroded = false;
         for x in 0..width {
             let i = x + y * width;
+            let near = neighbours(x, y, width, height);
             let mut floor = f32::NEG_INFINITY;
             for k in 0..usize::from(counts[i]) {
                 let s = i + k * cells;
@@ -61,7 +79,7 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
                 let mut strongest = 0.0f32;
                 let mut split = [floor, c.bedrock];
                 for d in 0..4 {
-                    let Some(n) = neighbour(x, y, d, width, height) else { continue };
+                    let Some(n) = near[d] else { continue };
                     for nk in (0..usize::from(counts[n])).rev() {
                         let ns = n + nk * cells;
                         let nc = columns[ns];
@@ -112,17 +130,34 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
                     split = [f32::NAN; 2];
                 } else {
                     v.splits += 1;
+                    if !write {
+                        // The row's earlier columns eroded nothing: their defaults.
+                        write = true;
+                        for (j, &count) in counts.iter().enumerate().take(i).skip(y * width) {
+                            for jk in 0..usize::from(count) {
+                                clear(j + jk * cells);
+                            }
+                        }
+                        for jk in 0..k {
+                            clear(i + jk * cells);
+                        }
+                    }
+                    eroded = true;
                 }
                 // SAFETY: as above.
                 unsafe {
                     damages.set(s, damage);
-                    splits.set(s, split);
-                    erosions_out.set(s, erosions);
-                    targets_out.set(s, targets);
+                    if write {
+                        splits.set(s, split);
+                        erosions_out.set(s, erosions);
+                        targets_out.set(s, targets);
+                    }
                 }
                 floor = c.ceiling;
             }
         }
+        // SAFETY: as above.
+        unsafe { eroded_rows.set(y, eroded) };
         v
     })
 }
@@ -138,11 +173,12 @@ fn gather_sand(state: &mut ErosionState) -> StepVolumes {
         let mut v = StepVolumes::default();
         for x in 0..width {
             let i = x + y * width;
+            let near = neighbours(x, y, width, height);
             for k in 0..usize::from(counts[i]) {
                 let s = i + k * cells;
                 let mut received = 0.0f32;
-                for d in 0..4 {
-                    let Some(n) = neighbour(x, y, d, width, height) else { continue };
+                for (d, &n) in near.iter().enumerate() {
+                    let Some(n) = n else { continue };
                     let back = opposite(d);
                     for nk in 0..usize::from(counts[n]) {
                         let ns = n + nk * cells;

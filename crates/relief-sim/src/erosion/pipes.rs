@@ -15,7 +15,7 @@
 //! at most a quarter of the neighbour's free space, scaled to the column's sand. The slope
 //! (sin) for erosion comes from the sand tops the pipes reach (central differences).
 
-use super::slots::{neighbour, par_rows, Slots};
+use super::slots::{neighbours, par_rows, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
 
 /// Computes fluxes, pipes, slippage, sediment flux scales and slopes for every column.
@@ -42,6 +42,7 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
     par_rows(height, |y| {
         for x in 0..width {
             let i = x + y * width;
+            let near = neighbours(x, y, width, height);
             for k in 0..usize::from(counts[i]) {
                 let s = i + k * cells;
                 let c = columns[s];
@@ -54,7 +55,7 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                 let mut slip = [0.0f32; 4];
                 for d in 0..4 {
                     let mut found = false;
-                    if let Some(n) = neighbour(x, y, d, width, height) {
+                    if let Some(n) = near[d] {
                         for nk in 0..usize::from(counts[n]) {
                             let nc = columns[n + nk * cells];
                             let n_water = nc.water_top();

@@ -29,6 +29,18 @@ pub(crate) fn neighbour(
     (nx < width && ny < height).then_some(nx + ny * width)
 }
 
+/// The cell indices of the four neighbours of `(x, y)` (as [`neighbour`]).
+#[inline]
+pub(crate) fn neighbours(x: usize, y: usize, width: usize, height: usize) -> [Option<usize>; 4] {
+    let i = x + y * width;
+    [
+        (x + 1 < width).then_some(i + 1),
+        (y + 1 < height).then_some(i + width),
+        (x > 0).then(|| i - 1),
+        (y > 0).then(|| i - width),
+    ]
+}
+
 /// A plane that parallel rows write at disjoint slots: each kernel writes only the slots of
 /// the cells of its own row (slot `x + y * width + k * width * height`), and reads through
 /// the same handle only slots it writes, so no slot is touched by two threads.
@@ -53,22 +65,23 @@ impl<'a, T: Copy> Slots<'a, T> {
     /// The value at slot `i`.
     ///
     /// # Safety
-    /// No other thread writes slot `i` during the handle's life.
+    /// `i` is in the plane, and no other thread writes slot `i` during the handle's life.
     #[inline]
     pub(crate) unsafe fn get(&self, i: usize) -> T {
-        assert!(i < self.len, "slot {i} of {}", self.len);
-        // SAFETY: in bounds (checked); no concurrent write (the caller's promise).
+        debug_assert!(i < self.len, "slot {i} of {}", self.len);
+        // SAFETY: in bounds and no concurrent write (the caller's promise).
         unsafe { *self.ptr.add(i) }
     }
 
     /// Writes `v` at slot `i`.
     ///
     /// # Safety
-    /// No other thread reads or writes slot `i` during the handle's life.
+    /// `i` is in the plane, and no other thread reads or writes slot `i` during the handle's
+    /// life.
     #[inline]
     pub(crate) unsafe fn set(&self, i: usize, v: T) {
-        assert!(i < self.len, "slot {i} of {}", self.len);
-        // SAFETY: in bounds (checked); exclusive access (the caller's promise).
+        debug_assert!(i < self.len, "slot {i} of {}", self.len);
+        // SAFETY: in bounds and exclusive access (the caller's promise).
         unsafe { *self.ptr.add(i) = v }
     }
 }
@@ -146,6 +159,12 @@ mod tests {
         assert_eq!(neighbour(2, 1, 0, 3, 2), None);
         assert_eq!(neighbour(2, 1, 1, 3, 2), None);
         assert_eq!(opposite(1), 3);
+        for (x, y) in [(0, 0), (2, 1), (1, 0), (1, 1)] {
+            let all = neighbours(x, y, 3, 2);
+            for (d, n) in all.into_iter().enumerate() {
+                assert_eq!(n, neighbour(x, y, d, 3, 2));
+            }
+        }
     }
 
     #[test]

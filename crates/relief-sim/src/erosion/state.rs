@@ -54,6 +54,12 @@ pub(crate) struct Scratch {
     pub erosions: Vec<[f32; 4]>,
     /// Layer of the neighbour column receiving each erosion (-1: none).
     pub erosion_targets: Vec<[i8; 4]>,
+    /// Per row, whether a cell of it has more than one column (the support check's rows).
+    pub layered_rows: Vec<bool>,
+    /// Per row, whether horizontal erosion's records (`splits`, `erosions`,
+    /// `erosion_targets`) of its cells may differ from the defaults (no window, no erosion);
+    /// empty for a new state, whose records are all written by the first step.
+    pub eroded_rows: Vec<bool>,
 }
 
 impl Scratch {
@@ -67,6 +73,8 @@ impl Scratch {
             splits: vec![[0.0; 2]; slots],
             erosions: vec![[0.0; 4]; slots],
             erosion_targets: vec![[-1; 4]; slots],
+            layered_rows: Vec::new(),
+            eroded_rows: Vec::new(),
         }
     }
 }

@@ -42,20 +42,31 @@ pub fn start_support_check(state: &mut ErosionState) {
     });
 }
 
-/// One propagation pass: both colours of the checkerboard, one after the other.
+/// One propagation pass: both colours of the checkerboard, one after the other. Only cells
+/// with a column above the ground change, so rows without one are skipped.
 pub fn support_pass(state: &mut ErosionState, params: &ErosionParams) {
-    half_pass(state, params, 0);
-    half_pass(state, params, 1);
+    let width = state.width;
+    let mut rows = std::mem::take(&mut state.scratch.layered_rows);
+    rows.clear();
+    rows.extend(state.layer_counts.chunks_exact(width).map(|row| row.iter().any(|&n| n > 1)));
+    if rows.contains(&true) {
+        half_pass(state, params, &rows, 0);
+        half_pass(state, params, &rows, 1);
+    }
+    state.scratch.layered_rows = rows;
 }
 
-/// Updates the columns of the cells with `(x + y + colour)` even.
-fn half_pass(state: &mut ErosionState, params: &ErosionParams, colour: usize) {
+/// Updates the columns of the cells with `(x + y + colour)` even, in the rows `layered` marks.
+fn half_pass(state: &mut ErosionState, params: &ErosionParams, layered: &[bool], colour: usize) {
     let (width, height, cells, cs) = (state.width, state.height, state.cells(), state.cell_size);
     let counts = &state.layer_counts;
     let columns = &state.columns;
     let stability = Slots::new(&mut state.stability);
     let area = cs * cs;
     par_rows(height, |y| {
+        if !layered[y] {
+            return StepVolumes::default();
+        }
         for x in ((y + colour) % 2..width).step_by(2) {
             let i = x + y * width;
             let n = usize::from(counts[i]);

@@ -4,7 +4,7 @@
 //! `0.5 (R - L, U - D) / cell²` from the net fluxes, moves its sand by slippage and its
 //! sediment with the water, and petrifies `petrification dt` of its sand into bedrock.
 
-use super::slots::{fit_column, neighbour, opposite, par_rows, Slots};
+use super::slots::{fit_column, neighbours, opposite, par_rows, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
 
 /// Moves water, sand and sediment along the pipes [`super::pipes::pipes`] computed.
@@ -24,13 +24,14 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
         let mut v = StepVolumes::default();
         for x in 0..width {
             let i = x + y * width;
+            let near = neighbours(x, y, width, height);
             for k in 0..usize::from(counts[i]) {
                 let s = i + k * cells;
                 let mut flux = fluxes[s];
                 let mut sediment_flux = flux.map(|f| f * scales[s]);
                 let mut slip = slippages[s];
                 for d in 0..4 {
-                    let Some(n) = neighbour(x, y, d, width, height) else { continue };
+                    let Some(n) = near[d] else { continue };
                     let back = opposite(d);
                     for nk in 0..usize::from(counts[n]) {
                         let ns = n + nk * cells;
