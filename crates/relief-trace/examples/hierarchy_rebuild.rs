@@ -2,7 +2,8 @@
 //! scene at N² cells, built once, then rebuilt in place R times; prints the median and the
 //! fastest rebuild, for box bounds (f32 and f16) and the smooth surface's padded bounds.
 //!
-//! `cargo run --release -p relief-trace --example hierarchy_rebuild -- 4096 [R]`
+//! `cargo run --release -p relief-trace --example hierarchy_rebuild -- 4096 [R] [NAME]`, NAME
+//! one of `f32`, `f16`, `smooth` for that kind alone.
 
 use relief_core::Precision;
 use relief_trace::MlhmHierarchy;
@@ -12,14 +13,18 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let size: usize = args.next().map_or(4096, |s| s.parse().expect("N: cells per side"));
     let repeat: usize = args.next().map_or(9, |s| s.parse().expect("R: rebuilds"));
+    let only = args.next();
     let layers = if size >= 4096 { 4 } else { 8 };
     let map = relief_sim::rivers_rain(size, layers, relief_sim::RIVERS_RAIN_SEED)
         .expect("the RiversRain scene");
-    for (name, precision, radius) in [
-        ("boxes, f32", Precision::F32, 0.0),
-        ("boxes, f16", Precision::F16, 0.0),
-        ("smooth (one cell), f32", Precision::F32, map.cell_size()),
+    for (key, name, precision, radius) in [
+        ("f32", "boxes, f32", Precision::F32, 0.0),
+        ("f16", "boxes, f16", Precision::F16, 0.0),
+        ("smooth", "smooth (one cell), f32", Precision::F32, map.cell_size()),
     ] {
+        if only.as_deref().is_some_and(|only| only != key) {
+            continue;
+        }
         let start = Instant::now();
         let mut hierarchy = MlhmHierarchy::build_padded(&map, radius, precision);
         let build_ms = start.elapsed().as_secs_f64() * 1e3;

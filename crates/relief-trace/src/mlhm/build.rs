@@ -7,7 +7,7 @@ use super::bounds::{pad_down, BoundScalar, LevelBounds, MergedLayer, StoredBound
 use super::hierarchy::{Level, MlhmNodeLayer, MAX_HIERARCHY_LEVELS};
 use crate::MlhmHierarchy;
 use rayon::prelude::*;
-use relief_core::{Mlhm, Precision};
+use relief_core::{Mlhm, MlhmColumn, Precision};
 
 impl MlhmHierarchy {
     /// Builds the hierarchy of `map` with exact f32 bounds ([`Precision::F32`]).
@@ -85,7 +85,7 @@ impl MlhmHierarchy {
             water_max: f32::NEG_INFINITY,
             padding,
         };
-        hierarchy.fill(map);
+        hierarchy.fill(map, Merge::Fast);
         hierarchy
     }
 
@@ -97,7 +97,7 @@ impl MlhmHierarchy {
                 .zip(&self.levels)
                 .all(|((nx, ny, cap), l)| (nx, ny, cap) == (l.nodes_x, l.nodes_y, l.cap));
         if same {
-            self.fill(map);
+            self.fill(map, Merge::Fast);
         } else {
             *self = Self::build_inner(map, self.precision, self.padding);
         }
@@ -120,11 +120,11 @@ impl MlhmHierarchy {
     /// and the exact tops of the map (on a padded hierarchy the padded tops, rounded up to
     /// f32): from level 1's bounds before they are rounded to f16, or from the top level's
     /// f32 bounds.
-    fn fill(&mut self, map: &Mlhm) {
-        let rounded_tops = Self::fill_first(&mut self.levels[0], map, self.padding);
+    fn fill(&mut self, map: &Mlhm, merge: Merge) {
+        let rounded_tops = Self::fill_first(&mut self.levels[0], map, self.padding, merge);
         for i in 1..self.levels.len() {
             let (below, above) = self.levels.split_at_mut(i);
-            Self::fill_above(&mut above[0], &below[i - 1]);
+            Self::fill_above(&mut above[0], &below[i - 1], merge);
         }
         (self.solid_max, self.water_max) = rounded_tops.unwrap_or_else(|| {
             let top = self.levels.last().expect("at least one level");
@@ -147,7 +147,7 @@ impl MlhmHierarchy {
     /// Level 1, from the map's cells, padded by `padding` metres (see
     /// [`build_padded`](MlhmHierarchy::build_padded)); returns the highest solid and water
     /// tops (padded, rounded up) when the stored bounds are rounded or padded.
-    fn fill_first(level: &mut Level, map: &Mlhm, padding: f64) -> Option<(f32, f32)> {
+    fn fill_first(level: &mut Level, map: &Mlhm, padding: f64, merge: Merge) -> Option<(f32, f32)> {
         let (w, h) = (map.width(), map.height());
         let (columns, counts, plane) = (map.raw_columns(), map.layer_counts(), w * h);
         let count = |cell: usize| usize::from(counts[cell]);
@@ -167,6 +167,17 @@ impl MlhmHierarchy {
         let counts = &mut level.counts;
         let children = Children::padded(w, h, padding, map.cell_size());
         match &mut level.bounds {
+            StoredBounds::F32(b)
+                if merge == Merge::Fast && padding == 0.0 && counts_all_one(map.layer_counts()) =>
+            {
+                // A cell of one column: its open sky starts at its water top, its start of air.
+                let quad = |i, j, k, l| {
+                    let merged = merge_columns([columns[i], columns[j], columns[k], columns[l]]);
+                    (merged, merged[3])
+                };
+                Self::merge_single_layers(b, counts, (nodes_x, cap), (w, h), quad);
+                None
+            }
             StoredBounds::F32(b) if padding == 0.0 => {
                 // Stored as they are: merged in place.
                 let layer = |cell: usize, j: usize| StoredLayer::<f32>::store(layer(cell, j));
@@ -183,12 +194,27 @@ impl MlhmHierarchy {
     }
 
     /// The level above `below`, merging its 2 x 2 nodes.
-    fn fill_above(level: &mut Level, below: &Level) {
+    fn fill_above(level: &mut Level, below: &Level, merge: Merge) {
         let count = |child: usize| usize::from(below.counts[child]);
         let children = Children::plain(below.nodes_x, below.nodes_y);
         let (nodes_x, cap, below_cap) = (level.nodes_x, level.cap, below.cap);
         let counts = &mut level.counts;
         match (&mut level.bounds, &below.bounds) {
+            (StoredBounds::F32(b), StoredBounds::F32(c))
+                if merge == Merge::Fast && counts_all_one(&below.counts) =>
+            {
+                let child = |child: usize| {
+                    let l = c.layers[child * below_cap];
+                    [l.water_max, l.ceiling_min, l.solid_max, l.air_min]
+                };
+                let sky = |i: usize| c.sky[i];
+                let quad = |i, j, k, l| {
+                    let lowest_sky = sky(i).min(sky(j)).min(sky(k).min(sky(l)));
+                    (merge_lanes(child(i), child(j), child(k), child(l)), lowest_sky)
+                };
+                let grid = (below.nodes_x, below.nodes_y);
+                Self::merge_single_layers(b, counts, (nodes_x, cap), grid, quad);
+            }
             (StoredBounds::F32(b), StoredBounds::F32(c)) => {
                 let layer = |child: usize, j: usize| c.layers[child * below_cap + j];
                 let sky = |child: usize| c.sky[child].widen();
@@ -201,6 +227,48 @@ impl MlhmHierarchy {
             }
             _ => unreachable!("every level of a hierarchy has its precision"),
         }
+    }
+
+    /// A level at exact f32 bounds whose children all hold one layer (level 1 of a height
+    /// field or of RiversRain before it rains, or a level above such a level): each node the
+    /// merge of its (up to) 2 x 2 children in a grid of `children_x` by `children_y`, by
+    /// `quad(i, j, k, l)`: the merged bounds of children `i`, `j`, `k` and `l` in the order
+    /// of [`StoredLayer`]'s fields, and the lowest start of their open sky, as
+    /// [`merge_children`](Self::merge_children) would merge them, in a loop the compiler
+    /// keeps in registers. A node on an odd grid's last row or column merges its children
+    /// with themselves, which changes nothing. This is what a simulation pays every frame,
+    /// in about a fifth of the general merge's instructions.
+    fn merge_single_layers(
+        bounds: &mut LevelBounds<f32>,
+        counts: &mut [u8],
+        (nodes_x, cap): (usize, usize),
+        (children_x, children_y): (usize, usize),
+        quad: impl Fn(usize, usize, usize, usize) -> ([f32; 4], f32) + Sync,
+    ) {
+        let empty = <StoredLayer<f32> as MergedLayer<f32>>::EMPTY;
+        bounds
+            .layers
+            .par_chunks_mut(nodes_x * cap)
+            .zip(counts.par_chunks_mut(nodes_x))
+            .zip(bounds.sky.par_chunks_mut(nodes_x))
+            .enumerate()
+            .for_each(|(ny, ((layers, node_counts), node_sky))| {
+                let (low, high) =
+                    (2 * ny * children_x, (2 * ny + 1).min(children_y - 1) * children_x);
+                node_counts.fill(1);
+                for (nx, (node, sky)) in layers.chunks_exact_mut(cap).zip(node_sky).enumerate() {
+                    let (x0, x1) = (2 * nx, (2 * nx + 1).min(children_x - 1));
+                    let (merged, lowest_sky) = quad(low + x0, low + x1, high + x0, high + x1);
+                    node[0] = StoredLayer {
+                        water_max: merged[0],
+                        ceiling_min: merged[1],
+                        solid_max: merged[2],
+                        air_min: merged[3],
+                    };
+                    node[1..].fill(empty);
+                    *sky = lowest_sky;
+                }
+            });
     }
 
     /// Fills every node of a level (`nodes_x` nodes a row, `cap` layers a node; `bounds` and
@@ -237,8 +305,28 @@ impl MlhmHierarchy {
                 let tops = L::merge_row(layers, |merged| {
                     for nx in 0..nodes_x {
                         let merged = &mut merged[nx * cap..(nx + 1) * cap];
-                        merged.fill(L::EMPTY);
                         let lowest_sky = &mut lowest_sky[nx];
+                        // The common case, fast: four children of one layer each, no ring.
+                        let first = 2 * nx + 2 * ny * children_x;
+                        let (c0, c1, c2, c3) =
+                            (first, first + 1, first + children_x, first + children_x + 1);
+                        if ring == 0
+                            && 2 * nx + 1 < children_x
+                            && 2 * ny + 1 < children_y
+                            && count(c0) == 1
+                            && count(c1) == 1
+                            && count(c2) == 1
+                            && count(c3) == 1
+                        {
+                            let (a, b) = (layer(c0, 0).merge(layer(c1, 0)), layer(c2, 0));
+                            merged[0] = a.merge(b.merge(layer(c3, 0)));
+                            merged[1..].fill(L::EMPTY);
+                            let (a, b) = (sky(c0).min(sky(c1)), sky(c2).min(sky(c3)));
+                            *lowest_sky = a.min(b);
+                            node_counts[nx] = 1;
+                            continue;
+                        }
+                        merged.fill(L::EMPTY);
                         let mut used = 0;
                         let ys = (2 * ny).saturating_sub(ring)..(2 * ny + 2 + ring).min(children_y);
                         for y in ys {
@@ -269,6 +357,86 @@ impl MlhmHierarchy {
             })
             .reduce(|| None, max_pair)
     }
+}
+
+/// Which merges a build may use: the fast one where every child holds one layer
+/// ([`MlhmHierarchy::merge_single_layers`]), or (for the tests that compare the two) only the
+/// general one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Merge {
+    Fast,
+    #[cfg(test)]
+    General,
+}
+
+/// Whether every cell holds exactly one column.
+fn counts_all_one(counts: &[u8]) -> bool {
+    /// Eight counts of 1.
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    counts.par_chunks(1 << 16).all(|chunk| {
+        let mut words = chunk.chunks_exact(8);
+        words.all(|w| u64::from_ne_bytes(w.try_into().expect("8 bytes")) == ONES)
+            && words.remainder().iter().all(|&c| c == 1)
+    })
+}
+
+/// The merged bounds of four children's layers, each and the result in the order of
+/// [`StoredLayer`]'s fields: water top, ceiling, solid top, start of air.
+#[inline(always)]
+fn merge_lanes(a: [f32; 4], b: [f32; 4], c: [f32; 4], d: [f32; 4]) -> [f32; 4] {
+    let larger = |x: f32, y: f32| if x >= y { x } else { y };
+    let smaller = |x: f32, y: f32| if x <= y { x } else { y };
+    let (top, bottom) = (
+        |i: usize| larger(larger(a[i], b[i]), larger(c[i], d[i])),
+        |i: usize| smaller(smaller(a[i], b[i]), smaller(c[i], d[i])),
+    );
+    [top(0), bottom(1), top(2), bottom(3)]
+}
+
+/// [`merge_lanes`] of four one-column cells, whose layer's bounds are their water top,
+/// ceiling, solid top and water top again. The water top is `(bedrock + sand) + water`, in
+/// f32, as [`MlhmColumn::water_top`] computes it.
+#[inline(always)]
+fn merge_columns(cells: [MlhmColumn; 4]) -> [f32; 4] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: SSE2 is part of x86_64; `MlhmColumn` is `repr(C)`, four f32.
+        unsafe { merge_columns_sse2(&cells) }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let lanes = |c: MlhmColumn| [c.water_top(), c.ceiling, c.solid_top(), c.water_top()];
+        let [a, b, c, d] = cells;
+        merge_lanes(lanes(a), lanes(b), lanes(c), lanes(d))
+    }
+}
+
+/// [`merge_columns`] in SSE2: each column's four values in one register.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn merge_columns_sse2(cells: &[MlhmColumn; 4]) -> [f32; 4] {
+    use std::arch::x86_64::*;
+    // Lanes [water top, ceiling, solid top, water top] of a column [bedrock, sand, water,
+    // ceiling]: ([b, c, b, b] + [s, 0, s, s]) + [w, 0, 0, w]. Adding zero keeps every value
+    // but the sign of a zero ceiling, which compares equal.
+    let keep =
+        |mask: [i32; 4]| _mm_castsi128_ps(_mm_setr_epi32(mask[0], mask[1], mask[2], mask[3]));
+    let (sand_mask, water_mask) = (keep([-1, 0, -1, -1]), keep([-1, 0, 0, -1]));
+    let lanes = |c: &MlhmColumn| {
+        let v = _mm_loadu_ps(std::ptr::from_ref(c).cast::<f32>());
+        let base = _mm_shuffle_ps::<0b00_00_11_00>(v, v);
+        let sand = _mm_and_ps(_mm_shuffle_ps::<0b01_01_01_01>(v, v), sand_mask);
+        let water = _mm_and_ps(_mm_shuffle_ps::<0b10_10_10_10>(v, v), water_mask);
+        _mm_add_ps(_mm_add_ps(base, sand), water)
+    };
+    let [a, b, c, d] = [&cells[0], &cells[1], &cells[2], &cells[3]].map(lanes);
+    let top = _mm_max_ps(_mm_max_ps(a, b), _mm_max_ps(c, d));
+    let bottom = _mm_min_ps(_mm_min_ps(a, b), _mm_min_ps(c, d));
+    let maxima = keep([-1, 0, -1, 0]);
+    let merged = _mm_or_ps(_mm_and_ps(maxima, top), _mm_andnot_ps(maxima, bottom));
+    let mut out = [0f32; 4];
+    _mm_storeu_ps(out.as_mut_ptr(), merged);
+    out
 }
 
 /// The grid of children a level's nodes merge, and for level 1 of a padded hierarchy the
@@ -328,6 +496,53 @@ mod tests {
     use super::*;
     use crate::MlhmMode;
     use relief_core::MlhmColumn;
+
+    #[test]
+    fn the_fast_merge_of_one_column_cells_equals_the_general_merge() {
+        // Odd and even sides, one-cell grids, a ceiling of -0 and equal heights included.
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for (w, h) in [(1, 1), (2, 1), (1, 3), (5, 4), (8, 8), (33, 17), (64, 65)] {
+            let mut map = Mlhm::new(w, h, 2, 0.5).unwrap();
+            for y in 0..h {
+                for x in 0..w {
+                    let bedrock = (next() * 8.0).round() - 3.0;
+                    let column = MlhmColumn::new(bedrock, next(), next() * 0.5, f32::INFINITY);
+                    map.set_cell(x, y, &[column]).unwrap();
+                }
+            }
+            let fast = MlhmHierarchy::build(&map);
+            let mut general = MlhmHierarchy::build(&map);
+            general.fill(&map, Merge::General);
+            assert_eq!(fast, general, "{w} x {h}");
+            // Rebuilt after a change, in place.
+            map.set_cell(0, h - 1, &[MlhmColumn::new(40.0, 1.0, 2.0, f32::INFINITY)]).unwrap();
+            let mut rebuilt = fast.clone();
+            rebuilt.rebuild(&map);
+            general.fill(&map, Merge::General);
+            assert_eq!(rebuilt, general, "{w} x {h}, rebuilt");
+            // Cells of two columns: level 1 merges them generally into one layer (its cap),
+            // with the lower column's ceiling, and the levels above merge those fast.
+            for y in (0..h).step_by(2) {
+                let bedrock = next() * 4.0;
+                let lower = MlhmColumn::new(bedrock, 0.1, 0.0, bedrock + 1.0 + next());
+                map.set_cell(
+                    w / 2,
+                    y,
+                    &[lower, MlhmColumn::new(bedrock + 3.0, 0.2, 0.1, f32::INFINITY)],
+                )
+                .unwrap();
+            }
+            rebuilt.rebuild(&map);
+            general.fill(&map, Merge::General);
+            assert_eq!(rebuilt, general, "{w} x {h}, two columns");
+        }
+    }
 
     #[test]
     fn level_counts_follow_the_reference() {
