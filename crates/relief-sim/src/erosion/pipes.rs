@@ -48,20 +48,19 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                 let c = columns[s];
                 let sand = c.solid_top();
                 let water = c.water_top();
-                let mut pipe = [-1i8; 4];
-                let mut tops = [sand; 4];
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
-                let mut flux = unsafe { fluxes.get(s) };
-                let mut slip = [0.0f32; 4];
-                for d in 0..4 {
-                    let mut found = false;
+                let old = unsafe { fluxes.get(s) };
+                // The pipe in direction `d`: (flux, slippage, neighbour's layer or -1,
+                // neighbour's sand top or this column's). Called with constant directions so
+                // the four stay in registers.
+                let pipe_to = |d: usize| {
                     if let Some(n) = near[d] {
                         for nk in 0..usize::from(counts[n]) {
                             let nc = columns[n + nk * cells];
                             let n_water = nc.water_top();
                             if c.bedrock < nc.ceiling && n_water + eps < nc.ceiling {
                                 let dh = water.min(nc.ceiling) - n_water.max(sand);
-                                let mut f = (damping * flux[d] + flow * dh).max(0.0);
+                                let mut f = (damping * old[d] + flow * dh).max(0.0);
                                 if nc.ceiling.is_finite() {
                                     let free = 0.25 * (nc.ceiling - n_water).max(0.0);
                                     f *= ratio(free, f * taken_scale + eps);
@@ -71,20 +70,19 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                                 let talus = dry + (wet - dry) * t;
                                 let excess =
                                     params.slippage_rate * (sand - nc.solid_top() - talus * cs);
-                                slip[d] =
+                                let slip =
                                     excess.max(0.0).min(0.25 * (nc.ceiling - n_water)).max(0.0);
-                                flux[d] = f;
-                                pipe[d] = nk as i8;
-                                tops[d] = nc.solid_top();
-                                found = true;
-                                break;
+                                return (f, slip, nk as i8, nc.solid_top());
                             }
                         }
                     }
-                    if !found {
-                        flux[d] = 0.0;
-                    }
-                }
+                    (0.0, 0.0, -1, sand)
+                };
+                let p = [pipe_to(0), pipe_to(1), pipe_to(2), pipe_to(3)];
+                let mut flux = p.map(|p| p.0);
+                let mut slip = p.map(|p| p.1);
+                let pipe = p.map(|p| p.2);
+                let tops = p.map(|p| p.3);
                 let slope = slope_sine(tops, cs);
                 let out = (flux[0] + flux[1] + flux[2] + flux[3]) * dt;
                 let scale = ratio(c.water * area, out + eps);

@@ -27,21 +27,31 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
             let near = neighbours(x, y, width, height);
             for k in 0..usize::from(counts[i]) {
                 let s = i + k * cells;
-                let mut flux = fluxes[s];
-                let mut sediment_flux = flux.map(|f| f * scales[s]);
-                let mut slip = slippages[s];
-                for d in 0..4 {
-                    let Some(n) = near[d] else { continue };
-                    let back = opposite(d);
-                    for nk in 0..usize::from(counts[n]) {
-                        let ns = n + nk * cells;
-                        if pipes[ns][back] == k as i8 {
-                            flux[d] -= fluxes[ns][back];
-                            sediment_flux[d] -= scales[ns] * fluxes[ns][back];
-                            slip[d] -= slippages[ns][back];
+                let (out, scale_out, slip_out) = (fluxes[s], scales[s], slippages[s]);
+                // Net flux, sediment flux and slippage in direction `d`: the outflow less the
+                // inflow of the neighbour's pipes that lead here. Called with constant
+                // directions so the four stay in registers.
+                let net_to = |d: usize| {
+                    let mut flux = out[d];
+                    let mut sediment_flux = flux * scale_out;
+                    let mut slip = slip_out[d];
+                    if let Some(n) = near[d] {
+                        let back = opposite(d);
+                        for nk in 0..usize::from(counts[n]) {
+                            let ns = n + nk * cells;
+                            if pipes[ns][back] == k as i8 {
+                                flux -= fluxes[ns][back];
+                                sediment_flux -= scales[ns] * fluxes[ns][back];
+                                slip -= slippages[ns][back];
+                            }
                         }
                     }
-                }
+                    (flux, sediment_flux, slip)
+                };
+                let nets = [net_to(0), net_to(1), net_to(2), net_to(3)];
+                let flux = nets.map(|n| n.0);
+                let sediment_flux = nets.map(|n| n.1);
+                let slip = nets.map(|n| n.2);
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
                 let (mut c, sed) = unsafe { (columns.get(s), sediment.get(s)) };
                 let net: f32 = flux.iter().sum();
