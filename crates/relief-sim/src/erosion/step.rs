@@ -6,7 +6,7 @@ use super::column_split::split_columns;
 use super::horizontal_erosion::horizontal_erosion;
 use super::pipes::pipes;
 use super::rain::rain;
-use super::support::{end_support_check, start_support_check, support_pass};
+use super::support::{end_support_check, start_support_check, support_passes};
 use super::transport::transport;
 use super::vertical_erosion::vertical_erosion;
 use super::{ErosionError, ErosionParams, ErosionState, StepVolumes};
@@ -54,9 +54,7 @@ impl ErosionState {
                 }
                 start_support_check(self);
             }
-            for _ in 0..params.support_passes_per_step {
-                support_pass(self, params);
-            }
+            support_passes(self, params, params.support_passes_per_step);
         }
         self.step += 1;
         let area = f64::from(self.cell_size) * f64::from(self.cell_size);

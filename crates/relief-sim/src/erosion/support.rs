@@ -45,13 +45,22 @@ pub fn start_support_check(state: &mut ErosionState) {
 /// One propagation pass: both colours of the checkerboard, one after the other. Only cells
 /// with a column above the ground change, so rows without one are skipped.
 pub fn support_pass(state: &mut ErosionState, params: &ErosionParams) {
+    support_passes(state, params, 1);
+}
+
+/// `passes` propagation passes (as [`support_pass`]).
+pub(crate) fn support_passes(state: &mut ErosionState, params: &ErosionParams, passes: u32) {
     let width = state.width;
     let mut rows = std::mem::take(&mut state.scratch.layered_rows);
     rows.clear();
-    rows.extend(state.layer_counts.chunks_exact(width).map(|row| row.iter().any(|&n| n > 1)));
+    rows.extend(
+        state.layer_counts.chunks_exact(width).map(|row| row.iter().fold(0, |m, &n| m.max(n)) > 1),
+    );
     if rows.contains(&true) {
-        half_pass(state, params, &rows, 0);
-        half_pass(state, params, &rows, 1);
+        for _ in 0..passes {
+            half_pass(state, params, &rows, 0);
+            half_pass(state, params, &rows, 1);
+        }
     }
     state.scratch.layered_rows = rows;
 }
