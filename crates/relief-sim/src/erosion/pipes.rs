@@ -86,19 +86,16 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                 let slope = slope_sine(tops, cs);
                 let out = (flux[0] + flux[1] + flux[2] + flux[3]) * dt;
                 let scale = ratio(c.water * area, out + eps);
-                if scale < 1.0 {
-                    for f in &mut flux {
-                        *f *= scale;
-                    }
+                // A scale of exactly 1 leaves the fluxes as they are: no branch.
+                for f in &mut flux {
+                    *f *= scale;
                 }
                 let out = (flux[0] + flux[1] + flux[2] + flux[3]) * dt;
                 let sediment_scale = ratio(sediment[s] * area, out + eps);
                 let slipped = slip[0] + slip[1] + slip[2] + slip[3];
                 let slip_scale = ratio(c.sand, slipped + eps);
-                if slip_scale < 1.0 {
-                    for v in &mut slip {
-                        *v *= slip_scale;
-                    }
+                for v in &mut slip {
+                    *v *= slip_scale;
                 }
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
                 unsafe {
@@ -114,13 +111,15 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
     });
 }
 
-/// `min(a / b, 1)` for `b > 0`, without dividing when `a >= b`.
+/// `min(a / b, 1)` for `b > 0`: exactly 1 when `a >= b`. Divides either way, so the
+/// comparison is a select rather than a branch the data makes unpredictable.
 #[inline]
 fn ratio(a: f32, b: f32) -> f32 {
+    let q = a / b;
     if a >= b {
         1.0
     } else {
-        a / b
+        q
     }
 }
 
