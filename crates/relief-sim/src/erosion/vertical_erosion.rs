@@ -88,20 +88,24 @@ pub(crate) fn vertical_erosion(state: &mut ErosionState, params: &ErosionParams)
                 } else {
                     0.0
                 };
-                if capacity > sed {
-                    if params.vertical_erosion {
-                        let taken = (params.sand_dissolving * (capacity - sed) * dt).min(c.sand);
-                        c.sand -= taken;
-                        sed += taken;
-                    }
+                // Both outcomes, then a select: whether the water is below capacity is
+                // unpredictable.
+                let (eroded_sand, eroded_sed) = if params.vertical_erosion {
+                    let taken = (params.sand_dissolving * (capacity - sed) * dt).min(c.sand);
+                    (c.sand - taken, sed + taken)
                 } else {
-                    let settled = (params.deposition * (sed - capacity) * dt)
-                        .min(c.ceiling - c.water_top())
-                        .min(sed - capacity)
-                        .max(0.0);
-                    sed -= settled;
-                    c.sand += settled;
-                }
+                    (c.sand, sed)
+                };
+                let settled = (params.deposition * (sed - capacity) * dt)
+                    .min(c.ceiling - c.water_top())
+                    .min(sed - capacity)
+                    .max(0.0);
+                let (settled_sand, settled_sed) = (c.sand + settled, sed - settled);
+                (c.sand, sed) = if capacity > sed {
+                    (eroded_sand, eroded_sed)
+                } else {
+                    (settled_sand, settled_sed)
+                };
                 let recovered =
                     (params.damage_recovery * dt).min(damage.min(c.bedrock - floor)).max(0.0);
                 if recovered > 0.0 {
