@@ -179,7 +179,10 @@ fn frame_pinhole(
         };
         camera =
             Camera::new(target + towards_eye * distance, target, up, projection, width, height)?;
-        if framing.target.is_some() {
+        // A given target stays; so does the box's centre when a given distance puts the eye
+        // so close that a corner is not in front of it (its image would not bound the box's).
+        let behind = || corners.iter().any(|&c| (c - camera.eye()).dot(camera.forward()) <= 0.0);
+        if framing.target.is_some() || behind() {
             break;
         }
         let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
@@ -351,6 +354,19 @@ mod tests {
                 assert!(v.dot(cam.forward()) > 0.0, "{lens:?}: {c} in front ({r:?})");
             }
         }
+    }
+
+    #[test]
+    fn a_distance_inside_the_view_of_the_box_looks_at_its_centre() {
+        // An eye 150 m from the centre of a 256 m square, above it: corners behind the eye.
+        let b = Aabb::new(DVec3::new(0.0, 0.0, 5.0), DVec3::new(256.0, 256.0, 32.0));
+        let framing = Framing {
+            distance: Some(150.0),
+            ..Framing::heading(45.0, 35.0, Lens::Perspective { fov_deg: 45.0 })
+        };
+        let cam = Camera::framed(&b, &framing, 160, 90).unwrap();
+        assert!((cam.target() - b.center()).length() < 1e-9, "{}", cam.target());
+        assert!(((cam.eye() - b.center()).length() - 150.0).abs() < 1e-9);
     }
 
     #[test]
