@@ -1,7 +1,8 @@
 //! `relief view` end to end: refused without a display, and under a real X server (Xvfb) it
 //! opens its window, renders frames progressively, plays a script (switching an MLHM scene's
 //! mode and preset too), records a camera path, and saves each screenshot once, exactly
-//! `relief render` of the same camera.
+//! `relief render` of the same camera; an MLHM scene's simulation stepped in the viewer is
+//! `relief simulate` rendered, and run with its rain switched it changes the picture.
 
 mod common;
 
@@ -258,6 +259,75 @@ fn a_scripted_flight_moves_switches_records_and_replays_as_render() {
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(pixels(&last), pixels(&picture), "the replayed camera");
+}
+
+/// Generates the 32x32 rivers-rain scene in `dir` and renders it at `camera`: the scene and
+/// its picture.
+fn rivers_rain(dir: &Path, camera: &[&str]) -> (PathBuf, (u32, u32, Vec<u8>)) {
+    let scene = dir.join("s.json");
+    let generate = ["generate", "mlhm", "--scene", "rivers-rain", "--size", "32", "-o"];
+    let run = relief(&[&generate[..], &[path(&scene)]].concat());
+    assert!(run.status.success(), "{}", stderr(&run));
+    let picture = render_picture(&scene, &dir.join("s.png"), camera);
+    (scene, picture)
+}
+
+/// `relief render SCENE -o PICTURE` at `camera`, decoded.
+fn render_picture(scene: &Path, picture: &Path, camera: &[&str]) -> (u32, u32, Vec<u8>) {
+    let mut args = vec!["render", path(scene), "-o", path(picture)];
+    args.extend(camera);
+    let out = relief(&args);
+    assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+    pixels(picture)
+}
+
+#[test]
+fn an_mlhm_simulation_stepped_in_the_viewer_is_relief_simulate_rendered() {
+    let Some(x) = x_server() else { return };
+    let dir = folder("view-simulation-steps");
+    let camera = ["--eye", "-100,-150,200", "--target", "128,128,0", "--size", "160x90"];
+    let (scene, opened) = rivers_rain(&dir, &camera);
+    // Paused (as it opens): one step (N), rest, two more in one frame, rest.
+    let (shot, script) = (dir.join("view.png"), "1:!N,2:-,1:!N+!N,3:-");
+    let mut view = vec!["view", path(&scene), "--frames", "3", "--script", script];
+    view.extend(["--screenshot", path(&shot)]);
+    view.extend(camera);
+    let out = relief_on(&x.display, &view);
+    assert!(out.status.success(), "{view:?}: {}", stderr(&out));
+    assert_saved_once(&out, &shot);
+
+    let stepped = dir.join("t.json");
+    let out = relief(&["simulate", path(&scene), "--steps", "3", "-o", path(&stepped)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let simulated = render_picture(&stepped, &dir.join("t.png"), &camera);
+    assert_ne!(opened, simulated, "three steps change the picture");
+    assert_not_blank(&shot, 50);
+    assert_eq!(pixels(&shot), simulated, "3 steps in the viewer, at rest");
+}
+
+#[test]
+fn an_mlhm_simulation_run_and_its_rain_switched_by_keys_changes_the_picture() {
+    let Some(x) = x_server() else { return };
+    let dir = folder("view-simulation-run");
+    let camera = ["--eye", "-100,-150,200", "--target", "128,128,0", "--size", "160x90"];
+    let (scene, opened) = rivers_rain(&dir, &camera);
+    // Run (V) for 6 frames, rain off (B) for 6, rain on and pause (B, V), one step (N), rest.
+    let (shot, stats) = (dir.join("view.png"), dir.join("frames.json"));
+    let script = "1:!V,6:-,1:!B,6:-,1:!B+!V,2:-,1:!N,3:-";
+    let mut view = vec!["view", path(&scene), "--frames", "3", "--script", script];
+    view.extend(["--screenshot", path(&shot), "--stats", path(&stats)]);
+    view.extend(camera);
+    let out = relief_on(&x.display, &view);
+    assert!(out.status.success(), "{view:?}: {}", stderr(&out));
+    assert_saved_once(&out, &shot);
+    assert_not_blank(&shot, 50);
+    assert_ne!(pixels(&shot), opened, "the simulation ran");
+    // Running, the frames are the moving ones; paused, the view refines to full size.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let frames = json["frames"].as_array().unwrap();
+    assert!(frames.iter().filter(|f| f["moving"] == true).count() >= 12, "{json}");
+    assert_eq!(frames.last().unwrap()["width"], 160, "{json}");
 }
 
 /// The lines of the run's stderr that say it saved a file.

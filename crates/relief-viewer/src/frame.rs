@@ -69,6 +69,21 @@ pub trait SceneRenderer: Send + Sync {
         settings: &crate::ViewSettings,
         cancel: &Cancel,
     ) -> Result<Frame, String>;
+
+    /// Whether the scene has a simulation the viewer can run, pause and step (MLHM scenes).
+    fn has_simulation(&self) -> bool {
+        false
+    }
+
+    /// Advances the scene's simulation as `request` asks: the frames rendered after it show
+    /// the new state. Called from the render thread, before the frame it is asked with.
+    fn simulate(
+        &self,
+        request: &crate::SimulationRequest,
+    ) -> Result<crate::SimulationReport, String> {
+        let _ = request;
+        Err("this scene has no simulation".into())
+    }
 }
 
 /// Copies `frame` into `target` (0RGB pixels, `width` x `height`), scaled to fill it by the

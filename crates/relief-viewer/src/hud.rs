@@ -3,7 +3,7 @@
 //! window so that it is testable without one.
 
 use crate::frame::Frame;
-use crate::{Navigation, ViewSettings};
+use crate::{Navigation, SimulationControl, ViewSettings};
 use std::time::Duration;
 
 /// What the HUD shows of a frame.
@@ -21,12 +21,15 @@ pub struct HudState<'a> {
     pub settings: &'a ViewSettings,
     /// Whether the camera path is being recorded.
     pub recording: bool,
+    /// The scene's simulation, where it has one.
+    pub simulation: Option<&'a SimulationControl>,
 }
 
 /// The HUD's lines, top first: the scene and the navigation; the frame time, its size, the
 /// Mrays/s and (where the tracer counts them) the steps per ray; the tracer, surface, mode,
-/// preset, sun, exposure and shadows active; the renderer's note, if any; whether the path is
-/// being recorded; and the key that lists the keys.
+/// preset, sun, exposure and shadows active; the simulation's state, where the scene has one
+/// (running or paused, step count, rain, milliseconds per step); the renderer's note, if any;
+/// whether the path is being recorded; and the key that lists the keys.
 pub fn hud_lines(state: &HudState) -> Vec<String> {
     let frame = state.frame;
     let seconds = state.elapsed.as_secs_f64().max(1e-9);
@@ -46,6 +49,7 @@ pub fn hud_lines(state: &HudState) -> Vec<String> {
         ),
         state.settings.describe(),
     ];
+    lines.extend(state.simulation.map(SimulationControl::describe));
     lines.extend(frame.note.clone());
     if state.recording {
         lines.push("recording the camera path (R stops)".into());
@@ -92,6 +96,7 @@ mod tests {
             elapsed: Duration::from_millis(20),
             settings: &settings,
             recording: false,
+            simulation: None,
         };
         assert_eq!(
             hud_lines(&state),
@@ -122,6 +127,7 @@ mod tests {
             elapsed: Duration::from_micros(2500),
             settings: &settings,
             recording: true,
+            simulation: None,
         };
         assert_eq!(
             hud_lines(&state),
@@ -137,6 +143,28 @@ mod tests {
     }
 
     #[test]
+    fn a_scene_with_a_simulation_shows_its_state_after_what_is_active() {
+        let settings = ViewSettings::new(SceneChoices::default(), (0.0, 45.0), 1.0, true);
+        let frame = frame(1000, None, None);
+        let mut simulation = SimulationControl::new();
+        simulation.apply(crate::Action::ToggleSimulation);
+        simulation.apply(crate::Action::ToggleRain);
+        simulation.record(&crate::SimulationReport { steps: 4, step_count: 9, step_ms: 10.0 });
+        let state = HudState {
+            scene: "32x32 MLHM scene",
+            navigation: Navigation::Orbit,
+            frame: &frame,
+            elapsed: Duration::from_millis(1),
+            settings: &settings,
+            recording: false,
+            simulation: Some(&simulation),
+        };
+        let lines = hud_lines(&state);
+        assert_eq!(lines[3], "simulation running, step 9, rain off, 2.5 ms/step");
+        assert_eq!(lines[4], "F1: keys");
+    }
+
+    #[test]
     fn a_frame_that_took_no_measurable_time_gives_finite_figures() {
         let settings = ViewSettings::new(SceneChoices::default(), (0.0, 45.0), 1.0, true);
         let frame = frame(0, Some(0.0), None);
@@ -147,6 +175,7 @@ mod tests {
             elapsed: Duration::ZERO,
             settings: &settings,
             recording: false,
+            simulation: None,
         };
         let lines = hud_lines(&state);
         assert_eq!(lines[1], "0.0 ms at 160x90, 0.0 Mrays/s, 0.0 steps/ray");

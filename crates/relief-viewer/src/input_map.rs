@@ -99,6 +99,12 @@ pub enum Action {
     SunAzimuth(i32),
     /// The sun a step higher (+1) or lower (-1).
     SunElevation(i32),
+    /// Run or pause the scene's simulation (MLHM).
+    ToggleSimulation,
+    /// One step of the paused simulation.
+    StepSimulation,
+    /// The simulation's rain on or off.
+    ToggleRain,
 }
 
 /// Every key and what it does, as the README and the F1 overlay list them.
@@ -113,6 +119,9 @@ pub const KEY_HELP: &[(&str, &str)] = &[
     ("G", "next surface (height fields)"),
     ("M", "next mode, boxes or smooth (MLHM)"),
     ("1 2 3 4", "preset low, mid, high, max (MLHM)"),
+    ("V", "run or pause the simulation (MLHM)"),
+    ("N", "one simulation step, while paused"),
+    ("B", "simulation rain on or off"),
     ("H", "shadows on or off"),
     ("J L", "sun anticlockwise, clockwise"),
     ("I K", "sun higher, lower"),
@@ -146,6 +155,9 @@ pub fn action_for(key: Key) -> Option<Action> {
         Key::Letter('L') => Action::SunAzimuth(1),
         Key::Letter('I') => Action::SunElevation(1),
         Key::Letter('K') => Action::SunElevation(-1),
+        Key::Letter('V') => Action::ToggleSimulation,
+        Key::Letter('N') => Action::StepSimulation,
+        Key::Letter('B') => Action::ToggleRain,
         _ => return None,
     };
     Some(action)
@@ -181,7 +193,10 @@ mod tests {
 
     #[test]
     fn every_key_in_the_help_is_bound_and_no_key_does_two_things() {
-        for name in ["T", "G", "M", "H", "J", "L", "I", "K", "P", "R", "Plus", "Minus", "Space"] {
+        for name in [
+            "T", "G", "M", "H", "J", "L", "I", "K", "P", "R", "V", "N", "B", "Plus", "Minus",
+            "Space",
+        ] {
             let key = Key::from_name(name).unwrap();
             assert!(action_for(key).is_some(), "{name}");
             assert!(!motion_from(&[key].into()).is_moving(), "{name} also moves");
@@ -193,6 +208,9 @@ mod tests {
         }
         assert_eq!(action_for(Key::Digit(3)), Some(Action::Preset(2)));
         assert_eq!(action_for(Key::Digit(7)), None);
+        assert_eq!(action_for(Key::Letter('V')), Some(Action::ToggleSimulation));
+        assert_eq!(action_for(Key::Letter('N')), Some(Action::StepSimulation));
+        assert_eq!(action_for(Key::Letter('B')), Some(Action::ToggleRain));
         assert_eq!(Key::from_name("w"), Some(Key::Letter('W')));
         assert_eq!(Key::from_name("Nope"), None);
     }

@@ -3,7 +3,9 @@
 //! rendering logic of its own: it moves the camera, decides what resolution to render next
 //! ([`ProgressiveScheduler`]: reduced while moving, refined to full at rest), hands the frame
 //! to a render thread so that the event loop never blocks, and shows the result with an
-//! overlay of figures and keys.
+//! overlay of figures and keys. A scene with a simulation ([`SceneRenderer::simulate`]) is
+//! run, paused and stepped the same way: the viewer keeps its controls
+//! ([`SimulationControl`]) and the render thread asks the scene for the steps before a frame.
 //!
 //! `relief view` (in relief-cli) is its front end; the same loop runs scripted for tests
 //! ([`Script`], `--frames N --screenshot S.png`).
@@ -17,6 +19,7 @@ mod input_map;
 mod overlay;
 mod progressive;
 mod script;
+mod simulation;
 mod summary;
 mod view_settings;
 mod window;
@@ -28,6 +31,7 @@ pub use frame::{blit, Cancel, Frame, FrameStats, SceneRenderer};
 pub use input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 pub use progressive::{FrameRequest, ProgressiveScheduler};
 pub use script::{Script, ScriptFrame, SCRIPT_FRAME_S};
+pub use simulation::{SimulationControl, SimulationReport, SimulationRequest};
 pub use summary::{FrameRecord, ViewerSummary};
 pub use view_settings::{SceneChoices, ViewSettings};
 pub use window::{check_display, run, ViewerConfig};

@@ -11,6 +11,7 @@ use crate::script::{Script, SCRIPT_FRAME_S};
 use crate::summary::{FrameRecord, ViewerSummary};
 use crate::winit_keys::key_of;
 use crate::{overlay, CameraController, ViewSettings, ViewerError};
+use crate::{SimulationControl, SimulationReport, SimulationRequest};
 use relief_core::Camera;
 use std::collections::BTreeSet;
 use std::num::NonZeroU32;
@@ -89,6 +90,8 @@ struct Job {
     settings: ViewSettings,
     moving: bool,
     cancel: Cancel,
+    /// The simulation's steps to take before the frame.
+    simulate: Option<SimulationRequest>,
 }
 
 /// What the render thread sends back.
@@ -98,9 +101,10 @@ enum Rendered {
         frame: Frame,
         elapsed: Duration,
         moving: bool,
+        simulated: Option<SimulationReport>,
     },
-    /// A frame the viewer cancelled.
-    Cancelled,
+    /// A frame the viewer cancelled (the simulation's steps before it were taken).
+    Cancelled(Option<SimulationReport>),
     Failed(String),
 }
 
@@ -111,14 +115,23 @@ fn spawn_render_thread(
     let (send, receive) = mpsc::channel::<Job>();
     let worker = std::thread::spawn(move || {
         for job in receive {
+            let simulated = match job.simulate.map(|r| renderer.simulate(&r)).transpose() {
+                Ok(report) => report,
+                Err(e) => {
+                    let _ = proxy.send_event(Rendered::Failed(e));
+                    return;
+                }
+            };
+            // The frame's time is the rendering's (the scheduler sizes frames by it).
             let started = Instant::now();
             let rendered = match renderer.render(&job.camera, &job.settings, &job.cancel) {
-                Ok(_) if job.cancel.is_set() => Rendered::Cancelled,
+                Ok(_) if job.cancel.is_set() => Rendered::Cancelled(simulated),
                 Ok(frame) => Rendered::Frame {
                     request: job.request,
                     frame,
                     elapsed: started.elapsed(),
                     moving: job.moving,
+                    simulated,
                 },
                 Err(e) => Rendered::Failed(e),
             };
@@ -162,6 +175,8 @@ struct App {
     last_shown: Option<Instant>,
     screenshot: Option<PathBuf>,
     error: Option<ViewerError>,
+    /// The scene's simulation, where it has one.
+    simulation: Option<SimulationControl>,
 }
 
 impl App {
@@ -172,7 +187,9 @@ impl App {
     ) -> Self {
         let controller = CameraController::new(&config.camera, renderer.scene_size());
         let scheduler = ProgressiveScheduler::new(config.size, config.frame_budget);
+        let simulation = renderer.has_simulation().then(SimulationControl::new);
         App {
+            simulation,
             home: controller.clone(),
             controller,
             settings: config.settings.clone(),
@@ -246,7 +263,12 @@ impl App {
         };
         let (moving, cancel) = (self.moving(), Cancel::new());
         self.in_flight = Some((request.version, moving, cancel.clone()));
-        let job = Job { request, camera, settings: self.settings.clone(), moving, cancel };
+        // A scripted run steps a running simulation once a frame, so that it is the same
+        // every run; an interactive one as often as fits half the frame budget.
+        let budget = (!self.scripted()).then_some(self.config.frame_budget / 2);
+        let simulate = self.simulation.as_mut().and_then(|s| s.take_request(budget));
+        let settings = self.settings.clone();
+        let job = Job { request, camera, settings, moving, cancel, simulate };
         if let Some(jobs) = &self.jobs {
             self.busy = jobs.send(job).is_ok();
         }
@@ -263,7 +285,11 @@ impl App {
         }
     }
 
+    /// Whether the view is changing: the camera moves, or the simulation runs.
     fn moving(&self) -> bool {
+        if self.simulation.as_ref().is_some_and(|s| s.running) {
+            return true;
+        }
         if self.scripted() {
             return self.script_moving;
         }
@@ -301,6 +327,15 @@ impl App {
             }
             Action::Screenshot => self.save_screenshot(None).map(|_| ()),
             Action::ToggleRecording => self.toggle_recording(),
+            Action::ToggleSimulation | Action::StepSimulation | Action::ToggleRain => {
+                if let Some(simulation) = &mut self.simulation {
+                    if simulation.apply(action) {
+                        self.scheduler.changed();
+                    }
+                    self.scheduler.set_moving(self.moving());
+                }
+                Ok(())
+            }
             other => {
                 if self.settings.apply(other) {
                     self.scheduler.changed();
@@ -358,7 +393,13 @@ impl App {
             self.scheduler.changed();
         }
         self.script_moving = motion.is_moving();
-        self.scheduler.set_moving(self.script_moving);
+        // Past its script, a scripted run pauses the simulation, so that it comes to rest.
+        if k >= self.config.script.len() {
+            if let Some(simulation) = &mut self.simulation {
+                simulation.running = false;
+            }
+        }
+        self.scheduler.set_moving(self.moving());
     }
 
     /// A frame came back from the render thread.
@@ -366,10 +407,17 @@ impl App {
         self.busy = false;
         self.in_flight = None;
         let (request, frame, elapsed, moving) = match rendered {
-            Rendered::Frame { request, frame, elapsed, moving } => {
+            Rendered::Frame { request, frame, elapsed, moving, simulated } => {
+                self.record_simulation(simulated);
                 (request, frame, elapsed, moving)
             }
-            Rendered::Cancelled => return self.schedule(event_loop),
+            Rendered::Cancelled(simulated) => {
+                self.record_simulation(simulated);
+                if self.scripted() {
+                    return self.drive_script(event_loop);
+                }
+                return self.schedule(event_loop);
+            }
             Rendered::Failed(e) => return self.fail(event_loop, ViewerError::Render(e)),
         };
         self.scheduler.shown(request, elapsed);
@@ -406,14 +454,26 @@ impl App {
         if let Some(window) = &self.window {
             window.request_redraw();
         }
-        if self.scripted() {
+        let current = self.scheduler.version() == request.version;
+        if self.scripted() && current {
             // One script frame for each view shown.
-            if self.scheduler.version() == request.version {
-                self.advance_script(event_loop);
-            }
+            self.advance_script(event_loop);
+        }
+        if self.simulation.as_ref().is_some_and(|s| s.running) {
+            // The next frame shows the next step.
+            self.scheduler.changed();
+        }
+        if self.scripted() {
             return self.drive_script(event_loop);
         }
         self.schedule(event_loop);
+    }
+
+    /// Takes note of the steps the simulation took before a frame.
+    fn record_simulation(&mut self, report: Option<SimulationReport>) {
+        if let (Some(simulation), Some(report)) = (&mut self.simulation, report) {
+            simulation.record(&report);
+        }
     }
 
     /// Plays the script's next frame.
@@ -474,6 +534,7 @@ impl App {
                     elapsed: *elapsed,
                     settings: &self.settings,
                     recording: self.recording.is_some(),
+                    simulation: self.simulation.as_ref(),
                 });
             }
         }

@@ -1,5 +1,6 @@
 //! `relief view`: the interactive viewer (relief-viewer) over any scene `relief render`
-//! takes, drawn by the live scenes of [`crate::live`].
+//! takes, drawn by the live scenes of [`crate::live`] (an MLHM scene's erosion simulation
+//! run, paused and stepped from the viewer).
 
 use super::check_image;
 use crate::args::ViewArgs;
@@ -61,7 +62,8 @@ fn open(
             LayeredScene::open(scene_args, path)?,
             scene_args.no_shadows,
             scene_args.no_ao,
-        );
+        )
+        .with_simulation(path.to_path_buf(), scene_args.input.read.max_memory);
         let (camera, settings) = (live.camera(), live.settings());
         return Ok((Arc::new(live), camera, settings));
     }

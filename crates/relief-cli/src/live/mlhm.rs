@@ -1,7 +1,11 @@
 //! An MLHM scene drawn live: boxes or the smooth surface, by the hierarchy or the naive
-//! tracer (built when first asked for, then kept), shaded at the preset the viewer selects.
+//! tracer (built when first asked for, then kept), shaded at the preset the viewer selects;
+//! and its erosion simulation, run, paused and stepped from the viewer (the state made when
+//! first asked for; after each request's steps the terrain is converted back to an MLHM and
+//! the tracers, hierarchy included, are built anew over it).
 
 use super::interruptible::Interruptible;
+use super::simulation::MlhmSimulation;
 use crate::args::MlhmRenderMode;
 use crate::scene::mlhm::{LayeredScene, MlhmTracerChoice};
 use anyhow::Result;
@@ -9,9 +13,13 @@ use relief_core::Camera;
 use relief_shade::mlhm::{render_mlhm, MlhmPreset, MlhmShading};
 use relief_shade::{tonemap_reinhard_to_rgb8, Sun};
 use relief_trace::MlhmTracer;
-use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
+use relief_viewer::{
+    Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, SimulationReport, SimulationRequest,
+    ViewSettings,
+};
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex, RwLock};
 
 /// The modes an MLHM scene offers, in the order the viewer cycles them.
 const MODES: [(MlhmRenderMode, &str); 2] =
@@ -23,15 +31,24 @@ type TracerKey = (usize, usize, bool);
 
 /// An MLHM scene and the tracers drawing it.
 pub struct LiveMlhm {
-    scene: LayeredScene,
+    /// The scene; its map is replaced as the simulation advances.
+    scene: RwLock<LayeredScene>,
+    /// The scene's size in cells, as it opened.
+    cells: (usize, usize),
+    /// The diagonal of the scene's bounds as it opened, metres.
+    size: f64,
     /// The tracers offered: the hierarchy (with the command line's options) and the naive one.
     choices: [(MlhmTracerChoice, &'static str); 2],
     /// Whether the command line left out shadows.
     no_shadows: bool,
     /// Whether the command line left out ambient occlusion.
     no_ao: bool,
-    /// The tracers built so far.
+    /// The tracers built so far (over the current map).
     built: Mutex<HashMap<TracerKey, Arc<dyn MlhmTracer>>>,
+    /// The scene file and the memory limit the simulation is made from, if it may run.
+    source: Option<(PathBuf, Option<u64>)>,
+    /// The simulation, once made.
+    simulation: Mutex<Option<MlhmSimulation>>,
 }
 
 impl LiveMlhm {
@@ -45,7 +62,48 @@ impl LiveMlhm {
             }
         };
         let choices = [(hierarchy, "hierarchy"), (MlhmTracerChoice::Naive, "naive")];
-        LiveMlhm { scene, choices, no_shadows, no_ao, built: Mutex::new(HashMap::new()) }
+        let cells = (scene.map.width(), scene.map.height());
+        let size = (scene.bounds.max - scene.bounds.min).length();
+        LiveMlhm {
+            scene: RwLock::new(scene),
+            cells,
+            size,
+            choices,
+            no_shadows,
+            no_ao,
+            built: Mutex::new(HashMap::new()),
+            source: None,
+            simulation: Mutex::new(None),
+        }
+    }
+
+    /// Lets the viewer run the erosion simulation of the scene file `path` (read within
+    /// `max_memory`), as `relief simulate` runs it.
+    pub fn with_simulation(mut self, path: PathBuf, max_memory: Option<u64>) -> Self {
+        self.source = Some((path, max_memory));
+        self
+    }
+
+    /// The scene, read.
+    fn scene(&self) -> std::sync::RwLockReadGuard<'_, LayeredScene> {
+        self.scene.read().expect("no render panicked")
+    }
+
+    /// Takes the simulation's steps `request` asks for (making the simulation first, if this
+    /// is its first request) and puts the terrain after them in the scene.
+    fn advance(&self, request: &SimulationRequest) -> Result<SimulationReport> {
+        let Some((path, max_memory)) = &self.source else {
+            anyhow::bail!("this scene has no simulation");
+        };
+        let mut simulation = self.simulation.lock().expect("no step panicked");
+        if simulation.is_none() {
+            *simulation = Some(MlhmSimulation::open(path, *max_memory)?);
+        }
+        let (map, report) = simulation.as_mut().expect("made above").advance(request)?;
+        self.scene.write().expect("no render panicked").map = Arc::new(map);
+        // The tracers, hierarchy included, are built anew over the new terrain.
+        self.built.lock().expect("no render panicked").clear();
+        Ok(report)
     }
 
     /// The viewer's starting settings: the scene's mode, tracer, preset, sun, exposure and
@@ -57,20 +115,21 @@ impl LiveMlhm {
             presets: MlhmPreset::ALL.iter().map(|p| p.name().to_string()).collect(),
             ..SceneChoices::default()
         };
-        let shading = &self.scene.shading;
+        let scene = self.scene();
+        let shading = &scene.shading;
         let sun = (shading.sun.azimuth_deg, shading.sun.elevation_deg);
         // The preset decides whether there are shadows at all; this switch can only take them
         // away, as --no-shadows does.
         let mut settings = ViewSettings::new(names, sun, shading.exposure, !self.no_shadows);
-        settings.tracer = usize::from(self.scene.choice == MlhmTracerChoice::Naive);
-        settings.mode = MODES.iter().position(|(m, _)| *m == self.scene.mode).unwrap_or(0);
-        settings.preset = MlhmPreset::ALL.iter().position(|p| *p == self.scene.preset).unwrap_or(0);
+        settings.tracer = usize::from(scene.choice == MlhmTracerChoice::Naive);
+        settings.mode = MODES.iter().position(|(m, _)| *m == scene.mode).unwrap_or(0);
+        settings.preset = MlhmPreset::ALL.iter().position(|p| *p == scene.preset).unwrap_or(0);
         settings
     }
 
     /// The starting camera.
     pub fn camera(&self) -> Camera {
-        self.scene.camera
+        self.scene().camera
     }
 
     /// The shading of `settings`: its preset with the viewer's sun, exposure and shadows.
@@ -98,7 +157,7 @@ impl LiveMlhm {
         }
         let (mode, choice, central) = key;
         let tracer: Arc<dyn MlhmTracer> =
-            Arc::from(self.scene.tracer(MODES[mode].0, self.choices[choice].0, central)?);
+            Arc::from(self.scene().tracer(MODES[mode].0, self.choices[choice].0, central)?);
         built.insert(key, tracer.clone());
         Ok(tracer)
     }
@@ -131,12 +190,11 @@ impl LiveMlhm {
 
 impl SceneRenderer for LiveMlhm {
     fn describe(&self) -> String {
-        format!("{}x{} MLHM scene", self.scene.map.width(), self.scene.map.height())
+        format!("{}x{} MLHM scene", self.cells.0, self.cells.1)
     }
 
     fn scene_size(&self) -> f64 {
-        let bounds = &self.scene.bounds;
-        (bounds.max - bounds.min).length()
+        self.size
     }
 
     fn render(
@@ -146,5 +204,13 @@ impl SceneRenderer for LiveMlhm {
         cancel: &Cancel,
     ) -> Result<Frame, String> {
         self.render_frame(camera, settings, cancel).map_err(|e| format!("{e:#}"))
+    }
+
+    fn has_simulation(&self) -> bool {
+        self.source.is_some()
+    }
+
+    fn simulate(&self, request: &SimulationRequest) -> Result<SimulationReport, String> {
+        self.advance(request).map_err(|e| format!("simulation: {e:#}"))
     }
 }

@@ -1,12 +1,14 @@
 //! The scenes `relief view` draws frame after frame: [`SceneRenderer`]s over the scenes the
 //! command line opens, rendering with relief's tracers and shading exactly as `relief
-//! render` does, with the settings the viewer switches at run time.
+//! render` does, with the settings the viewer switches at run time, and an MLHM scene's
+//! erosion simulation, run as `relief simulate` runs it.
 //!
 //! [`SceneRenderer`]: relief_viewer::SceneRenderer
 
 mod height_field;
 mod interruptible;
 mod mlhm;
+mod simulation;
 
 pub use height_field::LiveHeightField;
 pub use mlhm::LiveMlhm;

@@ -1,0 +1,159 @@
+//! An MLHM scene's erosion simulation (relief_sim::erosion) run live in the viewer: the
+//! state is made from the scene as `relief simulate` makes it (its saved planes and step
+//! count, its `Simulation/*` settings over the defaults, the same seed), so that N steps in
+//! the viewer give the terrain `relief simulate SCENE --steps N` writes.
+
+use crate::args::ReadArgs;
+use crate::{input, memory};
+use anyhow::{bail, Context, Result};
+use relief_core::{Mlhm, Precision};
+use relief_sim::erosion::{ErosionParams, ErosionState, SimulationPlanes};
+use relief_viewer::{SimulationReport, SimulationRequest};
+use serde_json::{Map, Value};
+use std::path::Path;
+use std::time::Instant;
+
+/// The seed of the rain's random numbers: `relief simulate`'s default.
+const SEED: u64 = 1;
+
+/// The scene key holding the steps simulated so far, as `relief simulate` reads it.
+const STEP_KEY: &str = "Simulation/CurrentSimulationStep";
+
+/// Bytes the simulation holds per column slot, as `relief simulate` counts them.
+const BYTES_PER_SLOT: u64 = 16 + 16 + 12 + 64;
+
+/// The most steps one request takes, whatever its budget.
+const MAX_STEPS_PER_REQUEST: u32 = 1000;
+
+/// A running erosion simulation of an MLHM scene.
+pub struct MlhmSimulation {
+    state: ErosionState,
+    params: ErosionParams,
+    /// The scene's rain rate (m/s), used while the rain is on.
+    rain: f32,
+    /// The scene's layer planes: the terrain has at least these.
+    initial_layers: usize,
+    /// The precision the scene is stored at: `relief simulate` writes its result at it.
+    precision: Precision,
+}
+
+impl MlhmSimulation {
+    /// The simulation of the scene at `path`, as `relief simulate` starts it.
+    pub fn open(path: &Path, max_memory: Option<u64>) -> Result<Self> {
+        let read = ReadArgs { voids: None, max_memory, png_encoding: None, array: None };
+        let scene = input::load_mlhm(path, &read)?;
+        let params = params(&scene.settings)
+            .with_context(|| format!("the simulation settings of {}", path.display()))?;
+        let capacity = scene.max_layer_count.clamp(scene.mlhm.max_layers(), 255);
+        let map = &scene.mlhm;
+        let memory::Budget { bytes: limit, origin } = memory::budget(max_memory);
+        let needed =
+            (map.width() * map.height()) as u128 * capacity as u128 * u128::from(BYTES_PER_SLOT);
+        if needed > u128::from(limit) {
+            bail!(
+                "simulating {} x {} cells of {capacity} layers needs {} MiB, over the {} MiB \
+                 memory limit ({origin})",
+                map.width(),
+                map.height(),
+                needed >> 20,
+                limit >> 20
+            );
+        }
+        let first_step = scene.settings.get(STEP_KEY).and_then(Value::as_u64).unwrap_or(0);
+        let planes = scene.simulation.as_ref().map(|s| SimulationPlanes {
+            fluxes: s.fluxes.clone(),
+            stability: s.stability.clone(),
+            sediment: s.sediment.clone(),
+            damage: s.damage.clone(),
+        });
+        let state = ErosionState::from_mlhm(map, planes.as_ref(), capacity, first_step)
+            .with_context(|| format!("{}", path.display()))?;
+        Ok(MlhmSimulation {
+            state,
+            rain: params.rain,
+            params,
+            initial_layers: map.max_layers(),
+            precision: scene.precision,
+        })
+    }
+
+    /// Takes the steps `request` asks for; the terrain after them, as `relief simulate`
+    /// writes it.
+    pub fn advance(&mut self, request: &SimulationRequest) -> Result<(Mlhm, SimulationReport)> {
+        self.params.rain = if request.rain { self.rain } else { 0.0 };
+        let started = Instant::now();
+        let mut steps = 0u32;
+        loop {
+            self.state.step(&self.params, SEED)?;
+            steps += 1;
+            if steps >= MAX_STEPS_PER_REQUEST {
+                break;
+            }
+            if steps >= request.steps {
+                let Some(budget) = request.budget else { break };
+                let elapsed = started.elapsed();
+                // Another step only if it is predicted to fit.
+                if elapsed + elapsed / steps > budget {
+                    break;
+                }
+            }
+        }
+        let step_ms = started.elapsed().as_secs_f64() * 1e3;
+        let layers = self.state.used_layers().max(self.initial_layers);
+        let mut map = self.state.to_mlhm_with_layers(layers)?;
+        if self.precision != Precision::F32 {
+            map = map.to_precision(self.precision).context("rounding to the scene's precision")?;
+        }
+        let report = SimulationReport { steps, step_count: self.state.step_count(), step_ms };
+        Ok((map, report))
+    }
+}
+
+/// The parameters as `relief simulate` takes them without options: the reference defaults
+/// and the scene's `Simulation/*` settings over them.
+fn params(settings: &Map<String, Value>) -> Result<ErosionParams> {
+    let number = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_f64);
+    let flag = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_bool);
+    let mut p = ErosionParams::default();
+    let numbers: [(&str, &mut f32); 13] = [
+        ("DeltaTime", &mut p.dt),
+        ("Rain", &mut p.rain),
+        ("Evaporation", &mut p.evaporation),
+        ("Petrification", &mut p.petrification),
+        ("SlippageInterpolationRange", &mut p.slippage_interpolation_range),
+        ("SedimentCapacityConstant", &mut p.sediment_capacity),
+        ("BedrockDissolvingConstant", &mut p.bedrock_dissolving),
+        ("SandDissolvingConstant", &mut p.sand_dissolving),
+        ("SedimentDepositionConstant", &mut p.deposition),
+        ("MinSlopeErosionScale", &mut p.min_slope_erosion_scale),
+        ("MaxSlopeErosionScale", &mut p.max_slope_erosion_scale),
+        ("HorizontalErosionStrength", &mut p.horizontal_erosion_strength),
+        ("Gravity", &mut p.gravity),
+    ];
+    for (key, field) in numbers {
+        if let Some(v) = number(key) {
+            *field = v as f32;
+        }
+    }
+    // The reference stores gravity as a negative acceleration and talus angles in radians.
+    p.gravity = p.gravity.abs();
+    if let Some(v) = number("DryTalusAngle") {
+        p.dry_talus_angle = v.to_degrees() as f32;
+    }
+    if let Some(v) = number("WetTalusAngle") {
+        p.wet_talus_angle = v.to_degrees() as f32;
+    }
+    let flags: [(&str, &mut bool); 4] = [
+        ("EnableSlippage", &mut p.slippage),
+        ("EnableVerticalErosion", &mut p.vertical_erosion),
+        ("EnableHorizontalErosion", &mut p.horizontal_erosion),
+        ("EnableSupportCheck", &mut p.support_check),
+    ];
+    for (key, field) in flags {
+        if let Some(v) = flag(key) {
+            *field = v;
+        }
+    }
+    p.validate()?;
+    Ok(p)
+}
