@@ -12,6 +12,8 @@ mod simulate;
 mod simulate_frames;
 mod view;
 
+pub(crate) use simulate::scene_params;
+
 use crate::args::{Cli, Command};
 use crate::memory::Budget;
 use anyhow::{bail, Result};

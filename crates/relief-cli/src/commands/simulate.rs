@@ -167,6 +167,22 @@ fn check_memory(args: &SimulateArgs, scene: &MlhmScene, capacity: usize) -> Resu
 /// The parameters: the reference defaults, the scene's `Simulation/*` settings over them,
 /// and the command line's over those.
 fn params(args: &SimulateArgs, settings: &Map<String, Value>) -> Result<ErosionParams> {
+    let mut p = scene_params(settings);
+    if let Some(v) = args.rain {
+        p.rain = v;
+    }
+    if let Some(v) = args.evaporation {
+        p.evaporation = v;
+    }
+    if let Some(v) = args.dt {
+        p.dt = v;
+    }
+    p.validate().with_context(|| format!("the simulation settings of {}", args.input.display()))?;
+    Ok(p)
+}
+
+/// The reference defaults with a scene's `Simulation/*` settings over them (not validated).
+pub(crate) fn scene_params(settings: &Map<String, Value>) -> ErosionParams {
     let number = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_f64);
     let flag = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_bool);
     let mut p = ErosionParams::default();
@@ -209,15 +225,5 @@ fn params(args: &SimulateArgs, settings: &Map<String, Value>) -> Result<ErosionP
             *field = v;
         }
     }
-    if let Some(v) = args.rain {
-        p.rain = v;
-    }
-    if let Some(v) = args.evaporation {
-        p.evaporation = v;
-    }
-    if let Some(v) = args.dt {
-        p.dt = v;
-    }
-    p.validate().with_context(|| format!("the simulation settings of {}", args.input.display()))?;
-    Ok(p)
+    p
 }

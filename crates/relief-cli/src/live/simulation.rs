@@ -112,48 +112,7 @@ impl MlhmSimulation {
 /// The parameters as `relief simulate` takes them without options: the reference defaults
 /// and the scene's `Simulation/*` settings over them.
 fn params(settings: &Map<String, Value>) -> Result<ErosionParams> {
-    let number = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_f64);
-    let flag = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_bool);
-    let mut p = ErosionParams::default();
-    let numbers: [(&str, &mut f32); 13] = [
-        ("DeltaTime", &mut p.dt),
-        ("Rain", &mut p.rain),
-        ("Evaporation", &mut p.evaporation),
-        ("Petrification", &mut p.petrification),
-        ("SlippageInterpolationRange", &mut p.slippage_interpolation_range),
-        ("SedimentCapacityConstant", &mut p.sediment_capacity),
-        ("BedrockDissolvingConstant", &mut p.bedrock_dissolving),
-        ("SandDissolvingConstant", &mut p.sand_dissolving),
-        ("SedimentDepositionConstant", &mut p.deposition),
-        ("MinSlopeErosionScale", &mut p.min_slope_erosion_scale),
-        ("MaxSlopeErosionScale", &mut p.max_slope_erosion_scale),
-        ("HorizontalErosionStrength", &mut p.horizontal_erosion_strength),
-        ("Gravity", &mut p.gravity),
-    ];
-    for (key, field) in numbers {
-        if let Some(v) = number(key) {
-            *field = v as f32;
-        }
-    }
-    // The reference stores gravity as a negative acceleration and talus angles in radians.
-    p.gravity = p.gravity.abs();
-    if let Some(v) = number("DryTalusAngle") {
-        p.dry_talus_angle = v.to_degrees() as f32;
-    }
-    if let Some(v) = number("WetTalusAngle") {
-        p.wet_talus_angle = v.to_degrees() as f32;
-    }
-    let flags: [(&str, &mut bool); 4] = [
-        ("EnableSlippage", &mut p.slippage),
-        ("EnableVerticalErosion", &mut p.vertical_erosion),
-        ("EnableHorizontalErosion", &mut p.horizontal_erosion),
-        ("EnableSupportCheck", &mut p.support_check),
-    ];
-    for (key, field) in flags {
-        if let Some(v) = flag(key) {
-            *field = v;
-        }
-    }
+    let p = crate::commands::scene_params(settings);
     p.validate()?;
     Ok(p)
 }
