@@ -1,11 +1,11 @@
 //! The layered hydraulic erosion simulation of the reference MLHM simulator, on the CPU:
 //! parallel (rayon) and deterministic, for MLHMs, a height field being the one-column case.
 //!
-//! One [`ErosionState::step`] runs, in the reference's order: [rain](rain), virtual
-//! [pipes](pipes) with sand slippage, [transport](transport) (water, evaporation, velocity,
-//! sediment, petrification), [horizontal erosion](horizontal_erosion) with
-//! [column splits](column_split), [vertical erosion](vertical_erosion) and deposition, and
-//! the [support check](support) with collapse. The domain's edges are walls: no water, sand or
+//! One [`ErosionState::step`] runs, in the reference's order: rain (`rain.rs`), virtual pipes
+//! with sand slippage (`pipes.rs`), transport (`transport.rs`: water, evaporation, velocity,
+//! sediment, petrification), horizontal erosion (`horizontal_erosion.rs`) with column splits
+//! (`column_split.rs`), vertical erosion and deposition (`vertical_erosion.rs`), and the
+//! support check with collapse (`support.rs`). The domain's edges are walls: no water, sand or
 //! sediment leaves the grid.
 //!
 //! Material is created or removed by design only where [`StepVolumes`] says: horizontal erosion
