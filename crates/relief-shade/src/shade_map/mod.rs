@@ -269,8 +269,8 @@ impl TileRays {
     /// terrain sees it, with one ray), then by bisection between the highest band known to be
     /// hidden and the lowest known to escape. An escaping ray crosses the whole grid and costs
     /// far more than a hidden one, which is why the search starts low rather than in the
-    /// middle (measured on 1201² with 64 directions: 4.0 s, against 11.9 s for bisection from
-    /// the start and 10.0 s for tracing every ray).
+    /// middle. Measured on 1201² with 64 directions: 2.9 s of tracing, against 7.3 s for
+    /// bisection from the middle and 8.5 to 8.8 s for tracing every ray, the same values.
     fn sky_seen(&mut self, tracer: &dyn Tracer, sky: &SkyDirections) -> (Vec<f32>, u64) {
         let n = self.samples.len();
         let mut seen = vec![0usize; n];
