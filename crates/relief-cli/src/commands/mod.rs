@@ -12,7 +12,7 @@ mod simulate;
 mod simulate_frames;
 mod view;
 
-pub(crate) use simulate::scene_params;
+pub(crate) use simulate::{scene_params, start_state};
 
 use crate::args::{Cli, Command};
 use crate::memory::Budget;

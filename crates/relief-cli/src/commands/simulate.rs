@@ -10,6 +10,7 @@ use anyhow::{bail, Context, Result};
 use relief_io::{MlhmScene, SimulationState};
 use relief_sim::erosion::{ErosionParams, ErosionState, SimulationPlanes, StepVolumes};
 use serde_json::{Map, Value};
+use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -28,17 +29,8 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         ReadArgs { voids: None, max_memory: args.max_memory, png_encoding: None, array: None };
     let scene = input::load_mlhm(&args.input, &read)?;
     let params = params(args, &scene.settings)?;
-    let capacity = scene.max_layer_count.clamp(scene.mlhm.max_layers(), 255);
-    check_memory(args, &scene, capacity)?;
-    let first_step = scene.settings.get(STEP_KEY).and_then(Value::as_u64).unwrap_or(0);
-    let planes = scene.simulation.as_ref().map(|s| SimulationPlanes {
-        fluxes: s.fluxes.clone(),
-        stability: s.stability.clone(),
-        sediment: s.sediment.clone(),
-        damage: s.damage.clone(),
-    });
-    let mut state = ErosionState::from_mlhm(&scene.mlhm, planes.as_ref(), capacity, first_step)
-        .with_context(|| format!("{}", args.input.display()))?;
+    let mut state = start_state(&scene, &args.input, args.max_memory)?;
+    let first_step = state.step_count();
     let mut frames = Frames::new(args, &Arc::new(scene.mlhm.clone()))?;
     let bar = progress::bar(args.steps, "simulating");
     let log = |line: &str| bar.suspend(|| eprintln!("{line}"));
@@ -145,10 +137,17 @@ fn check_files(args: &SimulateArgs) -> Result<()> {
     outputs::check_distinct(&all, &[&args.input])
 }
 
+/// The simulation state of `scene` (read from `path`) as `relief simulate` and `relief view`
+/// start it: its columns, its saved planes and step count, at the scene's layer capacity.
 /// Refuses a scene whose simulation would not fit the memory budget.
-fn check_memory(args: &SimulateArgs, scene: &MlhmScene, capacity: usize) -> Result<()> {
-    let memory::Budget { bytes: limit, origin } = memory::budget(args.max_memory);
+pub(crate) fn start_state(
+    scene: &MlhmScene,
+    path: &Path,
+    max_memory: Option<u64>,
+) -> Result<ErosionState> {
     let map = &scene.mlhm;
+    let capacity = scene.max_layer_count.clamp(map.max_layers(), 255);
+    let memory::Budget { bytes: limit, origin } = memory::budget(max_memory);
     let needed =
         (map.width() * map.height()) as u128 * capacity as u128 * u128::from(BYTES_PER_SLOT);
     if needed > u128::from(limit) {
@@ -161,7 +160,15 @@ fn check_memory(args: &SimulateArgs, scene: &MlhmScene, capacity: usize) -> Resu
             limit >> 20
         );
     }
-    Ok(())
+    let first_step = scene.settings.get(STEP_KEY).and_then(Value::as_u64).unwrap_or(0);
+    let planes = scene.simulation.as_ref().map(|s| SimulationPlanes {
+        fluxes: s.fluxes.clone(),
+        stability: s.stability.clone(),
+        sediment: s.sediment.clone(),
+        damage: s.damage.clone(),
+    });
+    ErosionState::from_mlhm(map, planes.as_ref(), capacity, first_step)
+        .with_context(|| format!("{}", path.display()))
 }
 
 /// The parameters: the reference defaults, the scene's `Simulation/*` settings over them,

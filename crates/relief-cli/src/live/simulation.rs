@@ -4,10 +4,10 @@
 //! the viewer give the terrain `relief simulate SCENE --steps N` writes.
 
 use crate::args::ReadArgs;
-use crate::{input, memory};
-use anyhow::{bail, Context, Result};
+use crate::input;
+use anyhow::{Context, Result};
 use relief_core::{Mlhm, Precision};
-use relief_sim::erosion::{ErosionParams, ErosionState, SimulationPlanes};
+use relief_sim::erosion::{ErosionParams, ErosionState};
 use relief_viewer::{SimulationReport, SimulationRequest};
 use serde_json::{Map, Value};
 use std::path::Path;
@@ -15,12 +15,6 @@ use std::time::Instant;
 
 /// The seed of the rain's random numbers: `relief simulate`'s default.
 const SEED: u64 = 1;
-
-/// The scene key holding the steps simulated so far, as `relief simulate` reads it.
-const STEP_KEY: &str = "Simulation/CurrentSimulationStep";
-
-/// Bytes the simulation holds per column slot, as `relief simulate` counts them.
-const BYTES_PER_SLOT: u64 = 16 + 16 + 12 + 64;
 
 /// The most steps one request takes, whatever its budget.
 const MAX_STEPS_PER_REQUEST: u32 = 1000;
@@ -44,30 +38,8 @@ impl MlhmSimulation {
         let scene = input::load_mlhm(path, &read)?;
         let params = params(&scene.settings)
             .with_context(|| format!("the simulation settings of {}", path.display()))?;
-        let capacity = scene.max_layer_count.clamp(scene.mlhm.max_layers(), 255);
+        let state = crate::commands::start_state(&scene, path, max_memory)?;
         let map = &scene.mlhm;
-        let memory::Budget { bytes: limit, origin } = memory::budget(max_memory);
-        let needed =
-            (map.width() * map.height()) as u128 * capacity as u128 * u128::from(BYTES_PER_SLOT);
-        if needed > u128::from(limit) {
-            bail!(
-                "simulating {} x {} cells of {capacity} layers needs {} MiB, over the {} MiB \
-                 memory limit ({origin})",
-                map.width(),
-                map.height(),
-                needed >> 20,
-                limit >> 20
-            );
-        }
-        let first_step = scene.settings.get(STEP_KEY).and_then(Value::as_u64).unwrap_or(0);
-        let planes = scene.simulation.as_ref().map(|s| SimulationPlanes {
-            fluxes: s.fluxes.clone(),
-            stability: s.stability.clone(),
-            sediment: s.sediment.clone(),
-            damage: s.damage.clone(),
-        });
-        let state = ErosionState::from_mlhm(map, planes.as_ref(), capacity, first_step)
-            .with_context(|| format!("{}", path.display()))?;
         Ok(MlhmSimulation {
             state,
             rain: params.rain,

@@ -20,7 +20,7 @@
 //! ceiling rises to the collapsed one's. A column collapsing onto a column too close beneath
 //! merges with it: the lower column's sand becomes bedrock and the fallen bedrock stays bedrock.
 
-use super::slots::{fit_column, neighbour, par_rows, Slots};
+use super::slots::{neighbour, par_rows, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes, GROUND_STABILITY};
 use relief_core::MlhmColumn;
 
@@ -216,9 +216,7 @@ pub fn end_support_check(state: &mut ErosionState, params: &ErosionParams) -> St
                     continue;
                 }
                 let (mut c, flux, stab, sed, damage) = cell[k];
-                let (water, sand) = fit_column(&mut c);
-                v.water_clamped += f64::from(water);
-                v.sand_clamped += f64::from(sand);
+                v.fit(&mut c);
                 let s = i + kept * cells;
                 unsafe {
                     columns.set(s, c);

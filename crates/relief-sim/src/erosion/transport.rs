@@ -4,7 +4,7 @@
 //! `0.5 (R - L, U - D) / cell²` from the net fluxes, moves its sand by slippage and its
 //! sediment with the water, and petrifies `petrification dt` of its sand into bedrock.
 
-use super::slots::{fit_column, neighbours, opposite, par_rows, Slots};
+use super::slots::{neighbours, opposite, par_rows, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
 
 /// Moves water, sand and sediment along the pipes [`super::pipes::pipes`] computed.
@@ -79,9 +79,7 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
                 // Below f32's normal range sediment is flushed to 0: subnormal arithmetic is slow.
                 let new_sediment = if unclamped < f32::MIN_POSITIVE { 0.0 } else { unclamped };
                 v.sediment_clamped += f64::from(new_sediment) - f64::from(unclamped);
-                let (water, sand) = fit_column(&mut c);
-                v.water_clamped += f64::from(water);
-                v.sand_clamped += f64::from(sand);
+                v.fit(&mut c);
                 // SAFETY: as above.
                 unsafe {
                     columns.set(s, c);

@@ -11,7 +11,7 @@
 //! most the free space. A dry column erodes nothing and deposits its sediment. Then damage
 //! recovers at `damage_recovery`, lowering the bedrock as much.
 
-use super::slots::{fit_column, par_rows, smoothstep, Slots};
+use super::slots::{par_rows, smoothstep, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
 
 /// Erodes and deposits vertically in every column; recovers damage.
@@ -114,9 +114,7 @@ pub(crate) fn vertical_erosion(state: &mut ErosionState, params: &ErosionParams)
                     damage -= recovered;
                     c.bedrock = bedrock;
                 }
-                let (water, sand) = fit_column(&mut c);
-                v.water_clamped += f64::from(water);
-                v.sand_clamped += f64::from(sand);
+                v.fit(&mut c);
                 unsafe {
                     columns.set(s, c);
                     sediments.set(s, sed);

@@ -50,6 +50,14 @@ impl StepVolumes {
         self.damage_recovery + self.split_bedrock + self.collapse_damage + self.sand_clamped
     }
 
+    /// Fits `c` under its ceiling ([`fit_column`](super::slots::fit_column)), counting the
+    /// water and sand removed as clamped.
+    pub(crate) fn fit(&mut self, c: &mut relief_core::MlhmColumn) {
+        let (water, sand) = super::slots::fit_column(c);
+        self.water_clamped += f64::from(water);
+        self.sand_clamped += f64::from(sand);
+    }
+
     /// Adds `other` to these volumes.
     pub fn add(&mut self, other: &StepVolumes) {
         self.steps += other.steps;
