@@ -236,8 +236,9 @@ impl MlhmHierarchy {
     /// of [`StoredLayer`]'s fields, and the lowest start of their open sky, as
     /// [`merge_children`](Self::merge_children) would merge them, in a loop the compiler
     /// keeps in registers. A node on an odd grid's last row or column merges its children
-    /// with themselves, which changes nothing. This is what a simulation pays every frame,
-    /// in about a fifth of the general merge's instructions.
+    /// with themselves, which changes nothing. This is what a simulation pays every frame:
+    /// the 4096² RiversRain rebuild took 58 to 98 ms this way against 257 to 454 ms with the
+    /// general merge alone, run beside each other (`examples/hierarchy_rebuild.rs`).
     fn merge_single_layers(
         bounds: &mut LevelBounds<f32>,
         counts: &mut [u8],
