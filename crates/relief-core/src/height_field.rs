@@ -1,6 +1,6 @@
 //! The height field: a grid of elevation samples placed in the world.
 
-use crate::{Aabb, CoreError, Ray, Surface};
+use crate::{Aabb, CoreError, Ray, SampleRegion, Surface};
 use glam::{DVec2, DVec3};
 
 /// Where a grid sits in the world: horizontal spacing, origin and vertical scale.
@@ -201,6 +201,84 @@ impl HeightField {
         &self.samples
     }
 
+    /// Rewrites the samples of `region` (clamped to the grid): sample (col, row) becomes
+    /// `edit(col, row, old)`. Holes stay holes and keep their value. The new values are checked
+    /// before any is written, so a non-finite one fails the edit and leaves the field as it was.
+    /// Returns the region actually changed (the clamped one); the value range follows the edit.
+    pub fn edit_region(
+        &mut self,
+        region: SampleRegion,
+        mut edit: impl FnMut(usize, usize, f32) -> f32,
+    ) -> Result<SampleRegion, CoreError> {
+        let region = region.clamped(self.width, self.height);
+        let mut values = Vec::with_capacity(region.len());
+        for row in region.row0..region.row1 {
+            for col in region.col0..region.col1 {
+                let old = self.sample(col, row);
+                let new = if self.is_hole(col, row) { old } else { edit(col, row, old) };
+                if !new.is_finite() {
+                    return Err(CoreError::NonFiniteSample { col, row, value: new });
+                }
+                values.push(new);
+            }
+        }
+        let mut values = values.into_iter();
+        for row in region.row0..region.row1 {
+            let start = region.col0 + row * self.width;
+            let end = region.col1 + row * self.width;
+            self.samples[start..end].iter_mut().for_each(|v| *v = values.next().unwrap_or(*v));
+        }
+        self.update_range();
+        Ok(region)
+    }
+
+    /// Replaces every sample at once (a simulation step that rewrites the whole field) and
+    /// returns the previous samples, so that a caller can write the next step into them.
+    /// Fails, leaving the field unchanged, when the count does not match or a value is not
+    /// finite. Holes stay holes: their new values are replaced by the lowest valid sample.
+    pub fn replace_samples(&mut self, mut samples: Vec<f32>) -> Result<Vec<f32>, CoreError> {
+        if samples.len() != self.samples.len() {
+            return Err(CoreError::Grid(format!(
+                "{} x {} needs {} samples, got {}",
+                self.width,
+                self.height,
+                self.samples.len(),
+                samples.len()
+            )));
+        }
+        if let Some(i) = samples.iter().position(|v| !v.is_finite()) {
+            let (col, row) = (i % self.width, i / self.width);
+            return Err(CoreError::NonFiniteSample { col, row, value: samples[i] });
+        }
+        std::mem::swap(&mut self.samples, &mut samples);
+        self.update_range();
+        Ok(samples)
+    }
+
+    /// Recomputes the value range after samples changed, and sets holes to its minimum.
+    fn update_range(&mut self) {
+        let (mut min, mut max) = (f32::INFINITY, f32::NEG_INFINITY);
+        match &self.holes {
+            None => {
+                for &v in &self.samples {
+                    min = min.min(v);
+                    max = max.max(v);
+                }
+            }
+            Some(holes) => {
+                for (&v, _) in self.samples.iter().zip(holes).filter(|(_, &h)| !h) {
+                    min = min.min(v);
+                    max = max.max(v);
+                }
+                for (v, _) in self.samples.iter_mut().zip(holes).filter(|(_, &h)| h) {
+                    *v = min;
+                }
+            }
+        }
+        self.min = min;
+        self.max = max;
+    }
+
     /// The grid's placement in the world.
     pub fn geometry(&self) -> &GridGeometry {
         &self.geometry
@@ -260,6 +338,27 @@ impl HeightField {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn edits_keep_the_range_and_refuse_non_finite_values() {
+        let g = GridGeometry::unit();
+        let mut f = HeightField::new(3, 2, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0], g).unwrap();
+        let changed = f.edit_region(SampleRegion::new(1, 0, 9, 1), |c, _, v| v + c as f32).unwrap();
+        assert_eq!(changed, SampleRegion::new(1, 0, 3, 1));
+        assert_eq!(f.samples(), &[1.0, 3.0, 5.0, 4.0, 5.0, 6.0]);
+        assert_eq!((f.min_sample(), f.max_sample()), (1.0, 6.0));
+        let before = f.clone();
+        let bad =
+            f.edit_region(SampleRegion::whole(3, 2), |_, r, v| if r == 1 { f32::NAN } else { v });
+        assert!(matches!(bad, Err(CoreError::NonFiniteSample { col: 0, row: 1, .. })));
+        assert_eq!(f, before);
+        let old = f.replace_samples(vec![-2.0; 6]).unwrap();
+        assert_eq!(old, before.samples());
+        assert_eq!((f.min_sample(), f.max_sample()), (-2.0, -2.0));
+        assert!(f.replace_samples(vec![0.0; 5]).is_err());
+        assert!(f.replace_samples(vec![f32::INFINITY; 6]).is_err());
+        assert_eq!(f.samples(), &[-2.0; 6]);
+    }
 
     #[test]
     fn refuses_bad_grids() {

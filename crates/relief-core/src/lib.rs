@@ -27,6 +27,7 @@ mod framing;
 mod height_field;
 mod mlhm;
 mod ray;
+mod sample_region;
 mod surface;
 
 pub use aabb::{Aabb, BoxFace, Clip};
@@ -37,6 +38,7 @@ pub use framing::{Framing, Lens};
 pub use height_field::{GridGeometry, HeightField};
 pub use mlhm::{MaterialVolumes, Mlhm, MlhmColumn, MlhmHeights, Precision};
 pub use ray::Ray;
+pub use sample_region::SampleRegion;
 pub use surface::Surface;
 
 /// Re-exported vector types used throughout relief's public API.
