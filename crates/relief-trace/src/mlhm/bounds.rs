@@ -274,6 +274,7 @@ impl<S: BoundScalar> MergedLayer<S> for StoredLayer<S> {
 
 /// [`MlhmNodeLayer`] as stored, in a [`BoundScalar`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
 pub(crate) struct StoredLayer<S> {
     pub(crate) water_max: S,
     pub(crate) ceiling_min: S,
