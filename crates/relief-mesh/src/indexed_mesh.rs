@@ -69,7 +69,11 @@ impl IndexedMesh {
     /// The same mesh with `per_vertex` attribute floats for every vertex, vertex-major
     /// (`values[v * per_vertex + k]`). Fails when the count does not match or a value is not
     /// finite.
-    pub fn with_attributes(mut self, per_vertex: usize, values: Vec<f32>) -> Result<Self, MeshError> {
+    pub fn with_attributes(
+        mut self,
+        per_vertex: usize,
+        values: Vec<f32>,
+    ) -> Result<Self, MeshError> {
         let expected = per_vertex.checked_mul(self.positions.len());
         if expected != Some(values.len()) {
             return Err(MeshError::Attributes(format!(
@@ -198,7 +202,10 @@ impl IndexedMesh {
         }
         let tri = self.triangles.get(triangle as usize).ok_or_else(|| MeshError::Parameter {
             name: "triangle",
-            reason: format!("{triangle} is not one of the mesh's {} triangles", self.triangles.len()),
+            reason: format!(
+                "{triangle} is not one of the mesh's {} triangles",
+                self.triangles.len()
+            ),
         })?;
         let clamped = barycentrics.map(|b| if b.is_finite() { b.clamp(0.0, 1.0) } else { 0.0 });
         let sum: f64 = clamped.iter().sum();
@@ -254,7 +261,9 @@ mod tests {
         assert_eq!(hit.t, 4.0);
         assert_eq!(hit.normal, DVec3::Z);
         let [b0, b1, b2] = hit.barycentrics;
-        assert!((b0 - 0.125).abs() < 1e-12 && (b1 - 0.75).abs() < 1e-12 && (b2 - 0.125).abs() < 1e-12);
+        assert!(
+            (b0 - 0.125).abs() < 1e-12 && (b1 - 0.75).abs() < 1e-12 && (b2 - 0.125).abs() < 1e-12
+        );
         let mut out = [0.0f32];
         mesh.interpolate_attributes(0, hit.barycentrics, &mut out).unwrap();
         assert!((out[0] - (0.75 * 1.0 + 0.125 * 2.0)).abs() < 1e-6);

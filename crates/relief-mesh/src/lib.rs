@@ -14,13 +14,16 @@
 //!   hybrid paper.
 #![deny(missing_docs)]
 
+mod box_mesh;
 mod error;
+mod height_field_mesh;
 mod indexed_mesh;
 mod raster_target;
 mod rasterizer;
 mod triangle_setup;
 
 pub use error::MeshError;
+pub use height_field_mesh::height_field_mesh;
 pub use indexed_mesh::{IndexedMesh, MeshHit};
 pub use raster_target::RasterTarget;
 pub use rasterizer::{DrawStats, Rasterizer};

@@ -119,10 +119,8 @@ impl Rasterizer {
             for row in 0..tile_h {
                 let src = rect[0] + (rect[1] + row) * width;
                 let dst = row * tile_w;
-                distance[dst..dst + tile_w]
-                    .copy_from_slice(&read_only.distance[src..src + tile_w]);
-                triangle[dst..dst + tile_w]
-                    .copy_from_slice(&read_only.triangle[src..src + tile_w]);
+                distance[dst..dst + tile_w].copy_from_slice(&read_only.distance[src..src + tile_w]);
+                triangle[dst..dst + tile_w].copy_from_slice(&read_only.triangle[src..src + tile_w]);
             }
             DepthTile { distance, triangle, width: tile_w, id_offset }
         });
@@ -145,10 +143,8 @@ impl Rasterizer {
     /// covered exactly once).
     pub fn coverage_counts(&self, camera: &Camera, mesh: &IndexedMesh) -> Vec<u32> {
         let (width, height) = (camera.width() as usize, camera.height() as usize);
-        let (tiles, _) = self.rasterize(camera, mesh, |_, w, h| CountTile {
-            counts: vec![0; w * h],
-            width: w,
-        });
+        let (tiles, _) =
+            self.rasterize(camera, mesh, |_, w, h| CountTile { counts: vec![0; w * h], width: w });
         let mut counts = vec![0; width * height];
         for (rect, tile) in tiles {
             for (row, chunk) in tile.counts.chunks_exact(tile.width).enumerate() {

@@ -84,7 +84,7 @@ impl ScreenProjection {
             hi = [hi[0].max(x), hi[1].max(y)];
         };
         let z_max = v[0][2].max(v[1][2]).max(v[2][2]);
-        if !(z_max > 0.0) {
+        if z_max.is_nan() || z_max <= 0.0 {
             return None;
         }
         if !self.perspective {
@@ -205,7 +205,7 @@ impl TriangleSetup {
                     empty = true;
                 }
             }
-            if empty || !(lo <= hi) {
+            if empty || lo.is_nan() || hi.is_nan() || lo > hi {
                 continue;
             }
             let i_start = ((lo.floor() - 1.0).max(x0 as f64)) as usize;

@@ -78,9 +78,8 @@ fn soup_strategy() -> impl Strategy<Value = IndexedMesh> {
         |points| {
             let n = points.len() as u32;
             let positions: Vec<DVec3> = points.into_iter().map(DVec3::from).collect();
-            prop::collection::vec([0..n, 0..n, 0..n], 1..20).prop_map(move |triangles| {
-                IndexedMesh::new(positions.clone(), triangles).unwrap()
-            })
+            prop::collection::vec([0..n, 0..n, 0..n], 1..20)
+                .prop_map(move |triangles| IndexedMesh::new(positions.clone(), triangles).unwrap())
         },
     )
 }
@@ -159,7 +158,12 @@ fn jittered_grid(n: usize, size: f64, z: f64, jitter: &[f64], choices: &[bool]) 
 
 /// Checks that every pixel whose ray meets the plane `z = z0` inside `[0, size]^2` (by a
 /// margin) is covered exactly once and every pixel clearly outside not at all.
-fn check_once(camera: &Camera, mesh: &IndexedMesh, size: f64, z0: f64) -> Result<usize, TestCaseError> {
+fn check_once(
+    camera: &Camera,
+    mesh: &IndexedMesh,
+    size: f64,
+    z0: f64,
+) -> Result<usize, TestCaseError> {
     let counts = Rasterizer::with_tile_size(16).unwrap().coverage_counts(camera, mesh);
     let mut inside_pixels = 0;
     for j in 0..camera.height() {
@@ -231,7 +235,8 @@ proptest! {
 
 #[test]
 fn refuses_mismatched_targets_and_overflowing_ids() {
-    let camera = Camera::look_at(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, DVec3::Y, 30.0, 8, 8).unwrap();
+    let camera =
+        Camera::look_at(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, DVec3::Y, 30.0, 8, 8).unwrap();
     let mesh = jittered_grid(2, 1.0, 0.0, &[0.0], &[true]);
     let mut small = RasterTarget::new(4, 8);
     assert!(Rasterizer::new().draw(&camera, &mesh, 0, &mut small).is_err());
@@ -242,12 +247,22 @@ fn refuses_mismatched_targets_and_overflowing_ids() {
 
 #[test]
 fn the_result_does_not_depend_on_tiles_or_threads() {
-    let camera = Camera::look_at(DVec3::new(0.2, -0.3, 0.3), DVec3::new(1.0, 1.0, 0.0), DVec3::Z, 70.0, 97, 61).unwrap();
+    let camera = Camera::look_at(
+        DVec3::new(0.2, -0.3, 0.3),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::Z,
+        70.0,
+        97,
+        61,
+    )
+    .unwrap();
     let mesh = jittered_grid(12, 2.0, 0.0, &[0.3, -0.7, 0.1, 0.9, -0.2], &[true, false, false]);
     let draw = |tile: u32, threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         let mut target = RasterTarget::for_camera(&camera);
-        pool.install(|| Rasterizer::with_tile_size(tile).unwrap().draw(&camera, &mesh, 0, &mut target).unwrap());
+        pool.install(|| {
+            Rasterizer::with_tile_size(tile).unwrap().draw(&camera, &mesh, 0, &mut target).unwrap()
+        });
         target
     };
     let reference = draw(64, 1);
@@ -256,4 +271,3 @@ fn the_result_does_not_depend_on_tiles_or_threads() {
     assert_eq!(draw(8, 2), reference);
     assert_eq!(draw(256, 3), reference);
 }
-
