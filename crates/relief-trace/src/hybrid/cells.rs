@@ -3,7 +3,9 @@
 
 use crate::TraceError;
 use rayon::prelude::*;
-use relief_core::{Aabb, DVec3, GridGeometry, HeightField, SampleRegion, Surface};
+use relief_core::{
+    Aabb, Camera, DVec3, GridGeometry, HeightField, Projection, SampleRegion, Surface,
+};
 
 /// The samples of one cell: columns `col0..=col1` and rows `row0..=row1` (inclusive).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -60,7 +62,12 @@ impl CellBounds {
 ///   around a hole (a hole's walls lie in the cell that holds the hole, and for `boxes` any
 ///   two neighbouring texels share a cell).
 ///
-/// A cell whose samples are all holes has no surface ([`CellBounds::has_surface`]).
+/// The boxes hold the solid's boundary, not its interior: a ray that starts inside the solid
+/// (an eye under the terrain) hits where it starts, in no box; a renderer tests the eye with an
+/// exact tracer. The solid's bottom face (at the lowest sample, facing down) is seen only from below that
+/// level: for such views ([`HybridCells::bottom_visible`]) let every box reach the floor with
+/// [`HybridCells::set_floor_everywhere`]. A cell whose samples are all holes has no surface
+/// ([`CellBounds::has_surface`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct HybridCells {
     surface: Surface,
@@ -73,6 +80,7 @@ pub struct HybridCells {
     geometry: GridGeometry,
     field_min: f32,
     field_max: f32,
+    floor_everywhere: bool,
 }
 
 impl HybridCells {
@@ -98,6 +106,7 @@ impl HybridCells {
             geometry: *field.geometry(),
             field_min: field.min_sample(),
             field_max: field.max_sample(),
+            floor_everywhere: false,
         };
         cells.bounds = (0..cells_x * cells_y)
             .into_par_iter()
@@ -166,6 +175,28 @@ impl HybridCells {
         CellBounds { min, max, walls: edge || hole }
     }
 
+    /// Whether every proxy box reaches down to the field's lowest sample (for views from below
+    /// it, which see the solid's bottom face), or only those of cells with walls (the default).
+    pub fn set_floor_everywhere(&mut self, on: bool) {
+        self.floor_everywhere = on;
+    }
+
+    /// Whether some ray of `camera` starts below the field's lowest sample, and so may see the
+    /// solid's bottom face, which only boxes reaching the floor hold
+    /// ([`HybridCells::set_floor_everywhere`]).
+    pub fn bottom_visible(&self, camera: &Camera) -> bool {
+        let floor = self.field_min as f64 * self.geometry.z_scale;
+        let lowest_origin = match camera.projection() {
+            Projection::Perspective { .. } => camera.eye().z,
+            Projection::Orthographic { .. } => {
+                let s = camera.half_height();
+                let aspect = s * camera.width() as f64 / camera.height() as f64;
+                camera.eye().z - aspect * camera.right().z.abs() - s * camera.image_up().z.abs()
+            }
+        };
+        lowest_origin < floor
+    }
+
     /// The surface the boxes are built for.
     pub fn surface(&self) -> Surface {
         self.surface
@@ -231,7 +262,7 @@ impl HybridCells {
             Surface::Triangles => (0.5, 0.5),
             Surface::Boxes => (0.0, 1.0),
         };
-        let z_min = if b.walls { self.field_min } else { b.min };
+        let z_min = if b.walls || self.floor_everywhere { self.field_min } else { b.min };
         Some(Aabb::new(
             DVec3::new(span.col0 as f64 + lo, span.row0 as f64 + lo, z_min as f64),
             DVec3::new(span.col1 as f64 + hi, span.row1 as f64 + hi, b.max as f64),

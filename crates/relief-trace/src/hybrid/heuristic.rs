@@ -359,3 +359,155 @@ impl Scene {
         Scene { diagonal: bounds.diagonal(), height_range: bounds.max.z - bounds.min.z }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_core::{GridGeometry, HeightField, Surface};
+
+    /// 9 x 9 samples in cells of 5 (2 x 2 cells), all 0 but sample (6, 6) at 2: cell (1, 1)
+    /// has the relief, [4.5, 8.5]² x [0, 2] for triangles; the others are flat at 0.
+    fn scene() -> HybridCells {
+        let mut samples = vec![0.0f32; 81];
+        samples[6 + 6 * 9] = 2.0;
+        let field = HeightField::new(9, 9, samples, GridGeometry::unit()).unwrap();
+        HybridCells::new(&field, Surface::Triangles, 5).unwrap()
+    }
+
+    fn heuristic(threshold: f64, k: f64) -> HybridHeuristic {
+        HybridHeuristic::new(HybridParams { cell: 5, threshold, k, levels: 4 }).unwrap()
+    }
+
+    /// Straight down from 100 above (2.5, 2.5), 90 degrees, 100 x 100 pixels: right is x, up
+    /// is y, and a point at depth z projects to pixel (50 (1 + x/z), 50 (1 - y/z)).
+    fn top_down() -> Camera {
+        let eye = DVec3::new(2.5, 2.5, 100.0);
+        Camera::look_at(eye, DVec3::new(2.5, 2.5, 0.0), DVec3::Y, 90.0, 100, 100).unwrap()
+    }
+
+    #[test]
+    fn projected_areas_are_those_computed_by_hand() {
+        let (cells, camera) = (scene(), top_down());
+        // Cell (0, 0): x, y in [-2, 2] around the eye at depth 100: pixels 49..51 both ways.
+        let p = project_box(&camera, &cells.proxy_box(0).unwrap());
+        assert!((p.area() - 4.0).abs() < 1e-9, "{p:?}");
+        assert_eq!(p.pixels(100, 100), Some(PixelRect { i0: 47, j0: 47, i1: 52, j1: 52 }));
+        // Cell (1, 1): x, y in [2, 6], depth 100 (z = 0) to 98 (z = 2): 50 (1 + 2/100) to
+        // 50 (1 + 6/98) along each axis.
+        let side = 50.0 * (6.0 / 98.0 - 2.0 / 100.0);
+        let p = project_box(&camera, &cells.proxy_box(3).unwrap());
+        assert!((p.area() - side * side).abs() < 1e-9, "{p:?}");
+    }
+
+    #[test]
+    fn choices_equal_hand_computed_cases() {
+        let (cells, camera) = (scene(), top_down());
+        // d_BB = |(8, 8, 2)| = sqrt(132). Cell (0, 0): d_b = 100, h = 0.
+        let d_bb = 132f64.sqrt();
+        // k = 1.3: d_max < d_b, L = 1: the least precise level.
+        let h = heuristic(70.0, 1.3);
+        assert_eq!(h.choose_cell(&cells, &camera, 0), CellChoice::RayCast { level: 3 });
+        // k = 20: L = 100 / (20 d_BB) = 0.435, level floor(4 L) = 1.
+        let h = heuristic(70.0, 20.0);
+        let l = h.precision_value(&cells, &camera, 0).unwrap();
+        assert!((l - 100.0 / (20.0 * d_bb)).abs() < 1e-12);
+        assert_eq!(h.choose_cell(&cells, &camera, 0), CellChoice::RayCast { level: 1 });
+        // Cell (1, 1): centre (6.5, 6.5, 1), d_b = sqrt(9833), cos θ = 99 / d_b, h = 1:
+        // L = 0.4316 - 0.9984 < 0, the most precise level.
+        let d_b = 9833f64.sqrt();
+        let l = h.precision_value(&cells, &camera, 3).unwrap();
+        assert!((l - (d_b / (20.0 * d_bb) - 99.0 / d_b)).abs() < 1e-12);
+        assert_eq!(h.choose_cell(&cells, &camera, 3), CellChoice::RayCast { level: 0 });
+        // Mesh by area: A / S is 4 / 25 = 0.16 for cell (0, 0) and 0.170 for cell (1, 1).
+        let h = heuristic(0.165, 20.0);
+        assert_eq!(h.choose_cell(&cells, &camera, 0), CellChoice::RayCast { level: 1 });
+        assert_eq!(h.choose_cell(&cells, &camera, 3), CellChoice::Mesh);
+        let all = heuristic(0.1, 20.0).choose(&cells, &camera);
+        assert_eq!(all, vec![CellChoice::Mesh; 4]);
+    }
+
+    #[test]
+    fn boxes_behind_or_beside_the_view_are_culled_and_boxes_around_the_eye_meshed() {
+        let cells = scene();
+        let h = heuristic(70.0, 1.3);
+        // The eye inside cell (1, 1)'s box, looking towards (8, 8, 0): cell (0, 0) is behind.
+        let inside = Camera::look_at(
+            DVec3::new(6.5, 6.5, 1.0),
+            DVec3::new(8.0, 8.0, 0.0),
+            DVec3::Z,
+            60.0,
+            64,
+            64,
+        )
+        .unwrap();
+        assert_eq!(project_box(&inside, &cells.proxy_box(3).unwrap()), BoxProjection::Unbounded);
+        assert_eq!(h.choose_cell(&cells, &inside, 3), CellChoice::Mesh);
+        assert_eq!(h.choose_cell(&cells, &inside, 0), CellChoice::Culled);
+        // From the south at z = 0, looking north along x = 2.5 with 5 degrees: at depth 24.5
+        // the view is 1.07 wide on each side, short of x = 4.5 where the eastern cells begin.
+        // (From z = 1 the flat western cells would lie below the view and be culled too.)
+        let narrow = Camera::look_at(
+            DVec3::new(2.5, -20.0, 0.0),
+            DVec3::new(2.5, 0.0, 0.0),
+            DVec3::Z,
+            5.0,
+            100,
+            100,
+        )
+        .unwrap();
+        let choices = h.choose(&cells, &narrow);
+        assert_eq!(choices[1], CellChoice::Culled);
+        assert_eq!(choices[3], CellChoice::Culled);
+        assert!(matches!(choices[0], CellChoice::RayCast { .. }));
+        assert!(matches!(choices[2], CellChoice::RayCast { .. }));
+        // Looking away from the terrain: everything culled.
+        let away = Camera::look_at(
+            DVec3::new(4.5, 4.5, 50.0),
+            DVec3::new(4.5, 4.5, 60.0),
+            DVec3::Y,
+            60.0,
+            64,
+            64,
+        )
+        .unwrap();
+        assert!(h.choose(&cells, &away).iter().all(|&c| c == CellChoice::Culled));
+    }
+
+    #[test]
+    fn levels_are_the_papers_or_interpolated_geometrically() {
+        assert_eq!(lop_steps(4), PAPER_LEVELS.to_vec());
+        let two = [LopSteps { linear: 64, binary: 50 }, LopSteps { linear: 6, binary: 5 }];
+        assert_eq!(lop_steps(2), two.to_vec());
+        assert_eq!(lop_steps(3)[1], LopSteps { linear: 20, binary: 16 });
+        let ten = lop_steps(10);
+        assert_eq!((ten[0], ten[9]), (two[0], two[1]));
+        assert!(ten.windows(2).all(|w| w[0].linear > w[1].linear && w[0].binary >= w[1].binary));
+        let h = heuristic(70.0, 1.3);
+        assert_eq!(
+            [h.level_of(-0.5), h.level_of(0.0), h.level_of(0.2499), h.level_of(0.25)],
+            [0, 0, 0, 1]
+        );
+        assert_eq!([h.level_of(0.74), h.level_of(0.75), h.level_of(1.0)], [2, 3, 3]);
+    }
+
+    #[test]
+    fn parameters_out_of_range_are_refused_by_name() {
+        let ok = HybridParams::default();
+        assert_eq!((ok.cell, ok.threshold, ok.k, ok.levels), (64, 70.0, 1.3, 4));
+        assert!(ok.validate().is_ok());
+        let cases: [(HybridParams, &str); 8] = [
+            (HybridParams { cell: 0, ..ok }, "cell"),
+            (HybridParams { cell: 1, ..ok }, "cell"),
+            (HybridParams { threshold: 0.0, ..ok }, "threshold"),
+            (HybridParams { threshold: f64::NAN, ..ok }, "threshold"),
+            (HybridParams { k: -1.0, ..ok }, "k ="),
+            (HybridParams { levels: 0, ..ok }, "at least one level"),
+            (HybridParams { levels: 1, ..ok }, "between 2 and 10"),
+            (HybridParams { levels: 11, ..ok }, "between 2 and 10"),
+        ];
+        for (params, word) in cases {
+            let err = HybridHeuristic::new(params).unwrap_err().to_string();
+            assert!(err.contains(word), "{params:?}: {err}");
+        }
+    }
+}
