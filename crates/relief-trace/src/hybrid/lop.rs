@@ -194,18 +194,26 @@ impl<'a> SampledSurface<'a> {
     }
 
     /// The normal of the face the grid-space ray `g` met between `above_t` (a point above the
-    /// surface or off it) and `below_t` (a point below it): the side of the surface cell of
-    /// the point below when the ray entered that cell after `above_t` and below the cell's
-    /// surface, else the surface itself there.
+    /// surface or off it) and `below_t` (a point below it): when the two points lie over
+    /// different surface cells, the side of the cell of the point below if the ray crossed
+    /// into it (where it did, clamped to the interval) below the cell's surface; otherwise the
+    /// surface itself at the point below.
     fn face_normal(&self, g: &Ray, above_t: f64, below_t: f64) -> DVec3 {
         let p = g.at(below_t);
         let Some((cx, cy)) = self.cell_at(p.x, p.y) else { return DVec3::Z };
-        let lo = [cx as f64 + self.shift(), cy as f64 + self.shift()];
-        // When the ray entered the cell along each axis.
+        let a = g.at(above_t);
+        let above_cell = self.cell_at(a.x, a.y);
+        if above_cell == Some((cx, cy)) {
+            return self.normal_at(p.x, p.y);
+        }
+        // The last crossing into the cell along an axis where the two cells differ.
+        let cell = [cx, cy];
         let mut enter = (f64::NEG_INFINITY, 0);
-        for (axis, lo) in lo.into_iter().enumerate() {
+        for (axis, c) in cell.into_iter().enumerate() {
             let d = g.dir[axis];
-            if d != 0.0 {
+            let differs = above_cell.is_none_or(|ac| [ac.0, ac.1][axis] != c);
+            if d != 0.0 && differs {
+                let lo = c as f64 + self.shift();
                 let boundary = if d > 0.0 { lo } else { lo + 1.0 };
                 let t = (boundary - g.origin[axis]) / d;
                 if t > enter.0 {
@@ -214,8 +222,8 @@ impl<'a> SampledSurface<'a> {
             }
         }
         let (t_cross, axis) = enter;
-        if t_cross > above_t && t_cross <= below_t {
-            let q = g.at(t_cross);
+        if t_cross.is_finite() {
+            let q = g.at(t_cross.clamp(above_t, below_t));
             if q.z <= self.height_in(cx, cy, q.x, q.y) {
                 return side_normal(axis, g);
             }
