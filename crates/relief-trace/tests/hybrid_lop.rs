@@ -64,7 +64,6 @@ fn many_steps_converge_to_the_exact_hit_on_smooth_terrain() {
                         "{surface} n {n} ({i}, {j}): {l:?} vs {e:?}"
                     );
                     same_normal += ((l.normal - e.normal).length() < 1e-6) as usize;
-                    if (l.normal - e.normal).length() >= 1e-6 {}
                     // The exact hit lies in a box the ray enters no later than it.
                     let entries =
                         (0..cells.len()).filter_map(|k| box_entry(&cells, &field, k, &ray));
