@@ -11,6 +11,9 @@
 //! - [`SafetyTracer`]: marching with precomputed safety shapes, for static terrain and the
 //!   `triangles` surface (Baboud et al. 2011; see [`safety`]).
 //!
+//! The per-cell machinery of hybrid rendering (mesh near, ray cast far; Ammann et al. 2010)
+//! is in [`hybrid`]; [`MipmapTracer::edit`] keeps the exact tracer up to date under edits.
+//!
 //! And of a multi-layered height map ([`relief_core::Mlhm`]):
 //!
 //! - [`MlhmNaiveTracer`]: box ray tracing by a 2D DDA over its cells, in the three
@@ -35,6 +38,7 @@
 
 mod cell_grid;
 mod error;
+pub mod hybrid;
 mod max_mipmap;
 mod mipmap_tracer;
 mod mlhm;

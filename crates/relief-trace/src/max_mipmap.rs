@@ -3,6 +3,7 @@
 
 use crate::cell_grid::CellGrid;
 use rayon::prelude::*;
+use relief_core::{SampleRegion, Surface};
 
 /// A pyramid of maxima over a [`CellGrid`], all stored levels in one flat allocation.
 ///
@@ -15,14 +16,14 @@ use rayon::prelude::*;
 /// Each level is stored in blocks of 2x2 nodes, one block per node of the level above, so the
 /// four children of a node sit side by side in 16 bytes (`MaxMipmap::children`); blocks
 /// follow the nodes above row by row, and entries outside the grid hold minus infinity.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MaxMipmap {
     values: Vec<f32>,
     levels: Vec<Level>,
 }
 
 /// Where one level lives inside the flat allocation.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct Level {
     offset: usize,
     nodes_x: usize,
@@ -65,20 +66,54 @@ impl MaxMipmap {
                     if x >= level.nodes_x || y >= level.nodes_y {
                         continue;
                     }
-                    for cy in (2 * y)..(2 * y + 2).min(below.nodes_y) {
-                        for cx in (2 * x)..(2 * x + 2).min(below.nodes_x) {
-                            let v = if l == 1 {
-                                grid.cell_max(samples, cx, cy)
-                            } else {
-                                fine[below.index(cx, cy)]
-                            };
-                            *node = node.max(v);
-                        }
-                    }
+                    *node = node_max(grid, samples, fine, l, below, x, y);
                 }
             });
         }
         MaxMipmap { values, levels }
+    }
+
+    /// Recomputes the nodes above the samples of `region` after they changed, and only those:
+    /// afterwards the pyramid equals [`MaxMipmap::build`] over the new samples, bit for bit.
+    ///
+    /// `grid` must be the grid the pyramid was built for (same size and holes; its height
+    /// bounds do not matter here) and `region` must hold every changed sample. A `triangles`
+    /// cell has four samples, so the cells updated reach one column and row below the region.
+    /// Costs a few nodes per level for a small region.
+    pub fn update(&mut self, grid: &CellGrid, samples: &[f32], region: SampleRegion) {
+        let (cells_x, cells_y) = (grid.cells_x(), grid.cells_y());
+        if self.levels.len() < 2 || self.levels[0].nodes_x != cells_x {
+            return;
+        }
+        // The cells whose test reads a sample of the region.
+        let reach = match grid.surface() {
+            Surface::Boxes => 0,
+            Surface::Triangles => 1,
+        };
+        let cells = SampleRegion::new(
+            region.col0.saturating_sub(reach),
+            region.row0.saturating_sub(reach),
+            region.col1,
+            region.row1,
+        )
+        .clamped(cells_x, cells_y);
+        if cells.is_empty() {
+            return;
+        }
+        // Inclusive node ranges of the level below, starting with the cells.
+        let (mut x0, mut y0, mut x1, mut y1) =
+            (cells.col0, cells.row0, cells.col1 - 1, cells.row1 - 1);
+        for l in 1..self.levels.len() {
+            (x0, y0, x1, y1) = (x0 >> 1, y0 >> 1, x1 >> 1, y1 >> 1);
+            let (below, level) = (self.levels[l - 1], self.levels[l]);
+            let (done, rest) = self.values.split_at_mut(level.offset);
+            let fine = &done[below.offset.min(done.len())..];
+            for y in y0..=y1.min(level.nodes_y - 1) {
+                for x in x0..=x1.min(level.nodes_x - 1) {
+                    rest[level.index(x, y)] = node_max(grid, samples, fine, l, below, x, y);
+                }
+            }
+        }
     }
 
     /// Index of the coarsest level (a single node); 0 for a single cell.
@@ -117,6 +152,28 @@ impl MaxMipmap {
     pub fn memory_bytes(&self) -> usize {
         self.values.len() * std::mem::size_of::<f32>()
     }
+}
+
+/// The maximum of node (x, y) of level `l` over its (up to) 2x2 children in the level
+/// `below`: cells of the grid for level 1, else the stored values `fine` of that level.
+#[inline]
+fn node_max(
+    grid: &CellGrid,
+    samples: &[f32],
+    fine: &[f32],
+    l: usize,
+    below: Level,
+    x: usize,
+    y: usize,
+) -> f32 {
+    let mut node = f32::NEG_INFINITY;
+    for cy in (2 * y)..(2 * y + 2).min(below.nodes_y) {
+        for cx in (2 * x)..(2 * x + 2).min(below.nodes_x) {
+            let v = if l == 1 { grid.cell_max(samples, cx, cy) } else { fine[below.index(cx, cy)] };
+            node = node.max(v);
+        }
+    }
+    node
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 use crate::cell_grid::CellGrid;
 use crate::packet::PacketTracing;
 use crate::{Hit, MaxMipmap, Simd, Tracer};
-use relief_core::{HeightField, Ray, Surface};
+use relief_core::{CoreError, HeightField, Ray, SampleRegion, Surface};
 use std::sync::Arc;
 
 /// Exact ray casting through a [`MaxMipmap`]: the ray skips every node whose maximum it passes
@@ -62,6 +62,84 @@ impl MipmapTracer {
     /// The pyramid this tracer walks.
     pub fn mipmap(&self) -> &MaxMipmap {
         &self.mipmap
+    }
+
+    /// The height field this tracer intersects.
+    pub fn field(&self) -> &Arc<HeightField> {
+        &self.field
+    }
+
+    /// Edits the tracer's height field in place and brings the pyramid up to date.
+    ///
+    /// `edit` changes the field's samples (with [`HeightField::edit_region`] or
+    /// [`HeightField::replace_samples`]) and returns the region holding every sample it
+    /// changed. The field is shared copy-on-write ([`Arc::make_mut`]): if another owner holds
+    /// it, the tracer edits its own copy (see [`MipmapTracer::field`]). When the field's value
+    /// range stayed the same, only the pyramid's nodes above the region are recomputed
+    /// ([`MaxMipmap::update`]); when it changed (the solid's walls now reach another bottom,
+    /// its bounds another top), when the closure replaced the field by one of another size,
+    /// geometry or hole mask, or when it failed, the tracer is rebuilt from its field. Either
+    /// way it then equals [`MipmapTracer::new`] over the edited field, bit for bit.
+    ///
+    /// Returns the closure's result: the edited region, or its error.
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use relief_core::{DVec3, GridGeometry, HeightField, Ray, SampleRegion, Surface};
+    /// use relief_trace::{MipmapTracer, Tracer};
+    /// let field = HeightField::new(4, 4, vec![1.0; 16], GridGeometry::unit()).unwrap();
+    /// let mut tracer = MipmapTracer::new(Arc::new(field), Surface::Boxes);
+    /// tracer.edit(|f| f.edit_region(SampleRegion::new(1, 1, 2, 2), |_, _, v| v + 2.0)).unwrap();
+    /// let hit = tracer.intersect(&Ray::new(DVec3::new(1.5, 1.5, 10.0), -DVec3::Z)).unwrap();
+    /// assert_eq!(hit.t, 7.0);
+    /// ```
+    pub fn edit(
+        &mut self,
+        edit: impl FnOnce(&mut HeightField) -> Result<SampleRegion, CoreError>,
+    ) -> Result<SampleRegion, CoreError> {
+        let field = Arc::make_mut(&mut self.field);
+        let before = FieldShape::of(field);
+        let result = edit(field);
+        let field = &*self.field;
+        match &result {
+            Ok(region) if FieldShape::of(field) == before => {
+                self.mipmap.update(&self.grid, field.samples(), *region)
+            }
+            _ => self.rebuild(),
+        }
+        result
+    }
+
+    /// Rebuilds the grid, the pyramid and the slack from the field.
+    fn rebuild(&mut self) {
+        let simd = self.simd;
+        *self = MipmapTracer::new(self.field.clone(), self.grid.surface()).with_simd(simd);
+    }
+}
+
+/// What an edit of the samples alone leaves unchanged: the size, the geometry, the hole mask
+/// (by address) and the value range. When it all stayed, the grid is still valid and only the
+/// pyramid's nodes above the edit change.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct FieldShape {
+    width: usize,
+    height: usize,
+    geometry: relief_core::GridGeometry,
+    holes: Option<*const bool>,
+    min_bits: u32,
+    max_bits: u32,
+}
+
+impl FieldShape {
+    fn of(field: &HeightField) -> Self {
+        FieldShape {
+            width: field.width(),
+            height: field.height(),
+            geometry: *field.geometry(),
+            holes: field.holes().map(|h| h.as_ptr()),
+            min_bits: field.min_sample().to_bits(),
+            max_bits: field.max_sample().to_bits(),
+        }
     }
 }
 

@@ -1,0 +1,241 @@
+//! One triangle seen by one camera: its homogeneous screen projection, the edge functions that
+//! decide which pixel centres it covers (watertight, top-left rule), and the exact ray-plane
+//! distance of each covered pixel.
+//!
+//! Coverage is decided in 2D homogeneous coordinates (Olano & Greer 1997): a vertex at camera
+//! coordinates (x, y, z) becomes `V = (W/2 z + f x, H/2 z - f y, z)` (pinhole; `f` the focal
+//! length in pixels) or `(W/2 + f x, H/2 - f y, 1)` (orthographic), and pixel centre
+//! `P = (i + 0.5, j + 0.5, 1)` is seen through the triangle in front of the eye exactly when the
+//! three edge functions `E_k . P`, with `E_0 = V_1 x V_2`, `E_1 = V_2 x V_0`, `E_2 = V_0 x V_1`,
+//! all have the sign of `det(V_0, V_1, V_2)`. No triangle is clipped, so triangles reaching
+//! behind the eye (low cameras over terrain) are covered exactly.
+//!
+//! Watertightness: an edge function depends on its edge's two vertices only, and IEEE
+//! arithmetic is symmetric under negation, so the two triangles sharing an edge evaluate
+//! exactly opposite values at every pixel (`fl(-a * x + -b) = -fl(a * x + b)`): a pixel centre
+//! is strictly inside one of them, or exactly on the edge, where the top-left rule (the edge's
+//! normalized `(e.x, e.y)` is `e.x > 0 || (e.x == 0 && e.y > 0)`) gives it to exactly one.
+
+use relief_core::{Camera, DVec3, Projection};
+
+/// The camera seen as a projection to pixel coordinates, with the per-column and per-row ray
+/// parts of every pixel.
+#[derive(Debug, Clone)]
+pub(crate) struct ScreenProjection {
+    eye: DVec3,
+    right: DVec3,
+    up: DVec3,
+    forward: DVec3,
+    /// Pixels per unit of screen coordinate: `H / (2 s)`.
+    focal: f64,
+    half_width: f64,
+    half_height: f64,
+    pub(crate) perspective: bool,
+    pub(crate) width: usize,
+    pub(crate) height: usize,
+    /// `sx` of every column ([`Camera::screen_x`]).
+    sx: Vec<f64>,
+    /// `sy` of every row ([`Camera::screen_y`]).
+    sy: Vec<f64>,
+}
+
+impl ScreenProjection {
+    pub(crate) fn new(camera: &Camera) -> Self {
+        let (width, height) = (camera.width() as usize, camera.height() as usize);
+        ScreenProjection {
+            eye: camera.eye(),
+            right: camera.right(),
+            up: camera.image_up(),
+            forward: camera.forward(),
+            focal: height as f64 / (2.0 * camera.half_height()),
+            half_width: width as f64 / 2.0,
+            half_height: height as f64 / 2.0,
+            perspective: matches!(camera.projection(), Projection::Perspective { .. }),
+            width,
+            height,
+            sx: (0..width as u32).map(|i| camera.screen_x(i)).collect(),
+            sy: (0..height as u32).map(|j| camera.screen_y(j)).collect(),
+        }
+    }
+
+    /// Homogeneous pixel coordinates `(X, Y, z)` of a world point, `z` its depth along the
+    /// view direction (the homogeneous weight of a pinhole; an orthographic weight is 1).
+    #[inline]
+    pub(crate) fn project(&self, p: DVec3) -> [f64; 3] {
+        let v = p - self.eye;
+        let (x, y, z) = (v.dot(self.right), v.dot(self.up), v.dot(self.forward));
+        if self.perspective {
+            [self.half_width * z + self.focal * x, self.half_height * z - self.focal * y, z]
+        } else {
+            [self.half_width + self.focal * x, self.half_height - self.focal * y, z]
+        }
+    }
+
+    /// The pixels `[x0, x1] x [y0, y1]` (inclusive) whose centres the projected triangle may
+    /// cover, or `None` when it covers none (behind the eye, off screen, or between centres).
+    ///
+    /// A triangle reaching behind a pinhole is bounded by its part at depth at least
+    /// `1e-9` times its farthest vertex's: hits closer to the eye than that are not drawn.
+    pub(crate) fn pixel_bounds(&self, v: &[[f64; 3]; 3]) -> Option<[usize; 4]> {
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        let mut add = |x: f64, y: f64| {
+            lo = [lo[0].min(x), lo[1].min(y)];
+            hi = [hi[0].max(x), hi[1].max(y)];
+        };
+        let z_max = v[0][2].max(v[1][2]).max(v[2][2]);
+        if z_max.is_nan() || z_max <= 0.0 {
+            return None;
+        }
+        if !self.perspective {
+            v.iter().for_each(|p| add(p[0], p[1]));
+        } else {
+            let near = z_max * 1e-9;
+            for k in 0..3 {
+                let (a, b) = (v[k], v[(k + 1) % 3]);
+                if a[2] >= near {
+                    add(a[0] / a[2], a[1] / a[2]);
+                }
+                if (a[2] >= near) != (b[2] >= near) {
+                    // The edge crosses the near depth: add the crossing point.
+                    let s = (a[2] - near) / (a[2] - b[2]);
+                    let c = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])];
+                    add(c[0] / near, c[1] / near);
+                }
+            }
+        }
+        // Pixel i's centre is i + 0.5; widen a little for the rounding of the projection.
+        let first = |l: f64| (l - 0.5 - 1e-7 * (1.0 + l.abs())).ceil();
+        let last = |h: f64| (h - 0.5 + 1e-7 * (1.0 + h.abs())).floor();
+        let (w, h) = (self.width as f64, self.height as f64);
+        let x0 = first(lo[0]).max(0.0);
+        let y0 = first(lo[1]).max(0.0);
+        let x1 = last(hi[0]).min(w - 1.0);
+        let y1 = last(hi[1]).min(h - 1.0);
+        if !(x0 <= x1 && y0 <= y1) {
+            return None;
+        }
+        Some([x0 as usize, y0 as usize, x1 as usize, y1 as usize])
+    }
+}
+
+/// A triangle ready to be scanned: oriented edge functions and its plane in camera terms.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TriangleSetup {
+    /// Edge functions `(a, b, c)`, oriented so that covered pixels are positive.
+    edges: [[f64; 3]; 3],
+    /// Whether a pixel exactly on each edge belongs to this triangle (top-left rule).
+    top_left: [bool; 3],
+    /// `dot(n, p0 - eye)`.
+    numerator: f64,
+    /// `dot(n, forward)`, `dot(n, right)`, `dot(n, up')`.
+    n_forward: f64,
+    n_right: f64,
+    n_up: f64,
+}
+
+#[inline(always)]
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+impl TriangleSetup {
+    /// Sets up the triangle with projected corners `v` and world corners `p`; `None` when it
+    /// is degenerate on screen (zero area, or its plane through a pinhole's eye).
+    #[inline]
+    pub(crate) fn new(
+        projection: &ScreenProjection,
+        v: &[[f64; 3]; 3],
+        p: &[DVec3; 3],
+    ) -> Option<Self> {
+        let homogeneous = |k: usize| {
+            if projection.perspective {
+                v[k]
+            } else {
+                [v[k][0], v[k][1], 1.0]
+            }
+        };
+        let (h0, h1, h2) = (homogeneous(0), homogeneous(1), homogeneous(2));
+        let mut edges = [cross(h1, h2), cross(h2, h0), cross(h0, h1)];
+        let det = h0[0] * edges[0][0] + h0[1] * edges[0][1] + h0[2] * edges[0][2];
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        if det < 0.0 {
+            // Exact: the opposite triangle's edge functions stay exact negations.
+            edges = edges.map(|e| e.map(|c| -c));
+        }
+        let top_left = edges.map(|e| e[0] > 0.0 || (e[0] == 0.0 && e[1] > 0.0));
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        Some(TriangleSetup {
+            edges,
+            top_left,
+            numerator: n.dot(p[0] - projection.eye),
+            n_forward: n.dot(projection.forward),
+            n_right: n.dot(projection.right),
+            n_up: n.dot(projection.up),
+        })
+    }
+
+    /// Calls `write(i, j, distance)` for every pixel of `[x0, x1] x [y0, y1]` whose centre the
+    /// triangle covers and whose ray meets its plane at a positive, finite distance. Returns
+    /// the number of pixels written.
+    #[inline]
+    pub(crate) fn scan(
+        &self,
+        projection: &ScreenProjection,
+        [x0, y0, x1, y1]: [usize; 4],
+        mut write: impl FnMut(usize, usize, f32),
+    ) -> usize {
+        let mut written = 0;
+        let [e0, e1, e2] = self.edges;
+        for j in y0..=y1 {
+            let py = j as f64 + 0.5;
+            let rows = [e0[1] * py + e0[2], e1[1] * py + e1[2], e2[1] * py + e2[2]];
+            // The span of the row where every edge function is non-negative, widened by a
+            // pixel on both sides; the exact test below decides.
+            let (mut lo, mut hi) = (x0 as f64 - 1.0, x1 as f64 + 1.0);
+            let mut empty = false;
+            for (e, r) in self.edges.iter().zip(rows) {
+                if e[0] > 0.0 {
+                    lo = lo.max(-r / e[0] - 0.5);
+                } else if e[0] < 0.0 {
+                    hi = hi.min(-r / e[0] - 0.5);
+                } else if r < 0.0 {
+                    empty = true;
+                }
+            }
+            if empty || lo.is_nan() || hi.is_nan() || lo > hi {
+                continue;
+            }
+            let i_start = ((lo.floor() - 1.0).max(x0 as f64)) as usize;
+            let i_end = ((hi.ceil() + 1.0).min(x1 as f64)) as usize;
+            let sy = projection.sy[j];
+            let den_row = self.n_forward + sy * self.n_up;
+            let ortho_row = self.numerator - sy * self.n_up;
+            let sy2 = 1.0 + sy * sy;
+            for i in i_start..=i_end {
+                let px = i as f64 + 0.5;
+                let inside = |k: usize| {
+                    let value = self.edges[k][0] * px + rows[k];
+                    value > 0.0 || (value == 0.0 && self.top_left[k])
+                };
+                if !(inside(0) && inside(1) && inside(2)) {
+                    continue;
+                }
+                let sx = projection.sx[i];
+                let t = if projection.perspective {
+                    self.numerator * (sy2 + sx * sx).sqrt() / (den_row + sx * self.n_right)
+                } else {
+                    (ortho_row - sx * self.n_right) / self.n_forward
+                };
+                let distance = t as f32;
+                if t > 0.0 && distance < f32::INFINITY {
+                    write(i, j, distance);
+                    written += 1;
+                }
+            }
+        }
+        written
+    }
+}
