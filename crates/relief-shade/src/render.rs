@@ -170,7 +170,7 @@ pub fn render_gbuffer_into(
             gbuffer.width, gbuffer.height
         )));
     }
-    let pixel = HitEncoder { uv: UvMap::new(bounds), camera };
+    let pixel = HitEncoder::new(bounds, camera);
     // Strips of TILE_SIZE rows are disjoint slices of every array: each worker writes its own
     // strip in place, tile by tile, so nothing is copied and no pixel depends on the schedule.
     let strip = TILE_SIZE * width;
@@ -214,16 +214,21 @@ pub fn render_gbuffer_into(
 }
 
 /// Everything needed to turn one pixel's hit into a G-buffer pixel.
-struct HitEncoder<'a> {
+pub(crate) struct HitEncoder<'a> {
     uv: UvMap,
     /// The camera, for the pixel's footprint ([`Camera::pixel_footprint`]).
     camera: &'a Camera,
 }
 
-impl HitEncoder<'_> {
+impl<'a> HitEncoder<'a> {
+    /// The encoder of hits seen by `camera`, texture coordinates spanning `bounds`.
+    pub(crate) fn new(bounds: &Aabb, camera: &'a Camera) -> Self {
+        HitEncoder { uv: UvMap::new(bounds), camera }
+    }
+
     /// The G-buffer pixel of a camera ray's hit (or miss).
     #[inline]
-    fn g_buffer_pixel(&self, hit: Option<Hit>) -> GBufferPixel {
+    pub(crate) fn g_buffer_pixel(&self, hit: Option<Hit>) -> GBufferPixel {
         match hit {
             None => GBufferPixel::MISS,
             Some(Hit { t, position, normal }) => GBufferPixel {

@@ -1,0 +1,383 @@
+//! Hybrid rendering of dynamic height fields (Ammann et al. 2010) into relief's G-buffer: the
+//! cells near the camera rasterized as meshes at full resolution, the others ray cast inside
+//! their proxy boxes, at a level of precision (the paper's far field) or exactly (relief's
+//! `--far exact`).
+//!
+//! Per frame ([`HybridRenderer::render_into`]):
+//! 1. the heuristic of section 4.2 chooses, per cell, culled, mesh or ray casting at a level;
+//! 2. the mesh cells (meshes cached across frames, rebuilt where an edit touched them) are
+//!    rasterized by relief-mesh's [`Rasterizer`] with exact ray-plane distances;
+//! 3. the far field: with levels of precision, every ray-cast cell's pixels (its projected
+//!    proxy box) are searched front to back, depth-tested against what is drawn
+//!    ([`far_field`]); exactly, the proxy boxes' faces are rasterized for the nearest entry
+//!    `t0` per pixel, and the exact tracer searches `[t0, near depth]`;
+//! 4. every pixel's hit is written into the G-buffer as the other renderers write it.
+//!
+//! Edits ([`HybridRenderer::edit`], [`HybridRenderer::replace_samples`]) update the field, the
+//! exact tracer's pyramid, the cells' bounds and the mesh cache only where the samples changed.
+
+mod far_field;
+mod near_field;
+
+use crate::render::HitEncoder;
+use crate::{GBuffer, ShadeError, TILE_SIZE};
+use far_field::FarCells;
+use near_field::NearField;
+use rayon::prelude::*;
+use relief_core::{Aabb, Camera, CoreError, HeightField, Projection, Ray, SampleRegion, Surface};
+use relief_mesh::{Rasterizer, RasterTarget};
+use relief_trace::hybrid::{CellChoice, HybridCells, HybridHeuristic, HybridParams};
+use relief_trace::{Hit, MipmapTracer, Tracer};
+use std::fmt;
+use std::str::FromStr;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// How the hybrid renderer casts the cells it does not rasterize.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum FarField {
+    /// The paper's levels of precision: a linear then a binary search with the cell's level's
+    /// steps inside its proxy box. Approximate (see the metrics of `relief compare`).
+    #[default]
+    Lop,
+    /// The exact tracer between the nearest proxy-box entry and the rasterized depth: the
+    /// whole image then equals the exact tracer's.
+    Exact,
+}
+
+impl FarField {
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            FarField::Lop => "lop",
+            FarField::Exact => "exact",
+        }
+    }
+}
+
+impl fmt::Display for FarField {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+impl FromStr for FarField {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "lop" => Ok(FarField::Lop),
+            "exact" => Ok(FarField::Exact),
+            other => Err(format!("unknown far field '{other}' (expected lop or exact)")),
+        }
+    }
+}
+
+/// What drew a pixel, for `--show-lop` (the paper's Figure 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PixelSource {
+    /// Nothing: the sky.
+    Nothing,
+    /// A rasterized mesh cell.
+    Mesh,
+    /// A ray-cast cell at a level of precision (0 the most precise).
+    RayCast(u8),
+    /// The exact far field.
+    Exact,
+}
+
+/// Counts and stage timings of one hybrid frame.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct HybridStats {
+    /// Cells culled by the view frustum (or without surface).
+    pub culled_cells: usize,
+    /// Cells rasterized as meshes.
+    pub mesh_cells: usize,
+    /// Cells ray cast, per level of precision.
+    pub ray_cast_cells: Vec<usize>,
+    /// Triangles sent to the rasterizer.
+    pub triangles: usize,
+    /// Pixels whose rays the far field searched (per cell for levels of precision).
+    pub far_rays: u64,
+    /// Milliseconds choosing per cell.
+    pub heuristic_ms: f64,
+    /// Milliseconds building the mesh cells' meshes missing from the cache.
+    pub mesh_build_ms: f64,
+    /// Milliseconds rasterizing.
+    pub raster_ms: f64,
+    /// Milliseconds in the far field.
+    pub far_ms: f64,
+    /// Milliseconds writing the G-buffer.
+    pub resolve_ms: f64,
+}
+
+/// The hybrid renderer of one height field: its cells, the heuristic's parameters, the far
+/// field's kind, the exact tracer (for `--far exact`, for a camera inside the solid and for
+/// shadow rays) and the mesh cache.
+pub struct HybridRenderer {
+    exact: MipmapTracer,
+    cells: HybridCells,
+    heuristic: HybridHeuristic,
+    far: FarField,
+    near: NearField,
+    rasterizer: Rasterizer,
+    target: RasterTarget,
+}
+
+impl HybridRenderer {
+    /// The renderer of `surface` over `field` with `params` and `far`. Builds the exact
+    /// tracer's pyramid and measures the cells (no other precomputation).
+    ///
+    /// Errors: parameters [`HybridParams::validate`] refuses.
+    pub fn new(
+        field: Arc<HeightField>,
+        surface: Surface,
+        params: HybridParams,
+        far: FarField,
+    ) -> Result<Self, ShadeError> {
+        let heuristic = HybridHeuristic::new(params).map_err(hybrid_parameter)?;
+        let cells =
+            HybridCells::new(&field, surface, params.cell).map_err(hybrid_parameter)?;
+        let near = NearField::new(cells.len());
+        Ok(HybridRenderer {
+            exact: MipmapTracer::new(field, surface),
+            cells,
+            heuristic,
+            far,
+            near,
+            rasterizer: Rasterizer::new(),
+            target: RasterTarget::new(0, 0),
+        })
+    }
+
+    /// The height field drawn.
+    pub fn field(&self) -> &Arc<HeightField> {
+        self.exact.field()
+    }
+
+    /// The exact tracer of the same surface (for shadow rays).
+    pub fn tracer(&self) -> &dyn Tracer {
+        &self.exact
+    }
+
+    /// The cells and their bounds.
+    pub fn cells(&self) -> &HybridCells {
+        &self.cells
+    }
+
+    /// The heuristic with its parameters.
+    pub fn heuristic(&self) -> &HybridHeuristic {
+        &self.heuristic
+    }
+
+    /// The far field's kind.
+    pub fn far_field(&self) -> FarField {
+        self.far
+    }
+
+    /// Edits the field with `edit` (which returns the region it changed, as
+    /// [`HeightField::edit_region`] does), then updates what depends on the changed samples
+    /// only: the exact tracer's pyramid above them, the cells holding them and their cached
+    /// meshes (everything when the field's value range moved, since walls reach its lowest
+    /// sample).
+    pub fn edit(
+        &mut self,
+        edit: impl FnOnce(&mut HeightField) -> Result<SampleRegion, CoreError>,
+    ) -> Result<SampleRegion, CoreError> {
+        let range = field_range(self.field());
+        let region = self.exact.edit(edit)?;
+        let field = self.exact.field().clone();
+        self.cells.update(&field, region);
+        if field_range(&field) == range {
+            self.near.invalidate(&self.cells, region);
+        } else {
+            self.near.invalidate_all();
+        }
+        Ok(region)
+    }
+
+    /// Replaces every sample (a simulation step that rewrote the whole field; see
+    /// [`HeightField::replace_samples`]) and returns the previous samples.
+    pub fn replace_samples(&mut self, samples: Vec<f32>) -> Result<Vec<f32>, CoreError> {
+        let mut old = Vec::new();
+        self.edit(|field| {
+            old = field.replace_samples(samples)?;
+            Ok(SampleRegion::whole(field.width(), field.height()))
+        })?;
+        Ok(old)
+    }
+
+    /// Renders the view of `camera` into `gbuffer` (every pixel overwritten), `bounds` the
+    /// box the texture coordinates span; `sources`, when given, receives what drew each pixel.
+    ///
+    /// Fails when the G-buffer's size is not the camera's image size.
+    pub fn render_into(
+        &mut self,
+        camera: &Camera,
+        bounds: &Aabb,
+        gbuffer: &mut GBuffer,
+        sources: Option<&mut Vec<PixelSource>>,
+    ) -> Result<HybridStats, ShadeError> {
+        let (width, height) = (camera.width() as usize, camera.height() as usize);
+        gbuffer.validate()?;
+        if (gbuffer.width, gbuffer.height) != (width, height) {
+            return Err(ShadeError::Mismatch(format!(
+                "G-buffer is {} x {} but the camera's image is {width} x {height}",
+                gbuffer.width, gbuffer.height
+            )));
+        }
+        let mut stats = HybridStats::default();
+        if self.starts_inside(camera) {
+            // Rays that start inside the solid hit where they start, in no proxy box: the
+            // exact tracer draws such a view.
+            crate::render_gbuffer_into(&self.exact, camera, bounds, gbuffer, &|_| {})?;
+            if let Some(sources) = sources {
+                sources.clear();
+                sources.extend(gbuffer.distance.iter().map(|d| {
+                    if d.is_finite() {
+                        PixelSource::Exact
+                    } else {
+                        PixelSource::Nothing
+                    }
+                }));
+            }
+            return Ok(stats);
+        }
+        let field = self.exact.field().clone();
+        self.cells.set_floor_everywhere(self.cells.bottom_visible(camera));
+
+        let start = Instant::now();
+        let choices = self.heuristic.choose(&self.cells, camera);
+        stats.ray_cast_cells = vec![0; self.heuristic.steps().len()];
+        for choice in &choices {
+            match choice {
+                CellChoice::Culled => stats.culled_cells += 1,
+                CellChoice::Mesh => stats.mesh_cells += 1,
+                CellChoice::RayCast { level } => stats.ray_cast_cells[*level as usize] += 1,
+            }
+        }
+        stats.heuristic_ms = elapsed_ms(start);
+
+        let start = Instant::now();
+        let mesh = self.near.frame_mesh(&field, &self.cells, &choices)?;
+        stats.triangles = mesh.triangle_count();
+        stats.mesh_build_ms = elapsed_ms(start);
+
+        let start = Instant::now();
+        if (self.target.width, self.target.height) != (width, height) {
+            self.target = RasterTarget::for_camera(camera);
+        } else {
+            self.target.clear();
+        }
+        self.rasterizer.draw(camera, &mesh, 0, &mut self.target).map_err(mesh_error)?;
+        stats.raster_ms = elapsed_ms(start);
+
+        let start = Instant::now();
+        let far = FarCells::new(&self.cells, &self.heuristic, &choices, camera);
+        let mut hits: Vec<Option<(Hit, PixelSource)>> = vec![None; width * height];
+        stats.far_rays = match self.far {
+            FarField::Lop => far.cast_levels(&field, &self.cells, camera, &self.target, &mut hits),
+            FarField::Exact => far.cast_exact(
+                &self.exact,
+                &self.rasterizer,
+                camera,
+                &self.target,
+                &mut hits,
+            )?,
+        };
+        stats.far_ms = elapsed_ms(start);
+
+        let start = Instant::now();
+        let encoder = HitEncoder::new(bounds, camera);
+        let target = &self.target;
+        let strip = TILE_SIZE * width;
+        let GBuffer { distance, position, normal, material, uv, footprint, .. } = gbuffer;
+        let mut all_sources = vec![PixelSource::Nothing; width * height];
+        distance
+            .par_chunks_mut(strip)
+            .zip(position.par_chunks_mut(strip))
+            .zip(normal.par_chunks_mut(strip))
+            .zip(material.par_chunks_mut(strip))
+            .zip(uv.par_chunks_mut(strip))
+            .zip(footprint.par_chunks_mut(strip))
+            .zip(all_sources.par_chunks_mut(strip))
+            .zip(hits.par_chunks(strip))
+            .enumerate()
+            .for_each(|(s, (((((((distance, position), normal), material), uv), footprint), src), far))| {
+                for k in 0..distance.len() {
+                    let index = s * strip + k;
+                    let (i, j) = ((index % width) as u32, (index / width) as u32);
+                    let (hit, source) = match far[k] {
+                        Some((hit, source)) => (Some(hit), source),
+                        None => match target.triangle[index] {
+                            RasterTarget::NO_TRIANGLE => (None, PixelSource::Nothing),
+                            triangle => {
+                                let ray = camera.ray(i, j);
+                                let hit = mesh.hit(triangle, &ray).map(|h| Hit {
+                                    t: h.t,
+                                    position: h.position,
+                                    normal: h.normal,
+                                });
+                                (hit, PixelSource::Mesh)
+                            }
+                        },
+                    };
+                    let p = encoder.g_buffer_pixel(hit);
+                    distance[k] = p.distance;
+                    position[k] = p.position;
+                    normal[k] = p.normal;
+                    material[k] = p.material;
+                    uv[k] = p.uv;
+                    footprint[k] = p.footprint;
+                    src[k] = if hit.is_some() { source } else { PixelSource::Nothing };
+                }
+            });
+        if let Some(sources) = sources {
+            *sources = all_sources;
+        }
+        stats.resolve_ms = elapsed_ms(start);
+        Ok(stats)
+    }
+
+    /// Whether the camera's rays start inside the solid (or, for an orthographic camera, may:
+    /// its image plane meets the terrain's box), where no proxy box holds their hits.
+    fn starts_inside(&self, camera: &Camera) -> bool {
+        match camera.projection() {
+            Projection::Perspective { .. } => {
+                let eye = camera.eye();
+                let probe = Ray::new(eye, camera.forward()).with_range(0.0, 0.0);
+                self.exact.intersect(&probe).is_some()
+            }
+            Projection::Orthographic { .. } => {
+                let b = self.cells.world_bounds();
+                let f = camera.forward();
+                let corners = (0..8).map(|k| {
+                    relief_core::DVec3::new(
+                        if k & 1 == 0 { b.min.x } else { b.max.x },
+                        if k & 2 == 0 { b.min.y } else { b.max.y },
+                        if k & 4 == 0 { b.min.z } else { b.max.z },
+                    )
+                });
+                corners.into_iter().any(|c| (c - camera.eye()).dot(f) <= 0.0)
+            }
+        }
+    }
+}
+
+/// The field's value range, bit for bit.
+fn field_range(field: &HeightField) -> (u32, u32) {
+    (field.min_sample().to_bits(), field.max_sample().to_bits())
+}
+
+fn elapsed_ms(start: Instant) -> f64 {
+    start.elapsed().as_secs_f64() * 1e3
+}
+
+/// A hybrid parameter refused by relief-trace, as a [`ShadeError::Parameter`].
+fn hybrid_parameter(e: relief_trace::TraceError) -> ShadeError {
+    ShadeError::parameter("hybrid parameters", e.to_string())
+}
+
+/// A rasterizer error (a size mismatch or a mesh past the ids' limits).
+fn mesh_error(e: relief_mesh::MeshError) -> ShadeError {
+    ShadeError::Limits(e.to_string())
+}
