@@ -108,3 +108,35 @@ fn rasterized_pixels_equal_the_exact_tracer_and_levels_stay_close() {
     assert!(far > 100, "{far} ray-cast pixels");
 }
 
+
+#[test]
+fn an_edit_then_a_render_equals_a_fresh_renderer() {
+    let n = 48;
+    for far in [FarField::Lop, FarField::Exact] {
+        let field = terrain(n, 3);
+        let surface = Surface::Triangles;
+        let bounds = field.world_bounds(surface);
+        let cam = camera(n as f64, (0.05, 0.1, 10.0), (0.8, 0.9), 120, 80);
+        let params = HybridParams { cell: 9, threshold: 3.0, ..HybridParams::default() };
+        let mut edited =
+            HybridRenderer::new(Arc::new(field.clone()), surface, params, far).unwrap();
+        let mut gbuffer = GBuffer::new(120, 80).unwrap();
+        // A first frame fills the mesh cache, which the edit must then invalidate.
+        edited.render_into(&cam, &bounds, &mut gbuffer, None).unwrap();
+        let region = relief_core::SampleRegion::new(18, 20, 30, 29);
+        edited.edit(|f| f.edit_region(region, |c, r, v| v + 0.3 * ((c + r) % 3) as f32)).unwrap();
+        edited.render_into(&cam, &bounds, &mut gbuffer, None).unwrap();
+
+        let mut changed = field;
+        changed.edit_region(region, |c, r, v| v + 0.3 * ((c + r) % 3) as f32).unwrap();
+        let mut fresh = HybridRenderer::new(Arc::new(changed), surface, params, far).unwrap();
+        let mut expected = GBuffer::new(120, 80).unwrap();
+        fresh.render_into(&cam, &bounds, &mut expected, None).unwrap();
+        assert!(gbuffer == expected, "{far}: the edited renderer's frame differs");
+        // The edit moved something on screen.
+        let mut before = HybridRenderer::new(Arc::new(terrain(n, 3)), surface, params, far).unwrap();
+        let mut unedited = GBuffer::new(120, 80).unwrap();
+        before.render_into(&cam, &bounds, &mut unedited, None).unwrap();
+        assert!(unedited != expected, "{far}: the edit changed nothing visible");
+    }
+}

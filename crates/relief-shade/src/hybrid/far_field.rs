@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, HeightField};
 use relief_mesh::{IndexedMesh, RasterTarget, Rasterizer};
 use relief_trace::hybrid::{
-    exact_far_hits, lop_cast, project_box, CellChoice, HybridCells, HybridHeuristic, LopSteps,
+    lop_cast, project_box, CellChoice, HybridCells, HybridHeuristic, LopSteps,
     PixelRect,
 };
 use relief_trace::{Hit, Tracer};
@@ -130,6 +130,7 @@ impl FarCells {
             rasterizer
                 .draw(camera, &boxes, 0, &mut entries)
                 .map_err(|e| ShadeError::Limits(e.to_string()))?;
+
         }
         let strip = TILE_SIZE * width;
         let traced = hits
@@ -138,14 +139,13 @@ impl FarCells {
             .map(|(s, hits)| {
                 let (top, rows) = (s * TILE_SIZE, hits.len() / width);
                 let mut traced = 0;
-                let (mut rays, mut t0, mut t1, mut found, mut at) =
-                    (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+                let (mut rays, mut found, mut steps, mut at) =
+                    (Vec::new(), Vec::new(), Vec::new(), Vec::new());
                 for tile_x in (0..width).step_by(TILE_SIZE) {
                     let tile = Tile::new(tile_x, top, width, top + rows);
                     rays.clear();
-                    t0.clear();
-                    t1.clear();
                     at.clear();
+                    let mut wanted = 0;
                     for (i, j) in tile.pixels() {
                         let index = i + j * width;
                         let end = near.distance[index] as f64;
@@ -155,20 +155,26 @@ impl FarCells {
                         } else {
                             entries.distance[index] as f64 * (1.0 - 1e-5)
                         };
+                        let ray = camera.ray(i as u32, j as u32);
+                        // The whole tile goes to the tracer, so its packets stay whole; a
+                        // pixel with nothing to search gets an empty range.
                         if start.is_finite() && start < end {
-                            rays.push(camera.ray(i as u32, j as u32));
-                            t0.push(start.max(0.0));
-                            t1.push(end);
-                            at.push(i + (j - top) * width);
+                            wanted += 1;
+                            rays.push(ray.with_range(start.max(0.0), end));
+                        } else {
+                            rays.push(ray.with_range(1.0, 0.0));
                         }
+                        at.push(i + (j - top) * width);
                     }
-                    if rays.is_empty() {
+                    if wanted == 0 {
                         continue;
                     }
                     found.clear();
                     found.resize(rays.len(), None);
-                    exact_far_hits(tracer, &rays, &t0, &t1, &mut found);
-                    traced += rays.len() as u64;
+                    steps.clear();
+                    steps.resize(rays.len(), 0);
+                    tracer.intersect_batch(&rays, &mut found, &mut steps);
+                    traced += wanted;
                     for (&k, hit) in at.iter().zip(&found) {
                         if let Some(hit) = hit {
                             hits[k] = Some((*hit, PixelSource::Exact));
