@@ -1,7 +1,8 @@
 //! Times the ocean wave simulation on the seeded fBm terrain: `cargo run --release -p
-//! relief-sim --example waves_bench -- SIZE STEPS` prints the median milliseconds per step
-//! (integration and the field's `replace_samples` together) on the current thread count
-//! (`RAYON_NUM_THREADS`), and a hash of the final field's bytes to compare runs.
+//! relief-sim --example waves_bench -- SIZE STEPS [SEA]` prints the median milliseconds per
+//! step (integration and the field's `replace_samples` together) on the current thread count
+//! (`RAYON_NUM_THREADS`), with the sea level at SEA of the height range (default 0.35; 1
+//! floods everything, the worst case), and a hash of the final field's bytes to compare runs.
 
 use relief_sim::{fbm_terrain, FbmParams, WaveParams, WaveSimulation};
 use std::time::Instant;
@@ -10,8 +11,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let size: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(4096);
     let steps: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(50);
+    let level: f64 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(0.35);
     let mut field = fbm_terrain(size, size, 1, &FbmParams::for_size(size, size))?;
-    let mut sea = WaveSimulation::new(&field, WaveParams::for_field(&field))?;
+    let z = field.geometry().z_scale;
+    let (lo, hi) = (f64::from(field.min_sample()) * z, f64::from(field.max_sample()) * z);
+    let sea_level = lo + level * (hi - lo) + if level >= 1.0 { 1.0 } else { 0.0 };
+    let params = WaveParams { sea_level, ..WaveParams::for_field(&field) };
+    let wet = field.samples().iter().filter(|&&v| f64::from(v) * z < sea_level).count();
+    println!(
+        "sea at {sea_level:.2}: {:.1} % of the samples under it",
+        100.0 * wet as f64 / (size * size) as f64
+    );
+    let mut sea = WaveSimulation::new(&field, params)?;
     let mut times = Vec::with_capacity(steps);
     for _ in 0..steps {
         let t = Instant::now();

@@ -17,8 +17,9 @@ const DROP_CUTOFF: f64 = 3.0;
 /// The sea over a height field's sea bed.
 ///
 /// The wave `u` (sample units above the sea level) follows `u_tt = c² ∇²u - γ u_t + f`,
-/// integrated by leapfrog on the grid (second-order central differences, `u = 0` beyond the
-/// grid's edges): `u' = u + e^{-γ dt} (u - u_prev) + (c dt/dx)² δx²u + (c dt/dy)² δy²u + dt² f`,
+/// integrated by leapfrog on the grid (second-order central differences) where the sea is: in
+/// each row from its first to its last sample below the sea level, `u = 0` on the land beyond
+/// and beyond the grid's edges: `u' = u + e^{-γ dt} (u - u_prev) + (c dt/dx)² δx²u + (c dt/dy)² δy²u + dt² f`,
 /// with the time step from [`WaveParams::courant`]. The forcing `f` is a wind pattern
 /// `A sin(k·x - ω t)` travelling at the wave speed; every [`WaveParams::drop_interval`] steps
 /// a Gaussian drop lifts the sea at a place drawn from the seed and the step number.
@@ -64,6 +65,9 @@ pub struct WaveSimulation {
     /// its phase along y (fixed).
     wind_columns: Vec<[f32; 2]>,
     wind_rows: Vec<[f32; 2]>,
+    /// Per row, the columns from its first to its last sample under the sea level: the
+    /// wave lives there and is 0 on the land beyond.
+    sea_spans: Vec<[usize; 2]>,
     geometry: relief_core::GridGeometry,
 }
 
@@ -107,6 +111,7 @@ impl WaveSimulation {
             steps: 0,
             wind_columns: vec![[0.0; 2]; width],
             wind_rows,
+            sea_spans: sea_spans(field.samples(), width, sea),
             geometry: g,
         };
         sim.update_wind_columns();
@@ -194,6 +199,10 @@ impl WaveSimulation {
             let dy = (row as f64 + 0.5) * g.dy - y;
             for col in span(x, g.dx, w) {
                 let dx = (col as f64 + 0.5) * g.dx - x;
+                let [c0, c1] = self.sea_spans[row];
+                if !(c0..c1).contains(&col) {
+                    continue;
+                }
                 let lift = amplitude * (-(dx * dx + dy * dy) * 0.5 * inv_r2).exp();
                 self.wave[col + row * self.width] += lift as f32;
             }
@@ -231,6 +240,7 @@ impl WaveSimulation {
         let wave = &self.wave;
         let bed = &self.bed;
         let rows = &self.wind_rows;
+        let spans = &self.sea_spans;
         self.previous
             .par_chunks_mut(w * ROWS_PER_TASK)
             .zip(self.spare.par_chunks_mut(w * ROWS_PER_TASK))
@@ -248,6 +258,7 @@ impl WaveSimulation {
                     kernel.row(
                         &neighbours,
                         rows[row],
+                        spans[row],
                         &bed[row * w..(row + 1) * w],
                         prev_row,
                         out_row,
@@ -255,6 +266,20 @@ impl WaveSimulation {
                 }
             });
     }
+}
+
+/// Per row of `bed` (`width` samples a row), the columns `[first, last + 1)` of its samples
+/// below `sea` (`[0, 0]` for a row of land).
+fn sea_spans(bed: &[f32], width: usize, sea: f32) -> Vec<[usize; 2]> {
+    bed.chunks_exact(width)
+        .map(|row| match row.iter().position(|&b| b < sea) {
+            Some(first) => {
+                let last = row.iter().rposition(|&b| b < sea).unwrap_or(first);
+                [first, last + 1]
+            }
+            None => [0, 0],
+        })
+        .collect()
 }
 
 /// The wave's rows around the row being integrated.
@@ -283,14 +308,22 @@ impl RowKernel<'_> {
         &self,
         u: &Neighbours,
         wind_row: [f32; 2],
+        span: [usize; 2],
         bed: &[f32],
         previous: &mut [f32],
         out: &mut [f32],
     ) {
-        let n = u.here.len();
-        let (below, here, above) = (&u.below[..n], &u.here[..n], &u.above[..n]);
+        // Land outside the row's sea span: the bed, and a wave that stays 0.
+        let [c0, c1] = span;
+        out[..c0].copy_from_slice(&bed[..c0]);
+        out[c1..].copy_from_slice(&bed[c1..]);
+        if c0 == c1 {
+            return;
+        }
+        let n = c1 - c0;
+        let (below, here, above) = (&u.below[c0..c1], &u.here[c0..c1], &u.above[c0..c1]);
         let (bed, previous, out, wind) =
-            (&bed[..n], &mut previous[..n], &mut out[..n], &self.wind_columns[..n]);
+            (&bed[c0..c1], &mut previous[c0..c1], &mut out[c0..c1], &self.wind_columns[c0..c1]);
         let [sb, cb] = wind_row;
         let (fs, fc) = (self.forcing * cb, self.forcing * sb);
         let interior = n.saturating_sub(2);
