@@ -63,7 +63,8 @@ pub struct WaveSimulation {
     steps: u64,
     /// Per-column (sin, cos) of the wind's phase along x at the current step, and per-row of
     /// its phase along y (fixed).
-    wind_columns: Vec<[f32; 2]>,
+    wind_sin: Vec<f32>,
+    wind_cos: Vec<f32>,
     wind_rows: Vec<[f32; 2]>,
     /// Per row, the columns from its first to its last sample under the sea level: the
     /// wave lives there and is 0 on the land beyond.
@@ -109,7 +110,8 @@ impl WaveSimulation {
             cx: ((cdt / g.dx).powi(2)) as f32,
             cy: ((cdt / g.dy).powi(2)) as f32,
             steps: 0,
-            wind_columns: vec![[0.0; 2]; width],
+            wind_sin: vec![0.0; width],
+            wind_cos: vec![0.0; width],
             wind_rows,
             sea_spans: sea_spans(field.samples(), width, sea),
             geometry: g,
@@ -147,8 +149,7 @@ impl WaveSimulation {
     /// every sample of `field`.
     ///
     /// Errors: a field of another size than the simulation's ([`SimError::Mismatch`]); a
-    /// value the field refuses ([`SimError::Terrain`], e.g. a sea level so high that it is
-    /// not a finite f32).
+    /// value the field refuses ([`SimError::Terrain`]). The field is then unchanged.
     pub fn step(&mut self, field: &mut HeightField) -> Result<(), SimError> {
         if field.width() != self.width || field.height() != self.height {
             return Err(SimError::Mismatch(format!(
@@ -217,9 +218,9 @@ impl WaveSimulation {
         let kx = k * p.wind_direction_deg.to_radians().cos();
         let omega = k * p.wave_speed;
         let t = self.steps as f64 * self.dt;
-        for (col, sc) in self.wind_columns.iter_mut().enumerate() {
+        for (col, (ws, wc)) in self.wind_sin.iter_mut().zip(&mut self.wind_cos).enumerate() {
             let (s, c) = (kx * (g.origin.x + (col as f64 + 0.5) * g.dx) - omega * t).sin_cos();
-            *sc = [s as f32, c as f32];
+            (*ws, *wc) = (s as f32, c as f32);
         }
     }
 
@@ -235,7 +236,8 @@ impl WaveSimulation {
             forcing: (self.dt * self.dt * self.params.wind_amplitude / self.geometry.z_scale)
                 as f32,
             sea: self.sea,
-            wind_columns: &self.wind_columns,
+            wind_sin: &self.wind_sin,
+            wind_cos: &self.wind_cos,
         };
         let wave = &self.wave;
         let bed = &self.bed;
@@ -282,6 +284,17 @@ fn sea_spans(bed: &[f32], width: usize, sea: f32) -> Vec<[usize; 2]> {
         .collect()
 }
 
+/// The field's sample: the sea's `level` where it is above the `bed`, else the bed. (Both are
+/// finite: a plain comparison, which vectorises, where `f32::max` would handle NaN.)
+#[inline]
+fn surface(bed: f32, level: f32) -> f32 {
+    if level > bed {
+        level
+    } else {
+        bed
+    }
+}
+
 /// The wave's rows around the row being integrated.
 struct Neighbours<'a> {
     below: &'a [f32],
@@ -297,7 +310,8 @@ struct RowKernel<'a> {
     /// `dt²` times the wind's peak acceleration, sample units.
     forcing: f32,
     sea: f32,
-    wind_columns: &'a [[f32; 2]],
+    wind_sin: &'a [f32],
+    wind_cos: &'a [f32],
 }
 
 impl RowKernel<'_> {
@@ -322,24 +336,24 @@ impl RowKernel<'_> {
         }
         let n = c1 - c0;
         let (below, here, above) = (&u.below[c0..c1], &u.here[c0..c1], &u.above[c0..c1]);
-        let (bed, previous, out, wind) =
-            (&bed[c0..c1], &mut previous[c0..c1], &mut out[c0..c1], &self.wind_columns[c0..c1]);
+        let (bed, previous, out) = (&bed[c0..c1], &mut previous[c0..c1], &mut out[c0..c1]);
+        let (ws, wc) = (&self.wind_sin[c0..c1], &self.wind_cos[c0..c1]);
         let [sb, cb] = wind_row;
         let (fs, fc) = (self.forcing * cb, self.forcing * sb);
         let interior = n.saturating_sub(2);
-        let step = |uc: f32, l: f32, r: f32, d: f32, a: f32, p: f32, [sa, ca]: [f32; 2]| {
+        let step = |uc: f32, l: f32, r: f32, d: f32, a: f32, p: f32, sa: f32, ca: f32| {
             uc + self.damping_factor * (uc - p)
                 + self.cx * (l + r - 2.0 * uc)
                 + self.cy * (d + a - 2.0 * uc)
                 + (sa * fs + ca * fc)
         };
         if n == 1 {
-            let next = step(here[0], 0.0, 0.0, below[0], above[0], previous[0], wind[0]);
+            let next = step(here[0], 0.0, 0.0, below[0], above[0], previous[0], ws[0], wc[0]);
             previous[0] = next;
-            out[0] = bed[0].max(self.sea + next);
+            out[0] = surface(bed[0], self.sea + next);
             return;
         }
-        let first = step(here[0], 0.0, here[1], below[0], above[0], previous[0], wind[0]);
+        let first = step(here[0], 0.0, here[1], below[0], above[0], previous[0], ws[0], wc[0]);
         let last_c = n - 1;
         let last = step(
             here[last_c],
@@ -348,22 +362,24 @@ impl RowKernel<'_> {
             below[last_c],
             above[last_c],
             previous[last_c],
-            wind[last_c],
+            ws[last_c],
+            wc[last_c],
         );
         // The interior, as zipped slices of one length so that the loop vectorises.
         let (p_in, o_in) = (&mut previous[1..1 + interior], &mut out[1..1 + interior]);
-        let (b_in, w_in) = (&bed[1..1 + interior], &wind[1..1 + interior]);
+        let (b_in, s_in, k_in) =
+            (&bed[1..1 + interior], &ws[1..1 + interior], &wc[1..1 + interior]);
         let (d_in, a_in) = (&below[1..1 + interior], &above[1..1 + interior]);
         let (l_in, c_in, r_in) =
             (&here[..interior], &here[1..1 + interior], &here[2..2 + interior]);
         for k in 0..interior {
-            let next = step(c_in[k], l_in[k], r_in[k], d_in[k], a_in[k], p_in[k], w_in[k]);
+            let next = step(c_in[k], l_in[k], r_in[k], d_in[k], a_in[k], p_in[k], s_in[k], k_in[k]);
             p_in[k] = next;
-            o_in[k] = b_in[k].max(self.sea + next);
+            o_in[k] = surface(b_in[k], self.sea + next);
         }
         previous[0] = first;
-        out[0] = bed[0].max(self.sea + first);
+        out[0] = surface(bed[0], self.sea + first);
         previous[last_c] = last;
-        out[last_c] = bed[last_c].max(self.sea + last);
+        out[last_c] = surface(bed[last_c], self.sea + last);
     }
 }
