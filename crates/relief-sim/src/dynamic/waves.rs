@@ -17,10 +17,11 @@ const DROP_CUTOFF: f64 = 3.0;
 /// The sea over a height field's sea bed.
 ///
 /// The wave `u` (sample units above the sea level) follows `u_tt = c² ∇²u - γ u_t + f`,
-/// integrated by leapfrog on the grid (second-order central differences) where the sea is: in
-/// each row from its first to its last sample below the sea level, `u = 0` on the land beyond
-/// and beyond the grid's edges: `u' = u + e^{-γ dt} (u - u_prev) + (c dt/dx)² δx²u + (c dt/dy)² δy²u + dt² f`,
-/// with the time step from [`WaveParams::courant`]. The forcing `f` is a wind pattern
+/// integrated by leapfrog with second-order central differences,
+/// `u' = u + e^{-γ dt} (u - u_prev) + (c dt/dx)² δx²u + (c dt/dy)² δy²u + dt² f`, with the
+/// time step from [`WaveParams::courant`]. The wave lives where the sea is, in each row from
+/// its first to its last sample below the sea level; it is 0 on the land beyond and outside
+/// the grid (walls that reflect it). The forcing `f` is a wind pattern
 /// `A sin(k·x - ω t)` travelling at the wave speed; every [`WaveParams::drop_interval`] steps
 /// a Gaussian drop lifts the sea at a place drawn from the seed and the step number.
 ///
