@@ -11,7 +11,7 @@ use relief_trace::{MipmapTracer, NaiveTracer, Tracer};
 use std::sync::Arc;
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
     #[test]
     fn the_far_field_is_the_exact_hit_within_its_range(

@@ -347,6 +347,28 @@ mod tests {
     }
 
     #[test]
+    fn views_from_below_the_floor_see_the_bottom_and_then_every_box_reaches_it() {
+        let mut samples = vec![5.0f32; 100];
+        samples[0] = 1.0;
+        let f = HeightField::new(10, 10, samples, GridGeometry::unit()).unwrap();
+        let mut cells = HybridCells::new(&f, Surface::Triangles, 4).unwrap();
+        let inner = cells.index(1, 1);
+        assert_eq!(cells.grid_box(inner).unwrap().min.z, 5.0);
+        let look = |eye: DVec3, projection| {
+            Camera::new(eye, DVec3::new(5.0, 5.0, 3.0), DVec3::Z, projection, 40, 30).unwrap()
+        };
+        let pinhole = Projection::Perspective { fov_deg: 60.0 };
+        assert!(!cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 1.0), pinhole)));
+        assert!(cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 0.99), pinhole)));
+        // An orthographic image 4 high, looking level: its lowest rays start 2 below the eye.
+        let parallel = Projection::Orthographic { height: 4.0 };
+        assert!(cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 2.9), parallel)));
+        assert!(!cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 3.0), parallel)));
+        cells.set_floor_everywhere(true);
+        assert_eq!(cells.grid_box(inner).unwrap().min.z, 1.0);
+    }
+
+    #[test]
     fn lane_ranges_equal_a_plain_fold() {
         for n in [0, 1, 7, 8, 9, 17, 64, 70] {
             let values: Vec<f32> = (0..n).map(|k| ((k * 7919) % 101) as f32 - 50.0).collect();

@@ -67,6 +67,8 @@ pub fn lop_cast(
             }
             BoxFace::X => side_normal(0, &g),
             BoxFace::Y => side_normal(1, &g),
+            // Through the top onto the surface, or from below through the solid's bottom.
+            BoxFace::Z if g.dir.z > 0.0 => -DVec3::Z,
             BoxFace::Z => surface.normal_at(p.x, p.y),
         };
         return Some(Hit { t, position: ray.at(t), normal: geometry.normal_to_world(normal) });
