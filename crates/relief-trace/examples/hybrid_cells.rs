@@ -3,13 +3,25 @@
 //! and to update every cell's min/max (a simulation rewriting the whole field), and the
 //! dynamic updates of the exact tracer's pyramid (a 64 x 64 brush against a rebuild).
 //!
-//! `cargo run --release -p relief-trace --example hybrid_cells -- [N] [CELL] [WIDTH] [HEIGHT]`
-//! (defaults 4096, 64, 1920, 1080). Timings are medians of 9 runs.
+//! `cargo run --release -p relief-trace --example hybrid_cells -- [N] [CELL] [WIDTH] [HEIGHT]
+//! [--image]` (defaults 4096, 64, 1920, 1080). Timings are medians of 9 runs.
+//!
+//! With `--image`, it also renders the view's depth the hybrid way with this module's parts,
+//! the near field's mesh cells standing in for a rasterizer by the exact tracer inside their
+//! boxes, and compares it with the exact tracer: the levels of precision's PSNR (R the
+//! terrain's diagonal, over the pixels both see terrain) and wrong pixels (terrain against
+//! sky), and the exact far field's agreement, which must be complete. A check of the parts at
+//! scale, not the renderer (its times say nothing of one). `LOP_STEPS=L/B` in the environment
+//! casts every ray-cast cell with L linear and B binary steps instead of its level's.
 
-use relief_core::{benchmark_views, HeightField, SampleRegion, Surface};
+use rayon::prelude::*;
+use relief_core::{benchmark_views, Camera, HeightField, SampleRegion, Surface};
 use relief_sim::{fbm_terrain, FbmParams};
-use relief_trace::hybrid::{CellChoice, HybridCells, HybridHeuristic, HybridParams};
-use relief_trace::MipmapTracer;
+use relief_trace::hybrid::{
+    box_entry, exact_far_hit, lop_cast, project_box, CellChoice, HybridCells, HybridHeuristic,
+    HybridParams, PixelRect,
+};
+use relief_trace::{MipmapTracer, Tracer};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -34,7 +46,8 @@ fn brush(field: &HeightField, k: usize) -> SampleRegion {
 }
 
 fn main() {
-    let mut args = std::env::args().skip(1);
+    let image = std::env::args().any(|a| a == "--image");
+    let mut args = std::env::args().skip(1).filter(|a| a != "--image");
     let mut next = |default: usize| args.next().map_or(default, |s| s.parse().expect("a number"));
     let (size, cell, width, height) = (next(4096), next(64), next(1920), next(1080));
     let runs = 9;
@@ -54,6 +67,7 @@ fn main() {
         heuristic.steps().iter().map(|s| format!("{}/{}", s.linear, s.binary)).collect::<Vec<_>>()
     );
 
+    let mut chosen = Vec::new();
     for surface in Surface::ALL {
         let start = Instant::now();
         let mut cells = HybridCells::new(&field, surface, cell).expect("cells");
@@ -81,6 +95,13 @@ fn main() {
             "{surface:<9}: heuristic {choose_ms:.3} ms; cells' min/max: build {build_ms:.1} ms, \
              update all {update_all_ms:.1} ms, update a 64x64 brush {update_brush_ms:.4} ms"
         );
+        chosen.push((surface, cells, choices));
+    }
+    if image {
+        let field = Arc::new(field.clone());
+        for (surface, cells, choices) in &chosen {
+            compare_depths(&field, *surface, cells, choices, &heuristic, &camera);
+        }
     }
 
     // The exact tracer under edits: the pyramid above a 64 x 64 brush against a rebuild.
@@ -106,4 +127,119 @@ fn main() {
              brush {pyramid_ms:.4} ms, brush edit with the field's own update {brush_ms:.2} ms"
         );
     }
+}
+
+/// Side of the screen tiles the cells are binned into.
+const TILE: u32 = 16;
+
+/// Renders the depth the hybrid way (levels of precision, and the exact far field) and
+/// compares both with the exact tracer's (see the module's documentation).
+fn compare_depths(
+    field: &Arc<HeightField>,
+    surface: Surface,
+    cells: &HybridCells,
+    choices: &[CellChoice],
+    heuristic: &HybridHeuristic,
+    camera: &Camera,
+) {
+    let exact = MipmapTracer::new(field.clone(), surface);
+    let (w, h) = (camera.width(), camera.height());
+    let start = Instant::now();
+    let reference: Vec<Option<f64>> = (0..w * h)
+        .into_par_iter()
+        .map(|p| exact.intersect(&camera.ray(p % w, p / w)).map(|hit| hit.t))
+        .collect();
+    let exact_ms = start.elapsed().as_secs_f64() * 1e3;
+    // Bin every drawn cell into the screen tiles its projected box covers.
+    let (tiles_x, tiles_y) = (w.div_ceil(TILE), h.div_ceil(TILE));
+    let mut bins: Vec<Vec<(usize, PixelRect)>> = vec![Vec::new(); (tiles_x * tiles_y) as usize];
+    for (k, choice) in choices.iter().enumerate() {
+        if *choice == CellChoice::Culled {
+            continue;
+        }
+        let Some(b) = cells.proxy_box(k) else { continue };
+        let Some(rect) = project_box(camera, &b).pixels(w, h) else { continue };
+        for ty in rect.j0 / TILE..=rect.j1 / TILE {
+            for tx in rect.i0 / TILE..=rect.i1 / TILE {
+                bins[(tx + ty * tiles_x) as usize].push((k, rect));
+            }
+        }
+    }
+    let start = Instant::now();
+    // Per pixel: (depth with levels of precision, depth with the exact far field).
+    let hybrid: Vec<(Option<f64>, Option<f64>)> = (0..w * h)
+        .into_par_iter()
+        .map(|p| {
+            let (i, j) = (p % w, p / w);
+            let ray = camera.ray(i, j);
+            let (mut mesh, mut lop, mut t0) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+            for &(k, r) in &bins[(i / TILE + (j / TILE) * tiles_x) as usize] {
+                if !((r.i0..=r.i1).contains(&i) && (r.j0..=r.j1).contains(&j)) {
+                    continue;
+                }
+                let Some((enter, exit)) = box_entry(cells, field, k, &ray) else { continue };
+                match choices[k] {
+                    CellChoice::Mesh => {
+                        // The rasterizer's stand-in: the exact surface inside the mesh cell.
+                        if let Some(hit) = exact.intersect(&ray.with_range(enter, exit)) {
+                            mesh = mesh.min(hit.t);
+                        }
+                    }
+                    CellChoice::RayCast { level } => {
+                        t0 = t0.min(enter);
+                        let mut steps = heuristic.steps()[level as usize];
+                        if let Ok(v) = std::env::var("LOP_STEPS") {
+                            let (a, b) = v.split_once('/').expect("L/B");
+                            steps.linear = a.parse().expect("linear");
+                            steps.binary = b.parse().expect("binary");
+                        }
+                        if let Some(hit) = lop_cast(field, cells, k, &ray, steps) {
+                            lop = lop.min(hit.t);
+                        }
+                    }
+                    CellChoice::Culled => {}
+                }
+            }
+            let far = exact_far_hit(&exact, &ray, t0, mesh).map_or(f64::INFINITY, |hit| hit.t);
+            let finite = |t: f64| t.is_finite().then_some(t);
+            (finite(mesh.min(lop)), finite(mesh.min(far)))
+        })
+        .collect();
+    let hybrid_ms = start.elapsed().as_secs_f64() * 1e3;
+    let diagonal = cells.world_bounds().diagonal();
+    let (mut sum, mut both, mut wrong, mut far_wrong, mut far_differ) = (0.0, 0usize, 0, 0, 0);
+    let (mut hist, mut emax) = ([0usize; 5], 0.0f64);
+    for (reference, (lop, far)) in reference.iter().zip(&hybrid) {
+        match (reference, lop) {
+            (Some(a), Some(b)) => {
+                sum += (a - b) * (a - b);
+                both += 1;
+                let e = (a - b).abs();
+                for (count, limit) in hist.iter_mut().zip([0.01, 0.1, 1.0, 10.0, 100.0]) {
+                    *count += (e > limit) as usize;
+                }
+                emax = emax.max(e);
+            }
+            (None, None) => {}
+            _ => wrong += 1,
+        }
+        match (reference, far) {
+            (Some(a), Some(b)) => far_differ += ((a - b).abs() > 1e-9 * a) as usize,
+            (None, None) => {}
+            _ => far_wrong += 1,
+        }
+    }
+    let psnr = 10.0 * (diagonal * diagonal / (sum / both.max(1) as f64)).log10();
+    let pixels = (w * h) as f64;
+    println!(
+        "{surface:<9}: exact {exact_ms:.0} ms; hybrid stand-in {hybrid_ms:.0} ms; levels of \
+         precision: PSNR {psnr:.1} dB, wrong pixels {:.4} %; exact far field: {far_wrong} wrong \
+         pixels, {far_differ} depths off by more than 1e-9 relative",
+        100.0 * wrong as f64 / pixels
+    );
+    println!(
+        "{surface:<9}: levels of precision: of {both} pixels both see terrain, {} off by more \
+         than 0.01, 0.1, 1, 10, 100 world units; at most {emax:.1} (the diagonal is {diagonal:.0})",
+        hist.map(|n| n.to_string()).join(", ")
+    );
 }
