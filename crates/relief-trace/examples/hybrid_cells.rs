@@ -60,7 +60,8 @@ fn main() {
     let heuristic = HybridHeuristic::new(params).expect("parameters");
     let threads = rayon::current_num_threads();
     println!(
-        "cells of {cell}^2, T = {}, k = {}, {} levels {:?}; flight view {width}x{height}; {threads} threads",
+        "cells of {cell}^2, T = {}, k = {}, {} levels {:?}; flight view {width}x{height}; \
+         {threads} threads",
         params.threshold,
         params.k,
         params.levels,

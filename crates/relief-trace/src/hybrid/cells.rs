@@ -63,11 +63,11 @@ impl CellBounds {
 ///   two neighbouring texels share a cell).
 ///
 /// The boxes hold the solid's boundary, not its interior: a ray that starts inside the solid
-/// (an eye under the terrain) hits where it starts, in no box; a renderer tests the eye with an
-/// exact tracer. The solid's bottom face (at the lowest sample, facing down) is seen only from below that
-/// level: for such views ([`HybridCells::bottom_visible`]) let every box reach the floor with
-/// [`HybridCells::set_floor_everywhere`]. A cell whose samples are all holes has no surface
-/// ([`CellBounds::has_surface`]).
+/// (an eye under the terrain) hits where it starts, in no box; a renderer tests the eye with
+/// an exact tracer. The solid's bottom face (at the lowest sample, facing down) is seen only
+/// from below that level: for such views ([`HybridCells::bottom_visible`]) let every box
+/// reach the floor with [`HybridCells::set_floor_everywhere`]. A cell whose samples are all
+/// holes has no surface ([`CellBounds::has_surface`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct HybridCells {
     surface: Surface,
@@ -119,7 +119,8 @@ impl HybridCells {
     /// boxes with walls depend) after the samples there changed; every other cell is left
     /// alone. Afterwards the cells equal [`HybridCells::new`] over the edited field, bit for
     /// bit, provided `region` holds every changed sample and the field kept its size and
-    /// holes. A field of another size (or geometry) is measured from scratch.
+    /// holes. A field of another size is measured from scratch; a new geometry is taken as
+    /// it is (the boxes are placed in the world when asked for).
     pub fn update(&mut self, field: &HeightField, region: SampleRegion) {
         if (field.width(), field.height()) != (self.width, self.height) {
             if let Ok(fresh) = HybridCells::new(field, self.surface, self.n) {

@@ -23,13 +23,14 @@ pub fn box_entry(
 /// Casts `ray` (world space) into the proxy box of cell `index` with `steps`: approximate, as
 /// the paper's shader.
 ///
-/// The linear search tests `steps.linear + 1` evenly spaced points from the box's entry to its
-/// exit (both included) for the first one below or on the surface; the binary search then
-/// halves the interval between the last point above and that one `steps.binary` times, and
-/// the hit is the middle of the last interval. The surface's height at a point is the
-/// surface's own interpolation (the triangle under the point for `triangles`, the texel's value
-/// for `boxes`); holes and points off the grid have none. A ray already below the surface at
-/// the entry hits there (an outer wall, or the solid the ray started in).
+/// The linear search tests `steps.linear + 1` evenly spaced points (`linear` at least 1)
+/// from the box's entry to its exit (both included) for the first one below or on the
+/// surface; the binary search then halves the interval between the last point above and that
+/// one `steps.binary` times, and the hit is the middle of the last interval. The surface's
+/// height at a point is the surface's own interpolation (the triangle under the point for
+/// `triangles`, the texel's value for `boxes`); holes and points off the grid have none. A
+/// ray already below the surface at the entry hits there (an outer wall, or the solid the ray
+/// started in).
 ///
 /// The normal is that of the face met: the triangle's plane, a texel's top, or a side (a
 /// texel's side, or the wall of a hole or of the grid's edge) when the ray reached the cell

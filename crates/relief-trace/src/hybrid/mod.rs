@@ -34,9 +34,8 @@
 //! let field = HeightField::new(64, 64, samples, GridGeometry::unit()).unwrap();
 //! let params = HybridParams { cell: 16, ..HybridParams::default() };
 //! let cells = HybridCells::new(&field, Surface::Triangles, params.cell).unwrap();
-//! let camera =
-//!     Camera::look_at(DVec3::new(-5.0, -5.0, 12.0), DVec3::new(40.0, 40.0, 0.0), DVec3::Z, 60.0, 320, 200)
-//!         .unwrap();
+//! let (eye, target) = (DVec3::new(-5.0, -5.0, 12.0), DVec3::new(40.0, 40.0, 0.0));
+//! let camera = Camera::look_at(eye, target, DVec3::Z, 60.0, 320, 200).unwrap();
 //! let choices = HybridHeuristic::new(params).unwrap().choose(&cells, &camera);
 //! assert_eq!(choices.len(), cells.len());
 //! assert!(choices.contains(&CellChoice::Mesh));
