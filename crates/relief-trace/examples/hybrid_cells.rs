@@ -4,7 +4,7 @@
 //! dynamic updates of the exact tracer's pyramid (a 64 x 64 brush against a rebuild).
 //!
 //! `cargo run --release -p relief-trace --example hybrid_cells -- [N] [CELL] [WIDTH] [HEIGHT]
-//! [--image]` (defaults 4096, 64, 1920, 1080). Timings are medians of 9 runs.
+//! [T] [--image]` (defaults 4096, 64, 1920, 1080, 70). Timings are medians of 9 runs.
 //!
 //! With `--image`, it also renders the view's depth the hybrid way with this module's parts,
 //! the near field's mesh cells standing in for a rasterizer by the exact tracer inside their
@@ -18,8 +18,8 @@ use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, HeightField, SampleRegion, Surface};
 use relief_sim::{fbm_terrain, FbmParams};
 use relief_trace::hybrid::{
-    box_entry, exact_far_hit, lop_cast, project_box, CellChoice, HybridCells, HybridHeuristic,
-    HybridParams, LopSteps, PixelRect,
+    box_entry, exact_far_hit, exact_far_hits, lop_cast, project_box, CellChoice, HybridCells,
+    HybridHeuristic, HybridParams, LopSteps, PixelRect,
 };
 use relief_trace::{MipmapTracer, Tracer};
 use std::sync::Arc;
@@ -50,13 +50,14 @@ fn main() {
     let mut args = std::env::args().skip(1).filter(|a| a != "--image");
     let mut next = |default: usize| args.next().map_or(default, |s| s.parse().expect("a number"));
     let (size, cell, width, height) = (next(4096), next(64), next(1920), next(1080));
+    let threshold = args.next().map_or(70.0, |s| s.parse().expect("T: a number"));
     let runs = 9;
     let start = Instant::now();
     let field = fbm_terrain(size, size, 7, &FbmParams::for_size(size, size)).expect("fBm terrain");
     println!("fBm terrain {size}^2 generated in {:.0} ms", start.elapsed().as_secs_f64() * 1e3);
     let views = benchmark_views(&field, width as u32, height as u32).expect("views");
     let (_, camera) = views.into_iter().find(|(name, _)| *name == "flight").expect("flight view");
-    let params = HybridParams { cell, ..HybridParams::default() };
+    let params = HybridParams { cell, threshold, ..HybridParams::default() };
     let heuristic = HybridHeuristic::new(params).expect("parameters");
     let threads = rayon::current_num_threads();
     println!(
@@ -228,6 +229,48 @@ fn compare_depths(
         })
         .collect();
     let far_ms = start.elapsed().as_secs_f64() * 1e3;
+    // The same in packets of 8 x 8 pixels, against the exact tracer's packets over the image.
+    let packets = |far: bool| -> Vec<Option<f64>> {
+        let (px, py) = (w.div_ceil(8), h.div_ceil(8));
+        let tiles: Vec<Vec<(u32, Option<f64>)>> = (0..px * py)
+            .into_par_iter()
+            .map(|tile| {
+                let (tx, ty) = (tile % px * 8, tile / px * 8);
+                let pixels: Vec<u32> = (ty..(ty + 8).min(h))
+                    .flat_map(|j| (tx..(tx + 8).min(w)).map(move |i| i + j * w))
+                    .collect();
+                let rays: Vec<_> = pixels.iter().map(|&p| camera.ray(p % w, p / w)).collect();
+                let mut hits = vec![None; rays.len()];
+                if far {
+                    let t0: Vec<f64> = pixels.iter().map(|&p| cells_pass[p as usize].2).collect();
+                    let t1: Vec<f64> = pixels.iter().map(|&p| cells_pass[p as usize].0).collect();
+                    exact_far_hits(&exact, &rays, &t0, &t1, &mut hits);
+                } else {
+                    exact.intersect_batch(&rays, &mut hits, &mut vec![0; rays.len()]);
+                }
+                pixels.into_iter().zip(hits).map(|(p, hit)| (p, hit.map(|h| h.t))).collect()
+            })
+            .collect();
+        let mut depth = vec![None; (w * h) as usize];
+        for (p, t) in tiles.into_iter().flatten() {
+            depth[p as usize] = t;
+        }
+        depth
+    };
+    let start = Instant::now();
+    let exact_packets = packets(false);
+    let exact_packets_ms = start.elapsed().as_secs_f64() * 1e3;
+    let start = Instant::now();
+    let far_packets = packets(true);
+    let far_packets_ms = start.elapsed().as_secs_f64() * 1e3;
+    let packets_differ = (0..(w * h) as usize)
+        .filter(|&p| {
+            let mesh = cells_pass[p].0;
+            let far = far_packets[p].map_or(mesh, |t| t.min(mesh));
+            let want = exact_packets[p].unwrap_or(f64::INFINITY);
+            !(far == want || (far - want).abs() <= 1e-9 * want)
+        })
+        .count();
     let casts: usize = cells_pass.iter().map(|c| c.3).sum();
     let finite = |t: f64| t.is_finite().then_some(t);
     let hybrid: Vec<(Option<f64>, Option<f64>)> = cells_pass
@@ -262,7 +305,9 @@ fn compare_depths(
     let pixels = (w * h) as f64;
     println!(
         "{surface:<9}: exact tracer {exact_ms:.0} ms; cells' pass {cells_ms:.0} ms ({casts} \
-         casts in boxes, {:.2} per pixel), exact far field {far_ms:.0} ms",
+         casts in boxes, {:.2} per pixel), exact far field {far_ms:.0} ms; in packets of 8x8: \
+         exact tracer {exact_packets_ms:.0} ms, exact far field {far_packets_ms:.0} ms \
+         ({packets_differ} depths differ)",
         casts as f64 / pixels
     );
     println!(
