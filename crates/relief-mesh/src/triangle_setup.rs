@@ -142,12 +142,25 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 impl TriangleSetup {
     /// Sets up the triangle with projected corners `v` and world corners `p`; `None` when it
     /// is degenerate on screen (zero area, or its plane through a pinhole's eye).
+    ///
+    /// With `cull_back_faces`, a triangle whose normal `(p1 - p0) x (p2 - p0)` does not face
+    /// the camera's rays (counter-clockwise is the front, seen from outside) is `None` too.
     #[inline]
     pub(crate) fn new(
         projection: &ScreenProjection,
         v: &[[f64; 3]; 3],
         p: &[DVec3; 3],
+        cull_back_faces: bool,
     ) -> Option<Self> {
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        let numerator = n.dot(p[0] - projection.eye);
+        let n_forward = n.dot(projection.forward);
+        if cull_back_faces {
+            let facing = if projection.perspective { numerator } else { n_forward };
+            if facing.is_nan() || facing >= 0.0 {
+                return None;
+            }
+        }
         let homogeneous = |k: usize| {
             if projection.perspective {
                 v[k]
@@ -166,14 +179,30 @@ impl TriangleSetup {
             edges = edges.map(|e| e.map(|c| -c));
         }
         let top_left = edges.map(|e| e[0] > 0.0 || (e[0] == 0.0 && e[1] > 0.0));
-        let n = (p[1] - p[0]).cross(p[2] - p[0]);
         Some(TriangleSetup {
             edges,
             top_left,
-            numerator: n.dot(p[0] - projection.eye),
-            n_forward: n.dot(projection.forward),
+            numerator,
+            n_forward,
             n_right: n.dot(projection.right),
             n_up: n.dot(projection.up),
+        })
+    }
+
+    /// Whether no pixel centre of `[x0, x1] x [y0, y1]` can be covered: one edge function is
+    /// negative, by more than its rounding, at the rectangle's four corner centres (the
+    /// function is linear, so it is then negative on every centre between them).
+    pub(crate) fn misses_rect(&self, [x0, y0, x1, y1]: [usize; 4]) -> bool {
+        let xs = [x0 as f64 + 0.5, x1 as f64 + 0.5];
+        let ys = [y0 as f64 + 0.5, y1 as f64 + 0.5];
+        self.edges.iter().any(|e| {
+            xs.iter().all(|&px| {
+                ys.iter().all(|&py| {
+                    let value = e[0] * px + (e[1] * py + e[2]);
+                    let scale = e[0].abs() * px + e[1].abs() * py + e[2].abs();
+                    value < -1e-12 * scale
+                })
+            })
         })
     }
 
