@@ -5,7 +5,7 @@
 //! `cargo run --release -p relief-mesh --example raster_bench -- [N] [W] [H]`
 
 use relief_core::{benchmark_views, GridGeometry, HeightField, SampleRegion, Surface};
-use relief_mesh::{height_field_mesh, IndexedMesh, RasterTarget, Rasterizer};
+use relief_mesh::{height_field_mesh, Culling, IndexedMesh, RasterTarget, Rasterizer};
 use std::time::Instant;
 
 /// A deterministic fractal terrain: octaves of hashed value noise, heights in metres.
@@ -67,36 +67,30 @@ fn main() {
     let cells_ms = start.elapsed().as_secs_f64() * 1e3;
     println!("  as 64x64-square cells: {} triangles in {cells_ms:.0} ms", cells.triangle_count());
 
-    // Without the bottom's fan (the triangles on the last vertex, its centre).
-    let centre = whole.vertex_count() as u32 - 1;
-    let no_bottom = IndexedMesh::new(
-        whole.positions().to_vec(),
-        whole.triangles().iter().copied().filter(|t| !t.contains(&centre)).collect(),
-    )
-    .unwrap();
     let rasterizer = Rasterizer::new();
-    for (name, camera) in benchmark_views(&field, w as u32, h as u32).unwrap() {
-        let mut target = RasterTarget::for_camera(&camera);
-        let start = Instant::now();
-        rasterizer.draw(&camera, &no_bottom, 0, &mut target).unwrap();
-        println!("{name} without bottom fan: {:.1} ms", start.elapsed().as_secs_f64() * 1e3);
-    }
     let views = benchmark_views(&field, w as u32, h as u32).unwrap();
-    for (name, camera) in views {
-        let mut target = RasterTarget::for_camera(&camera);
+    let runs = views.iter().flat_map(|v| {
+        [(v, Culling::None, "whole", &whole), (v, Culling::BackFaces, "whole", &whole)]
+            .into_iter()
+            .chain([(v, Culling::BackFaces, "cells", &cells)])
+    });
+    for ((name, camera), culling, mesh_name, mesh) in runs {
+        let whole = mesh;
+        let rasterizer = rasterizer.with_culling(culling);
+        let mut target = RasterTarget::for_camera(camera);
         let mut times = Vec::new();
         let mut stats = Default::default();
         for _ in 0..5 {
             target.clear();
             let start = Instant::now();
-            stats = rasterizer.draw(&camera, &whole, 0, &mut target).unwrap();
+            stats = rasterizer.draw(camera, whole, 0, &mut target).unwrap();
             times.push(start.elapsed().as_secs_f64());
         }
         times.sort_by(f64::total_cmp);
         let t = times[times.len() / 2];
         let drawn = target.triangle.iter().filter(|&&k| k != RasterTarget::NO_TRIANGLE).count();
         println!(
-            "{name:>13} {w}x{h}: {:7.1} ms  {:6.1} M triangles/s  {:6.1} M fragments/s  \
+            "{name:>13} {w}x{h} {mesh_name} {culling:?}: {:7.1} ms  {:6.1} M triangles/s  {:6.1} M fragments/s  \
              (binned {} of {} triangles, {} bin entries, {} fragments, {drawn} pixels drawn)",
             t * 1e3,
             whole.triangle_count() as f64 / t / 1e6,

@@ -105,17 +105,40 @@ impl ScreenProjection {
             }
         }
         // Pixel i's centre is i + 0.5; widen a little for the rounding of the projection.
-        let first = |l: f64| (l - 0.5 - 1e-7 * (1.0 + l.abs())).ceil();
-        let last = |h: f64| (h - 0.5 + 1e-7 * (1.0 + h.abs())).floor();
         let (w, h) = (self.width as f64, self.height as f64);
-        let x0 = first(lo[0]).max(0.0);
-        let y0 = first(lo[1]).max(0.0);
-        let x1 = last(hi[0]).min(w - 1.0);
-        let y1 = last(hi[1]).min(h - 1.0);
+        let first = |l: f64, n: f64| ceil((l - 0.5 - 1e-7 * (1.0 + l.abs())).clamp(-1.0, n));
+        let last = |h: f64, n: f64| floor((h - 0.5 + 1e-7 * (1.0 + h.abs())).clamp(-1.0, n));
+        let x0 = first(lo[0], w).max(0.0);
+        let y0 = first(lo[1], h).max(0.0);
+        let x1 = last(hi[0], w).min(w - 1.0);
+        let y1 = last(hi[1], h).min(h - 1.0);
         if !(x0 <= x1 && y0 <= y1) {
             return None;
         }
         Some([x0 as usize, y0 as usize, x1 as usize, y1 as usize])
+    }
+}
+
+/// `x.floor()` for a small finite `x`, without a library call (x86-64 has no rounding
+/// instruction before SSE 4.1).
+#[inline(always)]
+fn floor(x: f64) -> f64 {
+    let t = x as i64 as f64;
+    if t > x {
+        t - 1.0
+    } else {
+        t
+    }
+}
+
+/// `x.ceil()` for a small finite `x` (see [`floor`]).
+#[inline(always)]
+fn ceil(x: f64) -> f64 {
+    let t = x as i64 as f64;
+    if t < x {
+        t + 1.0
+    } else {
+        t
     }
 }
 
@@ -237,8 +260,9 @@ impl TriangleSetup {
             if empty || lo.is_nan() || hi.is_nan() || lo > hi {
                 continue;
             }
-            let i_start = ((lo.floor() - 1.0).max(x0 as f64)) as usize;
-            let i_end = ((hi.ceil() + 1.0).min(x1 as f64)) as usize;
+            // lo >= x0 - 1 and hi <= x1 + 1: truncation, one pixel wider, bounds them.
+            let i_start = ((lo as i64 - 2).max(x0 as i64)) as usize;
+            let i_end = ((hi as i64 + 2).min(x1 as i64)) as usize;
             let sy = projection.sy[j];
             let den_row = self.n_forward + sy * self.n_up;
             let ortho_row = self.numerator - sy * self.n_up;
