@@ -3,7 +3,7 @@
 //! an output and an input, are one file).
 
 use crate::applies::extension;
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 
 /// The picture formats `-o` of `relief render` writes.
@@ -66,6 +66,27 @@ pub fn check_height_file(path: &Path, size: Option<(usize, usize)>) -> Result<()
             path.display()
         ),
     }
+}
+
+/// Refuses a `--stats` output that is not a `.json` file in an existing folder.
+pub fn check_stats(path: &Path) -> Result<()> {
+    check_writable(path)?;
+    if extension(path).as_deref() != Some("json") {
+        bail!("--stats {}: the statistics are written as .json", path.display());
+    }
+    Ok(())
+}
+
+/// Writes `stats` (stage timings as `*_ms` keys and counts) to `path` as pretty JSON: what
+/// every command's `--stats` writes, after its work succeeded.
+pub fn write_stats(path: &Path, stats: &serde_json::Value) -> Result<()> {
+    let text = serde_json::to_string_pretty(stats).context("writing the stats")?;
+    std::fs::write(path, text + "\n").with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Milliseconds since `start`.
+pub fn ms_since(start: std::time::Instant) -> f64 {
+    start.elapsed().as_secs_f64() * 1e3
 }
 
 /// Refuses an output path whose folder does not exist or that names a folder.

@@ -22,7 +22,8 @@ fn stderr(out: &Output) -> String {
 }
 
 /// Small inputs every case below may use, made once: `f.npy` (48², fBm), `f.tif`, `f.png`
-/// (16-bit grey), `t.png` (an RGB picture, as a texture), `s.mlhm` (a carved MLHM scene).
+/// (16-bit grey), `t.png` (an RGB picture, as a texture) and its depth `d.npy` (16x16),
+/// `s.mlhm` (a carved MLHM scene).
 fn inputs() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
@@ -33,7 +34,17 @@ fn inputs() -> &'static Path {
             let run = relief(&["generate", "fbm", "--size", "48", "-o", &p(out)]);
             assert!(run.status.success(), "{out}: {}", stderr(&run));
         }
-        let run = relief(&["render", "--fbm-size", "32", "--size", "16x16", "-o", &p("t.png")]);
+        let run = relief(&[
+            "render",
+            "--fbm-size",
+            "32",
+            "--size",
+            "16x16",
+            "-o",
+            &p("t.png"),
+            "--depth",
+            &p("d.npy"),
+        ]);
         assert!(run.status.success(), "{}", stderr(&run));
         let run =
             relief(&["generate", "mlhm", "--scene", "arches", "--size", "32", "-o", &p("s.mlhm")]);
@@ -152,6 +163,25 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("render {in}/f.npy -o {out}/y.png --depth {out}/d.npy --normals {out}/./d.npy", Expect::Refused("--depth and --normals both write")),
             ("render {in}/f.png -o {in}/f.png", Expect::Refused("would overwrite the input")),
             ("render {in}/f.npy --size 0x10 -o {out}/a.png", Expect::Refused("between 1 and 32768")),
+            ("render {in}/f.npy --size 16x9 -o {out}/a.png --stats {out}/s.json", Expect::Ok),
+            ("render {in}/s.mlhm --size 16x9 -o {out}/a.png --stats {out}/s.json", Expect::Ok),
+            ("render {in}/f.npy -o {out}/a.png --stats {out}/s.txt", Expect::Refused("the statistics are written as .json")),
+        ],
+    ),
+    (
+        "compare",
+        &[
+            ("compare {in}/d.npy {in}/d.npy", Expect::Ok),
+            ("compare {in}/d.npy {in}/d.npy --json --diagonal 100 --cell 2 --max-memory 1G", Expect::Ok),
+            ("compare {in}/d.npy {in}/d.npy --terrain {in}/f.tif --spacing 2,3 --z-scale 3", Expect::Ok),
+            ("compare {in}/d.npy {in}/d.npy --terrain {in}/s.mlhm --json", Expect::Ok),
+            ("compare {in}/d.npy {in}/d.npy --terrain {in}/s.mlhm --spacing 2", Expect::Refused("--spacing applies to height files only")),
+            ("compare {in}/d.npy {in}/d.npy --z-scale 2", Expect::Refused("--terrain")),
+            ("compare {in}/d.npy {in}/f.npy", Expect::Refused("different shapes")),
+            ("compare {in}/d.npy {in}/t.png", Expect::Refused("not a .npy file")),
+            ("compare {in}/d.npy {out}/missing.npy", Expect::Refused("missing.npy")),
+            ("compare {in}/d.npy {in}/d.npy --diagonal 0", Expect::Refused("positive length")),
+            ("compare {in}/d.npy {in}/d.npy --cell -1", Expect::Refused("positive length")),
         ],
     ),
     (
@@ -374,6 +404,10 @@ fn negative_numbers_are_values_of_every_numeric_option() {
         "shade no.tif --sun-radius -1",
         "shade no.tif --sun-rays -1",
         "shade no.tif --sky-rays -1",
+        "compare a.npy b.npy --diagonal -1",
+        "compare a.npy b.npy --cell -1",
+        "compare a.npy b.npy --terrain t.tif --spacing -1",
+        "compare a.npy b.npy --terrain t.tif --z-scale -1",
     ];
     for line in numeric {
         let out_dir = scratch("negative");
@@ -385,7 +419,7 @@ fn negative_numbers_are_values_of_every_numeric_option() {
         args.extend(
             ["-o".into(), out_dir.join("x.png").to_str().unwrap().into()]
                 .into_iter()
-                .filter(|_| !line.starts_with("bench") && !line.starts_with("view")),
+                .filter(|_| !["bench", "view", "compare"].iter().any(|c| line.starts_with(c))),
         );
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let out = relief(&args);

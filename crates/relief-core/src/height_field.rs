@@ -246,12 +246,18 @@ impl HeightField {
                 samples.len()
             )));
         }
-        if let Some(i) = samples.iter().position(|v| !v.is_finite()) {
-            let (col, row) = (i % self.width, i / self.width);
-            return Err(CoreError::NonFiniteSample { col, row, value: samples[i] });
+        let range = finite_range(&samples);
+        if range.is_none() {
+            if let Some(i) = samples.iter().position(|v| !v.is_finite()) {
+                let (col, row) = (i % self.width, i / self.width);
+                return Err(CoreError::NonFiniteSample { col, row, value: samples[i] });
+            }
         }
         std::mem::swap(&mut self.samples, &mut samples);
-        self.update_range();
+        match (range, &self.holes) {
+            (Some((min, max)), None) => (self.min, self.max) = (min, max),
+            _ => self.update_range(),
+        }
         Ok(samples)
     }
 
@@ -335,6 +341,39 @@ impl HeightField {
     }
 }
 
+/// The smallest and largest of `samples`, or `None` when one is not finite (or there are
+/// none): one pass in lanes the compiler vectorises, as a simulation rewrites a whole field
+/// every step.
+fn finite_range(samples: &[f32]) -> Option<(f32, f32)> {
+    const LANES: usize = 16;
+    const EXPONENT: u32 = 0x7f80_0000;
+    let mut lo = [f32::INFINITY; LANES];
+    let mut hi = [f32::NEG_INFINITY; LANES];
+    let mut non_finite = [0u32; LANES];
+    let chunks = samples.chunks_exact(LANES);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for k in 0..LANES {
+            let v = chunk[k];
+            non_finite[k] |= u32::from(v.to_bits() & EXPONENT == EXPONENT);
+            lo[k] = if v < lo[k] { v } else { lo[k] };
+            hi[k] = if v > hi[k] { v } else { hi[k] };
+        }
+    }
+    let mut bad = non_finite.iter().any(|&b| b != 0);
+    let (mut min, mut max) = (f32::INFINITY, f32::NEG_INFINITY);
+    for k in 0..LANES {
+        min = min.min(lo[k]);
+        max = max.max(hi[k]);
+    }
+    for &v in rest {
+        bad |= !v.is_finite();
+        min = min.min(v);
+        max = max.max(v);
+    }
+    (!bad && min <= max).then_some((min, max))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -358,6 +397,23 @@ mod tests {
         assert!(f.replace_samples(vec![0.0; 5]).is_err());
         assert!(f.replace_samples(vec![f32::INFINITY; 6]).is_err());
         assert_eq!(f.samples(), &[-2.0; 6]);
+    }
+
+    #[test]
+    fn replace_samples_ranges_like_new_in_every_lane() {
+        let g = GridGeometry::unit();
+        let values: Vec<f32> = (0..37).map(|i| ((i * 7919) % 101) as f32 - 50.0).collect();
+        let mut f = HeightField::new(37, 1, vec![0.0; 37], g).unwrap();
+        f.replace_samples(values.clone()).unwrap();
+        let fresh = HeightField::new(37, 1, values.clone(), g).unwrap();
+        assert_eq!((f.min_sample(), f.max_sample()), (fresh.min_sample(), fresh.max_sample()));
+        // A non-finite value in a lane, in the remainder, or an infinity is refused by place.
+        for (i, bad) in [(5, f32::NAN), (35, f32::NAN), (16, f32::NEG_INFINITY)] {
+            let mut v = values.clone();
+            v[i] = bad;
+            let err = f.replace_samples(v).unwrap_err();
+            assert!(matches!(err, CoreError::NonFiniteSample { col, row: 0, .. } if col == i));
+        }
     }
 
     #[test]

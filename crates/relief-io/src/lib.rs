@@ -102,7 +102,7 @@ pub use mlhm_scene::{
     write_mlhm_scene, MlhmScene, MlhmSceneHeader, SimulationState, F16_SLACK, F32_SLACK,
 };
 pub use npy_raster::read_npy;
-pub use npy_read::read_npy_height_field;
+pub use npy_read::{read_npy_f32_array, read_npy_height_field};
 pub use npy_write::{write_height_field_npy, write_npy_f32};
 pub use npz::read_npz;
 pub use png_height::{read_png_height, write_png16_height};

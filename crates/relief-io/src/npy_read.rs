@@ -31,6 +31,19 @@ pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
         .into_height_field(path, VoidPolicy::Fill)
 }
 
+/// Reads the 2D `.npy` array at `path` as f32 values, row-major, without judging them:
+/// how a depth image (`+inf` where a ray missed) is read back. Returns (rows, columns,
+/// values). The elements and errors are those of [`read_npy`](crate::read_npy), except that
+/// no value is refused.
+pub fn read_npy_f32_array(
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<(usize, usize, Vec<f32>), IoError> {
+    let (file, len) = crate::input_file::open_input(path)?;
+    let array = read_npy_array_from(std::io::BufReader::new(file), len, path, options)?;
+    Ok((array.rows, array.cols, array.samples))
+}
+
 /// A 2D array decoded to f32, row-major whatever the file's memory order.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct NpyArray {
@@ -172,6 +185,18 @@ mod tests {
     use super::*;
     use crate::test_dir::TestDir;
     use relief_core::GridGeometry;
+
+    #[test]
+    fn f32_arrays_keep_infinities() {
+        let dir = TestDir::new("npy-f32-array");
+        let path = dir.path().join("depth.npy");
+        let depth = [1.5, f32::INFINITY, 0.0, 7.25, f32::INFINITY, 2.0];
+        crate::write_npy_f32(&path, &[2, 3], &depth).unwrap();
+        let (rows, cols, values) = read_npy_f32_array(&path, &ReadOptions::default()).unwrap();
+        assert_eq!((rows, cols, values.as_slice()), (2, 3, &depth[..]));
+        // The height-field reader refuses the same file.
+        assert!(read_npy_height_field(&path).is_err());
+    }
 
     /// A version 1.0 `.npy` file with the given header fields and raw data.
     fn npy(descr: &str, fortran: bool, shape: &str, data: &[u8]) -> Vec<u8> {

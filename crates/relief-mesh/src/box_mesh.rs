@@ -139,7 +139,7 @@ impl BoxMesher<'_> {
                         let b = self.vertex([col + 1, row], z);
                         let c = self.vertex([col + 1, row + 1], z);
                         let d = self.vertex([col, row + 1], z);
-                        self.mesh.quad(a, b, c, d);
+                        self.mesh.quad(d, c, b, a);
                     }
                 }
             }

@@ -24,7 +24,9 @@ use relief_core::{DVec3, HeightField, SampleRegion, Surface};
 ///   texel), walls under the grid's outer texel edges and around holes, and the bottom.
 ///
 /// Walls and bottom reach the field's lowest sample, as the tracers have them. Adjacent
-/// regions' meshes join without cracks. Fails when the region reaches outside the grid.
+/// regions' meshes join without cracks. Every triangle is wound counter-clockwise seen from
+/// outside the solid, so a camera outside it may draw with [`crate::Culling::BackFaces`].
+/// Fails when the region reaches outside the grid.
 ///
 /// ```
 /// use relief_core::{GridGeometry, HeightField, SampleRegion, Surface};
@@ -109,18 +111,24 @@ fn triangle_mesh(field: &HeightField, region: SampleRegion) -> IndexedMesh {
     let at = |col: usize, row: usize, z: f64| {
         geometry.point_to_world(DVec3::new(col as f64 + 0.5, row as f64 + 0.5, z))
     };
-    // The region's samples on top, then their feet at the lowest sample (the same vertex when
-    // a sample is the lowest).
+    // The region's samples on top; their feet at the lowest sample are made when a wall or
+    // the bottom needs them (the sample itself when it is the lowest).
     let mut top = vec![0u32; rw * rh];
-    let mut foot = vec![0u32; rw * rh];
+    let mut feet = vec![u32::MAX; rw * rh];
     for row in region.row0..region.row1 {
         for col in region.col0..region.col1 {
             let k = (col - region.col0) + (row - region.row0) * rw;
-            let z = field.sample(col, row) as f64;
-            top[k] = mesh.vertex(at(col, row, z));
-            foot[k] = if z == z_min { top[k] } else { mesh.vertex(at(col, row, z_min)) };
+            top[k] = mesh.vertex(at(col, row, field.sample(col, row) as f64));
         }
     }
+    let mut foot = |mesh: &mut MeshBuilder, k: usize| {
+        if feet[k] == u32::MAX {
+            let (col, row) = (region.col0 + k % rw, region.row0 + k / rw);
+            let z = field.sample(col, row) as f64;
+            feet[k] = if z == z_min { top[k] } else { mesh.vertex(at(col, row, z_min)) };
+        }
+        feet[k]
+    };
     let local = |col: usize, row: usize| (col - region.col0) + (row - region.row0) * rw;
     let empty = |cx: usize, cy: usize| {
         field.is_hole(cx, cy)
@@ -157,18 +165,13 @@ fn triangle_mesh(field: &HeightField, region: SampleRegion) -> IndexedMesh {
                     || ny >= cells_y as isize
                     || empty(nx as usize, ny as usize)
             };
-            let mut wall = |p: usize, q: usize| mesh.quad(top[p], top[q], foot[q], foot[p]);
-            if open(0, -1) {
-                wall(v00, v10);
-            }
-            if open(1, 0) {
-                wall(v10, v11);
-            }
-            if open(0, 1) {
-                wall(v11, v01);
-            }
-            if open(-1, 0) {
-                wall(v01, v00);
+            for (side, p, q) in
+                [((0, -1), v00, v10), ((1, 0), v10, v11), ((0, 1), v11, v01), ((-1, 0), v01, v00)]
+            {
+                if open(side.0, side.1) {
+                    let (fp, fq) = (foot(&mut mesh, p), foot(&mut mesh, q));
+                    mesh.quad(top[q], top[p], fp, fq);
+                }
             }
         }
     }
@@ -179,8 +182,10 @@ fn triangle_mesh(field: &HeightField, region: SampleRegion) -> IndexedMesh {
         for cy in cy0..cy1 {
             for cx in cx0..cx1 {
                 if !empty(cx, cy) {
-                    let f = |col, row| foot[local(col, row)];
-                    mesh.quad(f(cx, cy), f(cx + 1, cy), f(cx + 1, cy + 1), f(cx, cy + 1));
+                    let mut f = |col, row| foot(&mut mesh, local(col, row));
+                    let (a, b) = (f(cx, cy), f(cx + 1, cy));
+                    let (c, d) = (f(cx + 1, cy + 1), f(cx, cy + 1));
+                    mesh.quad(d, c, b, a);
                 }
             }
         }
@@ -196,9 +201,10 @@ fn triangle_mesh(field: &HeightField, region: SampleRegion) -> IndexedMesh {
         ring.extend((cy0..cy1).map(|cy| (cx1, cy)));
         ring.extend((cx0 + 1..=cx1).rev().map(|cx| (cx, cy1)));
         ring.extend((cy0 + 1..=cy1).rev().map(|cy| (cx0, cy)));
+        let ring: Vec<u32> =
+            ring.into_iter().map(|(cx, cy)| foot(&mut mesh, local(cx, cy))).collect();
         for k in 0..ring.len() {
-            let (p, q) = (ring[k], ring[(k + 1) % ring.len()]);
-            mesh.triangle(centre, foot[local(q.0, q.1)], foot[local(p.0, p.1)]);
+            mesh.triangle(centre, ring[(k + 1) % ring.len()], ring[k]);
         }
     }
     mesh.finish()

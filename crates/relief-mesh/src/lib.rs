@@ -26,4 +26,4 @@ pub use error::MeshError;
 pub use height_field_mesh::height_field_mesh;
 pub use indexed_mesh::{IndexedMesh, MeshHit};
 pub use raster_target::RasterTarget;
-pub use rasterizer::{DrawStats, Rasterizer};
+pub use rasterizer::{Culling, DrawStats, Rasterizer};

@@ -32,6 +32,20 @@ const BIN_CHUNK: usize = 16 * 1024;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Rasterizer {
     tile_size: usize,
+    culling: Culling,
+}
+
+/// Which triangles a [`Rasterizer`] skips by their facing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Culling {
+    /// Draw both windings (the default).
+    #[default]
+    None,
+    /// Skip triangles whose normal `(p1 - p0) x (p2 - p0)` does not face the camera's rays
+    /// (counter-clockwise seen from the camera is the front). For closed, outward-oriented
+    /// meshes such as [`crate::height_field_mesh`]'s, seen from outside, the image is the same
+    /// and about half the triangles are skipped.
+    BackFaces,
 }
 
 /// What one draw call did.
@@ -55,7 +69,7 @@ struct BinEntry {
 
 impl Default for Rasterizer {
     fn default() -> Self {
-        Rasterizer { tile_size: 64 }
+        Rasterizer { tile_size: 64, culling: Culling::None }
     }
 }
 
@@ -73,7 +87,17 @@ impl Rasterizer {
                 reason: format!("{tile_size} is outside 8..=256 pixels"),
             });
         }
-        Ok(Rasterizer { tile_size: tile_size as usize })
+        Ok(Rasterizer { tile_size: tile_size as usize, ..Self::default() })
+    }
+
+    /// The same rasterizer with `culling`.
+    pub fn with_culling(self, culling: Culling) -> Self {
+        Rasterizer { culling, ..self }
+    }
+
+    /// Which triangles are skipped by their facing.
+    pub fn culling(&self) -> Culling {
+        self.culling
     }
 
     /// The side of a screen tile in pixels.
@@ -156,7 +180,8 @@ impl Rasterizer {
     }
 
     /// Projects, bins and scans `mesh`, each tile into a sink made by `make_sink(tile pixel
-    /// origin, tile width, tile height)`; returns every tile's origin and sink.
+    /// origin, tile width, tile height)`; returns the origin and sink of every tile some
+    /// triangle reached (the others are left as they are).
     fn rasterize<S: TileSink>(
         &self,
         camera: &Camera,
@@ -169,6 +194,8 @@ impl Rasterizer {
         let projected: Vec<[f64; 3]> =
             mesh.positions().par_iter().map(|&p| projection.project(p)).collect();
         let triangles = mesh.triangles();
+        let positions = mesh.positions();
+        let cull = self.culling == Culling::BackFaces;
         let corners = |tri: &[u32; 3]| tri.map(|v| projected[v as usize]);
 
         // Binning: every chunk of triangles fills its own bins, in triangle order.
@@ -179,20 +206,39 @@ impl Rasterizer {
                 let mut bins: Vec<Vec<BinEntry>> = vec![Vec::new(); tiles_x * tiles_y];
                 let mut count = 0;
                 for (k, tri) in tris.iter().enumerate() {
-                    let Some([x0, y0, x1, y1]) = projection.pixel_bounds(&corners(tri)) else {
+                    let projected = corners(tri);
+                    let Some([x0, y0, x1, y1]) = projection.pixel_bounds(&projected) else {
                         continue;
+                    };
+                    let world = tri.map(|v| positions[v as usize]);
+                    let (tx0, ty0, tx1, ty1) = (x0 / size, y0 / size, x1 / size, y1 / size);
+                    // Culled triangles are skipped here; one spanning several tiles is set up
+                    // now to skip the tiles its edges exclude.
+                    let setup = if cull || tx0 != tx1 || ty0 != ty1 {
+                        match TriangleSetup::new(&projection, &projected, &world, cull) {
+                            Some(setup) => Some(setup),
+                            None => continue,
+                        }
+                    } else {
+                        None
                     };
                     count += 1;
                     let triangle = (chunk * BIN_CHUNK + k) as u32;
-                    for ty in y0 / size..=y1 / size {
-                        for tx in x0 / size..=x1 / size {
+                    for ty in ty0..=ty1 {
+                        for tx in tx0..=tx1 {
                             let (ox, oy) = (tx * size, ty * size);
                             let rect = [
-                                (x0.max(ox) - ox) as u8,
-                                (y0.max(oy) - oy) as u8,
-                                (x1.min(ox + size - 1) - ox) as u8,
-                                (y1.min(oy + size - 1) - oy) as u8,
+                                x0.max(ox),
+                                y0.max(oy),
+                                x1.min(ox + size - 1),
+                                y1.min(oy + size - 1),
                             ];
+                            let spans_tiles = tx0 != tx1 || ty0 != ty1;
+                            if spans_tiles && setup.is_some_and(|s| s.misses_rect(rect)) {
+                                continue;
+                            }
+                            let [a, b, c, d] = rect;
+                            let rect = [a - ox, b - oy, c - ox, d - oy].map(|v| v as u8);
                             bins[tx + ty * tiles_x].push(BinEntry { triangle, rect });
                         }
                     }
@@ -204,8 +250,10 @@ impl Rasterizer {
         let bins: Vec<Vec<Vec<BinEntry>>> = binned.into_iter().map(|(bins, _)| bins).collect();
 
         // Scanning: one worker per tile, triangles in id order.
-        let positions = mesh.positions();
-        let results: Vec<(([usize; 2], S), usize, usize)> = (0..tiles_x * tiles_y)
+        let busy: Vec<usize> = (0..tiles_x * tiles_y)
+            .filter(|&tile| bins.iter().any(|chunk| !chunk[tile].is_empty()))
+            .collect();
+        let results: Vec<(([usize; 2], S), usize, usize)> = busy
             .into_par_iter()
             .map(|tile| {
                 let (ox, oy) = ((tile % tiles_x) * size, (tile / tiles_x) * size);
@@ -216,7 +264,8 @@ impl Rasterizer {
                     entries += 1;
                     let tri = &triangles[entry.triangle as usize];
                     let world = tri.map(|v| positions[v as usize]);
-                    let Some(setup) = TriangleSetup::new(&projection, &corners(tri), &world) else {
+                    let Some(setup) = TriangleSetup::new(&projection, &corners(tri), &world, false)
+                    else {
                         continue;
                     };
                     let [x0, y0, x1, y1] = entry.rect.map(|c| c as usize);

@@ -105,17 +105,40 @@ impl ScreenProjection {
             }
         }
         // Pixel i's centre is i + 0.5; widen a little for the rounding of the projection.
-        let first = |l: f64| (l - 0.5 - 1e-7 * (1.0 + l.abs())).ceil();
-        let last = |h: f64| (h - 0.5 + 1e-7 * (1.0 + h.abs())).floor();
         let (w, h) = (self.width as f64, self.height as f64);
-        let x0 = first(lo[0]).max(0.0);
-        let y0 = first(lo[1]).max(0.0);
-        let x1 = last(hi[0]).min(w - 1.0);
-        let y1 = last(hi[1]).min(h - 1.0);
+        let first = |l: f64, n: f64| ceil((l - 0.5 - 1e-7 * (1.0 + l.abs())).clamp(-1.0, n));
+        let last = |h: f64, n: f64| floor((h - 0.5 + 1e-7 * (1.0 + h.abs())).clamp(-1.0, n));
+        let x0 = first(lo[0], w).max(0.0);
+        let y0 = first(lo[1], h).max(0.0);
+        let x1 = last(hi[0], w).min(w - 1.0);
+        let y1 = last(hi[1], h).min(h - 1.0);
         if !(x0 <= x1 && y0 <= y1) {
             return None;
         }
         Some([x0 as usize, y0 as usize, x1 as usize, y1 as usize])
+    }
+}
+
+/// `x.floor()` for a small finite `x`, without a library call (x86-64 has no rounding
+/// instruction before SSE 4.1).
+#[inline(always)]
+fn floor(x: f64) -> f64 {
+    let t = x as i64 as f64;
+    if t > x {
+        t - 1.0
+    } else {
+        t
+    }
+}
+
+/// `x.ceil()` for a small finite `x` (see [`floor`]).
+#[inline(always)]
+fn ceil(x: f64) -> f64 {
+    let t = x as i64 as f64;
+    if t < x {
+        t + 1.0
+    } else {
+        t
     }
 }
 
@@ -142,12 +165,25 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 impl TriangleSetup {
     /// Sets up the triangle with projected corners `v` and world corners `p`; `None` when it
     /// is degenerate on screen (zero area, or its plane through a pinhole's eye).
+    ///
+    /// With `cull_back_faces`, a triangle whose normal `(p1 - p0) x (p2 - p0)` does not face
+    /// the camera's rays (counter-clockwise is the front, seen from outside) is `None` too.
     #[inline]
     pub(crate) fn new(
         projection: &ScreenProjection,
         v: &[[f64; 3]; 3],
         p: &[DVec3; 3],
+        cull_back_faces: bool,
     ) -> Option<Self> {
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        let numerator = n.dot(p[0] - projection.eye);
+        let n_forward = n.dot(projection.forward);
+        if cull_back_faces {
+            let facing = if projection.perspective { numerator } else { n_forward };
+            if facing.is_nan() || facing >= 0.0 {
+                return None;
+            }
+        }
         let homogeneous = |k: usize| {
             if projection.perspective {
                 v[k]
@@ -166,14 +202,30 @@ impl TriangleSetup {
             edges = edges.map(|e| e.map(|c| -c));
         }
         let top_left = edges.map(|e| e[0] > 0.0 || (e[0] == 0.0 && e[1] > 0.0));
-        let n = (p[1] - p[0]).cross(p[2] - p[0]);
         Some(TriangleSetup {
             edges,
             top_left,
-            numerator: n.dot(p[0] - projection.eye),
-            n_forward: n.dot(projection.forward),
+            numerator,
+            n_forward,
             n_right: n.dot(projection.right),
             n_up: n.dot(projection.up),
+        })
+    }
+
+    /// Whether no pixel centre of `[x0, x1] x [y0, y1]` can be covered: one edge function is
+    /// negative, by more than its rounding, at the rectangle's four corner centres (the
+    /// function is linear, so it is then negative on every centre between them).
+    pub(crate) fn misses_rect(&self, [x0, y0, x1, y1]: [usize; 4]) -> bool {
+        let xs = [x0 as f64 + 0.5, x1 as f64 + 0.5];
+        let ys = [y0 as f64 + 0.5, y1 as f64 + 0.5];
+        self.edges.iter().any(|e| {
+            xs.iter().all(|&px| {
+                ys.iter().all(|&py| {
+                    let value = e[0] * px + (e[1] * py + e[2]);
+                    let scale = e[0].abs() * px + e[1].abs() * py + e[2].abs();
+                    value < -1e-12 * scale
+                })
+            })
         })
     }
 
@@ -208,8 +260,9 @@ impl TriangleSetup {
             if empty || lo.is_nan() || hi.is_nan() || lo > hi {
                 continue;
             }
-            let i_start = ((lo.floor() - 1.0).max(x0 as f64)) as usize;
-            let i_end = ((hi.ceil() + 1.0).min(x1 as f64)) as usize;
+            // lo >= x0 - 1 and hi <= x1 + 1: truncation, one pixel wider, bounds them.
+            let i_start = ((lo as i64 - 2).max(x0 as i64)) as usize;
+            let i_end = ((hi as i64 + 2).min(x1 as i64)) as usize;
             let sy = projection.sy[j];
             let den_row = self.n_forward + sy * self.n_up;
             let ortho_row = self.numerator - sy * self.n_up;

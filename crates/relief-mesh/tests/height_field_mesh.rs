@@ -7,7 +7,7 @@ use proptest::prelude::*;
 use relief_core::{
     Camera, DVec2, DVec3, GridGeometry, HeightField, Projection, SampleRegion, Surface,
 };
-use relief_mesh::{height_field_mesh, RasterTarget, Rasterizer};
+use relief_mesh::{height_field_mesh, Culling, RasterTarget, Rasterizer};
 use relief_trace::{NaiveTracer, Tracer};
 use std::sync::Arc;
 
@@ -63,9 +63,15 @@ struct Comparison {
     mismatches: Vec<String>,
 }
 
-fn compare(field: HeightField, surface: Surface, seeds: &[usize], camera: &Camera) -> Comparison {
+fn compare(
+    field: HeightField,
+    surface: Surface,
+    seeds: &[usize],
+    camera: &Camera,
+    culling: Culling,
+) -> Comparison {
     let mut target = RasterTarget::for_camera(camera);
-    let rasterizer = Rasterizer::with_tile_size(16).unwrap();
+    let rasterizer = Rasterizer::with_tile_size(16).unwrap().with_culling(culling);
     let mut id = 0;
     for region in regions(&field, surface, seeds) {
         let mesh = height_field_mesh(&field, surface, region).unwrap();
@@ -141,10 +147,17 @@ proptest! {
         triangles in any::<bool>(),
         seeds in prop::collection::vec(0usize..16, 0..6),
         view in camera_strategy(),
+        cull in any::<bool>(),
     ) {
         let surface = if triangles { Surface::Triangles } else { Surface::Boxes };
         let Some(camera) = place(&field, surface, view) else { return Ok(()); };
-        let result = compare(field, surface, &seeds, &camera);
+        // Seen from outside the closed, outward-wound solid, culling back faces changes nothing.
+        let eye_inside = camera.fov_deg().is_some()
+            && NaiveTracer::new(Arc::new(field.clone()), surface)
+                .intersect(&camera.ray(0, 0))
+                .is_some_and(|h| h.t == 0.0);
+        let culling = if cull && !eye_inside { Culling::BackFaces } else { Culling::None };
+        let result = compare(field, surface, &seeds, &camera, culling);
         prop_assert!(result.mismatches.len() * 100 <= result.compared,
             "{} of {} pixels differ: {:?}", result.mismatches.len(), result.compared, result.mismatches);
         let total = TOTALS.fetch_add(result.compared, std::sync::atomic::Ordering::Relaxed) + result.compared;

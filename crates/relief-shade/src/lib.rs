@@ -10,6 +10,9 @@
 //! [`shade_map()`] makes the rasters GIS users overlay on their DEM: cast shadows, the sky-view
 //! factor and the hillshade at every sample, aligned with the height field.
 //!
+//! [`depth_metrics()`] compares a depth image with a reference one as the hybrid-rendering paper
+//! does (PSNR, wrong pixels, relative error).
+//!
 //! Multi-layered height maps have their own renderer in [`mlhm`]: the reference shading of
 //! Nilles & Müller (2025) with water, shadows and ambient occlusion, at four quality presets.
 //!
@@ -37,6 +40,7 @@
 mod albedo;
 mod colour_ramp;
 mod deferred;
+mod depth_metrics;
 mod error;
 mod gbuffer;
 mod hybrid;
@@ -54,6 +58,7 @@ mod tonemap;
 pub use albedo::Albedo;
 pub use colour_ramp::{hypsometric_colour, HypsometricRamp};
 pub use deferred::{shade, shade_to_srgb8, ShadingParams};
+pub use depth_metrics::{depth_errors, depth_metrics, DepthImage, DepthMetrics, DepthScale};
 pub use error::ShadeError;
 pub use gbuffer::{GBuffer, GBufferPixel};
 pub use hybrid::{FarField, HybridRenderer, HybridStats, PixelSource};

@@ -7,18 +7,24 @@
 //! - [`carved_scene`]: MLHM scenes of the same extent with arches, a cave, a chasm and
 //!   overhanging cliffs carved explicitly ([`CarvedScene`]), for tests and benchmarks;
 //! - [`erosion`]: the reference simulator's layered hydraulic erosion ([`ErosionState`],
-//!   [`ErosionParams`]), parallel and deterministic.
+//!   [`ErosionParams`]), parallel and deterministic;
+//! - [`dynamic`]: dynamic height fields: brushes that [`stamp`] the terrain, the ocean
+//!   [`WaveSimulation`] and the [`HeightFieldErosion`], errors in [`SimError`].
 #![deny(missing_docs)]
 
 mod carved_scenes;
+pub mod dynamic;
 pub mod erosion;
+mod error;
 mod fbm_params;
 mod fbm_terrain;
 mod gradient_noise;
 mod rivers_rain;
 
 pub use carved_scenes::{carved_scene, CarvedScene, CARVED_EXTENT};
+pub use dynamic::{stamp, Brush, BrushKind, HeightFieldErosion, WaveParams, WaveSimulation};
 pub use erosion::{ErosionError, ErosionParams, ErosionState, SimulationPlanes, StepVolumes};
+pub use error::SimError;
 pub use fbm_params::{FbmParams, MAX_OCTAVES};
 pub use fbm_terrain::fbm_terrain;
 pub use rivers_rain::{rivers_rain, RIVERS_RAIN_EXTENT, RIVERS_RAIN_SEED};

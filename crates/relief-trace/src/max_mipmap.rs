@@ -82,7 +82,9 @@ impl MaxMipmap {
     /// Costs a few nodes per level for a small region.
     pub fn update(&mut self, grid: &CellGrid, samples: &[f32], region: SampleRegion) {
         let (cells_x, cells_y) = (grid.cells_x(), grid.cells_y());
-        if self.levels.len() < 2 || self.levels[0].nodes_x != cells_x {
+        if self.levels.len() < 2
+            || (self.levels[0].nodes_x, self.levels[0].nodes_y) != (cells_x, cells_y)
+        {
             return;
         }
         // The cells whose test reads a sample of the region.

@@ -34,8 +34,8 @@ impl MipmapTracer {
     pub fn new(field: Arc<HeightField>, surface: Surface) -> Self {
         let grid = CellGrid::new(&field, surface);
         let mipmap = MaxMipmap::build(&grid, field.samples());
-        let magnitude = field.min_sample().abs().max(field.max_sample().abs()) as f64;
-        MipmapTracer { field, grid, mipmap, slack: 1e-9 * (1.0 + magnitude), simd: Simd::detect() }
+        let slack = slack_for(&field);
+        MipmapTracer { field, grid, mipmap, slack, simd: Simd::detect() }
     }
 
     /// The same tracer with the packets' node tests on `simd` (by default the fastest this
@@ -74,12 +74,14 @@ impl MipmapTracer {
     /// `edit` changes the field's samples (with [`HeightField::edit_region`] or
     /// [`HeightField::replace_samples`]) and returns the region holding every sample it
     /// changed. The field is shared copy-on-write ([`Arc::make_mut`]): if another owner holds
-    /// it, the tracer edits its own copy (see [`MipmapTracer::field`]). When the field's value
-    /// range stayed the same, only the pyramid's nodes above the region are recomputed
-    /// ([`MaxMipmap::update`]); when it changed (the solid's walls now reach another bottom,
-    /// its bounds another top), when the closure replaced the field by one of another size,
-    /// geometry or hole mask, or when it failed, the tracer is rebuilt from its field. Either
-    /// way it then equals [`MipmapTracer::new`] over the edited field, bit for bit.
+    /// it, the tracer edits its own copy (see [`MipmapTracer::field`]). Only the pyramid's
+    /// nodes above the region are recomputed ([`MaxMipmap::update`]). When the field's value
+    /// range changed (the solid's walls now reach another bottom, its bounds another top), the
+    /// grid's bounds and the tests' slack are recomputed too, which costs nothing more without
+    /// holes (the pyramid does not depend on them: cells over holes hold minus infinity). When
+    /// the closure replaced the field by one of another size, geometry or hole mask, or when
+    /// it failed, the tracer is rebuilt from its field. Either way it then equals
+    /// [`MipmapTracer::new`] over the edited field, bit for bit.
     ///
     /// Returns the closure's result: the edited region, or its error.
     ///
@@ -101,8 +103,13 @@ impl MipmapTracer {
         let before = FieldShape::of(field);
         let result = edit(field);
         let field = &*self.field;
+        let after = FieldShape::of(field);
         match &result {
-            Ok(region) if FieldShape::of(field) == before => {
+            Ok(region) if after.layout == before.layout => {
+                if after.range != before.range {
+                    self.grid = CellGrid::new(field, self.grid.surface());
+                    self.slack = slack_for(field);
+                }
                 self.mipmap.update(&self.grid, field.samples(), *region)
             }
             _ => self.rebuild(),
@@ -117,30 +124,33 @@ impl MipmapTracer {
     }
 }
 
-/// What an edit of the samples alone leaves unchanged: the size, the geometry, the hole mask
-/// (by address) and the value range. When it all stayed, the grid is still valid and only the
-/// pyramid's nodes above the edit change.
+/// What an edit of the samples may change and what not: the layout (size, geometry and hole
+/// mask, by address) stays, the value range (as bits) may move. While the layout stays, the
+/// pyramid changes only above the edit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct FieldShape {
-    width: usize,
-    height: usize,
-    geometry: relief_core::GridGeometry,
-    holes: Option<*const bool>,
-    min_bits: u32,
-    max_bits: u32,
+    layout: (usize, usize, relief_core::GridGeometry, Option<*const bool>),
+    range: (u32, u32),
 }
 
 impl FieldShape {
     fn of(field: &HeightField) -> Self {
         FieldShape {
-            width: field.width(),
-            height: field.height(),
-            geometry: *field.geometry(),
-            holes: field.holes().map(|h| h.as_ptr()),
-            min_bits: field.min_sample().to_bits(),
-            max_bits: field.max_sample().to_bits(),
+            layout: (
+                field.width(),
+                field.height(),
+                *field.geometry(),
+                field.holes().map(|h| h.as_ptr()),
+            ),
+            range: (field.min_sample().to_bits(), field.max_sample().to_bits()),
         }
     }
+}
+
+/// Slack of the conservative height tests for `field`, relative to its heights' magnitude.
+fn slack_for(field: &HeightField) -> f64 {
+    let magnitude = field.min_sample().abs().max(field.max_sample().abs()) as f64;
+    1e-9 * (1.0 + magnitude)
 }
 
 /// One horizontal axis of a ray in the pyramid's mirrored index space, where the ray runs

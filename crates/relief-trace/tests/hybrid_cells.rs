@@ -29,7 +29,7 @@ fn cells_holding(cells: &HybridCells, field: &HeightField, p: DVec3) -> Vec<usiz
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
     #[test]
     fn an_edit_then_an_update_equals_a_rebuild(

@@ -28,7 +28,7 @@ fn assert_like_rebuild(
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
     #[test]
     fn an_edit_then_a_trace_equals_a_rebuild_then_a_trace(

@@ -143,3 +143,26 @@ fn holes_are_no_surface_and_their_walls_are_met_from_the_side() {
     let l = lop_cast(&field, &cells, 0, &beside, LopSteps { linear: 4, binary: 0 }).unwrap();
     assert_eq!((l.t, l.normal), (7.0, DVec3::Z));
 }
+
+#[test]
+fn from_below_the_floor_the_bottom_is_hit_in_boxes_reaching_it() {
+    let field = Arc::new(smooth_field());
+    let floor = field.min_sample() as f64 * field.geometry().z_scale;
+    let ray = Ray::new(DVec3::new(10.0, 30.0, floor - 5.0), DVec3::new(0.1, 0.2, 1.0).normalize());
+    for surface in Surface::ALL {
+        let exact = NaiveTracer::new(field.clone(), surface).intersect(&ray).unwrap();
+        assert_eq!(exact.normal, -DVec3::Z);
+        let mut cells = HybridCells::new(&field, surface, 8).unwrap();
+        let steps = LopSteps { linear: 8, binary: 5 };
+        cells.set_floor_everywhere(true);
+        let l = nearest_lop_hit(&field, &cells, &ray, steps).unwrap();
+        assert!(
+            (l.t - exact.t).abs() < 1e-9 && l.normal == -DVec3::Z,
+            "{surface}: {l:?} vs {exact:?}"
+        );
+        // Tight boxes do not reach down there: the ray meets the solid only inside it.
+        cells.set_floor_everywhere(false);
+        let inner = nearest_lop_hit(&field, &cells, &ray, steps).unwrap();
+        assert!(inner.t > exact.t + 1.0, "{surface}: {inner:?}");
+    }
+}

@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 mod bench;
+mod compare;
 mod convert;
 mod generate;
 mod info;
@@ -29,6 +30,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::View(args) => view::run(&args),
         Command::Shade(args) => shade::run(&args),
         Command::Simulate(args) => simulate::run(&args),
+        Command::Compare(args) => compare::run(&args),
     }
 }
 

@@ -1,4 +1,5 @@
-//! `relief render`: trace, shade and write a picture (and optionally depth and normals).
+//! `relief render`: trace, shade and write a picture (and optionally depth and normals, and
+//! the stage timings with `--stats`).
 
 use super::{check_image, render_mlhm};
 use crate::args::RenderArgs;
@@ -8,19 +9,24 @@ use anyhow::Result;
 use relief_core::Camera;
 use relief_shade::{render_gbuffer, shade_to_srgb8, GBuffer};
 use relief_trace::Simd;
+use serde_json::{json, Value};
 use std::path::Path;
+use std::time::Instant;
 
 /// Runs `relief render`: an MLHM scene (`.json`) takes [`render_mlhm`], any other input the
 /// height-field path.
 pub fn run(args: &RenderArgs) -> Result<()> {
+    let started = Instant::now();
     check_outputs(args)?;
     let scene_args = &args.scene;
     let budget = memory::budget(scene_args.input.read.max_memory);
     check_image(scene_args.size.0, scene_args.size.1, &budget)?;
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
-        return render_mlhm::run(args, path);
+        return render_mlhm::run(args, path, started);
     }
     let scene = HeightFieldScene::open(scene_args)?;
+    let load_ms = outputs::ms_since(started);
+    let build_started = Instant::now();
     let (surface, choice, camera) = (scene.surface, &scene.choice, &scene.camera);
     let built = tracers::build(
         &scene.field,
@@ -38,16 +44,56 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         eprintln!("{}", built.note);
     }
     let tracer = built.tracer;
+    let build_ms = outputs::ms_since(build_started);
 
     let pixels = camera.width() as u64 * camera.height() as u64;
     let bar = progress::bar(pixels, "tracing");
-    let (gbuffer, _) = render_gbuffer(tracer.as_ref(), camera, &scene.bounds(), &|n| bar.inc(n))?;
+    let trace_started = Instant::now();
+    let (gbuffer, primary) =
+        render_gbuffer(tracer.as_ref(), camera, &scene.bounds(), &|n| bar.inc(n))?;
+    let trace_ms = outputs::ms_since(trace_started);
     bar.finish_and_clear();
-    let (rgb, _) = shade_to_srgb8(&gbuffer, tracer.as_ref(), camera, &scene.params)?;
+    let shade_started = Instant::now();
+    let (rgb, shadow) = shade_to_srgb8(&gbuffer, tracer.as_ref(), camera, &scene.params)?;
+    let shade_ms = outputs::ms_since(shade_started);
+    let write_started = Instant::now();
     write_outputs(args, camera, &gbuffer, rgb.as_flattened())?;
+    let write_ms = outputs::ms_since(write_started);
     let (w, h) = (camera.width(), camera.height());
     eprintln!("wrote {} ({w}x{h}, {surface} {choice} tracer)", args.output.display());
+    if let Some(path) = &args.stats {
+        let field = &scene.field;
+        let stats = json!({
+            "input": input_name(args),
+            "kind": "height field",
+            "terrain": [field.width(), field.height()],
+            "surface": surface.to_string(),
+            "tracer": choice.to_string(),
+            "width": w,
+            "height": h,
+            "threads": rayon::current_num_threads(),
+            "rays": primary.rays,
+            "hits": primary.hits,
+            "mean_steps": primary.mean_steps(),
+            "shadow_rays": shadow.rays,
+            "load_ms": load_ms,
+            "build_ms": build_ms,
+            "trace_ms": trace_ms,
+            "shade_ms": shade_ms,
+            "write_ms": write_ms,
+            "total_ms": outputs::ms_since(started),
+        });
+        outputs::write_stats(path, &stats)?;
+    }
     Ok(())
+}
+
+/// The input `relief render` drew, for `--stats`: its path, or the fBm terrain it generated.
+pub(super) fn input_name(args: &RenderArgs) -> Value {
+    match &args.scene.input.input {
+        Some(path) => json!(path.display().to_string()),
+        None => json!("fbm"),
+    }
 }
 
 /// Refuses, before any work, outputs whose format or folder is wrong, and two outputs (or an
@@ -62,6 +108,10 @@ fn check_outputs(args: &RenderArgs) -> Result<()> {
             outputs::check_npy(option, path)?;
             all.push((option, path.as_path()));
         }
+    }
+    if let Some(path) = &args.stats {
+        outputs::check_stats(path)?;
+        all.push(("--stats", path.as_path()));
     }
     let scene = &args.scene;
     let inputs: Vec<&Path> =

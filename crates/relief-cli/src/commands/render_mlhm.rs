@@ -2,33 +2,43 @@
 //! multi-layered height map scene, shaded as the MLHM paper does (Nilles & Müller 2025,
 //! sections 4.6 and 5) at a quality preset.
 
-use super::render::write_outputs;
+use super::render::{input_name, write_outputs};
 use crate::args::{MlhmRenderMode, RenderArgs};
-use crate::progress;
 use crate::scene::mlhm::{LayeredScene, MlhmTracerChoice};
+use crate::{outputs, progress};
 use anyhow::Result;
 use relief_core::Precision;
 use relief_shade::mlhm::render_mlhm;
 use relief_shade::tonemap_reinhard_to_rgb8;
+use serde_json::json;
 use std::path::Path;
 use std::time::Instant;
 
-/// Renders the MLHM scene at `path` as `args` say (outputs and image size already checked).
-pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
+/// Renders the MLHM scene at `path` as `args` say (outputs and image size already checked;
+/// the command `started` then, for `--stats`).
+///
+/// The renderer traces and shades each pixel in one pass: `--stats` puts that pass in
+/// `trace_ms` and the tone mapping in `shade_ms`.
+pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
     let scene = LayeredScene::open(&args.scene, path)?;
+    let load_ms = outputs::ms_since(started);
     let (mode, choice, shading, camera) = (scene.mode, scene.choice, &scene.shading, &scene.camera);
-    let started = Instant::now();
+    let build_started = Instant::now();
     let tracer = scene.tracer(mode, choice, shading.quality.central_differences)?;
-    let build_ms = started.elapsed().as_secs_f64() * 1e3;
+    let build_ms = build_started.elapsed().as_secs_f64() * 1e3;
 
     let (w, h) = (camera.width(), camera.height());
     let bar = progress::bar(w as u64 * h as u64, "rendering");
-    let started = Instant::now();
+    let render_started = Instant::now();
     let image = render_mlhm(tracer.as_ref(), camera, shading, &|n| bar.inc(n))?;
-    let render_ms = started.elapsed().as_secs_f64() * 1e3;
+    let render_ms = render_started.elapsed().as_secs_f64() * 1e3;
     bar.finish_and_clear();
+    let tonemap_started = Instant::now();
     let rgb = tonemap_reinhard_to_rgb8(&image.radiance, shading.exposure)?;
+    let shade_ms = outputs::ms_since(tonemap_started);
+    let write_started = Instant::now();
     write_outputs(args, camera, &image.gbuffer, &rgb)?;
+    let write_ms = outputs::ms_since(write_started);
     let how = match choice {
         MlhmTracerChoice::Naive if mode == MlhmRenderMode::Smooth => {
             "marching without the hierarchy".to_string()
@@ -59,5 +69,34 @@ pub fn run(args: &RenderArgs, path: &Path) -> Result<()> {
         scene.map.height(),
         scene.preset
     );
+    if let Some(path) = &args.stats {
+        let primary = &image.counts.primary;
+        let stats = json!({
+            "input": input_name(args),
+            "kind": "mlhm",
+            "terrain": [scene.map.width(), scene.map.height()],
+            "surface": match mode {
+                MlhmRenderMode::Boxes => "boxes",
+                MlhmRenderMode::Smooth => "smooth",
+            },
+            "tracer": how,
+            "preset": scene.preset.to_string(),
+            "width": w,
+            "height": h,
+            "threads": rayon::current_num_threads(),
+            "rays": image.counts.rays(),
+            "primary_rays": primary.rays,
+            "hits": primary.hits,
+            "mean_steps": steps,
+            "load_ms": load_ms,
+            "build_ms": build_ms,
+            "trace_ms": render_ms,
+            "shade_ms": shade_ms,
+            "write_ms": write_ms,
+            "total_ms": outputs::ms_since(started),
+            "shading_in_trace": true,
+        });
+        outputs::write_stats(path, &stats)?;
+    }
     Ok(())
 }

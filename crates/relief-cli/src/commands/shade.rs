@@ -3,7 +3,7 @@
 
 use crate::args::{ShadeArgs, Voids};
 use crate::{applies, input, memory, outputs, progress};
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use relief_io::{Layer, LayerRaster, RasterInfo, VoidPolicy};
 use relief_shade::shade_map::{shade_map, ShadeMap, ShadeMapParams, SunPosition};
 use relief_trace::{build_tracer, TracerKind};
@@ -97,9 +97,7 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
             "trace_ms": trace_ms,
             "write_ms": write_ms,
         });
-        let text = serde_json::to_string_pretty(&stats).context("writing the stats")?;
-        std::fs::write(path, text + "\n")
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        outputs::write_stats(path, &stats)?;
     }
     Ok(())
 }
@@ -124,10 +122,7 @@ fn check_outputs(args: &ShadeArgs) -> Result<ShadeOutput> {
     }
     let mut all = vec![("-o", output.as_path())];
     if let Some(stats) = &args.stats {
-        outputs::check_writable(stats)?;
-        if applies::extension(stats).as_deref() != Some("json") {
-            bail!("--stats {}: the timings are written as .json", stats.display());
-        }
+        outputs::check_stats(stats)?;
         all.push(("--stats", stats.as_path()));
     }
     outputs::check_distinct(&all, &[&args.input])?;

@@ -5,7 +5,7 @@
 use super::generate::write_mlhm;
 use super::simulate_frames::{self, Frames};
 use crate::args::{ReadArgs, SimulateArgs};
-use crate::{applies, input, memory, outputs, progress};
+use crate::{input, memory, outputs, progress};
 use anyhow::{bail, Context, Result};
 use relief_io::{MlhmScene, SimulationState};
 use relief_sim::erosion::{ErosionParams, ErosionState, SimulationPlanes, StepVolumes};
@@ -102,9 +102,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         if let (Some(frames), Some(map)) = (&frames, stats.as_object_mut()) {
             map.extend(frames.stats().into_iter().map(|(k, v)| (k.to_string(), v)));
         }
-        let text = serde_json::to_string_pretty(&stats).context("writing the stats")?;
-        std::fs::write(path, text + "\n")
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        outputs::write_stats(path, &stats)?;
     }
     Ok(())
 }
@@ -128,10 +126,7 @@ fn check_files(args: &SimulateArgs) -> Result<()> {
     outputs::check_writable(&args.output)?;
     let mut all = vec![("-o", args.output.as_path())];
     if let Some(stats) = &args.stats {
-        outputs::check_writable(stats)?;
-        if applies::extension(stats).as_deref() != Some("json") {
-            bail!("--stats {}: the statistics are written as .json", stats.display());
-        }
+        outputs::check_stats(stats)?;
         all.push(("--stats", stats.as_path()));
     }
     outputs::check_distinct(&all, &[&args.input])

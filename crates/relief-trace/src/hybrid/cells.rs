@@ -63,11 +63,11 @@ impl CellBounds {
 ///   two neighbouring texels share a cell).
 ///
 /// The boxes hold the solid's boundary, not its interior: a ray that starts inside the solid
-/// (an eye under the terrain) hits where it starts, in no box; a renderer tests the eye with an
-/// exact tracer. The solid's bottom face (at the lowest sample, facing down) is seen only from below that
-/// level: for such views ([`HybridCells::bottom_visible`]) let every box reach the floor with
-/// [`HybridCells::set_floor_everywhere`]. A cell whose samples are all holes has no surface
-/// ([`CellBounds::has_surface`]).
+/// (an eye under the terrain) hits where it starts, in no box; a renderer tests the eye with
+/// an exact tracer. The solid's bottom face (at the lowest sample, facing down) is seen only
+/// from below that level: for such views ([`HybridCells::bottom_visible`]) let every box
+/// reach the floor with [`HybridCells::set_floor_everywhere`]. A cell whose samples are all
+/// holes has no surface ([`CellBounds::has_surface`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct HybridCells {
     surface: Surface,
@@ -119,7 +119,8 @@ impl HybridCells {
     /// boxes with walls depend) after the samples there changed; every other cell is left
     /// alone. Afterwards the cells equal [`HybridCells::new`] over the edited field, bit for
     /// bit, provided `region` holds every changed sample and the field kept its size and
-    /// holes. A field of another size (or geometry) is measured from scratch.
+    /// holes. A field of another size is measured from scratch; a new geometry is taken as
+    /// it is (the boxes are placed in the world when asked for).
     pub fn update(&mut self, field: &HeightField, region: SampleRegion) {
         if (field.width(), field.height()) != (self.width, self.height) {
             if let Ok(fresh) = HybridCells::new(field, self.surface, self.n) {
@@ -344,6 +345,28 @@ mod tests {
     fn field(w: usize, h: usize) -> HeightField {
         let samples = (0..w * h).map(|k| ((k * 37) % 11) as f32).collect();
         HeightField::new(w, h, samples, GridGeometry::unit()).unwrap()
+    }
+
+    #[test]
+    fn views_from_below_the_floor_see_the_bottom_and_then_every_box_reaches_it() {
+        let mut samples = vec![5.0f32; 100];
+        samples[0] = 1.0;
+        let f = HeightField::new(10, 10, samples, GridGeometry::unit()).unwrap();
+        let mut cells = HybridCells::new(&f, Surface::Triangles, 4).unwrap();
+        let inner = cells.index(1, 1);
+        assert_eq!(cells.grid_box(inner).unwrap().min.z, 5.0);
+        let look = |eye: DVec3, projection| {
+            Camera::new(eye, DVec3::new(5.0, 5.0, 3.0), DVec3::Z, projection, 40, 30).unwrap()
+        };
+        let pinhole = Projection::Perspective { fov_deg: 60.0 };
+        assert!(!cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 1.0), pinhole)));
+        assert!(cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 0.99), pinhole)));
+        // An orthographic image 4 high, looking level: its lowest rays start 2 below the eye.
+        let parallel = Projection::Orthographic { height: 4.0 };
+        assert!(cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 2.9), parallel)));
+        assert!(!cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 3.0), parallel)));
+        cells.set_floor_everywhere(true);
+        assert_eq!(cells.grid_box(inner).unwrap().min.z, 1.0);
     }
 
     #[test]

@@ -23,13 +23,14 @@ pub fn box_entry(
 /// Casts `ray` (world space) into the proxy box of cell `index` with `steps`: approximate, as
 /// the paper's shader.
 ///
-/// The linear search tests `steps.linear + 1` evenly spaced points from the box's entry to its
-/// exit (both included) for the first one below or on the surface; the binary search then
-/// halves the interval between the last point above and that one `steps.binary` times, and
-/// the hit is the middle of the last interval. The surface's height at a point is the
-/// surface's own interpolation (the triangle under the point for `triangles`, the texel's value
-/// for `boxes`); holes and points off the grid have none. A ray already below the surface at
-/// the entry hits there (an outer wall, or the solid the ray started in).
+/// The linear search tests `steps.linear + 1` evenly spaced points (`linear` at least 1)
+/// from the box's entry to its exit (both included) for the first one below or on the
+/// surface; the binary search then halves the interval between the last point above and that
+/// one `steps.binary` times, and the hit is the middle of the last interval. The surface's
+/// height at a point is the surface's own interpolation (the triangle under the point for
+/// `triangles`, the texel's value for `boxes`); holes and points off the grid have none. A
+/// ray already below the surface at the entry hits there (an outer wall, or the solid the ray
+/// started in).
 ///
 /// The normal is that of the face met: the triangle's plane, a texel's top, or a side (a
 /// texel's side, or the wall of a hole or of the grid's edge) when the ray reached the cell
@@ -67,6 +68,8 @@ pub fn lop_cast(
             }
             BoxFace::X => side_normal(0, &g),
             BoxFace::Y => side_normal(1, &g),
+            // Through the top onto the surface, or from below through the solid's bottom.
+            BoxFace::Z if g.dir.z > 0.0 => -DVec3::Z,
             BoxFace::Z => surface.normal_at(p.x, p.y),
         };
         return Some(Hit { t, position: ray.at(t), normal: geometry.normal_to_world(normal) });
@@ -92,80 +95,95 @@ fn side_normal(axis: usize, g: &Ray) -> DVec3 {
     n
 }
 
-/// A surface of a height field sampled at grid-space points.
+/// A surface of a height field sampled at grid-space points, with what every lookup needs at
+/// hand.
 struct SampledSurface<'a> {
-    kind: relief_core::Surface,
-    field: &'a HeightField,
+    triangles: bool,
+    samples: &'a [f32],
+    holes: Option<&'a [bool]>,
+    /// Samples per row.
+    width: usize,
+    /// Surface cells along x and y (texels, or squares between four samples).
+    cells_x: usize,
+    cells_y: usize,
+    /// Grid-space offset of the cells: half a texel for triangles.
+    shift: f64,
 }
 
 impl<'a> SampledSurface<'a> {
     fn of(kind: relief_core::Surface, field: &'a HeightField) -> Self {
-        SampledSurface { kind, field }
+        let (w, h) = (field.width(), field.height());
+        let triangles = kind == relief_core::Surface::Triangles;
+        let (cells_x, cells_y, shift) = if triangles { (w - 1, h - 1, 0.5) } else { (w, h, 0.0) };
+        SampledSurface {
+            triangles,
+            samples: field.samples(),
+            holes: field.holes(),
+            width: w,
+            cells_x,
+            cells_y,
+            shift,
+        }
     }
 
     /// Cell-space offset of the surface's cells: texels for boxes, the squares between four
     /// samples (their corners at sample centres) for triangles.
+    #[inline(always)]
     fn shift(&self) -> f64 {
-        match self.kind {
-            relief_core::Surface::Boxes => 0.0,
-            relief_core::Surface::Triangles => 0.5,
-        }
+        self.shift
     }
 
     /// The surface cell under grid point (x, y), if it lies on the surface's footprint (its
     /// closed far edges belong to the last cells).
+    #[inline(always)]
     fn cell_at(&self, x: f64, y: f64) -> Option<(usize, usize)> {
-        let (cells_x, cells_y) = match self.kind {
-            relief_core::Surface::Boxes => (self.field.width(), self.field.height()),
-            relief_core::Surface::Triangles => (self.field.width() - 1, self.field.height() - 1),
-        };
-        let (u, v) = (x - self.shift(), y - self.shift());
+        let (u, v) = (x - self.shift, y - self.shift);
         let inside = |c: f64, n: usize| n > 0 && c >= 0.0 && c <= n as f64;
-        if !(inside(u, cells_x) && inside(v, cells_y)) {
+        if !(inside(u, self.cells_x) && inside(v, self.cells_y)) {
             return None;
         }
-        Some(((u as usize).min(cells_x - 1), (v as usize).min(cells_y - 1)))
+        Some(((u as usize).min(self.cells_x - 1), (v as usize).min(self.cells_y - 1)))
     }
 
     /// Whether surface cell (cx, cy) is over a hole.
+    #[inline(always)]
     fn is_hole(&self, cx: usize, cy: usize) -> bool {
-        let f = self.field;
-        match self.kind {
-            relief_core::Surface::Boxes => f.is_hole(cx, cy),
-            relief_core::Surface::Triangles => {
-                f.is_hole(cx, cy)
-                    || f.is_hole(cx + 1, cy)
-                    || f.is_hole(cx, cy + 1)
-                    || f.is_hole(cx + 1, cy + 1)
-            }
+        let Some(holes) = self.holes else { return false };
+        let i = cx + cy * self.width;
+        if self.triangles {
+            holes[i] || holes[i + 1] || holes[i + self.width] || holes[i + self.width + 1]
+        } else {
+            holes[i]
         }
     }
 
     /// The plane `z = z0 + pu u + pv v` (local coordinates of the cell) over point (u, v) of
     /// surface cell (cx, cy): the texel's flat top, or the triangle holding the point.
+    #[inline(always)]
     fn plane(&self, cx: usize, cy: usize, u: f64, v: f64) -> (f64, f64, f64) {
-        let f = self.field;
-        match self.kind {
-            relief_core::Surface::Boxes => (f.sample(cx, cy) as f64, 0.0, 0.0),
-            relief_core::Surface::Triangles => {
-                let (a, b) = (f.sample(cx, cy) as f64, f.sample(cx + 1, cy) as f64);
-                let (c, d) = (f.sample(cx, cy + 1) as f64, f.sample(cx + 1, cy + 1) as f64);
-                if a + d <= b + c {
-                    if u >= v {
-                        (a, b - a, d - b)
-                    } else {
-                        (a, d - c, c - a)
-                    }
-                } else if u + v <= 1.0 {
-                    (a, b - a, c - a)
-                } else {
-                    (b + c - d, d - c, d - b)
-                }
+        let i = cx + cy * self.width;
+        if !self.triangles {
+            return (self.samples[i] as f64, 0.0, 0.0);
+        }
+        let (lower, upper) =
+            (&self.samples[i..i + 2], &self.samples[i + self.width..i + self.width + 2]);
+        let (a, b) = (lower[0] as f64, lower[1] as f64);
+        let (c, d) = (upper[0] as f64, upper[1] as f64);
+        if a + d <= b + c {
+            if u >= v {
+                (a, b - a, d - b)
+            } else {
+                (a, d - c, c - a)
             }
+        } else if u + v <= 1.0 {
+            (a, b - a, c - a)
+        } else {
+            (b + c - d, d - c, d - b)
         }
     }
 
     /// The surface's height over grid point (x, y); `None` off the footprint or over a hole.
+    #[inline(always)]
     fn height(&self, x: f64, y: f64) -> Option<f64> {
         let (cx, cy) = self.cell_at(x, y)?;
         if self.is_hole(cx, cy) {
@@ -175,6 +193,7 @@ impl<'a> SampledSurface<'a> {
     }
 
     /// The height of surface cell (cx, cy)'s plane over grid point (x, y).
+    #[inline(always)]
     fn height_in(&self, cx: usize, cy: usize, x: f64, y: f64) -> f64 {
         let (u, v) = (x - self.shift() - cx as f64, y - self.shift() - cy as f64);
         let (z0, pu, pv) = self.plane(cx, cy, u, v);
