@@ -212,13 +212,22 @@ impl HeightField {
     ) -> Result<SampleRegion, CoreError> {
         let region = region.clamped(self.width, self.height);
         let mut values = Vec::with_capacity(region.len());
+        // The range of the valid samples before and after, over the region.
+        let (mut old_range, mut new_range) =
+            ((f32::INFINITY, f32::NEG_INFINITY), (f32::INFINITY, f32::NEG_INFINITY));
         for row in region.row0..region.row1 {
             for col in region.col0..region.col1 {
                 let old = self.sample(col, row);
-                let new = if self.is_hole(col, row) { old } else { edit(col, row, old) };
+                if self.is_hole(col, row) {
+                    values.push(old);
+                    continue;
+                }
+                let new = edit(col, row, old);
                 if !new.is_finite() {
                     return Err(CoreError::NonFiniteSample { col, row, value: new });
                 }
+                old_range = (old_range.0.min(old), old_range.1.max(old));
+                new_range = (new_range.0.min(new), new_range.1.max(new));
                 values.push(new);
             }
         }
@@ -228,7 +237,20 @@ impl HeightField {
             let end = region.col1 + row * self.width;
             self.samples[start..end].iter_mut().for_each(|v| *v = values.next().unwrap_or(*v));
         }
-        self.update_range();
+        if old_range.0 > self.min && old_range.1 < self.max {
+            // The range's ends lie outside the region: only the new values can move them.
+            let lowest = self.min;
+            self.min = self.min.min(new_range.0);
+            self.max = self.max.max(new_range.1);
+            if let Some(holes) = self.holes.as_ref().filter(|_| self.min != lowest) {
+                let min = self.min;
+                for (v, _) in self.samples.iter_mut().zip(holes).filter(|(_, &h)| h) {
+                    *v = min;
+                }
+            }
+        } else {
+            self.update_range();
+        }
         Ok(region)
     }
 
@@ -414,6 +436,29 @@ mod tests {
             let err = f.replace_samples(v).unwrap_err();
             assert!(matches!(err, CoreError::NonFiniteSample { col, row: 0, .. } if col == i));
         }
+    }
+
+    #[test]
+    fn an_edit_keeps_the_range_exact_inside_and_outside_the_region() {
+        let g = GridGeometry::unit();
+        let mut f = HeightField::new(4, 1, vec![0.0, 5.0, 2.0, 3.0], g).unwrap();
+        // Inside the range, away from its ends: no rescan needed.
+        f.edit_region(SampleRegion::new(2, 0, 3, 1), |_, _, _| 4.0).unwrap();
+        assert_eq!((f.min_sample(), f.max_sample()), (0.0, 5.0));
+        // Past an end.
+        f.edit_region(SampleRegion::new(3, 0, 4, 1), |_, _, _| -1.0).unwrap();
+        assert_eq!((f.min_sample(), f.max_sample()), (-1.0, 5.0));
+        // Lowering the sample that held the maximum: the range shrinks.
+        f.edit_region(SampleRegion::new(1, 0, 2, 1), |_, _, _| 1.0).unwrap();
+        assert_eq!((f.min_sample(), f.max_sample()), (-1.0, 4.0));
+        // With a hole: it keeps the lowest valid value.
+        let mut f = HeightField::new(3, 1, vec![1.0, 2.0, 3.0], g)
+            .unwrap()
+            .with_holes(vec![false, false, true])
+            .unwrap();
+        f.edit_region(SampleRegion::new(1, 0, 2, 1), |_, _, _| -2.0).unwrap();
+        assert_eq!(f.samples(), &[1.0, -2.0, -2.0]);
+        assert_eq!((f.min_sample(), f.max_sample()), (-2.0, 1.0));
     }
 
     #[test]
