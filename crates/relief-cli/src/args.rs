@@ -234,6 +234,87 @@ pub struct RenderArgs {
     /// shades as it traces: trace_ms holds both, shade_ms the tone mapping.
     #[arg(long, value_name = "JSON")]
     pub stats: Option<PathBuf>,
+    /// Options of the hybrid renderer.
+    #[command(flatten)]
+    pub hybrid: HybridArgs,
+}
+
+/// Options of the hybrid renderer (`--tracer hybrid`, Ammann et al. 2010).
+#[derive(Debug, Clone, Args)]
+pub struct HybridArgs {
+    /// Hybrid renderer: samples per side of a cell (2 to 4096; neighbouring cells share a
+    /// line of samples) [default: 64].
+    #[arg(long, value_name = "N", value_parser = cell_samples, allow_hyphen_values = true)]
+    pub cell: Option<usize>,
+    /// Hybrid renderer: rasterize a cell when its box covers more than T pixels per sample on
+    /// screen (the paper's A/S > T; more than 0) [default: 70].
+    #[arg(long, value_name = "T", value_parser = positive_number, allow_hyphen_values = true)]
+    pub threshold: Option<f64>,
+    /// Hybrid renderer: the heuristic's k (more than 0; larger gives more precise levels
+    /// farther away) [default: 1.3].
+    #[arg(long, value_name = "K", value_parser = positive_number, allow_hyphen_values = true)]
+    pub k: Option<f64>,
+    /// Hybrid renderer: number of levels of precision of the ray-cast cells (2 to 10; 4 are
+    /// the paper's 55/25, 32/15, 16/10 and 8/5 linear/binary steps) [default: 4].
+    #[arg(long, value_name = "N", value_parser = lop_levels, allow_hyphen_values = true)]
+    pub lop: Option<usize>,
+    /// Hybrid renderer: the cells it does not rasterize are ray cast at their levels of
+    /// precision (lop, approximate, the paper's) or exactly (exact: the whole image equals
+    /// the exact tracer's) [default: lop].
+    #[arg(long, value_name = "lop|exact")]
+    pub far: Option<relief_shade::FarField>,
+    /// Hybrid renderer: colour each pixel by what drew it, as the paper's Figure 1: mesh
+    /// (white), levels of precision from the most precise (green) to the least (red), the
+    /// exact far field (blue).
+    #[arg(long)]
+    pub show_lop: bool,
+}
+
+impl HybridArgs {
+    /// The first hybrid option given, if any (for refusing them with other tracers).
+    pub fn given(&self) -> Option<&'static str> {
+        [
+            (self.cell.is_some(), "--cell"),
+            (self.threshold.is_some(), "--threshold"),
+            (self.k.is_some(), "--k"),
+            (self.lop.is_some(), "--lop"),
+            (self.far.is_some(), "--far"),
+            (self.show_lop, "--show-lop"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
+    }
+
+    /// The heuristic's parameters these options give (the paper's defaults otherwise).
+    pub fn params(&self) -> relief_trace::hybrid::HybridParams {
+        let d = relief_trace::hybrid::HybridParams::default();
+        relief_trace::hybrid::HybridParams {
+            cell: self.cell.unwrap_or(d.cell),
+            threshold: self.threshold.unwrap_or(d.threshold),
+            k: self.k.unwrap_or(d.k),
+            levels: self.lop.unwrap_or(d.levels),
+        }
+    }
+}
+
+/// `--cell`: 2 to 4096 samples.
+fn cell_samples(s: &str) -> Result<usize, String> {
+    parse::whole_in(s, 2..=4096, "cell").map(|v| v as usize)
+}
+
+/// `--lop`: 2 to 10 levels.
+fn lop_levels(s: &str) -> Result<usize, String> {
+    parse::whole_in(s, 2..=10, "number of levels of precision").map(|v| v as usize)
+}
+
+/// A finite number above 0.
+fn positive_number(s: &str) -> Result<f64, String> {
+    let v: f64 = s.trim().parse().map_err(|_| format!("'{s}' is not a number"))?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s} must be a finite number above 0"))
+    }
 }
 
 /// `relief compare`.

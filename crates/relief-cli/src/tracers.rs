@@ -25,6 +25,9 @@ pub enum TracerChoice {
     Safety(Option<SafetyOptions>),
     /// The MLHM hierarchy tracer (multi-layered height maps only).
     Hierarchy,
+    /// The hybrid renderer of height fields (Ammann et al. 2010): rasterized near field,
+    /// ray-cast far field.
+    Hybrid,
 }
 
 impl FromStr for TracerChoice {
@@ -33,9 +36,10 @@ impl FromStr for TracerChoice {
         match s {
             "safety" => Ok(TracerChoice::Safety(None)),
             "hierarchy" => Ok(TracerChoice::Hierarchy),
+            "hybrid" => Ok(TracerChoice::Hybrid),
             _ if s.starts_with("cyl_") => s.parse().map(|o| TracerChoice::Safety(Some(o))),
             _ => s.parse().map(TracerChoice::Plain).map_err(|_| {
-                format!("unknown tracer '{s}' (expected naive, mipmap, safety, a safety variant such as cyl_all+cone_all, or hierarchy for MLHM scenes)")
+                format!("unknown tracer '{s}' (expected naive, mipmap, safety, a safety variant such as cyl_all+cone_all, hybrid, or hierarchy for MLHM scenes)")
             }),
         }
     }
@@ -49,6 +53,7 @@ impl fmt::Display for TracerChoice {
             TracerChoice::Safety(None) => f.pad("safety"),
             TracerChoice::Safety(Some(o)) => f.pad(&o.variant()),
             TracerChoice::Hierarchy => f.pad("hierarchy"),
+            TracerChoice::Hybrid => f.pad("hybrid"),
         }
     }
 }
@@ -99,6 +104,9 @@ pub fn build(
         TracerChoice::Safety(variant) => *variant,
         TracerChoice::Hierarchy => bail!(
             "the hierarchy tracer renders MLHM scenes (.json, .mlhm) only; height fields take --tracer naive, mipmap or safety"
+        ),
+        TracerChoice::Hybrid => bail!(
+            "the hybrid renderer draws with relief render and relief bench only; here take --tracer naive, mipmap or safety"
         ),
     };
     if surface != Surface::Triangles {

@@ -7,6 +7,7 @@ mod generate;
 mod info;
 mod info_mlhm;
 mod render;
+mod render_hybrid;
 mod render_mlhm;
 mod shade;
 mod simulate;

@@ -1,10 +1,11 @@
 //! `relief render`: trace, shade and write a picture (and optionally depth and normals, and
 //! the stage timings with `--stats`).
 
-use super::{check_image, render_mlhm};
+use super::{check_image, render_hybrid, render_mlhm};
 use crate::args::RenderArgs;
 use crate::scene::height_field::{check_safety_view, HeightFieldScene};
-use crate::{input, memory, outputs, progress, tracers};
+use crate::tracers::{self, TracerChoice};
+use crate::{input, memory, outputs, progress};
 use anyhow::Result;
 use relief_core::Camera;
 use relief_shade::{render_gbuffer, shade_to_srgb8, GBuffer};
@@ -22,10 +23,21 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let budget = memory::budget(scene_args.input.read.max_memory);
     check_image(scene_args.size.0, scene_args.size.1, &budget)?;
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
+        if let Some(option) = args.hybrid.given() {
+            let here = crate::applies::input_kind(Some(path));
+            return Err(crate::applies::refuse(option, "height fields (--tracer hybrid)", &here));
+        }
         return render_mlhm::run(args, path, started);
     }
     let scene = HeightFieldScene::open(scene_args)?;
     let load_ms = outputs::ms_since(started);
+    if scene.choice == TracerChoice::Hybrid {
+        return render_hybrid::run(args, &scene, started, load_ms);
+    }
+    if let Some(option) = args.hybrid.given() {
+        let here = format!("the {} tracer", scene.choice);
+        return Err(crate::applies::refuse(option, "--tracer hybrid", &here));
+    }
     let build_started = Instant::now();
     let (surface, choice, camera) = (scene.surface, &scene.choice, &scene.camera);
     let built = tracers::build(

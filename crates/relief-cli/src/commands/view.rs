@@ -67,6 +67,12 @@ fn open(
         let (camera, settings) = (live.camera(), live.settings());
         return Ok((Arc::new(live), camera, settings));
     }
+    if scene_args.tracer == Some(crate::tracers::TracerChoice::Hybrid) {
+        anyhow::bail!(
+            "relief view draws with the naive, mipmap and safety tracers; the hybrid renderer \
+             draws with relief render and relief bench"
+        );
+    }
     let scene = HeightFieldScene::open(scene_args)?;
     let live = LiveHeightField::new(scene, &scene_args.safety, max_memory)?;
     let (camera, settings) = (live.camera(), live.settings());

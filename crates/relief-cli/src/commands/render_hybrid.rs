@@ -1,0 +1,113 @@
+//! `relief render --tracer hybrid`: a height field drawn by the hybrid renderer (Ammann et al.
+//! 2010), the near field rasterized and the far field ray cast, then shaded as every renderer
+//! is (shadow rays by the exact tracer).
+
+use super::render::{input_name, write_outputs};
+use crate::args::RenderArgs;
+use crate::outputs;
+use crate::scene::height_field::HeightFieldScene;
+use anyhow::Result;
+use relief_shade::{shade_to_srgb8, GBuffer, HybridRenderer, PixelSource};
+use serde_json::json;
+use std::time::Instant;
+
+/// Renders `scene` with the hybrid renderer and writes the outputs `args` ask for (and the
+/// stage timings with `--stats`, `started` when the command began).
+pub fn run(
+    args: &RenderArgs,
+    scene: &HeightFieldScene,
+    started: Instant,
+    load_ms: f64,
+) -> Result<()> {
+    let hybrid = &args.hybrid;
+    let far = hybrid.far.unwrap_or_default();
+    let (camera, surface) = (&scene.camera, scene.surface);
+    let build_started = Instant::now();
+    let mut renderer = HybridRenderer::new(scene.field.clone(), surface, hybrid.params(), far)?;
+    let build_ms = outputs::ms_since(build_started);
+
+    let trace_started = Instant::now();
+    let mut gbuffer = GBuffer::new(camera.width() as usize, camera.height() as usize)?;
+    let mut sources = Vec::new();
+    let frame = renderer.render_into(camera, &scene.bounds(), &mut gbuffer, Some(&mut sources))?;
+    let trace_ms = outputs::ms_since(trace_started);
+
+    let shade_started = Instant::now();
+    let (mut rgb, shadow) = shade_to_srgb8(&gbuffer, renderer.tracer(), camera, &scene.params)?;
+    if hybrid.show_lop {
+        let levels = renderer.heuristic().steps().len();
+        for (pixel, source) in rgb.iter_mut().zip(&sources) {
+            *pixel = tint(*pixel, *source, levels);
+        }
+    }
+    let shade_ms = outputs::ms_since(shade_started);
+
+    let write_started = Instant::now();
+    write_outputs(args, camera, &gbuffer, rgb.as_flattened())?;
+    let write_ms = outputs::ms_since(write_started);
+    let (w, h) = (camera.width(), camera.height());
+    eprintln!(
+        "wrote {} ({w}x{h}, {surface} hybrid renderer, far field {far}: {} cells meshed, {} ray cast, {} culled)",
+        args.output.display(),
+        frame.mesh_cells,
+        frame.ray_cast_cells.iter().sum::<usize>(),
+        frame.culled_cells
+    );
+    if let Some(path) = &args.stats {
+        let field = &scene.field;
+        let params = hybrid.params();
+        let hits = gbuffer.distance.iter().filter(|d| d.is_finite()).count();
+        let stats = json!({
+            "input": input_name(args),
+            "kind": "height field",
+            "terrain": [field.width(), field.height()],
+            "surface": surface.to_string(),
+            "tracer": "hybrid",
+            "far": far.name(),
+            "cell": params.cell,
+            "threshold": params.threshold,
+            "k": params.k,
+            "lop": params.levels,
+            "width": w,
+            "height": h,
+            "threads": rayon::current_num_threads(),
+            "rays": u64::from(w) * u64::from(h),
+            "hits": hits,
+            "shadow_rays": shadow.rays,
+            "mesh_cells": frame.mesh_cells,
+            "ray_cast_cells": frame.ray_cast_cells,
+            "culled_cells": frame.culled_cells,
+            "triangles": frame.triangles,
+            "far_rays": frame.far_rays,
+            "heuristic_ms": frame.heuristic_ms,
+            "mesh_build_ms": frame.mesh_build_ms,
+            "raster_ms": frame.raster_ms,
+            "far_ms": frame.far_ms,
+            "resolve_ms": frame.resolve_ms,
+            "load_ms": load_ms,
+            "build_ms": build_ms,
+            "trace_ms": trace_ms,
+            "shade_ms": shade_ms,
+            "write_ms": write_ms,
+            "total_ms": outputs::ms_since(started),
+        });
+        outputs::write_stats(path, &stats)?;
+    }
+    Ok(())
+}
+
+/// `pixel` half blended with the colour of what drew it (the paper's Figure 1): mesh white,
+/// levels of precision from green (the most precise) to red, the exact far field blue; the
+/// sky unchanged.
+fn tint(pixel: [u8; 3], source: PixelSource, levels: usize) -> [u8; 3] {
+    let colour: [f32; 3] = match source {
+        PixelSource::Nothing => return pixel,
+        PixelSource::Mesh => [255.0, 255.0, 255.0],
+        PixelSource::Exact => [40.0, 90.0, 255.0],
+        PixelSource::RayCast(level) => {
+            let f = level as f32 / (levels.max(2) - 1) as f32;
+            [255.0 * f, 255.0 * (1.0 - f), 0.0]
+        }
+    };
+    std::array::from_fn(|c| (0.5 * pixel[c] as f32 + 0.5 * colour[c]).round() as u8)
+}
