@@ -594,20 +594,23 @@ pub struct BenchArgs {
     /// Seed of the fBm terrain [default: 1].
     #[arg(long, value_parser = seed, allow_hyphen_values = true)]
     pub seed: Option<u64>,
-    /// Tracers to measure (comma-separated): naive, mipmap, safety, or safety variants by name
-    /// (cyl_all, cyl_all+cone_all, cyl_ext, ...). Safety shapes are always precomputed afresh
-    /// here, and their build time reported.
+    /// Tracers to measure (comma-separated): naive, mipmap, safety, safety variants by name
+    /// (cyl_all, cyl_all+cone_all, cyl_ext, ...), or hybrid (the hybrid renderer, with the
+    /// options below; its shadow rays are the mipmap tracer's). Safety shapes are always
+    /// precomputed afresh here, and their build time reported.
     #[arg(long, value_delimiter = ',', default_values = ["naive", "mipmap"])]
     pub tracers: Vec<TracerChoice>,
     /// Safety-shape options (for every safety tracer measured).
     #[command(flatten)]
     pub safety: SafetyArgs,
-    /// Surfaces to measure (comma-separated).
-    #[arg(long, value_delimiter = ',', default_values = ["boxes", "triangles"])]
+    /// Surfaces to measure (comma-separated) [default: boxes,triangles; with --dynamic:
+    /// triangles].
+    #[arg(long, value_delimiter = ',')]
     pub surfaces: Vec<Surface>,
     /// Views to measure (comma-separated): three-quarter, flight, top-down, cover (the terrain
-    /// fills the image, seen from 60 degrees up: every ray looks down at least 45 degrees).
-    #[arg(long, value_delimiter = ',', default_values = ["three-quarter", "flight", "top-down"])]
+    /// fills the image, seen from 60 degrees up: every ray looks down at least 45 degrees)
+    /// [default: three-quarter,flight,top-down; with --dynamic: flight].
+    #[arg(long, value_delimiter = ',')]
     pub views: Vec<String>,
     /// Measure this height file (spacing 1, z scale 1) instead of generating the fBm terrain
     /// (then --size and --seed do not apply).
@@ -631,6 +634,51 @@ pub struct BenchArgs {
     /// traversal instead of its packets), for comparison.
     #[arg(long)]
     pub single_rays: bool,
+    /// Options of the hybrid renderer (with `--tracers hybrid`, or `--dynamic`).
+    #[command(flatten)]
+    pub hybrid: HybridArgs,
+    /// Instead of the tracers: the hybrid renderer drawing a terrain that changes every
+    /// frame, on the flight view (or the first of --views) and the triangles surface (or the
+    /// first of --surfaces): stamp (a brush raising and lowering the ground along a circle),
+    /// waves (the ocean wave simulation rewriting the whole field) or erosion (the
+    /// height-field erosion rewriting it). Prints, per frame, the update's and the render's
+    /// milliseconds (the render shaded with shadows, as shown).
+    #[arg(long, value_name = "stamp|waves|erosion")]
+    pub dynamic: Option<DynamicKind>,
+    /// With --dynamic: frames to draw (1 to 100000).
+    #[arg(long, default_value = "20", value_parser = frames, allow_hyphen_values = true)]
+    pub frames: u32,
+}
+
+impl BenchArgs {
+    /// The views to measure: those given, or the default ones.
+    pub fn views(&self) -> Vec<String> {
+        match (self.views.is_empty(), self.dynamic.is_some()) {
+            (false, _) => self.views.clone(),
+            (true, true) => vec!["flight".into()],
+            (true, false) => ["three-quarter", "flight", "top-down"].map(String::from).to_vec(),
+        }
+    }
+
+    /// The surfaces to measure: those given, or the default ones.
+    pub fn surfaces(&self) -> Vec<Surface> {
+        match (self.surfaces.is_empty(), self.dynamic.is_some()) {
+            (false, _) => self.surfaces.clone(),
+            (true, true) => vec![Surface::Triangles],
+            (true, false) => Surface::ALL.to_vec(),
+        }
+    }
+}
+
+/// What changes the terrain in `relief bench --dynamic`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum DynamicKind {
+    /// A brush raising and lowering the ground.
+    Stamp,
+    /// The ocean wave simulation.
+    Waves,
+    /// The height-field erosion.
+    Erosion,
 }
 
 /// A terrain's samples (or an MLHM's cells) per side: 1 to 65536.

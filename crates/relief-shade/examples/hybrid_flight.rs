@@ -13,11 +13,13 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let n: usize = args.next().map_or(4096, |s| s.parse().unwrap());
     let res = args.next().unwrap_or_else(|| "1920x1080".into());
-    let (w, h) = res.split_once('x').map(|(a, b)| (a.parse().unwrap(), b.parse().unwrap())).unwrap();
+    let (w, h) =
+        res.split_once('x').map(|(a, b)| (a.parse().unwrap(), b.parse().unwrap())).unwrap();
     let far: FarField = args.next().map_or(FarField::Exact, |s| s.parse().unwrap());
     let threshold: f64 = args.next().map_or(70.0, |s| s.parse().unwrap());
     let cell: usize = args.next().map_or(64, |s| s.parse().unwrap());
-    let field = Arc::new(relief_sim::fbm_terrain(n, n, 1, &relief_sim::FbmParams::for_size(n, n)).unwrap());
+    let field =
+        Arc::new(relief_sim::fbm_terrain(n, n, 1, &relief_sim::FbmParams::for_size(n, n)).unwrap());
     let surface = Surface::Triangles;
     let views = benchmark_views(&field, w, h).unwrap();
     let camera = views.iter().find(|(name, _)| *name == "flight").unwrap().1;
@@ -38,7 +40,10 @@ fn main() {
             .distance
             .iter()
             .zip(&g2.distance)
-            .filter(|(a, b)| a.is_finite() != b.is_finite() || (a.is_finite() && (*a - *b).abs() > 1e-4 * a.abs()))
+            .filter(|(a, b)| {
+                a.is_finite() != b.is_finite()
+                    || (a.is_finite() && (*a - *b).abs() > 1e-4 * a.abs())
+            })
             .count();
         println!("round {round}: mipmap {mip_ms:.1} ms, hybrid ({far}) {hyb_ms:.1} ms; {differ} pixels differ; {stats:?}");
     }

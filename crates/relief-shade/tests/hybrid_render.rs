@@ -108,7 +108,6 @@ fn rasterized_pixels_equal_the_exact_tracer_and_levels_stay_close() {
     assert!(far > 100, "{far} ray-cast pixels");
 }
 
-
 #[test]
 fn an_edit_then_a_render_equals_a_fresh_renderer() {
     let n = 48;
@@ -134,7 +133,8 @@ fn an_edit_then_a_render_equals_a_fresh_renderer() {
         fresh.render_into(&cam, &bounds, &mut expected, None).unwrap();
         assert!(gbuffer == expected, "{far}: the edited renderer's frame differs");
         // The edit moved something on screen.
-        let mut before = HybridRenderer::new(Arc::new(terrain(n, 3)), surface, params, far).unwrap();
+        let mut before =
+            HybridRenderer::new(Arc::new(terrain(n, 3)), surface, params, far).unwrap();
         let mut unedited = GBuffer::new(120, 80).unwrap();
         before.render_into(&cam, &bounds, &mut unedited, None).unwrap();
         assert!(unedited != expected, "{far}: the edit changed nothing visible");

@@ -110,11 +110,22 @@ impl MaxMipmap {
             let (below, level) = (self.levels[l - 1], self.levels[l]);
             let (done, rest) = self.values.split_at_mut(level.offset);
             let fine = &done[below.offset.min(done.len())..];
-            for y in y0..=y1.min(level.nodes_y - 1) {
-                for x in x0..=x1.min(level.nodes_x - 1) {
-                    rest[level.index(x, y)] = node_max(grid, samples, fine, l, below, x, y);
-                }
-            }
+            let (y1, x1) = (y1.min(level.nodes_y - 1), x1.min(level.nodes_x - 1));
+            // Rows of 2 x 2 blocks in parallel (a simulation rewrites the whole field).
+            let block_row = 4 * level.blocks_x;
+            let rows = &mut rest[..block_row * level.nodes_y.div_ceil(2)];
+            rows.par_chunks_mut(block_row)
+                .enumerate()
+                .skip(y0 >> 1)
+                .take((y1 >> 1) + 1 - (y0 >> 1))
+                .for_each(|(by, blocks)| {
+                    for y in (2 * by).max(y0)..=(2 * by + 1).min(y1) {
+                        for x in x0..=x1 {
+                            let node = node_max(grid, samples, fine, l, below, x, y);
+                            blocks[level.index(x, y) - by * block_row] = node;
+                        }
+                    }
+                });
         }
     }
 

@@ -12,7 +12,8 @@ use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, DVec3, Surface, BENCHMARK_VIEWS};
 use relief_shade::{
-    render_gbuffer_into, sun_direction, GBuffer, RayBatch, Tile, TraceStats, TILE_SIZE,
+    render_gbuffer_into, sun_direction, GBuffer, HybridRenderer, RayBatch, Tile, TraceStats,
+    TILE_SIZE,
 };
 use relief_trace::{Hit, Simd, Tracer, TracerKind};
 use std::io::Write;
@@ -43,7 +44,8 @@ struct Measurement<'a> {
 
 /// Runs `relief bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
-    if let Some(view) = args.views.iter().find(|v| !BENCHMARK_VIEWS.contains(&v.as_str())) {
+    let (views, surfaces) = (args.views(), args.surfaces());
+    if let Some(view) = views.iter().find(|v| !BENCHMARK_VIEWS.contains(&v.as_str())) {
         bail!("unknown view '{view}': expected {}", BENCHMARK_VIEWS.join(", "));
     }
     let budget = memory::budget(None);
@@ -69,6 +71,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     };
     let field = Arc::new(field);
     let load_s = started.elapsed().as_secs_f64();
+    if let Some(kind) = args.dynamic {
+        return super::bench_dynamic::run(args, kind, field, &source, &views, &surfaces);
+    }
     if let Some(dir) = &args.depth_dir {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
@@ -105,14 +110,41 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     let sun = sun_direction(SUN.0, SUN.1);
     for (view, camera) in benchmark_views(&field, w, h)? {
-        if !args.views.iter().any(|v| v == view) {
+        if !views.iter().any(|v| v == view) {
             continue;
         }
-        for &surface in &args.surfaces {
+        for &surface in &surfaces {
             for tracer in &args.tracers {
-                let built =
-                    tracers::build(&field, surface, tracer, &args.safety, false, limit, simd)?;
-                if let Some(safety) = &built.safety {
+                let bounds = field.world_bounds(surface);
+                let repeat = args.repeat as u64;
+                let bar = progress::bar(repeat * w as u64 * h as u64, &format!("{view}/{tracer}"));
+                let mut gbuffer = GBuffer::new(w as usize, h as usize)?;
+                let (mut primary, mut primary_s) = (TraceStats::default(), f64::INFINITY);
+                let started = Instant::now();
+                let (built, hybrid) = if *tracer == TracerChoice::Hybrid {
+                    let params = args.hybrid.params();
+                    let far = args.hybrid.far.unwrap_or_default();
+                    (None, Some(HybridRenderer::new(field.clone(), surface, params, far)?))
+                } else {
+                    (
+                        Some(tracers::build(
+                            &field,
+                            surface,
+                            tracer,
+                            &args.safety,
+                            false,
+                            limit,
+                            simd,
+                        )?),
+                        None,
+                    )
+                };
+                let build_ms = match &built {
+                    Some(built) => built.build_s * 1e3,
+                    None => started.elapsed().as_secs_f64() * 1e3,
+                };
+                let safety = built.as_ref().and_then(|b| b.safety.as_ref());
+                if let Some(safety) = safety {
                     let (w, h) = (camera.width(), camera.height());
                     let directions = (0..h)
                         .flat_map(|j| (0..w).map(move |i| (i, j)))
@@ -120,25 +152,46 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     safety.check_view(camera.eye(), directions, None)?;
                 }
                 // Shapes bounded by phi max may not admit the sun's shadow rays: skip those.
-                let shadows = built.safety.as_ref().is_none_or(|safety| {
+                let shadows = safety.is_none_or(|safety| {
                     safety.check_view(camera.eye(), std::iter::empty(), Some(sun)).is_ok()
                 });
-                let build_ms = built.build_s * 1e3;
-                let one_at_a_time = OneRayAtATime(built.tracer.as_ref());
-                let traced: &dyn Tracer =
-                    if args.single_rays { &one_at_a_time } else { built.tracer.as_ref() };
-                let bounds = field.world_bounds(surface);
-                let repeat = args.repeat as u64;
-                let bar = progress::bar(repeat * w as u64 * h as u64, &format!("{view}/{tracer}"));
-                let mut gbuffer = GBuffer::new(w as usize, h as usize)?;
-                let (mut primary, mut primary_s) = (TraceStats::default(), f64::INFINITY);
+                let mut hybrid = hybrid;
                 for _ in 0..repeat {
                     let timer = Instant::now();
-                    primary = render_gbuffer_into(traced, &camera, &bounds, &mut gbuffer, &|n| {
-                        bar.inc(n)
-                    })?;
+                    primary = match (&mut hybrid, &built) {
+                        (Some(hybrid), _) => {
+                            hybrid.render_into(&camera, &bounds, &mut gbuffer, None)?;
+                            bar.inc(w as u64 * h as u64);
+                            let hits = gbuffer.distance.iter().filter(|d| d.is_finite()).count();
+                            TraceStats {
+                                rays: w as u64 * h as u64,
+                                hits: hits as u64,
+                                ..TraceStats::default()
+                            }
+                        }
+                        (None, Some(built)) => {
+                            let one_at_a_time = OneRayAtATime(built.tracer.as_ref());
+                            let traced: &dyn Tracer = if args.single_rays {
+                                &one_at_a_time
+                            } else {
+                                built.tracer.as_ref()
+                            };
+                            render_gbuffer_into(traced, &camera, &bounds, &mut gbuffer, &|n| {
+                                bar.inc(n)
+                            })?
+                        }
+                        (None, None) => unreachable!("a tracer or the hybrid renderer is built"),
+                    };
                     primary_s = primary_s.min(timer.elapsed().as_secs_f64());
                 }
+                // Shadow rays: the tracer's, or for the hybrid renderer its exact tracer's.
+                let exact: &dyn Tracer = match (&built, &hybrid) {
+                    (Some(built), _) => built.tracer.as_ref(),
+                    (None, Some(hybrid)) => hybrid.tracer(),
+                    (None, None) => unreachable!("a tracer or the hybrid renderer is built"),
+                };
+                let one_at_a_time = OneRayAtATime(exact);
+                let traced: &dyn Tracer = if args.single_rays { &one_at_a_time } else { exact };
                 bar.finish_and_clear();
                 let (mut shadow, mut shadow_s) = (TraceStats::default(), None::<f64>);
                 if shadows {
@@ -198,6 +251,16 @@ fn refuse_unused_options(args: &BenchArgs) -> Result<()> {
     let safety_measured = args.tracers.iter().any(|t| matches!(t, TracerChoice::Safety(_)));
     if let Some(option) = applies::safety_option_given(&args.safety).filter(|_| !safety_measured) {
         return Err(applies::refuse(option, "the safety tracers", "the tracers measured"));
+    }
+    let hybrid_measured = args.dynamic.is_some() || args.tracers.contains(&TracerChoice::Hybrid);
+    if let Some(option) = args.hybrid.given().filter(|_| !hybrid_measured) {
+        return Err(applies::refuse(option, "the hybrid renderer", "the tracers measured"));
+    }
+    if args.hybrid.show_lop {
+        return Err(applies::refuse("--show-lop", "relief render", "relief bench"));
+    }
+    if args.dynamic.is_none() && args.frames != 20 {
+        return Err(applies::refuse("--frames", "--dynamic", "the tracers measured"));
     }
     if args.simd.is_some() {
         let mipmap = TracerChoice::Plain(TracerKind::Mipmap);

@@ -8,8 +8,7 @@ use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, HeightField};
 use relief_mesh::{IndexedMesh, RasterTarget, Rasterizer};
 use relief_trace::hybrid::{
-    lop_cast, project_box, CellChoice, HybridCells, HybridHeuristic, LopSteps,
-    PixelRect,
+    lop_cast, project_box, CellChoice, HybridCells, HybridHeuristic, LopSteps, PixelRect,
 };
 use relief_trace::{Hit, Tracer};
 
@@ -52,7 +51,14 @@ impl FarCells {
                 let pixels = project_box(camera, &world_box).pixels(w, h)?;
                 let nearest = eye.clamp(world_box.min, world_box.max);
                 let steps = heuristic.steps()[level as usize];
-                Some(FarCell { index, level, steps, pixels, world_box, near: eye.distance(nearest) })
+                Some(FarCell {
+                    index,
+                    level,
+                    steps,
+                    pixels,
+                    world_box,
+                    near: eye.distance(nearest),
+                })
             })
             .collect();
         far.sort_by(|a, b| a.near.total_cmp(&b.near).then(a.index.cmp(&b.index)));
@@ -96,7 +102,8 @@ impl FarCells {
                                 continue;
                             }
                             rays += 1;
-                            if let Some(hit) = lop_cast(field, cells, cell.index, &ray, cell.steps) {
+                            if let Some(hit) = lop_cast(field, cells, cell.index, &ray, cell.steps)
+                            {
                                 if hit.t < best[k] {
                                     best[k] = hit.t;
                                     hits[k] = Some((hit, PixelSource::RayCast(cell.level)));
@@ -130,7 +137,6 @@ impl FarCells {
             rasterizer
                 .draw(camera, &boxes, 0, &mut entries)
                 .map_err(|e| ShadeError::Limits(e.to_string()))?;
-
         }
         let strip = TILE_SIZE * width;
         let traced = hits

@@ -25,7 +25,7 @@ use far_field::FarCells;
 use near_field::NearField;
 use rayon::prelude::*;
 use relief_core::{Aabb, Camera, CoreError, HeightField, Projection, Ray, SampleRegion, Surface};
-use relief_mesh::{Rasterizer, RasterTarget};
+use relief_mesh::{RasterTarget, Rasterizer};
 use relief_trace::hybrid::{CellChoice, HybridCells, HybridHeuristic, HybridParams};
 use relief_trace::{Hit, MipmapTracer, Tracer};
 use std::fmt;
@@ -135,8 +135,7 @@ impl HybridRenderer {
         far: FarField,
     ) -> Result<Self, ShadeError> {
         let heuristic = HybridHeuristic::new(params).map_err(hybrid_parameter)?;
-        let cells =
-            HybridCells::new(&field, surface, params.cell).map_err(hybrid_parameter)?;
+        let cells = HybridCells::new(&field, surface, params.cell).map_err(hybrid_parameter)?;
         let near = NearField::new(cells.len());
         Ok(HybridRenderer {
             exact: MipmapTracer::new(field, surface),
@@ -177,15 +176,29 @@ impl HybridRenderer {
     /// Edits the field with `edit` (which returns the region it changed, as
     /// [`HeightField::edit_region`] does), then updates what depends on the changed samples
     /// only: the exact tracer's pyramid above them, the cells holding them and their cached
-    /// meshes (everything when the field's value range moved, since walls reach its lowest
-    /// sample).
-    pub fn edit(
+    /// meshes (every mesh when the field's value range moved, since walls reach its lowest
+    /// sample). The edit's error type is the caller's (a simulation's, say); a failed edit
+    /// leaves the field as the closure left it and everything rebuilt from it.
+    pub fn edit<E: From<CoreError>>(
         &mut self,
-        edit: impl FnOnce(&mut HeightField) -> Result<SampleRegion, CoreError>,
-    ) -> Result<SampleRegion, CoreError> {
+        edit: impl FnOnce(&mut HeightField) -> Result<SampleRegion, E>,
+    ) -> Result<SampleRegion, E> {
         let range = field_range(self.field());
-        let region = self.exact.edit(edit)?;
+        let mut failure = None;
+        let edited = self.exact.edit(|field| {
+            edit(field).map_err(|e| {
+                failure = Some(e);
+                CoreError::Grid("the edit failed".into())
+            })
+        });
         let field = self.exact.field().clone();
+        let region = match edited {
+            Ok(region) => region,
+            Err(e) => {
+                self.rebuild_from(&field);
+                return Err(failure.unwrap_or_else(|| E::from(e)));
+            }
+        };
         self.cells.update(&field, region);
         if field_range(&field) == range {
             self.near.invalidate(&self.cells, region);
@@ -195,11 +208,18 @@ impl HybridRenderer {
         Ok(region)
     }
 
+    /// The cells and the mesh cache measured afresh from `field` (after a failed edit, which
+    /// may have changed any sample).
+    fn rebuild_from(&mut self, field: &HeightField) {
+        self.cells.update(field, SampleRegion::whole(field.width(), field.height()));
+        self.near.invalidate_all();
+    }
+
     /// Replaces every sample (a simulation step that rewrote the whole field; see
     /// [`HeightField::replace_samples`]) and returns the previous samples.
     pub fn replace_samples(&mut self, samples: Vec<f32>) -> Result<Vec<f32>, CoreError> {
         let mut old = Vec::new();
-        self.edit(|field| {
+        self.edit(|field| -> Result<SampleRegion, CoreError> {
             old = field.replace_samples(samples)?;
             Ok(SampleRegion::whole(field.width(), field.height()))
         })?;
@@ -276,13 +296,9 @@ impl HybridRenderer {
         let mut hits: Vec<Option<(Hit, PixelSource)>> = vec![None; width * height];
         stats.far_rays = match self.far {
             FarField::Lop => far.cast_levels(&field, &self.cells, camera, &self.target, &mut hits),
-            FarField::Exact => far.cast_exact(
-                &self.exact,
-                &self.rasterizer,
-                camera,
-                &self.target,
-                &mut hits,
-            )?,
+            FarField::Exact => {
+                far.cast_exact(&self.exact, &self.rasterizer, camera, &self.target, &mut hits)?
+            }
         };
         stats.far_ms = elapsed_ms(start);
 
@@ -302,35 +318,40 @@ impl HybridRenderer {
             .zip(all_sources.par_chunks_mut(strip))
             .zip(hits.par_chunks(strip))
             .enumerate()
-            .for_each(|(s, (((((((distance, position), normal), material), uv), footprint), src), far))| {
-                for k in 0..distance.len() {
-                    let index = s * strip + k;
-                    let (i, j) = ((index % width) as u32, (index / width) as u32);
-                    let (hit, source) = match far[k] {
-                        Some((hit, source)) => (Some(hit), source),
-                        None => match target.triangle[index] {
-                            RasterTarget::NO_TRIANGLE => (None, PixelSource::Nothing),
-                            triangle => {
-                                let ray = camera.ray(i, j);
-                                let hit = mesh.hit(triangle, &ray).map(|h| Hit {
-                                    t: h.t,
-                                    position: h.position,
-                                    normal: h.normal,
-                                });
-                                (hit, PixelSource::Mesh)
-                            }
-                        },
-                    };
-                    let p = encoder.g_buffer_pixel(hit);
-                    distance[k] = p.distance;
-                    position[k] = p.position;
-                    normal[k] = p.normal;
-                    material[k] = p.material;
-                    uv[k] = p.uv;
-                    footprint[k] = p.footprint;
-                    src[k] = if hit.is_some() { source } else { PixelSource::Nothing };
-                }
-            });
+            .for_each(
+                |(
+                    s,
+                    (((((((distance, position), normal), material), uv), footprint), src), far),
+                )| {
+                    for k in 0..distance.len() {
+                        let index = s * strip + k;
+                        let (i, j) = ((index % width) as u32, (index / width) as u32);
+                        let (hit, source) = match far[k] {
+                            Some((hit, source)) => (Some(hit), source),
+                            None => match target.triangle[index] {
+                                RasterTarget::NO_TRIANGLE => (None, PixelSource::Nothing),
+                                triangle => {
+                                    let ray = camera.ray(i, j);
+                                    let hit = mesh.hit(triangle, &ray).map(|h| Hit {
+                                        t: h.t,
+                                        position: h.position,
+                                        normal: h.normal,
+                                    });
+                                    (hit, PixelSource::Mesh)
+                                }
+                            },
+                        };
+                        let p = encoder.g_buffer_pixel(hit);
+                        distance[k] = p.distance;
+                        position[k] = p.position;
+                        normal[k] = p.normal;
+                        material[k] = p.material;
+                        uv[k] = p.uv;
+                        footprint[k] = p.footprint;
+                        src[k] = if hit.is_some() { source } else { PixelSource::Nothing };
+                    }
+                },
+            );
         if let Some(sources) = sources {
             *sources = all_sources;
         }

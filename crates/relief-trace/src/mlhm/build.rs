@@ -277,7 +277,8 @@ impl MlhmHierarchy {
     /// [`merge_single_layers`](Self::merge_single_layers) level by level.
     fn merge_two_single_layer_levels(first: &mut Level, second: &mut Level, map: &Mlhm) {
         let (w, h, columns) = (map.width(), map.height(), map.raw_columns());
-        let (StoredBounds::F32(b1), StoredBounds::F32(b2)) = (&mut first.bounds, &mut second.bounds)
+        let (StoredBounds::F32(b1), StoredBounds::F32(b2)) =
+            (&mut first.bounds, &mut second.bounds)
         else {
             unreachable!("merged in one pass at f32 only")
         };
@@ -296,7 +297,17 @@ impl MlhmHierarchy {
             .zip(b2.sky.par_chunks_mut(n2x))
             .enumerate()
             .for_each_init(
-                || vec![StoredLayer { water_max: 0.0, ceiling_min: 0.0, solid_max: 0.0, air_min: 0.0 }; 2 * n1x],
+                || {
+                    vec![
+                        StoredLayer {
+                            water_max: 0.0,
+                            ceiling_min: 0.0,
+                            solid_max: 0.0,
+                            air_min: 0.0
+                        };
+                        2 * n1x
+                    ]
+                },
                 |merged1, (k, (((((layers1, counts1), sky1), layers2), counts2), sky2))| {
                     // Level 1's two rows, one layer a node, merged into this worker's buffer.
                     let rows1 = counts1.len() / n1x;
