@@ -40,6 +40,15 @@ fn synthetic_field(n: usize) -> HeightField {
     HeightField::new(n, n, samples, GridGeometry::unit()).expect("a valid synthetic field")
 }
 
+/// CPU seconds (user + system) this process has used, from /proc (0 where there is none):
+/// on a shared machine the wall time of a parallel draw depends on the other load.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let fields: Vec<&str> = stat.rsplit(')').next().unwrap_or("").split_whitespace().collect();
+    let ticks = |k: usize| fields.get(k).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    (ticks(11) + ticks(12)) / 100.0
+}
+
 fn main() {
     let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
     let n = args.first().copied().unwrap_or(2048);
@@ -80,19 +89,22 @@ fn main() {
         let mut target = RasterTarget::for_camera(camera);
         let mut times = Vec::new();
         let mut stats = Default::default();
+        let cpu_start = cpu_seconds();
         for _ in 0..5 {
             target.clear();
             let start = Instant::now();
             stats = rasterizer.draw(camera, whole, 0, &mut target).unwrap();
             times.push(start.elapsed().as_secs_f64());
         }
+        let cpu = (cpu_seconds() - cpu_start) / 5.0;
         times.sort_by(f64::total_cmp);
         let t = times[times.len() / 2];
         let drawn = target.triangle.iter().filter(|&&k| k != RasterTarget::NO_TRIANGLE).count();
         println!(
-            "{name:>13} {w}x{h} {mesh_name} {culling:?}: {:7.1} ms  {:6.1} M triangles/s  {:6.1} M fragments/s  \
-             (binned {} of {} triangles, {} bin entries, {} fragments, {drawn} pixels drawn)",
+            "{name:>13} {w}x{h} {mesh_name} {culling:?}: {:7.1} ms ({:7.1} CPU ms)  {:6.1} M triangles/s  \
+             {:6.1} M fragments/s  (binned {} of {} triangles, {} bin entries, {} fragments, {drawn} pixels drawn)",
             t * 1e3,
+            cpu * 1e3,
             whole.triangle_count() as f64 / t / 1e6,
             stats.fragments as f64 / t / 1e6,
             stats.triangles_binned,

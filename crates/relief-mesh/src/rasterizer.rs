@@ -2,7 +2,7 @@
 //! tiles in parallel, then every tile is rasterized by one worker into its own pixels, so the
 //! image is the same whatever the thread count.
 
-use crate::triangle_setup::{ScreenProjection, TriangleSetup};
+use crate::triangle_setup::{is_back_face, ScreenProjection, TriangleSetup};
 use crate::{IndexedMesh, MeshError, RasterTarget};
 use rayon::prelude::*;
 use relief_core::Camera;
@@ -79,12 +79,13 @@ impl Rasterizer {
         Self::default()
     }
 
-    /// A rasterizer with `tile_size x tile_size` pixel tiles, `tile_size` in 8..=256.
+    /// A rasterizer with `tile_size x tile_size` pixel tiles, `tile_size` a power of two in
+    /// 8..=256.
     pub fn with_tile_size(tile_size: u32) -> Result<Self, MeshError> {
-        if !(8..=256).contains(&tile_size) {
+        if !(8..=256).contains(&tile_size) || !tile_size.is_power_of_two() {
             return Err(MeshError::Parameter {
                 name: "tile size",
-                reason: format!("{tile_size} is outside 8..=256 pixels"),
+                reason: format!("{tile_size} is not a power of two in 8..=256 pixels"),
             });
         }
         Ok(Rasterizer { tile_size: tile_size as usize, ..Self::default() })
@@ -191,6 +192,7 @@ impl Rasterizer {
         let projection = ScreenProjection::new(camera);
         let (width, height, size) = (projection.width, projection.height, self.tile_size);
         let (tiles_x, tiles_y) = (width.div_ceil(size), height.div_ceil(size));
+        let shift = size.trailing_zeros();
         let projected: Vec<[f64; 3]> =
             mesh.positions().par_iter().map(|&p| projection.project(p)).collect();
         let triangles = mesh.triangles();
@@ -211,10 +213,13 @@ impl Rasterizer {
                         continue;
                     };
                     let world = tri.map(|v| positions[v as usize]);
-                    let (tx0, ty0, tx1, ty1) = (x0 / size, y0 / size, x1 / size, y1 / size);
+                    let (tx0, ty0, tx1, ty1) = (x0 >> shift, y0 >> shift, x1 >> shift, y1 >> shift);
                     // Culled triangles are skipped here; one spanning several tiles is set up
                     // now to skip the tiles its edges exclude.
-                    let setup = if cull || tx0 != tx1 || ty0 != ty1 {
+                    if cull && is_back_face(&projection, &projected) {
+                        continue;
+                    }
+                    let setup = if tx0 != tx1 || ty0 != ty1 {
                         match TriangleSetup::new(&projection, &projected, &world, cull) {
                             Some(setup) => Some(setup),
                             None => continue,

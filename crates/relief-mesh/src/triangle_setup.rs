@@ -119,6 +119,17 @@ impl ScreenProjection {
     }
 }
 
+/// Whether the triangle with projected corners `v` faces away from the camera (see
+/// [`TriangleSetup::new`]) or is degenerate on screen.
+#[inline]
+pub(crate) fn is_back_face(projection: &ScreenProjection, v: &[[f64; 3]; 3]) -> bool {
+    let w = |k: usize| if projection.perspective { v[k][2] } else { 1.0 };
+    let h = |k: usize| [v[k][0], v[k][1], w(k)];
+    let e0 = cross(h(1), h(2));
+    let det = h(0)[0] * e0[0] + h(0)[1] * e0[1] + h(0)[2] * e0[2];
+    det.is_nan() || det >= 0.0
+}
+
 /// `x.floor()` for a small finite `x`, without a library call (x86-64 has no rounding
 /// instruction before SSE 4.1).
 #[inline(always)]
@@ -168,6 +179,11 @@ impl TriangleSetup {
     ///
     /// With `cull_back_faces`, a triangle whose normal `(p1 - p0) x (p2 - p0)` does not face
     /// the camera's rays (counter-clockwise is the front, seen from outside) is `None` too.
+    ///
+    /// The homogeneous determinant is `f^2 dot(n, p0 - eye)` for a pinhole and
+    /// `f^2 dot(n, forward)` for an orthographic camera (the camera's basis right, up',
+    /// forward is left-handed and the pixel rows run down), so a front face has a negative
+    /// determinant.
     #[inline]
     pub(crate) fn new(
         projection: &ScreenProjection,
@@ -175,15 +191,6 @@ impl TriangleSetup {
         p: &[DVec3; 3],
         cull_back_faces: bool,
     ) -> Option<Self> {
-        let n = (p[1] - p[0]).cross(p[2] - p[0]);
-        let numerator = n.dot(p[0] - projection.eye);
-        let n_forward = n.dot(projection.forward);
-        if cull_back_faces {
-            let facing = if projection.perspective { numerator } else { n_forward };
-            if facing.is_nan() || facing >= 0.0 {
-                return None;
-            }
-        }
         let homogeneous = |k: usize| {
             if projection.perspective {
                 v[k]
@@ -194,7 +201,7 @@ impl TriangleSetup {
         let (h0, h1, h2) = (homogeneous(0), homogeneous(1), homogeneous(2));
         let mut edges = [cross(h1, h2), cross(h2, h0), cross(h0, h1)];
         let det = h0[0] * edges[0][0] + h0[1] * edges[0][1] + h0[2] * edges[0][2];
-        if det == 0.0 || !det.is_finite() {
+        if det == 0.0 || !det.is_finite() || (cull_back_faces && det > 0.0) {
             return None;
         }
         if det < 0.0 {
@@ -202,6 +209,9 @@ impl TriangleSetup {
             edges = edges.map(|e| e.map(|c| -c));
         }
         let top_left = edges.map(|e| e[0] > 0.0 || (e[0] == 0.0 && e[1] > 0.0));
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        let numerator = n.dot(p[0] - projection.eye);
+        let n_forward = n.dot(projection.forward);
         Some(TriangleSetup {
             edges,
             top_left,

@@ -243,6 +243,7 @@ fn refuses_mismatched_targets_and_overflowing_ids() {
     let mut target = RasterTarget::for_camera(&camera);
     assert!(Rasterizer::new().draw(&camera, &mesh, u32::MAX - 4, &mut target).is_err());
     assert!(Rasterizer::with_tile_size(4).is_err() && Rasterizer::with_tile_size(512).is_err());
+    assert!(Rasterizer::with_tile_size(48).is_err());
 }
 
 #[test]
