@@ -62,7 +62,7 @@ proptest! {
         surface in prop_oneof![Just(Surface::Triangles), Just(Surface::Boxes)],
         cell in prop_oneof![Just(4usize), Just(9), Just(16)],
         threshold in prop_oneof![Just(0.5f64), Just(5.0), Just(70.0)],
-        eye in (-0.3f64..1.3, -0.3f64..1.3, 1.0f64..25.0),
+        eye in (-0.3f64..1.3, -0.3f64..1.3, -15.0f64..25.0),
         target in (0.0f64..1.0, 0.0f64..1.0),
     ) {
         let n = 40;

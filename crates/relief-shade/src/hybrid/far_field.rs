@@ -193,7 +193,8 @@ impl FarCells {
         Ok(traced)
     }
 
-    /// The twelve triangles of every ray-cast cell's proxy box, widened by the width of a
+    /// The twelve triangles of every ray-cast cell's proxy box, wound outward (so that the
+    /// culling rasterizer draws the faces a ray enters by), widened by the width of a
     /// pixel at its farthest corner (so that the rasterizer's sub-pixel snapping cannot lose a
     /// ray that grazes it), and whether a box reaches the eye's plane (then no rasterized
     /// entry bounds the rays: they are searched from their start).

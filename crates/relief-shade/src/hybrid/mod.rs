@@ -25,7 +25,7 @@ use far_field::FarCells;
 use near_field::NearField;
 use rayon::prelude::*;
 use relief_core::{Aabb, Camera, CoreError, HeightField, Projection, Ray, SampleRegion, Surface};
-use relief_mesh::{RasterTarget, Rasterizer};
+use relief_mesh::{Culling, RasterTarget, Rasterizer};
 use relief_trace::hybrid::{CellChoice, HybridCells, HybridHeuristic, HybridParams};
 use relief_trace::{Hit, MipmapTracer, Tracer};
 use std::fmt;
@@ -143,7 +143,9 @@ impl HybridRenderer {
             heuristic,
             far,
             near,
-            rasterizer: Rasterizer::new(),
+            // The solid is closed and its meshes wound outward: seen from outside (a camera
+            // inside it is drawn by the exact tracer), its back faces are always hidden.
+            rasterizer: Rasterizer::new().with_culling(Culling::BackFaces),
             target: RasterTarget::new(0, 0),
         })
     }
