@@ -258,9 +258,9 @@ pub struct HybridArgs {
     /// the paper's 55/25, 32/15, 16/10 and 8/5 linear/binary steps) [default: 4].
     #[arg(long, value_name = "N", value_parser = lop_levels, allow_hyphen_values = true)]
     pub lop: Option<usize>,
-    /// Hybrid renderer: the cells it does not rasterize are ray cast at their levels of
-    /// precision (lop, approximate, the paper's) or exactly (exact: the whole image equals
-    /// the exact tracer's) [default: lop].
+    /// Hybrid renderer: the cells it does not rasterize are ray cast exactly (exact: the whole
+    /// image equals the exact tracer's) or at their levels of precision (lop: the paper's
+    /// linear and binary searches, approximate, and slower on a CPU) [default: exact].
     #[arg(long, value_name = "lop|exact")]
     pub far: Option<relief_shade::FarField>,
     /// Hybrid renderer: colour each pixel by what drew it, as the paper's Figure 1: mesh

@@ -49,7 +49,10 @@ fn the_exact_far_field_draws_the_exact_tracers_depth() {
     assert_eq!(m["wrong"], 0, "{m}");
     assert!(m["max_rel_error"].as_f64().unwrap() <= 1e-4, "{m}");
 
-    let (_, lop) = render("hy-lop", &["--tracer", "hybrid", "--cell", "9", "--threshold", "2"]);
+    let (_, lop) = render(
+        "hy-lop",
+        &["--tracer", "hybrid", "--far", "lop", "--cell", "9", "--threshold", "2"],
+    );
     let m = compare(&exact, &lop);
     assert!(m["wrong_pixel_fraction"].as_f64().unwrap() < 0.02, "{m}");
 }

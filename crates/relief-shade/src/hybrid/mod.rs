@@ -37,11 +37,12 @@ use std::time::Instant;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum FarField {
     /// The paper's levels of precision: a linear then a binary search with the cell's level's
-    /// steps inside its proxy box. Approximate (see the metrics of `relief compare`).
-    #[default]
+    /// steps inside its proxy box. Approximate (see the metrics of `relief compare`), and on a
+    /// CPU slower than the exact far field (docs/hybrid.md).
     Lop,
     /// The exact tracer between the nearest proxy-box entry and the rasterized depth: the
-    /// whole image then equals the exact tracer's.
+    /// whole image then equals the exact tracer's. The default.
+    #[default]
     Exact,
 }
 
