@@ -3,10 +3,10 @@
 //! proxy-box entry (relief's `--far exact`).
 
 use super::PixelSource;
-use crate::{ShadeError, Tile, TILE_SIZE};
+use crate::{Tile, TILE_SIZE};
 use rayon::prelude::*;
-use relief_core::{Aabb, Camera, DVec3, HeightField};
-use relief_mesh::{IndexedMesh, RasterTarget, Rasterizer};
+use relief_core::{Aabb, Camera, HeightField, Ray};
+use relief_mesh::RasterTarget;
 use relief_trace::hybrid::{
     lop_cast, project_box, CellChoice, HybridCells, HybridHeuristic, LopSteps, PixelRect,
 };
@@ -117,56 +117,53 @@ impl FarCells {
             .sum()
     }
 
-    /// The exact far field: the ray-cast cells' proxy boxes, each widened by a pixel, are
-    /// rasterized for the nearest box entry `t0` per pixel; wherever `t0` is nearer than the
-    /// rasterized near field, `tracer` searches `[t0, near depth]` exactly, tile by tile (its
-    /// coherent batches). Pixels that no box covers and no mesh drew see the sky: every
+    /// The exact far field: per pixel, the nearest entry `t0` into a ray-cast cell's proxy
+    /// box (the cells whose projected box holds the pixel, tested front to back, stopping at
+    /// the first whose box is farther than what is already known); wherever it is nearer than
+    /// the rasterized near field, `tracer` searches `[t0, near depth]` exactly, tile by tile
+    /// (its coherent batches). Pixels in no ray-cast box that no mesh drew see the sky: every
     /// visible surface lies in some cell's box. Returns the number of rays traced.
     pub(super) fn cast_exact(
         &self,
         tracer: &dyn Tracer,
-        rasterizer: &Rasterizer,
         camera: &Camera,
         near: &RasterTarget,
         hits: &mut [FarHit],
-    ) -> Result<u64, ShadeError> {
+    ) -> u64 {
         let width = camera.width() as usize;
-        let (boxes, behind) = self.entry_mesh(camera);
-        let mut entries = RasterTarget::for_camera(camera);
-        if !behind {
-            rasterizer
-                .draw(camera, &boxes, 0, &mut entries)
-                .map_err(|e| ShadeError::Limits(e.to_string()))?;
-        }
         let strip = TILE_SIZE * width;
-        let traced = hits
-            .par_chunks_mut(strip)
+        hits.par_chunks_mut(strip)
             .enumerate()
             .map(|(s, hits)| {
                 let (top, rows) = (s * TILE_SIZE, hits.len() / width);
+                let bottom = top + rows - 1;
+                let in_strip: Vec<&FarCell> = self
+                    .cells
+                    .iter()
+                    .filter(|c| c.pixels.j0 as usize <= bottom && c.pixels.j1 as usize >= top)
+                    .collect();
                 let mut traced = 0;
-                let (mut rays, mut found, mut steps, mut at) =
-                    (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+                let (mut rays, mut found, mut steps, mut at, mut in_tile) =
+                    (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
                 for tile_x in (0..width).step_by(TILE_SIZE) {
                     let tile = Tile::new(tile_x, top, width, top + rows);
+                    let right = (tile_x + TILE_SIZE).min(width) - 1;
+                    in_tile.clear();
+                    in_tile.extend(in_strip.iter().copied().filter(|c| {
+                        c.pixels.i0 as usize <= right && c.pixels.i1 as usize >= tile_x
+                    }));
                     rays.clear();
                     at.clear();
                     let mut wanted = 0;
                     for (i, j) in tile.pixels() {
-                        let index = i + j * width;
-                        let end = near.distance[index] as f64;
-                        // Widened by a relative margin over the f32 rounding of the entries.
-                        let start = if behind {
-                            0.0
-                        } else {
-                            entries.distance[index] as f64 * (1.0 - 1e-5)
-                        };
+                        let end = near.distance[i + j * width] as f64;
                         let ray = camera.ray(i as u32, j as u32);
+                        let start = nearest_entry(&in_tile, &ray, i as u32, j as u32, end);
                         // The whole tile goes to the tracer, so its packets stay whole; a
                         // pixel with nothing to search gets an empty range.
-                        if start.is_finite() && start < end {
+                        if start < end {
                             wanted += 1;
-                            rays.push(ray.with_range(start.max(0.0), end));
+                            rays.push(ray.with_range(start, end));
                         } else {
                             rays.push(ray.with_range(1.0, 0.0));
                         }
@@ -189,53 +186,28 @@ impl FarCells {
                 }
                 traced
             })
-            .sum();
-        Ok(traced)
-    }
-
-    /// The twelve triangles of every ray-cast cell's proxy box, wound outward (so that the
-    /// culling rasterizer draws the faces a ray enters by), widened by the width of a
-    /// pixel at its farthest corner (so that the rasterizer's sub-pixel snapping cannot lose a
-    /// ray that grazes it), and whether a box reaches the eye's plane (then no rasterized
-    /// entry bounds the rays: they are searched from their start).
-    fn entry_mesh(&self, camera: &Camera) -> (IndexedMesh, bool) {
-        let (eye, forward) = (camera.eye(), camera.forward());
-        let mut positions = Vec::with_capacity(8 * self.cells.len());
-        let mut triangles = Vec::with_capacity(12 * self.cells.len());
-        let mut behind = false;
-        for cell in &self.cells {
-            let b = cell.world_box;
-            let corner = |k: usize| {
-                DVec3::new(
-                    if k & 1 == 0 { b.min.x } else { b.max.x },
-                    if k & 2 == 0 { b.min.y } else { b.max.y },
-                    if k & 4 == 0 { b.min.z } else { b.max.z },
-                )
-            };
-            let far = (0..8).map(|k| corner(k).distance(eye)).fold(0.0, f64::max);
-            let margin = camera.pixel_footprint(far);
-            let (lo, hi) = (b.min - DVec3::splat(margin), b.max + DVec3::splat(margin));
-            let base = positions.len() as u32;
-            for k in 0..8 {
-                let p = DVec3::new(
-                    if k & 1 == 0 { lo.x } else { hi.x },
-                    if k & 2 == 0 { lo.y } else { hi.y },
-                    if k & 4 == 0 { lo.z } else { hi.z },
-                );
-                behind |= (p - eye).dot(forward) <= 0.0;
-                positions.push(p);
-            }
-            for [a, b, c, d] in BOX_FACES {
-                triangles.push([base + a, base + b, base + c]);
-                triangles.push([base + a, base + c, base + d]);
-            }
-        }
-        let mesh = IndexedMesh::new(positions, triangles).unwrap_or_default();
-        (mesh, behind)
+            .sum()
     }
 }
 
-/// The six faces of a box whose corner `k` has bit 0 for max x, bit 1 for max y, bit 2 for
-/// max z, each as four corners around it.
-const BOX_FACES: [[u32; 4]; 6] =
-    [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+/// The nearest entry of `ray` (pixel (i, j)) into the boxes of `cells` (sorted front to back)
+/// below `limit`, lowered by a relative margin over rounding and at least 0; `limit` when
+/// the ray enters none before it. The scan stops at the first cell whose box is farther than
+/// the entry found (or `limit`): no box behind it can be entered sooner.
+fn nearest_entry(cells: &[&FarCell], ray: &Ray, i: u32, j: u32, limit: f64) -> f64 {
+    let mut best = limit;
+    for cell in cells {
+        if cell.near >= best {
+            break;
+        }
+        let p = cell.pixels;
+        if i < p.i0 || i > p.i1 || j < p.j0 || j > p.j1 {
+            continue;
+        }
+        if let Some(clip) = cell.world_box.clip(ray) {
+            let entry = (clip.t_enter * (1.0 - 1e-9) - 1e-9).max(0.0);
+            best = best.min(entry);
+        }
+    }
+    best
+}

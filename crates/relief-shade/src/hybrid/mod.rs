@@ -9,8 +9,8 @@
 //!    rasterized by relief-mesh's [`Rasterizer`] with exact ray-plane distances;
 //! 3. the far field: with levels of precision, every ray-cast cell's pixels (its projected
 //!    proxy box) are searched front to back, depth-tested against what is drawn
-//!    ([`far_field`]); exactly, the proxy boxes' faces are rasterized for the nearest entry
-//!    `t0` per pixel, and the exact tracer searches `[t0, near depth]`;
+//!    ([`far_field`]); exactly, from the nearest entry `t0` into a ray-cast proxy box per
+//!    pixel, the exact tracer searches `[t0, near depth]`;
 //! 4. every pixel's hit is written into the G-buffer as the other renderers write it.
 //!
 //! Edits ([`HybridRenderer::edit`], [`HybridRenderer::replace_samples`]) update the field, the
@@ -299,9 +299,7 @@ impl HybridRenderer {
         let mut hits: Vec<Option<(Hit, PixelSource)>> = vec![None; width * height];
         stats.far_rays = match self.far {
             FarField::Lop => far.cast_levels(&field, &self.cells, camera, &self.target, &mut hits),
-            FarField::Exact => {
-                far.cast_exact(&self.exact, &self.rasterizer, camera, &self.target, &mut hits)?
-            }
+            FarField::Exact => far.cast_exact(&self.exact, camera, &self.target, &mut hits),
         };
         stats.far_ms = elapsed_ms(start);
 
