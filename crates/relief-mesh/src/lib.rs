@@ -10,20 +10,24 @@
 //! - [`height_field_mesh`]: the solid an exact tracer intersects (surface, walls, bottom) for
 //!   a block of a height field, in either [`relief_core::Surface`], so cells can be meshed one
 //!   by one and drawn without cracks;
-//! - [`Clipmap`]: geometry clipmaps (Losasso & Hoppe 2004), the comparison renderer of the
-//!   hybrid paper.
+//! - [`Clipmap`]: geometry clipmaps (Losasso & Hoppe 2004) over a [`HeightPyramid`], the
+//!   comparison renderer of the hybrid paper, meshed per frame for a camera.
 #![deny(missing_docs)]
 
 mod box_mesh;
+mod clipmap;
 mod error;
 mod height_field_mesh;
+mod height_pyramid;
 mod indexed_mesh;
 mod raster_target;
 mod rasterizer;
 mod triangle_setup;
 
+pub use clipmap::{Clipmap, ClipmapParams};
 pub use error::MeshError;
 pub use height_field_mesh::height_field_mesh;
+pub use height_pyramid::HeightPyramid;
 pub use indexed_mesh::{IndexedMesh, MeshHit};
 pub use raster_target::RasterTarget;
 pub use rasterizer::{Culling, DrawStats, Rasterizer};
