@@ -6,6 +6,7 @@
 
 use crate::height_field_mesh::MeshBuilder;
 use crate::{HeightPyramid, IndexedMesh, MeshError};
+use rayon::prelude::*;
 use relief_core::{Camera, DVec3, GridGeometry, HeightField, SampleRegion};
 
 /// The parameters of a [`Clipmap`]; the default is the paper's: n = 511, 11 levels,
@@ -162,13 +163,24 @@ impl Clipmap {
             }
         }
         let levels = self.level_heights(&origins, centre);
+        // Each level's triangles apart (in parallel), then concatenated in level order.
+        let parts: Vec<MeshBuilder> = (0..levels.len())
+            .into_par_iter()
+            .map(|l| {
+                let mut part = MeshBuilder::default();
+                let finer = l.checked_sub(1).map(|f| &levels[f]);
+                self.triangulate(&mut part, &levels[l], finer);
+                if let Some(finer) = finer {
+                    self.join(&mut part, finer);
+                }
+                part
+            })
+            .collect();
         let mut mesh = MeshBuilder::default();
-        for (l, level) in levels.iter().enumerate() {
-            let finer = l.checked_sub(1).map(|f| &levels[f]);
-            self.triangulate(&mut mesh, level, finer);
-            if let Some(finer) = finer {
-                self.join(&mut mesh, finer);
-            }
+        for part in parts {
+            let base = mesh.positions.len() as u32;
+            mesh.positions.extend_from_slice(&part.positions);
+            mesh.triangles.extend(part.triangles.iter().map(|t| t.map(|v| v + base)));
         }
         mesh.finish()
     }
@@ -184,13 +196,13 @@ impl Clipmap {
             let s = 1i64 << l;
             let coarser = levels.last();
             let mut heights = vec![0.0; n * n];
-            for j in 0..n {
-                for i in 0..n {
+            heights.par_chunks_mut(n).enumerate().for_each(|(j, row)| {
+                for (i, height) in row.iter_mut().enumerate() {
                     let (x, y) = (origin[0] + i as i64 * s, origin[1] + j as i64 * s);
                     let (cx, cy) = self.clamp(x, y);
                     let fine = self.pyramid.height_at(l, cx as f64, cy as f64);
                     let Some(coarse_level) = coarser else {
-                        heights[i + j * n] = fine;
+                        *height = fine;
                         continue;
                     };
                     let morph = |v: i64, c: f64| {
@@ -200,7 +212,7 @@ impl Clipmap {
                     let border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
                     let alpha =
                         if border { 1.0 } else { morph(x, centre[0]).max(morph(y, centre[1])) };
-                    heights[i + j * n] = if alpha <= 0.0 {
+                    *height = if alpha <= 0.0 {
                         fine
                     } else {
                         let coarse = coarse_level.surface(n, x, y);
@@ -211,7 +223,7 @@ impl Clipmap {
                         }
                     };
                 }
-            }
+            });
             levels.push(Level { origin, spacing: s, heights });
         }
         levels.reverse();
