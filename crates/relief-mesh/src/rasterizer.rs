@@ -193,8 +193,14 @@ impl Rasterizer {
         let (width, height, size) = (projection.width, projection.height, self.tile_size);
         let (tiles_x, tiles_y) = (width.div_ceil(size), height.div_ceil(size));
         let shift = size.trailing_zeros();
-        let projected: Vec<[f64; 3]> =
-            mesh.positions().par_iter().map(|&p| projection.project(p)).collect();
+        let (projected, outcodes): (Vec<[f64; 3]>, Vec<u8>) = mesh
+            .positions()
+            .par_iter()
+            .map(|&p| {
+                let v = projection.project(p);
+                (v, projection.outcode(v))
+            })
+            .unzip();
         let triangles = mesh.triangles();
         let positions = mesh.positions();
         let cull = self.culling == Culling::BackFaces;
@@ -208,6 +214,10 @@ impl Rasterizer {
                 let mut bins: Vec<Vec<BinEntry>> = vec![Vec::new(); tiles_x * tiles_y];
                 let mut count = 0;
                 for (k, tri) in tris.iter().enumerate() {
+                    let [a, b, c] = tri.map(|v| outcodes[v as usize]);
+                    if a & b & c != 0 {
+                        continue;
+                    }
                     let projected = corners(tri);
                     let Some([x0, y0, x1, y1]) = projection.pixel_bounds(&projected) else {
                         continue;

@@ -71,6 +71,22 @@ impl ScreenProjection {
         }
     }
 
+    /// Which of the view's bounding half-spaces the projected point `v` lies outside of, one
+    /// bit each: left of the first pixel column, right of the last, above the first row, below
+    /// the last (each with a pixel of margin), and behind the eye. A triangle whose three
+    /// corners share a bit is invisible: the half-spaces are linear in homogeneous coordinates,
+    /// so its every point lies outside too.
+    #[inline]
+    pub(crate) fn outcode(&self, v: [f64; 3]) -> u8 {
+        let (w, z) = if self.perspective { (v[2], v[2]) } else { (1.0, v[2]) };
+        let (width, height) = (self.width as f64, self.height as f64);
+        (v[0] < -w) as u8
+            | ((v[0] > (width + 1.0) * w) as u8) << 1
+            | ((v[1] < -w) as u8) << 2
+            | ((v[1] > (height + 1.0) * w) as u8) << 3
+            | ((z <= 0.0) as u8) << 4
+    }
+
     /// The pixels `[x0, x1] x [y0, y1]` (inclusive) whose centres the projected triangle may
     /// cover, or `None` when it covers none (behind the eye, off screen, or between centres).
     ///
