@@ -274,7 +274,6 @@ impl<S: BoundScalar> MergedLayer<S> for StoredLayer<S> {
 
 /// [`MlhmNodeLayer`] as stored, in a [`BoundScalar`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[repr(C)]
 pub(crate) struct StoredLayer<S> {
     pub(crate) water_max: S,
     pub(crate) ceiling_min: S,

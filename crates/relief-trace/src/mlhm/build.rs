@@ -121,19 +121,8 @@ impl MlhmHierarchy {
     /// f32): from level 1's bounds before they are rounded to f16, or from the top level's
     /// f32 bounds.
     fn fill(&mut self, map: &Mlhm, merge: Merge) {
-        let fused = merge == Merge::Fast
-            && self.padding == 0.0
-            && self.precision == Precision::F32
-            && self.levels.len() >= 2
-            && counts_all_one(map.layer_counts());
-        let (rounded_tops, done) = if fused {
-            let (first, second) = self.levels.split_at_mut(1);
-            Self::merge_two_single_layer_levels(&mut first[0], &mut second[0], map);
-            (None, 2)
-        } else {
-            (Self::fill_first(&mut self.levels[0], map, self.padding, merge), 1)
-        };
-        for i in done..self.levels.len() {
+        let rounded_tops = Self::fill_first(&mut self.levels[0], map, self.padding, merge);
+        for i in 1..self.levels.len() {
             let (below, above) = self.levels.split_at_mut(i);
             Self::fill_above(&mut above[0], &below[i - 1], merge);
         }
@@ -257,6 +246,7 @@ impl MlhmHierarchy {
         (children_x, children_y): (usize, usize),
         quad: impl Fn(usize, usize, usize, usize) -> ([f32; 4], f32) + Sync,
     ) {
+        let empty = <StoredLayer<f32> as MergedLayer<f32>>::EMPTY;
         bounds
             .layers
             .par_chunks_mut(nodes_x * cap)
@@ -264,83 +254,22 @@ impl MlhmHierarchy {
             .zip(bounds.sky.par_chunks_mut(nodes_x))
             .enumerate()
             .for_each(|(ny, ((layers, node_counts), node_sky))| {
-                let rows = (2 * ny * children_x, (2 * ny + 1).min(children_y - 1) * children_x);
-                let row = SingleLayerRow { layers, counts: node_counts, sky: node_sky, cap };
-                row.merge(rows, children_x, &quad);
+                let (low, high) =
+                    (2 * ny * children_x, (2 * ny + 1).min(children_y - 1) * children_x);
+                node_counts.fill(1);
+                for (nx, (node, sky)) in layers.chunks_exact_mut(cap).zip(node_sky).enumerate() {
+                    let (x0, x1) = (2 * nx, (2 * nx + 1).min(children_x - 1));
+                    let (merged, lowest_sky) = quad(low + x0, low + x1, high + x0, high + x1);
+                    node[0] = StoredLayer {
+                        water_max: merged[0],
+                        ceiling_min: merged[1],
+                        solid_max: merged[2],
+                        air_min: merged[3],
+                    };
+                    node[1..].fill(empty);
+                    *sky = lowest_sky;
+                }
             });
-    }
-
-    /// Levels 1 and 2 of a map whose cells all hold one column, at exact f32 bounds, in one
-    /// pass: each worker merges two rows of level 1 from four rows of cells, then the row of
-    /// level 2 above them while those two rows are still in its cache, so that level 1 (half
-    /// the map's size) is not read back from memory. Same bounds as
-    /// [`merge_single_layers`](Self::merge_single_layers) level by level.
-    fn merge_two_single_layer_levels(first: &mut Level, second: &mut Level, map: &Mlhm) {
-        let (w, h, columns) = (map.width(), map.height(), map.raw_columns());
-        let (StoredBounds::F32(b1), StoredBounds::F32(b2)) =
-            (&mut first.bounds, &mut second.bounds)
-        else {
-            unreachable!("merged in one pass at f32 only")
-        };
-        let (n1x, n1y, cap1, n2x, cap2) =
-            (first.nodes_x, first.nodes_y, first.cap, second.nodes_x, second.cap);
-        let cells = |i: usize, j: usize, k: usize, l: usize| {
-            let merged = merge_columns([columns[i], columns[j], columns[k], columns[l]]);
-            (merged, merged[3])
-        };
-        b1.layers
-            .par_chunks_mut(2 * n1x * cap1)
-            .zip(first.counts.par_chunks_mut(2 * n1x))
-            .zip(b1.sky.par_chunks_mut(2 * n1x))
-            .zip(b2.layers.par_chunks_mut(n2x * cap2))
-            .zip(second.counts.par_chunks_mut(n2x))
-            .zip(b2.sky.par_chunks_mut(n2x))
-            .enumerate()
-            .for_each_init(
-                || {
-                    vec![
-                        StoredLayer {
-                            water_max: 0.0,
-                            ceiling_min: 0.0,
-                            solid_max: 0.0,
-                            air_min: 0.0
-                        };
-                        2 * n1x
-                    ]
-                },
-                |merged1, (k, (((((layers1, counts1), sky1), layers2), counts2), sky2))| {
-                    // Level 1's two rows, one layer a node, merged into this worker's buffer.
-                    let rows1 = counts1.len() / n1x;
-                    for r in 0..rows1 {
-                        let ny = 2 * k + r;
-                        let span = r * n1x..(r + 1) * n1x;
-                        let row = SingleLayerRow {
-                            layers: &mut merged1[span.clone()],
-                            counts: &mut counts1[span.clone()],
-                            sky: &mut sky1[span],
-                            cap: 1,
-                        };
-                        let cell_rows = (2 * ny * w, (2 * ny + 1).min(h - 1) * w);
-                        row.merge(cell_rows, w, &cells);
-                    }
-                    // Level 2's row from the buffer.
-                    let (merged1, sky1) = (&*merged1, &*sky1);
-                    let child = |i: usize| {
-                        let l = merged1[i];
-                        [l.water_max, l.ceiling_min, l.solid_max, l.air_min]
-                    };
-                    let nodes = |i: usize, j: usize, k: usize, l: usize| {
-                        let lowest_sky = sky1[i].min(sky1[j]).min(sky1[k].min(sky1[l]));
-                        (merge_lanes(child(i), child(j), child(k), child(l)), lowest_sky)
-                    };
-                    let row =
-                        SingleLayerRow { layers: layers2, counts: counts2, sky: sky2, cap: cap2 };
-                    row.merge((0, (rows1 - 1) * n1x), n1x, &nodes);
-                    // Level 1 out to memory, past the caches: nothing reads it in this build.
-                    store_streaming(layers1, &merged1[..rows1 * n1x], cap1);
-                },
-            );
-        debug_assert_eq!(n1y.div_ceil(2), second.nodes_y);
     }
 
     /// Fills every node of a level (`nodes_x` nodes a row, `cap` layers a node; `bounds` and
@@ -428,79 +357,6 @@ impl MlhmHierarchy {
                 tops
             })
             .reduce(|| None, max_pair)
-    }
-}
-
-/// One row of a level's nodes at exact f32 bounds, each node merged from one layer of each of
-/// its (up to) 2 x 2 children.
-struct SingleLayerRow<'a> {
-    /// The row's layer slots, `cap` a node.
-    layers: &'a mut [StoredLayer<f32>],
-    /// The row's layer counts.
-    counts: &'a mut [u8],
-    /// The row's starts of the open sky.
-    sky: &'a mut [f32],
-    /// Layer slots a node.
-    cap: usize,
-}
-
-impl SingleLayerRow<'_> {
-    /// Merges node `nx` from children `2 nx` and `2 nx + 1` (the last one twice on an odd
-    /// row) of the child rows starting at indices `low` and `high` (equal on an odd grid's
-    /// last row), in a grid of `children_x` children a row, by `quad` (see
-    /// [`MlhmHierarchy::merge_single_layers`]).
-    #[inline(always)]
-    fn merge(
-        self,
-        (low, high): (usize, usize),
-        children_x: usize,
-        quad: &impl Fn(usize, usize, usize, usize) -> ([f32; 4], f32),
-    ) {
-        let empty = <StoredLayer<f32> as MergedLayer<f32>>::EMPTY;
-        self.counts.fill(1);
-        for (nx, (node, sky)) in self.layers.chunks_exact_mut(self.cap).zip(self.sky).enumerate() {
-            let (x0, x1) = (2 * nx, (2 * nx + 1).min(children_x - 1));
-            let (merged, lowest_sky) = quad(low + x0, low + x1, high + x0, high + x1);
-            node[0] = StoredLayer {
-                water_max: merged[0],
-                ceiling_min: merged[1],
-                solid_max: merged[2],
-                air_min: merged[3],
-            };
-            node[1..].fill(empty);
-            *sky = lowest_sky;
-        }
-    }
-}
-
-/// Writes `merged` (one layer a node) into `layers` (`cap` slots a node: the layer, then empty
-/// slots) with non-temporal stores where the storage allows, so that a level no one reads
-/// until the next frame does not first load every line it overwrites into the cache.
-fn store_streaming(layers: &mut [StoredLayer<f32>], merged: &[StoredLayer<f32>], cap: usize) {
-    let empty = <StoredLayer<f32> as MergedLayer<f32>>::EMPTY;
-    #[cfg(target_arch = "x86_64")]
-    if layers.as_ptr().align_offset(16) == 0 {
-        use std::arch::x86_64::*;
-        let slot = |l: &StoredLayer<f32>| {
-            // SAFETY: `StoredLayer<f32>` is `repr(C)`, four f32.
-            unsafe { _mm_loadu_ps(std::ptr::from_ref(l).cast::<f32>()) }
-        };
-        let blank = slot(&empty);
-        for (node, layer) in layers.chunks_exact_mut(cap).zip(merged) {
-            for (j, out) in node.iter_mut().enumerate() {
-                let value = if j == 0 { slot(layer) } else { blank };
-                // SAFETY: the slots are 16 bytes each from a 16-byte aligned start, so every
-                // slot is aligned; SSE2 is part of x86_64.
-                unsafe { _mm_stream_ps(std::ptr::from_mut(out).cast::<f32>(), value) };
-            }
-        }
-        // SAFETY: SSE; orders the streamed stores before anything that follows.
-        unsafe { _mm_sfence() };
-        return;
-    }
-    for (node, layer) in layers.chunks_exact_mut(cap).zip(merged) {
-        node[0] = *layer;
-        node[1..].fill(empty);
     }
 }
 
