@@ -28,6 +28,8 @@ pub enum TracerChoice {
     /// The hybrid renderer of height fields (Ammann et al. 2010): rasterized near field,
     /// ray-cast far field.
     Hybrid,
+    /// Geometry clipmaps (Losasso & Hoppe 2004), the hybrid paper's comparison renderer.
+    Clipmap,
 }
 
 impl FromStr for TracerChoice {
@@ -37,9 +39,10 @@ impl FromStr for TracerChoice {
             "safety" => Ok(TracerChoice::Safety(None)),
             "hierarchy" => Ok(TracerChoice::Hierarchy),
             "hybrid" => Ok(TracerChoice::Hybrid),
+            "clipmap" => Ok(TracerChoice::Clipmap),
             _ if s.starts_with("cyl_") => s.parse().map(|o| TracerChoice::Safety(Some(o))),
             _ => s.parse().map(TracerChoice::Plain).map_err(|_| {
-                format!("unknown tracer '{s}' (expected naive, mipmap, safety, a safety variant such as cyl_all+cone_all, hybrid, or hierarchy for MLHM scenes)")
+                format!("unknown tracer '{s}' (expected naive, mipmap, safety, a safety variant such as cyl_all+cone_all, hybrid, clipmap, or hierarchy for MLHM scenes)")
             }),
         }
     }
@@ -54,6 +57,7 @@ impl fmt::Display for TracerChoice {
             TracerChoice::Safety(Some(o)) => f.pad(&o.variant()),
             TracerChoice::Hierarchy => f.pad("hierarchy"),
             TracerChoice::Hybrid => f.pad("hybrid"),
+            TracerChoice::Clipmap => f.pad("clipmap"),
         }
     }
 }
@@ -105,8 +109,8 @@ pub fn build(
         TracerChoice::Hierarchy => bail!(
             "the hierarchy tracer renders MLHM scenes (.json, .mlhm) only; height fields take --tracer naive, mipmap or safety"
         ),
-        TracerChoice::Hybrid => bail!(
-            "the hybrid renderer draws with relief render and relief bench only; here take --tracer naive, mipmap or safety"
+        TracerChoice::Hybrid | TracerChoice::Clipmap => bail!(
+            "the {choice} renderer draws with relief render and relief bench only; here take --tracer naive, mipmap or safety"
         ),
     };
     if surface != Surface::Triangles {

@@ -38,6 +38,7 @@
 #![deny(missing_docs)]
 
 mod albedo;
+mod clipmap_renderer;
 mod colour_ramp;
 mod deferred;
 mod depth_metrics;
@@ -56,6 +57,7 @@ mod texture;
 mod tonemap;
 
 pub use albedo::Albedo;
+pub use clipmap_renderer::{ClipmapRenderer, ClipmapStats};
 pub use colour_ramp::{hypsometric_colour, HypsometricRamp};
 pub use deferred::{shade, shade_to_srgb8, ShadingParams};
 pub use depth_metrics::{depth_errors, depth_metrics, DepthImage, DepthMetrics, DepthScale};

@@ -213,6 +213,42 @@ pub fn render_gbuffer_into(
     Ok(stats)
 }
 
+/// Writes every pixel of `gbuffer` from `hit_of(index, i, j)`, the hit of pixel (i, j) (index
+/// `i + j * width`) seen by `camera`, in parallel by strips of rows: how renderers that find
+/// their hits otherwise (rasterized meshes) fill the G-buffer as [`render_gbuffer_into`] does.
+pub(crate) fn fill_gbuffer(
+    gbuffer: &mut GBuffer,
+    camera: &Camera,
+    bounds: &Aabb,
+    hit_of: impl Fn(usize, u32, u32) -> Option<Hit> + Sync,
+) {
+    let width = gbuffer.width;
+    let encoder = HitEncoder::new(bounds, camera);
+    let strip = TILE_SIZE * width;
+    let GBuffer { distance, position, normal, material, uv, footprint, .. } = gbuffer;
+    distance
+        .par_chunks_mut(strip)
+        .zip(position.par_chunks_mut(strip))
+        .zip(normal.par_chunks_mut(strip))
+        .zip(material.par_chunks_mut(strip))
+        .zip(uv.par_chunks_mut(strip))
+        .zip(footprint.par_chunks_mut(strip))
+        .enumerate()
+        .for_each(|(s, (((((distance, position), normal), material), uv), footprint))| {
+            for k in 0..distance.len() {
+                let index = s * strip + k;
+                let (i, j) = ((index % width) as u32, (index / width) as u32);
+                let p = encoder.g_buffer_pixel(hit_of(index, i, j));
+                distance[k] = p.distance;
+                position[k] = p.position;
+                normal[k] = p.normal;
+                material[k] = p.material;
+                uv[k] = p.uv;
+                footprint[k] = p.footprint;
+            }
+        });
+}
+
 /// Everything needed to turn one pixel's hit into a G-buffer pixel.
 pub(crate) struct HitEncoder<'a> {
     uv: UvMap,

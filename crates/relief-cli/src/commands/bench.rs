@@ -10,10 +10,10 @@ use crate::tracers::{self, TracerChoice};
 use crate::{applies, input, memory, progress};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
-use relief_core::{benchmark_views, Camera, DVec3, Surface, BENCHMARK_VIEWS};
+use relief_core::{benchmark_views, Camera, DVec3, HeightField, Surface, BENCHMARK_VIEWS};
 use relief_shade::{
-    render_gbuffer_into, sun_direction, GBuffer, HybridRenderer, RayBatch, Tile, TraceStats,
-    TILE_SIZE,
+    render_gbuffer_into, sun_direction, ClipmapRenderer, GBuffer, HybridRenderer, RayBatch, Tile,
+    TraceStats, TILE_SIZE,
 };
 use relief_trace::{Hit, Simd, Tracer, TracerKind};
 use std::io::Write;
@@ -121,29 +121,15 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let mut gbuffer = GBuffer::new(w as usize, h as usize)?;
                 let (mut primary, mut primary_s) = (TraceStats::default(), f64::INFINITY);
                 let started = Instant::now();
-                let (built, hybrid) = if *tracer == TracerChoice::Hybrid {
-                    let params = args.hybrid.params();
-                    let far = args.hybrid.far.unwrap_or_default();
-                    (None, Some(HybridRenderer::new(field.clone(), surface, params, far)?))
-                } else {
-                    (
-                        Some(tracers::build(
-                            &field,
-                            surface,
-                            tracer,
-                            &args.safety,
-                            false,
-                            limit,
-                            simd,
-                        )?),
-                        None,
-                    )
+                let mut drawn = Drawn::build(args, &field, surface, tracer, limit, simd)?;
+                let build_ms = match &drawn {
+                    Drawn::Tracer(built) => built.build_s * 1e3,
+                    _ => started.elapsed().as_secs_f64() * 1e3,
                 };
-                let build_ms = match &built {
-                    Some(built) => built.build_s * 1e3,
-                    None => started.elapsed().as_secs_f64() * 1e3,
+                let safety = match &drawn {
+                    Drawn::Tracer(built) => built.safety.as_ref(),
+                    _ => None,
                 };
-                let safety = built.as_ref().and_then(|b| b.safety.as_ref());
                 if let Some(safety) = safety {
                     let (w, h) = (camera.width(), camera.height());
                     let directions = (0..h)
@@ -155,41 +141,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let shadows = safety.is_none_or(|safety| {
                     safety.check_view(camera.eye(), std::iter::empty(), Some(sun)).is_ok()
                 });
-                let mut hybrid = hybrid;
                 for _ in 0..repeat {
                     let timer = Instant::now();
-                    primary = match (&mut hybrid, &built) {
-                        (Some(hybrid), _) => {
-                            hybrid.render_into(&camera, &bounds, &mut gbuffer, None)?;
-                            bar.inc(w as u64 * h as u64);
-                            let hits = gbuffer.distance.iter().filter(|d| d.is_finite()).count();
-                            TraceStats {
-                                rays: w as u64 * h as u64,
-                                hits: hits as u64,
-                                ..TraceStats::default()
-                            }
-                        }
-                        (None, Some(built)) => {
-                            let one_at_a_time = OneRayAtATime(built.tracer.as_ref());
-                            let traced: &dyn Tracer = if args.single_rays {
-                                &one_at_a_time
-                            } else {
-                                built.tracer.as_ref()
-                            };
-                            render_gbuffer_into(traced, &camera, &bounds, &mut gbuffer, &|n| {
-                                bar.inc(n)
-                            })?
-                        }
-                        (None, None) => unreachable!("a tracer or the hybrid renderer is built"),
-                    };
+                    primary =
+                        drawn.render(args.single_rays, &camera, &bounds, &mut gbuffer, &bar)?;
                     primary_s = primary_s.min(timer.elapsed().as_secs_f64());
                 }
-                // Shadow rays: the tracer's, or for the hybrid renderer its exact tracer's.
-                let exact: &dyn Tracer = match (&built, &hybrid) {
-                    (Some(built), _) => built.tracer.as_ref(),
-                    (None, Some(hybrid)) => hybrid.tracer(),
-                    (None, None) => unreachable!("a tracer or the hybrid renderer is built"),
-                };
+                // Shadow rays: the tracer's, or the exact tracer of a rasterizing renderer.
+                let exact = drawn.tracer();
                 let one_at_a_time = OneRayAtATime(exact);
                 let traced: &dyn Tracer = if args.single_rays { &one_at_a_time } else { exact };
                 bar.finish_and_clear();
@@ -235,6 +194,89 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// What `relief bench` measures: a tracer through the ray-casting render pass, or a renderer
+/// that rasterizes (the hybrid renderer, geometry clipmaps).
+enum Drawn {
+    Tracer(Box<tracers::Built>),
+    Hybrid(Box<HybridRenderer>),
+    Clipmap(Box<ClipmapRenderer>),
+}
+
+impl Drawn {
+    fn build(
+        args: &BenchArgs,
+        field: &Arc<HeightField>,
+        surface: Surface,
+        tracer: &TracerChoice,
+        limit: u64,
+        simd: Simd,
+    ) -> Result<Self> {
+        Ok(match tracer {
+            TracerChoice::Hybrid => {
+                let (params, far) = (args.hybrid.params(), args.hybrid.far.unwrap_or_default());
+                Drawn::Hybrid(Box::new(HybridRenderer::new(field.clone(), surface, params, far)?))
+            }
+            TracerChoice::Clipmap if surface == Surface::Boxes => {
+                bail!(
+                    "geometry clipmaps draw the triangles surface only (use --surfaces triangles)"
+                )
+            }
+            TracerChoice::Clipmap => Drawn::Clipmap(Box::new(ClipmapRenderer::new(
+                field.clone(),
+                relief_mesh::ClipmapParams::default(),
+            )?)),
+            _ => Drawn::Tracer(tracers::build(
+                field,
+                surface,
+                tracer,
+                &args.safety,
+                false,
+                limit,
+                simd,
+            )?),
+        })
+    }
+
+    /// Draws the view into `gbuffer`; the primary rays' statistics (for the rasterizing
+    /// renderers, the pixels and hits only).
+    fn render(
+        &mut self,
+        single_rays: bool,
+        camera: &Camera,
+        bounds: &relief_core::Aabb,
+        gbuffer: &mut GBuffer,
+        bar: &indicatif::ProgressBar,
+    ) -> Result<TraceStats> {
+        let pixels = camera.width() as u64 * camera.height() as u64;
+        match self {
+            Drawn::Tracer(built) => {
+                let one_at_a_time = OneRayAtATime(built.tracer.as_ref());
+                let traced: &dyn Tracer =
+                    if single_rays { &one_at_a_time } else { built.tracer.as_ref() };
+                return Ok(render_gbuffer_into(traced, camera, bounds, gbuffer, &|n| bar.inc(n))?);
+            }
+            Drawn::Hybrid(hybrid) => {
+                hybrid.render_into(camera, bounds, gbuffer, None)?;
+            }
+            Drawn::Clipmap(clipmap) => {
+                clipmap.render_into(camera, bounds, gbuffer)?;
+            }
+        }
+        bar.inc(pixels);
+        let hits = gbuffer.distance.iter().filter(|d| d.is_finite()).count() as u64;
+        Ok(TraceStats { rays: pixels, hits, ..TraceStats::default() })
+    }
+
+    /// The exact tracer that traces the shadow rays.
+    fn tracer(&self) -> &dyn Tracer {
+        match self {
+            Drawn::Tracer(built) => built.tracer.as_ref(),
+            Drawn::Hybrid(hybrid) => hybrid.tracer(),
+            Drawn::Clipmap(clipmap) => clipmap.tracer(),
+        }
+    }
 }
 
 /// Refuses the options that would do nothing: the fBm terrain's with `--input`, the safety

@@ -8,6 +8,7 @@ mod generate;
 mod info;
 mod info_mlhm;
 mod render;
+mod render_clipmap;
 mod render_hybrid;
 mod render_mlhm;
 mod shade;

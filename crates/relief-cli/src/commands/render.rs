@@ -1,7 +1,7 @@
 //! `relief render`: trace, shade and write a picture (and optionally depth and normals, and
 //! the stage timings with `--stats`).
 
-use super::{check_image, render_hybrid, render_mlhm};
+use super::{check_image, render_clipmap, render_hybrid, render_mlhm};
 use crate::args::RenderArgs;
 use crate::scene::height_field::{check_safety_view, HeightFieldScene};
 use crate::tracers::{self, TracerChoice};
@@ -33,6 +33,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let load_ms = outputs::ms_since(started);
     if scene.choice == TracerChoice::Hybrid {
         return render_hybrid::run(args, &scene, started, load_ms);
+    }
+    if scene.choice == TracerChoice::Clipmap {
+        if let Some(option) = args.hybrid.given() {
+            return Err(crate::applies::refuse(option, "--tracer hybrid", "the clipmap renderer"));
+        }
+        return render_clipmap::run(args, &scene, started, load_ms);
     }
     if let Some(option) = args.hybrid.given() {
         let here = format!("the {} tracer", scene.choice);

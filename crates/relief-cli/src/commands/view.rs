@@ -67,9 +67,10 @@ fn open(
         let (camera, settings) = (live.camera(), live.settings());
         return Ok((Arc::new(live), camera, settings));
     }
-    if scene_args.tracer == Some(crate::tracers::TracerChoice::Hybrid) {
+    use crate::tracers::TracerChoice;
+    if let Some(choice @ (TracerChoice::Hybrid | TracerChoice::Clipmap)) = &scene_args.tracer {
         anyhow::bail!(
-            "relief view draws with the naive, mipmap and safety tracers; the hybrid renderer \
+            "relief view draws with the naive, mipmap and safety tracers; the {choice} renderer \
              draws with relief render and relief bench"
         );
     }

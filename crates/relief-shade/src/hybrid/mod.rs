@@ -19,13 +19,12 @@
 mod far_field;
 mod near_field;
 
-use crate::render::HitEncoder;
-use crate::{GBuffer, ShadeError, TILE_SIZE};
+use crate::render::fill_gbuffer;
+use crate::{GBuffer, ShadeError};
 use far_field::FarCells;
 use near_field::NearField;
-use rayon::prelude::*;
 use relief_core::{Aabb, Camera, CoreError, HeightField, Projection, Ray, SampleRegion, Surface};
-use relief_mesh::{Culling, RasterTarget, Rasterizer};
+use relief_mesh::{Culling, IndexedMesh, RasterTarget, Rasterizer};
 use relief_trace::hybrid::{CellChoice, HybridCells, HybridHeuristic, HybridParams};
 use relief_trace::{Hit, MipmapTracer, Tracer};
 use std::fmt;
@@ -304,57 +303,24 @@ impl HybridRenderer {
         stats.far_ms = elapsed_ms(start);
 
         let start = Instant::now();
-        let encoder = HitEncoder::new(bounds, camera);
         let target = &self.target;
-        let strip = TILE_SIZE * width;
-        let GBuffer { distance, position, normal, material, uv, footprint, .. } = gbuffer;
-        let mut all_sources = vec![PixelSource::Nothing; width * height];
-        distance
-            .par_chunks_mut(strip)
-            .zip(position.par_chunks_mut(strip))
-            .zip(normal.par_chunks_mut(strip))
-            .zip(material.par_chunks_mut(strip))
-            .zip(uv.par_chunks_mut(strip))
-            .zip(footprint.par_chunks_mut(strip))
-            .zip(all_sources.par_chunks_mut(strip))
-            .zip(hits.par_chunks(strip))
-            .enumerate()
-            .for_each(
-                |(
-                    s,
-                    (((((((distance, position), normal), material), uv), footprint), src), far),
-                )| {
-                    for k in 0..distance.len() {
-                        let index = s * strip + k;
-                        let (i, j) = ((index % width) as u32, (index / width) as u32);
-                        let (hit, source) = match far[k] {
-                            Some((hit, source)) => (Some(hit), source),
-                            None => match target.triangle[index] {
-                                RasterTarget::NO_TRIANGLE => (None, PixelSource::Nothing),
-                                triangle => {
-                                    let ray = camera.ray(i, j);
-                                    let hit = mesh.hit(triangle, &ray).map(|h| Hit {
-                                        t: h.t,
-                                        position: h.position,
-                                        normal: h.normal,
-                                    });
-                                    (hit, PixelSource::Mesh)
-                                }
-                            },
-                        };
-                        let p = encoder.g_buffer_pixel(hit);
-                        distance[k] = p.distance;
-                        position[k] = p.position;
-                        normal[k] = p.normal;
-                        material[k] = p.material;
-                        uv[k] = p.uv;
-                        footprint[k] = p.footprint;
-                        src[k] = if hit.is_some() { source } else { PixelSource::Nothing };
-                    }
-                },
-            );
+        let pixel = |index: usize, i: u32, j: u32| match hits[index] {
+            Some((hit, source)) => (Some(hit), source),
+            None => match target.triangle[index] {
+                RasterTarget::NO_TRIANGLE => (None, PixelSource::Nothing),
+                triangle => (mesh_hit(&mesh, triangle, &camera.ray(i, j)), PixelSource::Mesh),
+            },
+        };
+        fill_gbuffer(gbuffer, camera, bounds, |index, i, j| pixel(index, i, j).0);
         if let Some(sources) = sources {
-            *sources = all_sources;
+            sources.clear();
+            sources.extend(gbuffer.distance.iter().enumerate().map(|(index, d)| {
+                match (d.is_finite(), hits[index]) {
+                    (false, _) => PixelSource::Nothing,
+                    (true, Some((_, source))) => source,
+                    (true, None) => PixelSource::Mesh,
+                }
+            }));
         }
         stats.resolve_ms = elapsed_ms(start);
         Ok(stats)
@@ -383,6 +349,11 @@ impl HybridRenderer {
             }
         }
     }
+}
+
+/// The hit of `ray` on triangle `triangle` of `mesh` (the rasterized pixel's), as a tracer's.
+pub(crate) fn mesh_hit(mesh: &IndexedMesh, triangle: u32, ray: &Ray) -> Option<Hit> {
+    mesh.hit(triangle, ray).map(|h| Hit { t: h.t, position: h.position, normal: h.normal })
 }
 
 /// The field's value range, bit for bit.
