@@ -227,15 +227,11 @@ impl Drawn {
                 field.clone(),
                 relief_mesh::ClipmapParams::default(),
             )?)),
-            _ => Drawn::Tracer(tracers::build(
-                field,
-                surface,
-                tracer,
-                &args.safety,
-                false,
-                limit,
-                simd,
-            )?),
+            _ => {
+                let built =
+                    tracers::build(field, surface, tracer, &args.safety, false, limit, simd)?;
+                Drawn::Tracer(Box::new(built))
+            }
         })
     }
 
