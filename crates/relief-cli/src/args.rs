@@ -645,6 +645,9 @@ pub struct BenchArgs {
     /// milliseconds (the render shaded with shadows, as shown).
     #[arg(long, value_name = "stamp|waves|erosion")]
     pub dynamic: Option<DynamicKind>,
+    /// With --dynamic: shade without shadow rays.
+    #[arg(long, requires = "dynamic")]
+    pub no_shadows: bool,
     /// With --dynamic: frames to draw (1 to 100000).
     #[arg(long, default_value = "20", value_parser = frames, allow_hyphen_values = true)]
     pub frames: u32,

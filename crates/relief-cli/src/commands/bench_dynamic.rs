@@ -102,7 +102,8 @@ pub fn run(
         .context("the view to draw")?;
     let surface = surfaces[0];
     let bounds = field.world_bounds(surface);
-    let params = ShadingParams::for_terrain(&field.world_bounds(Surface::Boxes))?;
+    let mut params = ShadingParams::for_terrain(&field.world_bounds(Surface::Boxes))?;
+    params.shadows = !args.no_shadows;
     let far = args.hybrid.far.unwrap_or_default();
     let mut renderer = HybridRenderer::new(field.clone(), surface, args.hybrid.params(), far)?;
     let target = camera.target();
@@ -115,7 +116,8 @@ pub fn run(
         writeln!(
             out,
             "relief bench --dynamic {kind_name}: {source}, {view} view, {surface}, {w}x{h}, \
-             hybrid renderer (far field {far}), {} threads",
+             hybrid renderer (far field {far}), shadows {}, {} threads",
+            if params.shadows { "on" } else { "off" },
             rayon::current_num_threads()
         )?;
         writeln!(
@@ -159,7 +161,8 @@ pub fn run(
     if args.json {
         writeln!(
             out,
-            "{{\"dynamic\": \"{kind_name}\", \"view\": \"{view}\", \"surface\": \"{surface}\", \"width\": {w}, \"height\": {h}, \"far\": \"{far}\", \"frames\": {}, \"median_change_ms\": {changed}, \"median_update_ms\": {update}, \"median_render_ms\": {render}, \"median_shade_ms\": {shade}, \"median_frame_ms\": {frame}, \"frames_per_s\": {}}}",
+            "{{\"dynamic\": \"{kind_name}\", \"view\": \"{view}\", \"surface\": \"{surface}\", \"width\": {w}, \"height\": {h}, \"far\": \"{far}\", \"shadows\": {}, \"frames\": {}, \"median_change_ms\": {changed}, \"median_update_ms\": {update}, \"median_render_ms\": {render}, \"median_shade_ms\": {shade}, \"median_frame_ms\": {frame}, \"frames_per_s\": {}}}",
+            params.shadows,
             frames.len(),
             1e3 / frame
         )?;
