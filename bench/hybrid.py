@@ -54,7 +54,7 @@ def speed(args, work, fields):
     print("|---|---|---|---|---|---|---|")
     renderers = [
         ("mipmap ray caster", "mipmap", []),
-        ("hybrid, levels of precision", "hybrid", ["--far", "lop"]),
+        ("hybrid, levels of precision (k 1.3, T 70)", "hybrid", ["--far", "lop"]),
         ("hybrid, exact far field", "hybrid", ["--far", "exact"]),
         ("full mesh rasterized", "hybrid", ["--far", "exact", "--threshold", "1e-9"]),
         ("geometry clipmaps (n 511, 11 levels)", "clipmap", []),
@@ -96,7 +96,7 @@ def levels(args, work, field):
     reference = os.path.join(ref_dir, "flight-triangles-mipmap.npy")
     for count in (2, 4, 6, 8, 10):
         depth = os.path.join(work, f"levels-{count}")
-        m = bench(args, field, "1024x768", "hybrid", ["--lop", str(count)], depth)[0]
+        m = bench(args, field, "1024x768", "hybrid", ["--far", "lop", "--lop", str(count)], depth)[0]
         error = compare(args, reference, os.path.join(depth, "flight-triangles-hybrid.npy"), field)
         print(f"| {count} | {m['primary_s'] * 1e3:.0f} | {psnr(error)} | "
               f"{100 * error['wrong_pixel_fraction']:.3f} |")
@@ -104,13 +104,19 @@ def levels(args, work, field):
 
 
 def flight_cameras(args, work, field):
-    """Eye and target of the flight view, then moved forward frame by frame."""
+    """The flight view, then moved forward frame by frame, the eye kept as high above the
+    ground under it as the flight view's is (the field is a .npy grid, spacing 1)."""
+    import numpy
+    heights = numpy.load(field)
     m = bench(args, field, "1024x768", "mipmap", repeat=1)[0]
     eye, target = m["camera"]["eye"], m["camera"]["target"]
+    ground = lambda x, y: float(heights[int(y), int(x)])
+    clearance = eye[2] - ground(eye[0], eye[1])
     step = [(t - e) / (2.5 * FLIGHT_FRAMES) for e, t in zip(eye, target)]
-    step[2] = 0.0
     for k in range(FLIGHT_FRAMES):
-        yield ([e + k * s for e, s in zip(eye, step)], [t + k * s for t, s in zip(target, step)])
+        x, y = eye[0] + k * step[0], eye[1] + k * step[1]
+        z = max(eye[2], ground(x, y) + clearance)
+        yield ([x, y, z], [target[0] + k * step[0], target[1] + k * step[1], target[2]])
 
 
 def flight(args, work, field):
@@ -118,9 +124,9 @@ def flight(args, work, field):
     print("| renderer | frame ms (median) | PSNR dB (min / median) | wrong pixels % (median / max) |")
     print("|---|---|---|---|")
     configs = [
-        ("hybrid k 1.0, T 100", "hybrid", ["--k", "1.0", "--threshold", "100"]),
-        ("hybrid k 1.3, T 70", "hybrid", []),
-        ("hybrid k 1.5, T 100", "hybrid", ["--k", "1.5", "--threshold", "100"]),
+        ("hybrid k 1.0, T 100", "hybrid", ["--far", "lop", "--k", "1.0", "--threshold", "100"]),
+        ("hybrid k 1.3, T 70", "hybrid", ["--far", "lop"]),
+        ("hybrid k 1.5, T 100", "hybrid", ["--far", "lop", "--k", "1.5", "--threshold", "100"]),
         ("hybrid, exact far field", "hybrid", ["--far", "exact"]),
         ("geometry clipmaps", "clipmap", []),
     ]

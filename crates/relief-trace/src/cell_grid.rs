@@ -114,6 +114,18 @@ impl CellGrid {
         }
     }
 
+    /// Whether some cell has no surface (the field has holes).
+    #[inline]
+    pub(crate) fn has_empty_cells(&self) -> bool {
+        self.empty_cells.is_some()
+    }
+
+    /// Samples per row of the field.
+    #[inline]
+    pub(crate) fn samples_width(&self) -> usize {
+        self.samples_width
+    }
+
     /// Whether cell (cx, cy) has no surface (it lies over a hole of the field).
     #[inline(always)]
     pub fn is_empty_cell(&self, cx: usize, cy: usize) -> bool {

@@ -179,10 +179,35 @@ fn node_max(
     x: usize,
     y: usize,
 ) -> f32 {
+    if l == 1 && !grid.has_empty_cells() {
+        return level_one_max(grid, samples, below, x, y);
+    }
     let mut node = f32::NEG_INFINITY;
     for cy in (2 * y)..(2 * y + 2).min(below.nodes_y) {
         for cx in (2 * x)..(2 * x + 2).min(below.nodes_x) {
             let v = if l == 1 { grid.cell_max(samples, cx, cy) } else { fine[below.index(cx, cy)] };
+            node = node.max(v);
+        }
+    }
+    node
+}
+
+/// Node (x, y) of level 1 of a grid without holes straight from the samples its (up to) 2 x 2
+/// cells reach, each read once: 3 x 3 samples for `triangles` (a cell's four corners), 2 x 2
+/// texels for `boxes`, clipped to the grid. Equals the maximum of the cells' maxima.
+#[inline(always)]
+fn level_one_max(grid: &CellGrid, samples: &[f32], cells: Level, x: usize, y: usize) -> f32 {
+    let reach = match grid.surface() {
+        Surface::Boxes => 0,
+        Surface::Triangles => 1,
+    };
+    let w = grid.samples_width();
+    let (c0, r0) = (2 * x, 2 * y);
+    let c1 = (2 * x + 1).min(cells.nodes_x - 1) + reach;
+    let r1 = (2 * y + 1).min(cells.nodes_y - 1) + reach;
+    let mut node = f32::NEG_INFINITY;
+    for row in samples[r0 * w..(r1 + 1) * w].chunks_exact(w) {
+        for &v in &row[c0..=c1] {
             node = node.max(v);
         }
     }
