@@ -73,7 +73,8 @@ impl MlhmHierarchy {
     /// The hierarchy of `map` at `precision`, level 1 padded by `padding` metres.
     fn build_inner(map: &Mlhm, precision: Precision, padding: f64) -> Self {
         let (width, height) = (map.width(), map.height());
-        let levels = Self::level_shapes(map)
+        let largest = largest_layer_count(map.layer_counts());
+        let levels = Self::level_shapes(map, largest)
             .map(|(nodes_x, nodes_y, cap)| Level::empty(nodes_x, nodes_y, cap, precision))
             .collect();
         let mut hierarchy = MlhmHierarchy {
@@ -85,34 +86,43 @@ impl MlhmHierarchy {
             water_max: f32::NEG_INFINITY,
             padding,
         };
-        hierarchy.fill(map, Merge::Fast);
+        hierarchy.fill(map, largest, Merge::Fast);
         hierarchy
     }
 
     /// Rebuilds the hierarchy from `map` (say, after a simulation step) at its precision and
     /// with its [`padding`](MlhmHierarchy::padding), reusing its storage when the map's grid and layer count are those it was built for.
     pub fn rebuild(&mut self, map: &Mlhm) {
+        let largest = largest_layer_count(map.layer_counts());
         let same = (self.width, self.height) == (map.width(), map.height())
-            && Self::level_shapes(map)
+            && Self::level_shapes(map, largest)
                 .zip(&self.levels)
                 .all(|((nx, ny, cap), l)| (nx, ny, cap) == (l.nodes_x, l.nodes_y, l.cap));
         if same {
-            self.fill(map, Merge::Fast);
+            self.fill(map, largest, Merge::Fast);
         } else {
             *self = Self::build_inner(map, self.precision, self.padding);
         }
     }
 
-    /// Nodes along x and y and the layer cap of each level, from level 1 up.
-    fn level_shapes(map: &Mlhm) -> impl Iterator<Item = (usize, usize, usize)> {
+    /// Nodes along x and y and the layer cap of each level, from level 1 up, for a map whose
+    /// fullest cell holds `largest` columns.
+    ///
+    /// The caps halve from the map's layer capacity (see [`MlhmHierarchy`]); no node of a
+    /// level holds more layers than the fullest cell under it, so a level stores at most
+    /// `largest` slots a node. The bounds are those of the halved caps, in less memory: a map
+    /// of one column per cell (a height field, a scene before its first split) stores one
+    /// slot a node, and its rebuild writes half the bytes of one with two.
+    fn level_shapes(map: &Mlhm, largest: usize) -> impl Iterator<Item = (usize, usize, usize)> {
         let (width, height) = (map.width(), map.height());
         let count = Self::level_count_for(width, height);
         let mut cap = map.max_layers().max(1);
+        let largest = largest.max(1);
         (1..=count).map(move |i| {
             if i % 2 == 1 {
                 cap = cap.div_ceil(2);
             }
-            (width.div_ceil(1 << i), height.div_ceil(1 << i), cap)
+            (width.div_ceil(1 << i), height.div_ceil(1 << i), cap.min(largest))
         })
     }
 
@@ -120,9 +130,22 @@ impl MlhmHierarchy {
     /// and the exact tops of the map (on a padded hierarchy the padded tops, rounded up to
     /// f32): from level 1's bounds before they are rounded to f16, or from the top level's
     /// f32 bounds.
-    fn fill(&mut self, map: &Mlhm, merge: Merge) {
-        let rounded_tops = Self::fill_first(&mut self.levels[0], map, self.padding, merge);
-        for i in 1..self.levels.len() {
+    fn fill(&mut self, map: &Mlhm, largest: usize, merge: Merge) {
+        let one_column = largest == 1;
+        let fused = merge == Merge::Fast && self.padding == 0.0 && one_column;
+        let (rounded_tops, next) = match &mut self.levels[..] {
+            [one, two, ..] if fused => match (&mut one.bounds, &mut two.bounds) {
+                (StoredBounds::F32(first), StoredBounds::F32(second)) => {
+                    let first = (first, &mut one.counts[..], one.nodes_x);
+                    let second = (second, &mut two.counts[..], two.nodes_x);
+                    merge_one_column_cells(first, Some(second), (map.width(), map.height()), map);
+                    (None, 2)
+                }
+                _ => (Self::fill_first(one, map, self.padding, one_column, merge), 1),
+            },
+            levels => (Self::fill_first(&mut levels[0], map, self.padding, one_column, merge), 1),
+        };
+        for i in next..self.levels.len() {
             let (below, above) = self.levels.split_at_mut(i);
             Self::fill_above(&mut above[0], &below[i - 1], merge);
         }
@@ -147,7 +170,13 @@ impl MlhmHierarchy {
     /// Level 1, from the map's cells, padded by `padding` metres (see
     /// [`build_padded`](MlhmHierarchy::build_padded)); returns the highest solid and water
     /// tops (padded, rounded up) when the stored bounds are rounded or padded.
-    fn fill_first(level: &mut Level, map: &Mlhm, padding: f64, merge: Merge) -> Option<(f32, f32)> {
+    fn fill_first(
+        level: &mut Level,
+        map: &Mlhm,
+        padding: f64,
+        one_column: bool,
+        merge: Merge,
+    ) -> Option<(f32, f32)> {
         let (w, h) = (map.width(), map.height());
         let (columns, counts, plane) = (map.raw_columns(), map.layer_counts(), w * h);
         let count = |cell: usize| usize::from(counts[cell]);
@@ -167,15 +196,9 @@ impl MlhmHierarchy {
         let counts = &mut level.counts;
         let children = Children::padded(w, h, padding, map.cell_size());
         match &mut level.bounds {
-            StoredBounds::F32(b)
-                if merge == Merge::Fast && padding == 0.0 && counts_all_one(map.layer_counts()) =>
-            {
+            StoredBounds::F32(b) if merge == Merge::Fast && padding == 0.0 && one_column => {
                 // A cell of one column: its open sky starts at its water top, its start of air.
-                let quad = |i, j, k, l| {
-                    let merged = merge_columns([columns[i], columns[j], columns[k], columns[l]]);
-                    (merged, merged[3])
-                };
-                Self::merge_single_layers(b, counts, (nodes_x, cap), (w, h), quad);
+                merge_one_column_cells((b, counts, nodes_x), None, (w, h), map);
                 None
             }
             StoredBounds::F32(b) if padding == 0.0 => {
@@ -370,6 +393,15 @@ enum Merge {
     General,
 }
 
+/// The most columns (or layers) any cell (or node) of `counts` holds.
+fn largest_layer_count(counts: &[u8]) -> usize {
+    counts
+        .par_chunks(1 << 16)
+        .map(|chunk| chunk.iter().copied().max().unwrap_or(0))
+        .max()
+        .map_or(0, usize::from)
+}
+
 /// Whether every cell holds exactly one column.
 fn counts_all_one(counts: &[u8]) -> bool {
     /// Eight counts of 1.
@@ -438,6 +470,141 @@ unsafe fn merge_columns_sse2(cells: &[MlhmColumn; 4]) -> [f32; 4] {
     let mut out = [0f32; 4];
     _mm_storeu_ps(out.as_mut_ptr(), merged);
     out
+}
+
+/// A level at f32 with one slot a node: its bounds, its nodes' layer counts and its nodes
+/// along x.
+type SingleSlotLevel<'a> = (&'a mut LevelBounds<f32>, &'a mut [u8], usize);
+
+/// Level 1 (one slot a node) of `map`, whose `width x height` cells hold one column each,
+/// and with `second` level 2 as well, in the same pass: each level-1 node the merge of its
+/// (up to) 2 x 2 cells by [`merge_columns`] (an odd grid's last row or column merged with
+/// itself), its sky at the merged start of air; each level-2 node the merge of its level-1
+/// nodes as [`MlhmHierarchy::merge_single_layers`] merges them, from the two rows of level 1
+/// just written, still in cache. Rows of the top level in parallel; two cells to a register
+/// where the CPU has AVX2.
+fn merge_one_column_cells(
+    (first, first_counts, nodes_x): SingleSlotLevel,
+    second: Option<SingleSlotLevel>,
+    (width, height): (usize, usize),
+    map: &Mlhm,
+) {
+    #[cfg(target_arch = "x86_64")]
+    let avx2 = std::is_x86_feature_detected!("avx2");
+    let columns = &map.raw_columns()[..width * height];
+    let level_one_row = |ny: usize, nodes: &mut [StoredLayer<f32>], sky: &mut [f32]| {
+        let row = |y: usize| &columns[y * width..(y + 1) * width];
+        let (low, high) = (row(2 * ny), row((2 * ny + 1).min(height - 1)));
+        let mut done = 0;
+        #[cfg(target_arch = "x86_64")]
+        if avx2 {
+            // SAFETY: the CPU has AVX2 (checked above).
+            done = unsafe { merge_column_pairs_avx2(low, high, nodes, sky) };
+        }
+        for nx in done..nodes.len() {
+            let (x0, x1) = (2 * nx, (2 * nx + 1).min(width - 1));
+            let merged = merge_columns([low[x0], low[x1], high[x0], high[x1]]);
+            nodes[nx] = StoredLayer {
+                water_max: merged[0],
+                ceiling_min: merged[1],
+                solid_max: merged[2],
+                air_min: merged[3],
+            };
+            sky[nx] = merged[3];
+        }
+    };
+    first_counts.fill(1);
+    let Some((second, second_counts, second_x)) = second else {
+        first
+            .layers
+            .par_chunks_mut(nodes_x)
+            .zip(first.sky.par_chunks_mut(nodes_x))
+            .enumerate()
+            .for_each(|(ny, (nodes, sky))| level_one_row(ny, nodes, sky));
+        return;
+    };
+    second_counts.fill(1);
+    let first_rows =
+        first.layers.par_chunks_mut(2 * nodes_x).zip(first.sky.par_chunks_mut(2 * nodes_x));
+    let second_rows =
+        second.layers.par_chunks_mut(second_x).zip(second.sky.par_chunks_mut(second_x));
+    first_rows.zip(second_rows).enumerate().for_each(|(ny, ((nodes, sky), (above, above_sky)))| {
+        for (r, (nodes, sky)) in nodes.chunks_mut(nodes_x).zip(sky.chunks_mut(nodes_x)).enumerate()
+        {
+            level_one_row(2 * ny + r, nodes, sky);
+        }
+        // Level 2 from the one or two rows of level 1 just merged.
+        let high = if nodes.len() > nodes_x { nodes_x } else { 0 };
+        let child = |i: usize| {
+            let l = nodes[i];
+            [l.water_max, l.ceiling_min, l.solid_max, l.air_min]
+        };
+        for (nx, (node, node_sky)) in above.iter_mut().zip(above_sky.iter_mut()).enumerate() {
+            let (x0, x1) = (2 * nx, (2 * nx + 1).min(nodes_x - 1));
+            let merged = merge_lanes(child(x0), child(x1), child(high + x0), child(high + x1));
+            *node = StoredLayer {
+                water_max: merged[0],
+                ceiling_min: merged[1],
+                solid_max: merged[2],
+                air_min: merged[3],
+            };
+            let (a, b) = (sky[x0].min(sky[x1]), sky[high + x0].min(sky[high + x1]));
+            *node_sky = a.min(b);
+        }
+    });
+}
+
+/// The nodes of one row of [`merge_one_column_cells`] whose two columns of cells exist
+/// (`2 nx + 1 < low.len()`), two cells of a row in one AVX2 register; returns how many it
+/// merged. The same lanes and operations as [`merge_columns_sse2`], so the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn merge_column_pairs_avx2(
+    low: &[MlhmColumn],
+    high: &[MlhmColumn],
+    nodes: &mut [StoredLayer<f32>],
+    sky: &mut [f32],
+) -> usize {
+    use std::arch::x86_64::*;
+    let pairs = (low.len() / 2).min(high.len() / 2).min(nodes.len()).min(sky.len());
+    let keep = |m: [i32; 4]| {
+        _mm256_castsi256_ps(_mm256_setr_epi32(m[0], m[1], m[2], m[3], m[0], m[1], m[2], m[3]))
+    };
+    let (sand_mask, water_mask) = (keep([-1, 0, -1, -1]), keep([-1, 0, 0, -1]));
+    // Per 128-bit half (one column): [b, s, w, c] -> [b + s + w, c, b + s, b + s + w].
+    let lanes = |v: __m256| {
+        let base = _mm256_shuffle_ps::<0b00_00_11_00>(v, v);
+        let sand = _mm256_and_ps(_mm256_shuffle_ps::<0b01_01_01_01>(v, v), sand_mask);
+        let water = _mm256_and_ps(_mm256_shuffle_ps::<0b10_10_10_10>(v, v), water_mask);
+        _mm256_add_ps(_mm256_add_ps(base, sand), water)
+    };
+    let maxima = _mm_castsi128_ps(_mm_setr_epi32(-1, 0, -1, 0));
+    for nx in 0..pairs {
+        // SAFETY: columns 2 nx and 2 nx + 1 exist in both rows (`pairs` above); `MlhmColumn`
+        // is `repr(C)`, four f32, so two of them are eight.
+        let (a, b) = unsafe {
+            (
+                _mm256_loadu_ps(low.as_ptr().add(2 * nx).cast::<f32>()),
+                _mm256_loadu_ps(high.as_ptr().add(2 * nx).cast::<f32>()),
+            )
+        };
+        let (a, b) = (lanes(a), lanes(b));
+        let (top, bottom) = (_mm256_max_ps(a, b), _mm256_min_ps(a, b));
+        let top = _mm_max_ps(_mm256_castps256_ps128(top), _mm256_extractf128_ps::<1>(top));
+        let bottom = _mm_min_ps(_mm256_castps256_ps128(bottom), _mm256_extractf128_ps::<1>(bottom));
+        let merged = _mm_or_ps(_mm_and_ps(maxima, top), _mm_andnot_ps(maxima, bottom));
+        let mut out = [0f32; 4];
+        // SAFETY: `out` holds four f32.
+        unsafe { _mm_storeu_ps(out.as_mut_ptr(), merged) };
+        nodes[nx] = StoredLayer {
+            water_max: out[0],
+            ceiling_min: out[1],
+            solid_max: out[2],
+            air_min: out[3],
+        };
+        sky[nx] = out[3];
+    }
+    pairs
 }
 
 /// The grid of children a level's nodes merge, and for level 1 of a padded hierarchy the
@@ -519,13 +686,13 @@ mod tests {
             }
             let fast = MlhmHierarchy::build(&map);
             let mut general = MlhmHierarchy::build(&map);
-            general.fill(&map, Merge::General);
+            general.fill(&map, largest_layer_count(map.layer_counts()), Merge::General);
             assert_eq!(fast, general, "{w} x {h}");
             // Rebuilt after a change, in place.
             map.set_cell(0, h - 1, &[MlhmColumn::new(40.0, 1.0, 2.0, f32::INFINITY)]).unwrap();
             let mut rebuilt = fast.clone();
             rebuilt.rebuild(&map);
-            general.fill(&map, Merge::General);
+            general.fill(&map, largest_layer_count(map.layer_counts()), Merge::General);
             assert_eq!(rebuilt, general, "{w} x {h}, rebuilt");
             // Cells of two columns: level 1 merges them generally into one layer (its cap),
             // with the lower column's ceiling, and the levels above merge those fast.
@@ -540,9 +707,35 @@ mod tests {
                 .unwrap();
             }
             rebuilt.rebuild(&map);
-            general.fill(&map, Merge::General);
+            general.fill(&map, largest_layer_count(map.layer_counts()), Merge::General);
             assert_eq!(rebuilt, general, "{w} x {h}, two columns");
         }
+    }
+
+    #[test]
+    fn a_level_stores_no_more_slots_than_its_fullest_node_needs() {
+        // Capacity 8 (caps 4, 4, 2, 2, 1), every cell one column: one slot a node.
+        let mut map = Mlhm::new(64, 64, 8, 1.0).unwrap();
+        let one_column = MlhmHierarchy::build(&map);
+        let caps = |h: &MlhmHierarchy| -> Vec<usize> {
+            (1..=h.level_count()).map(|i| h.layer_cap(i)).collect()
+        };
+        assert_eq!(caps(&one_column), vec![1; 5]);
+        // Three columns in one cell: the caps up to 3, and a rebuild equals a fresh build.
+        let column = |b: f32, ceiling: f32| MlhmColumn::new(b, 0.5, 0.25, ceiling);
+        map.set_cell(5, 9, &[column(1.0, 2.0), column(4.0, 5.0), column(7.0, f32::INFINITY)])
+            .unwrap();
+        let mut rebuilt = one_column.clone();
+        rebuilt.rebuild(&map);
+        assert_eq!(rebuilt, MlhmHierarchy::build(&map));
+        assert_eq!(caps(&rebuilt), vec![3, 3, 2, 2, 1]);
+        assert_eq!(rebuilt.layer_count(1, 2, 4), 3);
+        assert_eq!(rebuilt.node_layer(1, 2, 4, 2).solid_max, 7.5);
+        // Back to one column everywhere: one slot again.
+        map.set_cell(5, 9, &[column(1.0, f32::INFINITY)]).unwrap();
+        rebuilt.rebuild(&map);
+        assert_eq!(rebuilt, MlhmHierarchy::build(&map));
+        assert_eq!(caps(&rebuilt), vec![1; 5]);
     }
 
     #[test]
