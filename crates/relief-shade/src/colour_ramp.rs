@@ -76,7 +76,9 @@ impl HypsometricRamp {
         // 1 - n.z is 0.13 at a 30° slope, 0.29 at 45° and 0.5 at 60°: rock takes over between
         // about 35° and 60°.
         let steepness = 1.0 - normal_z.clamp(0.0, 1.0);
-        colour.lerp(linear(srgb8(ROCK)), smoothstep(0.18, 0.5, steepness))
+        static ROCK_LINEAR: std::sync::LazyLock<DVec3> =
+            std::sync::LazyLock::new(|| linear(srgb8(ROCK)));
+        colour.lerp(*ROCK_LINEAR, smoothstep(0.18, 0.5, steepness))
     }
 }
 
