@@ -335,7 +335,7 @@ pub struct CompareArgs {
     /// and the cell 1.
     #[arg(long, value_name = "IN")]
     pub terrain: Option<PathBuf>,
-    /// With --terrain: its texel spacing DX[,DY], as relief render's --spacing.
+    /// With --terrain: its texel spacing `DX[,DY]`, as relief render's --spacing.
     #[arg(long, value_parser = parse::spacing, requires = "terrain", allow_hyphen_values = true)]
     pub spacing: Option<(f64, f64)>,
     /// With --terrain: the factor from its samples to world heights, as relief render's
