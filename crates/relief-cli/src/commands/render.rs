@@ -9,7 +9,7 @@ use crate::{input, memory, outputs, progress};
 use anyhow::Result;
 use relief_core::Camera;
 use relief_shade::{render_gbuffer, shade_to_srgb8, GBuffer};
-use relief_trace::Simd;
+use relief_trace::{Simd, Tracer};
 use serde_json::{json, Value};
 use std::path::Path;
 use std::time::Instant;
@@ -71,39 +71,77 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         render_gbuffer(tracer.as_ref(), camera, &scene.bounds(), &|n| bar.inc(n))?;
     let trace_ms = outputs::ms_since(trace_started);
     bar.finish_and_clear();
+    let drawn =
+        Drawn { gbuffer: &gbuffer, shadow_tracer: tracer.as_ref(), load_ms, build_ms, trace_ms };
+    let summary = format!("{surface} {choice} tracer");
+    let extra = json!({ "mean_steps": primary.mean_steps() });
+    shade_and_write(args, &scene, &choice.to_string(), drawn, started, |_| {}, &summary, extra)
+}
+
+/// A height field's G-buffer as a renderer drew it, with what shading and `--stats` need.
+pub(super) struct Drawn<'a> {
+    /// The primary hits.
+    pub gbuffer: &'a GBuffer,
+    /// The exact tracer the shadow rays take.
+    pub shadow_tracer: &'a dyn Tracer,
+    /// Milliseconds to read the input, build the renderer and fill the G-buffer.
+    pub load_ms: f64,
+    pub build_ms: f64,
+    pub trace_ms: f64,
+}
+
+/// The end every height-field renderer shares: shades `drawn` (then `recolour` the pixels,
+/// counted in the shading time), writes the outputs `args` ask for, says `wrote PATH (WxH,
+/// summary)`, and with `--stats` writes the keys every renderer has (input, terrain, surface,
+/// `tracer`, image, rays, hits, shadow rays and the stage timings) and those of `extra`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn shade_and_write(
+    args: &RenderArgs,
+    scene: &HeightFieldScene,
+    tracer: &str,
+    drawn: Drawn,
+    started: Instant,
+    recolour: impl FnOnce(&mut [[u8; 3]]),
+    summary: &str,
+    extra: Value,
+) -> Result<()> {
+    let camera = &scene.camera;
     let shade_started = Instant::now();
-    let (rgb, shadow) = shade_to_srgb8(&gbuffer, tracer.as_ref(), camera, &scene.params)?;
+    let (mut rgb, shadow) =
+        shade_to_srgb8(drawn.gbuffer, drawn.shadow_tracer, camera, &scene.params)?;
+    recolour(&mut rgb);
     let shade_ms = outputs::ms_since(shade_started);
     let write_started = Instant::now();
-    write_outputs(args, camera, &gbuffer, rgb.as_flattened())?;
+    write_outputs(args, camera, drawn.gbuffer, rgb.as_flattened())?;
     let write_ms = outputs::ms_since(write_started);
     let (w, h) = (camera.width(), camera.height());
-    eprintln!("wrote {} ({w}x{h}, {surface} {choice} tracer)", args.output.display());
-    if let Some(path) = &args.stats {
-        let field = &scene.field;
-        let stats = json!({
-            "input": input_name(args),
-            "kind": "height field",
-            "terrain": [field.width(), field.height()],
-            "surface": surface.to_string(),
-            "tracer": choice.to_string(),
-            "width": w,
-            "height": h,
-            "threads": rayon::current_num_threads(),
-            "rays": primary.rays,
-            "hits": primary.hits,
-            "mean_steps": primary.mean_steps(),
-            "shadow_rays": shadow.rays,
-            "load_ms": load_ms,
-            "build_ms": build_ms,
-            "trace_ms": trace_ms,
-            "shade_ms": shade_ms,
-            "write_ms": write_ms,
-            "total_ms": outputs::ms_since(started),
-        });
-        outputs::write_stats(path, &stats)?;
+    eprintln!("wrote {} ({w}x{h}, {summary})", args.output.display());
+    let Some(path) = &args.stats else { return Ok(()) };
+    let field = &scene.field;
+    let hits = drawn.gbuffer.distance.iter().filter(|d| d.is_finite()).count();
+    let mut stats = json!({
+        "input": input_name(args),
+        "kind": "height field",
+        "terrain": [field.width(), field.height()],
+        "surface": scene.surface.to_string(),
+        "tracer": tracer,
+        "width": w,
+        "height": h,
+        "threads": rayon::current_num_threads(),
+        "rays": u64::from(w) * u64::from(h),
+        "hits": hits,
+        "shadow_rays": shadow.rays,
+        "load_ms": drawn.load_ms,
+        "build_ms": drawn.build_ms,
+        "trace_ms": drawn.trace_ms,
+        "shade_ms": shade_ms,
+        "write_ms": write_ms,
+        "total_ms": outputs::ms_since(started),
+    });
+    if let (Some(all), Value::Object(extra)) = (stats.as_object_mut(), extra) {
+        all.extend(extra);
     }
-    Ok(())
+    outputs::write_stats(path, &stats)
 }
 
 /// The input `relief render` drew, for `--stats`: its path, or the fBm terrain it generated.

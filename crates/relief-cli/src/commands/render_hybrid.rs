@@ -2,12 +2,12 @@
 //! 2010), the near field rasterized and the far field ray cast, then shaded as every renderer
 //! is (shadow rays by the exact tracer).
 
-use super::render::{input_name, write_outputs};
+use super::render::{shade_and_write, Drawn};
 use crate::args::RenderArgs;
 use crate::outputs;
 use crate::scene::height_field::HeightFieldScene;
 use anyhow::Result;
-use relief_shade::{shade_to_srgb8, GBuffer, HybridRenderer, PixelSource};
+use relief_shade::{GBuffer, HybridRenderer, PixelSource};
 use serde_json::json;
 use std::time::Instant;
 
@@ -32,68 +32,41 @@ pub fn run(
     let frame = renderer.render_into(camera, &scene.bounds(), &mut gbuffer, Some(&mut sources))?;
     let trace_ms = outputs::ms_since(trace_started);
 
-    let shade_started = Instant::now();
-    let (mut rgb, shadow) = shade_to_srgb8(&gbuffer, renderer.tracer(), camera, &scene.params)?;
-    if hybrid.show_lop {
-        let levels = renderer.heuristic().steps().len();
-        for (pixel, source) in rgb.iter_mut().zip(&sources) {
-            *pixel = tint(*pixel, *source, levels);
+    let levels = renderer.heuristic().steps().len();
+    let recolour = |rgb: &mut [[u8; 3]]| {
+        if hybrid.show_lop {
+            for (pixel, source) in rgb.iter_mut().zip(&sources) {
+                *pixel = tint(*pixel, *source, levels);
+            }
         }
-    }
-    let shade_ms = outputs::ms_since(shade_started);
-
-    let write_started = Instant::now();
-    write_outputs(args, camera, &gbuffer, rgb.as_flattened())?;
-    let write_ms = outputs::ms_since(write_started);
-    let (w, h) = (camera.width(), camera.height());
-    eprintln!(
-        "wrote {} ({w}x{h}, {surface} hybrid renderer, far field {far}: {} cells meshed, {} ray cast, {} culled)",
-        args.output.display(),
+    };
+    let drawn =
+        Drawn { gbuffer: &gbuffer, shadow_tracer: renderer.tracer(), load_ms, build_ms, trace_ms };
+    let summary = format!(
+        "{surface} hybrid renderer, far field {far}: {} cells meshed, {} ray cast, {} culled",
         frame.mesh_cells,
         frame.ray_cast_cells.iter().sum::<usize>(),
         frame.culled_cells
     );
-    if let Some(path) = &args.stats {
-        let field = &scene.field;
-        let params = hybrid.params();
-        let hits = gbuffer.distance.iter().filter(|d| d.is_finite()).count();
-        let stats = json!({
-            "input": input_name(args),
-            "kind": "height field",
-            "terrain": [field.width(), field.height()],
-            "surface": surface.to_string(),
-            "tracer": "hybrid",
-            "far": far.name(),
-            "cell": params.cell,
-            "threshold": params.threshold,
-            "k": params.k,
-            "lop": params.levels,
-            "width": w,
-            "height": h,
-            "threads": rayon::current_num_threads(),
-            "rays": u64::from(w) * u64::from(h),
-            "hits": hits,
-            "shadow_rays": shadow.rays,
-            "mesh_cells": frame.mesh_cells,
-            "ray_cast_cells": frame.ray_cast_cells,
-            "culled_cells": frame.culled_cells,
-            "triangles": frame.triangles,
-            "far_rays": frame.far_rays,
-            "heuristic_ms": frame.heuristic_ms,
-            "mesh_build_ms": frame.mesh_build_ms,
-            "raster_ms": frame.raster_ms,
-            "far_ms": frame.far_ms,
-            "resolve_ms": frame.resolve_ms,
-            "load_ms": load_ms,
-            "build_ms": build_ms,
-            "trace_ms": trace_ms,
-            "shade_ms": shade_ms,
-            "write_ms": write_ms,
-            "total_ms": outputs::ms_since(started),
-        });
-        outputs::write_stats(path, &stats)?;
-    }
-    Ok(())
+    let params = hybrid.params();
+    let extra = json!({
+        "far": far.name(),
+        "cell": params.cell,
+        "threshold": params.threshold,
+        "k": params.k,
+        "lop": params.levels,
+        "mesh_cells": frame.mesh_cells,
+        "ray_cast_cells": frame.ray_cast_cells,
+        "culled_cells": frame.culled_cells,
+        "triangles": frame.triangles,
+        "far_rays": frame.far_rays,
+        "heuristic_ms": frame.heuristic_ms,
+        "mesh_build_ms": frame.mesh_build_ms,
+        "raster_ms": frame.raster_ms,
+        "far_ms": frame.far_ms,
+        "resolve_ms": frame.resolve_ms,
+    });
+    shade_and_write(args, scene, "hybrid", drawn, started, recolour, &summary, extra)
 }
 
 /// `pixel` half blended with the colour of what drew it (the paper's Figure 1): mesh white,
