@@ -73,14 +73,8 @@ impl ClipmapRenderer {
         bounds: &Aabb,
         gbuffer: &mut GBuffer,
     ) -> Result<ClipmapStats, ShadeError> {
-        let (width, height) = (camera.width() as usize, camera.height() as usize);
-        gbuffer.validate()?;
-        if (gbuffer.width, gbuffer.height) != (width, height) {
-            return Err(ShadeError::Mismatch(format!(
-                "G-buffer is {} x {} but the camera's image is {width} x {height}",
-                gbuffer.width, gbuffer.height
-            )));
-        }
+        gbuffer.validate_for(camera)?;
+        let (width, height) = (gbuffer.width, gbuffer.height);
         let mut stats = ClipmapStats::default();
         let start = Instant::now();
         let mesh = self.clipmap.mesh(camera);

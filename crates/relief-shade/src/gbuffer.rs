@@ -125,6 +125,20 @@ impl GBuffer {
         Ok(())
     }
 
+    /// [`validate`](Self::validate)s the buffer and checks that it is `camera`'s image size,
+    /// as a renderer needs before it overwrites every pixel.
+    pub fn validate_for(&self, camera: &relief_core::Camera) -> Result<(), ShadeError> {
+        self.validate()?;
+        let (width, height) = (camera.width() as usize, camera.height() as usize);
+        if (self.width, self.height) != (width, height) {
+            return Err(ShadeError::Mismatch(format!(
+                "G-buffer is {} x {} but the camera's image is {width} x {height}",
+                self.width, self.height
+            )));
+        }
+        Ok(())
+    }
+
     /// The pixel at `index` (`i + j * width`), or `None` past the end.
     pub fn pixel(&self, index: usize) -> Option<GBufferPixel> {
         Some(GBufferPixel {

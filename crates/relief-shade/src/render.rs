@@ -162,14 +162,8 @@ pub fn render_gbuffer_into(
     gbuffer: &mut GBuffer,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<TraceStats, ShadeError> {
-    let (width, height) = (camera.width() as usize, camera.height() as usize);
-    gbuffer.validate()?;
-    if (gbuffer.width, gbuffer.height) != (width, height) {
-        return Err(ShadeError::Mismatch(format!(
-            "G-buffer is {} x {} but the camera's image is {width} x {height}",
-            gbuffer.width, gbuffer.height
-        )));
-    }
+    gbuffer.validate_for(camera)?;
+    let width = gbuffer.width;
     let pixel = HitEncoder::new(bounds, camera);
     // Strips of TILE_SIZE rows are disjoint slices of every array: each worker writes its own
     // strip in place, tile by tile, so nothing is copied and no pixel depends on the schedule.

@@ -239,14 +239,8 @@ impl HybridRenderer {
         gbuffer: &mut GBuffer,
         sources: Option<&mut Vec<PixelSource>>,
     ) -> Result<HybridStats, ShadeError> {
-        let (width, height) = (camera.width() as usize, camera.height() as usize);
-        gbuffer.validate()?;
-        if (gbuffer.width, gbuffer.height) != (width, height) {
-            return Err(ShadeError::Mismatch(format!(
-                "G-buffer is {} x {} but the camera's image is {width} x {height}",
-                gbuffer.width, gbuffer.height
-            )));
-        }
+        gbuffer.validate_for(camera)?;
+        let (width, height) = (gbuffer.width, gbuffer.height);
         let mut stats = HybridStats::default();
         if self.starts_inside(camera) {
             // Rays that start inside the solid hit where they start, in no proxy box: the
