@@ -131,19 +131,19 @@ impl MlhmHierarchy {
     /// f32): from level 1's bounds before they are rounded to f16, or from the top level's
     /// f32 bounds.
     fn fill(&mut self, map: &Mlhm, largest: usize, merge: Merge) {
-        let one_column = largest == 1;
-        let fused = merge == Merge::Fast && self.padding == 0.0 && one_column;
-        let (rounded_tops, next) = match &mut self.levels[..] {
-            [one, two, ..] if fused => match (&mut one.bounds, &mut two.bounds) {
-                (StoredBounds::F32(first), StoredBounds::F32(second)) => {
-                    let first = (first, &mut one.counts[..], one.nodes_x);
-                    let second = (second, &mut two.counts[..], two.nodes_x);
-                    merge_one_column_cells(first, Some(second), (map.width(), map.height()), map);
-                    (None, 2)
-                }
-                _ => (Self::fill_first(one, map, self.padding, one_column, merge), 1),
-            },
-            levels => (Self::fill_first(&mut levels[0], map, self.padding, one_column, merge), 1),
+        // A map of one column a cell at f32: levels 1 and 2 in one pass.
+        let one_column = merge == Merge::Fast
+            && self.padding == 0.0
+            && largest == 1
+            && self.precision == Precision::F32;
+        let (rounded_tops, next) = if one_column {
+            let (first, rest) = self.levels.split_first_mut().expect("at least one level");
+            let second = rest.first_mut().map(Level::single_slot);
+            let next = if second.is_some() { 2 } else { 1 };
+            merge_one_column_cells(first.single_slot(), second, (map.width(), map.height()), map);
+            (None, next)
+        } else {
+            (Self::fill_first(&mut self.levels[0], map, self.padding), 1)
         };
         for i in next..self.levels.len() {
             let (below, above) = self.levels.split_at_mut(i);
@@ -170,13 +170,7 @@ impl MlhmHierarchy {
     /// Level 1, from the map's cells, padded by `padding` metres (see
     /// [`build_padded`](MlhmHierarchy::build_padded)); returns the highest solid and water
     /// tops (padded, rounded up) when the stored bounds are rounded or padded.
-    fn fill_first(
-        level: &mut Level,
-        map: &Mlhm,
-        padding: f64,
-        one_column: bool,
-        merge: Merge,
-    ) -> Option<(f32, f32)> {
+    fn fill_first(level: &mut Level, map: &Mlhm, padding: f64) -> Option<(f32, f32)> {
         let (w, h) = (map.width(), map.height());
         let (columns, counts, plane) = (map.raw_columns(), map.layer_counts(), w * h);
         let count = |cell: usize| usize::from(counts[cell]);
@@ -196,11 +190,6 @@ impl MlhmHierarchy {
         let counts = &mut level.counts;
         let children = Children::padded(w, h, padding, map.cell_size());
         match &mut level.bounds {
-            StoredBounds::F32(b) if merge == Merge::Fast && padding == 0.0 && one_column => {
-                // A cell of one column: its open sky starts at its water top, its start of air.
-                merge_one_column_cells((b, counts, nodes_x), None, (w, h), map);
-                None
-            }
             StoredBounds::F32(b) if padding == 0.0 => {
                 // Stored as they are: merged in place.
                 let layer = |cell: usize, j: usize| StoredLayer::<f32>::store(layer(cell, j));
@@ -226,17 +215,8 @@ impl MlhmHierarchy {
             (StoredBounds::F32(b), StoredBounds::F32(c))
                 if merge == Merge::Fast && counts_all_one(&below.counts) =>
             {
-                let child = |child: usize| {
-                    let l = c.layers[child * below_cap];
-                    [l.water_max, l.ceiling_min, l.solid_max, l.air_min]
-                };
-                let sky = |i: usize| c.sky[i];
-                let quad = |i, j, k, l| {
-                    let lowest_sky = sky(i).min(sky(j)).min(sky(k).min(sky(l)));
-                    (merge_lanes(child(i), child(j), child(k), child(l)), lowest_sky)
-                };
-                let grid = (below.nodes_x, below.nodes_y);
-                Self::merge_single_layers(b, counts, (nodes_x, cap), grid, quad);
+                let children = (c, below_cap, below.nodes_x, below.nodes_y);
+                Self::merge_single_layers(b, counts, (nodes_x, cap), children);
             }
             (StoredBounds::F32(b), StoredBounds::F32(c)) => {
                 let layer = |child: usize, j: usize| c.layers[child * below_cap + j];
@@ -252,24 +232,26 @@ impl MlhmHierarchy {
         }
     }
 
-    /// A level at exact f32 bounds whose children all hold one layer (level 1 of a height
-    /// field or of RiversRain before it rains, or a level above such a level): each node the
-    /// merge of its (up to) 2 x 2 children in a grid of `children_x` by `children_y`, by
-    /// `quad(i, j, k, l)`: the merged bounds of children `i`, `j`, `k` and `l` in the order
-    /// of [`StoredLayer`]'s fields, and the lowest start of their open sky, as
-    /// [`merge_children`](Self::merge_children) would merge them, in a loop the compiler
-    /// keeps in registers. A node on an odd grid's last row or column merges its children
-    /// with themselves, which changes nothing. This is what a simulation pays every frame:
-    /// the 4096² RiversRain rebuild took 58 to 98 ms this way against 257 to 454 ms with the
-    /// general merge alone, run beside each other (`examples/hierarchy_rebuild.rs`).
+    /// A level at exact f32 bounds whose children all hold one layer (a level above one whose
+    /// nodes hold one layer each): each node the merge of its (up to) 2 x 2 children (`below`,
+    /// `below_cap` slots a node, in a grid of `children_x` by `children_y`) by
+    /// [`merge_single_layer_row`], rows in parallel. This is what a simulation pays every
+    /// frame: the 4096² RiversRain rebuild took 58 to 98 ms with this merge against 257 to
+    /// 454 ms with the general merge alone, run beside each other
+    /// (`examples/hierarchy_rebuild.rs`).
     fn merge_single_layers(
         bounds: &mut LevelBounds<f32>,
         counts: &mut [u8],
         (nodes_x, cap): (usize, usize),
-        (children_x, children_y): (usize, usize),
-        quad: impl Fn(usize, usize, usize, usize) -> ([f32; 4], f32) + Sync,
+        (below, below_cap, children_x, children_y): (&LevelBounds<f32>, usize, usize, usize),
     ) {
-        let empty = <StoredLayer<f32> as MergedLayer<f32>>::EMPTY;
+        let row = |y: usize| {
+            let y = y.min(children_y - 1) * children_x;
+            (
+                &below.layers[y * below_cap..(y + children_x) * below_cap],
+                &below.sky[y..y + children_x],
+            )
+        };
         bounds
             .layers
             .par_chunks_mut(nodes_x * cap)
@@ -277,21 +259,9 @@ impl MlhmHierarchy {
             .zip(bounds.sky.par_chunks_mut(nodes_x))
             .enumerate()
             .for_each(|(ny, ((layers, node_counts), node_sky))| {
-                let (low, high) =
-                    (2 * ny * children_x, (2 * ny + 1).min(children_y - 1) * children_x);
                 node_counts.fill(1);
-                for (nx, (node, sky)) in layers.chunks_exact_mut(cap).zip(node_sky).enumerate() {
-                    let (x0, x1) = (2 * nx, (2 * nx + 1).min(children_x - 1));
-                    let (merged, lowest_sky) = quad(low + x0, low + x1, high + x0, high + x1);
-                    node[0] = StoredLayer {
-                        water_max: merged[0],
-                        ceiling_min: merged[1],
-                        solid_max: merged[2],
-                        air_min: merged[3],
-                    };
-                    node[1..].fill(empty);
-                    *sky = lowest_sky;
-                }
+                let (low, high) = (row(2 * ny), row(2 * ny + 1));
+                merge_single_layer_row(layers, node_sky, cap, low, high, below_cap);
             });
     }
 
@@ -402,6 +372,12 @@ fn largest_layer_count(counts: &[u8]) -> usize {
         .map_or(0, usize::from)
 }
 
+/// The stored f32 layer of merged lanes in the order of [`StoredLayer`]'s fields.
+#[inline(always)]
+fn stored([water_max, ceiling_min, solid_max, air_min]: [f32; 4]) -> StoredLayer<f32> {
+    StoredLayer { water_max, ceiling_min, solid_max, air_min }
+}
+
 /// Whether every cell holds exactly one column.
 fn counts_all_one(counts: &[u8]) -> bool {
     /// Eight counts of 1.
@@ -504,12 +480,7 @@ fn merge_one_column_cells(
         for nx in done..nodes.len() {
             let (x0, x1) = (2 * nx, (2 * nx + 1).min(width - 1));
             let merged = merge_columns([low[x0], low[x1], high[x0], high[x1]]);
-            nodes[nx] = StoredLayer {
-                water_max: merged[0],
-                ceiling_min: merged[1],
-                solid_max: merged[2],
-                air_min: merged[3],
-            };
+            nodes[nx] = stored(merged);
             sky[nx] = merged[3];
         }
     };
@@ -534,24 +505,42 @@ fn merge_one_column_cells(
             level_one_row(2 * ny + r, nodes, sky);
         }
         // Level 2 from the one or two rows of level 1 just merged.
-        let high = if nodes.len() > nodes_x { nodes_x } else { 0 };
-        let child = |i: usize| {
-            let l = nodes[i];
-            [l.water_max, l.ceiling_min, l.solid_max, l.air_min]
-        };
-        for (nx, (node, node_sky)) in above.iter_mut().zip(above_sky.iter_mut()).enumerate() {
-            let (x0, x1) = (2 * nx, (2 * nx + 1).min(nodes_x - 1));
-            let merged = merge_lanes(child(x0), child(x1), child(high + x0), child(high + x1));
-            *node = StoredLayer {
-                water_max: merged[0],
-                ceiling_min: merged[1],
-                solid_max: merged[2],
-                air_min: merged[3],
-            };
-            let (a, b) = (sky[x0].min(sky[x1]), sky[high + x0].min(sky[high + x1]));
-            *node_sky = a.min(b);
-        }
+        let last = nodes.len() - nodes_x;
+        let low = (&nodes[..nodes_x], &sky[..nodes_x]);
+        let high = (&nodes[last..], &sky[last..]);
+        merge_single_layer_row(above, above_sky, 1, low, high, 1);
     });
+}
+
+/// One row of nodes (`cap` slots a node) of a level whose children all hold one f32 layer:
+/// node `nx` merges children `2 nx` and `2 nx + 1` (the last one twice on an odd row, which
+/// changes nothing) of the two rows of children `low` and `high` (each its layers,
+/// `below_cap` slots a child, and its skies; the same row twice for an odd last row) by
+/// [`merge_lanes`], and the lowest start of their open sky, as
+/// [`MlhmHierarchy::merge_children`] would merge them, in a loop the compiler keeps in
+/// registers; the node's other slots are emptied.
+#[inline]
+fn merge_single_layer_row(
+    nodes: &mut [StoredLayer<f32>],
+    sky: &mut [f32],
+    cap: usize,
+    (low, low_sky): (&[StoredLayer<f32>], &[f32]),
+    (high, high_sky): (&[StoredLayer<f32>], &[f32]),
+    below_cap: usize,
+) {
+    let empty = <StoredLayer<f32> as MergedLayer<f32>>::EMPTY;
+    let children_x = low_sky.len();
+    let lanes = |row: &[StoredLayer<f32>], x: usize| {
+        let l = row[x * below_cap];
+        [l.water_max, l.ceiling_min, l.solid_max, l.air_min]
+    };
+    for (nx, (node, node_sky)) in nodes.chunks_exact_mut(cap).zip(sky).enumerate() {
+        let (x0, x1) = (2 * nx, (2 * nx + 1).min(children_x - 1));
+        let merged = merge_lanes(lanes(low, x0), lanes(low, x1), lanes(high, x0), lanes(high, x1));
+        node[0] = stored(merged);
+        node[1..].fill(empty);
+        *node_sky = low_sky[x0].min(low_sky[x1]).min(high_sky[x0].min(high_sky[x1]));
+    }
 }
 
 /// The nodes of one row of [`merge_one_column_cells`] whose two columns of cells exist
@@ -596,12 +585,7 @@ unsafe fn merge_column_pairs_avx2(
         let mut out = [0f32; 4];
         // SAFETY: `out` holds four f32.
         unsafe { _mm_storeu_ps(out.as_mut_ptr(), merged) };
-        nodes[nx] = StoredLayer {
-            water_max: out[0],
-            ceiling_min: out[1],
-            solid_max: out[2],
-            air_min: out[3],
-        };
+        nodes[nx] = stored(out);
         sky[nx] = out[3];
     }
     pairs
@@ -644,6 +628,14 @@ impl Children {
 }
 
 impl Level {
+    /// This level's storage as [`merge_one_column_cells`] writes it.
+    fn single_slot(&mut self) -> SingleSlotLevel<'_> {
+        let StoredBounds::F32(bounds) = &mut self.bounds else {
+            unreachable!("a one-column merge writes f32 bounds")
+        };
+        (bounds, &mut self.counts[..], self.nodes_x)
+    }
+
     fn empty(nodes_x: usize, nodes_y: usize, cap: usize, precision: Precision) -> Level {
         let nodes = nodes_x * nodes_y;
         Level {
