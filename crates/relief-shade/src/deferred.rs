@@ -120,14 +120,8 @@ fn shade_with<T: Copy + Default + Send>(
     store: impl Fn(DVec3) -> T + Sync,
 ) -> Result<(Vec<T>, TraceStats), ShadeError> {
     params.validate()?;
-    gbuffer.validate()?;
-    let (width, height) = (camera.width() as usize, camera.height() as usize);
-    if (gbuffer.width, gbuffer.height) != (width, height) {
-        return Err(ShadeError::Mismatch(format!(
-            "G-buffer is {} x {} but the camera's image is {width} x {height}",
-            gbuffer.width, gbuffer.height
-        )));
-    }
+    gbuffer.validate_for(camera)?;
+    let width = gbuffer.width;
     let mut radiance = Vec::new();
     radiance.try_reserve_exact(gbuffer.len()).map_err(|e| {
         ShadeError::Limits(format!("cannot allocate {} shaded pixels: {e}", gbuffer.len()))
