@@ -41,7 +41,8 @@ impl Level {
 }
 
 impl MaxMipmap {
-    /// Builds the pyramid of `grid` over the height field's `samples` (in parallel).
+    /// Builds the pyramid of `grid` over the height field's `samples` (in parallel): every node
+    /// computed as [`MaxMipmap::update`] computes the nodes above a region, here the whole field.
     pub fn build(grid: &CellGrid, samples: &[f32]) -> Self {
         let (mut nx, mut ny) = (grid.cells_x(), grid.cells_y());
         let mut levels = vec![Level { offset: 0, nodes_x: nx, nodes_y: ny, blocks_x: 0 }];
@@ -53,24 +54,11 @@ impl MaxMipmap {
             levels.push(Level { offset: total, nodes_x: nx, nodes_y: ny, blocks_x });
             total += 4 * blocks_x * ny.div_ceil(2);
         }
-        let mut values = vec![f32::NEG_INFINITY; total];
-        for l in 1..levels.len() {
-            let (below, level) = (levels[l - 1], levels[l]);
-            let (done, rest) = values.split_at_mut(level.offset);
-            let fine = &done[below.offset.min(done.len())..];
-            let end = 4 * level.blocks_x * level.nodes_y.div_ceil(2);
-            // One row of blocks (two rows of nodes) at a time, in parallel.
-            rest[..end].par_chunks_mut(4 * level.blocks_x).enumerate().for_each(|(by, row)| {
-                for (k, node) in row.iter_mut().enumerate() {
-                    let (x, y) = (2 * (k / 4) + (k & 1), 2 * by + ((k >> 1) & 1));
-                    if x >= level.nodes_x || y >= level.nodes_y {
-                        continue;
-                    }
-                    *node = node_max(grid, samples, fine, l, below, x, y);
-                }
-            });
-        }
-        MaxMipmap { values, levels }
+        let mut pyramid = MaxMipmap { values: vec![f32::NEG_INFINITY; total], levels };
+        let width = grid.samples_width();
+        let height = samples.len().checked_div(width).unwrap_or(0);
+        pyramid.update(grid, samples, SampleRegion::whole(width, height));
+        pyramid
     }
 
     /// Recomputes the nodes above the samples of `region` after they changed, and only those:
