@@ -326,16 +326,8 @@ impl CellGrid {
     pub fn triangle_normal(&self, samples: &[f32], cx: usize, cy: usize, p: DVec3) -> DVec3 {
         let w = self.samples_width;
         let i = cx + cy * w;
-        let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
-        let (c, d) = (samples[i + w] as f64, samples[i + w + 1] as f64);
-        let (u, v) = (p.x - cx as f64, p.y - cy as f64);
-        let ((pu0, pv0), (pu1, pv1)) = if a + d <= b + c {
-            ((b - a, d - b), (d - c, c - a))
-        } else {
-            ((b - a, c - a), (d - c, d - b))
-        };
-        let first = if a + d <= b + c { u >= v } else { u + v <= 1.0 };
-        let (pu, pv) = if first { (pu0, pv0) } else { (pu1, pv1) };
+        let corners = [samples[i], samples[i + 1], samples[i + w], samples[i + w + 1]];
+        let (_, pu, pv) = triangle_plane(corners.map(f64::from), p.x - cx as f64, p.y - cy as f64);
         DVec3::new(-pu, -pv, 1.0)
     }
 
@@ -450,6 +442,25 @@ fn outer_entry(face: BoxFace) -> Entry {
         BoxFace::X => Entry::OuterFace(0),
         BoxFace::Y => Entry::OuterFace(1),
         BoxFace::Z => Entry::OuterFace(2),
+    }
+}
+
+/// The plane `z = z0 + pu u + pv v` of the `triangles` surface over local point (u, v) of a
+/// cell whose corners are `[a, b, c, d]` (lower left, lower right, upper left, upper right):
+/// the square splits along its lower diagonal (a-d when `a + d <= b + c`, else b-c), and the
+/// point takes the triangle it lies in (on the diagonal, the first).
+#[inline(always)]
+pub(crate) fn triangle_plane([a, b, c, d]: [f64; 4], u: f64, v: f64) -> (f64, f64, f64) {
+    if a + d <= b + c {
+        if u >= v {
+            (a, b - a, d - b)
+        } else {
+            (a, d - c, c - a)
+        }
+    } else if u + v <= 1.0 {
+        (a, b - a, c - a)
+    } else {
+        (b + c - d, d - c, d - b)
     }
 }
 

@@ -3,6 +3,7 @@
 //! steps from the box's entry to its exit, then a fixed number of binary search halvings.
 
 use super::{HybridCells, LopSteps};
+use crate::cell_grid::triangle_plane;
 use crate::Hit;
 use relief_core::{BoxFace, DVec3, HeightField, Ray};
 
@@ -165,21 +166,10 @@ impl<'a> SampledSurface<'a> {
         if !self.triangles {
             return (self.samples[i] as f64, 0.0, 0.0);
         }
-        let (lower, upper) =
-            (&self.samples[i..i + 2], &self.samples[i + self.width..i + self.width + 2]);
-        let (a, b) = (lower[0] as f64, lower[1] as f64);
-        let (c, d) = (upper[0] as f64, upper[1] as f64);
-        if a + d <= b + c {
-            if u >= v {
-                (a, b - a, d - b)
-            } else {
-                (a, d - c, c - a)
-            }
-        } else if u + v <= 1.0 {
-            (a, b - a, c - a)
-        } else {
-            (b + c - d, d - c, d - b)
-        }
+        let w = self.width;
+        let corners =
+            [self.samples[i], self.samples[i + 1], self.samples[i + w], self.samples[i + w + 1]];
+        triangle_plane(corners.map(f64::from), u, v)
     }
 
     /// The surface's height over grid point (x, y); `None` off the footprint or over a hole.
