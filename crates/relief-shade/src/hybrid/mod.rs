@@ -21,7 +21,7 @@ mod near_field;
 
 use crate::render::fill_gbuffer;
 use crate::{GBuffer, ShadeError};
-use far_field::FarCells;
+use far_field::{FarCells, FarHit};
 use near_field::NearField;
 use relief_core::{Aabb, Camera, CoreError, HeightField, Projection, Ray, SampleRegion, Surface};
 use relief_mesh::{Culling, IndexedMesh, RasterTarget, Rasterizer};
@@ -121,6 +121,9 @@ pub struct HybridRenderer {
     near: NearField,
     rasterizer: Rasterizer,
     target: RasterTarget,
+    /// Per pixel, the far field's hit and what found it: kept across frames, so that a frame
+    /// does not allocate (and fault in) a buffer of the image's size.
+    far_hits: Vec<FarHit>,
 }
 
 impl HybridRenderer {
@@ -147,6 +150,7 @@ impl HybridRenderer {
             // inside it is drawn by the exact tracer), its back faces are always hidden.
             rasterizer: Rasterizer::new().with_culling(Culling::BackFaces),
             target: RasterTarget::new(0, 0),
+            far_hits: Vec::new(),
         })
     }
 
@@ -289,23 +293,24 @@ impl HybridRenderer {
 
         let start = Instant::now();
         let far = FarCells::new(&self.cells, &self.heuristic, &choices, camera);
-        let mut hits: Vec<Option<(Hit, PixelSource)>> = vec![None; width * height];
+        let hits = &mut self.far_hits;
+        hits.clear();
+        hits.resize(width * height, None);
         stats.far_rays = match self.far {
-            FarField::Lop => far.cast_levels(&field, &self.cells, camera, &self.target, &mut hits),
-            FarField::Exact => far.cast_exact(&self.exact, camera, &self.target, &mut hits),
+            FarField::Lop => far.cast_levels(&field, &self.cells, camera, &self.target, hits),
+            FarField::Exact => far.cast_exact(&self.exact, camera, &self.target, hits),
         };
         stats.far_ms = elapsed_ms(start);
 
         let start = Instant::now();
-        let target = &self.target;
-        let pixel = |index: usize, i: u32, j: u32| match hits[index] {
-            Some((hit, source)) => (Some(hit), source),
+        let (target, hits) = (&self.target, &self.far_hits);
+        fill_gbuffer(gbuffer, camera, bounds, |index, i, j| match hits[index] {
+            Some((hit, _)) => Some(hit),
             None => match target.triangle[index] {
-                RasterTarget::NO_TRIANGLE => (None, PixelSource::Nothing),
-                triangle => (mesh_hit(&mesh, triangle, &camera.ray(i, j)), PixelSource::Mesh),
+                RasterTarget::NO_TRIANGLE => None,
+                triangle => mesh_hit(&mesh, triangle, &camera.ray(i, j)),
             },
-        };
-        fill_gbuffer(gbuffer, camera, bounds, |index, i, j| pixel(index, i, j).0);
+        });
         if let Some(sources) = sources {
             sources.clear();
             sources.extend(gbuffer.distance.iter().enumerate().map(|(index, d)| {
