@@ -6,11 +6,10 @@ use rayon::prelude::*;
 use relief_core::{HeightField, SampleRegion};
 use relief_mesh::{height_field_mesh, IndexedMesh};
 use relief_trace::hybrid::{CellChoice, HybridCells};
-use std::sync::Arc;
 
 /// Per cell, its mesh once a frame has drawn it as a mesh (until an edit touches it).
 pub(super) struct NearField {
-    meshes: Vec<Option<Arc<IndexedMesh>>>,
+    meshes: Vec<Option<IndexedMesh>>,
 }
 
 impl NearField {
@@ -73,7 +72,7 @@ impl NearField {
             .collect::<Result<_, relief_mesh::MeshError>>()
             .map_err(|e| ShadeError::Limits(e.to_string()))?;
         for (k, mesh) in built {
-            self.meshes[k] = Some(Arc::new(mesh));
+            self.meshes[k] = Some(mesh);
         }
         let mut frame = IndexedMesh::default();
         for &k in &wanted {
