@@ -51,6 +51,17 @@ impl Change {
     /// milliseconds the change itself took (the rest of the update is the renderer's).
     fn apply(&mut self, renderer: &mut HybridRenderer, frame: u32) -> Result<(usize, f64)> {
         let mut change_ms = 0.0;
+        // The change itself, timed inside the renderer's edit; it returns the region it wrote.
+        let mut timed =
+            |change: &mut dyn FnMut(&mut HeightField) -> Result<SampleRegion, SimError>| {
+                renderer.edit(|field| {
+                    let timer = Instant::now();
+                    let region = change(field);
+                    change_ms = ms(timer);
+                    region
+                })
+            };
+        let whole = |field: &HeightField| SampleRegion::whole(field.width(), field.height());
         let region = match self {
             Change::Stamp { centre, circle, radius, strength } => {
                 let angle = frame as f64 * 0.4;
@@ -60,26 +71,11 @@ impl Change {
                     radius: *radius,
                     strength: *strength,
                 };
-                renderer.edit(|field| {
-                    let timer = Instant::now();
-                    let region = stamp(field, &brush);
-                    change_ms = ms(timer);
-                    region
-                })?
+                timed(&mut |field| stamp(field, &brush))?
             }
-            Change::Waves(waves) => renderer.edit(|field| -> Result<SampleRegion, SimError> {
-                let timer = Instant::now();
-                waves.step(field)?;
-                change_ms = ms(timer);
-                Ok(SampleRegion::whole(field.width(), field.height()))
-            })?,
+            Change::Waves(waves) => timed(&mut |field| waves.step(field).map(|()| whole(field)))?,
             Change::Erosion(erosion) => {
-                renderer.edit(|field| -> Result<SampleRegion, SimError> {
-                    let timer = Instant::now();
-                    erosion.step(field)?;
-                    change_ms = ms(timer);
-                    Ok(SampleRegion::whole(field.width(), field.height()))
-                })?
+                timed(&mut |field| erosion.step(field).map(|_| whole(field)))?
             }
         };
         Ok((region.len(), change_ms))
