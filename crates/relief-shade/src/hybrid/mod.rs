@@ -13,8 +13,8 @@
 //!    pixel, the exact tracer searches `[t0, near depth]`;
 //! 4. every pixel's hit is written into the G-buffer as the other renderers write it.
 //!
-//! Edits ([`HybridRenderer::edit`], [`HybridRenderer::replace_samples`]) update the field, the
-//! exact tracer's pyramid, the cells' bounds and the mesh cache only where the samples changed.
+//! Edits ([`HybridRenderer::edit`]) update the field, the exact tracer's pyramid, the cells'
+//! bounds and the mesh cache only where the samples changed.
 
 mod far_field;
 mod near_field;
@@ -174,11 +174,6 @@ impl HybridRenderer {
         &self.heuristic
     }
 
-    /// The far field's kind.
-    pub fn far_field(&self) -> FarField {
-        self.far
-    }
-
     /// Edits the field with `edit` (which returns the region it changed, as
     /// [`HeightField::edit_region`] does), then updates what depends on the changed samples
     /// only: the exact tracer's pyramid above them, the cells holding them and their cached
@@ -219,17 +214,6 @@ impl HybridRenderer {
     fn rebuild_from(&mut self, field: &HeightField) {
         self.cells.update(field, SampleRegion::whole(field.width(), field.height()));
         self.near.invalidate_all();
-    }
-
-    /// Replaces every sample (a simulation step that rewrote the whole field; see
-    /// [`HeightField::replace_samples`]) and returns the previous samples.
-    pub fn replace_samples(&mut self, samples: Vec<f32>) -> Result<Vec<f32>, CoreError> {
-        let mut old = Vec::new();
-        self.edit(|field| -> Result<SampleRegion, CoreError> {
-            old = field.replace_samples(samples)?;
-            Ok(SampleRegion::whole(field.width(), field.height()))
-        })?;
-        Ok(old)
     }
 
     /// Renders the view of `camera` into `gbuffer` (every pixel overwritten), `bounds` the
