@@ -140,7 +140,7 @@ impl MlhmHierarchy {
             let (first, rest) = self.levels.split_first_mut().expect("at least one level");
             let second = rest.first_mut().map(Level::single_slot);
             let next = if second.is_some() { 2 } else { 1 };
-            merge_one_column_cells(first.single_slot(), second, (map.width(), map.height()), map);
+            merge_one_column_cells(first.single_slot(), second, map);
             (None, next)
         } else {
             (Self::fill_first(&mut self.levels[0], map, self.padding), 1)
@@ -452,19 +452,18 @@ unsafe fn merge_columns_sse2(cells: &[MlhmColumn; 4]) -> [f32; 4] {
 /// along x.
 type SingleSlotLevel<'a> = (&'a mut LevelBounds<f32>, &'a mut [u8], usize);
 
-/// Level 1 (one slot a node) of `map`, whose `width x height` cells hold one column each,
-/// and with `second` level 2 as well, in the same pass: each level-1 node the merge of its
-/// (up to) 2 x 2 cells by [`merge_columns`] (an odd grid's last row or column merged with
-/// itself), its sky at the merged start of air; each level-2 node the merge of its level-1
-/// nodes as [`MlhmHierarchy::merge_single_layers`] merges them, from the two rows of level 1
-/// just written, still in cache. Rows of the top level in parallel; two cells to a register
+/// Level 1 (one slot a node) of `map`, whose cells hold one column each, and with `second`
+/// level 2 as well, in the same pass: each level-1 node the merge of its (up to) 2 x 2 cells
+/// by [`merge_columns`] (an odd grid's last row or column merged with itself), its sky at the
+/// merged start of air; each level-2 row by [`merge_single_layer_row`] from the two rows of
+/// level 1 just written, still in cache. Rows of the top level in parallel; two cells to a register
 /// where the CPU has AVX2.
 fn merge_one_column_cells(
     (first, first_counts, nodes_x): SingleSlotLevel,
     second: Option<SingleSlotLevel>,
-    (width, height): (usize, usize),
     map: &Mlhm,
 ) {
+    let (width, height) = (map.width(), map.height());
     #[cfg(target_arch = "x86_64")]
     let avx2 = std::is_x86_feature_detected!("avx2");
     let columns = &map.raw_columns()[..width * height];
