@@ -39,7 +39,7 @@ pub use height_field::{GridGeometry, HeightField};
 pub use mlhm::{MaterialVolumes, Mlhm, MlhmColumn, MlhmHeights, Precision};
 pub use ray::Ray;
 pub use sample_region::SampleRegion;
-pub use surface::Surface;
+pub use surface::{splits_along_ad, Surface};
 
 /// Re-exported vector types used throughout relief's public API.
 pub use glam::{DVec2, DVec3};

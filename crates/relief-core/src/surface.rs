@@ -35,6 +35,15 @@ impl Surface {
     }
 }
 
+/// Whether the `triangles` surface splits the square whose corners have the heights `a` at
+/// (c, r), `b` at (c+1, r), `c` at (c, r+1) and `d` at (c+1, r+1) along its `a`-`d` diagonal
+/// (else along `b`-`c`): the diagonal whose end heights have the smaller sum, `a`-`d` on ties.
+/// Every tracer, mesh and shape of the `triangles` surface asks this one function.
+#[inline(always)]
+pub fn splits_along_ad(a: f64, b: f64, c: f64, d: f64) -> bool {
+    a + d <= b + c
+}
+
 impl fmt::Display for Surface {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.pad(self.name())

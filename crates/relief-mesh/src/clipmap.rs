@@ -401,7 +401,7 @@ impl Level {
             // The middle of a square lies on the diagonal its two triangles share.
             (true, true) => {
                 let (a, b, c, d) = (z(i, j), z(i + 1, j), z(i, j + 1), z(i + 1, j + 1));
-                if a + d <= b + c {
+                if relief_core::splits_along_ad(a, b, c, d) {
                     0.5 * (a + d)
                 } else {
                     0.5 * (b + c)

@@ -148,7 +148,7 @@ fn triangle_mesh(field: &HeightField, region: SampleRegion) -> IndexedMesh {
                 [local(cx, cy), local(cx + 1, cy), local(cx, cy + 1), local(cx + 1, cy + 1)];
             let (a, b) = (field.sample(cx, cy) as f64, field.sample(cx + 1, cy) as f64);
             let (c, d) = (field.sample(cx, cy + 1) as f64, field.sample(cx + 1, cy + 1) as f64);
-            if a + d <= b + c {
+            if relief_core::splits_along_ad(a, b, c, d) {
                 mesh.triangle(top[v00], top[v10], top[v11]);
                 mesh.triangle(top[v00], top[v11], top[v01]);
             } else {

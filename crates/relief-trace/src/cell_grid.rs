@@ -346,7 +346,7 @@ impl CellGrid {
         // The surface over the cell is the larger of the two triangles' planes
         // z = p0 + pu * u + pv * v (u, v local coordinates), since the split takes the lower
         // diagonal. The solid is below both planes' maximum.
-        let planes = if a + d <= b + c {
+        let planes = if relief_core::splits_along_ad(a, b, c, d) {
             [(a, b - a, d - b), (a, d - c, c - a)]
         } else {
             [(a, b - a, c - a), (b + c - d, d - c, d - b)]
@@ -447,11 +447,11 @@ fn outer_entry(face: BoxFace) -> Entry {
 
 /// The plane `z = z0 + pu u + pv v` of the `triangles` surface over local point (u, v) of a
 /// cell whose corners are `[a, b, c, d]` (lower left, lower right, upper left, upper right):
-/// the square splits along its lower diagonal (a-d when `a + d <= b + c`, else b-c), and the
+/// the square splits along its lower diagonal ([`relief_core::splits_along_ad`]), and the
 /// point takes the triangle it lies in (on the diagonal, the first).
 #[inline(always)]
 pub(crate) fn triangle_plane([a, b, c, d]: [f64; 4], u: f64, v: f64) -> (f64, f64, f64) {
-    if a + d <= b + c {
+    if relief_core::splits_along_ad(a, b, c, d) {
         if u >= v {
             (a, b - a, d - b)
         } else {

@@ -212,7 +212,7 @@ impl<'a> LocalField<'a> {
         let (u, v) = (x - i as f64, y - j as f64);
         let [a, b, c, d] = self.cell_corners(i, j);
         // The larger of the two planes of the lower-diagonal split.
-        if a + d <= b + c {
+        if relief_core::splits_along_ad(a, b, c, d) {
             (a + (b - a) * u + (d - b) * v).max(a + (d - c) * u + (c - a) * v)
         } else {
             (a + (b - a) * u + (c - a) * v).max(b + c - d + (d - c) * u + (d - b) * v)
@@ -234,7 +234,7 @@ impl<'a> LocalField<'a> {
         let pb = DVec3::new(x + 1.0, y, b);
         let pc = DVec3::new(x, y + 1.0, c);
         let pd = DVec3::new(x + 1.0, y + 1.0, d);
-        if a + d <= b + c {
+        if relief_core::splits_along_ad(a, b, c, d) {
             [[pa, pb, pd], [pa, pd, pc]]
         } else {
             [[pa, pb, pc], [pb, pd, pc]]
