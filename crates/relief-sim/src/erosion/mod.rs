@@ -23,6 +23,8 @@
 mod column_split;
 mod error;
 mod horizontal_erosion;
+mod lanes;
+mod one_column;
 mod params;
 mod pipes;
 mod rain;

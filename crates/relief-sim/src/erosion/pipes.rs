@@ -15,8 +15,110 @@
 //! at most a quarter of the neighbour's free space, scaled to the column's sand. The slope
 //! (sin) for erosion comes from the sand tops the pipes reach (central differences).
 
+use super::lanes::{avx2_dispatch, load, load4, map4, store, store4, Column, Lanes, Real, LANES};
+use super::one_column::one_column_band;
 use super::slots::{neighbours, par_rows, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
+use relief_core::MlhmColumn;
+
+/// The step's constants of the pipes.
+struct PipeConstants {
+    dt: f32,
+    cs: f32,
+    area: f32,
+    /// `1 / slippage_interpolation_range`.
+    inverse_range: f32,
+    /// `dt g cell`: flux per metre of head.
+    flow: f32,
+    /// `dt / cell²`: height per flux.
+    taken_scale: f32,
+    /// `1 - flux_damping dt`.
+    damping: f32,
+    /// tan of the dry and wet talus angles.
+    dry: f32,
+    wet: f32,
+    slippage_rate: f32,
+    slippage: bool,
+}
+
+impl PipeConstants {
+    fn new(params: &ErosionParams, cs: f32) -> Self {
+        let dt = params.dt;
+        PipeConstants {
+            dt,
+            cs,
+            area: cs * cs,
+            inverse_range: 1.0 / params.slippage_interpolation_range,
+            flow: dt * params.gravity * cs,
+            taken_scale: dt / (cs * cs),
+            damping: 1.0 - params.flux_damping * dt,
+            dry: params.dry_talus_angle.to_radians().tan(),
+            wet: params.wet_talus_angle.to_radians().tan(),
+            slippage_rate: params.slippage_rate,
+            slippage: params.slippage,
+        }
+    }
+
+    /// The flux and the sand slippage of the pipe from `c` into `nc` (whose ceiling is
+    /// `n_ceiling`), whose flux was `old`. Without `CEILING`, `nc`'s ceiling must be `+inf`:
+    /// the terms it bounds are then left out, which gives the same values.
+    #[inline(always)]
+    fn pipe<R: Real, const CEILING: bool>(
+        &self,
+        c: Column<R>,
+        nc: Column<R>,
+        n_ceiling: R,
+        old: R,
+    ) -> (R, R) {
+        let splat = R::splat;
+        let (sand, water) = (c.solid_top(), c.water_top());
+        let n_water = nc.water_top();
+        let reach = if CEILING { water.min(n_ceiling) } else { water };
+        let dh = reach - n_water.max(sand);
+        let mut f = (splat(self.damping) * old + splat(self.flow) * dh).max(splat(0.0));
+        if CEILING {
+            // Under an infinite ceiling the ratio is exactly 1.
+            let free = splat(0.25) * (n_ceiling - n_water).max(splat(0.0));
+            f = f * ratio(free, f * splat(self.taken_scale) + splat(f32::EPSILON));
+        }
+        let mean_water = splat(0.5) * (c.water + nc.water);
+        let t = (mean_water * splat(self.inverse_range)).min(splat(1.0));
+        let talus = splat(self.dry) + splat(self.wet - self.dry) * t;
+        let excess = splat(self.slippage_rate) * (sand - nc.solid_top() - talus * splat(self.cs));
+        let slip = if CEILING {
+            excess.max(splat(0.0)).min(splat(0.25) * (n_ceiling - n_water)).max(splat(0.0))
+        } else {
+            excess.max(splat(0.0))
+        };
+        (f, slip)
+    }
+
+    /// Scales the pipes of `c` (`flux`, `slip`, with the sand tops `tops` they reach) to the
+    /// water and sand it has; returns the fluxes, slippages, sediment flux scale and slope.
+    #[inline(always)]
+    fn scale<R: Real>(
+        &self,
+        c: Column<R>,
+        sediment: R,
+        flux: [R; 4],
+        slip: [R; 4],
+        tops: [R; 4],
+    ) -> ([R; 4], [R; 4], R, R) {
+        let splat = R::splat;
+        let eps = splat(f32::EPSILON);
+        let slope = slope_sine(tops, self.cs);
+        let out = (flux[0] + flux[1] + flux[2] + flux[3]) * splat(self.dt);
+        let scale = ratio(c.water * splat(self.area), out + eps);
+        // A scale of exactly 1 leaves the fluxes as they are: no branch.
+        let flux = map4(flux, |f| f * scale);
+        let out = (flux[0] + flux[1] + flux[2] + flux[3]) * splat(self.dt);
+        let sediment_scale = ratio(sediment * splat(self.area), out + eps);
+        let slipped = slip[0] + slip[1] + slip[2] + slip[3];
+        let slip_scale = ratio(c.sand, slipped + eps);
+        let slip = if self.slippage { map4(slip, |v| v * slip_scale) } else { [splat(0.0); 4] };
+        (flux, slip, sediment_scale, slope)
+    }
+}
 
 /// Computes fluxes, pipes, slippage, sediment flux scales and slopes for every column.
 pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
@@ -29,25 +131,16 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
     let slippages = Slots::new(&mut state.scratch.slippage);
     let sediment_scales = Slots::new(&mut state.scratch.sediment_flux_scale);
     let slopes = Slots::new(&mut state.scratch.slopes);
-    let dt = params.dt;
-    let area = cs * cs;
-    let inverse_range = 1.0 / params.slippage_interpolation_range;
-    let flow = dt * params.gravity * cs;
-    let taken_scale = dt / area;
-
-    let damping = 1.0 - params.flux_damping * dt;
-    let dry = params.dry_talus_angle.to_radians().tan();
-    let wet = params.wet_talus_angle.to_radians().tan();
+    let k = PipeConstants::new(params, cs);
+    let fast = state.scratch.fast_paths;
     let eps = f32::EPSILON;
     par_rows(height, |y| {
-        for x in 0..width {
+        let cell = |x: usize| {
             let i = x + y * width;
             let near = neighbours(x, y, width, height);
-            for k in 0..usize::from(counts[i]) {
-                let s = i + k * cells;
+            for layer in 0..usize::from(counts[i]) {
+                let s = i + layer * cells;
                 let c = columns[s];
-                let sand = c.solid_top();
-                let water = c.water_top();
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
                 let old = unsafe { fluxes.get(s) };
                 // The pipe in direction `d`: (flux, slippage, neighbour's layer or -1,
@@ -57,76 +150,130 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                     if let Some(n) = near[d] {
                         for nk in 0..usize::from(counts[n]) {
                             let nc = columns[n + nk * cells];
-                            let n_water = nc.water_top();
-                            if c.bedrock < nc.ceiling && n_water + eps < nc.ceiling {
-                                let dh = water.min(nc.ceiling) - n_water.max(sand);
-                                let mut f = (damping * old[d] + flow * dh).max(0.0);
-                                if nc.ceiling.is_finite() {
-                                    let free = 0.25 * (nc.ceiling - n_water).max(0.0);
-                                    f *= ratio(free, f * taken_scale + eps);
-                                }
-                                let mean_water = 0.5 * (c.water + nc.water);
-                                let t = (mean_water * inverse_range).min(1.0);
-                                let talus = dry + (wet - dry) * t;
-                                let excess =
-                                    params.slippage_rate * (sand - nc.solid_top() - talus * cs);
-                                let slip =
-                                    excess.max(0.0).min(0.25 * (nc.ceiling - n_water)).max(0.0);
+                            if c.bedrock < nc.ceiling && nc.water_top() + eps < nc.ceiling {
+                                let (f, slip) =
+                                    k.pipe::<f32, true>(c.into(), nc.into(), nc.ceiling, old[d]);
                                 return (f, slip, nk as i8, nc.solid_top());
                             }
                         }
                     }
-                    (0.0, 0.0, -1, sand)
+                    (0.0, 0.0, -1, c.solid_top())
                 };
                 let p = [pipe_to(0), pipe_to(1), pipe_to(2), pipe_to(3)];
-                let mut flux = p.map(|p| p.0);
-                let mut slip = p.map(|p| p.1);
-                let pipe = p.map(|p| p.2);
-                let tops = p.map(|p| p.3);
-                let slope = slope_sine(tops, cs);
-                let out = (flux[0] + flux[1] + flux[2] + flux[3]) * dt;
-                let scale = ratio(c.water * area, out + eps);
-                // A scale of exactly 1 leaves the fluxes as they are: no branch.
-                for f in &mut flux {
-                    *f *= scale;
-                }
-                let out = (flux[0] + flux[1] + flux[2] + flux[3]) * dt;
-                let sediment_scale = ratio(sediment[s] * area, out + eps);
-                let slipped = slip[0] + slip[1] + slip[2] + slip[3];
-                let slip_scale = ratio(c.sand, slipped + eps);
-                for v in &mut slip {
-                    *v *= slip_scale;
-                }
+                let (flux, slip, scale, slope) = k.scale(
+                    c.into(),
+                    sediment[s],
+                    map4(p, |p| p.0),
+                    map4(p, |p| p.1),
+                    map4(p, |p| p.3),
+                );
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
                 unsafe {
                     fluxes.set(s, flux);
-                    pipes.set(s, pipe);
-                    slippages.set(s, if params.slippage { slip } else { [0.0; 4] });
-                    sediment_scales.set(s, sediment_scale);
+                    pipes.set(s, map4(p, |p| p.2));
+                    slippages.set(s, slip);
+                    sediment_scales.set(s, scale);
                     slopes.set(s, slope);
                 }
             }
+        };
+        if fast && one_column_band(counts, width, height, y) {
+            cell(0);
+            let row = y * width;
+            // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
+            let out = unsafe {
+                OneColumnRow {
+                    fluxes: fluxes.row(row, width),
+                    pipes: pipes.row(row, width),
+                    slippages: slippages.row(row, width),
+                    sediment_scales: sediment_scales.row(row, width),
+                    slopes: slopes.row(row, width),
+                }
+            };
+            let done = one_column_pipes(
+                &k,
+                &columns[row - width..row + 2 * width],
+                &sediment[row..row + width],
+                out,
+            );
+            (done..width).for_each(cell);
+        } else {
+            (0..width).for_each(cell);
         }
         StepVolumes::default()
     });
 }
 
+/// The outputs of the pipes for one row's lowest columns.
+struct OneColumnRow<'a> {
+    fluxes: &'a mut [[f32; 4]],
+    pipes: &'a mut [[i8; 4]],
+    slippages: &'a mut [[f32; 4]],
+    sediment_scales: &'a mut [f32],
+    slopes: &'a mut [f32],
+}
+
+avx2_dispatch! {
+/// The pipes of the cells of a row of a one-column band from cell 1 on, [`LANES`] at a time,
+/// as far as whole lanes reach before the last cell; returns the first cell not done.
+/// `columns` holds the rows below, at and above it, `sediment` the row's own. Every pipe
+/// leads to the neighbour's only column, whose ceiling is `+inf`.
+fn one_column_pipes(
+    k: &PipeConstants,
+    columns: &[MlhmColumn],
+    sediment: &[f32],
+    out: OneColumnRow,
+) -> usize = one_column_pipes_lanes;
+}
+
+#[inline(always)]
+fn one_column_pipes_lanes(
+    k: &PipeConstants,
+    columns: &[MlhmColumn],
+    sediment: &[f32],
+    out: OneColumnRow,
+) -> usize {
+    let width = sediment.len();
+    let (below, rest) = columns.split_at(width);
+    let (row, above) = rest.split_at(width);
+    let mut x = 1;
+    while x + LANES < width {
+        let c = Column::load(&row[x..]);
+        let near = [
+            Column::load(&row[x + 1..]),
+            Column::load(&above[x..]),
+            Column::load(&row[x - 1..]),
+            Column::load(&below[x..]),
+        ];
+        let old = load4(&out.fluxes[x..]);
+        let p = map4([0, 1, 2, 3], |d| {
+            k.pipe::<Lanes, false>(c, near[d], Lanes::splat(f32::INFINITY), old[d])
+        });
+        let tops = map4(near, |n| n.solid_top());
+        let (flux, slip, scale, slope) =
+            k.scale(c, load(&sediment[x..]), map4(p, |p| p.0), map4(p, |p| p.1), tops);
+        store4(&mut out.fluxes[x..], flux);
+        out.pipes[x..x + LANES].fill([0; 4]);
+        store4(&mut out.slippages[x..], slip);
+        store(&mut out.sediment_scales[x..], scale);
+        store(&mut out.slopes[x..], slope);
+        x += LANES;
+    }
+    x
+}
+
 /// `min(a / b, 1)` for `b > 0`: exactly 1 when `a >= b`. Divides either way, so the
 /// comparison is a select rather than a branch the data makes unpredictable.
 #[inline]
-fn ratio(a: f32, b: f32) -> f32 {
-    let q = a / b;
-    if a >= b {
-        1.0
-    } else {
-        q
-    }
+fn ratio<R: Real>(a: R, b: R) -> R {
+    R::select(a.ge(b), R::splat(1.0), a / b)
 }
 
 /// sin of the slope of the surface through the four neighbouring sand tops `tops` (right,
 /// up, left, down) at spacing `cs`, from the cross product of the two central-difference
 /// tangents, as the reference computes it.
-fn slope_sine(tops: [f32; 4], cs: f32) -> f32 {
+#[inline(always)]
+fn slope_sine<R: Real>(tops: [R; 4], cs: f32) -> R {
     let a = 2.0 * cs;
     let bx = tops[0] - tops[2];
     let by = tops[1] - tops[3];
@@ -134,8 +281,8 @@ fn slope_sine(tops: [f32; 4], cs: f32) -> f32 {
     // -t0.x * t1.z = -a² / sqrt((a² + bx²)(a² + by²)), and the reference takes
     // sqrt(1 - n.y²) as sin(alpha).
     let a2 = a * a;
-    let ny2 = a2 * a2 / ((a2 + bx * bx) * (a2 + by * by));
-    (1.0 - ny2).max(0.0).sqrt()
+    let ny2 = R::splat(a2 * a2) / ((R::splat(a2) + bx * bx) * (R::splat(a2) + by * by));
+    (R::splat(1.0) - ny2).max(R::splat(0.0)).sqrt()
 }
 
 #[cfg(test)]
@@ -144,9 +291,9 @@ mod tests {
 
     #[test]
     fn slope_of_a_plane() {
-        assert_eq!(slope_sine([1.0; 4], 1.0), 0.0);
+        assert_eq!(slope_sine([1.0f32; 4], 1.0), 0.0);
         // 45 degrees along x: sin = 1/sqrt 2.
-        let s = slope_sine([1.0, 0.0, -1.0, 0.0], 1.0);
+        let s = slope_sine([1.0f32, 0.0, -1.0, 0.0], 1.0);
         assert!((s - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-6, "{s}");
     }
 }

@@ -1,6 +1,7 @@
 //! Shared helpers of the step kernels: disjoint per-cell writes to layer-major planes from
 //! parallel rows, the four neighbour directions, and fitting a column under its ceiling.
 
+use super::lanes::Real;
 use relief_core::MlhmColumn;
 use std::marker::PhantomData;
 
@@ -73,6 +74,19 @@ impl<'a, T: Copy> Slots<'a, T> {
         unsafe { *self.ptr.add(i) }
     }
 
+    /// Slots `start..start + len` as a slice, for a kernel's loop over a row of cells.
+    ///
+    /// # Safety
+    /// The range is in the plane, and no other thread reads or writes its slots during the
+    /// slice's life.
+    #[inline]
+    #[allow(clippy::mut_from_ref)]
+    pub(crate) unsafe fn row(&self, start: usize, len: usize) -> &mut [T] {
+        debug_assert!(start + len <= self.len, "slots {start}..+{len} of {}", self.len);
+        // SAFETY: in bounds and exclusive access (the caller's promise).
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(start), len) }
+    }
+
     /// Writes `v` at slot `i`.
     ///
     /// # Safety
@@ -130,9 +144,9 @@ pub(crate) fn fit_column(c: &mut MlhmColumn) -> (f32, f32) {
 
 /// GLSL's smoothstep: 0 below `e0`, 1 above `e1`, a cubic in between.
 #[inline]
-pub(crate) fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
-    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
+pub(crate) fn smoothstep<R: Real>(e0: f32, e1: f32, x: R) -> R {
+    let t = ((x - R::splat(e0)) / R::splat(e1 - e0)).clamp(0.0, 1.0);
+    t * t * (R::splat(3.0) - R::splat(2.0) * t)
 }
 
 /// Runs `row` for every row `y` in parallel and sums what the rows return, in row order

@@ -60,6 +60,9 @@ pub(crate) struct Scratch {
     /// `erosion_targets`) of its cells may differ from the defaults (no window, no erosion);
     /// empty for a new state, whose records are all written by the first step.
     pub eroded_rows: Vec<bool>,
+    /// Whether the kernels take their one-column paths where the terrain allows (always,
+    /// but in the tests that compare them with the general paths).
+    pub fast_paths: bool,
 }
 
 impl Scratch {
@@ -75,6 +78,7 @@ impl Scratch {
             erosion_targets: vec![[-1; 4]; slots],
             layered_rows: Vec::new(),
             eroded_rows: Vec::new(),
+            fast_paths: true,
         }
     }
 }

@@ -4,8 +4,94 @@
 //! `0.5 (R - L, U - D) / cell²` from the net fluxes, moves its sand by slippage and its
 //! sediment with the water, and petrifies `petrification dt` of its sand into bedrock.
 
+use super::lanes::{avx2_dispatch, load, load4, map4, store, store2, Column, Lanes, Real, LANES};
+use super::one_column::one_column_band;
 use super::slots::{neighbours, opposite, par_rows, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
+use relief_core::MlhmColumn;
+
+/// A column after transport, with the values before its clamps (for the volumes).
+struct Transported<R> {
+    column: Column<R>,
+    sediment: R,
+    velocity: [R; 2],
+    /// The water after the net flux, before and after clamping to `[0, space]`.
+    water_unclamped: R,
+    water_clamped: R,
+    /// The sand after slippage, before and after clamping to the room under the ceiling.
+    sand_unclamped: R,
+    sand_clamped: R,
+    /// The sediment before flushing what is below f32's normal range to 0.
+    sediment_unclamped: R,
+}
+
+/// Transport of one column (or lanes of columns) with ceiling `ceiling`, sediment `sed`, and
+/// in each direction the net water flux, sediment flux and slippage out of it.
+#[inline(always)]
+fn transport_column<R: Real>(
+    params: &ErosionParams,
+    cs: f32,
+    c: Column<R>,
+    ceiling: R,
+    sed: R,
+    [flux, sediment_flux, slip]: [[R; 4]; 3],
+) -> Transported<R> {
+    let splat = R::splat;
+    let dt = params.dt;
+    let scale = splat(dt / (cs * cs));
+    let sum = |v: [R; 4]| v[0] + v[1] + v[2] + v[3];
+    let mut c = c;
+    let water_unclamped = c.water - scale * sum(flux);
+    let space = (ceiling - c.bedrock - c.sand).max(splat(0.0));
+    let water = water_unclamped.max(splat(0.0)).min(space);
+    let gap = ceiling - c.bedrock - c.sand - water;
+    let evaporation_scale = (gap / splat(params.evaporation_air_gap)).clamp(0.01, 1.0);
+    c.water = (water - splat(params.evaporation) * evaporation_scale * splat(dt)).max(splat(0.0));
+    let area = splat(cs * cs);
+    let velocity =
+        [splat(0.5) * (flux[0] - flux[2]) / area, splat(0.5) * (flux[1] - flux[3]) / area];
+    let sand_unclamped = c.sand - sum(slip);
+    if params.slippage {
+        let room = ceiling - c.bedrock - c.water;
+        c.sand = sand_unclamped.min(room).max(splat(0.0));
+    }
+    let sand_clamped = c.sand;
+    let petrified = (splat(params.petrification * dt) * c.sand).min(c.sand);
+    c.bedrock = c.bedrock + petrified;
+    c.sand = c.sand - petrified;
+    let sediment_unclamped = sed - scale * sum(sediment_flux);
+    // Below f32's normal range sediment is flushed to 0: subnormal arithmetic is slow.
+    let normal = sediment_unclamped.ge(splat(f32::MIN_POSITIVE));
+    let sediment = R::select(normal, sediment_unclamped, splat(0.0));
+    Transported {
+        column: c,
+        sediment,
+        velocity,
+        water_unclamped,
+        water_clamped: water,
+        sand_unclamped,
+        sand_clamped,
+        sediment_unclamped,
+    }
+}
+
+impl Transported<f32> {
+    /// Counts the clamps in `v` and returns the column, fitted under `ceiling`.
+    #[inline(always)]
+    fn account(&self, v: &mut StepVolumes, ceiling: f32, slippage: bool) -> MlhmColumn {
+        let f = f64::from;
+        v.water_clamped += f(self.water_unclamped) - f(self.water_clamped);
+        v.evaporation += f(self.water_clamped) - f(self.column.water);
+        if slippage {
+            v.sand_clamped += f(self.sand_unclamped) - f(self.sand_clamped);
+        }
+        v.sediment_clamped += f(self.sediment) - f(self.sediment_unclamped);
+        let c = self.column;
+        let mut c = MlhmColumn::new(c.bedrock, c.sand, c.water, ceiling);
+        v.fit(&mut c);
+        c
+    }
+}
 
 /// Moves water, sand and sediment along the pipes [`super::pipes::pipes`] computed.
 pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> StepVolumes {
@@ -13,16 +99,15 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
     let counts = &state.layer_counts;
     let fluxes = &state.fluxes;
     let scratch = &mut state.scratch;
+    let fast = scratch.fast_paths;
     let (pipes, slippages, scales) =
         (&scratch.pipes, &scratch.slippage, &scratch.sediment_flux_scale);
     let velocities = Slots::new(&mut scratch.velocities);
     let columns = Slots::new(&mut state.columns);
     let sediment = Slots::new(&mut state.sediment);
-    let dt = params.dt;
-    let scale = dt / (cs * cs);
     par_rows(height, |y| {
         let mut v = StepVolumes::default();
-        for x in 0..width {
+        let cell = |x: usize, v: &mut StepVolumes| {
             let i = x + y * width;
             let near = neighbours(x, y, width, height);
             for k in 0..usize::from(counts[i]) {
@@ -49,45 +134,145 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
                     (flux, sediment_flux, slip)
                 };
                 let nets = [net_to(0), net_to(1), net_to(2), net_to(3)];
-                let flux = nets.map(|n| n.0);
-                let sediment_flux = nets.map(|n| n.1);
-                let slip = nets.map(|n| n.2);
+                let nets = [map4(nets, |n| n.0), map4(nets, |n| n.1), map4(nets, |n| n.2)];
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
-                let (mut c, sed) = unsafe { (columns.get(s), sediment.get(s)) };
-                let net: f32 = flux.iter().sum();
-                let unclamped = c.water - scale * net;
-                let space = (c.ceiling - c.bedrock - c.sand).max(0.0);
-                let water = unclamped.max(0.0).min(space);
-                v.water_clamped += f64::from(unclamped) - f64::from(water);
-                let gap = c.ceiling - c.bedrock - c.sand - water;
-                let evaporation_scale = (gap / params.evaporation_air_gap).clamp(0.01, 1.0);
-                c.water = (water - params.evaporation * evaporation_scale * dt).max(0.0);
-                v.evaporation += f64::from(water) - f64::from(c.water);
-                let velocity =
-                    [0.5 * (flux[0] - flux[2]) / (cs * cs), 0.5 * (flux[1] - flux[3]) / (cs * cs)];
-                if params.slippage {
-                    let unclamped = c.sand - slip.iter().sum::<f32>();
-                    let room = c.ceiling - c.bedrock - c.water;
-                    let sand = unclamped.min(room).max(0.0);
-                    v.sand_clamped += f64::from(unclamped) - f64::from(sand);
-                    c.sand = sand;
-                }
-                let petrified = (params.petrification * dt * c.sand).min(c.sand);
-                c.bedrock += petrified;
-                c.sand -= petrified;
-                let unclamped = sed - scale * sediment_flux.iter().sum::<f32>();
-                // Below f32's normal range sediment is flushed to 0: subnormal arithmetic is slow.
-                let new_sediment = if unclamped < f32::MIN_POSITIVE { 0.0 } else { unclamped };
-                v.sediment_clamped += f64::from(new_sediment) - f64::from(unclamped);
-                v.fit(&mut c);
+                let (c, sed) = unsafe { (columns.get(s), sediment.get(s)) };
+                let t = transport_column(params, cs, c.into(), c.ceiling, sed, nets);
+                let c = t.account(v, c.ceiling, params.slippage);
                 // SAFETY: as above.
                 unsafe {
                     columns.set(s, c);
-                    sediment.set(s, new_sediment);
-                    velocities.set(s, velocity);
+                    sediment.set(s, t.sediment);
+                    velocities.set(s, t.velocity);
                 }
             }
+        };
+        if fast && one_column_band(counts, width, height, y) {
+            cell(0, &mut v);
+            let row = y * width;
+            let band = row - width..row + 2 * width;
+            // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
+            let out = unsafe {
+                OneColumnRow {
+                    columns: columns.row(row, width),
+                    sediment: sediment.row(row, width),
+                    velocities: velocities.row(row, width),
+                }
+            };
+            let pipes = Pipes {
+                fluxes: &fluxes[band.clone()],
+                scales: &scales[band.clone()],
+                slippages: &slippages[band],
+            };
+            let done = one_column_transport(params, cs, pipes, out, &mut v);
+            (done..width).for_each(|x| cell(x, &mut v));
+        } else {
+            (0..width).for_each(|x| cell(x, &mut v));
         }
         v
     })
+}
+
+/// The pipes' outputs for the rows below, at and above a row.
+struct Pipes<'a> {
+    fluxes: &'a [[f32; 4]],
+    scales: &'a [f32],
+    slippages: &'a [[f32; 4]],
+}
+
+/// The state of one row's lowest columns that transport changes.
+struct OneColumnRow<'a> {
+    columns: &'a mut [MlhmColumn],
+    sediment: &'a mut [f32],
+    velocities: &'a mut [[f32; 2]],
+}
+
+avx2_dispatch! {
+/// Transport in the cells of a row of a one-column band from cell 1 on, [`LANES`] at a time,
+/// as far as whole lanes reach before the last cell; returns the first cell not done. Every
+/// neighbour's pipe back leads to the cell's only column, whose ceiling is `+inf`.
+fn one_column_transport(
+    params: &ErosionParams,
+    cs: f32,
+    pipes: Pipes,
+    out: OneColumnRow,
+    v: &mut StepVolumes,
+) -> usize = one_column_transport_lanes;
+}
+
+#[inline(always)]
+fn one_column_transport_lanes(
+    params: &ErosionParams,
+    cs: f32,
+    pipes: Pipes,
+    out: OneColumnRow,
+    v: &mut StepVolumes,
+) -> usize {
+    let mut volumes = LaneVolumes::default();
+    let width = out.columns.len();
+    let (row, above) = (width, 2 * width);
+    let mut x = 1;
+    while x + LANES < width {
+        let flux_out = load4(&pipes.fluxes[row + x..]);
+        let scale_out = load(&pipes.scales[row + x..]);
+        let slip_out = load4(&pipes.slippages[row + x..]);
+        // The neighbour in direction d, and the direction of its pipe back here.
+        let back = [(row + x + 1, 2), (above + x, 3), (row + x - 1, 0), (x, 1)];
+        let mut nets = [[Lanes::splat(0.0); 4]; 3];
+        for (d, (n, b)) in back.into_iter().enumerate() {
+            let flux_in = load4(&pipes.fluxes[n..])[b];
+            let scale_in = load(&pipes.scales[n..]);
+            let slip_in = load4(&pipes.slippages[n..])[b];
+            nets[0][d] = flux_out[d] - flux_in;
+            nets[1][d] = flux_out[d] * scale_out - scale_in * flux_in;
+            nets[2][d] = slip_out[d] - slip_in;
+        }
+        let cells = &mut out.columns[x..x + LANES];
+        let c = Column::load(cells);
+        let sed = load(&out.sediment[x..]);
+        let t = transport_column(params, cs, c, Lanes::splat(f32::INFINITY), sed, nets);
+        // Under an infinite ceiling the water and sand, both >= 0, fit: nothing to fit.
+        t.column.store(cells, f32::INFINITY);
+        store(&mut out.sediment[x..], t.sediment);
+        store2(&mut out.velocities[x..], t.velocity);
+        volumes.add(&t, params.slippage);
+        x += LANES;
+    }
+    volumes.add_to(v);
+    x
+}
+
+/// The volumes of [`Transported::account`], summed per lane in f64.
+#[derive(Default)]
+struct LaneVolumes {
+    water_clamped: [f64; LANES],
+    evaporation: [f64; LANES],
+    sand_clamped: [f64; LANES],
+    sediment_clamped: [f64; LANES],
+}
+
+impl LaneVolumes {
+    /// Adds the clamps and the evaporation of `t`.
+    #[inline(always)]
+    fn add(&mut self, t: &Transported<Lanes>, slippage: bool) {
+        let f = f64::from;
+        for l in 0..LANES {
+            self.water_clamped[l] += f(t.water_unclamped.0[l]) - f(t.water_clamped.0[l]);
+            self.evaporation[l] += f(t.water_clamped.0[l]) - f(t.column.water.0[l]);
+            if slippage {
+                self.sand_clamped[l] += f(t.sand_unclamped.0[l]) - f(t.sand_clamped.0[l]);
+            }
+            self.sediment_clamped[l] += f(t.sediment.0[l]) - f(t.sediment_unclamped.0[l]);
+        }
+    }
+
+    /// Adds the lanes' sums, in lane order, to `v`.
+    fn add_to(&self, v: &mut StepVolumes) {
+        for l in 0..LANES {
+            v.water_clamped += self.water_clamped[l];
+            v.evaporation += self.evaporation[l];
+            v.sand_clamped += self.sand_clamped[l];
+            v.sediment_clamped += self.sediment_clamped[l];
+        }
+    }
 }

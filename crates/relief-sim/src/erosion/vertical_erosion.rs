@@ -11,30 +11,149 @@
 //! most the free space. A dry column erodes nothing and deposits its sediment. Then damage
 //! recovers at `damage_recovery`, lowering the bedrock as much.
 
+use super::lanes::{avx2_dispatch, load, load2, store, Column, Lanes, Real, LANES};
+use super::one_column::one_column_row;
 use super::slots::{par_rows, smoothstep, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
+use relief_core::MlhmColumn;
+
+/// The erosion factors of a column with water.
+struct Factors<R> {
+    slope: R,
+    speed: R,
+    speed_factor: R,
+    water: R,
+}
+
+impl<R: Real> Factors<R> {
+    /// The factors for slope sine `sine`, water velocity `velocity` and depth `water`.
+    #[inline(always)]
+    fn new(params: &ErosionParams, sine: R, velocity: [R; 2], water: R) -> Self {
+        let splat = R::splat;
+        let fade = smoothstep(params.slope_fade_start, 1.0, sine);
+        let slope = splat(params.min_slope_erosion_scale)
+            + splat(params.max_slope_erosion_scale - params.min_slope_erosion_scale)
+                * sine
+                * (splat(1.0) - fade);
+        let [vx, vy] = velocity;
+        let speed = (vx * vx + vy * vy).sqrt();
+        let speed_factor = splat(params.min_speed_erosion_scale)
+            + splat(1.0 - params.min_speed_erosion_scale) * speed;
+        let water_scale = 2.0 / params.erosion_water_max_height;
+        let water = (splat(1.0) - (water * splat(water_scale)).tanh()).clamp(0.0, 1.0);
+        Factors { slope, speed, speed_factor, water }
+    }
+
+    /// The sediment the water can carry.
+    #[inline(always)]
+    fn capacity(&self, params: &ErosionParams) -> R {
+        R::splat(params.sediment_capacity) * self.slope * self.speed_factor * self.water
+    }
+}
+
+/// Dissolves the bedrock of `c` (above its floor `floor`) into sand, the less the more sand
+/// covers it.
+#[inline(always)]
+fn dissolve_bedrock<R: Real>(
+    params: &ErosionParams,
+    c: Column<R>,
+    floor: R,
+    f: &Factors<R>,
+) -> Column<R> {
+    let splat = R::splat;
+    let sand_cover = (splat(1.0) - c.sand / splat(params.sand_threshold)).max(splat(0.0));
+    let rate = sand_cover * splat(params.bedrock_dissolving) * f.slope * f.speed_factor * f.water;
+    let dissolved = (rate * splat(params.dt)).min((c.bedrock - floor).max(splat(0.0)));
+    let bedrock = (c.bedrock - dissolved).max(floor);
+    let some = dissolved.gt(splat(0.0));
+    Column {
+        bedrock: R::select(some, bedrock, c.bedrock),
+        sand: R::select(some, c.sand + (c.bedrock - bedrock), c.sand),
+        water: c.water,
+    }
+}
+
+/// A column after the exchange of sand and sediment and the damage recovery.
+struct Exchanged<R> {
+    column: Column<R>,
+    sediment: R,
+    damage: R,
+    /// The bedrock before the damage recovery lowered it.
+    bedrock_before_recovery: R,
+}
+
+/// Below `capacity`, sand dissolves into the sediment `sed`; above, sediment settles as sand
+/// (within the room under `ceiling`); then damage recovers, lowering the bedrock down to at
+/// most the floor.
+#[inline(always)]
+fn exchange<R: Real>(
+    params: &ErosionParams,
+    mut c: Column<R>,
+    [ceiling, floor]: [R; 2],
+    sed: R,
+    damage: R,
+    capacity: R,
+) -> Exchanged<R> {
+    let splat = R::splat;
+    let dt = splat(params.dt);
+    // Both outcomes, then a select: whether the water is below capacity is unpredictable.
+    let (eroded_sand, eroded_sed) = if params.vertical_erosion {
+        let taken = (splat(params.sand_dissolving) * (capacity - sed) * dt).min(c.sand);
+        (c.sand - taken, sed + taken)
+    } else {
+        (c.sand, sed)
+    };
+    let settled = (splat(params.deposition) * (sed - capacity) * dt)
+        .min(ceiling - c.water_top())
+        .min(sed - capacity)
+        .max(splat(0.0));
+    let erode = capacity.gt(sed);
+    c.sand = R::select(erode, eroded_sand, c.sand + settled);
+    let sediment = R::select(erode, eroded_sed, sed - settled);
+    let recovered = splat(params.damage_recovery * params.dt)
+        .min(damage.min(c.bedrock - floor))
+        .max(splat(0.0));
+    let recover = recovered.gt(splat(0.0));
+    let before = c.bedrock;
+    c.bedrock = R::select(recover, (c.bedrock - recovered).max(floor), c.bedrock);
+    let damage = R::select(recover, damage - recovered, damage);
+    Exchanged { column: c, sediment, damage, bedrock_before_recovery: before }
+}
 
 /// Erodes and deposits vertically in every column; recovers damage.
 pub(crate) fn vertical_erosion(state: &mut ErosionState, params: &ErosionParams) -> StepVolumes {
     let (width, height, cells) = (state.width, state.height, state.cells());
     let counts = &state.layer_counts;
+    let fast = state.scratch.fast_paths;
     let slopes = &state.scratch.slopes;
     let velocities = &state.scratch.velocities;
     let columns = Slots::new(&mut state.columns);
     let sediments = Slots::new(&mut state.sediment);
     let damages = Slots::new(&mut state.damage);
     let dt = params.dt;
-    let water_scale = 2.0 / params.erosion_water_max_height;
     par_rows(height, |y| {
         let mut v = StepVolumes::default();
-        for x in 0..width {
+        let mut x = 0;
+        if fast && one_column_row(counts, width, y) {
+            let row = y * width..(y + 1) * width;
+            // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
+            let out = unsafe {
+                OneColumnRow {
+                    columns: columns.row(row.start, width),
+                    sediment: sediments.row(row.start, width),
+                    damage: damages.row(row.start, width),
+                }
+            };
+            x = one_column_vertical(params, &slopes[row.clone()], &velocities[row], out, &mut v);
+        }
+        for x in x..width {
             let i = x + y * width;
             let n = usize::from(counts[i]);
             let mut floor = f32::NEG_INFINITY;
             for k in 0..n {
                 let s = i + k * cells;
                 // SAFETY (every access below): slots of cell (x, y) are this row's only.
-                let (mut c, mut sed, mut damage) =
+                let (mut c, sed, damage) =
                     unsafe { (columns.get(s), sediments.get(s), damages.get(s)) };
                 let wet = c.water > 0.0;
                 if !wet && sed == 0.0 && damage == 0.0 {
@@ -43,24 +162,14 @@ pub(crate) fn vertical_erosion(state: &mut ErosionState, params: &ErosionParams)
                     continue;
                 }
                 let capacity = if wet {
-                    let sine = slopes[s];
-                    let fade = smoothstep(params.slope_fade_start, 1.0, sine);
-                    let slope_factor = params.min_slope_erosion_scale
-                        + (params.max_slope_erosion_scale - params.min_slope_erosion_scale)
-                            * sine
-                            * (1.0 - fade);
-                    let [vx, vy] = velocities[s];
-                    let speed = (vx * vx + vy * vy).sqrt();
-                    let speed_factor = params.min_speed_erosion_scale
-                        + (1.0 - params.min_speed_erosion_scale) * speed;
-                    let water_factor = (1.0 - (c.water * water_scale).tanh()).clamp(0.0, 1.0);
+                    let f = Factors::new(params, slopes[s], velocities[s], c.water);
                     if params.vertical_erosion {
                         if k + 1 < n {
                             let gap = c.ceiling - c.water_top();
                             let top_factor =
                                 (1.0 - (gap / params.top_erosion_distance).max(0.0)).max(0.0);
                             let top_rate = params.bedrock_dissolving
-                                * speed
+                                * f.speed
                                 * top_factor
                                 * params.min_slope_erosion_scale;
                             let next_bedrock = unsafe { columns.get(s + cells) }.bedrock;
@@ -71,58 +180,90 @@ pub(crate) fn vertical_erosion(state: &mut ErosionState, params: &ErosionParams)
                                 c.ceiling = ceiling;
                             }
                         }
-                        let sand_cover = (1.0 - c.sand / params.sand_threshold).max(0.0);
-                        let bedrock_rate = sand_cover
-                            * params.bedrock_dissolving
-                            * slope_factor
-                            * speed_factor
-                            * water_factor;
-                        let dissolved = (bedrock_rate * dt).min((c.bedrock - floor).max(0.0));
-                        if dissolved > 0.0 {
-                            let bedrock = (c.bedrock - dissolved).max(floor);
-                            c.sand += c.bedrock - bedrock;
-                            c.bedrock = bedrock;
-                        }
+                        let d = dissolve_bedrock(params, c.into(), floor, &f);
+                        (c.bedrock, c.sand) = (d.bedrock, d.sand);
                     }
-                    params.sediment_capacity * slope_factor * speed_factor * water_factor
+                    f.capacity(params)
                 } else {
                     0.0
                 };
-                // Both outcomes, then a select: whether the water is below capacity is
-                // unpredictable.
-                let (eroded_sand, eroded_sed) = if params.vertical_erosion {
-                    let taken = (params.sand_dissolving * (capacity - sed) * dt).min(c.sand);
-                    (c.sand - taken, sed + taken)
-                } else {
-                    (c.sand, sed)
-                };
-                let settled = (params.deposition * (sed - capacity) * dt)
-                    .min(c.ceiling - c.water_top())
-                    .min(sed - capacity)
-                    .max(0.0);
-                let (settled_sand, settled_sed) = (c.sand + settled, sed - settled);
-                (c.sand, sed) = if capacity > sed {
-                    (eroded_sand, eroded_sed)
-                } else {
-                    (settled_sand, settled_sed)
-                };
-                let recovered =
-                    (params.damage_recovery * dt).min(damage.min(c.bedrock - floor)).max(0.0);
-                if recovered > 0.0 {
-                    let bedrock = (c.bedrock - recovered).max(floor);
-                    v.damage_recovery += f64::from(c.bedrock) - f64::from(bedrock);
-                    damage -= recovered;
-                    c.bedrock = bedrock;
-                }
+                let e = exchange(params, c.into(), [c.ceiling, floor], sed, damage, capacity);
+                v.damage_recovery +=
+                    f64::from(e.bedrock_before_recovery) - f64::from(e.column.bedrock);
+                let mut c = MlhmColumn::new(e.column.bedrock, e.column.sand, c.water, c.ceiling);
                 v.fit(&mut c);
                 unsafe {
                     columns.set(s, c);
-                    sediments.set(s, sed);
-                    damages.set(s, damage);
+                    sediments.set(s, e.sediment);
+                    damages.set(s, e.damage);
                 }
                 floor = c.ceiling;
             }
         }
         v
     })
+}
+
+/// The state of one row's lowest columns that vertical erosion changes.
+struct OneColumnRow<'a> {
+    columns: &'a mut [MlhmColumn],
+    sediment: &'a mut [f32],
+    damage: &'a mut [f32],
+}
+
+avx2_dispatch! {
+/// Vertical erosion in a row of one-column cells from cell 0 on, [`LANES`] at a time, as far
+/// as whole lanes reach; returns the first cell not done.
+fn one_column_vertical(
+    params: &ErosionParams,
+    slopes: &[f32],
+    velocities: &[[f32; 2]],
+    out: OneColumnRow,
+    v: &mut StepVolumes,
+) -> usize = one_column_vertical_lanes;
+}
+
+#[inline(always)]
+fn one_column_vertical_lanes(
+    params: &ErosionParams,
+    slopes: &[f32],
+    velocities: &[[f32; 2]],
+    out: OneColumnRow,
+    v: &mut StepVolumes,
+) -> usize {
+    let width = out.columns.len();
+    let mut recovered = [0.0f64; LANES];
+    let mut x = 0;
+    while x + LANES <= width {
+        let cells = &mut out.columns[x..x + LANES];
+        let c = Column::load(cells);
+        let (sed, damage) = (load(&out.sediment[x..]), load(&out.damage[x..]));
+        let wet = c.water.gt(Lanes::splat(0.0));
+        let f = Factors::new(params, load(&slopes[x..]), load2(&velocities[x..]), c.water);
+        let floor = Lanes::splat(f32::NEG_INFINITY);
+        let eroding = if params.vertical_erosion {
+            Column::select(wet, dissolve_bedrock(params, c, floor, &f), c)
+        } else {
+            c
+        };
+        let capacity = Lanes::select(wet, f.capacity(params), Lanes::splat(0.0));
+        let ceiling = Lanes::splat(f32::INFINITY);
+        let e = exchange(params, eroding, [ceiling, floor], sed, damage, capacity);
+        // A dry column without sediment or damage keeps its values (as the general path,
+        // which skips it).
+        let idle = std::array::from_fn(|l| !wet[l] && sed.0[l] == 0.0 && damage.0[l] == 0.0);
+        // Under an infinite ceiling the sand, >= 0, fits: nothing to fit.
+        Column::select(idle, c, e.column).store(cells, f32::INFINITY);
+        store(&mut out.sediment[x..], Lanes::select(idle, sed, e.sediment));
+        store(&mut out.damage[x..], Lanes::select(idle, damage, e.damage));
+        for l in 0..LANES {
+            if !idle[l] {
+                recovered[l] +=
+                    f64::from(e.bedrock_before_recovery.0[l]) - f64::from(e.column.bedrock.0[l]);
+            }
+        }
+        x += LANES;
+    }
+    v.damage_recovery += recovered.iter().sum::<f64>();
+    x
 }
