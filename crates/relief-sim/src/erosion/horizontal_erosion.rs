@@ -12,8 +12,11 @@
 //! The reference adds the sand with atomics; here each column first records its erosion per
 //! direction, then each column gathers what its neighbours sent it, in a fixed order.
 
+use super::lanes::{avx2_dispatch, load, load2, map4, store, Column, LaneMask, Lanes, Real, LANES};
+use super::one_column::one_column_band;
 use super::slots::{fit_column, neighbours, opposite, par_rows, smoothstep, Slots, OFFSETS};
 use super::{ErosionParams, ErosionState, StepVolumes};
+use relief_core::MlhmColumn;
 
 /// Erodes bedrock sideways into neighbouring water; returns the sand created and whether
 /// any column has a window to split at.
@@ -31,6 +34,83 @@ pub(crate) fn horizontal_erosion(
     (volumes, windows)
 }
 
+/// The step's constants of horizontal erosion.
+struct Constants {
+    cs: f32,
+    /// `dt / cell²`.
+    integration: f32,
+    /// `rise² > steep` (with `rise > 0`) exactly when `sin(atan2(rise, cs))` exceeds the
+    /// minimum slope `m`: `steep = m² cs² / (1 - m²)`.
+    steep: f32,
+    min_slope: f32,
+    strength: f32,
+}
+
+impl Constants {
+    fn new(params: &ErosionParams, cs: f32) -> Self {
+        let m = params.min_horizontal_erosion_slope;
+        Constants {
+            cs,
+            integration: params.dt / (cs * cs),
+            steep: m * m * cs * cs / (1.0 - m * m),
+            min_slope: m,
+            strength: params.horizontal_erosion_strength,
+        }
+    }
+
+    /// The erosion of bedrock top `bedrock` in direction `d` into the window
+    /// `[bottom, top]` beside the neighbour column `nc` (ceiling `n_ceiling`, water velocity
+    /// `velocity`): 0 where the bedrock does not rise steeply enough above `nc`'s sand.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn erosion<R: Real>(
+        &self,
+        bedrock: R,
+        nc: Column<R>,
+        n_ceiling: R,
+        [bottom, top]: [R; 2],
+        [vx, vy]: [R; 2],
+        d: usize,
+    ) -> R {
+        let splat = R::splat;
+        let rise = bedrock - nc.solid_top();
+        let steep = R::and(rise.gt(splat(0.0)), (rise * rise).gt(splat(self.steep)));
+        let sine = rise / (rise * rise + splat(self.cs * self.cs)).sqrt();
+        let slope_scale = smoothstep(self.min_slope, 1.0, sine) * sine;
+        let speed = (vx * vx + vy * vy).sqrt();
+        let (ox, oy) = OFFSETS[d];
+        let along = (splat(ox as f32) * vx + splat(oy as f32) * vy) / (speed + splat(f32::EPSILON));
+        let attenuation = splat(0.5) - splat(0.5) * along;
+        let area = (top - bottom) * splat(self.cs);
+        let e = splat(self.strength)
+            * slope_scale
+            * speed
+            * attenuation
+            * area
+            * splat(self.integration);
+        let e = e.min(splat(0.25) * (n_ceiling - nc.water_top())).max(splat(0.0));
+        R::select(steep, e, splat(0.0))
+    }
+}
+
+/// Limits `erosions` so the damage `damage` does not outgrow the window `split`; returns
+/// them and the new damage.
+#[inline(always)]
+fn limit<R: Real>(erosions: [R; 4], split: [R; 2], damage: R) -> ([R; 4], R) {
+    let sum = |e: [R; 4]| e[0] + e[1] + e[2] + e[3];
+    let total = sum(erosions);
+    let limit = ((split[1] - split[0] - damage) / (total + R::splat(f32::EPSILON))).clamp(0.0, 1.0);
+    let erosions = map4(erosions, |e| e * limit);
+    (erosions, damage + sum(erosions))
+}
+
+/// A row's records: whether they are written (see `record_erosions`), and whether a column
+/// of the row eroded.
+struct RowRecords {
+    write: bool,
+    eroded: bool,
+}
+
 /// Computes each column's erosions, their receivers, its damage and its split window;
 /// returns the sand the erosions create, and in `splits` the number of columns with a window.
 fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolumes {
@@ -38,6 +118,7 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
     let counts = &state.layer_counts;
     let columns = &state.columns;
     let scratch = &mut state.scratch;
+    let fast = scratch.fast_paths;
     let velocities = &scratch.velocities;
     let damages = Slots::new(&mut state.damage);
     let splits = Slots::new(&mut scratch.splits);
@@ -48,31 +129,26 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
         scratch.eroded_rows = vec![true; height];
     }
     let eroded_rows = Slots::new(&mut scratch.eroded_rows);
-    let integration = params.dt / (cs * cs);
-    let eps = f32::EPSILON;
-    // sin(atan2(rise, cs)) > m exactly when rise > 0 and rise² > m² cs² / (1 - m²).
-    let m = params.min_horizontal_erosion_slope;
-    let steep = m * m * cs * cs / (1.0 - m * m);
+    let k = Constants::new(params, cs);
     par_rows(height, |y| {
         let mut v = StepVolumes::default();
         // A row whose columns erode nothing (no window) leaves its records at their defaults
         // (no erosion, no window), written once when the row stops eroding: the kernels that
         // read the records see the same values, and most rows skip the writes.
         // SAFETY (eroded_rows): entry `y` is this row's only.
-        let mut write = unsafe { eroded_rows.get(y) };
+        let mut row = RowRecords { write: unsafe { eroded_rows.get(y) }, eroded: false };
         // SAFETY: slot `s` belongs to a cell of this row.
         let clear = |s: usize| unsafe {
             splits.set(s, [f32::NAN; 2]);
             erosions_out.set(s, [0.0; 4]);
             targets_out.set(s, [-1; 4]);
         };
-        let mut eroded = false;
-        for x in 0..width {
+        let cell = |x: usize, row: &mut RowRecords, v: &mut StepVolumes| {
             let i = x + y * width;
             let near = neighbours(x, y, width, height);
             let mut floor = f32::NEG_INFINITY;
-            for k in 0..usize::from(counts[i]) {
-                let s = i + k * cells;
+            for layer in 0..usize::from(counts[i]) {
+                let s = i + layer * cells;
                 let c = columns[s];
                 let mut erosions = [0.0f32; 4];
                 let mut targets = [-1i8; 4];
@@ -86,68 +162,51 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
                         let bottom = floor.max(nc.solid_top());
                         let top = c.bedrock.min(nc.water_top());
                         if top - bottom > 0.0 {
-                            let rise = c.bedrock - nc.solid_top();
                             targets[d] = nk as i8;
-                            if rise <= 0.0 || rise * rise <= steep {
-                                break;
-                            }
-                            let sine = rise / (rise * rise + cs * cs).sqrt();
-                            let slope_scale =
-                                smoothstep(params.min_horizontal_erosion_slope, 1.0, sine) * sine;
-                            let [vx, vy] = velocities[ns];
-                            let speed = (vx * vx + vy * vy).sqrt();
-                            let (ox, oy) = OFFSETS[d];
-                            let along = (ox as f32 * vx + oy as f32 * vy) / (speed + eps);
-                            let attenuation = 0.5 - 0.5 * along;
-                            let area = (top - bottom) * cs;
-                            let e = params.horizontal_erosion_strength
-                                * slope_scale
-                                * speed
-                                * attenuation
-                                * area
-                                * integration;
-                            let e = e.min(0.25 * (nc.ceiling - nc.water_top())).max(0.0);
+                            let window = [bottom, top];
+                            let e = k.erosion(
+                                c.bedrock,
+                                nc.into(),
+                                nc.ceiling,
+                                window,
+                                velocities[ns],
+                                d,
+                            );
                             erosions[d] = e;
                             if e > strongest {
                                 strongest = e;
-                                split = [bottom, top];
+                                split = window;
                             }
                             break;
                         }
                     }
                 }
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
-                let mut damage = unsafe { damages.get(s) };
-                let total: f32 = erosions.iter().sum();
-                let limit = ((split[1] - split[0] - damage) / (total + eps)).clamp(0.0, 1.0);
-                for e in &mut erosions {
-                    *e *= limit;
-                }
-                damage += erosions.iter().sum::<f32>();
+                let (erosions, damage) = limit(erosions, split, unsafe { damages.get(s) });
                 v.horizontal_erosion_sand += erosions.iter().map(|&e| f64::from(e)).sum::<f64>();
                 if strongest <= 0.0 {
                     // Nothing eroded: no window to split at.
                     split = [f32::NAN; 2];
                 } else {
                     v.splits += 1;
-                    if !write {
+                    if !row.write {
                         // The row's earlier columns eroded nothing: their defaults.
-                        write = true;
+                        row.write = true;
                         for (j, &count) in counts.iter().enumerate().take(i).skip(y * width) {
                             for jk in 0..usize::from(count) {
                                 clear(j + jk * cells);
                             }
                         }
-                        for jk in 0..k {
+                        for jk in 0..layer {
                             clear(i + jk * cells);
                         }
                     }
-                    eroded = true;
+                    row.eroded = true;
                 }
                 // SAFETY: as above.
                 unsafe {
                     damages.set(s, damage);
-                    if write {
+                    if row.write {
                         splits.set(s, split);
                         erosions_out.set(s, erosions);
                         targets_out.set(s, targets);
@@ -155,11 +214,137 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
                 }
                 floor = c.ceiling;
             }
+        };
+        if fast && one_column_band(counts, width, height, y) {
+            cell(0, &mut row, &mut v);
+            let start = y * width;
+            let band = start - width..start + 2 * width;
+            // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
+            let out = unsafe {
+                OneColumnRow {
+                    damage: damages.row(start, width),
+                    splits: splits.row(start, width),
+                    erosions: erosions_out.row(start, width),
+                    targets: targets_out.row(start, width),
+                }
+            };
+            let near = Near { columns: &columns[band.clone()], velocities: &velocities[band] };
+            let done = one_column_erosions(&k, near, out, &mut row, &mut v);
+            (done..width).for_each(|x| cell(x, &mut row, &mut v));
+        } else {
+            (0..width).for_each(|x| cell(x, &mut row, &mut v));
         }
         // SAFETY: as above.
-        unsafe { eroded_rows.set(y, eroded) };
+        unsafe { eroded_rows.set(y, row.eroded) };
         v
     })
+}
+
+/// The lowest columns and water velocities of the rows below, at and above a row.
+struct Near<'a> {
+    columns: &'a [MlhmColumn],
+    velocities: &'a [[f32; 2]],
+}
+
+/// Whether lanes of bedrock tops `bedrock` have a window in direction `d` (towards the lanes
+/// of one-column cells from `n` on in `near`), their erosion (0 without a window) and the
+/// window.
+#[inline(always)]
+fn towards(
+    k: &Constants,
+    near: &Near,
+    bedrock: Lanes,
+    d: usize,
+    n: usize,
+) -> (LaneMask, Lanes, [Lanes; 2]) {
+    let nc = Column::load(&near.columns[n..]);
+    // Below the lowest column the floor is -inf: the window starts at the sand top.
+    let window = [nc.solid_top(), bedrock.min(nc.water_top())];
+    let open = (window[1] - window[0]).gt(Lanes::splat(0.0));
+    let infinity = Lanes::splat(f32::INFINITY);
+    let e = k.erosion(bedrock, nc, infinity, window, load2(&near.velocities[n..]), d);
+    (open, Lanes::select(open, e, Lanes::splat(0.0)), window)
+}
+
+/// The damage and the records of one row's lowest columns.
+struct OneColumnRow<'a> {
+    damage: &'a mut [f32],
+    splits: &'a mut [[f32; 2]],
+    erosions: &'a mut [[f32; 4]],
+    targets: &'a mut [[i8; 4]],
+}
+
+avx2_dispatch! {
+/// Horizontal erosion's records for the cells of a row of a one-column band from cell 1 on,
+/// [`LANES`] at a time, as far as whole lanes reach before the last cell; returns the first
+/// cell not done. Every neighbour has one column, under a `+inf` ceiling.
+fn one_column_erosions(
+    k: &Constants,
+    near: Near,
+    out: OneColumnRow,
+    row: &mut RowRecords,
+    v: &mut StepVolumes,
+) -> usize = one_column_erosions_lanes;
+}
+
+#[inline(always)]
+fn one_column_erosions_lanes(
+    k: &Constants,
+    near: Near,
+    out: OneColumnRow,
+    row: &mut RowRecords,
+    v: &mut StepVolumes,
+) -> usize {
+    let width = out.damage.len();
+    let (at, above) = (width, 2 * width);
+    let mut x = 1;
+    while x + LANES < width {
+        let c = Column::load(&near.columns[at + x..]);
+        let found = [
+            towards(k, &near, c.bedrock, 0, at + x + 1),
+            towards(k, &near, c.bedrock, 1, above + x),
+            towards(k, &near, c.bedrock, 2, at + x - 1),
+            towards(k, &near, c.bedrock, 3, x),
+        ];
+        let mut strongest = Lanes::splat(0.0);
+        let mut split = [Lanes::splat(f32::NEG_INFINITY), c.bedrock];
+        for (_, e, window) in found {
+            let stronger = e.gt(strongest);
+            strongest = Lanes::select(stronger, e, strongest);
+            split = [
+                Lanes::select(stronger, window[0], split[0]),
+                Lanes::select(stronger, window[1], split[1]),
+            ];
+        }
+        let erosions = map4(found, |f| f.1);
+        let windows = map4(found, |f| f.0);
+        let (erosions, damage) = limit(erosions, split, load(&out.damage[x..]));
+        store(&mut out.damage[x..], damage);
+        for l in 0..LANES {
+            let e = map4(erosions, |e| e.0[l]);
+            v.horizontal_erosion_sand += e.iter().map(|&e| f64::from(e)).sum::<f64>();
+            let eroded = strongest.0[l] > 0.0;
+            if eroded {
+                v.splits += 1;
+                if !row.write {
+                    // The row's earlier columns eroded nothing: their defaults.
+                    row.write = true;
+                    out.splits[..x + l].fill([f32::NAN; 2]);
+                    out.erosions[..x + l].fill([0.0; 4]);
+                    out.targets[..x + l].fill([-1; 4]);
+                }
+                row.eroded = true;
+            }
+            if row.write {
+                let s = x + l;
+                out.splits[s] = if eroded { [split[0].0[l], split[1].0[l]] } else { [f32::NAN; 2] };
+                out.erosions[s] = e;
+                out.targets[s] = map4(windows, |w| if w.get(l) { 0 } else { -1 });
+            }
+        }
+        x += LANES;
+    }
+    x
 }
 
 /// Adds to each column the sand its neighbours eroded into it.

@@ -31,6 +31,8 @@ pub(crate) trait Real:
     fn ge(self, other: Self) -> Self::Mask;
     /// `a` where `mask`, else `b`.
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+    /// Both masks.
+    fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
 
     /// `f32::clamp`.
     #[inline(always)]
@@ -77,6 +79,10 @@ impl Real for f32 {
             b
         }
     }
+    #[inline(always)]
+    fn and(a: bool, b: bool) -> bool {
+        a && b
+    }
 }
 
 /// `[f(a[0]), ..., f(a[3])]`: as `<[T; 4]>::map`, which the compiler does not always
@@ -86,14 +92,27 @@ pub(crate) fn map4<T: Copy, U>(a: [T; 4], f: impl Fn(T) -> U) -> [U; 4] {
     [f(a[0]), f(a[1]), f(a[2]), f(a[3])]
 }
 
-/// The mask `[f(0), ..., f(7)]`.
-#[inline(always)]
-fn mask(f: impl Fn(usize) -> bool) -> [bool; LANES] {
-    let mut m = [false; LANES];
-    for (l, v) in m.iter_mut().enumerate() {
-        *v = f(l);
+/// A mask of lanes: all bits set where true, none where false (as vector comparisons give,
+/// so the compiler keeps masks in vector registers).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct LaneMask(pub [i32; LANES]);
+
+impl LaneMask {
+    /// The mask `[f(0), ..., f(7)]`.
+    #[inline(always)]
+    pub(crate) fn from_fn(f: impl Fn(usize) -> bool) -> Self {
+        let mut m = [0; LANES];
+        for (l, v) in m.iter_mut().enumerate() {
+            *v = -i32::from(f(l));
+        }
+        LaneMask(m)
     }
-    m
+
+    /// Whether lane `l` is set.
+    #[inline(always)]
+    pub(crate) fn get(self, l: usize) -> bool {
+        self.0[l] != 0
+    }
 }
 
 /// Eight f32 side by side, one per cell.
@@ -136,7 +155,7 @@ lane_op!(Mul, mul, *);
 lane_op!(Div, div, /);
 
 impl Real for Lanes {
-    type Mask = [bool; LANES];
+    type Mask = LaneMask;
     #[inline(always)]
     fn splat(v: f32) -> Self {
         Lanes([v; LANES])
@@ -159,15 +178,26 @@ impl Real for Lanes {
     }
     #[inline(always)]
     fn gt(self, other: Self) -> Self::Mask {
-        mask(|l| self.0[l] > other.0[l])
+        LaneMask::from_fn(|l| self.0[l] > other.0[l])
     }
     #[inline(always)]
     fn ge(self, other: Self) -> Self::Mask {
-        mask(|l| self.0[l] >= other.0[l])
+        LaneMask::from_fn(|l| self.0[l] >= other.0[l])
     }
     #[inline(always)]
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self {
-        Lanes::from_fn(|l| if mask[l] { a.0[l] } else { b.0[l] })
+        let bits = |v: f32| v.to_bits() as i32;
+        Lanes::from_fn(|l| {
+            f32::from_bits(((mask.0[l] & bits(a.0[l])) | (!mask.0[l] & bits(b.0[l]))) as u32)
+        })
+    }
+    #[inline(always)]
+    fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask {
+        let mut m = [0; LANES];
+        for (l, v) in m.iter_mut().enumerate() {
+            *v = a.0[l] & b.0[l];
+        }
+        LaneMask(m)
     }
 }
 

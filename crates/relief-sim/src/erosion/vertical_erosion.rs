@@ -11,7 +11,7 @@
 //! most the free space. A dry column erodes nothing and deposits its sediment. Then damage
 //! recovers at `damage_recovery`, lowering the bedrock as much.
 
-use super::lanes::{avx2_dispatch, load, load2, store, Column, Lanes, Real, LANES};
+use super::lanes::{avx2_dispatch, load, load2, store, Column, LaneMask, Lanes, Real, LANES};
 use super::one_column::one_column_row;
 use super::slots::{par_rows, smoothstep, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
@@ -251,13 +251,13 @@ fn one_column_vertical_lanes(
         let e = exchange(params, eroding, [ceiling, floor], sed, damage, capacity);
         // A dry column without sediment or damage keeps its values (as the general path,
         // which skips it).
-        let idle = std::array::from_fn(|l| !wet[l] && sed.0[l] == 0.0 && damage.0[l] == 0.0);
+        let idle = LaneMask::from_fn(|l| !wet.get(l) && sed.0[l] == 0.0 && damage.0[l] == 0.0);
         // Under an infinite ceiling the sand, >= 0, fits: nothing to fit.
         Column::select(idle, c, e.column).store(cells, f32::INFINITY);
         store(&mut out.sediment[x..], Lanes::select(idle, sed, e.sediment));
         store(&mut out.damage[x..], Lanes::select(idle, damage, e.damage));
         for l in 0..LANES {
-            if !idle[l] {
+            if !idle.get(l) {
                 recovered[l] +=
                     f64::from(e.bedrock_before_recovery.0[l]) - f64::from(e.column.bedrock.0[l]);
             }
