@@ -256,9 +256,9 @@ fn one_column_vertical_lanes(
         Column::select(idle, c, e.column).store(cells, f32::INFINITY);
         store(&mut out.sediment[x..], Lanes::select(idle, sed, e.sediment));
         store(&mut out.damage[x..], Lanes::select(idle, damage, e.damage));
-        for l in 0..LANES {
+        for (l, sum) in recovered.iter_mut().enumerate() {
             if !idle.get(l) {
-                recovered[l] +=
+                *sum +=
                     f64::from(e.bedrock_before_recovery.0[l]) - f64::from(e.column.bedrock.0[l]);
             }
         }
