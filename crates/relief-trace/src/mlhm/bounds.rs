@@ -272,8 +272,10 @@ impl<S: BoundScalar> MergedLayer<S> for StoredLayer<S> {
     }
 }
 
-/// [`MlhmNodeLayer`] as stored, in a [`BoundScalar`].
+/// [`MlhmNodeLayer`] as stored, in a [`BoundScalar`]; `repr(C)`, so that the build's vector
+/// merges read a layer's four bounds, in this order, as one register.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
 pub(crate) struct StoredLayer<S> {
     pub(crate) water_max: S,
     pub(crate) ceiling_min: S,

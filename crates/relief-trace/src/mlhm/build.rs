@@ -533,7 +533,14 @@ fn merge_single_layer_row(
         let l = row[x * below_cap];
         [l.water_max, l.ceiling_min, l.solid_max, l.air_min]
     };
-    for (nx, (node, node_sky)) in nodes.chunks_exact_mut(cap).zip(sky).enumerate() {
+    let mut done = 0;
+    #[cfg(target_arch = "x86_64")]
+    if cap == 1 && below_cap == 1 && std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked above).
+        done = unsafe { merge_layer_pairs_avx2(nodes, sky, (low, low_sky), (high, high_sky)) };
+    }
+    let nodes = nodes.chunks_exact_mut(cap).zip(sky).enumerate().skip(done);
+    for (nx, (node, node_sky)) in nodes {
         let (x0, x1) = (2 * nx, (2 * nx + 1).min(children_x - 1));
         let merged = merge_lanes(lanes(low, x0), lanes(low, x1), lanes(high, x0), lanes(high, x1));
         node[0] = stored(merged);
@@ -586,6 +593,46 @@ unsafe fn merge_column_pairs_avx2(
         unsafe { _mm_storeu_ps(out.as_mut_ptr(), merged) };
         nodes[nx] = stored(out);
         sky[nx] = out[3];
+    }
+    pairs
+}
+
+/// The nodes of one row of [`merge_single_layer_row`] with one slot a node and a child
+/// (`cap` and `below_cap` 1) whose two columns of children exist, a node's two children of a
+/// row in one AVX2 register; returns how many it merged. The same maxima and minima as
+/// [`merge_lanes`] (`larger(x, y)` is `max_ps(y, x)`), taken in another order, which for
+/// bounds that are never NaN changes at most the sign of a zero.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn merge_layer_pairs_avx2(
+    nodes: &mut [StoredLayer<f32>],
+    sky: &mut [f32],
+    (low, low_sky): (&[StoredLayer<f32>], &[f32]),
+    (high, high_sky): (&[StoredLayer<f32>], &[f32]),
+) -> usize {
+    use std::arch::x86_64::*;
+    let pairs = (low.len() / 2).min(high.len() / 2).min(nodes.len()).min(sky.len());
+    let pairs = pairs.min(low_sky.len() / 2).min(high_sky.len() / 2);
+    let maxima = _mm_castsi128_ps(_mm_setr_epi32(-1, 0, -1, 0));
+    for nx in 0..pairs {
+        // SAFETY: children 2 nx and 2 nx + 1 exist in both rows (`pairs` above);
+        // `StoredLayer<f32>` is `repr(C)`, four f32, so two of them are eight.
+        let (a, b) = unsafe {
+            (
+                _mm256_loadu_ps(low.as_ptr().add(2 * nx).cast::<f32>()),
+                _mm256_loadu_ps(high.as_ptr().add(2 * nx).cast::<f32>()),
+            )
+        };
+        let (top, bottom) = (_mm256_max_ps(b, a), _mm256_min_ps(b, a));
+        let top = _mm_max_ps(_mm256_extractf128_ps::<1>(top), _mm256_castps256_ps128(top));
+        let bottom = _mm_min_ps(_mm256_extractf128_ps::<1>(bottom), _mm256_castps256_ps128(bottom));
+        let merged = _mm_or_ps(_mm_and_ps(maxima, top), _mm_andnot_ps(maxima, bottom));
+        let mut out = [0f32; 4];
+        // SAFETY: `out` holds four f32.
+        unsafe { _mm_storeu_ps(out.as_mut_ptr(), merged) };
+        nodes[nx] = stored(out);
+        let (x0, x1) = (2 * nx, 2 * nx + 1);
+        sky[nx] = low_sky[x0].min(low_sky[x1]).min(high_sky[x0].min(high_sky[x1]));
     }
     pairs
 }
