@@ -58,6 +58,12 @@ impl Constants {
         }
     }
 
+    /// Whether bedrock rising `rise` above the neighbour's sand is steep enough to erode.
+    #[inline(always)]
+    fn steep<R: Real>(&self, rise: R) -> R::Mask {
+        R::and(rise.gt(R::splat(0.0)), (rise * rise).gt(R::splat(self.steep)))
+    }
+
     /// The erosion of bedrock top `bedrock` in direction `d` into the window
     /// `[bottom, top]` beside the neighbour column `nc` (ceiling `n_ceiling`, water velocity
     /// `velocity`): 0 where the bedrock does not rise steeply enough above `nc`'s sand.
@@ -74,7 +80,7 @@ impl Constants {
     ) -> R {
         let splat = R::splat;
         let rise = bedrock - nc.solid_top();
-        let steep = R::and(rise.gt(splat(0.0)), (rise * rise).gt(splat(self.steep)));
+        let steep = self.steep(rise);
         let sine = rise / (rise * rise + splat(self.cs * self.cs)).sqrt();
         let slope_scale = smoothstep(self.min_slope, 1.0, sine) * sine;
         let speed = (vx * vx + vy * vy).sqrt();
@@ -164,6 +170,10 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
                         if top - bottom > 0.0 {
                             targets[d] = nk as i8;
                             let window = [bottom, top];
+                            if !k.steep(c.bedrock - nc.solid_top()) {
+                                // No erosion: skip the formula that would give 0.
+                                break;
+                            }
                             let e = k.erosion(
                                 c.bedrock,
                                 nc.into(),

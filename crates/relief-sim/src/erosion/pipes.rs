@@ -93,6 +93,36 @@ impl PipeConstants {
         (f, slip)
     }
 
+    /// The pipe of `c` (whose flux was `old`) to the neighbouring cell `near` (of `counts`
+    /// columns in the planes of `cells` slots of `columns`): (flux, slippage, neighbour's
+    /// layer or -1, neighbour's sand top or this column's). A function, not a closure, so
+    /// that it is always inlined and the four directions stay in registers.
+    #[inline(always)]
+    fn pipe_to(
+        &self,
+        c: MlhmColumn,
+        near: Option<usize>,
+        old: f32,
+        (counts, columns, cells): (&[u8], &[MlhmColumn], usize),
+    ) -> (f32, f32, i8, f32) {
+        if let Some(n) = near {
+            for nk in 0..usize::from(counts[n]) {
+                let nc = columns[n + nk * cells];
+                if c.bedrock < nc.ceiling && nc.water_top() + f32::EPSILON < nc.ceiling {
+                    let (cf, nf) = (c.into(), nc.into());
+                    // Under an infinite ceiling both give the same values.
+                    let (f, slip) = if nc.ceiling.is_finite() {
+                        self.pipe::<f32, true>(cf, nf, nc.ceiling, old)
+                    } else {
+                        self.pipe::<f32, false>(cf, nf, nc.ceiling, old)
+                    };
+                    return (f, slip, nk as i8, nc.solid_top());
+                }
+            }
+        }
+        (0.0, 0.0, -1, c.solid_top())
+    }
+
     /// Scales the pipes of `c` (`flux`, `slip`, with the sand tops `tops` they reach) to the
     /// water and sand it has; returns the fluxes, slippages, sediment flux scale and slope.
     #[inline(always)]
@@ -133,7 +163,6 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
     let slopes = Slots::new(&mut state.scratch.slopes);
     let k = PipeConstants::new(params, cs);
     let fast = state.scratch.fast_paths;
-    let eps = f32::EPSILON;
     par_rows(height, |y| {
         let cell = |x: usize| {
             let i = x + y * width;
@@ -143,23 +172,13 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                 let c = columns[s];
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
                 let old = unsafe { fluxes.get(s) };
-                // The pipe in direction `d`: (flux, slippage, neighbour's layer or -1,
-                // neighbour's sand top or this column's). Called with constant directions so
-                // the four stay in registers.
-                let pipe_to = |d: usize| {
-                    if let Some(n) = near[d] {
-                        for nk in 0..usize::from(counts[n]) {
-                            let nc = columns[n + nk * cells];
-                            if c.bedrock < nc.ceiling && nc.water_top() + eps < nc.ceiling {
-                                let (f, slip) =
-                                    k.pipe::<f32, true>(c.into(), nc.into(), nc.ceiling, old[d]);
-                                return (f, slip, nk as i8, nc.solid_top());
-                            }
-                        }
-                    }
-                    (0.0, 0.0, -1, c.solid_top())
-                };
-                let p = [pipe_to(0), pipe_to(1), pipe_to(2), pipe_to(3)];
+                let terrain = (&counts[..], &columns[..], cells);
+                let p = [
+                    k.pipe_to(c, near[0], old[0], terrain),
+                    k.pipe_to(c, near[1], old[1], terrain),
+                    k.pipe_to(c, near[2], old[2], terrain),
+                    k.pipe_to(c, near[3], old[3], terrain),
+                ];
                 let (flux, slip, scale, slope) = k.scale(
                     c.into(),
                     sediment[s],

@@ -93,6 +93,34 @@ impl Transported<f32> {
     }
 }
 
+/// The net flux, sediment flux and slippage out of column `k` of a cell through one pipe,
+/// whose outflow is `out` (flux, sediment flux scale, slippage): the outflow less the inflow of
+/// the neighbouring cell `near`'s pipes in direction `back` that lead to column `k`. A
+/// function, not a closure, so that it is always inlined and the four directions stay in
+/// registers.
+#[inline(always)]
+fn net_inflow(
+    (flux, scale_out, slip): (f32, f32, f32),
+    near: Option<usize>,
+    back: usize,
+    k: usize,
+    (counts, cells): (&[u8], usize),
+    pipes: &Pipes,
+) -> (f32, f32, f32) {
+    let (mut flux, mut sediment_flux, mut slip) = (flux, flux * scale_out, slip);
+    if let Some(n) = near {
+        for nk in 0..usize::from(counts[n]) {
+            let ns = n + nk * cells;
+            if pipes.layers[ns][back] == k as i8 {
+                flux -= pipes.fluxes[ns][back];
+                sediment_flux -= pipes.scales[ns] * pipes.fluxes[ns][back];
+                slip -= pipes.slippages[ns][back];
+            }
+        }
+    }
+    (flux, sediment_flux, slip)
+}
+
 /// Moves water, sand and sediment along the pipes [`super::pipes::pipes`] computed.
 pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> StepVolumes {
     let (width, height, cells, cs) = (state.width, state.height, state.cells(), state.cell_size);
@@ -113,27 +141,15 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
             for k in 0..usize::from(counts[i]) {
                 let s = i + k * cells;
                 let (out, scale_out, slip_out) = (fluxes[s], scales[s], slippages[s]);
-                // Net flux, sediment flux and slippage in direction `d`: the outflow less the
-                // inflow of the neighbour's pipes that lead here. Called with constant
-                // directions so the four stay in registers.
-                let net_to = |d: usize| {
-                    let mut flux = out[d];
-                    let mut sediment_flux = flux * scale_out;
-                    let mut slip = slip_out[d];
-                    if let Some(n) = near[d] {
-                        let back = opposite(d);
-                        for nk in 0..usize::from(counts[n]) {
-                            let ns = n + nk * cells;
-                            if pipes[ns][back] == k as i8 {
-                                flux -= fluxes[ns][back];
-                                sediment_flux -= scales[ns] * fluxes[ns][back];
-                                slip -= slippages[ns][back];
-                            }
-                        }
-                    }
-                    (flux, sediment_flux, slip)
-                };
-                let nets = [net_to(0), net_to(1), net_to(2), net_to(3)];
+                let planes = &Pipes { fluxes, scales, slippages, layers: pipes };
+                let layers = (&counts[..], cells);
+                let out = |d: usize| (out[d], scale_out, slip_out[d]);
+                let nets = [
+                    net_inflow(out(0), near[0], opposite(0), k, layers, planes),
+                    net_inflow(out(1), near[1], opposite(1), k, layers, planes),
+                    net_inflow(out(2), near[2], opposite(2), k, layers, planes),
+                    net_inflow(out(3), near[3], opposite(3), k, layers, planes),
+                ];
                 let nets = [map4(nets, |n| n.0), map4(nets, |n| n.1), map4(nets, |n| n.2)];
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
                 let (c, sed) = unsafe { (columns.get(s), sediment.get(s)) };
@@ -162,7 +178,8 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
             let pipes = Pipes {
                 fluxes: &fluxes[band.clone()],
                 scales: &scales[band.clone()],
-                slippages: &slippages[band],
+                slippages: &slippages[band.clone()],
+                layers: &pipes[band],
             };
             let done = one_column_transport(params, cs, pipes, out, &mut v);
             (done..width).for_each(|x| cell(x, &mut v));
@@ -173,11 +190,13 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
     })
 }
 
-/// The pipes' outputs for the rows below, at and above a row.
+/// The pipes' outputs: for all cells, or for the rows below, at and above a row.
 struct Pipes<'a> {
     fluxes: &'a [[f32; 4]],
     scales: &'a [f32],
     slippages: &'a [[f32; 4]],
+    /// The layer of the neighbour each pipe leads to (-1: none).
+    layers: &'a [[i8; 4]],
 }
 
 /// The state of one row's lowest columns that transport changes.
