@@ -13,10 +13,11 @@
 //! direction, then each column gathers what its neighbours sent it, in a fixed order.
 
 use super::lanes::{avx2_dispatch, load, load2, map4, store, Column, LaneMask, Lanes, Real, LANES};
-use super::one_column::one_column_band;
+use super::one_column::{along_row, neighbourhood_run};
 use super::slots::{fit_column, neighbours, opposite, par_rows, smoothstep, Slots, OFFSETS};
 use super::{ErosionParams, ErosionState, StepVolumes};
 use relief_core::MlhmColumn;
+use std::ops::Range;
 
 /// Erodes bedrock sideways into neighbouring water; returns the sand created and whether
 /// any column has a window to split at.
@@ -137,19 +138,27 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
     let eroded_rows = Slots::new(&mut scratch.eroded_rows);
     let k = Constants::new(params, cs);
     par_rows(height, |y| {
-        let mut v = StepVolumes::default();
+        let v = StepVolumes::default();
         // A row whose columns erode nothing (no window) leaves its records at their defaults
         // (no erosion, no window), written once when the row stops eroding: the kernels that
         // read the records see the same values, and most rows skip the writes.
         // SAFETY (eroded_rows): entry `y` is this row's only.
-        let mut row = RowRecords { write: unsafe { eroded_rows.get(y) }, eroded: false };
+        let write = unsafe { eroded_rows.get(y) };
         // SAFETY: slot `s` belongs to a cell of this row.
         let clear = |s: usize| unsafe {
             splits.set(s, [f32::NAN; 2]);
             erosions_out.set(s, [0.0; 4]);
             targets_out.set(s, [-1; 4]);
         };
-        let cell = |x: usize, row: &mut RowRecords, v: &mut StepVolumes| {
+        // The records of all columns of cells `cells` (of this row) to their defaults.
+        let clear_cells = |cells_of_row: Range<usize>| {
+            for j in cells_of_row {
+                for jk in 0..usize::from(counts[j]) {
+                    clear(j + jk * cells);
+                }
+            }
+        };
+        let cell = |(row, v): &mut (RowRecords, StepVolumes), x: usize| {
             let i = x + y * width;
             let near = neighbours(x, y, width, height);
             let mut floor = f32::NEG_INFINITY;
@@ -202,11 +211,7 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
                     if !row.write {
                         // The row's earlier columns eroded nothing: their defaults.
                         row.write = true;
-                        for (j, &count) in counts.iter().enumerate().take(i).skip(y * width) {
-                            for jk in 0..usize::from(count) {
-                                clear(j + jk * cells);
-                            }
-                        }
+                        clear_cells(y * width..i);
                         for jk in 0..layer {
                             clear(i + jk * cells);
                         }
@@ -225,10 +230,10 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
                 floor = c.ceiling;
             }
         };
-        if fast && one_column_band(counts, width, height, y) {
-            cell(0, &mut row, &mut v);
-            let start = y * width;
-            let band = start - width..start + 2 * width;
+        let start = y * width;
+        let band = start - width..start + 2 * width;
+        let run = |x| if fast { neighbourhood_run(counts, width, height, y, x) } else { 0 };
+        let lanes = |(row, v): &mut (RowRecords, StepVolumes), cells: Range<usize>| {
             // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
             let out = unsafe {
                 OneColumnRow {
@@ -238,12 +243,15 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
                     targets: targets_out.row(start, width),
                 }
             };
-            let near = Near { columns: &columns[band.clone()], velocities: &velocities[band] };
-            let done = one_column_erosions(&k, near, out, &mut row, &mut v);
-            (done..width).for_each(|x| cell(x, &mut row, &mut v));
-        } else {
-            (0..width).for_each(|x| cell(x, &mut row, &mut v));
-        }
+            let near =
+                Near { columns: &columns[band.clone()], velocities: &velocities[band.clone()] };
+            if let Some(x) = one_column_erosions(&k, near, out, cells, row, v) {
+                clear_cells(start..start + x);
+            }
+        };
+        let mut state = (RowRecords { write, eroded: false }, v);
+        along_row(width, &mut state, run, lanes, cell);
+        let (row, v) = state;
         // SAFETY: as above.
         unsafe { eroded_rows.set(y, row.eroded) };
         v
@@ -285,16 +293,19 @@ struct OneColumnRow<'a> {
 }
 
 avx2_dispatch! {
-/// Horizontal erosion's records for the cells of a row of a one-column band from cell 1 on,
-/// [`LANES`] at a time, as far as whole lanes reach before the last cell; returns the first
-/// cell not done. Every neighbour has one column, under a `+inf` ceiling.
+/// Horizontal erosion's records for the cells `cells` of a row, [`LANES`] at a time, where
+/// they and their neighbours hold one column each ([`neighbourhood_run`]): every neighbour
+/// has one column, under a `+inf` ceiling. Returns the cell (of the row) from which on it
+/// started writing the row's records (see `record_erosions`): the records of the cells
+/// before it are for the caller to set to their defaults.
 fn one_column_erosions(
     k: &Constants,
     near: Near,
     out: OneColumnRow,
+    cells: Range<usize>,
     row: &mut RowRecords,
     v: &mut StepVolumes,
-) -> usize = one_column_erosions_lanes;
+) -> Option<usize> = one_column_erosions_lanes;
 }
 
 #[inline(always)]
@@ -302,13 +313,14 @@ fn one_column_erosions_lanes(
     k: &Constants,
     near: Near,
     out: OneColumnRow,
+    cells: Range<usize>,
     row: &mut RowRecords,
     v: &mut StepVolumes,
-) -> usize {
+) -> Option<usize> {
     let width = out.damage.len();
     let (at, above) = (width, 2 * width);
-    let mut x = 1;
-    while x + LANES < width {
+    let mut started = None;
+    for x in cells.step_by(LANES) {
         let c = Column::load(&near.columns[at + x..]);
         let found = [
             towards(k, &near, c.bedrock, 0, at + x + 1),
@@ -337,11 +349,13 @@ fn one_column_erosions_lanes(
             if eroded {
                 v.splits += 1;
                 if !row.write {
-                    // The row's earlier columns eroded nothing: their defaults.
+                    // The row's earlier columns eroded nothing: their defaults (those before
+                    // these lanes by the caller, who knows all their columns).
                     row.write = true;
-                    out.splits[..x + l].fill([f32::NAN; 2]);
-                    out.erosions[..x + l].fill([0.0; 4]);
-                    out.targets[..x + l].fill([-1; 4]);
+                    started = Some(x);
+                    out.splits[x..x + l].fill([f32::NAN; 2]);
+                    out.erosions[x..x + l].fill([0.0; 4]);
+                    out.targets[x..x + l].fill([-1; 4]);
                 }
                 row.eroded = true;
             }
@@ -352,9 +366,8 @@ fn one_column_erosions_lanes(
                 out.targets[s] = map4(windows, |w| if w.get(l) { 0 } else { -1 });
             }
         }
-        x += LANES;
     }
-    x
+    started
 }
 
 /// Adds to each column the sand its neighbours eroded into it.

@@ -1,26 +1,86 @@
-//! Rows of one-column cells: where the terrain has no overhang, the kernels take a path with
-//! no loop over a neighbour's columns and no branch on the data, which the compiler
-//! vectorizes across cells. It computes the same values, bit for bit, as the general path.
+//! Runs of one-column cells: where the terrain has no overhang, the kernels take a path with
+//! no loop over a neighbour's columns and no branch on the data, which computes [`LANES`]
+//! cells at a time in vector registers. It computes the same values, bit for bit, as the
+//! general path.
 //!
-//! A kernel that reads the four neighbours of a cell takes it for the cells `1..width - 1` of
-//! a row in a one-column band ([`one_column_band`]); a kernel that reads only the cell's own
-//! columns, for a row of one-column cells ([`one_column_row`]).
+//! A kernel that reads the four neighbours of a cell takes it for lanes of cells whose own
+//! and whose neighbours' cells hold one column each ([`neighbourhood_run`]); a kernel that
+//! reads only the cell's own columns, for lanes of one-column cells ([`row_run`]). Both find
+//! runs of whole lanes from a cell on; the cells between runs take the general path.
 
-/// Whether row `y` and the rows beside it hold one column a cell, and the row has interior
-/// cells (`1 <= y < height - 1`, `width >= 3`): its interior cells' four neighbours are then
-/// one-column cells too, each with a `+inf` ceiling.
+use super::lanes::LANES;
+use std::ops::Range;
+
+/// How many whole lanes of cells from `(x, y)` on (cells `x..x + n LANES`) have one column
+/// each, and so have their four neighbours: the cells of rows `y - 1..=y + 1` from `x - 1` to
+/// `x + n LANES` inclusive. Neighbours beyond the grid do not count: the run stays inside
+/// (`1 <= y < height - 1`, `x >= 1`, `x + n LANES < width`). A one-column cell's ceiling is
+/// `+inf`.
 #[inline]
-pub(crate) fn one_column_band(counts: &[u8], width: usize, height: usize, y: usize) -> bool {
-    width >= 3
-        && y >= 1
-        && y + 1 < height
-        && counts[(y - 1) * width..(y + 2) * width].iter().all(|&n| n == 1)
+pub(crate) fn neighbourhood_run(
+    counts: &[u8],
+    width: usize,
+    height: usize,
+    y: usize,
+    x: usize,
+) -> usize {
+    if y == 0 || y + 1 >= height || x == 0 || counts[x + y * width] != 1 {
+        return 0;
+    }
+    let rows = [(y - 1) * width, y * width, (y + 1) * width];
+    let ones = |from: usize, to: usize| {
+        rows.iter().all(|&r| counts[r + from..r + to].iter().all(|&n| n == 1))
+    };
+    // Cells `x - 1..checked` of the three rows hold one column.
+    let (mut lanes, mut checked) = (0, x - 1);
+    while x + (lanes + 1) * LANES < width {
+        let to = x + (lanes + 1) * LANES + 1;
+        if !ones(checked, to) {
+            break;
+        }
+        (lanes, checked) = (lanes + 1, to);
+    }
+    lanes
 }
 
-/// Whether every cell of row `y` holds one column.
+/// How many whole lanes of cells from `(x, y)` on (cells `x..x + n LANES` of row `y`) have one
+/// column each.
 #[inline]
-pub(crate) fn one_column_row(counts: &[u8], width: usize, y: usize) -> bool {
-    counts[y * width..(y + 1) * width].iter().all(|&n| n == 1)
+pub(crate) fn row_run(counts: &[u8], width: usize, y: usize, x: usize) -> usize {
+    let row = &counts[y * width..(y + 1) * width];
+    let mut lanes = 0;
+    while x + (lanes + 1) * LANES <= width
+        && row[x + lanes * LANES..x + (lanes + 1) * LANES].iter().all(|&n| n == 1)
+    {
+        lanes += 1;
+    }
+    lanes
+}
+
+/// Goes along a row of `width` cells: where `run(x)` finds whole lanes of cells from `x` on,
+/// `lanes(state, x..x + n LANES)`; every other cell, `cell(state, x)`; in the order of the
+/// cells.
+#[inline(always)]
+pub(crate) fn along_row<S>(
+    width: usize,
+    state: &mut S,
+    run: impl Fn(usize) -> usize,
+    mut lanes: impl FnMut(&mut S, Range<usize>),
+    mut cell: impl FnMut(&mut S, usize),
+) {
+    let mut x = 0;
+    while x < width {
+        match run(x) {
+            0 => {
+                cell(state, x);
+                x += 1;
+            }
+            n => {
+                lanes(state, x..x + n * LANES);
+                x += n * LANES;
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -16,10 +16,11 @@
 //! (sin) for erosion comes from the sand tops the pipes reach (central differences).
 
 use super::lanes::{avx2_dispatch, load, load4, map4, store, store4, Column, Lanes, Real, LANES};
-use super::one_column::one_column_band;
+use super::one_column::{along_row, neighbourhood_run};
 use super::slots::{neighbours, par_rows, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
 use relief_core::MlhmColumn;
+use std::ops::Range;
 
 /// The step's constants of the pipes.
 struct PipeConstants {
@@ -196,9 +197,9 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                 }
             }
         };
-        if fast && one_column_band(counts, width, height, y) {
-            cell(0);
-            let row = y * width;
+        let row = y * width;
+        let run = |x| if fast { neighbourhood_run(counts, width, height, y, x) } else { 0 };
+        let lanes = |_: &mut (), cells| {
             // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
             let out = unsafe {
                 OneColumnRow {
@@ -209,16 +210,10 @@ pub(crate) fn pipes(state: &mut ErosionState, params: &ErosionParams) {
                     slopes: slopes.row(row, width),
                 }
             };
-            let done = one_column_pipes(
-                &k,
-                &columns[row - width..row + 2 * width],
-                &sediment[row..row + width],
-                out,
-            );
-            (done..width).for_each(cell);
-        } else {
-            (0..width).for_each(cell);
-        }
+            let band = &columns[row - width..row + 2 * width];
+            one_column_pipes(&k, band, &sediment[row..row + width], out, cells);
+        };
+        along_row(width, &mut (), run, lanes, |_, x| cell(x));
         StepVolumes::default()
     });
 }
@@ -233,16 +228,17 @@ struct OneColumnRow<'a> {
 }
 
 avx2_dispatch! {
-/// The pipes of the cells of a row of a one-column band from cell 1 on, [`LANES`] at a time,
-/// as far as whole lanes reach before the last cell; returns the first cell not done.
-/// `columns` holds the rows below, at and above it, `sediment` the row's own. Every pipe
-/// leads to the neighbour's only column, whose ceiling is `+inf`.
+/// The pipes of the cells `cells` of a row, [`LANES`] at a time, where they and their
+/// neighbours hold one column each ([`neighbourhood_run`]): `columns` holds the rows below, at
+/// and above the row, `sediment` the row's own. Every pipe leads to the neighbour's only
+/// column, whose ceiling is `+inf`.
 fn one_column_pipes(
     k: &PipeConstants,
     columns: &[MlhmColumn],
     sediment: &[f32],
     out: OneColumnRow,
-) -> usize = one_column_pipes_lanes;
+    cells: Range<usize>,
+) = one_column_pipes_lanes;
 }
 
 #[inline(always)]
@@ -251,12 +247,12 @@ fn one_column_pipes_lanes(
     columns: &[MlhmColumn],
     sediment: &[f32],
     out: OneColumnRow,
-) -> usize {
+    cells: Range<usize>,
+) {
     let width = sediment.len();
     let (below, rest) = columns.split_at(width);
     let (row, above) = rest.split_at(width);
-    let mut x = 1;
-    while x + LANES < width {
+    for x in cells.step_by(LANES) {
         let c = Column::load(&row[x..]);
         let near = [
             Column::load(&row[x + 1..]),
@@ -276,9 +272,7 @@ fn one_column_pipes_lanes(
         store4(&mut out.slippages[x..], slip);
         store(&mut out.sediment_scales[x..], scale);
         store(&mut out.slopes[x..], slope);
-        x += LANES;
     }
-    x
 }
 
 /// `min(a / b, 1)` for `b > 0`: exactly 1 when `a >= b`. Divides either way, so the

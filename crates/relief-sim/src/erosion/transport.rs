@@ -5,10 +5,11 @@
 //! sediment with the water, and petrifies `petrification dt` of its sand into bedrock.
 
 use super::lanes::{avx2_dispatch, load, load4, map4, store, store2, Column, Lanes, Real, LANES};
-use super::one_column::one_column_band;
+use super::one_column::{along_row, neighbourhood_run};
 use super::slots::{neighbours, opposite, par_rows, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
 use relief_core::MlhmColumn;
+use std::ops::Range;
 
 /// A column after transport, with the values before its clamps (for the volumes).
 struct Transported<R> {
@@ -163,10 +164,10 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
                 }
             }
         };
-        if fast && one_column_band(counts, width, height, y) {
-            cell(0, &mut v);
-            let row = y * width;
-            let band = row - width..row + 2 * width;
+        let row = y * width;
+        let band = row - width..row + 2 * width;
+        let run = |x| if fast { neighbourhood_run(counts, width, height, y, x) } else { 0 };
+        let lanes = |v: &mut StepVolumes, cells| {
             // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
             let out = unsafe {
                 OneColumnRow {
@@ -179,13 +180,11 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
                 fluxes: &fluxes[band.clone()],
                 scales: &scales[band.clone()],
                 slippages: &slippages[band.clone()],
-                layers: &pipes[band],
+                layers: &pipes[band.clone()],
             };
-            let done = one_column_transport(params, cs, pipes, out, &mut v);
-            (done..width).for_each(|x| cell(x, &mut v));
-        } else {
-            (0..width).for_each(|x| cell(x, &mut v));
-        }
+            one_column_transport(params, cs, pipes, out, cells, v);
+        };
+        along_row(width, &mut v, run, lanes, |v, x| cell(x, v));
         v
     })
 }
@@ -207,16 +206,17 @@ struct OneColumnRow<'a> {
 }
 
 avx2_dispatch! {
-/// Transport in the cells of a row of a one-column band from cell 1 on, [`LANES`] at a time,
-/// as far as whole lanes reach before the last cell; returns the first cell not done. Every
-/// neighbour's pipe back leads to the cell's only column, whose ceiling is `+inf`.
+/// Transport in the cells `cells` of a row, [`LANES`] at a time, where they and their
+/// neighbours hold one column each ([`neighbourhood_run`]): every neighbour's pipe back leads
+/// to the cell's only column, whose ceiling is `+inf`.
 fn one_column_transport(
     params: &ErosionParams,
     cs: f32,
     pipes: Pipes,
     out: OneColumnRow,
+    cells: Range<usize>,
     v: &mut StepVolumes,
-) -> usize = one_column_transport_lanes;
+) = one_column_transport_lanes;
 }
 
 #[inline(always)]
@@ -225,13 +225,13 @@ fn one_column_transport_lanes(
     cs: f32,
     pipes: Pipes,
     out: OneColumnRow,
+    cells: Range<usize>,
     v: &mut StepVolumes,
-) -> usize {
+) {
     let mut volumes = LaneVolumes::default();
     let width = out.columns.len();
     let (row, above) = (width, 2 * width);
-    let mut x = 1;
-    while x + LANES < width {
+    for x in cells.step_by(LANES) {
         let flux_out = load4(&pipes.fluxes[row + x..]);
         let scale_out = load(&pipes.scales[row + x..]);
         let slip_out = load4(&pipes.slippages[row + x..]);
@@ -255,10 +255,8 @@ fn one_column_transport_lanes(
         store(&mut out.sediment[x..], t.sediment);
         store2(&mut out.velocities[x..], t.velocity);
         volumes.add(&t, params.slippage);
-        x += LANES;
     }
     volumes.add_to(v);
-    x
 }
 
 /// The volumes of [`Transported::account`], summed per lane in f64.

@@ -12,10 +12,11 @@
 //! recovers at `damage_recovery`, lowering the bedrock as much.
 
 use super::lanes::{avx2_dispatch, load, load2, store, Column, LaneMask, Lanes, Real, LANES};
-use super::one_column::one_column_row;
+use super::one_column::{along_row, row_run};
 use super::slots::{par_rows, smoothstep, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
 use relief_core::MlhmColumn;
+use std::ops::Range;
 
 /// The erosion factors of a column with water.
 struct Factors<R> {
@@ -133,9 +134,9 @@ pub(crate) fn vertical_erosion(state: &mut ErosionState, params: &ErosionParams)
     let dt = params.dt;
     par_rows(height, |y| {
         let mut v = StepVolumes::default();
-        let mut x = 0;
-        if fast && one_column_row(counts, width, y) {
-            let row = y * width..(y + 1) * width;
+        let row = y * width..(y + 1) * width;
+        let run = |x| if fast { row_run(counts, width, y, x) } else { 0 };
+        let lanes = |v: &mut StepVolumes, cells| {
             // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
             let out = unsafe {
                 OneColumnRow {
@@ -144,9 +145,10 @@ pub(crate) fn vertical_erosion(state: &mut ErosionState, params: &ErosionParams)
                     damage: damages.row(row.start, width),
                 }
             };
-            x = one_column_vertical(params, &slopes[row.clone()], &velocities[row], out, &mut v);
-        }
-        for x in x..width {
+            let (slopes, velocities) = (&slopes[row.clone()], &velocities[row.clone()]);
+            one_column_vertical(params, slopes, velocities, out, cells, v);
+        };
+        let cell = |v: &mut StepVolumes, x: usize| {
             let i = x + y * width;
             let n = usize::from(counts[i]);
             let mut floor = f32::NEG_INFINITY;
@@ -199,7 +201,8 @@ pub(crate) fn vertical_erosion(state: &mut ErosionState, params: &ErosionParams)
                 }
                 floor = c.ceiling;
             }
-        }
+        };
+        along_row(width, &mut v, run, lanes, cell);
         v
     })
 }
@@ -212,15 +215,16 @@ struct OneColumnRow<'a> {
 }
 
 avx2_dispatch! {
-/// Vertical erosion in a row of one-column cells from cell 0 on, [`LANES`] at a time, as far
-/// as whole lanes reach; returns the first cell not done.
+/// Vertical erosion in the one-column cells `cells` of a row ([`row_run`]), [`LANES`] at a
+/// time.
 fn one_column_vertical(
     params: &ErosionParams,
     slopes: &[f32],
     velocities: &[[f32; 2]],
     out: OneColumnRow,
+    cells: Range<usize>,
     v: &mut StepVolumes,
-) -> usize = one_column_vertical_lanes;
+) = one_column_vertical_lanes;
 }
 
 #[inline(always)]
@@ -229,12 +233,11 @@ fn one_column_vertical_lanes(
     slopes: &[f32],
     velocities: &[[f32; 2]],
     out: OneColumnRow,
+    cells: Range<usize>,
     v: &mut StepVolumes,
-) -> usize {
-    let width = out.columns.len();
+) {
     let mut recovered = [0.0f64; LANES];
-    let mut x = 0;
-    while x + LANES <= width {
+    for x in cells.step_by(LANES) {
         let cells = &mut out.columns[x..x + LANES];
         let c = Column::load(cells);
         let (sed, damage) = (load(&out.sediment[x..]), load(&out.damage[x..]));
@@ -262,8 +265,6 @@ fn one_column_vertical_lanes(
                     f64::from(e.bedrock_before_recovery.0[l]) - f64::from(e.column.bedrock.0[l]);
             }
         }
-        x += LANES;
     }
     v.damage_recovery += recovered.iter().sum::<f64>();
-    x
 }
