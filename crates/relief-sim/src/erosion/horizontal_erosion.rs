@@ -342,6 +342,10 @@ fn one_column_erosions_lanes(
         let windows = map4(found, |f| f.0);
         let (erosions, damage) = limit(erosions, split, load(&out.damage[x..]));
         store(&mut out.damage[x..], damage);
+        if !row.write && strongest.0.iter().all(|&e| e <= 0.0) {
+            // Nothing eroded (every erosion is 0) and no record to write: the common case.
+            continue;
+        }
         for l in 0..LANES {
             let e = map4(erosions, |e| e.0[l]);
             v.horizontal_erosion_sand += e.iter().map(|&e| f64::from(e)).sum::<f64>();

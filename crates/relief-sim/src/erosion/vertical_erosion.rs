@@ -2,7 +2,7 @@
 //!
 //! Per column with water: slope factor `min + (max - min) sin a (1 - smoothstep(fade, 1,
 //! sin a))`, speed factor `min_speed + (1 - min_speed) |v|`, water factor
-//! `1 - tanh(2 depth / erosion_water_max_height)`. The sediment capacity is
+//! `1 - tanh(2 depth / erosion_water_max_height)` (as `2 / (e^2y + 1)`). The sediment capacity is
 //! `sediment_capacity` times the three; bedrock under less than `sand_threshold` of sand
 //! dissolves into sand at `bedrock_dissolving` times the three; water within
 //! `top_erosion_distance` of the ceiling wears the ceiling (the bedrock of the column above)
@@ -11,7 +11,7 @@
 //! most the free space. A dry column erodes nothing and deposits its sediment. Then damage
 //! recovers at `damage_recovery`, lowering the bedrock as much.
 
-use super::lanes::{avx2_dispatch, load, load2, store, Column, LaneMask, Lanes, Real, LANES};
+use super::lanes::{avx2_dispatch, exp, load, load2, store, Column, LaneMask, Lanes, Real, LANES};
 use super::one_column::{along_row, row_run};
 use super::slots::{par_rows, smoothstep, Slots};
 use super::{ErosionParams, ErosionState, StepVolumes};
@@ -41,7 +41,9 @@ impl<R: Real> Factors<R> {
         let speed_factor = splat(params.min_speed_erosion_scale)
             + splat(1.0 - params.min_speed_erosion_scale) * speed;
         let water_scale = 2.0 / params.erosion_water_max_height;
-        let water = (splat(1.0) - (water * splat(water_scale)).tanh()).clamp(0.0, 1.0);
+        // 1 - tanh(y) = 2 / (e^2y + 1) for the depth's y >= 0.
+        let y = water * splat(water_scale);
+        let water = splat(2.0) / (exp(splat(2.0) * y) + splat(1.0));
         Factors { slope, speed, speed_factor, water }
     }
 
