@@ -231,9 +231,10 @@ fn record_erosions(state: &mut ErosionState, params: &ErosionParams) -> StepVolu
             }
         };
         let start = y * width;
-        let band = start - width..start + 2 * width;
         let run = |x| if fast { neighbourhood_run(counts, width, height, y, x) } else { 0 };
         let lanes = |(row, v): &mut (RowRecords, StepVolumes), cells: Range<usize>| {
+            // Lanes are never in the first or last row.
+            let band = start - width..start + 2 * width;
             // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
             let out = unsafe {
                 OneColumnRow {

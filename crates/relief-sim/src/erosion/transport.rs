@@ -165,9 +165,10 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
             }
         };
         let row = y * width;
-        let band = row - width..row + 2 * width;
         let run = |x| if fast { neighbourhood_run(counts, width, height, y, x) } else { 0 };
         let lanes = |v: &mut StepVolumes, cells| {
+            // Lanes are never in the first or last row.
+            let band = row - width..row + 2 * width;
             // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
             let out = unsafe {
                 OneColumnRow {
