@@ -306,17 +306,6 @@ fn one_column_erosions(
     cells: Range<usize>,
     row: &mut RowRecords,
     v: &mut StepVolumes,
-) -> Option<usize> = one_column_erosions_lanes;
-}
-
-#[inline(always)]
-fn one_column_erosions_lanes(
-    k: &Constants,
-    near: Near,
-    out: OneColumnRow,
-    cells: Range<usize>,
-    row: &mut RowRecords,
-    v: &mut StepVolumes,
 ) -> Option<usize> {
     let width = out.damage.len();
     let (at, above) = (width, 2 * width);
@@ -373,6 +362,7 @@ fn one_column_erosions_lanes(
         }
     }
     started
+}
 }
 
 /// Adds to each column the sand its neighbours eroded into it.

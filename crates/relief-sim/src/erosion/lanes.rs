@@ -305,26 +305,28 @@ pub(crate) fn store(out: &mut [f32], v: Lanes) {
     out[..LANES].copy_from_slice(&v.0);
 }
 
-/// Defines `fn $name(args) -> ret` that calls `$body(args)` compiled for AVX2 (eight lanes to
-/// a register) where the CPU has it, and for the baseline otherwise. `$body` is
-/// `#[inline(always)]`, so each version is the whole loop compiled for its instruction set;
-/// both do the same IEEE operations (no fused multiply-add), so they give the same bits.
+/// Defines `fn $name(args) -> ret { body }` so that it runs the body compiled for AVX2 (eight
+/// lanes to a register) where the CPU has it, and for the baseline otherwise: the body is an
+/// `#[inline(always)]` function that each version inlines whole. Both do the same IEEE
+/// operations (no fused multiply-add), so they give the same bits.
 macro_rules! avx2_dispatch {
-    ($(#[$meta:meta])* fn $name:ident($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? = $body:path;) => {
+    ($(#[$meta:meta])* fn $name:ident($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? $body:block) => {
         $(#[$meta])*
         fn $name($($arg: $ty),*) $(-> $ret)? {
+            #[inline(always)]
+            fn body($($arg: $ty),*) $(-> $ret)? $body
             #[cfg(target_arch = "x86_64")]
             {
                 #[target_feature(enable = "avx2")]
                 fn avx2($($arg: $ty),*) $(-> $ret)? {
-                    $body($($arg),*)
+                    body($($arg),*)
                 }
                 if std::is_x86_feature_detected!("avx2") {
                     // SAFETY: the CPU has AVX2.
                     return unsafe { avx2($($arg),*) };
                 }
             }
-            $body($($arg),*)
+            body($($arg),*)
         }
     };
 }

@@ -238,16 +238,6 @@ fn one_column_pipes(
     sediment: &[f32],
     out: OneColumnRow,
     cells: Range<usize>,
-) = one_column_pipes_lanes;
-}
-
-#[inline(always)]
-fn one_column_pipes_lanes(
-    k: &PipeConstants,
-    columns: &[MlhmColumn],
-    sediment: &[f32],
-    out: OneColumnRow,
-    cells: Range<usize>,
 ) {
     let width = sediment.len();
     let (below, rest) = columns.split_at(width);
@@ -273,6 +263,7 @@ fn one_column_pipes_lanes(
         store(&mut out.sediment_scales[x..], scale);
         store(&mut out.slopes[x..], slope);
     }
+}
 }
 
 /// `min(a / b, 1)` for `b > 0`: exactly 1 when `a >= b`. Divides either way, so the

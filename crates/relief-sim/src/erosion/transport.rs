@@ -217,17 +217,6 @@ fn one_column_transport(
     out: OneColumnRow,
     cells: Range<usize>,
     v: &mut StepVolumes,
-) = one_column_transport_lanes;
-}
-
-#[inline(always)]
-fn one_column_transport_lanes(
-    params: &ErosionParams,
-    cs: f32,
-    pipes: Pipes,
-    out: OneColumnRow,
-    cells: Range<usize>,
-    v: &mut StepVolumes,
 ) {
     let mut volumes = LaneVolumes::default();
     let width = out.columns.len();
@@ -258,6 +247,7 @@ fn one_column_transport_lanes(
         volumes.add(&t, params.slippage);
     }
     volumes.add_to(v);
+}
 }
 
 /// The volumes of [`Transported::account`], summed per lane in f64.

@@ -226,17 +226,6 @@ fn one_column_vertical(
     out: OneColumnRow,
     cells: Range<usize>,
     v: &mut StepVolumes,
-) = one_column_vertical_lanes;
-}
-
-#[inline(always)]
-fn one_column_vertical_lanes(
-    params: &ErosionParams,
-    slopes: &[f32],
-    velocities: &[[f32; 2]],
-    out: OneColumnRow,
-    cells: Range<usize>,
-    v: &mut StepVolumes,
 ) {
     let mut recovered = [0.0f64; LANES];
     for x in cells.step_by(LANES) {
@@ -269,4 +258,5 @@ fn one_column_vertical_lanes(
         }
     }
     v.damage_recovery += recovered.iter().sum::<f64>();
+}
 }

@@ -543,41 +543,12 @@ unsafe fn merge_column_blocks_avx2(
     let width = cells.iter().map(|r| r.len()).min().unwrap_or(0);
     let first_x = first.iter().map(|(n, s)| n.len().min(s.len())).min().unwrap_or(0);
     let blocks = (width / 4).min(first_x / 2).min(second.len()).min(second_sky.len());
-    let keep = |m: [i32; 4]| {
-        _mm256_castsi256_ps(_mm256_setr_epi32(m[0], m[1], m[2], m[3], m[0], m[1], m[2], m[3]))
-    };
-    let (sand_mask, water_mask) = (keep([-1, 0, -1, -1]), keep([-1, 0, 0, -1]));
-    let lanes = |v: __m256| {
-        let base = _mm256_shuffle_ps::<0b00_00_11_00>(v, v);
-        let sand = _mm256_and_ps(_mm256_shuffle_ps::<0b01_01_01_01>(v, v), sand_mask);
-        let water = _mm256_and_ps(_mm256_shuffle_ps::<0b10_10_10_10>(v, v), water_mask);
-        _mm256_add_ps(_mm256_add_ps(base, sand), water)
-    };
-    let maxima = _mm_castsi128_ps(_mm_setr_epi32(-1, 0, -1, 0));
-    let blend = |top: __m128, bottom: __m128| {
-        _mm_or_ps(_mm_and_ps(maxima, top), _mm_andnot_ps(maxima, bottom))
-    };
-    // The level-1 node of columns `x, x + 1` of rows `low` and `high`.
     let node = |low: &[MlhmColumn], high: &[MlhmColumn], x: usize| {
-        // SAFETY: columns x and x + 1 exist in both rows (`blocks` above); `MlhmColumn` is
-        // `repr(C)`, four f32, so two of them are eight.
-        let (a, b) = unsafe {
-            (
-                _mm256_loadu_ps(low.as_ptr().add(x).cast::<f32>()),
-                _mm256_loadu_ps(high.as_ptr().add(x).cast::<f32>()),
-            )
-        };
-        let (a, b) = (lanes(a), lanes(b));
-        let (top, bottom) = (_mm256_max_ps(a, b), _mm256_min_ps(a, b));
-        let top = _mm_max_ps(_mm256_castps256_ps128(top), _mm256_extractf128_ps::<1>(top));
-        let bottom = _mm_min_ps(_mm256_castps256_ps128(bottom), _mm256_extractf128_ps::<1>(bottom));
-        blend(top, bottom)
+        column_pair_node(&low[x..x + 2], &high[x..x + 2])
     };
     let [(low, low_sky), (high, high_sky)] = first;
     let put = |out: &mut [StoredLayer<f32>], sky: &mut [f32], i: usize, v: __m128| {
-        let mut lanes = [0f32; 4];
-        // SAFETY: `lanes` holds four f32.
-        unsafe { _mm_storeu_ps(lanes.as_mut_ptr(), v) };
+        let lanes = lanes_of(v);
         out[i] = stored(lanes);
         sky[i] = lanes[3];
     };
@@ -594,7 +565,7 @@ unsafe fn merge_column_blocks_avx2(
         // As merge_lanes: larger(larger(a, b), larger(c, d)), larger(x, y) = max_ps(y, x).
         let top = _mm_max_ps(_mm_max_ps(d, c), _mm_max_ps(b, a));
         let bottom = _mm_min_ps(_mm_min_ps(d, c), _mm_min_ps(b, a));
-        put(second, second_sky, nx, blend(top, bottom));
+        put(second, second_sky, nx, maxima_and_minima(top, bottom));
     }
     blocks
 }
@@ -637,19 +608,18 @@ fn merge_single_layer_row(
     }
 }
 
-/// The nodes of one row of [`merge_one_column_cells`] whose two columns of cells exist
-/// (`2 nx + 1 < low.len()`), two cells of a row in one AVX2 register; returns how many it
-/// merged. The same lanes and operations as [`merge_columns_sse2`], so the same bits.
+/// The level-1 bounds of the 2 x 2 one-column cells `low[0..2]` and `high[0..2]` (two cells of
+/// a row in one register), in the lanes of [`merge_columns`]: the same operations as
+/// [`merge_columns_sse2`], so the same bits.
+///
+/// # Panics
+/// When a row holds fewer than two cells.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn merge_column_pairs_avx2(
-    low: &[MlhmColumn],
-    high: &[MlhmColumn],
-    nodes: &mut [StoredLayer<f32>],
-    sky: &mut [f32],
-) -> usize {
+#[inline]
+fn column_pair_node(low: &[MlhmColumn], high: &[MlhmColumn]) -> std::arch::x86_64::__m128 {
     use std::arch::x86_64::*;
-    let pairs = (low.len() / 2).min(high.len() / 2).min(nodes.len()).min(sky.len());
+    let (low, high) = (&low[..2], &high[..2]);
     let keep = |m: [i32; 4]| {
         _mm256_castsi256_ps(_mm256_setr_epi32(m[0], m[1], m[2], m[3], m[0], m[1], m[2], m[3]))
     };
@@ -661,26 +631,60 @@ unsafe fn merge_column_pairs_avx2(
         let water = _mm256_and_ps(_mm256_shuffle_ps::<0b10_10_10_10>(v, v), water_mask);
         _mm256_add_ps(_mm256_add_ps(base, sand), water)
     };
+    // SAFETY: two cells of each row (sliced above); `MlhmColumn` is `repr(C)`, four f32, so
+    // two of them are eight.
+    let (a, b) = unsafe {
+        (_mm256_loadu_ps(low.as_ptr().cast::<f32>()), _mm256_loadu_ps(high.as_ptr().cast::<f32>()))
+    };
+    let (a, b) = (lanes(a), lanes(b));
+    let (top, bottom) = (_mm256_max_ps(a, b), _mm256_min_ps(a, b));
+    let top = _mm_max_ps(_mm256_castps256_ps128(top), _mm256_extractf128_ps::<1>(top));
+    let bottom = _mm_min_ps(_mm256_castps256_ps128(bottom), _mm256_extractf128_ps::<1>(bottom));
+    maxima_and_minima(top, bottom)
+}
+
+/// The lanes of a stored layer from `top` and `bottom`: the maxima (water top, solid top) from
+/// `top`, the minima (ceiling, start of air) from `bottom`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn maxima_and_minima(
+    top: std::arch::x86_64::__m128,
+    bottom: std::arch::x86_64::__m128,
+) -> std::arch::x86_64::__m128 {
+    use std::arch::x86_64::*;
     let maxima = _mm_castsi128_ps(_mm_setr_epi32(-1, 0, -1, 0));
+    _mm_or_ps(_mm_and_ps(maxima, top), _mm_andnot_ps(maxima, bottom))
+}
+
+/// The four lanes of `v`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn lanes_of(v: std::arch::x86_64::__m128) -> [f32; 4] {
+    let mut out = [0f32; 4];
+    // SAFETY: `out` holds four f32.
+    unsafe { std::arch::x86_64::_mm_storeu_ps(out.as_mut_ptr(), v) };
+    out
+}
+
+/// The nodes of one row of [`merge_one_column_cells`] whose two columns of cells exist
+/// (`2 nx + 1 < low.len()`), two cells of a row in one AVX2 register; returns how many it
+/// merged. The same lanes and operations as [`merge_columns_sse2`], so the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn merge_column_pairs_avx2(
+    low: &[MlhmColumn],
+    high: &[MlhmColumn],
+    nodes: &mut [StoredLayer<f32>],
+    sky: &mut [f32],
+) -> usize {
+    let pairs = (low.len() / 2).min(high.len() / 2).min(nodes.len()).min(sky.len());
     for nx in 0..pairs {
-        // SAFETY: columns 2 nx and 2 nx + 1 exist in both rows (`pairs` above); `MlhmColumn`
-        // is `repr(C)`, four f32, so two of them are eight.
-        let (a, b) = unsafe {
-            (
-                _mm256_loadu_ps(low.as_ptr().add(2 * nx).cast::<f32>()),
-                _mm256_loadu_ps(high.as_ptr().add(2 * nx).cast::<f32>()),
-            )
-        };
-        let (a, b) = (lanes(a), lanes(b));
-        let (top, bottom) = (_mm256_max_ps(a, b), _mm256_min_ps(a, b));
-        let top = _mm_max_ps(_mm256_castps256_ps128(top), _mm256_extractf128_ps::<1>(top));
-        let bottom = _mm_min_ps(_mm256_castps256_ps128(bottom), _mm256_extractf128_ps::<1>(bottom));
-        let merged = _mm_or_ps(_mm_and_ps(maxima, top), _mm_andnot_ps(maxima, bottom));
-        let mut out = [0f32; 4];
-        // SAFETY: `out` holds four f32.
-        unsafe { _mm_storeu_ps(out.as_mut_ptr(), merged) };
-        nodes[nx] = stored(out);
-        sky[nx] = out[3];
+        let x = 2 * nx;
+        let merged = lanes_of(column_pair_node(&low[x..x + 2], &high[x..x + 2]));
+        nodes[nx] = stored(merged);
+        sky[nx] = merged[3];
     }
     pairs
 }
