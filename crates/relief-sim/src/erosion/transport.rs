@@ -131,6 +131,8 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
     let fast = scratch.fast_paths;
     let (pipes, slippages, scales) =
         (&scratch.pipes, &scratch.slippage, &scratch.sediment_flux_scale);
+    let all = Pipes { fluxes, scales, slippages, layers: pipes };
+    let layers = (&counts[..], cells);
     let velocities = Slots::new(&mut scratch.velocities);
     let columns = Slots::new(&mut state.columns);
     let sediment = Slots::new(&mut state.sediment);
@@ -142,14 +144,12 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
             for k in 0..usize::from(counts[i]) {
                 let s = i + k * cells;
                 let (out, scale_out, slip_out) = (fluxes[s], scales[s], slippages[s]);
-                let planes = &Pipes { fluxes, scales, slippages, layers: pipes };
-                let layers = (&counts[..], cells);
                 let out = |d: usize| (out[d], scale_out, slip_out[d]);
                 let nets = [
-                    net_inflow(out(0), near[0], opposite(0), k, layers, planes),
-                    net_inflow(out(1), near[1], opposite(1), k, layers, planes),
-                    net_inflow(out(2), near[2], opposite(2), k, layers, planes),
-                    net_inflow(out(3), near[3], opposite(3), k, layers, planes),
+                    net_inflow(out(0), near[0], opposite(0), k, layers, &all),
+                    net_inflow(out(1), near[1], opposite(1), k, layers, &all),
+                    net_inflow(out(2), near[2], opposite(2), k, layers, &all),
+                    net_inflow(out(3), near[3], opposite(3), k, layers, &all),
                 ];
                 let nets = [map4(nets, |n| n.0), map4(nets, |n| n.1), map4(nets, |n| n.2)];
                 // SAFETY: slot `s` belongs to cell (x, y) of this row only.
@@ -168,7 +168,7 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
         let run = |x| if fast { neighbourhood_run(counts, width, height, y, x) } else { 0 };
         let lanes = |v: &mut StepVolumes, cells| {
             // Lanes are never in the first or last row.
-            let band = row - width..row + 2 * width;
+            let band = all.rows(row - width..row + 2 * width);
             // SAFETY: the slots of row `y`'s lowest columns belong to this row only.
             let out = unsafe {
                 OneColumnRow {
@@ -177,13 +177,7 @@ pub(crate) fn transport(state: &mut ErosionState, params: &ErosionParams) -> Ste
                     velocities: velocities.row(row, width),
                 }
             };
-            let pipes = Pipes {
-                fluxes: &fluxes[band.clone()],
-                scales: &scales[band.clone()],
-                slippages: &slippages[band.clone()],
-                layers: &pipes[band.clone()],
-            };
-            one_column_transport(params, cs, pipes, out, cells, v);
+            one_column_transport(params, cs, band, out, cells, v);
         };
         along_row(width, &mut v, run, lanes, |v, x| cell(x, v));
         v
@@ -197,6 +191,18 @@ struct Pipes<'a> {
     slippages: &'a [[f32; 4]],
     /// The layer of the neighbour each pipe leads to (-1: none).
     layers: &'a [[i8; 4]],
+}
+
+impl<'a> Pipes<'a> {
+    /// The outputs of the slots `slots`.
+    fn rows(&self, slots: Range<usize>) -> Pipes<'a> {
+        Pipes {
+            fluxes: &self.fluxes[slots.clone()],
+            scales: &self.scales[slots.clone()],
+            slippages: &self.slippages[slots.clone()],
+            layers: &self.layers[slots],
+        }
+    }
 }
 
 /// The state of one row's lowest columns that transport changes.
