@@ -6,6 +6,8 @@
 //!   [`read_geotiff`], [`read_hgt`] (SRTM tiles), [`read_asc`] (ESRI ASCII grids),
 //!   [`read_png_height`] (greyscale, terrain-RGB and Terrarium PNGs), [`read_npy`],
 //!   [`read_npz`] (NumPy), and [`read_npy_height_field`] for a plain `.npy` grid;
+//! - [`RowSource`]: a raster read in bands of rows, never whole ([`InMemoryRows`] serves one
+//!   already read);
 //! - [`RasterInfo::georeference`]: the file's placement and CRS as stored ([`Georeference`]:
 //!   its GeoTIFF tags and GDAL geotransform), for outputs aligned with the input;
 //!   [`write_layers_geotiff`] writes named float32 layers ([`LayerRaster`]) with it, one band
@@ -72,6 +74,7 @@ mod png_read;
 mod png_write;
 mod raster;
 mod read;
+mod row_source;
 mod sample_type;
 #[cfg(test)]
 mod test_corruption;
@@ -113,5 +116,6 @@ pub use raster::{
     BYTES_PER_SAMPLE,
 };
 pub use read::{format_of, read_raster, read_raster_from_bytes};
+pub use row_source::{InMemoryRows, RowSource};
 pub use void_fill::fill_voids;
 pub use write::write_height_field;
