@@ -164,6 +164,21 @@ impl HeightField {
         Ok(self)
     }
 
+    /// The same field standing on a solid that reaches down to `floor` instead of its lowest
+    /// sample: a piece of a larger terrain (a tile of relief-tiles) keeps the whole terrain's
+    /// bottom, so that the pieces' solids join into the whole one. [`HeightField::min_sample`]
+    /// is then `floor`. Fails when `floor` is not finite or lies above the lowest sample.
+    pub fn with_floor(mut self, floor: f32) -> Result<Self, CoreError> {
+        if !floor.is_finite() || floor > self.min {
+            return Err(CoreError::Grid(format!(
+                "floor {floor} must be finite and at most the lowest sample {}",
+                self.min
+            )));
+        }
+        self.min = floor;
+        Ok(self)
+    }
+
     /// Whether texel (col, row) is a hole. Panics if out of range.
     #[inline]
     pub fn is_hole(&self, col: usize, row: usize) -> bool {
@@ -332,7 +347,8 @@ impl HeightField {
         self
     }
 
-    /// Smallest sample value (holes aside).
+    /// Smallest sample value (holes aside), or the floor set by [`HeightField::with_floor`]:
+    /// the bottom of the solid.
     pub fn min_sample(&self) -> f32 {
         self.min
     }

@@ -52,7 +52,7 @@ impl RowSource for InMemoryRows {
         let width = self.raster.width;
         let rows = out.len() / width;
         assert!(
-            out.len() % width == 0 && first_row + rows <= self.raster.height,
+            out.len().is_multiple_of(width) && first_row + rows <= self.raster.height,
             "rows {first_row}..{} of a raster of {} rows, or a buffer of partial rows",
             first_row + rows,
             self.raster.height

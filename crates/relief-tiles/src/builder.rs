@@ -1,0 +1,473 @@
+//! Building a tile store from a raster read band by band, resumably.
+//!
+//! Level 0 is cut from bands of `tile + 2` rows of the input (a tile's rows and its ring); each
+//! coarser level from bands of the level below, read back from the store and averaged 2x2. A
+//! band's tiles are written to their slots, the data synced, then their table records written
+//! and synced: a record on disk means its tile is on disk. A build that stops (killed, or a
+//! disk that filled) leaves `index.json` saying the store is incomplete; the same command run
+//! again keeps every recorded tile and builds the rest. The index says complete only after the
+//! last record is synced.
+
+use crate::format::{
+    slot_bytes, slot_checksum, slot_offset, Precision, SourceFile, StoreHeader, TileRecord,
+    DATA_FILE, FORMAT_NAME, FORMAT_VERSION, INDEX_FILE, RECORD_BYTES, TABLE_FILE,
+};
+use crate::{PyramidLayout, TileError, TileId};
+use rayon::prelude::*;
+use relief_io::RowSource;
+use std::fs::{File, OpenOptions};
+use std::os::unix::fs::FileExt;
+use std::path::Path;
+use std::time::Instant;
+
+/// Options of a build.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildOptions {
+    /// Samples along a tile's side (default 512).
+    pub tile: u32,
+    /// How samples are stored.
+    pub precision: Precision,
+    /// The most memory the build's buffers may take, in bytes; a build that would need more
+    /// (a very wide raster with big tiles) is refused before it starts.
+    pub max_memory: u64,
+    /// For tests: stop with [`TileError::Injected`] after building this many tiles.
+    pub fail_after: Option<u64>,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions { tile: 512, precision: Precision::F32, max_memory: 1 << 30, fail_after: None }
+    }
+}
+
+/// What a build did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildReport {
+    /// Tiles of the store.
+    pub tiles: u64,
+    /// Tiles built by this run.
+    pub built: u64,
+    /// Tiles a previous, interrupted run had built and this one kept.
+    pub resumed: u64,
+    /// Input samples read.
+    pub samples_read: u64,
+    /// Seconds spent.
+    pub seconds: f64,
+    /// The largest buffers the build held at once, in bytes (its working set).
+    pub working_set_bytes: u64,
+}
+
+/// The bytes a build of a `width`-sample-wide raster in tiles of `tile` holds at most: a band
+/// of fine rows for the coarse level, the coarse band and its encoded tiles.
+pub fn working_set_bytes(width: u64, tile: u32) -> u64 {
+    let side = tile as u64 + 2;
+    // Level 1 reads 2 * side rows of level 0 and makes side rows of half the width, plus one
+    // group of encoded tiles; level 0 holds one band of side rows and the same group.
+    let fine = 2 * side * width * 4;
+    let coarse = side * width.div_ceil(2) * 4;
+    let group = (GROUP_TILES as u64) * side * side * 4;
+    (fine + coarse + group).max(side * width * 4 + group)
+}
+
+/// Tiles encoded at once before they are written.
+const GROUP_TILES: usize = 16;
+
+/// Builds (or resumes) the tile store at `dir` from `source`, reporting `(tiles done, tiles in
+/// all)` to `progress`. `sources` names the input files; a store that exists at `dir` is
+/// resumed only when it was started from the same files (size and modification time) with the
+/// same options, and is refused otherwise.
+pub fn build_store(
+    source: &mut dyn RowSource,
+    sources: Vec<SourceFile>,
+    dir: &Path,
+    options: &BuildOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<BuildReport, TileError> {
+    let started = Instant::now();
+    if options.tile < crate::layout::MIN_TILE {
+        return Err(TileError::Invalid(format!("--tile {} is below 4 samples", options.tile)));
+    }
+    let (width, height) = (source.width() as u64, source.height() as u64);
+    let layout = PyramidLayout::new(width, height, options.tile);
+    let working_set = working_set_bytes(width, options.tile);
+    if working_set > options.max_memory {
+        return Err(TileError::Invalid(format!(
+            "tiles of {} samples over a raster {width} samples wide need {} MiB of buffers, \
+             more than the memory limit of {} MiB; choose a smaller --tile or a larger \
+             --max-memory",
+            options.tile,
+            working_set >> 20,
+            options.max_memory >> 20
+        )));
+    }
+    let header = StoreHeader {
+        format: FORMAT_NAME.into(),
+        version: FORMAT_VERSION,
+        complete: false,
+        width,
+        height,
+        tile: options.tile,
+        levels: layout.level_count(),
+        precision: options.precision,
+        geometry: source.geometry().into(),
+        sources,
+    };
+    let mut store = StoreWriter::open(dir, header, &layout)?;
+    let total = layout.tile_count();
+    let resumed = store.records.iter().filter(|r| r.is_some()).count() as u64;
+    let mut run = Run { built: 0, samples_read: 0, fail_after: options.fail_after };
+    progress(resumed, total);
+    for level in 0..layout.level_count() {
+        let (_, tiles_y) = layout.tiles_of(level);
+        for row in 0..tiles_y {
+            if store.band_done(&layout, level, row) {
+                continue;
+            }
+            build_band(&mut store, &layout, source, level, row, &mut run)?;
+            progress(store.records.iter().filter(|r| r.is_some()).count() as u64, total);
+        }
+    }
+    store.finish()?;
+    Ok(BuildReport {
+        tiles: total,
+        built: run.built,
+        resumed,
+        samples_read: run.samples_read,
+        seconds: started.elapsed().as_secs_f64(),
+        working_set_bytes: working_set,
+    })
+}
+
+/// Counters of one run.
+struct Run {
+    built: u64,
+    samples_read: u64,
+    fail_after: Option<u64>,
+}
+
+/// The store's files while it is built.
+struct StoreWriter {
+    dir: std::path::PathBuf,
+    header: StoreHeader,
+    table: File,
+    data: File,
+    records: Vec<Option<TileRecord>>,
+    slot: u64,
+}
+
+impl StoreWriter {
+    /// Creates the store at `dir`, or opens the interrupted build there.
+    fn open(dir: &Path, header: StoreHeader, layout: &PyramidLayout) -> Result<Self, TileError> {
+        let mismatch = |reason: String| TileError::Mismatch { path: dir.to_path_buf(), reason };
+        if dir.join(INDEX_FILE).exists() {
+            let old = StoreHeader::read(dir)?;
+            let fresh = StoreHeader { complete: old.complete, ..header.clone() };
+            if old != fresh {
+                return Err(mismatch(describe_difference(&old, &header)));
+            }
+        } else if dir.exists()
+            && std::fs::read_dir(dir).map_err(|e| TileError::io(dir, e))?.next().is_some()
+        {
+            return Err(mismatch("exists and is not a tile store".into()));
+        }
+        std::fs::create_dir_all(dir).map_err(|e| TileError::io(dir, e))?;
+        let open = |name: &str, len: u64| -> Result<File, TileError> {
+            let path = dir.join(name);
+            let file = OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(&path)
+                .map_err(|e| TileError::io(&path, e))?;
+            let size = file.metadata().map_err(|e| TileError::io(&path, e))?.len();
+            if size != len {
+                file.set_len(len).map_err(|e| TileError::io(&path, e))?;
+            }
+            Ok(file)
+        };
+        let count = layout.tile_count();
+        let slot = slot_bytes(layout, header.precision);
+        let table = open(TABLE_FILE, count * RECORD_BYTES as u64)?;
+        let data = open(DATA_FILE, count * slot)?;
+        let mut header = header;
+        header.complete = false;
+        header.write(dir)?;
+        let records = crate::store::read_table(&dir.join(TABLE_FILE), layout)?;
+        Ok(StoreWriter { dir: dir.to_path_buf(), header, table, data, records, slot })
+    }
+
+    fn band_done(&self, layout: &PyramidLayout, level: u32, row: u32) -> bool {
+        let (tiles_x, _) = layout.tiles_of(level);
+        (0..tiles_x)
+            .all(|col| self.records[layout.index_of(TileId { level, col, row }) as usize].is_some())
+    }
+
+    /// Writes a group of encoded tiles, syncs them, then writes and syncs their records.
+    fn write_tiles(
+        &mut self,
+        layout: &PyramidLayout,
+        tiles: &[(TileId, Vec<u8>, TileRecord)],
+    ) -> Result<(), TileError> {
+        let data_path = self.dir.join(DATA_FILE);
+        for (id, bytes, _) in tiles {
+            let offset = slot_offset(layout, self.header.precision, *id);
+            debug_assert_eq!(bytes.len() as u64, self.slot);
+            self.data.write_all_at(bytes, offset).map_err(|e| TileError::io(&data_path, e))?;
+        }
+        self.data.sync_data().map_err(|e| TileError::io(&data_path, e))?;
+        let table_path = self.dir.join(TABLE_FILE);
+        for (id, _, record) in tiles {
+            let index = layout.index_of(*id);
+            let offset = index * RECORD_BYTES as u64;
+            self.table
+                .write_all_at(&record.to_bytes(), offset)
+                .map_err(|e| TileError::io(&table_path, e))?;
+            self.records[index as usize] = Some(*record);
+        }
+        self.table.sync_data().map_err(|e| TileError::io(&table_path, e))
+    }
+
+    /// Marks the store complete once every tile is recorded.
+    fn finish(mut self) -> Result<(), TileError> {
+        let done = self.records.iter().filter(|r| r.is_some()).count() as u64;
+        if done != self.records.len() as u64 {
+            return Err(TileError::Incomplete {
+                path: self.dir.clone(),
+                done,
+                total: self.records.len() as u64,
+            });
+        }
+        self.header.complete = true;
+        self.header.write(&self.dir)
+    }
+}
+
+/// Says how an existing store differs from the one asked for.
+fn describe_difference(old: &StoreHeader, new: &StoreHeader) -> String {
+    if old.sources != new.sources {
+        return "a tile store built from other input files (or from files changed since)".into();
+    }
+    if (old.width, old.height) != (new.width, new.height) || old.geometry != new.geometry {
+        return "a tile store of another raster".into();
+    }
+    format!(
+        "a tile store with other options (--tile {} --precision {}, asked for --tile {} --precision {})",
+        old.tile,
+        old.precision.name(),
+        new.tile,
+        new.precision.name()
+    )
+}
+
+/// Rows `[first, first + rows)` of one level, `width` samples each.
+struct Band {
+    first: i64,
+    width: usize,
+    rows: usize,
+    samples: Vec<f32>,
+    /// Per sample of a coarse level: the largest distance from it to the samples it averages.
+    deviation: Vec<f32>,
+}
+
+impl Band {
+    /// Sample (col, row) of the level, the edge sample repeated beyond the level.
+    fn at(&self, col: i64, row: i64) -> (f32, f32) {
+        let c = col.clamp(0, self.width as i64 - 1) as usize;
+        let r = (row.clamp(self.first, self.first + self.rows as i64 - 1) - self.first) as usize;
+        let k = c + r * self.width;
+        (self.samples[k], self.deviation.get(k).copied().unwrap_or(0.0))
+    }
+}
+
+/// Builds and writes the tiles of one row of tiles of `level`.
+fn build_band(
+    store: &mut StoreWriter,
+    layout: &PyramidLayout,
+    source: &mut dyn RowSource,
+    level: u32,
+    row: u32,
+    run: &mut Run,
+) -> Result<(), TileError> {
+    let (level_w, level_h) = layout.level_size(level);
+    let t = layout.tile() as i64;
+    let first = (row as i64 * t - 1).max(0);
+    let end = (row as i64 * t + t + 1).min(level_h as i64);
+    let band = if level == 0 {
+        let mut samples = vec![0f32; (end - first) as usize * level_w as usize];
+        source.read_rows(first as usize, &mut samples)?;
+        run.samples_read += samples.len() as u64;
+        Band {
+            first,
+            width: level_w as usize,
+            rows: (end - first) as usize,
+            samples,
+            deviation: Vec::new(),
+        }
+    } else {
+        coarse_band(store, layout, level, first, end)?
+    };
+    let (tiles_x, _) = layout.tiles_of(level);
+    let todo: Vec<TileId> = (0..tiles_x)
+        .map(|col| TileId { level, col, row })
+        .filter(|id| store.records[layout.index_of(*id) as usize].is_none())
+        .collect();
+    let precision = store.header.precision;
+    for group in todo.chunks(GROUP_TILES) {
+        let mut encoded: Vec<(TileId, Vec<u8>, TileRecord)> = group
+            .par_iter()
+            .map(|&id| {
+                let (bytes, mut record) = cut_tile(layout, &band, id, precision);
+                record.error += layout
+                    .children(id)
+                    .filter_map(|c| store.records[layout.index_of(c) as usize])
+                    .map(|r| r.error)
+                    .fold(0.0, f32::max);
+                (id, bytes, record)
+            })
+            .collect();
+        if let Some(limit) = run.fail_after {
+            let room = limit.saturating_sub(run.built) as usize;
+            if room < encoded.len() {
+                encoded.truncate(room);
+                store.write_tiles(layout, &encoded)?;
+                return Err(TileError::Injected(limit));
+            }
+        }
+        store.write_tiles(layout, &encoded)?;
+        run.built += encoded.len() as u64;
+    }
+    Ok(())
+}
+
+/// The stored samples of tile `id` cut from `band`, encoded, with their record (the error of
+/// this level alone: the caller adds the children's).
+fn cut_tile(
+    layout: &PyramidLayout,
+    band: &Band,
+    id: TileId,
+    precision: Precision,
+) -> (Vec<u8>, TileRecord) {
+    let side = layout.stored_side();
+    let (c0, r0) = layout.stored_origin(id);
+    let mut samples = vec![0f32; side * side];
+    let mut error = 0f32;
+    for r in 0..side {
+        for c in 0..side {
+            let (v, dev) = band.at(c0 + c as i64, r0 + r as i64);
+            samples[c + r * side] = v;
+            let interior = (1..side - 1).contains(&r) && (1..side - 1).contains(&c);
+            if interior {
+                error = error.max(dev);
+            }
+        }
+    }
+    let mut bytes = vec![0u8; side * side * precision.bytes()];
+    precision.encode(&samples, &mut bytes);
+    // The record describes the samples as stored (f16 rounds them).
+    precision.decode(&bytes, &mut samples);
+    let valid = samples.iter().copied().filter(|v| !v.is_nan());
+    let (min, max) =
+        valid.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let has_voids = samples.iter().any(|v| v.is_nan());
+    let record = TileRecord { min, max, error, has_voids, checksum: slot_checksum(&bytes) };
+    (bytes, record)
+}
+
+/// Rows `[first, end)` of `level`, each the 2x2 average of the level below (voids left out; a
+/// sample over four voids is a void), read back from the store's tiles.
+fn coarse_band(
+    store: &StoreWriter,
+    layout: &PyramidLayout,
+    level: u32,
+    first: i64,
+    end: i64,
+) -> Result<Band, TileError> {
+    let (fine_w, fine_h) = layout.level_size(level - 1);
+    let (width, _) = layout.level_size(level);
+    let fine_first = (2 * first) as u64;
+    let fine_end = ((2 * end) as u64).min(fine_h);
+    let fine = read_level_rows(store, layout, level - 1, fine_first, fine_end)?;
+    let fine_w = fine_w as usize;
+    let rows = (end - first) as usize;
+    let width = width as usize;
+    let mut samples = vec![0f32; rows * width];
+    let mut deviation = vec![0f32; rows * width];
+    samples.par_chunks_mut(width).zip(deviation.par_chunks_mut(width)).enumerate().for_each(
+        |(r, (out, dev))| {
+            let fr = 2 * r;
+            let fine_rows = (fine_end - fine_first) as usize;
+            for (c, (o, d)) in out.iter_mut().zip(dev.iter_mut()).enumerate() {
+                let values: [f32; 4] = std::array::from_fn(|k| {
+                    let (fc, frr) = (2 * c + (k & 1), fr + k / 2);
+                    if fc < fine_w && frr < fine_rows {
+                        fine[fc + frr * fine_w]
+                    } else {
+                        f32::NAN
+                    }
+                });
+                let valid = values.iter().copied().filter(|v| !v.is_nan());
+                let (sum, n) = valid.clone().fold((0f64, 0u32), |(s, n), v| (s + v as f64, n + 1));
+                if n == 0 {
+                    (*o, *d) = (f32::NAN, 0.0);
+                } else {
+                    let mean = (sum / n as f64) as f32;
+                    *o = mean;
+                    *d = valid.map(|v| (v - mean).abs()).fold(0.0, f32::max);
+                }
+            }
+        },
+    );
+    Ok(Band { first, width, rows, samples, deviation })
+}
+
+/// Rows `[first, end)` of `level` (their tiles' inner samples), read back from the store and
+/// checked against their checksums.
+fn read_level_rows(
+    store: &StoreWriter,
+    layout: &PyramidLayout,
+    level: u32,
+    first: u64,
+    end: u64,
+) -> Result<Vec<f32>, TileError> {
+    let (width, _) = layout.level_size(level);
+    let (tiles_x, _) = layout.tiles_of(level);
+    let t = layout.tile() as u64;
+    let side = layout.stored_side();
+    let width = width as usize;
+    let mut out = vec![0f32; (end - first) as usize * width];
+    let data_path = store.dir.join(DATA_FILE);
+    for tile_row in (first / t) as u32..=((end - 1) / t) as u32 {
+        let rows: Vec<u64> =
+            (first.max(tile_row as u64 * t)..end.min(tile_row as u64 * t + t)).collect();
+        let pieces: Vec<Result<(u32, Vec<f32>), TileError>> = (0..tiles_x)
+            .into_par_iter()
+            .map(|col| {
+                let id = TileId { level, col, row: tile_row };
+                let record =
+                    store.records[layout.index_of(id) as usize].expect("the level below is built");
+                let samples = crate::store::read_slot(
+                    &store.data,
+                    &data_path,
+                    layout,
+                    store.header.precision,
+                    id,
+                    &record,
+                )?;
+                Ok((col, samples))
+            })
+            .collect();
+        for piece in pieces {
+            let (col, samples) = piece?;
+            let c0 = col as usize * t as usize;
+            let n = (t as usize).min(width - c0);
+            for &r in &rows {
+                let local = (r - tile_row as u64 * t) as usize + 1;
+                let src = &samples[local * side + 1..local * side + 1 + n];
+                let dst = (r - first) as usize * width + c0;
+                out[dst..dst + n].copy_from_slice(src);
+            }
+        }
+    }
+    Ok(out)
+}

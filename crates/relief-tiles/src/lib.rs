@@ -1,0 +1,34 @@
+//! relief-tiles: height fields far larger than memory, as a tile pyramid on disk that frames
+//! read in bounded memory (Dick et al. 2009, sections 3.4 and 4).
+//!
+//! - [`build_store`]: the pyramid of a raster read band by band ([`relief_io::RowSource`]),
+//!   levels averaged 2x2, tiles with a ring of one sample, checksummed, resumable;
+//!   [`PyramidLayout`] says which tile holds which samples;
+//! - the store's format ([`StoreHeader`], [`TileRecord`], docs/tile-store.md) and
+//!   [`TileStore`], which opens one and loads tiles as [`LoadedTile`]s, each with its own
+//!   max-mipmap tracer;
+//! - [`select_tiles`]: view-frustum culling and the screen-space error bound;
+//! - [`TileStreamer`]: a frame's tiles from a [`TileCache`] and a loader thread, as a
+//!   [`TiledTerrain`], which implements relief-trace's `Tracer` like a single height field.
+
+#![deny(missing_docs)]
+
+mod builder;
+mod cache;
+mod error;
+mod format;
+mod layout;
+mod lod;
+mod store;
+mod streamer;
+mod tiled_terrain;
+
+pub use builder::{build_store, working_set_bytes, BuildOptions, BuildReport};
+pub use cache::TileCache;
+pub use error::TileError;
+pub use format::{Precision, SourceFile, StoreHeader, StoredGeometry, TileRecord};
+pub use layout::{PyramidLayout, Rect, TileId, MIN_TILE};
+pub use lod::{outside_view, screen_error, select_tiles, tile_bounds};
+pub use store::{LoadedTile, TileStore};
+pub use streamer::{estimated_tile_bytes, FrameRequest, FrameStats, TileStreamer};
+pub use tiled_terrain::{TiledTerrain, TreeNode};

@@ -1,0 +1,226 @@
+//! Reading a tile store: its index and table at open, tiles on request (checked against their
+//! checksums), each loaded tile made a height field with its own max-mipmap tracer.
+
+use crate::format::{
+    slot_offset, Precision, StoreHeader, TileRecord, DATA_FILE, RECORD_BYTES, TABLE_FILE,
+};
+use crate::layout::Rect;
+use crate::{PyramidLayout, TileError, TileId};
+use relief_core::{Aabb, DVec3, GridGeometry, HeightField, Surface};
+use relief_trace::MipmapTracer;
+use std::fs::File;
+use std::os::unix::fs::FileExt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A tile store opened for reading.
+#[derive(Debug)]
+pub struct TileStore {
+    dir: PathBuf,
+    header: StoreHeader,
+    layout: PyramidLayout,
+    data: File,
+    records: Vec<Option<TileRecord>>,
+    /// Per tile: the highest stored sample of the tile and every tile under it.
+    subtree_max: Vec<f32>,
+    floor: f32,
+    top: f32,
+}
+
+impl TileStore {
+    /// Opens a complete store; an incomplete one is refused with [`TileError::Incomplete`].
+    pub fn open(dir: &Path) -> Result<TileStore, TileError> {
+        let store = TileStore::open_any(dir)?;
+        let (done, total) = store.progress();
+        if !store.header.complete || done != total {
+            return Err(TileError::Incomplete { path: dir.to_path_buf(), done, total });
+        }
+        Ok(store)
+    }
+
+    /// Opens a store whether or not its build finished (for `relief info`).
+    pub fn open_any(dir: &Path) -> Result<TileStore, TileError> {
+        let header = StoreHeader::read(dir)?;
+        let layout = header.layout();
+        let records = read_table(&dir.join(TABLE_FILE), &layout)?;
+        let data_path = dir.join(DATA_FILE);
+        let data = File::open(&data_path).map_err(|e| TileError::io(&data_path, e))?;
+        let mut subtree_max: Vec<f32> =
+            records.iter().map(|r| r.map_or(f32::NEG_INFINITY, |r| r.max)).collect();
+        for index in 0..layout.tile_count() {
+            let id = layout.id_at(index);
+            if let Some(parent) = layout.parent(id) {
+                let p = layout.index_of(parent) as usize;
+                subtree_max[p] = subtree_max[p].max(subtree_max[index as usize]);
+            }
+        }
+        let level0 = &records[..layout.tiles_of(0).0 as usize * layout.tiles_of(0).1 as usize];
+        let floor = level0.iter().flatten().map(|r| r.min).fold(f32::INFINITY, f32::min);
+        let top = level0.iter().flatten().map(|r| r.max).fold(f32::NEG_INFINITY, f32::max);
+        Ok(TileStore {
+            dir: dir.to_path_buf(),
+            header,
+            layout,
+            data,
+            records,
+            subtree_max,
+            floor,
+            top,
+        })
+    }
+
+    /// The store's directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The store's index.
+    pub fn header(&self) -> &StoreHeader {
+        &self.header
+    }
+
+    /// The pyramid's layout.
+    pub fn layout(&self) -> &PyramidLayout {
+        &self.layout
+    }
+
+    /// The raster's placement.
+    pub fn geometry(&self) -> GridGeometry {
+        self.header.geometry.into()
+    }
+
+    /// Tiles built, and tiles in all.
+    pub fn progress(&self) -> (u64, u64) {
+        (self.records.iter().filter(|r| r.is_some()).count() as u64, self.records.len() as u64)
+    }
+
+    /// The record of tile `id`; `None` while it is not built.
+    pub fn record(&self, id: TileId) -> Option<TileRecord> {
+        self.records[self.layout.index_of(id) as usize]
+    }
+
+    /// The highest stored sample of `id` and of every tile under it (sample units).
+    pub fn subtree_max(&self, id: TileId) -> f32 {
+        self.subtree_max[self.layout.index_of(id) as usize]
+    }
+
+    /// The bottom of the solid: the raster's lowest valid sample (sample units).
+    pub fn floor(&self) -> f32 {
+        self.floor
+    }
+
+    /// The raster's highest valid sample (sample units).
+    pub fn top(&self) -> f32 {
+        self.top
+    }
+
+    /// The solid's world bounds for `surface`, as the untiled raster's.
+    pub fn world_bounds(&self, surface: Surface) -> Aabb {
+        let g = self.geometry();
+        let rect = self.layout.rect(self.layout.root(), &g, surface);
+        Aabb::new(
+            DVec3::new(rect.min[0], rect.min[1], self.floor as f64 * g.z_scale),
+            DVec3::new(rect.max[0], rect.max[1], self.top as f64 * g.z_scale),
+        )
+    }
+
+    /// Reads tile `id`, checks it and builds its tracer for `surface`.
+    pub fn load(&self, id: TileId, surface: Surface) -> Result<LoadedTile, TileError> {
+        let record = self.record(id).ok_or_else(|| TileError::Corrupt {
+            path: self.dir.join(TABLE_FILE),
+            tile: id,
+            reason: "it was never built".into(),
+        })?;
+        let rect = self.layout.rect(id, &self.geometry(), surface);
+        if record.is_void() {
+            return Ok(LoadedTile { id, rect, record, tracer: None, bytes: 0 });
+        }
+        let data_path = self.dir.join(DATA_FILE);
+        let samples =
+            read_slot(&self.data, &data_path, &self.layout, self.header.precision, id, &record)?;
+        let side = self.layout.stored_side();
+        let geometry = self.layout.tile_geometry(id, &self.geometry());
+        let invalid = |e: relief_core::CoreError| TileError::Corrupt {
+            path: data_path.clone(),
+            tile: id,
+            reason: e.to_string(),
+        };
+        let holes: Option<Vec<bool>> =
+            record.has_voids.then(|| samples.iter().map(|v| v.is_nan()).collect());
+        let filled: Vec<f32> =
+            samples.iter().map(|&v| if v.is_nan() { record.min } else { v }).collect();
+        let mut field = HeightField::new(side, side, filled, geometry).map_err(invalid)?;
+        if let Some(holes) = holes {
+            field = field.with_holes(holes).map_err(invalid)?;
+        }
+        let field = field.with_floor(self.floor).map_err(invalid)?;
+        let bytes = (side * side) as u64 * (4 + 2) + record.has_voids as u64 * (side * side) as u64;
+        let tracer = MipmapTracer::new(Arc::new(field), surface);
+        Ok(LoadedTile { id, rect, record, tracer: Some(tracer), bytes })
+    }
+}
+
+/// A tile in memory, ready to trace.
+#[derive(Debug)]
+pub struct LoadedTile {
+    /// Which tile.
+    pub id: TileId,
+    /// The world rectangle it answers for.
+    pub rect: Rect,
+    /// Its table record.
+    pub record: TileRecord,
+    /// Its tracer; `None` when every sample is a void.
+    pub tracer: Option<MipmapTracer>,
+    /// Bytes it holds: samples, holes and max mipmap.
+    pub bytes: u64,
+}
+
+/// Reads the whole tile table, checking every record.
+pub(crate) fn read_table(
+    path: &Path,
+    layout: &PyramidLayout,
+) -> Result<Vec<Option<TileRecord>>, TileError> {
+    let bytes = std::fs::read(path).map_err(|e| TileError::io(path, e))?;
+    let count = layout.tile_count() as usize;
+    (0..count)
+        .map(|k| {
+            let corrupt = |reason: String| TileError::Corrupt {
+                path: path.to_path_buf(),
+                tile: layout.id_at(k as u64),
+                reason,
+            };
+            let b: &[u8; RECORD_BYTES] = bytes
+                .get(k * RECORD_BYTES..(k + 1) * RECORD_BYTES)
+                .and_then(|b| b.try_into().ok())
+                .ok_or_else(|| corrupt(format!("{TABLE_FILE} is truncated")))?;
+            TileRecord::from_bytes(b).map_err(corrupt)
+        })
+        .collect()
+}
+
+/// Reads and decodes the slot of tile `id`, checked against its record's checksum.
+pub(crate) fn read_slot(
+    data: &File,
+    path: &Path,
+    layout: &PyramidLayout,
+    precision: Precision,
+    id: TileId,
+    record: &TileRecord,
+) -> Result<Vec<f32>, TileError> {
+    let corrupt =
+        |reason: String| TileError::Corrupt { path: path.to_path_buf(), tile: id, reason };
+    let mut bytes = vec![0u8; layout.stored_samples() * precision.bytes()];
+    data.read_exact_at(&mut bytes, slot_offset(layout, precision, id)).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::UnexpectedEof {
+            corrupt(format!("{DATA_FILE} is truncated"))
+        } else {
+            TileError::io(path, e)
+        }
+    })?;
+    if crate::format::slot_checksum(&bytes) != record.checksum {
+        return Err(corrupt("its samples do not match their checksum".into()));
+    }
+    let mut samples = vec![0f32; layout.stored_samples()];
+    precision.decode(&bytes, &mut samples);
+    Ok(samples)
+}

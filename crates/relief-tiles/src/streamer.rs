@@ -1,0 +1,345 @@
+//! Frames over a tile store: choosing the tiles, loading them (a loader thread and a cache),
+//! and the [`TiledTerrain`] a frame traces.
+//!
+//! A still render waits for every tile it needs. A fly-through never waits: tiles not in
+//! memory are asked of the loader thread (nearest first, then the tiles the camera's motion
+//! will need next), and their nearest ancestor in memory stands in until they arrive; the root
+//! tile is always in memory. Later frames refine as tiles arrive.
+
+use crate::cache::TileCache;
+use crate::lod::{select_tiles, tile_bounds};
+use crate::store::LoadedTile;
+use crate::tiled_terrain::{TiledTerrain, TreeNode};
+use crate::{TileError, TileId, TileStore};
+use rayon::prelude::*;
+use relief_core::{Camera, Surface};
+use std::collections::{HashMap, HashSet, VecDeque};
+use std::sync::{Arc, Condvar, Mutex};
+use std::thread::JoinHandle;
+use std::time::Instant;
+
+/// What a frame asks for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameRequest {
+    /// Screen-space error tolerance in pixels (0: level 0 everywhere).
+    pub max_error_px: f64,
+    /// Leave out tiles wholly outside the view (false when shadow rays may need them).
+    pub cull: bool,
+    /// Wait for every tile (a still render); otherwise coarser tiles stand in.
+    pub wait: bool,
+}
+
+/// What a frame did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FrameStats {
+    /// Tiles the error bound asked for.
+    pub tiles_wanted: usize,
+    /// Tiles traced (with samples).
+    pub tiles_drawn: usize,
+    /// Wanted tiles not yet in memory, stood in for by a coarser one.
+    pub tiles_standing_in: usize,
+    /// Milliseconds the frame waited for tiles to load.
+    pub io_wait_ms: f64,
+    /// Bytes of tiles in memory after the frame's selection.
+    pub resident_bytes: u64,
+    /// The error tolerance used: the one asked for, or larger when the tiles it needs would
+    /// not fit the cache.
+    pub max_error_px: f64,
+}
+
+/// A tile store with its cache and loader, drawing frames.
+pub struct TileStreamer {
+    store: Arc<TileStore>,
+    surface: Surface,
+    cache: Arc<TileCache>,
+    root: Arc<LoadedTile>,
+    loader: Loader,
+    /// The last frame's camera, to predict the next one's.
+    last_eye: Mutex<Option<relief_core::DVec3>>,
+}
+
+impl TileStreamer {
+    /// Opens frames over `store` on `surface` with a cache of `cache_bytes`, loading the root.
+    pub fn new(store: TileStore, surface: Surface, cache_bytes: u64) -> Result<Self, TileError> {
+        let store = Arc::new(store);
+        let root = Arc::new(store.load(store.layout().root(), surface)?);
+        let cache = Arc::new(TileCache::new(cache_bytes));
+        let loader = Loader::start(store.clone(), surface, cache.clone());
+        Ok(TileStreamer { store, surface, cache, root, loader, last_eye: Mutex::new(None) })
+    }
+
+    /// The store.
+    pub fn store(&self) -> &TileStore {
+        &self.store
+    }
+
+    /// The cache.
+    pub fn cache(&self) -> &TileCache {
+        &self.cache
+    }
+
+    /// The terrain for `camera` (see [`FrameRequest`]). Fails when a tile cannot be read, or
+    /// when the error tolerance is 0 and the level-0 tiles of the view do not fit the cache.
+    pub fn frame(
+        &self,
+        camera: &Camera,
+        request: FrameRequest,
+    ) -> Result<(TiledTerrain, FrameStats), TileError> {
+        if let Some(error) = self.loader.take_error() {
+            return Err(error);
+        }
+        let (wanted, max_error_px) = self.fitting_selection(camera, request)?;
+        let mut stats =
+            FrameStats { tiles_wanted: wanted.len(), max_error_px, ..FrameStats::default() };
+        let mut have: HashMap<TileId, Arc<LoadedTile>> = HashMap::new();
+        let mut missing = Vec::new();
+        for &id in &wanted {
+            match self.tile(id) {
+                Some(tile) => drop(have.insert(id, tile)),
+                None => missing.push(id),
+            }
+        }
+        if request.wait {
+            let started = Instant::now();
+            let loaded: Vec<Result<Arc<LoadedTile>, TileError>> = missing
+                .par_iter()
+                .map(|&id| self.store.load(id, self.surface).map(Arc::new))
+                .collect();
+            for tile in loaded {
+                let tile = tile?;
+                self.cache.insert(tile.clone());
+                have.insert(tile.id, tile);
+            }
+            stats.io_wait_ms = started.elapsed().as_secs_f64() * 1e3;
+        } else {
+            stats.tiles_standing_in = missing.len();
+            let mut queue = missing.clone();
+            queue.extend(self.predicted_tiles(camera, request, max_error_px));
+            self.loader.request(queue);
+            for id in missing {
+                let stand_in = self.nearest_loaded_ancestor(id);
+                have.insert(stand_in.id, stand_in);
+            }
+        }
+        let terrain = self.terrain(have);
+        stats.tiles_drawn = terrain.tile_count();
+        stats.resident_bytes = self.cache.bytes() + self.root.bytes;
+        Ok((terrain, stats))
+    }
+
+    /// Tiles `id` in memory: the root, or a cached tile.
+    fn tile(&self, id: TileId) -> Option<Arc<LoadedTile>> {
+        if id == self.root.id {
+            return Some(self.root.clone());
+        }
+        self.cache.get(id)
+    }
+
+    fn nearest_loaded_ancestor(&self, id: TileId) -> Arc<LoadedTile> {
+        let layout = self.store.layout();
+        let mut at = id;
+        while let Some(parent) = layout.parent(at) {
+            if let Some(tile) = self.tile(parent) {
+                return tile;
+            }
+            at = parent;
+        }
+        self.root.clone()
+    }
+
+    /// The wanted tiles at the asked tolerance, or at a coarser one when they would not fit
+    /// the cache (each step 1.5 times the last).
+    fn fitting_selection(
+        &self,
+        camera: &Camera,
+        request: FrameRequest,
+    ) -> Result<(Vec<TileId>, f64), TileError> {
+        let per_tile = estimated_tile_bytes(&self.store);
+        let mut tolerance = request.max_error_px;
+        loop {
+            let wanted = select_tiles(&self.store, camera, self.surface, tolerance, request.cull);
+            let bytes = wanted.len() as u64 * per_tile;
+            if bytes <= self.cache.budget() {
+                return Ok((wanted, tolerance));
+            }
+            if tolerance == 0.0 {
+                return Err(TileError::Invalid(format!(
+                    "the view needs {} level-0 tiles ({} MiB in memory) at --max-error-px 0, more \
+                     than the cache's {} MiB; raise --cache-mb or --max-error-px",
+                    wanted.len(),
+                    bytes >> 20,
+                    self.cache.budget() >> 20
+                )));
+            }
+            tolerance *= 1.5;
+        }
+    }
+
+    /// The tiles the next frame will need if the camera keeps moving as it did.
+    fn predicted_tiles(
+        &self,
+        camera: &Camera,
+        request: FrameRequest,
+        tolerance: f64,
+    ) -> Vec<TileId> {
+        let mut last = self.last_eye.lock().unwrap_or_else(|p| p.into_inner());
+        let previous = last.replace(camera.eye());
+        let Some(previous) = previous else { return Vec::new() };
+        let motion = camera.eye() - previous;
+        if motion.length_squared() == 0.0 {
+            return Vec::new();
+        }
+        let ahead = 4.0 * motion;
+        let Ok(next) = Camera::new(
+            camera.eye() + ahead,
+            camera.target() + ahead,
+            camera.up(),
+            camera.projection(),
+            camera.width(),
+            camera.height(),
+        ) else {
+            return Vec::new();
+        };
+        let _ = request;
+        select_tiles(&self.store, &next, self.surface, tolerance, request.cull)
+            .into_iter()
+            .filter(|&id| !self.cache.contains(id))
+            .collect()
+    }
+
+    /// The quadtree over the chosen tiles (a tile under another chosen one is dropped: the
+    /// coarser one covers it).
+    fn terrain(&self, chosen: HashMap<TileId, Arc<LoadedTile>>) -> TiledTerrain {
+        let layout = self.store.layout();
+        let covered_by_ancestor = |id: TileId| {
+            let mut at = id;
+            while let Some(parent) = layout.parent(at) {
+                if chosen.contains_key(&parent) {
+                    return true;
+                }
+                at = parent;
+            }
+            false
+        };
+        let kept: HashMap<TileId, Arc<LoadedTile>> = chosen
+            .iter()
+            .filter(|(id, _)| !covered_by_ancestor(**id))
+            .map(|(id, t)| (*id, t.clone()))
+            .collect();
+        let mut inner: HashSet<TileId> = HashSet::new();
+        for id in kept.keys() {
+            let mut at = *id;
+            while let Some(parent) = layout.parent(at) {
+                if !inner.insert(parent) {
+                    break;
+                }
+                at = parent;
+            }
+        }
+        fn build(
+            id: TileId,
+            layout: &crate::PyramidLayout,
+            kept: &HashMap<TileId, Arc<LoadedTile>>,
+            inner: &HashSet<TileId>,
+        ) -> Option<TreeNode> {
+            if let Some(tile) = kept.get(&id) {
+                return Some(TreeNode::Tile(tile.clone()));
+            }
+            inner.contains(&id).then(|| {
+                TreeNode::Inner(
+                    layout.children(id).filter_map(|c| build(c, layout, kept, inner)).collect(),
+                )
+            })
+        }
+        let g = self.store.geometry();
+        let floor = self.store.floor() as f64 * g.z_scale;
+        let root =
+            build(layout.root(), layout, &kept, &inner).unwrap_or(TreeNode::Inner(Vec::new()));
+        let _ = tile_bounds;
+        TiledTerrain::new(root, self.surface, floor, g.z_scale)
+    }
+}
+
+/// Bytes a loaded tile of `store` takes at most (samples, hole flags, max mipmap).
+pub fn estimated_tile_bytes(store: &TileStore) -> u64 {
+    let n = store.layout().stored_samples() as u64;
+    n * (4 + 2 + 1)
+}
+
+/// The loader thread: loads the tiles asked for, most urgent first, into the cache.
+struct Loader {
+    shared: Arc<LoaderShared>,
+    thread: Option<JoinHandle<()>>,
+}
+
+struct LoaderShared {
+    queue: Mutex<LoaderQueue>,
+    wake: Condvar,
+}
+
+#[derive(Default)]
+struct LoaderQueue {
+    pending: VecDeque<TileId>,
+    stop: bool,
+    error: Option<TileError>,
+}
+
+impl Loader {
+    fn start(store: Arc<TileStore>, surface: Surface, cache: Arc<TileCache>) -> Self {
+        let shared = Arc::new(LoaderShared {
+            queue: Mutex::new(LoaderQueue::default()),
+            wake: Condvar::new(),
+        });
+        let worker = shared.clone();
+        let thread = std::thread::Builder::new()
+            .name("relief-tile-loader".into())
+            .spawn(move || loop {
+                let id = {
+                    let mut queue = worker.queue.lock().unwrap_or_else(|p| p.into_inner());
+                    loop {
+                        if queue.stop {
+                            return;
+                        }
+                        if let Some(id) = queue.pending.pop_front() {
+                            break id;
+                        }
+                        queue = worker.wake.wait(queue).unwrap_or_else(|p| p.into_inner());
+                    }
+                };
+                if cache.contains(id) {
+                    continue;
+                }
+                match store.load(id, surface) {
+                    Ok(tile) => cache.insert(Arc::new(tile)),
+                    Err(error) => {
+                        let mut queue = worker.queue.lock().unwrap_or_else(|p| p.into_inner());
+                        queue.error.get_or_insert(error);
+                    }
+                }
+            })
+            .expect("the loader thread starts");
+        Loader { shared, thread: Some(thread) }
+    }
+
+    /// Replaces the queue with `ids`, in that order.
+    fn request(&self, ids: Vec<TileId>) {
+        let mut queue = self.shared.queue.lock().unwrap_or_else(|p| p.into_inner());
+        queue.pending = ids.into_iter().collect();
+        self.shared.wake.notify_one();
+    }
+
+    /// The first error the loader met, if any.
+    fn take_error(&self) -> Option<TileError> {
+        self.shared.queue.lock().unwrap_or_else(|p| p.into_inner()).error.take()
+    }
+}
+
+impl Drop for Loader {
+    fn drop(&mut self) {
+        self.shared.queue.lock().unwrap_or_else(|p| p.into_inner()).stop = true;
+        self.shared.wake.notify_one();
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
