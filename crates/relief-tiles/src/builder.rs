@@ -9,11 +9,13 @@
 //! last record is synced.
 
 use crate::format::{
-    slot_bytes, slot_checksum, slot_offset, Precision, SourceFile, StoreHeader, TileRecord,
-    DATA_FILE, FORMAT_NAME, FORMAT_VERSION, INDEX_FILE, RECORD_BYTES, TABLE_FILE,
+    decode_samples, encode_samples, precision_name, sample_bytes, slot_bytes, slot_checksum,
+    slot_offset, SourceFile, StoreHeader, TileRecord, DATA_FILE, FORMAT_NAME, FORMAT_VERSION,
+    INDEX_FILE, RECORD_BYTES, TABLE_FILE,
 };
 use crate::{PyramidLayout, TileError, TileId};
 use rayon::prelude::*;
+use relief_core::Precision;
 use relief_io::RowSource;
 use std::fs::{File, OpenOptions};
 use std::os::unix::fs::FileExt;
@@ -254,9 +256,9 @@ fn describe_difference(old: &StoreHeader, new: &StoreHeader) -> String {
     format!(
         "a tile store with other options (--tile {} --precision {}, asked for --tile {} --precision {})",
         old.tile,
-        old.precision.name(),
+        precision_name(old.precision),
         new.tile,
-        new.precision.name()
+        precision_name(new.precision)
     )
 }
 
@@ -362,10 +364,10 @@ fn cut_tile(
             }
         }
     }
-    let mut bytes = vec![0u8; side * side * precision.bytes()];
-    precision.encode(&samples, &mut bytes);
+    let mut bytes = vec![0u8; side * side * sample_bytes(precision)];
+    encode_samples(precision, &samples, &mut bytes);
     // The record describes the samples as stored (f16 rounds them).
-    precision.decode(&bytes, &mut samples);
+    decode_samples(precision, &bytes, &mut samples);
     let valid = samples.iter().copied().filter(|v| !v.is_nan());
     let (min, max) =
         valid.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));

@@ -9,7 +9,7 @@
 //!   can be memory-mapped and a build can resume at any tile.
 
 use crate::{PyramidLayout, TileError, TileId};
-use relief_core::GridGeometry;
+use relief_core::{GridGeometry, Precision};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use xxhash_rust::xxh3::xxh3_64;
@@ -27,74 +27,69 @@ pub const DATA_FILE: &str = "tiles.data";
 /// Bytes of one [`TileRecord`].
 pub const RECORD_BYTES: usize = 32;
 
-/// How tile samples are stored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "lowercase")]
-pub enum Precision {
-    /// 32-bit floats: the input's values exactly (for inputs of up to 24-bit integers or f32).
-    #[default]
-    F32,
-    /// 16-bit floats: half the disk and IO; values rounded to the nearest f16.
-    F16,
+/// Bytes of one stored sample at `precision`.
+pub fn sample_bytes(precision: Precision) -> usize {
+    match precision {
+        Precision::F32 => 4,
+        Precision::F16 => 2,
+    }
 }
 
-impl Precision {
-    /// Bytes of one sample.
-    pub fn bytes(self) -> usize {
-        match self {
-            Precision::F32 => 4,
-            Precision::F16 => 2,
-        }
+/// The name of `precision` in the index and on the command line.
+pub fn precision_name(precision: Precision) -> &'static str {
+    match precision {
+        Precision::F32 => "f32",
+        Precision::F16 => "f16",
     }
+}
 
-    /// The name used on the command line and in the index.
-    pub fn name(self) -> &'static str {
-        match self {
-            Precision::F32 => "f32",
-            Precision::F16 => "f16",
-        }
-    }
-
-    /// Writes `samples` into `out` (`samples.len() * bytes()` bytes).
-    pub fn encode(self, samples: &[f32], out: &mut [u8]) {
-        match self {
-            Precision::F32 => {
-                for (v, o) in samples.iter().zip(out.chunks_exact_mut(4)) {
-                    o.copy_from_slice(&v.to_le_bytes());
-                }
-            }
-            Precision::F16 => {
-                for (v, o) in samples.iter().zip(out.chunks_exact_mut(2)) {
-                    o.copy_from_slice(&half::f16::from_f32(*v).to_le_bytes());
-                }
+/// Writes `samples` into `out` (`samples.len() * sample_bytes(precision)` bytes), little
+/// endian; f16 rounds each value to the nearest half.
+pub fn encode_samples(precision: Precision, samples: &[f32], out: &mut [u8]) {
+    match precision {
+        Precision::F32 => {
+            for (v, o) in samples.iter().zip(out.chunks_exact_mut(4)) {
+                o.copy_from_slice(&v.to_le_bytes());
             }
         }
-    }
-
-    /// Reads the samples of `bytes` into `out`.
-    pub fn decode(self, bytes: &[u8], out: &mut [f32]) {
-        match self {
-            Precision::F32 => {
-                for (o, b) in out.iter_mut().zip(bytes.chunks_exact(4)) {
-                    *o = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-                }
-            }
-            Precision::F16 => {
-                for (o, b) in out.iter_mut().zip(bytes.chunks_exact(2)) {
-                    *o = half::f16::from_le_bytes([b[0], b[1]]).to_f32();
-                }
+        Precision::F16 => {
+            for (v, o) in samples.iter().zip(out.chunks_exact_mut(2)) {
+                o.copy_from_slice(&half::f16::from_f32(*v).to_le_bytes());
             }
         }
     }
 }
 
-impl std::str::FromStr for Precision {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
+/// Reads the samples of `bytes` into `out`.
+pub fn decode_samples(precision: Precision, bytes: &[u8], out: &mut [f32]) {
+    match precision {
+        Precision::F32 => {
+            for (o, b) in out.iter_mut().zip(bytes.chunks_exact(4)) {
+                *o = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+            }
+        }
+        Precision::F16 => {
+            for (o, b) in out.iter_mut().zip(bytes.chunks_exact(2)) {
+                *o = half::f16::from_le_bytes([b[0], b[1]]).to_f32();
+            }
+        }
+    }
+}
+
+/// The index writes a precision as its name.
+mod precision_serde {
+    use super::{precision_name, Precision};
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(p: &Precision, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(precision_name(*p))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Precision, D::Error> {
+        match String::deserialize(d)?.as_str() {
             "f32" => Ok(Precision::F32),
             "f16" => Ok(Precision::F16),
-            other => Err(format!("unknown precision '{other}' (expected f32 or f16)")),
+            other => Err(serde::de::Error::custom(format!("unknown precision '{other}'"))),
         }
     }
 }
@@ -158,7 +153,8 @@ pub struct StoreHeader {
     pub tile: u32,
     /// Levels of the pyramid.
     pub levels: u32,
-    /// How samples are stored.
+    /// How samples are stored: `f32`, or `f16` (rounded to the nearest half).
+    #[serde(with = "precision_serde")]
     pub precision: Precision,
     /// The grid's placement in the world.
     pub geometry: StoredGeometry,
@@ -295,7 +291,7 @@ pub fn slot_offset(layout: &PyramidLayout, precision: Precision, id: TileId) -> 
 
 /// Bytes of one slot.
 pub fn slot_bytes(layout: &PyramidLayout, precision: Precision) -> u64 {
-    (layout.stored_samples() * precision.bytes()) as u64
+    (layout.stored_samples() * sample_bytes(precision)) as u64
 }
 
 #[cfg(test)]
@@ -316,9 +312,9 @@ mod tests {
     fn f16_samples_round_trip_to_the_nearest_half() {
         let v = [0.0f32, 1.0, 1234.5, -7.25, f32::NAN];
         let mut bytes = [0u8; 10];
-        Precision::F16.encode(&v, &mut bytes);
+        encode_samples(Precision::F16, &v, &mut bytes);
         let mut back = [0f32; 5];
-        Precision::F16.decode(&bytes, &mut back);
+        decode_samples(Precision::F16, &bytes, &mut back);
         assert_eq!(&back[..4], &[0.0, 1.0, 1234.0, -7.25]);
         assert!(back[4].is_nan());
     }

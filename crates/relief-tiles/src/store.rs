@@ -2,11 +2,12 @@
 //! checksums), each loaded tile made a height field with its own max-mipmap tracer.
 
 use crate::format::{
-    slot_offset, Precision, StoreHeader, TileRecord, DATA_FILE, RECORD_BYTES, TABLE_FILE,
+    decode_samples, sample_bytes, slot_offset, StoreHeader, TileRecord, DATA_FILE, RECORD_BYTES,
+    TABLE_FILE,
 };
 use crate::layout::Rect;
 use crate::{PyramidLayout, TileError, TileId};
-use relief_core::{Aabb, DVec3, GridGeometry, HeightField, Surface};
+use relief_core::{Aabb, DVec3, GridGeometry, HeightField, Precision, Surface};
 use relief_trace::MipmapTracer;
 use std::fs::File;
 use std::os::unix::fs::FileExt;
@@ -209,7 +210,7 @@ pub(crate) fn read_slot(
 ) -> Result<Vec<f32>, TileError> {
     let corrupt =
         |reason: String| TileError::Corrupt { path: path.to_path_buf(), tile: id, reason };
-    let mut bytes = vec![0u8; layout.stored_samples() * precision.bytes()];
+    let mut bytes = vec![0u8; layout.stored_samples() * sample_bytes(precision)];
     data.read_exact_at(&mut bytes, slot_offset(layout, precision, id)).map_err(|e| {
         if e.kind() == std::io::ErrorKind::UnexpectedEof {
             corrupt(format!("{DATA_FILE} is truncated"))
@@ -221,6 +222,6 @@ pub(crate) fn read_slot(
         return Err(corrupt("its samples do not match their checksum".into()));
     }
     let mut samples = vec![0f32; layout.stored_samples()];
-    precision.decode(&bytes, &mut samples);
+    decode_samples(precision, &bytes, &mut samples);
     Ok(samples)
 }

@@ -113,6 +113,12 @@ impl TileStreamer {
             stats.io_wait_ms = started.elapsed().as_secs_f64() * 1e3;
         } else {
             stats.tiles_standing_in = missing.len();
+            // The nearest first: they cover the most pixels.
+            let distance = |id: &TileId| {
+                let b = tile_bounds(&self.store, *id, self.surface);
+                camera.eye().clamp(b.min, b.max).distance(camera.eye())
+            };
+            missing.sort_by(|a, b| distance(a).total_cmp(&distance(b)));
             let mut queue = missing.clone();
             queue.extend(self.predicted_tiles(camera, request, max_error_px));
             self.loader.request(queue);
@@ -200,7 +206,6 @@ impl TileStreamer {
         ) else {
             return Vec::new();
         };
-        let _ = request;
         select_tiles(&self.store, &next, self.surface, tolerance, request.cull)
             .into_iter()
             .filter(|&id| !self.cache.contains(id))
@@ -255,7 +260,6 @@ impl TileStreamer {
         let floor = self.store.floor() as f64 * g.z_scale;
         let root =
             build(layout.root(), layout, &kept, &inner).unwrap_or(TreeNode::Inner(Vec::new()));
-        let _ = tile_bounds;
         TiledTerrain::new(root, self.surface, floor, g.z_scale)
     }
 }

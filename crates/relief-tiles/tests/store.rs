@@ -3,7 +3,9 @@
 
 use relief_core::{DVec2, GridGeometry, Surface};
 use relief_io::{Format, InMemoryRows, Raster, RasterInfo};
-use relief_tiles::{build_store, BuildOptions, Precision, SourceFile, TileError, TileId, TileStore};
+use relief_tiles::{
+    build_store, BuildOptions, Precision, SourceFile, TileError, TileId, TileStore,
+};
 use std::path::{Path, PathBuf};
 
 fn raster(width: usize, height: usize) -> Raster {
@@ -21,7 +23,12 @@ fn raster(width: usize, height: usize) -> Raster {
         width,
         height,
         samples,
-        geometry: GridGeometry { dx: 30.0, dy: 30.0, z_scale: 1.0, origin: DVec2::new(500.0, 1000.0) },
+        geometry: GridGeometry {
+            dx: 30.0,
+            dy: 30.0,
+            z_scale: 1.0,
+            origin: DVec2::new(500.0, 1000.0),
+        },
         info: RasterInfo {
             format: Format::Npy,
             sample_type: "float32".into(),
@@ -34,7 +41,8 @@ fn raster(width: usize, height: usize) -> Raster {
 }
 
 fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("relief-tiles-store-{name}-{}", std::process::id()));
+    let dir =
+        std::env::temp_dir().join(format!("relief-tiles-store-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     dir
 }
@@ -43,7 +51,11 @@ fn sources() -> Vec<SourceFile> {
     vec![SourceFile { path: "in.npy".into(), bytes: 1234, modified_ns: 99 }]
 }
 
-fn build(dir: &Path, precision: Precision, fail_after: Option<u64>) -> Result<relief_tiles::BuildReport, TileError> {
+fn build(
+    dir: &Path,
+    precision: Precision,
+    fail_after: Option<u64>,
+) -> Result<relief_tiles::BuildReport, TileError> {
     let mut rows = InMemoryRows::new(raster(203, 77));
     let options = BuildOptions { tile: 16, precision, fail_after, ..BuildOptions::default() };
     build_store(&mut rows, sources(), dir, &options, &|_, _| {})
@@ -64,16 +76,19 @@ fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
 #[test]
 fn a_resumed_build_equals_an_uninterrupted_one() {
     for precision in [Precision::F32, Precision::F16] {
-        let whole = temp(&format!("whole-{}", precision.name()));
+        let whole = temp(&format!("whole-{}", relief_tiles::precision_name(precision)));
         let report = build(&whole, precision, None).unwrap();
         assert_eq!(report.built, report.tiles);
         for stop in [0, 1, 17, 50, report.tiles - 1] {
-            let dir = temp(&format!("resumed-{}-{stop}", precision.name()));
+            let dir = temp(&format!("resumed-{}-{stop}", relief_tiles::precision_name(precision)));
             let error = build(&dir, precision, Some(stop)).unwrap_err();
             assert!(matches!(error, TileError::Injected(n) if n == stop), "{error}");
             // Interrupted: refused for rendering, readable for `relief info`.
             let refused = TileStore::open(&dir).unwrap_err();
-            assert!(matches!(refused, TileError::Incomplete { done, .. } if done == stop), "{refused}");
+            assert!(
+                matches!(refused, TileError::Incomplete { done, .. } if done == stop),
+                "{refused}"
+            );
             assert_eq!(TileStore::open_any(&dir).unwrap().progress(), (stop, report.tiles));
             let resumed = build(&dir, precision, None).unwrap();
             assert_eq!((resumed.resumed, resumed.built), (stop, report.tiles - stop));
@@ -120,7 +135,10 @@ fn damaged_and_truncated_tiles_are_named() {
     let store = TileStore::open(&dir).unwrap();
     let error = store.load(id, Surface::Triangles).unwrap_err();
     let text = error.to_string();
-    assert!(text.contains("tile (level 0, column 3, row 1)") && text.contains("checksum"), "{text}");
+    assert!(
+        text.contains("tile (level 0, column 3, row 1)") && text.contains("checksum"),
+        "{text}"
+    );
     // A data file cut short: the last tile's slot is gone.
     let last = store.layout().id_at(store.layout().tile_count() - 1);
     bytes.truncate(bytes.len() - 10);
