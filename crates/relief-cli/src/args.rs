@@ -50,6 +50,11 @@ pub enum Command {
     /// bounding-box diagonal; wrong pixels (terrain against sky, or a hit more than a cell
     /// off along the ray); the largest relative error.
     Compare(CompareArgs),
+    /// Build a tile pyramid of a raster far larger than memory, or of a mosaic of rasters
+    /// (.hgt tiles placed by their names, GeoTIFFs by their georeference), for `relief render`
+    /// to fly over in bounded memory. Streams the input; a build that stops resumes when run
+    /// again.
+    Tile(Box<TileArgs>),
 }
 
 /// How height files are read.
@@ -237,6 +242,64 @@ pub struct RenderArgs {
     /// Options of the hybrid renderer.
     #[command(flatten)]
     pub hybrid: HybridArgs,
+    /// Options of tile stores.
+    #[command(flatten)]
+    pub tiles: TileRenderArgs,
+}
+
+/// How a tile store (made by `relief tile`) is rendered.
+#[derive(Debug, Clone, Args)]
+pub struct TileRenderArgs {
+    /// Tile stores: the largest screen-space error in pixels (0: the finest level
+    /// everywhere) [default: 0.667, Dick et al. 2009].
+    #[arg(long, value_name = "E", value_parser = non_negative_number, allow_hyphen_values = true)]
+    pub max_error_px: Option<f64>,
+    /// Tile stores: megabytes of tiles held in memory [default: 512].
+    #[arg(long, value_name = "M", value_parser = cache_mb, allow_hyphen_values = true)]
+    pub cache_mb: Option<u64>,
+}
+
+impl TileRenderArgs {
+    /// The first tile-store option given, if any (for refusing it with other inputs).
+    pub fn given(&self) -> Option<&'static str> {
+        [(self.max_error_px.is_some(), "--max-error-px"), (self.cache_mb.is_some(), "--cache-mb")]
+            .into_iter()
+            .find_map(|(given, name)| given.then_some(name))
+    }
+}
+
+fn non_negative_number(s: &str) -> Result<f64, String> {
+    parse::number_in(s, "a number of pixels", &(0.0..=1e6))
+}
+
+fn cache_mb(s: &str) -> Result<u64, String> {
+    parse::whole_in(s, 16..=(1 << 24), "megabytes of cache")
+}
+
+/// `relief tile`.
+#[derive(Debug, Args)]
+pub struct TileArgs {
+    /// The raster, or the rasters of a mosaic (.hgt tiles, or GeoTIFFs on one grid).
+    #[arg(required = true, num_args = 1..)]
+    pub inputs: Vec<PathBuf>,
+    /// The store to write (a folder; resumed when it holds an interrupted build of the same
+    /// inputs and options).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Samples along a tile's side (16 to 4096).
+    #[arg(long, default_value_t = 512, value_parser = tile_samples)]
+    pub tile: u32,
+    /// Store samples as f32, or as f16 (half the disk, rounded to the nearest half) [default:
+    /// f32].
+    #[arg(long, value_parser = parse::precision)]
+    pub precision: Option<Precision>,
+    /// Memory the build's buffers may take, e.g. 512M, 2G (default: 1G).
+    #[arg(long, value_parser = parse::bytes, allow_hyphen_values = true)]
+    pub max_memory: Option<u64>,
+}
+
+fn tile_samples(s: &str) -> Result<u32, String> {
+    parse::whole_in(s, 16..=4096, "samples per tile side").map(|v| v as u32)
 }
 
 /// Options of the hybrid renderer (`--tracer hybrid`, Ammann et al. 2010).

@@ -105,6 +105,11 @@ pub fn is_mlhm_scene(path: &Path) -> bool {
     is_reference_scene(path) || is_native_mlhm(path)
 }
 
+/// Whether `path` is a tile store made by `relief tile`: a folder with an `index.json`.
+pub fn is_tile_store(path: &Path) -> bool {
+    path.is_dir() && path.join("index.json").is_file()
+}
+
 /// Whether `path` names a reference simulator scene (its JSON), by the extension `.json`.
 pub fn is_reference_scene(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))

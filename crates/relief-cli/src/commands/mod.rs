@@ -7,13 +7,16 @@ mod convert;
 mod generate;
 mod info;
 mod info_mlhm;
+mod info_tiles;
 mod render;
 mod render_clipmap;
 mod render_hybrid;
 mod render_mlhm;
+mod render_tiles;
 mod shade;
 mod simulate;
 mod simulate_frames;
+mod tile;
 mod view;
 
 pub(crate) use simulate::{scene_params, start_state};
@@ -34,6 +37,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Shade(args) => shade::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Tile(args) => tile::run(&args),
     }
 }
 

@@ -1,7 +1,7 @@
 //! `relief render`: trace, shade and write a picture (and optionally depth and normals, and
 //! the stage timings with `--stats`).
 
-use super::{check_image, render_clipmap, render_hybrid, render_mlhm};
+use super::{check_image, render_clipmap, render_hybrid, render_mlhm, render_tiles};
 use crate::args::RenderArgs;
 use crate::scene::height_field::{check_safety_view, HeightFieldScene};
 use crate::tracers::{self, TracerChoice};
@@ -22,6 +22,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let scene_args = &args.scene;
     let budget = memory::budget(scene_args.input.read.max_memory);
     check_image(scene_args.size.0, scene_args.size.1, &budget)?;
+    if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_tile_store(p)) {
+        return render_tiles::run(args, path, started);
+    }
+    if let Some(option) = args.tiles.given() {
+        let here = crate::applies::input_kind(scene_args.input.input.as_deref());
+        return Err(crate::applies::refuse(option, "tile stores (made by relief tile)", &here));
+    }
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
         if let Some(option) = args.hybrid.given() {
             let here = crate::applies::input_kind(Some(path));

@@ -70,7 +70,7 @@ pub fn check_safety_view(
 }
 
 /// Lights and materials from the command line, fitted to a terrain within `bounds`.
-fn shading(args: &SceneArgs, bounds: &Aabb) -> Result<ShadingParams> {
+pub fn shading(args: &SceneArgs, bounds: &Aabb) -> Result<ShadingParams> {
     let mut params = ShadingParams::for_terrain(bounds)?;
     let (azimuth_deg, elevation_deg) = args.sun;
     params.sun = Sun { azimuth_deg, elevation_deg, ..params.sun };

@@ -1,0 +1,81 @@
+//! `relief tile`: a tile pyramid of a raster or mosaic, built in bounded memory and resumable.
+
+use crate::args::TileArgs;
+use crate::{outputs, progress};
+use anyhow::{bail, Context, Result};
+use relief_io::{ReadOptions, RowSource};
+use relief_tiles::{build_store, precision_name, BuildOptions, SourceFile};
+use std::path::{Path, PathBuf};
+
+/// The build's memory limit where `--max-memory` gives none.
+const DEFAULT_MAX_MEMORY: u64 = 1 << 30;
+
+/// Runs `relief tile`.
+pub fn run(args: &TileArgs) -> Result<()> {
+    check_output(args)?;
+    let max_memory = args.max_memory.unwrap_or(DEFAULT_MAX_MEMORY);
+    let sources = args.inputs.iter().map(|p| source_file(p)).collect::<Result<Vec<_>>>()?;
+    let mut rows = open_rows(&args.inputs, max_memory)?;
+    let options = BuildOptions {
+        tile: args.tile,
+        precision: args.precision.unwrap_or_default(),
+        max_memory,
+        fail_after: None,
+    };
+    let bar = progress::bar(0, "tiling");
+    let report = build_store(rows.as_mut(), sources, &args.output, &options, &|done, total| {
+        bar.set_length(total);
+        bar.set_position(done);
+    })?;
+    bar.finish_and_clear();
+    let mb = report.samples_read as f64 * 4.0 / 1e6;
+    let resumed = match report.resumed {
+        0 => String::new(),
+        n => format!(", {n} kept from the interrupted build"),
+    };
+    eprintln!(
+        "wrote {} ({} x {} samples, {} tiles of {}^2 {}{resumed}) in {:.1} s, {:.0} MB/s of input samples",
+        args.output.display(),
+        rows.width(),
+        rows.height(),
+        report.tiles,
+        args.tile,
+        precision_name(options.precision),
+        report.seconds,
+        mb / report.seconds.max(1e-9),
+    );
+    Ok(())
+}
+
+/// Refuses an output that is a file, or one of the inputs.
+fn check_output(args: &TileArgs) -> Result<()> {
+    let out = &args.output;
+    if out.is_file() {
+        bail!("-o {}: a file is there; a tile store is a folder", out.display());
+    }
+    let inputs: Vec<&Path> = args.inputs.iter().map(PathBuf::as_path).collect();
+    outputs::check_distinct(&[("-o", out.as_path())], &inputs)
+}
+
+/// The input as rows: one raster, or a mosaic of several.
+fn open_rows(paths: &[PathBuf], max_memory: u64) -> Result<Box<dyn RowSource>> {
+    let options = ReadOptions { max_memory, ..ReadOptions::default() };
+    match paths {
+        [one] => {
+            let raster = relief_io::read_raster(one, &options)?;
+            Ok(Box::new(relief_io::InMemoryRows::new(raster)))
+        }
+        _ => bail!("mosaics of several rasters are not supported yet"),
+    }
+}
+
+/// What the build records of an input file, so that a resumed build can tell it changed.
+fn source_file(path: &Path) -> Result<SourceFile> {
+    let meta = std::fs::metadata(path).with_context(|| format!("{}", path.display()))?;
+    let modified_ns = meta
+        .modified()
+        .ok()
+        .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
+        .map_or(0, |d| d.as_nanos());
+    Ok(SourceFile { path: path.display().to_string(), bytes: meta.len(), modified_ns })
+}
