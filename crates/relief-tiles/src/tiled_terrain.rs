@@ -16,7 +16,7 @@
 //! cracks nor holes at any mix of levels.
 
 use crate::store::LoadedTile;
-use relief_core::{Aabb, BoxFace, DVec3, Ray, Surface};
+use relief_core::{Aabb, BoxFace, Clip, DVec3, Ray, Surface};
 use relief_trace::{Hit, Tracer};
 use std::sync::Arc;
 
@@ -25,8 +25,9 @@ use std::sync::Arc;
 enum Node {
     /// A tile to trace.
     Leaf { bounds: Aabb, tile: Arc<LoadedTile> },
-    /// Children to visit (indices into the node list).
-    Inner { bounds: Aabb, children: Vec<u32> },
+    /// Children to visit (indices into the node list), in the order a ray meets them for each
+    /// of the four sign classes of its direction's x and y ([`sign_class`]).
+    Inner { bounds: Aabb, orders: [Vec<u32>; 4] },
 }
 
 impl Node {
@@ -35,6 +36,18 @@ impl Node {
             Node::Leaf { bounds, .. } | Node::Inner { bounds, .. } => bounds,
         }
     }
+}
+
+/// Which way a direction goes along x and y: bit 0 set for west, bit 1 for south.
+///
+/// A ray crosses each of a node's two splitting lines at most once, in the direction it
+/// travels, so it meets the children in the order of their centres along its direction's
+/// signs: first the child on the side it comes from in both x and y, last the opposite one.
+/// Of the two others it meets at most one, so their order does not matter. Every ray of one
+/// sign class meets the children in one order, whatever its origin.
+#[inline]
+fn sign_class(dir: DVec3) -> usize {
+    (dir.x < 0.0) as usize | ((dir.y < 0.0) as usize) << 1
 }
 
 /// A frame's tiles, traced as one terrain.
@@ -84,10 +97,8 @@ impl TiledTerrain {
                 self.tiles += 1;
             }
             TreeNode::Inner(children) => {
-                self.nodes.push(Node::Inner {
-                    bounds: Aabb::new(DVec3::INFINITY, DVec3::NEG_INFINITY),
-                    children: Vec::new(),
-                });
+                let empty = Aabb::new(DVec3::INFINITY, DVec3::NEG_INFINITY);
+                self.nodes.push(Node::Inner { bounds: empty, orders: Default::default() });
                 let kids: Vec<u32> =
                     children.into_iter().filter_map(|c| self.add(c, floor, z_scale)).collect();
                 if kids.is_empty() {
@@ -99,7 +110,18 @@ impl TiledTerrain {
                     let b = self.nodes[k as usize].bounds();
                     bounds = Aabb::new(bounds.min.min(b.min), bounds.max.max(b.max));
                 }
-                self.nodes[at as usize] = Node::Inner { bounds, children: kids };
+                let orders = std::array::from_fn(|class| {
+                    let (sx, sy) =
+                        (1.0 - 2.0 * (class & 1) as f64, 1.0 - 2.0 * (class >> 1) as f64);
+                    let key = |k: &u32| {
+                        let c = self.nodes[*k as usize].bounds().center();
+                        sx * c.x + sy * c.y
+                    };
+                    let mut order = kids.clone();
+                    order.sort_by(|a, b| key(a).total_cmp(&key(b)));
+                    order
+                });
+                self.nodes[at as usize] = Node::Inner { bounds, orders };
             }
         }
         Some(at)
@@ -115,36 +137,111 @@ impl TiledTerrain {
                 let tracer = tile.tracer.as_ref().expect("leaves have samples");
                 let part = Ray { t_min: clip.t_enter, t_max: clip.t_exit, ..*ray };
                 if any {
-                    return tracer.occluded_counted(&part, steps).then_some(Hit {
+                    let blocked = tracer.occluded_counted(&part, steps);
+                    return blocked.then_some(Hit {
                         t: clip.t_enter,
                         position: ray.origin,
                         normal: DVec3::Z,
                     });
                 }
-                let mut hit = tracer.intersect_counted(&part, steps)?;
-                // A ray that enters the tile's box already in the solid hits the face it
-                // crossed: a wall where levels meet or at the raster's edge, the floor, or a
-                // flat top at the tile's highest sample (the tile's tracer, which sees the ray
-                // start there, cannot tell which).
-                if hit.t == clip.t_enter && clip.face != BoxFace::Inside {
-                    hit.normal = face_normal(clip.face, ray.dir);
-                }
-                Some(hit)
+                let hit = tracer.intersect_counted(&part, steps)?;
+                Some(entry_face_fixed(hit, &clip, ray))
             }
-            Node::Inner { children, .. } => {
-                let mut order: Vec<(f64, u32)> = children
+            Node::Inner { orders, .. } => orders[sign_class(ray.dir)]
+                .iter()
+                .find_map(|&c| self.trace(c, ray, inv_dir, any, steps)),
+        }
+    }
+
+    /// The rays `ids` of a batch (none of them with a hit yet) under node `at`: leaves trace
+    /// the rays that cross them together, with their own packets.
+    fn trace_packet(&self, at: u32, batch: &mut Batch<'_>, ids: &[u32]) {
+        let node = &self.nodes[at as usize];
+        let mut entering: Vec<(u32, Clip)> = Vec::with_capacity(ids.len());
+        for &k in ids {
+            if batch.done[k as usize] {
+                continue;
+            }
+            let ray = &batch.rays[k as usize];
+            if let Some(clip) = node.bounds().clip_with_inverse(ray, DVec3::ONE / ray.dir) {
+                batch.steps[k as usize] += 1;
+                entering.push((k, clip));
+            }
+        }
+        if entering.is_empty() {
+            return;
+        }
+        match node {
+            Node::Leaf { tile, .. } => {
+                let tracer = tile.tracer.as_ref().expect("leaves have samples");
+                let parts: Vec<Ray> = entering
                     .iter()
-                    .filter_map(|&c| {
-                        let clip =
-                            self.nodes[c as usize].bounds().clip_with_inverse(ray, inv_dir)?;
-                        Some((clip.t_enter, c))
+                    .map(|&(k, clip)| Ray {
+                        t_min: clip.t_enter,
+                        t_max: clip.t_exit,
+                        ..batch.rays[k as usize]
                     })
                     .collect();
-                order.sort_by(|a, b| a.0.total_cmp(&b.0));
-                order.into_iter().find_map(|(_, c)| self.trace(c, ray, inv_dir, any, steps))
+                let mut steps = vec![0u32; parts.len()];
+                if batch.any {
+                    let mut blocked = vec![false; parts.len()];
+                    tracer.occluded_batch(&parts, &mut blocked, &mut steps);
+                    for (((k, _), b), s) in entering.iter().zip(blocked).zip(steps) {
+                        batch.steps[*k as usize] += s;
+                        batch.done[*k as usize] = b;
+                    }
+                } else {
+                    let mut hits = vec![None; parts.len()];
+                    tracer.intersect_batch(&parts, &mut hits, &mut steps);
+                    for (((k, clip), hit), s) in entering.iter().zip(hits).zip(steps) {
+                        batch.steps[*k as usize] += s;
+                        if let Some(hit) = hit {
+                            batch.hits[*k as usize] =
+                                Some(entry_face_fixed(hit, clip, &batch.rays[*k as usize]));
+                            batch.done[*k as usize] = true;
+                        }
+                    }
+                }
+            }
+            Node::Inner { orders, .. } => {
+                for (class, order) in orders.iter().enumerate() {
+                    let of_class: Vec<u32> = entering
+                        .iter()
+                        .map(|&(k, _)| k)
+                        .filter(|&k| sign_class(batch.rays[k as usize].dir) == class)
+                        .collect();
+                    if of_class.is_empty() {
+                        continue;
+                    }
+                    for &child in order {
+                        self.trace_packet(child, batch, &of_class);
+                    }
+                }
             }
         }
     }
+}
+
+/// The rays of one batch as [`TiledTerrain::trace_packet`] walks them.
+struct Batch<'a> {
+    rays: &'a [Ray],
+    /// First hits (unused for occlusion).
+    hits: &'a mut [Option<Hit>],
+    /// Whether a ray is decided: hit, or blocked.
+    done: Vec<bool>,
+    steps: &'a mut [u32],
+    /// Occlusion only: stop at any hit.
+    any: bool,
+}
+
+/// A ray that enters the tile's box already in the solid hits the face it crossed: a wall
+/// where levels meet or at the raster's edge, the floor, or a flat top at the tile's highest
+/// sample (the tile's tracer, which sees the ray start there, cannot tell which).
+fn entry_face_fixed(mut hit: Hit, clip: &Clip, ray: &Ray) -> Hit {
+    if hit.t == clip.t_enter && clip.face != BoxFace::Inside {
+        hit.normal = face_normal(clip.face, ray.dir);
+    }
+    hit
 }
 
 /// The unit normal of a box face perpendicular to `face`'s axis, facing against `dir`.
@@ -174,5 +271,34 @@ impl Tracer for TiledTerrain {
 
     fn occluded_counted(&self, ray: &Ray, steps: &mut u32) -> bool {
         !self.nodes.is_empty() && self.trace(0, ray, DVec3::ONE / ray.dir, true, steps).is_some()
+    }
+
+    /// Traces the rays together: each tile traces the rays that cross it as one batch (with
+    /// the max-mipmap tracer's packets).
+    fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
+        assert!(rays.len() == hits.len() && rays.len() == steps.len(), "batch slices differ");
+        hits.fill(None);
+        if self.nodes.is_empty() {
+            return;
+        }
+        let done = vec![false; rays.len()];
+        let mut batch = Batch { rays, hits, done, steps, any: false };
+        let ids: Vec<u32> = (0..rays.len() as u32).collect();
+        self.trace_packet(0, &mut batch, &ids);
+    }
+
+    /// As [`TiledTerrain::intersect_batch`], for occlusion.
+    fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
+        assert!(rays.len() == occluded.len() && rays.len() == steps.len(), "batch slices differ");
+        occluded.fill(false);
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut hits = vec![None; rays.len()];
+        let done = vec![false; rays.len()];
+        let mut batch = Batch { rays, hits: &mut hits, done, steps, any: true };
+        let ids: Vec<u32> = (0..rays.len() as u32).collect();
+        self.trace_packet(0, &mut batch, &ids);
+        occluded.copy_from_slice(&batch.done);
     }
 }

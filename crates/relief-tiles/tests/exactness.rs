@@ -124,6 +124,13 @@ fn compare(surface: Surface, voids: bool, tile: u32) {
             assert!(same, "{surface:?} pixel {k}: whole {x}, tiled {y}");
         }
         assert!(hits > 500, "the camera sees the terrain");
+        // One ray at a time takes another path through the tiles: the same hits.
+        for (k, d) in db.iter().enumerate().step_by(7) {
+            let ray = camera.ray((k % 96) as u32, (k / 96) as u32);
+            let single = tiled.intersect(&ray).map_or(f32::INFINITY, |h| h.t as f32);
+            assert_eq!(single, *d, "pixel {k}: one ray {single}, batch {d}");
+            assert_eq!(tiled.occluded(&ray), d.is_finite());
+        }
         let (ia, _) = shade_to_srgb8(&a, &whole, &camera, &params).unwrap();
         let (ib, _) = shade_to_srgb8(&b, &tiled, &camera, &params).unwrap();
         let differ = ia.iter().zip(&ib).filter(|(p, q)| p != q).count();
