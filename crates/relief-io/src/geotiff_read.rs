@@ -334,7 +334,7 @@ pub(crate) fn tag_error<'a>(
 }
 
 /// An error of the `tiff` crate as an [`IoError`]; `context` (e.g. "strip 3") leads the reason.
-fn tiff_error(path: &Path, context: &str, error: TiffError) -> IoError {
+pub(crate) fn tiff_error(path: &Path, context: &str, error: TiffError) -> IoError {
     let reason = |what: &dyn Display| {
         if context.is_empty() {
             what.to_string()
@@ -520,7 +520,7 @@ fn f64_values<R: Read + Seek>(
 }
 
 /// Reads the georeference of a `width x height` raster: its placement, and its tags as stored.
-fn read_placement<R: Read + Seek>(
+pub(crate) fn read_placement<R: Read + Seek>(
     decoder: &mut Decoder<R>,
     path: &Path,
     width: usize,

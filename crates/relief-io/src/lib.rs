@@ -26,7 +26,9 @@
 //! - [`write_npy_f32`], [`write_height_field_npy`]: little-endian f32 `.npy` arrays (depth
 //!   images, normals, height fields);
 //! - [`write_png_rgb8`], [`write_png_gray16`], [`read_png_rgb`]: PNG images;
-//!   [`write_jpeg_rgb8`]: JPEG pictures.
+//!   [`write_jpeg_rgb8`]: JPEG pictures;
+//! - [`open_ortho`]: an ortho photo (8-bit RGB PNG or GeoTIFF) read row by row as
+//!   [`OrthoRows`], with its georeference; [`write_rgb_geotiff`] writes one.
 //!
 //! Readers never trust a header: sizes are checked against the file before anything is
 //! allocated. Writers write a temporary file beside the target and rename it into place, so a
@@ -69,11 +71,13 @@ mod npy_raster;
 mod npy_read;
 mod npy_write;
 mod npz;
+mod ortho_read;
 mod png_height;
 mod png_read;
 mod png_write;
 mod raster;
 mod read;
+mod rgb_geotiff_write;
 mod row_source;
 mod sample_type;
 #[cfg(test)]
@@ -108,6 +112,7 @@ pub use npy_raster::read_npy;
 pub use npy_read::{read_npy_f32_array, read_npy_height_field};
 pub use npy_write::{write_height_field_npy, write_npy_f32};
 pub use npz::read_npz;
+pub use ortho_read::{open_ortho, OrthoInfo, OrthoRows};
 pub use png_height::{read_png_height, write_png16_height};
 pub use png_read::{read_png_rgb, RgbImage};
 pub use png_write::{write_png_gray16, write_png_rgb8};
@@ -116,6 +121,7 @@ pub use raster::{
     BYTES_PER_SAMPLE,
 };
 pub use read::{format_of, read_raster, read_raster_from_bytes};
+pub use rgb_geotiff_write::write_rgb_geotiff;
 pub use row_source::{InMemoryRows, RowSource};
 pub use void_fill::fill_voids;
 pub use write::write_height_field;
