@@ -1,9 +1,12 @@
-//! Where a surface point's colour comes from: a constant, the hypsometric ramp or a texture.
+//! Where a surface point's colour comes from: a constant, the hypsometric ramp, a texture, or
+//! a texture filtered over each pixel's footprint.
 
-use relief_core::DVec3;
+use std::sync::Arc;
+
+use relief_core::{DVec2, DVec3};
 
 use crate::error::non_negative_colour;
-use crate::{HypsometricRamp, RgbTexture, ShadeError};
+use crate::{GroundFootprint, HypsometricRamp, RgbTexture, ShadeError};
 
 /// The source of the diffuse albedo (linear RGB reflectance) of the terrain.
 #[derive(Debug, Clone, PartialEq)]
@@ -15,6 +18,30 @@ pub enum Albedo {
     /// A texture draped over the terrain's footprint, sampled bilinearly at the G-buffer's
     /// texture coordinates.
     Texture(RgbTexture),
+    /// A texture filtered over each pixel's footprint on the terrain (see
+    /// [`FootprintAlbedo`]): the deferred pass computes the footprint.
+    Filtered(FilteredAlbedo),
+}
+
+/// A colour source that filters its texture over each pixel's footprint: an ortho photo's mip
+/// pyramid, filtered anisotropically (Dick et al. 2009, section 3.3).
+pub trait FootprintAlbedo: Send + Sync + std::fmt::Debug {
+    /// The slope (`dz/dx`, `dz/dy`) of the terrain's tangent plane at world `position`, from
+    /// the heights around it; `None` to take the plane of the hit's normal instead.
+    fn tangent_slope(&self, position: DVec3) -> Option<DVec2>;
+
+    /// The linear RGB albedo averaged over `footprint`.
+    fn albedo(&self, footprint: &GroundFootprint) -> DVec3;
+}
+
+/// A shared [`FootprintAlbedo`]; two are equal when they are the same source.
+#[derive(Debug, Clone)]
+pub struct FilteredAlbedo(pub Arc<dyn FootprintAlbedo>);
+
+impl PartialEq for FilteredAlbedo {
+    fn eq(&self, other: &Self) -> bool {
+        std::ptr::addr_eq(Arc::as_ptr(&self.0), Arc::as_ptr(&other.0))
+    }
 }
 
 impl Albedo {
@@ -23,16 +50,19 @@ impl Albedo {
         match self {
             Albedo::Uniform(c) => non_negative_colour("uniform albedo", *c),
             Albedo::Hypsometric(ramp) => ramp.validate(),
-            Albedo::Texture(_) => Ok(()),
+            Albedo::Texture(_) | Albedo::Filtered(_) => Ok(()),
         }
     }
 
-    /// The albedo at world `position` with unit `normal` and texture coordinates `uv`.
+    /// The albedo at world `position` with unit `normal` and texture coordinates `uv`; a
+    /// filtered texture is sampled at the point, without a footprint (the deferred pass gives
+    /// it each pixel's).
     pub fn at(&self, position: DVec3, normal: DVec3, uv: [f32; 2]) -> DVec3 {
         match self {
             Albedo::Uniform(c) => DVec3::from(c.map(f64::from)),
             Albedo::Hypsometric(ramp) => ramp.albedo(position.z, normal.z),
             Albedo::Texture(texture) => texture.sample_bilinear(uv[0] as f64, uv[1] as f64),
+            Albedo::Filtered(source) => source.0.albedo(&GroundFootprint::point(position)),
         }
     }
 }

@@ -8,9 +8,9 @@ use crate::error::non_negative;
 use crate::sky::validate_fog_density;
 use crate::tonemap::srgb8_pixel;
 use crate::{
-    aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, shadow_ray,
-    Albedo, GBuffer, GgxSpecular, HypsometricRamp, RayBatch, ShadeError, Sky, Sun, Tile,
-    TraceStats, TILE_SIZE,
+    aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, ground_footprint,
+    shadow_ray, slope_from_normal, Albedo, GBuffer, GgxSpecular, HypsometricRamp, RayBatch,
+    ShadeError, Sky, Sun, Tile, TraceStats, TILE_SIZE,
 };
 
 /// Everything the deferred pass needs besides the G-buffer: lights, materials, atmosphere.
@@ -271,7 +271,15 @@ impl ShadingPass<'_> {
         let Some((distance, position, normal)) = view.hit else {
             return sky;
         };
-        let albedo = p.albedo.at(position, normal, g.uv[i + j * g.width]);
+        let albedo = match &p.albedo {
+            Albedo::Filtered(source) => {
+                let slope =
+                    source.0.tangent_slope(position).unwrap_or_else(|| slope_from_normal(normal));
+                let footprint = ground_footprint(self.camera, i as u32, j as u32, position, slope);
+                source.0.albedo(&footprint)
+            }
+            other => other.at(position, normal, g.uv[i + j * g.width]),
+        };
         let direct = direct_lighting(
             albedo,
             normal,

@@ -4,7 +4,9 @@
 //!    normal, material weights, texture coordinates, pixel footprint), tile by tile in parallel.
 //! 2. [`shade`] lights the G-buffer in one deferred pass: a [`Sun`] with shadow rays, a
 //!    Lambert + GGX BRDF ([`direct_lighting`]), ambient light and aerial perspective from the
-//!    [`Sky`], albedo from a [`HypsometricRamp`] or an [`RgbTexture`].
+//!    [`Sky`], albedo from a [`HypsometricRamp`], an [`RgbTexture`], or a [`FootprintAlbedo`]
+//!    filtered over each pixel's [`GroundFootprint`] ([`filter_texture`]: bilinear or
+//!    anisotropic, Dick et al. 2009).
 //! 3. [`tonemap_to_srgb8`] maps the linear radiance to 8-bit sRGB.
 //!
 //! [`shade_map()`] makes the rasters GIS users overlay on their DEM: cast shadows, the sky-view
@@ -43,6 +45,7 @@ mod colour_ramp;
 mod deferred;
 mod depth_metrics;
 mod error;
+mod footprint;
 mod gbuffer;
 mod hybrid;
 pub mod mlhm;
@@ -54,14 +57,16 @@ mod sky;
 mod stats;
 mod sun;
 mod texture;
+mod texture_filter;
 mod tonemap;
 
-pub use albedo::Albedo;
+pub use albedo::{Albedo, FilteredAlbedo, FootprintAlbedo};
 pub use clipmap_renderer::{ClipmapRenderer, ClipmapStats};
 pub use colour_ramp::{hypsometric_colour, HypsometricRamp};
 pub use deferred::{shade, shade_to_srgb8, ShadingParams};
 pub use depth_metrics::{depth_errors, depth_metrics, DepthImage, DepthMetrics, DepthScale};
 pub use error::ShadeError;
+pub use footprint::{ground_footprint, pixel_ground_footprint, slope_from_normal, GroundFootprint};
 pub use gbuffer::{GBuffer, GBufferPixel};
 pub use hybrid::{FarField, HybridRenderer, HybridStats, PixelSource};
 pub use ray_batch::RayBatch;
@@ -72,6 +77,10 @@ pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGO
 pub use stats::TraceStats;
 pub use sun::{light_visibility, shadow_ray, shadow_ray_offset, sun_direction, Sun, SHADOW_BIAS};
 pub use texture::RgbTexture;
+pub use texture_filter::{
+    filter_texture, FootprintAxes, MipTexture, TexelFootprint, TextureFilter,
+    DEFAULT_MAX_ANISOTROPY,
+};
 pub use tonemap::{
     aces_filmic, linear_to_srgb, srgb_to_linear, tonemap_reinhard_to_rgb8, tonemap_to_srgb8,
 };
