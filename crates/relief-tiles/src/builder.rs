@@ -13,6 +13,7 @@ use crate::format::{
     slot_offset, SourceFile, StoreHeader, TileRecord, DATA_FILE, FORMAT_NAME, FORMAT_VERSION,
     INDEX_FILE, RECORD_BYTES, TABLE_FILE,
 };
+use crate::texture_builder::{texture_working_set_bytes, TextureInput};
 use crate::{PyramidLayout, TileError, TileId};
 use rayon::prelude::*;
 use relief_core::Precision;
@@ -45,8 +46,12 @@ impl Default for BuildOptions {
 /// What a build did.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BuildReport {
-    /// Tiles of the store.
+    /// Tiles of the store, the texture's included.
     pub tiles: u64,
+    /// Tiles of the texture pyramid (0 without a texture).
+    pub texture_tiles: u64,
+    /// Texture tiles built by this run.
+    pub texture_built: u64,
     /// Tiles built by this run.
     pub built: u64,
     /// Tiles a previous, interrupted run had built and this one kept.
@@ -72,7 +77,7 @@ pub fn working_set_bytes(width: u64, tile: u32) -> u64 {
 }
 
 /// Tiles encoded at once before they are written.
-const GROUP_TILES: usize = 16;
+pub(crate) const GROUP_TILES: usize = 16;
 
 /// Builds (or resumes) the tile store at `dir` from `source`, reporting `(tiles done, tiles in
 /// all)` to `progress`. `sources` names the input files; a store that exists at `dir` is
@@ -81,6 +86,20 @@ const GROUP_TILES: usize = 16;
 pub fn build_store(
     source: &mut dyn RowSource,
     sources: Vec<SourceFile>,
+    dir: &Path,
+    options: &BuildOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<BuildReport, TileError> {
+    build_textured_store(source, sources, None, dir, options, progress)
+}
+
+/// As [`build_store`], with the pyramid of an ortho photo draped over the raster (see
+/// [`crate::place_ortho`]) in tiles of the same size, built after the height tiles; the
+/// progress counts the tiles of both. The store is complete when both are.
+pub fn build_textured_store(
+    source: &mut dyn RowSource,
+    sources: Vec<SourceFile>,
+    texture: Option<TextureInput<'_>>,
     dir: &Path,
     options: &BuildOptions,
     progress: &(dyn Fn(u64, u64) + Sync),
@@ -113,9 +132,25 @@ pub fn build_store(
         precision: options.precision,
         geometry: source.geometry().into(),
         sources,
+        texture: texture.as_ref().map(|t| t.header(options.tile)),
     };
+    if let (Some(t), Some(texture)) = (&header.texture, &texture) {
+        let file_width = texture.rows.info().width as u64;
+        let needed = texture_working_set_bytes(t.width, file_width, t.tile);
+        if needed > options.max_memory {
+            return Err(TileError::Invalid(format!(
+                "tiles of {} texels over a photo {file_width} pixels wide need {} MiB of \
+                 buffers, more than the memory limit of {} MiB; choose a smaller --tile or a \
+                 larger --max-memory",
+                t.tile,
+                needed >> 20,
+                options.max_memory >> 20
+            )));
+        }
+    }
+    let texture_tiles = header.texture.as_ref().map_or(0, |t| t.layout().tile_count());
     let mut store = StoreWriter::open(dir, header, &layout)?;
-    let total = layout.tile_count();
+    let total = layout.tile_count() + texture_tiles;
     let resumed = store.records.iter().filter(|r| r.is_some()).count() as u64;
     let mut run = Run { built: 0, samples_read: 0, fail_after: options.fail_after };
     progress(resumed, total);
@@ -129,9 +164,19 @@ pub fn build_store(
             progress(store.records.iter().filter(|r| r.is_some()).count() as u64, total);
         }
     }
+    let heights_done = store.records.iter().filter(|r| r.is_some()).count() as u64;
+    let texture_built = match (texture, store.header.texture.clone()) {
+        (Some(input), Some(header)) => {
+            let mut report = |done: u64| progress(heights_done + done, total);
+            crate::texture_builder::build_texture(dir, &header, input.rows, &mut report)?
+        }
+        _ => 0,
+    };
     store.finish()?;
     Ok(BuildReport {
         tiles: total,
+        texture_tiles,
+        texture_built,
         built: run.built,
         resumed,
         samples_read: run.samples_read,
@@ -252,6 +297,13 @@ fn describe_difference(old: &StoreHeader, new: &StoreHeader) -> String {
     }
     if (old.width, old.height) != (new.width, new.height) || old.geometry != new.geometry {
         return "a tile store of another raster".into();
+    }
+    if old.texture != new.texture && old.tile == new.tile {
+        return match (&old.texture, &new.texture) {
+            (None, _) => "a tile store without a texture".into(),
+            (_, None) => "a tile store with a texture (--texture)".into(),
+            _ => "a tile store with another texture (or one changed since)".into(),
+        };
     }
     format!(
         "a tile store with other options (--tile {} --precision {}, asked for --tile {} --precision {})",

@@ -1,28 +1,56 @@
-//! The tiles in memory: a least-recently-used cache bounded by the bytes its tiles hold.
+//! The tiles in memory: a least-recently-used cache bounded by the bytes its tiles hold, for
+//! height tiles ([`LoadedTile`]) and texture tiles ([`TextureTile`]) alike.
 
 use crate::store::LoadedTile;
+use crate::texture_store::TextureTile;
 use crate::TileId;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
-/// Loaded tiles, at most `budget` bytes of them; the least recently used go first.
-#[derive(Debug)]
-pub struct TileCache {
-    budget: u64,
-    state: Mutex<State>,
+/// A tile a [`TileCache`] can hold: it knows which tile it is and the bytes it takes.
+pub trait CachedTile: Send + Sync {
+    /// Which tile.
+    fn tile_id(&self) -> TileId;
+    /// Bytes it holds in memory.
+    fn tile_bytes(&self) -> u64;
 }
 
-#[derive(Debug, Default)]
-struct State {
-    tiles: HashMap<TileId, (Arc<LoadedTile>, u64)>,
+impl CachedTile for LoadedTile {
+    fn tile_id(&self) -> TileId {
+        self.id
+    }
+    fn tile_bytes(&self) -> u64 {
+        self.bytes
+    }
+}
+
+impl CachedTile for TextureTile {
+    fn tile_id(&self) -> TileId {
+        self.id
+    }
+    fn tile_bytes(&self) -> u64 {
+        self.bytes
+    }
+}
+
+/// Loaded tiles, at most `budget` bytes of them; the least recently used go first.
+#[derive(Debug)]
+pub struct TileCache<T: CachedTile = LoadedTile> {
+    budget: u64,
+    state: Mutex<State<T>>,
+}
+
+#[derive(Debug)]
+struct State<T> {
+    tiles: HashMap<TileId, (Arc<T>, u64)>,
     bytes: u64,
     clock: u64,
 }
 
-impl TileCache {
+impl<T: CachedTile> TileCache<T> {
     /// An empty cache of at most `budget` bytes.
     pub fn new(budget: u64) -> Self {
-        TileCache { budget, state: Mutex::new(State::default()) }
+        TileCache { budget, state: Mutex::new(State { tiles: HashMap::new(), bytes: 0, clock: 0 }) }
     }
 
     /// The most bytes it holds.
@@ -51,7 +79,7 @@ impl TileCache {
     }
 
     /// Tile `id` if it is in memory, marked as just used.
-    pub fn get(&self, id: TileId) -> Option<Arc<LoadedTile>> {
+    pub fn get(&self, id: TileId) -> Option<Arc<T>> {
         let mut state = self.lock();
         state.clock += 1;
         let now = state.clock;
@@ -63,24 +91,25 @@ impl TileCache {
 
     /// Keeps `tile`, dropping the least recently used tiles until the bytes fit the budget; a
     /// tile larger than the whole budget is not kept.
-    pub fn insert(&self, tile: Arc<LoadedTile>) {
+    pub fn insert(&self, tile: Arc<T>) {
+        let (id, bytes) = (tile.tile_id(), tile.tile_bytes());
         let mut state = self.lock();
-        if tile.bytes > self.budget || state.tiles.contains_key(&tile.id) {
+        if bytes > self.budget || state.tiles.contains_key(&id) {
             return;
         }
-        while state.bytes + tile.bytes > self.budget {
+        while state.bytes + bytes > self.budget {
             let oldest = state.tiles.iter().min_by_key(|(_, (_, used))| *used).map(|(id, _)| *id);
             let Some(oldest) = oldest else { break };
             let (gone, _) = state.tiles.remove(&oldest).expect("the oldest is there");
-            state.bytes -= gone.bytes;
+            state.bytes -= gone.tile_bytes();
         }
         state.clock += 1;
         let now = state.clock;
-        state.bytes += tile.bytes;
-        state.tiles.insert(tile.id, (tile, now));
+        state.bytes += bytes;
+        state.tiles.insert(id, (tile, now));
     }
 
-    fn lock(&self) -> std::sync::MutexGuard<'_, State> {
+    fn lock(&self) -> std::sync::MutexGuard<'_, State<T>> {
         self.state.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 }

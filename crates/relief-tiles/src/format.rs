@@ -6,7 +6,9 @@
 //!   all zeros for a tile not built yet;
 //! - `tiles.data`: one fixed-size slot per tile in the same order, `(tile + 2)^2` samples, row
 //!   0 south, little-endian f32 or f16, NaN for voids. Slots are at fixed offsets, so the file
-//!   can be memory-mapped and a build can resume at any tile.
+//!   can be memory-mapped and a build can resume at any tile;
+//! - with an ortho photo, its pyramid in `texture.table` and `texture.data`
+//!   ([`crate::TextureHeader`], described by the index's optional `texture` field).
 
 use crate::{PyramidLayout, TileError, TileId};
 use relief_core::{GridGeometry, Precision};
@@ -160,6 +162,10 @@ pub struct StoreHeader {
     pub geometry: StoredGeometry,
     /// The inputs, in the order given.
     pub sources: Vec<SourceFile>,
+    /// The ortho photo's pyramid, when the store has one (`texture.table`, `texture.data`);
+    /// absent from the index of a store without, as in stores written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<crate::TextureHeader>,
 }
 
 impl StoreHeader {
@@ -199,6 +205,9 @@ impl StoreHeader {
         }
         if header.layout().level_count() != header.levels {
             return Err(format(format!("{} levels do not fit the raster and tile", header.levels)));
+        }
+        if let Some(texture) = &header.texture {
+            texture.check().map_err(format)?;
         }
         Ok(header)
     }

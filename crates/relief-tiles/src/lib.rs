@@ -9,7 +9,11 @@
 //!   max-mipmap tracer;
 //! - [`select_tiles`]: view-frustum culling and the screen-space error bound;
 //! - [`TileStreamer`]: a frame's tiles from a [`TileCache`] and a loader thread, as a
-//!   [`TiledTerrain`], which implements relief-trace's `Tracer` like a single height field.
+//!   [`TiledTerrain`], which implements relief-trace's `Tracer` like a single height field;
+//! - an ortho photo's pyramid beside the heights ([`build_textured_store`],
+//!   [`place_ortho`], [`TextureHeader`], [`TextureStore`]) and [`TextureStreamer`], whose
+//!   [`TexturedFrame`] colours a frame from the tiles its pixels' footprints need, filtered
+//!   anisotropically (section 3.3).
 
 #![deny(missing_docs)]
 
@@ -21,10 +25,17 @@ mod layout;
 mod lod;
 mod store;
 mod streamer;
+mod texture_builder;
+mod texture_format;
+mod texture_frame;
+mod texture_placement;
+mod texture_store;
 mod tiled_terrain;
 
-pub use builder::{build_store, working_set_bytes, BuildOptions, BuildReport};
-pub use cache::TileCache;
+pub use builder::{
+    build_store, build_textured_store, working_set_bytes, BuildOptions, BuildReport,
+};
+pub use cache::{CachedTile, TileCache};
 pub use error::TileError;
 pub use format::{precision_name, SourceFile, StoreHeader, StoredGeometry, TileRecord};
 pub use layout::{PyramidLayout, Rect, TileId, MIN_TILE};
@@ -32,4 +43,9 @@ pub use lod::{outside_view, screen_error, select_tiles, tile_bounds};
 pub use relief_core::Precision;
 pub use store::{LoadedTile, TileStore};
 pub use streamer::{estimated_tile_bytes, FrameRequest, FrameStats, TileStreamer};
+pub use texture_builder::{texture_working_set_bytes, TextureInput};
+pub use texture_format::{TextureHeader, TextureRecord};
+pub use texture_frame::{TextureFrameStats, TextureStreamer, TexturedFrame};
+pub use texture_placement::{place_ortho, DemPlacement, TexturePlacement};
+pub use texture_store::{TextureStore, TextureTile};
 pub use tiled_terrain::{TiledTerrain, TreeNode};

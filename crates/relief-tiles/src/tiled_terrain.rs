@@ -16,7 +16,7 @@
 //! cracks nor holes at any mix of levels.
 
 use crate::store::LoadedTile;
-use relief_core::{Aabb, BoxFace, Clip, DVec3, Ray, Surface};
+use relief_core::{Aabb, BoxFace, Clip, DVec2, DVec3, Ray, Surface};
 use relief_trace::{Hit, Tracer};
 use std::sync::Arc;
 
@@ -80,6 +80,27 @@ impl TiledTerrain {
     /// Tiles with samples the terrain traces.
     pub fn tile_count(&self) -> usize {
         self.tiles
+    }
+
+    /// The slope (`dz/dx`, `dz/dy`, in world units) of the terrain's smooth tangent plane at
+    /// world `(x, y)`, as Dick et al. (2009, section 3.3) take it for texture filtering: the
+    /// central differences of the heights of the tile drawn there (one-sided at the edges of
+    /// its stored samples), interpolated bilinearly between the four samples around the point.
+    /// `None` outside every tile.
+    pub fn surface_slope(&self, x: f64, y: f64) -> Option<DVec2> {
+        let inside = |b: &Aabb| b.min.x <= x && x <= b.max.x && b.min.y <= y && y <= b.max.y;
+        let mut at = 0usize;
+        loop {
+            match self.nodes.get(at)? {
+                Node::Leaf { tile, bounds } => {
+                    return inside(bounds).then(|| tile_slope(tile, x, y)).flatten();
+                }
+                Node::Inner { orders, .. } => {
+                    at = *orders[0].iter().find(|&&c| inside(self.nodes[c as usize].bounds()))?
+                        as usize;
+                }
+            }
+        }
     }
 
     /// Adds `node` and everything under it; returns its index, `None` when it holds no samples.
@@ -220,6 +241,36 @@ impl TiledTerrain {
             }
         }
     }
+}
+
+/// The slope of `tile`'s heights at world `(x, y)` (see [`TiledTerrain::surface_slope`]).
+fn tile_slope(tile: &LoadedTile, x: f64, y: f64) -> Option<DVec2> {
+    let field = tile.tracer.as_ref()?.field();
+    let g = field.geometry();
+    let (w, h) = (field.width(), field.height());
+    if w < 2 || h < 2 {
+        return None;
+    }
+    let height = |c: usize, r: usize| field.sample(c, r) as f64 * g.z_scale;
+    // The central difference at sample (c, r), one-sided on the stored edge.
+    let gradient = |c: usize, r: usize| {
+        let (cl, ch) = (c.saturating_sub(1), (c + 1).min(w - 1));
+        let (rl, rh) = (r.saturating_sub(1), (r + 1).min(h - 1));
+        DVec2::new(
+            (height(ch, r) - height(cl, r)) / ((ch - cl) as f64 * g.dx),
+            (height(c, rh) - height(c, rl)) / ((rh - rl) as f64 * g.dy),
+        )
+    };
+    let u = (x - g.origin.x) / g.dx - 0.5;
+    let v = (y - g.origin.y) / g.dy - 0.5;
+    let c0 = u.floor().clamp(0.0, (w - 2) as f64);
+    let r0 = v.floor().clamp(0.0, (h - 2) as f64);
+    let (fu, fv) = ((u - c0).clamp(0.0, 1.0), (v - r0).clamp(0.0, 1.0));
+    let (c0, r0) = (c0 as usize, r0 as usize);
+    let south = gradient(c0, r0).lerp(gradient(c0 + 1, r0), fu);
+    let north = gradient(c0, r0 + 1).lerp(gradient(c0 + 1, r0 + 1), fu);
+    let slope = south.lerp(north, fv);
+    slope.is_finite().then_some(slope)
 }
 
 /// The rays of one batch as [`TiledTerrain::trace_packet`] walks them.
