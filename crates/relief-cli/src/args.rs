@@ -257,14 +257,49 @@ pub struct TileRenderArgs {
     /// Tile stores: megabytes of tiles held in memory [default: 512].
     #[arg(long, value_name = "M", value_parser = cache_mb, allow_hyphen_values = true)]
     pub cache_mb: Option<u64>,
+    /// Textured tile stores: how the ortho photo is filtered over each pixel's footprint,
+    /// anisotropic (up to 16 trilinear samples along the footprint, Dick et al. 2009) or
+    /// bilinear (one sample of the finest level) [default: anisotropic].
+    #[arg(long, value_name = "FILTER", value_enum)]
+    pub texture_filter: Option<TextureFilterChoice>,
+    /// Textured tile stores: megabytes of texture tiles held in memory, besides --cache-mb
+    /// [default: 256].
+    #[arg(long, value_name = "M", value_parser = cache_mb, allow_hyphen_values = true)]
+    pub texture_cache_mb: Option<u64>,
+}
+
+/// How a textured tile store's photo is filtered (`--texture-filter`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TextureFilterChoice {
+    /// The footprint's minor axis picks the mip level; up to 16 trilinear samples along its
+    /// major axis.
+    Anisotropic,
+    /// One bilinear sample of the finest level, whatever the footprint.
+    Bilinear,
 }
 
 impl TileRenderArgs {
     /// The first tile-store option given, if any (for refusing it with other inputs).
     pub fn given(&self) -> Option<&'static str> {
-        [(self.max_error_px.is_some(), "--max-error-px"), (self.cache_mb.is_some(), "--cache-mb")]
-            .into_iter()
-            .find_map(|(given, name)| given.then_some(name))
+        [
+            (self.max_error_px.is_some(), "--max-error-px"),
+            (self.cache_mb.is_some(), "--cache-mb"),
+            (self.texture_filter.is_some(), "--texture-filter"),
+            (self.texture_cache_mb.is_some(), "--texture-cache-mb"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
+    }
+
+    /// The first option of textured stores given, if any (for refusing it on a store without
+    /// a texture).
+    pub fn texture_given(&self) -> Option<&'static str> {
+        [
+            (self.texture_filter.is_some(), "--texture-filter"),
+            (self.texture_cache_mb.is_some(), "--texture-cache-mb"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
     }
 }
 
@@ -296,6 +331,11 @@ pub struct TileArgs {
     /// Memory the build's buffers may take, e.g. 512M, 2G (default: 1G).
     #[arg(long, value_parser = parse::bytes, allow_hyphen_values = true)]
     pub max_memory: Option<u64>,
+    /// An ortho photo to drape over the DEM, stored as its own pyramid: an 8-bit RGB(A) PNG
+    /// (taken to span the DEM's extent exactly, top row north) or GeoTIFF (placed by its
+    /// georeference, which must be in the DEM's CRS and cover the DEM).
+    #[arg(long, value_name = "ORTHO")]
+    pub texture: Option<PathBuf>,
 }
 
 fn tile_samples(s: &str) -> Result<u32, String> {

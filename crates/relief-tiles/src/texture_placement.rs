@@ -85,8 +85,10 @@ pub fn place_ortho(dem: &DemPlacement, ortho: &OrthoInfo) -> Result<TexturePlace
     // file's first row).
     let (x0, x1) = (d[0], d[0] + dem.width as f64 * d[1]);
     let (ya, yb) = (d[3], d[3] + dem.height as f64 * d[5]);
-    let (px0, px1) = sorted((x0 - p[0]) / p[1], (x1 - p[0]) / p[1]);
-    let (py0, py1) = sorted((ya - p[3]) / p[5], (yb - p[3]) / p[5]);
+    // Pixel edges a rounding error away from the DEM's edge are taken as on it.
+    let snap = |v: f64| if (v - v.round()).abs() < 1e-6 { v.round() } else { v };
+    let (px0, px1) = sorted(snap((x0 - p[0]) / p[1]), snap((x1 - p[0]) / p[1]));
+    let (py0, py1) = sorted(snap((ya - p[3]) / p[5]), snap((yb - p[3]) / p[5]));
     let (wf, hf) = (w as f64, h as f64);
     let extent = |lo: f64, hi: f64| format!("{lo:.1} to {hi:.1}");
     if px1 <= 0.0 || px0 >= wf || py1 <= 0.0 || py0 >= hf {

@@ -57,5 +57,21 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     for source in &header.sources {
         writeln!(out, "input:       {} ({} bytes)", source.path, source.bytes)?;
     }
+    if let Some(texture) = &header.texture {
+        let [col, row, _, _] = texture.window;
+        writeln!(
+            out,
+            "texture:     {} x {} texels of {} x {} (8-bit sRGB), tiles of {}^2, {} levels, from \
+             {} ({} bytes; its pixels from column {col}, row {row})",
+            texture.width,
+            texture.height,
+            texture.texel[0],
+            texture.texel[1],
+            texture.tile,
+            texture.levels,
+            texture.source.path,
+            texture.source.bytes
+        )?;
+    }
     Ok(())
 }

@@ -2,27 +2,45 @@
 //! tiles chosen by the screen-space error and loaded for this one picture.
 
 use super::render::{input_name, write_outputs};
-use crate::args::RenderArgs;
+use crate::args::{RenderArgs, TextureFilterChoice};
 use crate::scene::height_field::shading;
 use crate::{applies, memory, outputs, progress};
 use anyhow::Result;
 use relief_core::Surface;
-use relief_shade::{render_gbuffer, shade_to_srgb8};
-use relief_tiles::{FrameRequest, TileStore, TileStreamer};
+use relief_shade::{
+    render_gbuffer, shade_to_srgb8, Albedo, FilteredAlbedo, TextureFilter, DEFAULT_MAX_ANISOTROPY,
+};
+use relief_tiles::{FrameRequest, TextureStore, TextureStreamer, TileStore, TileStreamer};
 use serde_json::json;
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Tile stores: the screen-space error where `--max-error-px` gives none (Dick et al. 2009).
 pub const DEFAULT_MAX_ERROR_PX: f64 = 2.0 / 3.0;
 /// Tile stores: megabytes of tiles in memory where `--cache-mb` gives none.
 pub const DEFAULT_CACHE_MB: u64 = 512;
+/// Textured tile stores: megabytes of texture tiles in memory where `--texture-cache-mb`
+/// gives none.
+pub const DEFAULT_TEXTURE_CACHE_MB: u64 = 256;
 
 /// Renders the tile store at `path`.
 pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
     refuse_options(args, path)?;
     let scene = &args.scene;
     let store = TileStore::open(path)?;
+    // The store's photo colours the terrain unless --texture drapes another picture.
+    let texture = match TextureStore::open(path, store.header())? {
+        Some(texture) if scene.texture.is_none() => Some(texture),
+        _ => None,
+    };
+    if let (None, Some(option)) = (&texture, args.tiles.texture_given()) {
+        let here = match scene.texture {
+            Some(_) => "--texture, which drapes its own picture".to_string(),
+            None => format!("a tile store without a texture ({})", path.display()),
+        };
+        return Err(applies::refuse(option, "textured tile stores (relief tile --texture)", &here));
+    }
     let surface = scene.surface.unwrap_or(Surface::Triangles);
     let bounds = store.world_bounds(surface);
     let camera = crate::scene::camera(scene, &bounds)?;
@@ -40,23 +58,58 @@ pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
         wait: true,
     };
     let (terrain, frame) = streamer.frame(&camera, request)?;
+    let terrain = Arc::new(terrain);
     let build_ms = outputs::ms_since(build_started);
 
     let pixels = camera.width() as u64 * camera.height() as u64;
     let bar = progress::bar(pixels, "tracing");
     let trace_started = Instant::now();
-    let (gbuffer, primary) = render_gbuffer(&terrain, &camera, &bounds, &|n| bar.inc(n))?;
+    let (gbuffer, primary) = render_gbuffer(&*terrain, &camera, &bounds, &|n| bar.inc(n))?;
     let trace_ms = outputs::ms_since(trace_started);
     bar.finish_and_clear();
+    let texture_started = Instant::now();
+    let mut params = params;
+    let filter_choice = args.tiles.texture_filter.unwrap_or(TextureFilterChoice::Anisotropic);
+    let textured = match texture {
+        Some(texture) => {
+            let mb = args.tiles.texture_cache_mb.unwrap_or(DEFAULT_TEXTURE_CACHE_MB);
+            let textures = TextureStreamer::new(texture, mb << 20)?;
+            let filter = match filter_choice {
+                TextureFilterChoice::Anisotropic => {
+                    TextureFilter::Anisotropic { max_anisotropy: DEFAULT_MAX_ANISOTROPY }
+                }
+                TextureFilterChoice::Bilinear => TextureFilter::Bilinear,
+            };
+            let (frame, stats) = textures.frame(&gbuffer, &camera, terrain.clone(), filter)?;
+            params.albedo = Albedo::Filtered(FilteredAlbedo(Arc::new(frame)));
+            Some(stats)
+        }
+        None => None,
+    };
+    let texture_ms = outputs::ms_since(texture_started);
     let shade_started = Instant::now();
-    let (rgb, shadow) = shade_to_srgb8(&gbuffer, &terrain, &camera, &params)?;
+    let (rgb, shadow) = shade_to_srgb8(&gbuffer, &*terrain, &camera, &params)?;
     let shade_ms = outputs::ms_since(shade_started);
     let write_started = Instant::now();
     write_outputs(args, &camera, &gbuffer, rgb.as_flattened())?;
     let write_ms = outputs::ms_since(write_started);
     let (w, h) = (camera.width(), camera.height());
+    let texture_note = match &textured {
+        Some(t) => {
+            let filter = match filter_choice {
+                TextureFilterChoice::Anisotropic => "anisotropic",
+                TextureFilterChoice::Bilinear => "bilinear",
+            };
+            let level = match t.min_level {
+                0 => String::new(),
+                l => format!(" from level {l} (finer ones exceed --texture-cache-mb)"),
+            };
+            format!(", {} texture tiles filtered {filter}{level}", t.tiles)
+        }
+        None => String::new(),
+    };
     eprintln!(
-        "wrote {} ({w}x{h}, {surface} tile store, {} tiles at <= {:.3} px error)",
+        "wrote {} ({w}x{h}, {surface} tile store, {} tiles at <= {:.3} px error{texture_note})",
         args.output.display(),
         frame.tiles_drawn,
         frame.max_error_px
@@ -85,6 +138,11 @@ pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
         "load_ms": load_ms,
         "build_ms": build_ms,
         "trace_ms": trace_ms,
+        "texture_ms": texture_ms,
+        "texture_tiles": textured.map(|t| t.tiles),
+        "texture_tiles_loaded": textured.map(|t| t.tiles_loaded),
+        "texture_min_level": textured.map(|t| t.min_level),
+        "resident_texture_bytes": textured.map(|t| t.resident_bytes),
         "shade_ms": shade_ms,
         "write_ms": write_ms,
         "total_ms": outputs::ms_since(started),

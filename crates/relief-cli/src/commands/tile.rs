@@ -4,7 +4,10 @@ use crate::args::TileArgs;
 use crate::{outputs, progress};
 use anyhow::{bail, Context, Result};
 use relief_io::{ReadOptions, RowSource};
-use relief_tiles::{build_store, precision_name, BuildOptions, SourceFile};
+use relief_tiles::{
+    build_textured_store, place_ortho, precision_name, BuildOptions, DemPlacement, SourceFile,
+    TextureInput,
+};
 use std::path::{Path, PathBuf};
 
 /// The build's memory limit where `--max-memory` gives none.
@@ -22,19 +25,45 @@ pub fn run(args: &TileArgs) -> Result<()> {
         max_memory,
         fail_after: None,
     };
+    let mut ortho = args.texture.as_deref().map(relief_io::open_ortho).transpose()?;
+    let texture = match (&mut ortho, &args.texture) {
+        (Some(photo), Some(path)) => {
+            let info = rows.info();
+            let dem = DemPlacement {
+                width: rows.width() as u64,
+                height: rows.height() as u64,
+                geometry: rows.geometry(),
+                georeference: info.georeference.as_ref(),
+            };
+            let placement = place_ortho(&dem, photo.info())?;
+            Some(TextureInput { rows: photo.as_mut(), placement, source: source_file(path)? })
+        }
+        _ => None,
+    };
     let bar = progress::bar(0, "tiling");
-    let report = build_store(rows.as_mut(), sources, &args.output, &options, &|done, total| {
-        bar.set_length(total);
-        bar.set_position(done);
-    })?;
+    let report = build_textured_store(
+        rows.as_mut(),
+        sources,
+        texture,
+        &args.output,
+        &options,
+        &|done, total| {
+            bar.set_length(total);
+            bar.set_position(done);
+        },
+    )?;
     bar.finish_and_clear();
     let mb = report.samples_read as f64 * 4.0 / 1e6;
     let resumed = match report.resumed {
         0 => String::new(),
         n => format!(", {n} kept from the interrupted build"),
     };
+    let texture = match report.texture_tiles {
+        0 => String::new(),
+        n => format!(", {n} of them the texture's"),
+    };
     eprintln!(
-        "wrote {} ({} x {} samples, {} tiles of {}^2 {}{resumed}) in {:.1} s, {:.0} MB/s of input samples",
+        "wrote {} ({} x {} samples, {} tiles of {}^2 {}{texture}{resumed}) in {:.1} s, {:.0} MB/s of input samples",
         args.output.display(),
         rows.width(),
         rows.height(),
@@ -53,7 +82,8 @@ fn check_output(args: &TileArgs) -> Result<()> {
     if out.is_file() {
         bail!("-o {}: a file is there; a tile store is a folder", out.display());
     }
-    let inputs: Vec<&Path> = args.inputs.iter().map(PathBuf::as_path).collect();
+    let inputs: Vec<&Path> =
+        args.inputs.iter().chain(&args.texture).map(PathBuf::as_path).collect();
     outputs::check_distinct(&[("-o", out.as_path())], &inputs)
 }
 
