@@ -224,6 +224,9 @@ fn build_level0(
     let [col0, row0, width, height] = header.window;
     let (t, h) = (layout.tile() as i64, height as i64);
     let (_, tiles_y) = layout.tiles_of(0);
+    if (0..tiles_y).all(|row| writer.band_done(0, row)) {
+        return Ok(0);
+    }
     let order: Vec<u32> =
         if header.north_up { (0..tiles_y).rev().collect() } else { (0..tiles_y).collect() };
     let file_width = rows.info().width as usize;
