@@ -358,6 +358,17 @@ mod tests {
     }
 
     #[test]
+    fn a_tiled_geotiff_reads_back_with_its_edge_tiles() {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/ortho_tiled_deflate.tif");
+        let mut rows = open_ortho(&path).unwrap();
+        let geotransform = rows.info().georeference.as_ref().unwrap().geotransform;
+        assert_eq!(geotransform, [1000.0, 0.5, 0.0, 5000.0, 0.0, -0.25]);
+        let want: Vec<u8> = (0..37 * 23 * 3).map(|k| (k * 7 % 251) as u8).collect();
+        assert_eq!(read_all(rows.as_mut()), want);
+    }
+
+    #[test]
     fn other_files_are_refused() {
         let dir = TestDir::new("ortho-refused");
         let npy = dir.path().join("o.npy");
