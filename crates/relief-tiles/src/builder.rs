@@ -60,6 +60,8 @@ pub struct BuildReport {
     pub samples_read: u64,
     /// Seconds spent.
     pub seconds: f64,
+    /// Of those, seconds spent on the texture pyramid.
+    pub texture_seconds: f64,
     /// The largest buffers the build held at once, in bytes (its working set).
     pub working_set_bytes: u64,
 }
@@ -164,6 +166,7 @@ pub fn build_textured_store(
             progress(store.records.iter().filter(|r| r.is_some()).count() as u64, total);
         }
     }
+    let texture_started = Instant::now();
     let heights_done = store.records.iter().filter(|r| r.is_some()).count() as u64;
     let texture_built = match (texture, store.header.texture.clone()) {
         (Some(input), Some(header)) => {
@@ -172,8 +175,10 @@ pub fn build_textured_store(
         }
         _ => 0,
     };
+    let texture_seconds = texture_started.elapsed().as_secs_f64();
     store.finish()?;
     Ok(BuildReport {
+        texture_seconds,
         tiles: total,
         texture_tiles,
         texture_built,

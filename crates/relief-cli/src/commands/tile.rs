@@ -60,7 +60,7 @@ pub fn run(args: &TileArgs) -> Result<()> {
     };
     let texture = match report.texture_tiles {
         0 => String::new(),
-        n => format!(", {n} of them the texture's"),
+        n => format!(", {n} of them the texture's, built in {:.1} s", report.texture_seconds),
     };
     eprintln!(
         "wrote {} ({} x {} samples, {} tiles of {}^2 {}{texture}{resumed}) in {:.1} s, {:.0} MB/s of input samples",
@@ -71,7 +71,7 @@ pub fn run(args: &TileArgs) -> Result<()> {
         args.tile,
         precision_name(options.precision),
         report.seconds,
-        mb / report.seconds.max(1e-9),
+        mb / (report.seconds - report.texture_seconds).max(1e-9),
     );
     Ok(())
 }
