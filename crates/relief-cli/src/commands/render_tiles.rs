@@ -2,12 +2,12 @@
 //! tiles chosen by the screen-space error and loaded for this one picture.
 
 use super::render::{input_name, write_outputs};
-use crate::args::RenderArgs;
+use crate::args::{RenderArgs, SceneArgs, TileRenderArgs};
 use crate::scene::height_field::shading;
 use crate::{applies, memory, outputs, progress};
 use anyhow::Result;
-use relief_core::Surface;
-use relief_shade::{render_gbuffer, shade_to_srgb8};
+use relief_core::{Aabb, Surface};
+use relief_shade::{render_gbuffer, shade_to_srgb8, ShadingParams};
 use relief_tiles::{FrameRequest, TileStore, TileStreamer};
 use serde_json::json;
 use std::path::Path;
@@ -18,28 +18,58 @@ pub const DEFAULT_MAX_ERROR_PX: f64 = 2.0 / 3.0;
 /// Tile stores: megabytes of tiles in memory where `--cache-mb` gives none.
 pub const DEFAULT_CACHE_MB: u64 = 512;
 
+/// A tile store opened for frames: its streamer (cache and loader), the surface drawn, the
+/// box it fills, the shading and the frames' error bound.
+pub struct StoreScene {
+    /// The store's frames.
+    pub streamer: TileStreamer,
+    /// The surface drawn (default: triangles).
+    pub surface: Surface,
+    /// The box the surface fills.
+    pub bounds: Aabb,
+    /// Lights and materials, fitted to the terrain.
+    pub params: ShadingParams,
+    /// The screen-space error bound asked for, pixels.
+    pub max_error_px: f64,
+}
+
+impl StoreScene {
+    /// Opens the store at `path` as `scene` and `tiles` say (its cache bound by
+    /// `--cache-mb`), refusing the options that do nothing for a store.
+    pub fn open(scene: &SceneArgs, tiles: &TileRenderArgs, path: &Path) -> Result<Self> {
+        refuse_scene_options(scene, path)?;
+        let store = TileStore::open(path)?;
+        let surface = scene.surface.unwrap_or(Surface::Triangles);
+        let bounds = store.world_bounds(surface);
+        let params = shading(scene, &store.world_bounds(Surface::Boxes))?;
+        let cache_mb = tiles.cache_mb.unwrap_or(DEFAULT_CACHE_MB);
+        let streamer = TileStreamer::new(store, surface, cache_mb << 20)?;
+        let max_error_px = tiles.max_error_px.unwrap_or(DEFAULT_MAX_ERROR_PX);
+        Ok(StoreScene { streamer, surface, bounds, params, max_error_px })
+    }
+
+    /// What a frame asks of the streamer: the error bound, culling only when no shadow rays
+    /// are cast (they reach tiles outside the view), and whether to `wait` for the tiles.
+    pub fn request(&self, wait: bool) -> FrameRequest {
+        FrameRequest { max_error_px: self.max_error_px, cull: !self.params.shadows, wait }
+    }
+}
+
 /// Renders the tile store at `path`.
 pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
-    refuse_options(args, path)?;
-    let scene = &args.scene;
-    let store = TileStore::open(path)?;
-    let surface = scene.surface.unwrap_or(Surface::Triangles);
-    let bounds = store.world_bounds(surface);
-    let camera = crate::scene::camera(scene, &bounds)?;
-    let params = shading(scene, &store.world_bounds(Surface::Boxes))?;
-    let (width, height) = (store.header().width, store.header().height);
-    let cache_mb = args.tiles.cache_mb.unwrap_or(DEFAULT_CACHE_MB);
-    let streamer = TileStreamer::new(store, surface, cache_mb << 20)?;
+    if let Some(option) = args.hybrid.given() {
+        let here = format!("a tile store ({})", path.display());
+        return Err(applies::refuse(option, "--tracer hybrid", &here));
+    }
+    let scene = StoreScene::open(&args.scene, &args.tiles, path)?;
+    let (surface, bounds, params) = (scene.surface, scene.bounds, &scene.params);
+    let camera = crate::scene::camera(&args.scene, &bounds)?;
+    let header = scene.streamer.store().header();
+    let (width, height) = (header.width, header.height);
     let load_ms = outputs::ms_since(started);
 
     let build_started = Instant::now();
-    let request = FrameRequest {
-        max_error_px: args.tiles.max_error_px.unwrap_or(DEFAULT_MAX_ERROR_PX),
-        // Shadow rays reach tiles outside the view.
-        cull: !params.shadows,
-        wait: true,
-    };
-    let (terrain, frame) = streamer.frame(&camera, request)?;
+    let (terrain, frame) = scene.streamer.frame(&camera, scene.request(true))?;
     let build_ms = outputs::ms_since(build_started);
 
     let pixels = camera.width() as u64 * camera.height() as u64;
@@ -49,7 +79,7 @@ pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
     let trace_ms = outputs::ms_since(trace_started);
     bar.finish_and_clear();
     let shade_started = Instant::now();
-    let (rgb, shadow) = shade_to_srgb8(&gbuffer, &terrain, &camera, &params)?;
+    let (rgb, shadow) = shade_to_srgb8(&gbuffer, &terrain, &camera, params)?;
     let shade_ms = outputs::ms_since(shade_started);
     let write_started = Instant::now();
     write_outputs(args, &camera, &gbuffer, rgb.as_flattened())?;
@@ -92,13 +122,9 @@ pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
     outputs::write_stats(stats_path, &stats)
 }
 
-/// Refuses the options that do nothing for a tile store.
-fn refuse_options(args: &RenderArgs, path: &Path) -> Result<()> {
+/// Refuses the options of `scene` that do nothing for a tile store (at `path`).
+fn refuse_scene_options(scene: &SceneArgs, path: &Path) -> Result<()> {
     let here = format!("a tile store ({})", path.display());
-    if let Some(option) = args.hybrid.given() {
-        return Err(applies::refuse(option, "--tracer hybrid", &here));
-    }
-    let scene = &args.scene;
     let input = &scene.input;
     let given = [
         (scene.tracer.is_some(), "--tracer"),
