@@ -57,9 +57,9 @@ pub enum Command {
     Tile(Box<TileArgs>),
     /// Render a camera path (recorded by `relief view`, R; docs/camera-path.md) over a tile
     /// store or any input `relief render` takes, frame after frame, to a folder of PNGs,
-    /// printing each frame's time, tiles and memory. A store's frames never wait for tiles
-    /// (coarser ones stand in; the frames then depend on disk timing) unless --wait is given;
-    /// every other input gives the same frames every run.
+    /// printing each frame's time, tiles and memory. A store's frames after the first never
+    /// wait for tiles (coarser ones stand in, so the frames depend on how fast the disk is)
+    /// unless --wait is given; every other input gives the same frames every run.
     Flythrough(Box<FlythroughArgs>),
 }
 
