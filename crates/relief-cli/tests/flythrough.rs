@@ -123,11 +123,21 @@ fn a_path_over_a_raster_writes_each_frame_as_render_draws_its_camera() {
     for k in 0..5 {
         assert!(frame(&dir, k) == frame(&again, k), "frame {k} changed between runs");
     }
-    // One frame is the first key.
+    // One frame is the first key; its figures have no tiles.
     let one = fresh_dir("fly raster one frame");
-    fly(&tif, &path, 1, &one, &options);
+    let stats = scratch("fly-raster-stats.json");
+    let mut with_stats = options.to_vec();
+    with_stats.extend(["--stats", p(&stats)]);
+    fly(&tif, &path, 1, &one, &with_stats);
     assert_eq!(names(&one), ["frame-00000.png"]);
     assert!(frame(&one, 0) == frame(&dir, 0));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let frames = json["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 1, "{json}");
+    assert!(frames[0]["time_ms"].as_f64().is_some(), "{json}");
+    assert!(frames[0].get("tiles_drawn").is_none(), "{json}");
+    assert!(json["summary"]["median_time_ms"].as_f64().is_some(), "{json}");
 }
 
 #[test]

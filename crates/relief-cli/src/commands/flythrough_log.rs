@@ -58,23 +58,34 @@ impl FlightFrame {
         line
     }
 
-    /// The frame's `--stats` entry; the tile figures are null for inputs other than stores.
+    /// The frame's `--stats` entry; the tile figures only for stores, and a note only where
+    /// the renderer left one.
     fn to_json(&self) -> Value {
-        let tiles = self.tiles.as_ref();
-        json!({
+        let mut entry = json!({
             "frame": self.frame,
             "time_s": self.time_s,
             "time_ms": self.time_ms,
             "write_ms": self.write_ms,
-            "tiles_drawn": tiles.map(|t| t.tiles_drawn),
-            "tiles_standing_in": tiles.map(|t| t.tiles_standing_in),
-            "tiles_wanted": tiles.map(|t| t.tiles_wanted),
-            "resident_bytes": tiles.map(|t| t.resident_bytes),
             "rss_bytes": self.rss_bytes,
-            "io_wait_ms": tiles.map(|t| t.io_wait_ms),
-            "max_error_px": tiles.map(|t| t.max_error_px),
-            "note": self.note,
-        })
+        });
+        let Some(all) = entry.as_object_mut() else { return entry };
+        if let Some(tiles) = &self.tiles {
+            let figures = json!({
+                "tiles_drawn": tiles.tiles_drawn,
+                "tiles_standing_in": tiles.tiles_standing_in,
+                "tiles_wanted": tiles.tiles_wanted,
+                "resident_bytes": tiles.resident_bytes,
+                "io_wait_ms": tiles.io_wait_ms,
+                "max_error_px": tiles.max_error_px,
+            });
+            if let Value::Object(figures) = figures {
+                all.extend(figures);
+            }
+        }
+        if let Some(note) = &self.note {
+            all.insert("note".into(), json!(note));
+        }
+        entry
     }
 }
 
