@@ -120,9 +120,9 @@ def flight_path(size, top, frames, path):
         x = size * (0.25 + 0.5 * s)
         y = size * (0.3 + 0.4 * s + 0.05 * math.sin(math.pi * s))
         heading = math.atan2(0.4 + 0.05 * math.pi * math.cos(math.pi * s), 0.5)
-        ahead = 0.04 * size
-        eye = [x, y, top * 1.15]
-        target = [x + ahead * math.cos(heading), y + ahead * math.sin(heading), top * 0.45]
+        ahead = 0.15 * size
+        eye = [x, y, top * 1.1]
+        target = [x + ahead * math.cos(heading), y + ahead * math.sin(heading), top * 0.5]
         keys.append({"time_s": k / 30, "eye": eye, "target": target, "up": [0, 0, 1],
                      "fov_deg": 50.0})
     with open(path, "w") as f:
