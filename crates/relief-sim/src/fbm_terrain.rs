@@ -301,15 +301,30 @@ impl FbmRows {
     /// The lowest height of the terrain before it is shifted to start at 0: computed over
     /// every row, in parallel, the first time it is asked for (or rows are read).
     pub fn lowest(&self) -> f32 {
+        self.lowest_with_progress(|_| {})
+    }
+
+    /// [`FbmRows::lowest`], calling `progress` with the number of rows done so far now and
+    /// then while it is computed (not at all when it was already known).
+    pub fn lowest_with_progress(&self, progress: impl Fn(usize)) -> f32 {
         *self.lowest.get_or_init(|| {
             let (terrain, width) = (&self.terrain, self.width);
-            (0..self.height)
-                .into_par_iter()
-                .map_init(
-                    || (terrain.scratch(), vec![0f32; width]),
-                    |(scratch, out), row| terrain.row(row, out, scratch),
-                )
-                .reduce(|| f32::INFINITY, f32::min)
+            // Bands of about 2^20 samples between progress reports.
+            let band = ((1 << 20) / width).clamp(1, self.height);
+            let mut lowest = f32::INFINITY;
+            for first in (0..self.height).step_by(band) {
+                let end = (first + band).min(self.height);
+                let band_lowest = (first..end)
+                    .into_par_iter()
+                    .map_init(
+                        || (terrain.scratch(), vec![0f32; width]),
+                        |(scratch, out), row| terrain.row(row, out, scratch),
+                    )
+                    .reduce(|| f32::INFINITY, f32::min);
+                lowest = lowest.min(band_lowest);
+                progress(end);
+            }
+            lowest
         })
     }
 
