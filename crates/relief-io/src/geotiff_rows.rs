@@ -1,0 +1,87 @@
+//! A GeoTIFF read as rows: only the strips or tiles that cover the rows asked for are decoded,
+//! one row of them at a time, the last kept for the next request.
+
+use crate::geokeys::ModelGrid;
+use crate::geotiff_read::{Decoding, GeoTiffImage};
+use crate::input_file::open_input;
+use crate::raster::mark_row_voids;
+use crate::row_source::check_request;
+use crate::{IoError, RasterInfo, ReadOptions, RowSource};
+use relief_core::GridGeometry;
+use std::fs::File;
+use std::io::BufReader;
+use std::path::Path;
+
+/// The rows of a single-band GeoTIFF, decoded a row of strips or tiles at a time.
+///
+/// Holds one decoded row of chunks (a strip, or a row of tiles: `chunk height x width` f32
+/// samples) and one stored chunk, whatever the raster's size. Samples, geometry, info and
+/// voids are those [`read_geotiff`](crate::read_geotiff) gives.
+pub(crate) struct GeoTiffRows {
+    image: GeoTiffImage<BufReader<File>>,
+    /// Which row of chunks `decoded` holds.
+    cached: Option<usize>,
+    /// The decoded row of chunks, file rows in file order.
+    decoded: Vec<f32>,
+}
+
+impl GeoTiffRows {
+    /// Opens the GeoTIFF at `path`: reads and checks its tags, decodes nothing.
+    ///
+    /// Errors: those of [`read_geotiff`](crate::read_geotiff), except that the memory budget
+    /// needs to hold only one row of chunks and one stored chunk.
+    pub(crate) fn open(path: &Path, options: &ReadOptions) -> Result<Self, IoError> {
+        let (file, _) = open_input(path)?;
+        let reader = BufReader::new(file);
+        let image = GeoTiffImage::open_for(reader, path, options, false, Decoding::ChunkRows)?;
+        Ok(GeoTiffRows { image, cached: None, decoded: Vec::new() })
+    }
+
+    /// The grid in the file's model coordinates; `None` without a georeference.
+    pub(crate) fn model(&self) -> Option<ModelGrid> {
+        self.image.placement.model
+    }
+
+    /// The file's path.
+    pub(crate) fn path(&self) -> &Path {
+        self.image.path()
+    }
+}
+
+impl RowSource for GeoTiffRows {
+    fn width(&self) -> usize {
+        self.image.width
+    }
+    fn height(&self) -> usize {
+        self.image.height
+    }
+    fn geometry(&self) -> GridGeometry {
+        self.image.placement.geometry
+    }
+    fn info(&self) -> &RasterInfo {
+        &self.image.info
+    }
+    fn read_rows(&mut self, first_row: usize, out: &mut [f32]) -> Result<(), IoError> {
+        let (width, height) = (self.image.width, self.image.height);
+        check_request(self.image.path(), (width, height), first_row, out.len())?;
+        let chunk_height = self.image.chunks.chunk_height;
+        let north_up = self.image.placement.north_up;
+        for (row, values) in (first_row..).zip(out.chunks_exact_mut(width)) {
+            let file_row = if north_up { height - 1 - row } else { row };
+            let chunk_row = file_row / chunk_height;
+            if self.cached != Some(chunk_row) {
+                self.cached = None;
+                self.image.decode_chunk_row(chunk_row, &mut self.decoded)?;
+                self.cached = Some(chunk_row);
+            }
+            let at = (file_row - chunk_row * chunk_height) * width;
+            values.copy_from_slice(&self.decoded[at..at + width]);
+            mark_row_voids(self.image.path(), values, file_row, self.image.info.nodata)?;
+        }
+        Ok(())
+    }
+    fn release_cache(&mut self) {
+        self.cached = None;
+        self.decoded = Vec::new();
+    }
+}
