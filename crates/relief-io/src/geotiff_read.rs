@@ -6,7 +6,7 @@ use crate::geotiff_chunks::ChunkGrid;
 use crate::input_file::open_input;
 use crate::raster::mark_voids;
 use crate::sample_type::SampleType;
-use crate::zstd_chunk::{Predictor, ZstdChunkDecoder, COMPRESSION_ZSTD};
+use crate::stored_chunk::{Predictor, StoredChunkDecoder, StoredCodec, COMPRESSION_ZSTD};
 use crate::{Format, GeoTiffTags, Georeference, IoError, Raster, RasterInfo, ReadOptions};
 use std::fmt::Display;
 use std::io::{BufReader, ErrorKind, Read, Seek, SeekFrom};
@@ -91,6 +91,12 @@ pub(crate) struct GeoTiffImage<R: Read + Seek> {
     /// Bands (samples per pixel), each in its own planes when several.
     pub(crate) bands: usize,
     sample_type: SampleType,
+    compression: u16,
+    /// The predictor (Predictor tag) stored chunks were encoded with; `None` for one relief
+    /// does not undo itself (the `tiff` crate decides).
+    predictor: Option<Predictor>,
+    /// Whether the file is big-endian.
+    big_endian: bool,
     pub(crate) chunks: ChunkGrid,
     /// Where the raster lies.
     pub(crate) placement: Placement,
@@ -108,8 +114,20 @@ struct ChunkScratch {
     padded: DecodingResult,
     /// The stored bytes of a ZSTD chunk.
     compressed: Vec<u8>,
-    /// The ZSTD decoder, for ZSTD-compressed images.
-    zstd: Option<ZstdChunkDecoder>,
+    /// The decoder of ZSTD-compressed images' chunks (the `tiff` crate decodes the others).
+    zstd: Option<StoredChunkDecoder>,
+}
+
+impl ChunkScratch {
+    /// No buffers and no ZSTD decoder.
+    fn empty() -> Self {
+        ChunkScratch {
+            buffer: Vec::new(),
+            padded: DecodingResult::U8(Vec::new()),
+            compressed: Vec::new(),
+            zstd: None,
+        }
+    }
 }
 
 impl<R: Read + Seek> GeoTiffImage<R> {
@@ -168,15 +186,21 @@ impl<R: Read + Seek> GeoTiffImage<R> {
                 limit: options.max_memory,
             });
         }
+        let predictor = decoder
+            .find_tag_unsigned::<u16>(Tag::Predictor)
+            .map_err(tag_error(path, "Predictor"))?
+            .unwrap_or(1);
+        let unknown = || IoError::unsupported(path, format!("predictor {predictor}"));
+        let predictor = Predictor::from_tag(predictor);
+        let big_endian = decoder.byte_order() == ByteOrder::BigEndian;
         let zstd = if compression == COMPRESSION_ZSTD {
-            let predictor = decoder
-                .find_tag_unsigned::<u16>(Tag::Predictor)
-                .map_err(tag_error(path, "Predictor"))?
-                .unwrap_or(1);
-            let predictor = Predictor::from_tag(predictor)
-                .ok_or_else(|| IoError::unsupported(path, format!("predictor {predictor}")))?;
-            let big_endian = decoder.byte_order() == ByteOrder::BigEndian;
-            Some(ZstdChunkDecoder::new(predictor, sample_type.size(), big_endian))
+            let predictor = predictor.ok_or_else(unknown)?;
+            Some(StoredChunkDecoder::new(
+                StoredCodec::Zstd,
+                predictor,
+                sample_type.size(),
+                big_endian,
+            ))
         } else {
             None
         };
@@ -201,6 +225,9 @@ impl<R: Read + Seek> GeoTiffImage<R> {
             height,
             bands,
             sample_type,
+            compression,
+            predictor,
+            big_endian,
             chunks,
             placement,
             info,
@@ -268,62 +295,41 @@ impl<R: Read + Seek> GeoTiffImage<R> {
             }
             return Ok(());
         }
+        if self.scratch.zstd.is_some() {
+            let mut scratch = std::mem::replace(&mut self.scratch, ChunkScratch::empty());
+            let decoded = self.read_stored(index, &mut scratch.compressed).and_then(|()| {
+                let decoder = scratch.zstd.as_mut().expect("a ZSTD decoder");
+                self.unpack_stored(index, &scratch.compressed, decoder, &mut scratch.buffer)
+            });
+            self.scratch = scratch;
+            let decoded = decoded?;
+            for (row, values) in decoded.chunks_exact(region.width).enumerate() {
+                out[at(row)..][..region.width].copy_from_slice(values);
+            }
+            return Ok(());
+        }
         let row_bytes = region.width * sample_type.size();
         let scratch = &mut self.scratch;
         let padded_view;
-        let (bytes, stride): (&[u8], usize) = if let Some(zstd) = &mut scratch.zstd {
-            let chunk = || format!("{} {index}", chunks.name());
-            // ChunkGrid::read checked that the bytes lie within the file.
-            let (offset, count) = (chunks.offsets[index], chunks.byte_counts[index]);
-            let count = usize::try_from(count)
-                .map_err(|_| IoError::format(path, format!("{}: {count} bytes", chunk())))?;
-            scratch.compressed.resize(count, 0);
-            let reader = self.decoder.inner();
-            reader
-                .seek(SeekFrom::Start(offset))
-                .and_then(|_| reader.read_exact(&mut scratch.compressed))
-                .map_err(|e| tiff_error(path, &chunk(), TiffError::IoError(e)))?;
-            let stride = chunks.chunk_width * sample_type.size();
-            // stored_bytes (one whole stored chunk) was counted in the memory budget.
-            scratch.buffer.resize(stride * chunks.chunk_height, 0);
-            let decoded = zstd
-                .decode(&scratch.compressed, &mut scratch.buffer, stride)
-                .map_err(|reason| IoError::format(path, format!("{}: {reason}", chunk())))?;
-            let needed = (region.height - 1) * stride + row_bytes;
-            if decoded < needed {
-                return Err(IoError::format(
-                    path,
-                    format!(
-                        "{}: ZSTD data decodes to {decoded} bytes; its {} x {} samples need \
-                         {needed}",
-                        chunk(),
-                        region.width,
-                        region.height,
-                    ),
-                ));
-            }
-            (&scratch.buffer, stride)
+        let index_u32 = u32::try_from(index).map_err(|_| {
+            IoError::unsupported(path, format!("{} {index} (index beyond u32)", chunks.name()))
+        })?;
+        let chunk_error = |e| tiff_error(path, &format!("{} {index}", chunks.name()), e);
+        let (bytes, stride): (&[u8], usize) = if region.width == chunks.chunk_width {
+            scratch.buffer.resize(row_bytes * region.height, 0);
+            let bytes = &mut scratch.buffer[..row_bytes * region.height];
+            self.decoder.read_chunk_bytes(index_u32, bytes).map_err(chunk_error)?;
+            (bytes, row_bytes)
         } else {
-            let index_u32 = u32::try_from(index).map_err(|_| {
-                IoError::unsupported(path, format!("{} {index} (index beyond u32)", chunks.name()))
-            })?;
-            let chunk_error = |e| tiff_error(path, &format!("{} {index}", chunks.name()), e);
-            if region.width == chunks.chunk_width {
-                scratch.buffer.resize(row_bytes * region.height, 0);
-                let bytes = &mut scratch.buffer[..row_bytes * region.height];
-                self.decoder.read_chunk_bytes(index_u32, bytes).map_err(chunk_error)?;
-                (bytes, row_bytes)
-            } else {
-                // A tile cut by the raster's east edge. Decoded row by row, tiff 0.11.3 fails
-                // on some valid LZW tiles ("no lzw end code found"): decode whole stored rows
-                // instead, padding included (the crate takes this output width in bytes).
-                let stride = chunks.chunk_width * sample_type.size();
-                self.decoder
-                    .read_chunk_to_buffer(&mut scratch.padded, index_u32, stride)
-                    .map_err(chunk_error)?;
-                padded_view = scratch.padded.as_buffer(0);
-                (padded_view.as_bytes(), stride)
-            }
+            // A tile cut by the raster's east edge. Decoded row by row, tiff 0.11.3 fails
+            // on some valid LZW tiles ("no lzw end code found"): decode whole stored rows
+            // instead, padding included (the crate takes this output width in bytes).
+            let stride = chunks.chunk_width * sample_type.size();
+            self.decoder
+                .read_chunk_to_buffer(&mut scratch.padded, index_u32, stride)
+                .map_err(chunk_error)?;
+            padded_view = scratch.padded.as_buffer(0);
+            (padded_view.as_bytes(), stride)
         };
         for row in 0..region.height {
             let raw = bytes.get(row * stride..row * stride + row_bytes).ok_or_else(|| {
@@ -332,6 +338,84 @@ impl<R: Read + Seek> GeoTiffImage<R> {
             convert(raw, sample_type, &mut out[at(row)..][..region.width]);
         }
         Ok(())
+    }
+
+    /// A decoder of the image's stored chunks, for decoding them apart from this image (in
+    /// parallel, see [`GeoTiffImage::unpack_stored`]); `None` unless the chunks are
+    /// Deflate- or ZSTD-compressed with a predictor relief undoes itself.
+    pub(crate) fn stored_decoder(&self) -> Option<StoredChunkDecoder> {
+        let codec = StoredCodec::of(self.compression)?;
+        let size = self.sample_type.size();
+        Some(StoredChunkDecoder::new(codec, self.predictor?, size, self.big_endian))
+    }
+
+    /// Whether [`GeoTiffImage::stored_decoder`] gives a decoder.
+    pub(crate) fn decodes_stored(&self) -> bool {
+        StoredCodec::of(self.compression).is_some() && self.predictor.is_some()
+    }
+
+    /// Reads the stored bytes of chunk `index` into `out` (nothing for a sparse chunk).
+    pub(crate) fn read_stored(&mut self, index: usize, out: &mut Vec<u8>) -> Result<(), IoError> {
+        let path = &self.path;
+        let chunk = || format!("{} {index}", self.chunks.name());
+        // ChunkGrid::read checked that the bytes lie within the file.
+        let (offset, count) = (self.chunks.offsets[index], self.chunks.byte_counts[index]);
+        let count = usize::try_from(count)
+            .map_err(|_| IoError::format(path, format!("{}: {count} bytes", chunk())))?;
+        out.resize(count, 0);
+        if count == 0 {
+            return Ok(());
+        }
+        let reader = self.decoder.inner();
+        reader
+            .seek(SeekFrom::Start(offset))
+            .and_then(|_| reader.read_exact(out))
+            .map_err(|e| tiff_error(path, &chunk(), TiffError::IoError(e)))
+    }
+
+    /// The samples of chunk `index` (its region of the raster, row-major, file order, neither
+    /// flipped nor voids marked) from its `stored` bytes (see [`GeoTiffImage::read_stored`]);
+    /// a sparse chunk is the nodata value (0 without one). `buffer` holds the decompressed
+    /// bytes. Needs only `&self`, so that chunks can be decoded in parallel.
+    pub(crate) fn unpack_stored(
+        &self,
+        index: usize,
+        stored: &[u8],
+        decoder: &mut StoredChunkDecoder,
+        buffer: &mut Vec<u8>,
+    ) -> Result<Vec<f32>, IoError> {
+        let (path, chunks, sample_type) = (&self.path, &self.chunks, self.sample_type);
+        let region = chunks.region(index % chunks.count, self.width);
+        if chunks.sparse[index] {
+            let fill = self.info.nodata.map_or(0.0, |v| v as f32);
+            return Ok(vec![fill; region.width * region.height]);
+        }
+        let chunk = || format!("{} {index}", chunks.name());
+        let stride = chunks.chunk_width * sample_type.size();
+        // stored_bytes (one whole stored chunk) was counted in the memory budget.
+        buffer.resize(stride * chunks.chunk_height, 0);
+        let decoded = decoder
+            .decode(stored, buffer, stride)
+            .map_err(|reason| IoError::format(path, format!("{}: {reason}", chunk())))?;
+        let row_bytes = region.width * sample_type.size();
+        let needed = (region.height - 1) * stride + row_bytes;
+        if decoded < needed {
+            return Err(IoError::format(
+                path,
+                format!(
+                    "{}: {} data decodes to {decoded} bytes; its {} x {} samples need {needed}",
+                    chunk(),
+                    decoder.codec_name(),
+                    region.width,
+                    region.height,
+                ),
+            ));
+        }
+        let mut samples = vec![0f32; region.width * region.height];
+        for (row, values) in samples.chunks_exact_mut(region.width).enumerate() {
+            convert(&buffer[row * stride..][..row_bytes], sample_type, values);
+        }
+        Ok(samples)
     }
 }
 

@@ -85,13 +85,13 @@ mod raster;
 mod read;
 mod row_source;
 mod sample_type;
+mod stored_chunk;
 #[cfg(test)]
 mod test_corruption;
 #[cfg(test)]
 mod test_dir;
 mod void_fill;
 mod write;
-mod zstd_chunk;
 
 pub use asc::{read_asc, write_asc};
 pub use error::IoError;

@@ -12,10 +12,12 @@ use relief_core::{GridGeometry, HeightField};
 use relief_io::{open_rows, read_raster, IoError, Raster, ReadOptions, RowSource};
 use std::path::{Path, PathBuf};
 use tiff::encoder::colortype::{Gray32Float, GrayI16};
-use tiff::encoder::compression::DeflateLevel;
-use tiff::encoder::Compression;
+use tiff::encoder::compression::{CompressionAlgorithm, Deflate, DeflateLevel};
+use tiff::encoder::{Compression, Predictor};
 use tiff::tags::Tag;
-use tiff_files::{encode_f32_tiles, encode_strips, projected, Extra, TileCodec};
+use tiff_files::{
+    encode_f32_tiles, encode_predicted_strips, encode_strips, projected, Extra, TileCodec,
+};
 
 fn options() -> ReadOptions {
     ReadOptions { max_memory: 1 << 30, ..ReadOptions::default() }
@@ -98,6 +100,73 @@ fn geotiff_strips_of_every_codec_equal_read_raster() {
         &[],
     );
     assert_rows_equal_raster(&dir.file("one-strip.tif", &bytes));
+}
+
+#[test]
+fn deflate_strips_with_predictors_and_big_endian_equal_read_raster() {
+    let dir = TestDir::new("rows-predictors");
+    let (w, h) = (29usize, 31usize);
+    let mut extras = projected(1.0, 1.0, 0.0, 31.0);
+    extras.push(Extra::Ascii(Tag::GdalNodata, "-32768"));
+    let ints: Vec<i16> = values(w, h, -32768.0, 9).iter().map(|&v| (v * 3.0) as i16).collect();
+    let deflate = (Compression::Deflate(DeflateLevel::Fast), Predictor::Horizontal);
+    for rows in [1, 3, 31] {
+        let size = (w as u32, h as u32);
+        let bytes = encode_predicted_strips::<GrayI16>(&ints, size, deflate, Some(rows), &extras);
+        assert_rows_equal_raster(&dir.file(&format!("horizontal-{rows}.tif"), &bytes));
+    }
+    // relief's own files: Deflate with the floating-point predictor.
+    let samples: Vec<f32> = values(w, h, 1.0, 1000);
+    let field = HeightField::new(w, h, samples, GridGeometry::unit()).unwrap();
+    let own = dir.join("own.tif");
+    relief_io::write_geotiff(&own, &field).unwrap();
+    assert_rows_equal_raster(&own);
+    // A big-endian file ("MM") of 3 x 2 int16 samples in one Deflate strip, horizontal
+    // predictor: differences of big-endian samples.
+    let samples: [i16; 6] = [-300, 2, 1000, -5, 32767, -32768];
+    let mut raw = Vec::new();
+    for row in samples.chunks(3) {
+        let mut previous = 0i16;
+        for &v in row {
+            raw.extend(v.wrapping_sub(previous).to_be_bytes());
+            previous = v;
+        }
+    }
+    let mut packed = Vec::new();
+    Deflate::with_level(DeflateLevel::Fast).write_to(&mut packed, &raw).unwrap();
+    let entries: [(u16, u16, u32); 11] = [
+        (256, 3, 3),                   // ImageWidth
+        (257, 3, 2),                   // ImageLength
+        (258, 3, 16),                  // BitsPerSample
+        (259, 3, 8),                   // Deflate
+        (262, 3, 1),                   // BlackIsZero
+        (273, 4, 0),                   // StripOffsets, patched below
+        (277, 3, 1),                   // SamplesPerPixel
+        (279, 4, packed.len() as u32), // StripByteCounts
+        (317, 3, 2),                   // Predictor: horizontal
+        (339, 3, 2),                   // SampleFormat: signed
+        (42113, 2, 0),                 // GDAL_NODATA "-5", inline
+    ];
+    let data_at = 8 + 2 + entries.len() as u32 * 12 + 4;
+    let mut bytes = b"MM\x00\x2a\x00\x00\x00\x08".to_vec();
+    bytes.extend((entries.len() as u16).to_be_bytes());
+    for (tag, kind, value) in entries {
+        bytes.extend(tag.to_be_bytes());
+        bytes.extend(kind.to_be_bytes());
+        let count: u32 = if kind == 2 { 3 } else { 1 };
+        bytes.extend(count.to_be_bytes());
+        match (tag, kind) {
+            (273, _) => bytes.extend(data_at.to_be_bytes()),
+            (_, 2) => bytes.extend(b"-5\0\0"),
+            (_, 3) => bytes.extend([(value as u16).to_be_bytes(), [0, 0]].concat()),
+            _ => bytes.extend(value.to_be_bytes()),
+        }
+    }
+    bytes.extend(0u32.to_be_bytes());
+    bytes.extend(&packed);
+    let raster = assert_rows_equal_raster(&dir.file("big-endian.tif", &bytes));
+    let expected = [f32::NAN, 32767.0, -32768.0, -300.0, 2.0, 1000.0];
+    assert!(same_bits(&raster.samples, &expected), "{:?}", raster.samples);
 }
 
 #[test]
@@ -331,5 +400,38 @@ proptest! {
                 }
             }
         }
+    }
+}
+
+#[test]
+fn corrupted_chunks_fail_as_read_raster_fails_or_read_the_same() {
+    let dir = TestDir::new("rows-corrupt");
+    let (w, h) = (40usize, 40usize);
+    let floats = values(w, h, 0.0, 1000);
+    for codec in [TileCodec::Deflate, TileCodec::Zstd] {
+        let good = encode_f32_tiles(&floats, (w, h), 16, codec, &[], &[]);
+        let (mut refused, mut read) = (0, 0);
+        for at in (8..good.len() - 200).step_by(37) {
+            let mut bad = good.clone();
+            bad[at] ^= 0x5a;
+            let path = dir.file("bad.tif", &bad);
+            let whole = read_raster(&path, &options());
+            let rows = open_rows(&path, &options()).and_then(|mut rows| {
+                let mut all = vec![0f32; rows.width() * rows.height()];
+                rows.read_rows(0, &mut all).map(|()| all)
+            });
+            match (whole, rows) {
+                (Ok(raster), Ok(all)) => {
+                    assert!(same_bits(&raster.samples, &all), "{codec:?} byte {at}");
+                    read += 1;
+                }
+                (Err(_), Err(e)) => {
+                    assert!(e.to_string().contains("bad.tif"), "{e}");
+                    refused += 1;
+                }
+                (whole, rows) => panic!("{codec:?} byte {at}: {whole:?} but {:?}", rows.err()),
+            }
+        }
+        assert!(refused > 0, "{codec:?}: {refused} refused, {read} read");
     }
 }

@@ -27,7 +27,7 @@ pub fn projected(dx: f64, dy: f64, west: f64, north: f64) -> Vec<Extra> {
 /// A file of one image in strips of `rows_per_strip` rows, made by the `tiff` crate.
 pub fn encode_strips<C: ColorType>(
     values: &[C::Inner],
-    (width, height): (u32, u32),
+    size: (u32, u32),
     compression: Compression,
     rows_per_strip: Option<u32>,
     extras: &[Extra],
@@ -35,11 +35,31 @@ pub fn encode_strips<C: ColorType>(
 where
     [C::Inner]: TiffValue,
 {
+    encode_predicted_strips::<C>(
+        values,
+        size,
+        (compression, Predictor::None),
+        rows_per_strip,
+        extras,
+    )
+}
+
+/// [`encode_strips`] with a predictor.
+pub fn encode_predicted_strips<C: ColorType>(
+    values: &[C::Inner],
+    (width, height): (u32, u32),
+    (compression, predictor): (Compression, Predictor),
+    rows_per_strip: Option<u32>,
+    extras: &[Extra],
+) -> Vec<u8>
+where
+    [C::Inner]: TiffValue,
+{
     let mut file = Cursor::new(Vec::new());
-    let mut tiff = TiffEncoder::new(&mut file).unwrap().with_compression(compression);
-    if matches!(compression, Compression::Lzw) {
-        tiff = tiff.with_predictor(Predictor::None);
-    }
+    let mut tiff = TiffEncoder::new(&mut file)
+        .unwrap()
+        .with_compression(compression)
+        .with_predictor(predictor);
     let mut image = tiff.new_image::<C>(width, height).unwrap();
     if let Some(rows) = rows_per_strip {
         image.rows_per_strip(rows).unwrap();
