@@ -3,8 +3,18 @@
 
 /// Peak resident set size in bytes (`VmHWM` of /proc/self/status), if the system reports it.
 pub fn peak_resident_bytes() -> Option<u64> {
+    status_bytes("VmHWM:")
+}
+
+/// Resident set size now, in bytes (`VmRSS` of /proc/self/status), if the system reports it.
+pub fn resident_bytes() -> Option<u64> {
+    status_bytes("VmRSS:")
+}
+
+/// The figure of the /proc/self/status line starting with `key`, in bytes (it is in KiB).
+fn status_bytes(key: &str) -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let line = status.lines().find(|l| l.starts_with(key))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024)
 }

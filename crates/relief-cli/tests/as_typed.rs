@@ -23,7 +23,8 @@ fn stderr(out: &Output) -> String {
 
 /// Small inputs every case below may use, made once: `f.npy` (48², fBm), `f.tif`, `f.png`
 /// (16-bit grey), `t.png` (an RGB picture, as a texture) and its depth `d.npy` (16x16),
-/// `s.mlhm` (a carved MLHM scene).
+/// `s.mlhm` (a carved MLHM scene), `st` (a tile store of `f.tif`) and `p.json` (a camera path
+/// of three keys).
 fn inputs() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
@@ -49,6 +50,16 @@ fn inputs() -> &'static Path {
         let run =
             relief(&["generate", "mlhm", "--scene", "arches", "--size", "32", "-o", &p("s.mlhm")]);
         assert!(run.status.success(), "{}", stderr(&run));
+        let run = relief(&["tile", &p("f.tif"), "-o", &p("st"), "--tile", "16"]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        let key = |t: f64, x: f64| {
+            format!(
+                r#"{{"time_s": {t}, "eye": [{x}, -40, 80], "target": [24, 24, 0], "up": [0, 0, 1], "fov_deg": 45}}"#
+            )
+        };
+        let keys = [key(0.0, -40.0), key(0.5, -20.0), key(1.0, 0.0)].join(", ");
+        let path = format!(r#"{{"format": "relief-camera-path", "version": 1, "keys": [{keys}]}}"#);
+        std::fs::write(dir.join("p.json"), path).unwrap();
         dir
     })
 }
@@ -175,6 +186,8 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("render {in}/f.npy --size 16x9 -o {out}/a.png --stats {out}/s.json", Expect::Ok),
             ("render {in}/s.mlhm --size 16x9 -o {out}/a.png --stats {out}/s.json", Expect::Ok),
             ("render {in}/f.npy -o {out}/a.png --stats {out}/s.txt", Expect::Refused("the statistics are written as .json")),
+            ("render {in}/st --max-error-px 1 --cache-mb 16 --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/f.tif --cache-mb 16 -o {out}/a.png", Expect::Refused("--cache-mb applies to tile stores")),
         ],
     ),
     (
@@ -328,6 +341,34 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("simulate {in}/s.mlhm --steps 2 --render-every 1 --frames {in}/s.mlhm/frames -o {out}/a.mlhm", Expect::Refused("cannot create the folder")),
             ("simulate {in}/s.mlhm --steps 2 --preset low -o {out}/a.mlhm", Expect::Refused("--preset applies to --frames only")),
             ("simulate {in}/s.mlhm --steps 2 --view 45,30 -o {out}/a.mlhm", Expect::Refused("--view applies to --frames only")),
+        ],
+    ),
+    (
+        "flythrough",
+        &[
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 3 --output {out}/frames --size 16x9 --stats {out}/s.json", Expect::Ok),
+            ("flythrough {in}/f.npy --path {in}/p.json --frames 2 -o {out}/frames --spacing 2,3 --north-up --z-scale 3 --surface boxes --tracer naive --sun -45,-10 --no-shadows --exposure 2 --size 16x9", Expect::Ok),
+            ("flythrough {in}/f.npy --path {in}/p.json --frames 1 -o {out}/frames --tracer safety --safety cyl_ext+cone_ext --phi-max -5 --no-shadows --isotropic --positive --linear-surface --safety-reach 16 --no-cache --size 16x9", Expect::Ok),
+            ("flythrough {in}/f.npy --path {in}/p.json --frames 1 -o {out}/frames --tracer safety --cache-dir {out} --size 16x9", Expect::Ok),
+            ("flythrough {in}/f.png --path {in}/p.json --frames 1 -o {out}/frames --png-encoding grey --voids fill --max-memory 1G --texture {in}/t.png --size 16x9", Expect::Ok),
+            ("flythrough --fbm-size 24 --seed 3 --path {in}/p.json --frames 2 -o {out}/frames --size 16x9", Expect::Ok),
+            ("flythrough {in}/s.mlhm --path {in}/p.json --frames 2 -o {out}/frames --mode smooth --sigma 1 --preset low --no-ao --size 16x9", Expect::Ok),
+            ("flythrough {in}/s.mlhm --path {in}/p.json --frames 1 -o {out}/frames --tracer hierarchy --backtrack miss --hierarchy-bounds f16 --size 16x9", Expect::Ok),
+            ("flythrough {in}/st --path {in}/p.json --frames 3 -o {out}/frames --max-error-px 1 --cache-mb 16 --wait --stats {out}/s.json --size 16x9", Expect::Ok),
+            ("flythrough {in}/st --path {in}/p.json --frames 2 -o {out}/frames --size 16x9", Expect::Ok),
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 0 -o {out}/frames", Expect::Refused("between 1 and 100000")),
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 2 -o {in}/f.tif", Expect::Refused("not a folder")),
+            ("flythrough {in}/st --path {in}/p.json --frames 2 -o {in}/st", Expect::Refused("would overwrite the input")),
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 2 -o {out}/frames --stats {out}/s.txt", Expect::Refused("the statistics are written as .json")),
+            ("flythrough {in}/f.tif --path {out}/missing.json --frames 2 -o {out}/frames", Expect::Refused("missing.json")),
+            ("flythrough {in}/f.tif --path {in}/f.tif --frames 2 -o {out}/frames", Expect::Refused("--path")),
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 2 -o {out}/frames --eye 1,2,3 --target 0,0,0", Expect::Refused("--eye applies to relief render only, not to relief flythrough")),
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 2 -o {out}/frames --view 45,30", Expect::Refused("--view applies to relief render only")),
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 2 -o {out}/frames --array heights", Expect::Refused("--array applies to NumPy archives (.npz) only")),
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 2 -o {out}/frames --wait", Expect::Refused("--wait applies to tile stores")),
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 2 -o {out}/frames --max-error-px 1", Expect::Refused("--max-error-px applies to tile stores")),
+            ("flythrough {in}/st --path {in}/p.json --frames 2 -o {out}/frames --tracer naive", Expect::Refused("--tracer applies to height files only")),
+            ("flythrough {in}/f.tif --path {in}/p.json --frames 2 -o {out}/frames --tracer hybrid", Expect::Refused("relief flythrough draws with the naive, mipmap and safety tracers")),
         ],
     ),
 ];

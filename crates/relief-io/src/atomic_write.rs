@@ -47,7 +47,7 @@ fn fill(
 }
 
 /// A fresh hidden name beside `path`: `.<name>.<pid>.<n>.tmp`.
-fn temp_path(path: &Path) -> Result<PathBuf, IoError> {
+pub(crate) fn temp_path(path: &Path) -> Result<PathBuf, IoError> {
     let name = path.file_name().ok_or_else(|| {
         IoError::io(path, Error::new(ErrorKind::InvalidInput, "path does not name a file"))
     })?;

@@ -41,6 +41,15 @@ pub enum IoError {
         /// What is wrong with the values.
         reason: String,
     },
+    /// Files that cannot be read as one mosaic: of different formats, pixel sizes or
+    /// coordinate reference systems, off each other's sample grid, or without a placement.
+    #[error("{}: cannot be one mosaic: {reason}", list_paths(paths))]
+    Mosaic {
+        /// The files concerned, the first the one the others are compared with.
+        paths: Vec<PathBuf>,
+        /// What differs, or what is missing.
+        reason: String,
+    },
     /// The raster would need more memory than the user's budget allows; refused before
     /// allocating.
     #[error(
@@ -59,6 +68,16 @@ pub enum IoError {
         /// The budget in bytes.
         limit: u64,
     },
+}
+
+/// "a.tif and b.tif", "a.tif, b.tif and c.tif".
+fn list_paths(paths: &[PathBuf]) -> String {
+    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    match names.split_last() {
+        None => "no files".to_string(),
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+    }
 }
 
 impl IoError {
@@ -80,5 +99,13 @@ impl IoError {
     /// An [`IoError::InvalidData`] for `path`.
     pub(crate) fn invalid_data(path: &std::path::Path, reason: impl Into<String>) -> Self {
         IoError::InvalidData { path: path.to_path_buf(), reason: reason.into() }
+    }
+
+    /// An [`IoError::Mosaic`] of `paths`.
+    pub(crate) fn mosaic(paths: &[&std::path::Path], reason: impl Into<String>) -> Self {
+        IoError::Mosaic {
+            paths: paths.iter().map(|p| p.to_path_buf()).collect(),
+            reason: reason.into(),
+        }
     }
 }

@@ -153,6 +153,63 @@ pub(crate) struct Placement {
     pub(crate) georeferenced: bool,
     /// The degrees a geographic raster's spacing was converted from.
     pub(crate) from_degrees: Option<DegreeSpacing>,
+    /// The grid in the model's own coordinates; `None` without a georeference.
+    pub(crate) model: Option<ModelGrid>,
+}
+
+/// A north-up or south-up grid in its model's coordinates (projected units or degrees), before
+/// its conversion to metres: what mosaics of several files are aligned on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ModelGrid {
+    /// The grid's west edge (outer edge of its first column).
+    pub(crate) west: f64,
+    /// The grid's south edge (outer edge of its southernmost row).
+    pub(crate) south: f64,
+    /// Pixel width in model units.
+    pub(crate) dx: f64,
+    /// Pixel height in model units, positive.
+    pub(crate) dy: f64,
+    /// Metres per model unit for a projected model; `None` for a geographic one (degrees).
+    pub(crate) metres_per_unit: Option<f64>,
+}
+
+impl ModelGrid {
+    /// The geometry in metres of a `width x height` grid on this one, with its south-west
+    /// corner at (`west`, `south`): projected coordinates scaled to metres, geographic ones
+    /// converted at the latitude of the grid's centre (see
+    /// [`read_geotiff`](crate::read_geotiff)). `path` names the file in errors.
+    pub(crate) fn geometry(
+        &self,
+        path: &Path,
+        (width, height): (usize, usize),
+    ) -> Result<(GridGeometry, Option<DegreeSpacing>), IoError> {
+        let (west, south, dx, dy) = (self.west, self.south, self.dx, self.dy);
+        let (geometry, from_degrees) = match self.metres_per_unit {
+            Some(unit) => {
+                let origin = DVec2::new(west * unit, south * unit);
+                (GridGeometry { dx: dx * unit, dy: dy * unit, z_scale: 1.0, origin }, None)
+            }
+            None => {
+                let north = south + height as f64 * dy;
+                if south < -90.0 || north > 90.0 {
+                    return Err(IoError::format(
+                        path,
+                        format!("latitudes {south}..{north} reach beyond the poles"),
+                    ));
+                }
+                let latitude = 0.5 * (south + north);
+                let (per_lon, per_lat) = metres_per_degree(latitude);
+                let origin = DVec2::new(west * per_lon, south * per_lat);
+                let geometry =
+                    GridGeometry { dx: dx * per_lon, dy: dy * per_lat, z_scale: 1.0, origin };
+                (geometry, Some(DegreeSpacing { dlon: dx, dlat: dy, latitude }))
+            }
+        };
+        geometry.validate().map_err(|e| {
+            IoError::format(path, format!("georeference of the {width} x {height} raster: {e}"))
+        })?;
+        Ok((geometry, from_degrees))
+    }
 }
 
 /// The model tags of a GeoTIFF, each with its values when present.
@@ -222,6 +279,7 @@ pub(crate) fn model_placement(
                 north_up: true,
                 georeferenced: false,
                 from_degrees: None,
+                model: None,
             })
         }
         (None, Some(_), None) => {
@@ -249,33 +307,16 @@ pub(crate) fn model_placement(
     let north_up = ey < 0.0;
     let dy = ey.abs();
     let south = if north_up { y0 + height as f64 * ey } else { y0 };
-    let (geometry, from_degrees) = match keys.model_type(path)? {
-        ModelType::Projected => {
-            let unit = keys.metres_per_linear_unit(path)?;
-            let origin = DVec2::new(x0 * unit, south * unit);
-            (GridGeometry { dx: ex * unit, dy: dy * unit, z_scale: 1.0, origin }, None)
-        }
+    let metres_per_unit = match keys.model_type(path)? {
+        ModelType::Projected => Some(keys.metres_per_linear_unit(path)?),
         ModelType::Geographic => {
             keys.check_degrees(path)?;
-            let north = south + height as f64 * dy;
-            if south < -90.0 || north > 90.0 {
-                return Err(IoError::format(
-                    path,
-                    format!("latitudes {south}..{north} reach beyond the poles"),
-                ));
-            }
-            let latitude = 0.5 * (south + north);
-            let (per_lon, per_lat) = metres_per_degree(latitude);
-            let origin = DVec2::new(x0 * per_lon, south * per_lat);
-            let geometry =
-                GridGeometry { dx: ex * per_lon, dy: dy * per_lat, z_scale: 1.0, origin };
-            (geometry, Some(DegreeSpacing { dlon: ex, dlat: dy, latitude }))
+            None
         }
     };
-    geometry.validate().map_err(|e| {
-        IoError::format(path, format!("georeference of the {width} x {height} raster: {e}"))
-    })?;
-    Ok(Placement { geometry, north_up, georeferenced: true, from_degrees })
+    let model = ModelGrid { west: x0, south, dx: ex, dy, metres_per_unit };
+    let (geometry, from_degrees) = model.geometry(path, (width, height))?;
+    Ok(Placement { geometry, north_up, georeferenced: true, from_degrees, model: Some(model) })
 }
 
 /// The GeoKey directory relief writes: a projected model, PixelIsArea, a user-defined projected

@@ -17,7 +17,7 @@ pub(crate) struct ChunkGrid {
     /// Stored chunk height: rows per strip (at most the raster's height), or the tile height.
     pub(crate) chunk_height: usize,
     /// Chunks per row of chunks.
-    across: usize,
+    pub(crate) across: usize,
     /// Chunks of one plane (band) of the image.
     pub(crate) count: usize,
     /// Chunks stored with no bytes (GDAL's sparse files), every plane's: filled with nodata.
@@ -171,11 +171,5 @@ impl ChunkGrid {
             width: self.chunk_width.min(width - x),
             height: self.chunk_height.min(self.raster_height - y),
         }
-    }
-
-    /// Bytes of the largest chunk's samples once decoded, padding excluded, in a
-    /// `width`-sample-wide raster.
-    pub(crate) fn largest_decoded_bytes(&self, sample_type: SampleType, width: usize) -> usize {
-        self.chunk_width.min(width) * self.chunk_height.min(self.raster_height) * sample_type.size()
     }
 }

@@ -6,11 +6,11 @@ use crate::geotiff_chunks::ChunkGrid;
 use crate::input_file::open_input;
 use crate::raster::mark_voids;
 use crate::sample_type::SampleType;
-use crate::zstd_chunk::{Predictor, ZstdChunkDecoder, COMPRESSION_ZSTD};
+use crate::stored_chunk::{Predictor, StoredChunkDecoder, StoredCodec, COMPRESSION_ZSTD};
 use crate::{Format, GeoTiffTags, Georeference, IoError, Raster, RasterInfo, ReadOptions};
 use std::fmt::Display;
 use std::io::{BufReader, ErrorKind, Read, Seek, SeekFrom};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use tiff::decoder::{Decoder, DecodingResult, Limits};
 use tiff::tags::{ByteOrder, CompressionMethod, Tag, Type};
 use tiff::TiffError;
@@ -69,11 +69,21 @@ pub(crate) fn read_geotiff_from<R: Read + Seek>(
     Ok(Raster { width, height, samples, geometry: placement.geometry, info })
 }
 
+/// How much of an image is decoded at once, which sets the memory it must fit in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Decoding {
+    /// Every band whole: the budget holds all samples and one stored chunk.
+    Whole,
+    /// One row of chunks at a time (see [`GeoTiffImage::decode_chunk_row`]): the budget holds
+    /// that row of chunks as f32 and one stored chunk, whatever the raster's size.
+    ChunkRows,
+}
+
 /// The first image of a GeoTIFF, its layout and georeference read and checked, its samples
 /// not yet decoded.
-pub(crate) struct GeoTiffImage<'p, R: Read + Seek> {
+pub(crate) struct GeoTiffImage<R: Read + Seek> {
     pub(crate) decoder: Decoder<R>,
-    path: &'p Path,
+    path: PathBuf,
     /// Columns.
     pub(crate) width: usize,
     /// Rows.
@@ -82,28 +92,75 @@ pub(crate) struct GeoTiffImage<'p, R: Read + Seek> {
     pub(crate) bands: usize,
     sample_type: SampleType,
     compression: u16,
-    chunks: ChunkGrid,
+    /// The predictor (Predictor tag) stored chunks were encoded with; `None` for one relief
+    /// does not undo itself (the `tiff` crate decides).
+    predictor: Option<Predictor>,
+    /// Whether the file is big-endian.
+    big_endian: bool,
+    pub(crate) chunks: ChunkGrid,
     /// Where the raster lies.
     pub(crate) placement: Placement,
     /// What the file says about itself.
     pub(crate) info: RasterInfo,
+    /// Buffers reused from one chunk to the next.
+    scratch: ChunkScratch,
 }
 
-impl<'p, R: Read + Seek> GeoTiffImage<'p, R> {
+/// The buffers of chunk decoding, kept from one chunk to the next.
+struct ChunkScratch {
+    /// Decoded bytes of one chunk.
+    buffer: Vec<u8>,
+    /// A chunk cut by the raster's east edge, decoded with its padding.
+    padded: DecodingResult,
+    /// The stored bytes of a ZSTD chunk.
+    compressed: Vec<u8>,
+    /// The decoder of ZSTD-compressed images' chunks (the `tiff` crate decodes the others).
+    zstd: Option<StoredChunkDecoder>,
+}
+
+impl ChunkScratch {
+    /// No buffers and no ZSTD decoder.
+    fn empty() -> Self {
+        ChunkScratch {
+            buffer: Vec::new(),
+            padded: DecodingResult::U8(Vec::new()),
+            compressed: Vec::new(),
+            zstd: None,
+        }
+    }
+}
+
+impl<R: Read + Seek> GeoTiffImage<R> {
     /// Reads and checks the first image's tags. A single band unless `several_bands`, then
     /// any number of bands stored in separate planes (PlanarConfiguration 2); the memory budget
     /// must hold every band's samples and one stored chunk.
     pub(crate) fn open(
-        mut reader: R,
-        path: &'p Path,
+        reader: R,
+        path: &Path,
         options: &ReadOptions,
         several_bands: bool,
+    ) -> Result<Self, IoError> {
+        Self::open_for(reader, path, options, several_bands, Decoding::Whole)
+    }
+
+    /// [`GeoTiffImage::open`] for `decoding`, which says what the memory budget must hold.
+    pub(crate) fn open_for(
+        mut reader: R,
+        path: &Path,
+        options: &ReadOptions,
+        several_bands: bool,
+        decoding: Decoding,
     ) -> Result<Self, IoError> {
         let file_len = check_magic(&mut reader, path)?;
         let mut decoder =
             Decoder::new(reader).map_err(|e| tiff_error(path, "", e))?.with_limits(limits(options));
         let (width, height) = decoder.dimensions().map_err(|e| tiff_error(path, "", e))?;
-        options.check_size(path, width.into(), height.into())?;
+        match decoding {
+            Decoding::Whole => options.check_size(path, width.into(), height.into())?,
+            // Any size: only a row of chunks is held (checked below).
+            Decoding::ChunkRows => ReadOptions { max_memory: u64::MAX, ..options.clone() }
+                .check_size(path, width.into(), height.into())?,
+        }
         // check_size guarantees that width * height fits in usize.
         let (width, height) = (width as usize, height as usize);
         let (sample_type, compression, bands) = check_layout(&mut decoder, path, several_bands)?;
@@ -111,8 +168,11 @@ impl<'p, R: Read + Seek> GeoTiffImage<'p, R> {
         let (placement, tags) = read_placement(&mut decoder, path, width, height)?;
         let layout = (sample_type, compression, bands);
         let chunks = ChunkGrid::read(&mut decoder, path, file_len, layout, width, height)?;
-        let samples = (width as u64 * height as u64).saturating_mul(bands as u64);
-        let mut needed = samples.saturating_mul(4).saturating_add(chunks.stored_bytes);
+        let held = match decoding {
+            Decoding::Whole => (width as u64 * height as u64).saturating_mul(bands as u64),
+            Decoding::ChunkRows => width as u64 * chunks.chunk_height.min(height) as u64,
+        };
+        let mut needed = held.saturating_mul(4).saturating_add(chunks.stored_bytes);
         if compression == COMPRESSION_ZSTD {
             // The stored bytes of the largest chunk are read whole before decompression.
             needed = needed.saturating_add(chunks.byte_counts.iter().copied().max().unwrap_or(0));
@@ -126,6 +186,24 @@ impl<'p, R: Read + Seek> GeoTiffImage<'p, R> {
                 limit: options.max_memory,
             });
         }
+        let predictor = decoder
+            .find_tag_unsigned::<u16>(Tag::Predictor)
+            .map_err(tag_error(path, "Predictor"))?
+            .unwrap_or(1);
+        let unknown = || IoError::unsupported(path, format!("predictor {predictor}"));
+        let predictor = Predictor::from_tag(predictor);
+        let big_endian = decoder.byte_order() == ByteOrder::BigEndian;
+        let zstd = if compression == COMPRESSION_ZSTD {
+            let predictor = predictor.ok_or_else(unknown)?;
+            Some(StoredChunkDecoder::new(
+                StoredCodec::Zstd,
+                predictor,
+                sample_type.size(),
+                big_endian,
+            ))
+        } else {
+            None
+        };
         let info = RasterInfo {
             format: Format::GeoTiff,
             sample_type: sample_type.name().to_string(),
@@ -134,161 +212,211 @@ impl<'p, R: Read + Seek> GeoTiffImage<'p, R> {
             nodata,
             georeference: Georeference::from_geotiff_tags(tags),
         };
+        let scratch = ChunkScratch {
+            buffer: Vec::new(),
+            padded: DecodingResult::U8(Vec::new()),
+            compressed: Vec::new(),
+            zstd,
+        };
         Ok(GeoTiffImage {
             decoder,
-            path,
+            path: path.to_path_buf(),
             width,
             height,
             bands,
             sample_type,
             compression,
+            predictor,
+            big_endian,
             chunks,
             placement,
             info,
+            scratch,
         })
+    }
+
+    /// The file's path.
+    pub(crate) fn path(&self) -> &Path {
+        &self.path
     }
 
     /// The samples of band `band` (< bands): row 0 south, voids NaN.
     pub(crate) fn decode_band(&mut self, band: usize) -> Result<Vec<f32>, IoError> {
-        let (path, width, nodata) = (self.path, self.width, self.info.nodata);
-        let fill = nodata.map_or(0.0, |v| v as f32);
-        let first = band * self.chunks.count;
-        let (decoder, chunks, sample_type) = (&mut self.decoder, &self.chunks, self.sample_type);
-        let mut samples = if self.compression == COMPRESSION_ZSTD {
-            decode_zstd_chunks(decoder, path, chunks, first, sample_type, fill, width)?
-        } else {
-            decode_chunks(decoder, path, chunks, first, sample_type, fill, width)?
-        };
+        let width = self.width;
+        let mut samples = vec![0f32; width * self.height];
+        for index in 0..self.chunks.count {
+            self.decode_chunk(band * self.chunks.count + index, &mut samples, 0)?;
+        }
         if self.placement.north_up {
             flip_rows(&mut samples, width);
         }
-        mark_voids(path, &mut samples, width, nodata, self.placement.north_up)?;
+        let north_up = self.placement.north_up;
+        mark_voids(&self.path, &mut samples, width, self.info.nodata, north_up)?;
         Ok(samples)
     }
-}
 
-/// Decodes every chunk of a `width`-sample-wide image into f32 samples in the file's row
-/// order, one chunk at a time, from chunk `first` on (the first chunk of a band); sparse
-/// chunks become `fill`.
-fn decode_chunks<R: Read + Seek>(
-    decoder: &mut Decoder<R>,
-    path: &Path,
-    chunks: &ChunkGrid,
-    first: usize,
-    sample_type: SampleType,
-    fill: f32,
-    width: usize,
-) -> Result<Vec<f32>, IoError> {
-    let height = chunks.raster_height;
-    let mut samples = vec![0f32; width * height];
-    let mut buffer = vec![0u8; chunks.largest_decoded_bytes(sample_type, width)];
-    let mut padded = DecodingResult::U8(Vec::new());
-    for index in first..first + chunks.count {
-        let region = chunks.region(index - first, width);
-        let out = |row: usize| (region.y + row) * width + region.x;
+    /// Decodes row `chunk_row` of the first band's chunks (a strip, or a row of tiles) into
+    /// `out`, the file rows from `chunk_row * chunk_height` on, in the file's order and
+    /// values (neither flipped nor voids marked); returns how many rows it holds.
+    pub(crate) fn decode_chunk_row(
+        &mut self,
+        chunk_row: usize,
+        out: &mut Vec<f32>,
+    ) -> Result<usize, IoError> {
+        let first_row = chunk_row * self.chunks.chunk_height;
+        let rows = self.chunks.chunk_height.min(self.height - first_row);
+        out.clear();
+        out.resize(rows * self.width, 0.0);
+        let across = self.chunks.across;
+        for index in chunk_row * across..(chunk_row + 1) * across {
+            self.decode_chunk(index, out, first_row)?;
+        }
+        Ok(rows)
+    }
+
+    /// Decodes chunk `index` (counted over every plane) into `out`, a grid of the raster's
+    /// width whose row 0 is file row `first_row`; sparse chunks become the nodata value (0
+    /// without one).
+    fn decode_chunk(
+        &mut self,
+        index: usize,
+        out: &mut [f32],
+        first_row: usize,
+    ) -> Result<(), IoError> {
+        let (path, width, sample_type) = (&self.path, self.width, self.sample_type);
+        let chunks = &self.chunks;
+        let region = chunks.region(index % chunks.count, width);
+        let at = |row: usize| (region.y - first_row + row) * width + region.x;
         if chunks.sparse[index] {
             // GDAL's sparse files omit blocks that hold nothing but nodata (or zeros).
+            let fill = self.info.nodata.map_or(0.0, |v| v as f32);
             for row in 0..region.height {
-                samples[out(row)..][..region.width].fill(fill);
+                out[at(row)..][..region.width].fill(fill);
             }
-            continue;
+            return Ok(());
         }
+        if self.scratch.zstd.is_some() {
+            let mut scratch = std::mem::replace(&mut self.scratch, ChunkScratch::empty());
+            let decoded = self.read_stored(index, &mut scratch.compressed).and_then(|()| {
+                let decoder = scratch.zstd.as_mut().expect("a ZSTD decoder");
+                self.unpack_stored(index, &scratch.compressed, decoder, &mut scratch.buffer)
+            });
+            self.scratch = scratch;
+            let decoded = decoded?;
+            for (row, values) in decoded.chunks_exact(region.width).enumerate() {
+                out[at(row)..][..region.width].copy_from_slice(values);
+            }
+            return Ok(());
+        }
+        let row_bytes = region.width * sample_type.size();
+        let scratch = &mut self.scratch;
+        let padded_view;
         let index_u32 = u32::try_from(index).map_err(|_| {
             IoError::unsupported(path, format!("{} {index} (index beyond u32)", chunks.name()))
         })?;
         let chunk_error = |e| tiff_error(path, &format!("{} {index}", chunks.name()), e);
-        let row_bytes = region.width * sample_type.size();
-        let padded_view;
-        let (bytes, stride) = if region.width == chunks.chunk_width {
-            let bytes = &mut buffer[..row_bytes * region.height];
-            decoder.read_chunk_bytes(index_u32, bytes).map_err(chunk_error)?;
-            (&*bytes, row_bytes)
+        let (bytes, stride): (&[u8], usize) = if region.width == chunks.chunk_width {
+            scratch.buffer.resize(row_bytes * region.height, 0);
+            let bytes = &mut scratch.buffer[..row_bytes * region.height];
+            self.decoder.read_chunk_bytes(index_u32, bytes).map_err(chunk_error)?;
+            (bytes, row_bytes)
         } else {
-            // A tile cut by the raster's east edge. Decoded row by row, tiff 0.11.3 fails on
-            // some valid LZW tiles ("no lzw end code found"): decode whole stored rows
+            // A tile cut by the raster's east edge. Decoded row by row, tiff 0.11.3 fails
+            // on some valid LZW tiles ("no lzw end code found"): decode whole stored rows
             // instead, padding included (the crate takes this output width in bytes).
             let stride = chunks.chunk_width * sample_type.size();
-            decoder.read_chunk_to_buffer(&mut padded, index_u32, stride).map_err(chunk_error)?;
-            padded_view = padded.as_buffer(0);
+            self.decoder
+                .read_chunk_to_buffer(&mut scratch.padded, index_u32, stride)
+                .map_err(chunk_error)?;
+            padded_view = scratch.padded.as_buffer(0);
             (padded_view.as_bytes(), stride)
         };
         for row in 0..region.height {
             let raw = bytes.get(row * stride..row * stride + row_bytes).ok_or_else(|| {
                 IoError::format(path, format!("{} {index} decoded short", chunks.name()))
             })?;
-            convert(raw, sample_type, &mut samples[out(row)..][..region.width]);
+            convert(raw, sample_type, &mut out[at(row)..][..region.width]);
         }
+        Ok(())
     }
-    Ok(samples)
-}
 
-/// [`decode_chunks`] for ZSTD-compressed chunks, which the `tiff` crate does not decode
-/// without the C library: each chunk's stored bytes are read, decompressed and unpredicted
-/// here (see [`ZstdChunkDecoder`]).
-fn decode_zstd_chunks<R: Read + Seek>(
-    decoder: &mut Decoder<R>,
-    path: &Path,
-    chunks: &ChunkGrid,
-    first: usize,
-    sample_type: SampleType,
-    fill: f32,
-    width: usize,
-) -> Result<Vec<f32>, IoError> {
-    let predictor = decoder
-        .find_tag_unsigned::<u16>(Tag::Predictor)
-        .map_err(tag_error(path, "Predictor"))?
-        .unwrap_or(1);
-    let predictor = Predictor::from_tag(predictor)
-        .ok_or_else(|| IoError::unsupported(path, format!("predictor {predictor}")))?;
-    let big_endian = decoder.byte_order() == ByteOrder::BigEndian;
-    let mut zstd = ZstdChunkDecoder::new(predictor, sample_type.size(), big_endian);
-    let mut samples = vec![0f32; width * chunks.raster_height];
-    let stride = chunks.chunk_width * sample_type.size();
-    // stored_bytes (one whole stored chunk) was counted in the memory budget.
-    let mut buffer = vec![0u8; stride * chunks.chunk_height];
-    let mut compressed = Vec::new();
-    for index in first..first + chunks.count {
-        let region = chunks.region(index - first, width);
-        let out = |row: usize| (region.y + row) * width + region.x;
-        if chunks.sparse[index] {
-            for row in 0..region.height {
-                samples[out(row)..][..region.width].fill(fill);
-            }
-            continue;
-        }
-        let chunk = || format!("{} {index}", chunks.name());
+    /// A decoder of the image's stored chunks, for decoding them apart from this image (in
+    /// parallel, see [`GeoTiffImage::unpack_stored`]); `None` unless the chunks are
+    /// Deflate- or ZSTD-compressed with a predictor relief undoes itself.
+    pub(crate) fn stored_decoder(&self) -> Option<StoredChunkDecoder> {
+        let codec = StoredCodec::of(self.compression)?;
+        let size = self.sample_type.size();
+        Some(StoredChunkDecoder::new(codec, self.predictor?, size, self.big_endian))
+    }
+
+    /// Whether [`GeoTiffImage::stored_decoder`] gives a decoder.
+    pub(crate) fn decodes_stored(&self) -> bool {
+        StoredCodec::of(self.compression).is_some() && self.predictor.is_some()
+    }
+
+    /// Reads the stored bytes of chunk `index` into `out` (nothing for a sparse chunk).
+    pub(crate) fn read_stored(&mut self, index: usize, out: &mut Vec<u8>) -> Result<(), IoError> {
+        let path = &self.path;
+        let chunk = || format!("{} {index}", self.chunks.name());
         // ChunkGrid::read checked that the bytes lie within the file.
-        let (offset, count) = (chunks.offsets[index], chunks.byte_counts[index]);
+        let (offset, count) = (self.chunks.offsets[index], self.chunks.byte_counts[index]);
         let count = usize::try_from(count)
             .map_err(|_| IoError::format(path, format!("{}: {count} bytes", chunk())))?;
-        compressed.resize(count, 0);
-        let reader = decoder.inner();
+        out.resize(count, 0);
+        if count == 0 {
+            return Ok(());
+        }
+        let reader = self.decoder.inner();
         reader
             .seek(SeekFrom::Start(offset))
-            .and_then(|_| reader.read_exact(&mut compressed))
-            .map_err(|e| tiff_error(path, &chunk(), TiffError::IoError(e)))?;
-        let decoded = zstd
-            .decode(&compressed, &mut buffer, stride)
+            .and_then(|_| reader.read_exact(out))
+            .map_err(|e| tiff_error(path, &chunk(), TiffError::IoError(e)))
+    }
+
+    /// The samples of chunk `index` (its region of the raster, row-major, file order, neither
+    /// flipped nor voids marked) from its `stored` bytes (see [`GeoTiffImage::read_stored`]);
+    /// a sparse chunk is the nodata value (0 without one). `buffer` holds the decompressed
+    /// bytes. Needs only `&self`, so that chunks can be decoded in parallel.
+    pub(crate) fn unpack_stored(
+        &self,
+        index: usize,
+        stored: &[u8],
+        decoder: &mut StoredChunkDecoder,
+        buffer: &mut Vec<u8>,
+    ) -> Result<Vec<f32>, IoError> {
+        let (path, chunks, sample_type) = (&self.path, &self.chunks, self.sample_type);
+        let region = chunks.region(index % chunks.count, self.width);
+        if chunks.sparse[index] {
+            let fill = self.info.nodata.map_or(0.0, |v| v as f32);
+            return Ok(vec![fill; region.width * region.height]);
+        }
+        let chunk = || format!("{} {index}", chunks.name());
+        let stride = chunks.chunk_width * sample_type.size();
+        // stored_bytes (one whole stored chunk) was counted in the memory budget.
+        buffer.resize(stride * chunks.chunk_height, 0);
+        let decoded = decoder
+            .decode(stored, buffer, stride)
             .map_err(|reason| IoError::format(path, format!("{}: {reason}", chunk())))?;
         let row_bytes = region.width * sample_type.size();
-        if decoded < (region.height - 1) * stride + row_bytes {
+        let needed = (region.height - 1) * stride + row_bytes;
+        if decoded < needed {
             return Err(IoError::format(
                 path,
                 format!(
-                    "{}: ZSTD data decodes to {decoded} bytes; its {} x {} samples need {}",
+                    "{}: {} data decodes to {decoded} bytes; its {} x {} samples need {needed}",
                     chunk(),
+                    decoder.codec_name(),
                     region.width,
                     region.height,
-                    (region.height - 1) * stride + row_bytes
                 ),
             ));
         }
-        for row in 0..region.height {
-            let raw = &buffer[row * stride..][..row_bytes];
-            convert(raw, sample_type, &mut samples[out(row)..][..region.width]);
+        let mut samples = vec![0f32; region.width * region.height];
+        for (row, values) in samples.chunks_exact_mut(region.width).enumerate() {
+            convert(&buffer[row * stride..][..row_bytes], sample_type, values);
         }
+        Ok(samples)
     }
-    Ok(samples)
 }
 
 /// Checks the byte-order mark and version of a TIFF or BigTIFF header; returns the length of

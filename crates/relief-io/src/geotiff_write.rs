@@ -5,7 +5,7 @@ use crate::atomic_write::write_atomically;
 use crate::geokeys::PROJECTED_METRES;
 use crate::IoError;
 use rayon::prelude::*;
-use relief_core::HeightField;
+use relief_core::{GridGeometry, HeightField};
 use std::io::{Seek, Write};
 use std::path::Path;
 use tiff::encoder::compression::{CompressionAlgorithm, Deflate, DeflateLevel};
@@ -95,15 +95,27 @@ fn encode<W: Write + Seek, K: TiffKind>(
         }
         strips.push_row(&mut directory, &values)?;
     }
-    let d = &mut directory;
-    strips.write_layout_tags(d, 1)?;
+    strips.write_layout_tags(&mut directory, 1)?;
+    write_geometry_tags(&mut directory, path, geometry, height)?;
+    directory.finish().map_err(error)
+}
+
+/// Writes the tags that place a north-up `height`-row grid of `geometry` (ModelPixelScale,
+/// ModelTiepoint at its north-west corner, a projected GeoKey directory in metres) and
+/// declare NaN as nodata, after the layout tags, as [`write_geotiff`] does.
+pub(crate) fn write_geometry_tags<W: Write + Seek, K: TiffKind>(
+    d: &mut DirectoryEncoder<'_, W, K>,
+    path: &Path,
+    geometry: &GridGeometry,
+    height: usize,
+) -> Result<(), IoError> {
+    let error = |e| encoding_error(path, e);
     let north = geometry.origin.y + height as f64 * geometry.dy;
     d.write_tag(Tag::ModelPixelScaleTag, &[geometry.dx, geometry.dy, 0.0][..]).map_err(error)?;
     let tiepoint = [0.0, 0.0, 0.0, geometry.origin.x, north, 0.0];
     d.write_tag(Tag::ModelTiepointTag, &tiepoint[..]).map_err(error)?;
     d.write_tag(Tag::GeoKeyDirectoryTag, &PROJECTED_METRES[..]).map_err(error)?;
-    d.write_tag(Tag::GdalNodata, "nan").map_err(error)?;
-    directory.finish().map_err(error)
+    d.write_tag(Tag::GdalNodata, "nan").map_err(error)
 }
 
 /// The Deflate-compressed strips of float32 bands stored one after the other (planar
@@ -131,7 +143,7 @@ impl<'p> FloatStrips<'p> {
                 format!("{width} x {height} samples in a GeoTIFF (at most 2^32 - 1 a side)"),
             ));
         };
-        let rows_per_strip = (STRIP_BYTES / (width.max(1) * 4)).clamp(1, height.max(1));
+        let rows_per_strip = rows_per_strip(width, height);
         Ok(FloatStrips {
             path,
             width: width_u32,
@@ -212,8 +224,26 @@ impl<'p> FloatStrips<'p> {
         Ok(())
     }
 
+    /// Writes one strip's stored bytes (from [`pack_strip`]), after whole strips only.
+    pub(crate) fn push_packed<W: Write + Seek, K: TiffKind>(
+        &mut self,
+        directory: &mut DirectoryEncoder<'_, W, K>,
+        packed: &[u8],
+    ) -> Result<(), IoError> {
+        debug_assert_eq!(self.rows, 0, "a strip written whole starts on a strip boundary");
+        let offset = directory.write_data(packed).map_err(|e| encoding_error(self.path, e))?;
+        self.offsets.push(offset);
+        self.byte_counts.push(packed.len() as u64);
+        Ok(())
+    }
+
+    /// Strips written so far, over every band.
+    pub(crate) fn strips_written(&self) -> usize {
+        self.offsets.len()
+    }
+
     /// Strips of one band.
-    fn strips_per_band(&self) -> usize {
+    pub(crate) fn strips_per_band(&self) -> usize {
         (self.height as usize).div_ceil(self.rows_per_strip)
     }
 
@@ -255,6 +285,25 @@ impl<'p> FloatStrips<'p> {
         // IEEE floating point.
         d.write_tag(Tag::SampleFormat, &per_band(3)[..]).map_err(error)
     }
+}
+
+/// Rows per strip of a `width x height` float32 band: about [`STRIP_BYTES`] a strip.
+pub(crate) fn rows_per_strip(width: usize, height: usize) -> usize {
+    (STRIP_BYTES / (width.max(1) * 4)).clamp(1, height.max(1))
+}
+
+/// Predicts and compresses rows of f32 values, `width` a row, into one strip's stored bytes,
+/// at Deflate's balanced level as [`write_geotiff`] does.
+pub(crate) fn pack_strip(path: &Path, rows: &[f32], width: usize) -> Result<Vec<u8>, IoError> {
+    let mut strip = Vec::with_capacity(rows.len() * 4);
+    for row in rows.chunks_exact(width) {
+        predict_floats(row, &mut strip);
+    }
+    let mut packed = Vec::new();
+    Deflate::with_level(DeflateLevel::Balanced)
+        .write_to(&mut packed, &strip)
+        .map_err(|e| IoError::io(path, e))?;
+    Ok(packed)
 }
 
 /// Appends one row of f32 values encoded with TIFF's floating-point predictor (predictor 3):

@@ -81,15 +81,7 @@ pub(crate) fn read_hgt_from<R: Read>(
     path: &Path,
     options: &ReadOptions,
 ) -> Result<Raster, IoError> {
-    let Some(n) = SIDES.into_iter().find(|&n| (2 * n * n) as u64 == len) else {
-        return Err(IoError::format(
-            path,
-            format!(
-                "an SRTM tile has 2884802 bytes (1201 x 1201, 3\") or 25934402 bytes \
-                 (3601 x 3601, 1\"); this file has {len}"
-            ),
-        ));
-    };
+    let n = hgt_side(path, len)?;
     options.check_size(path, n as u64, n as u64)?;
     let mut samples = vec![0f32; n * n];
     let mut row_bytes = vec![0u8; 2 * n];
@@ -103,39 +95,70 @@ pub(crate) fn read_hgt_from<R: Read>(
             *v = f32::from(i16::from_be_bytes([b[0], b[1]]));
         }
     }
-    let nodata = f64::from(HGT_VOID);
-    mark_voids(path, &mut samples, n, Some(nodata), true)?;
-    let corner = hgt_tile_corner(path);
-    let georeference = corner.map(|(lat, lon)| Georeference::srtm_tile(lat, lon, n));
-    let (geometry, from_degrees) = match corner {
-        Some((lat, lon)) => {
-            let step = 1.0 / (n - 1) as f64;
-            let latitude = f64::from(lat) + 0.5;
-            let (per_lon, per_lat) = metres_per_degree(latitude);
-            let (dx, dy) = (step * per_lon, step * per_lat);
-            let origin = DVec2::new(
-                f64::from(lon) * per_lon - 0.5 * dx,
-                f64::from(lat) * per_lat - 0.5 * dy,
-            );
-            let geometry = GridGeometry { dx, dy, z_scale: 1.0, origin };
-            (geometry, Some(DegreeSpacing { dlon: step, dlat: step, latitude }))
-        }
-        None => (GridGeometry::unit(), None),
-    };
-    Ok(Raster {
-        width: n,
-        height: n,
-        samples,
-        geometry,
-        info: RasterInfo {
-            format: Format::Hgt,
-            sample_type: "int16".into(),
-            georeferenced: from_degrees.is_some(),
-            from_degrees,
-            nodata: Some(nodata),
-            georeference,
-        },
+    mark_voids(path, &mut samples, n, Some(f64::from(HGT_VOID)), true)?;
+    let (geometry, info) = hgt_placement(hgt_tile_corner(path), n);
+    Ok(Raster { width: n, height: n, samples, geometry, info })
+}
+
+/// The side of the SRTM tile `path` of `len` bytes: 1201 or 3601 samples; any other length
+/// is an [`IoError::Format`].
+pub(crate) fn hgt_side(path: &Path, len: u64) -> Result<usize, IoError> {
+    SIDES.into_iter().find(|&n| (2 * n * n) as u64 == len).ok_or_else(|| {
+        IoError::format(
+            path,
+            format!(
+                "an SRTM tile has 2884802 bytes (1201 x 1201, 3\") or 25934402 bytes \
+                 (3601 x 3601, 1\"); this file has {len}"
+            ),
+        )
     })
+}
+
+/// The geometry and info of an SRTM tile of `side x side` samples whose south-west sample is
+/// at `corner` (latitude, longitude), or of an unplaced one without a corner.
+pub(crate) fn hgt_placement(corner: Option<(i32, i32)>, side: usize) -> (GridGeometry, RasterInfo) {
+    match corner {
+        Some(corner) => hgt_mosaic_placement(corner, 1, side),
+        None => (GridGeometry::unit(), hgt_info(None, None)),
+    }
+}
+
+/// The info of SRTM data: placed by `georeference` with `from_degrees`, or unplaced.
+fn hgt_info(georeference: Option<Georeference>, from_degrees: Option<DegreeSpacing>) -> RasterInfo {
+    RasterInfo {
+        format: Format::Hgt,
+        sample_type: "int16".into(),
+        georeferenced: from_degrees.is_some(),
+        from_degrees,
+        nodata: Some(f64::from(HGT_VOID)),
+        georeference,
+    }
+}
+
+/// The geometry and info of SRTM tiles of `side x side` samples laid edge to edge (sharing
+/// their edge samples), `tiles_high` tiles from south to north, the south-west tile's
+/// south-west sample at `south_west` (whole degrees of latitude and longitude).
+///
+/// Spacing and origin are in metres, converted from degrees at the central latitude of the
+/// tiles with [`metres_per_degree`]; the origin (the texel grid's south-west corner) lies half
+/// a pixel south-west of the corner sample. The georeference places the north-west sample as
+/// GDAL does a `.hgt`. For one tile, the placement [`read_hgt`] gives.
+pub(crate) fn hgt_mosaic_placement(
+    (lat, lon): (i32, i32),
+    tiles_high: u32,
+    side: usize,
+) -> (GridGeometry, RasterInfo) {
+    let step = 1.0 / (side - 1) as f64;
+    let latitude = f64::from(lat) + 0.5 * f64::from(tiles_high);
+    let (per_lon, per_lat) = metres_per_degree(latitude);
+    let (dx, dy) = (step * per_lon, step * per_lat);
+    let origin =
+        DVec2::new(f64::from(lon) * per_lon - 0.5 * dx, f64::from(lat) * per_lat - 0.5 * dy);
+    let geometry = GridGeometry { dx, dy, z_scale: 1.0, origin };
+    let north_tile = lat.saturating_add_unsigned(tiles_high.saturating_sub(1));
+    let georeference = Georeference::srtm_tile(north_tile, lon, side);
+    let degrees = DegreeSpacing { dlon: step, dlat: step, latitude };
+    (geometry, hgt_info(Some(georeference), Some(degrees)))
 }
 
 /// Writes `field` as an SRTM tile: big-endian int16, rows from north to south, holes as

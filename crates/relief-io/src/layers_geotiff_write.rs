@@ -94,7 +94,7 @@ fn encode<W: Write + Seek, K: TiffKind>(
 }
 
 /// Writes the georeferencing tags present in `tags`, unchanged.
-fn write_georeference<W: Write + Seek, K: TiffKind>(
+pub(crate) fn write_georeference<W: Write + Seek, K: TiffKind>(
     d: &mut DirectoryEncoder<'_, W, K>,
     path: &Path,
     tags: &GeoTiffTags,

@@ -6,8 +6,11 @@
 //!   [`read_geotiff`], [`read_hgt`] (SRTM tiles), [`read_asc`] (ESRI ASCII grids),
 //!   [`read_png_height`] (greyscale, terrain-RGB and Terrarium PNGs), [`read_npy`],
 //!   [`read_npz`] (NumPy), and [`read_npy_height_field`] for a plain `.npy` grid;
-//! - [`RowSource`]: a raster read in bands of rows, never whole ([`InMemoryRows`] serves one
-//!   already read);
+//! - [`RowSource`]: a raster read in bands of rows, never whole: [`open_rows`] streams a
+//!   GeoTIFF, an SRTM tile or a `.npy` file (and serves other formats from memory),
+//!   [`open_mosaic`] joins SRTM tiles by their names or GeoTIFFs by their georeference into
+//!   one raster; [`InMemoryRows`] serves one already read; [`GeoTiffStripWriter`] writes a
+//!   float32 GeoTIFF row band by row band;
 //! - [`RasterInfo::georeference`]: the file's placement and CRS as stored ([`Georeference`]:
 //!   its GeoTIFF tags and GDAL geotransform), for outputs aligned with the input;
 //!   [`write_layers_geotiff`] writes named float32 layers ([`LayerRaster`]) with it, one band
@@ -55,8 +58,11 @@ mod geokeys;
 mod georeference;
 mod geotiff_chunks;
 mod geotiff_read;
+mod geotiff_rows;
+mod geotiff_strip_writer;
 mod geotiff_write;
 mod hgt;
+mod hgt_rows;
 mod input_file;
 mod jpeg_write;
 mod layer_png_write;
@@ -66,11 +72,14 @@ mod layers_geotiff_write;
 mod memory_budget;
 mod mlhm_native;
 mod mlhm_scene;
+mod mosaic;
 mod npy_header;
 mod npy_raster;
 mod npy_read;
+mod npy_rows;
 mod npy_write;
 mod npz;
+mod open_rows;
 mod ortho_read;
 mod png_height;
 mod png_read;
@@ -80,19 +89,20 @@ mod read;
 mod rgb_geotiff_write;
 mod row_source;
 mod sample_type;
+mod stored_chunk;
 #[cfg(test)]
 mod test_corruption;
 #[cfg(test)]
 mod test_dir;
 mod void_fill;
 mod write;
-mod zstd_chunk;
 
 pub use asc::{read_asc, write_asc};
 pub use error::IoError;
 pub use geodesy::metres_per_degree;
 pub use georeference::{GeoTiffTags, Georeference, EPSG_WGS84};
 pub use geotiff_read::read_geotiff;
+pub use geotiff_strip_writer::GeoTiffStripWriter;
 pub use geotiff_write::write_geotiff;
 pub use hgt::{hgt_tile_corner, read_hgt, write_hgt, HGT_VOID};
 pub use jpeg_write::{write_jpeg_rgb8, JPEG_QUALITY};
@@ -108,10 +118,12 @@ pub use mlhm_scene::{
     parse_mlhm_scene_header, read_mlhm_scene, read_mlhm_scene_from_bytes, read_mlhm_scene_header,
     write_mlhm_scene, MlhmScene, MlhmSceneHeader, SimulationState, F16_SLACK, F32_SLACK,
 };
+pub use mosaic::open_mosaic;
 pub use npy_raster::read_npy;
 pub use npy_read::{read_npy_f32_array, read_npy_height_field};
 pub use npy_write::{write_height_field_npy, write_npy_f32};
 pub use npz::read_npz;
+pub use open_rows::open_rows;
 pub use ortho_read::{open_ortho, OrthoInfo, OrthoRows};
 pub use png_height::{read_png_height, write_png16_height};
 pub use png_read::{read_png_rgb, RgbImage};

@@ -144,7 +144,7 @@ fn decode(
 }
 
 /// Converts the elements in `bytes` to f32 into `out` (float16 exactly, as every f16 is an f32).
-fn convert(bytes: &[u8], dtype: Dtype, out: &mut [f32]) {
+pub(crate) fn convert(bytes: &[u8], dtype: Dtype, out: &mut [f32]) {
     macro_rules! each {
         ($t:ty) => {
             each!($t, |v: $t| v as f32)

@@ -223,9 +223,23 @@ pub(crate) fn mark_voids(
     nodata: Option<f64>,
     row_from_top: bool,
 ) -> Result<(), IoError> {
-    let nodata_f32 = nodata.map(|v| v as f32);
     let height = samples.len() / width.max(1);
-    for (i, v) in samples.iter_mut().enumerate() {
+    for (row, values) in samples.chunks_mut(width.max(1)).enumerate() {
+        let file_row = if row_from_top { height - 1 - row } else { row };
+        mark_row_voids(path, values, file_row, nodata)?;
+    }
+    Ok(())
+}
+
+/// [`mark_voids`] of one row, `file_row` its row in the file's own order (named in errors).
+pub(crate) fn mark_row_voids(
+    path: &Path,
+    values: &mut [f32],
+    file_row: usize,
+    nodata: Option<f64>,
+) -> Result<(), IoError> {
+    let nodata_f32 = nodata.map(|v| v as f32);
+    for (col, v) in values.iter_mut().enumerate() {
         let is_void = match nodata_f32 {
             Some(nd) if nd.is_nan() => v.is_nan(),
             Some(nd) => *v == nd,
@@ -234,12 +248,10 @@ pub(crate) fn mark_voids(
         if is_void {
             *v = f32::NAN;
         } else if !v.is_finite() {
-            let (col, row) = (i % width, i / width);
-            let row = if row_from_top { height - 1 - row } else { row };
             return Err(IoError::invalid_data(
                 path,
                 format!(
-                    "sample at column {col}, row {row} is {v}{}",
+                    "sample at column {col}, row {file_row} is {v}{}",
                     if nodata.is_none() { " and the file declares no nodata value" } else { "" }
                 ),
             ));

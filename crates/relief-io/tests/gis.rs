@@ -312,3 +312,42 @@ for name, opts in [('zstd', dict(compress='ZSTD', predictor=2, tiled=True, block
         assert!(text.to_uppercase().contains(codec) && text.contains("ZSTD"), "{text}");
     }
 }
+
+#[test]
+fn geotiffs_written_strip_by_strip_read_in_gdal_with_their_placement() {
+    use relief_core::{DVec2, GridGeometry};
+    let dir = TestDir::new("gis-strip-writer");
+    let (w, h) = (301usize, 977usize);
+    let geometry =
+        GridGeometry { dx: 2.5, dy: 4.0, z_scale: 1.0, origin: DVec2::new(1000.0, 20.0) };
+    let path = dir.join("strips.tif");
+    let mut out = relief_io::GeoTiffStripWriter::create(&path, w, h, &geometry).unwrap();
+    // North first: file row r holds r * 0.5 + column, with a void.
+    let rows: Vec<f32> = (0..w * h)
+        .map(|i| if i == 7 { f32::NAN } else { (i / w) as f32 * 0.5 + (i % w) as f32 })
+        .collect();
+    for band in rows.chunks(100 * w) {
+        out.write_rows(band).unwrap();
+    }
+    out.finish().unwrap();
+    let expected = dir.join("expected.npy");
+    write_npy_f32(&expected, &[h, w], &rows).unwrap();
+    let check = format!(
+        r#"
+import numpy as np, rasterio
+out = rasterio.open('{path}')
+assert (out.width, out.height) == ({w}, {h}), (out.width, out.height)
+assert tuple(out.transform)[:6] == (2.5, 0.0, 1000.0, 0.0, -4.0, 20.0 + {h} * 4.0), out.transform
+got = out.read(1)
+want = np.load('{expected}')
+assert np.array_equal(got, want, equal_nan=True), np.argwhere(got != want)[:5]
+assert np.isnan(out.nodata), out.nodata
+print('ok')
+"#,
+        path = path.display(),
+        expected = expected.display(),
+    );
+    if let Some(out) = python("rasterio", &check) {
+        assert_eq!(out, "ok");
+    }
+}

@@ -11,6 +11,7 @@ use crate::gradient_noise::{mix64, CellCache, GradientNoise, NoiseBatch};
 use crate::FbmParams;
 use rayon::prelude::*;
 use relief_core::{CoreError, GridGeometry, HeightField};
+use std::sync::OnceLock;
 
 /// Domain-warp displacement in units of the first octave's wavelength.
 const WARP: f64 = 0.3;
@@ -211,23 +212,13 @@ pub fn fbm_terrain(
     let count = width
         .checked_mul(height)
         .ok_or_else(|| CoreError::Grid(format!("{width} x {height} samples overflow")))?;
-    let finest = params.lacunarity.powi(params.octaves as i32 - 1);
-    let reach = (width.max(height) as f64 / params.wavelength + WARP) * finest;
-    if reach > MAX_LATTICE_COORDINATE {
-        return Err(CoreError::Parameter {
-            name: "octaves",
-            reason: format!(
-                "the finest of {} octaves at lacunarity {} is too fine for a {width} x {height} grid",
-                params.octaves, params.lacunarity
-            ),
-        });
-    }
+    let rows = FbmRows::new(width, height, seed, params)?;
     let mut samples: Vec<f32> = Vec::new();
     samples
         .try_reserve_exact(count)
         .map_err(|_| CoreError::Grid(format!("cannot allocate {width} x {height} samples")))?;
     samples.resize(count, 0.0);
-    let terrain = Terrain::new(seed, params);
+    let terrain = &rows.terrain;
     // Each row is computed from its own coordinates alone, so the split between threads
     // cannot change any value; the minimum is exact whatever the order of reduction.
     let min = samples
@@ -237,6 +228,137 @@ pub fn fbm_terrain(
         .reduce(|| f32::INFINITY, f32::min);
     samples.par_iter_mut().for_each(|h| *h -= min);
     HeightField::new(width, height, samples, GridGeometry::unit())
+}
+
+/// The seeded fBm terrain of [`fbm_terrain`] computed a band of rows at a time, for terrains
+/// larger than memory: [`FbmRows::read_rows`] gives exactly `fbm_terrain`'s samples, bit for
+/// bit, whatever the bands and the number of threads.
+///
+/// The samples are shifted so that the lowest is 0, which needs the lowest unshifted height
+/// over the whole terrain: [`FbmRows::lowest`] computes it in a first pass over every row
+/// (as costly as computing the terrain, in memory of one row per thread), once, on first use.
+///
+/// ```
+/// use relief_sim::{fbm_terrain, FbmParams, FbmRows};
+/// let params = FbmParams::for_size(64, 32);
+/// let rows = FbmRows::new(64, 32, 7, &params)?;
+/// let mut band = vec![0f32; 64 * 5];
+/// rows.read_rows(10, &mut band)?;
+/// let whole = fbm_terrain(64, 32, 7, &params)?;
+/// assert_eq!(band, whole.samples()[64 * 10..64 * 15]);
+/// # Ok::<(), relief_core::CoreError>(())
+/// ```
+pub struct FbmRows {
+    width: usize,
+    height: usize,
+    terrain: Terrain,
+    /// The lowest unshifted height, once computed.
+    lowest: OnceLock<f32>,
+}
+
+impl FbmRows {
+    /// The `width x height` terrain of [`fbm_terrain`] with the same arguments; computes no
+    /// sample.
+    ///
+    /// Errors: [`CoreError::Parameter`] when `params` are out of range or their finest octave
+    /// is too fine for the grid's size; [`CoreError::Grid`] when the grid is empty.
+    pub fn new(
+        width: usize,
+        height: usize,
+        seed: u64,
+        params: &FbmParams,
+    ) -> Result<Self, CoreError> {
+        params.validate()?;
+        if width == 0 || height == 0 {
+            return Err(CoreError::Grid(format!("{width} x {height} has no samples")));
+        }
+        let finest = params.lacunarity.powi(params.octaves as i32 - 1);
+        let reach = (width.max(height) as f64 / params.wavelength + WARP) * finest;
+        if reach > MAX_LATTICE_COORDINATE {
+            return Err(CoreError::Parameter {
+                name: "octaves",
+                reason: format!(
+                    "the finest of {} octaves at lacunarity {} is too fine for a {width} x \
+                     {height} grid",
+                    params.octaves, params.lacunarity
+                ),
+            });
+        }
+        let terrain = Terrain::new(seed, params);
+        Ok(FbmRows { width, height, terrain, lowest: OnceLock::new() })
+    }
+
+    /// Columns.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Rows.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// The lowest height of the terrain before it is shifted to start at 0: computed over
+    /// every row, in parallel, the first time it is asked for (or rows are read).
+    pub fn lowest(&self) -> f32 {
+        self.lowest_with_progress(|_| {})
+    }
+
+    /// [`FbmRows::lowest`], calling `progress` with the number of rows done so far now and
+    /// then while it is computed (not at all when it was already known).
+    pub fn lowest_with_progress(&self, progress: impl Fn(usize)) -> f32 {
+        *self.lowest.get_or_init(|| {
+            let (terrain, width) = (&self.terrain, self.width);
+            // Bands of about 2^20 samples between progress reports.
+            let band = ((1 << 20) / width).clamp(1, self.height);
+            let mut lowest = f32::INFINITY;
+            for first in (0..self.height).step_by(band) {
+                let end = (first + band).min(self.height);
+                let band_lowest = (first..end)
+                    .into_par_iter()
+                    .map_init(
+                        || (terrain.scratch(), vec![0f32; width]),
+                        |(scratch, out), row| terrain.row(row, out, scratch),
+                    )
+                    .reduce(|| f32::INFINITY, f32::min);
+                lowest = lowest.min(band_lowest);
+                progress(end);
+            }
+            lowest
+        })
+    }
+
+    /// Fills `out` with the `out.len() / width` rows from `first_row` on (row 0 south, as in
+    /// [`fbm_terrain`]'s height field), computed in parallel, row by row.
+    ///
+    /// Errors: [`CoreError::Grid`] when `out` is not whole rows or the rows run past the
+    /// terrain.
+    pub fn read_rows(&self, first_row: usize, out: &mut [f32]) -> Result<(), CoreError> {
+        let width = self.width;
+        let rows = out.len() / width;
+        if !out.len().is_multiple_of(width)
+            || first_row.checked_add(rows).is_none_or(|end| end > self.height)
+        {
+            return Err(CoreError::Grid(format!(
+                "{} samples from row {first_row}: not whole rows of {width} within the {} rows \
+                 of the terrain",
+                out.len(),
+                self.height
+            )));
+        }
+        let lowest = self.lowest();
+        let terrain = &self.terrain;
+        out.par_chunks_mut(width).enumerate().for_each_init(
+            || terrain.scratch(),
+            |scratch, (k, values)| {
+                terrain.row(first_row + k, values, scratch);
+                for h in values.iter_mut() {
+                    *h -= lowest;
+                }
+            },
+        );
+        Ok(())
+    }
 }
 
 #[cfg(test)]
@@ -314,5 +436,41 @@ mod tests {
             fbm_terrain(16, 16, 1, &too_fine),
             Err(CoreError::Parameter { name: "octaves", .. })
         ));
+    }
+
+    #[test]
+    fn rows_are_the_terrains_whatever_the_bands_and_threads() {
+        let (w, h) = (333, 101);
+        let params = FbmParams::for_size(w, h);
+        let whole = terrain(w, h, 11);
+        let bits = |s: &[f32]| s.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let rows = FbmRows::new(w, h, 11, &params).unwrap();
+                let mut all = vec![0f32; w * h];
+                let mut first = 0;
+                for band in [1, 7, 50, 43] {
+                    rows.read_rows(first, &mut all[first * w..(first + band) * w]).unwrap();
+                    first += band;
+                }
+                assert_eq!(first, h);
+                assert_eq!(bits(&all), bits(whole.samples()), "{threads} threads");
+            });
+        }
+    }
+
+    #[test]
+    fn bad_row_requests_and_sizes_are_errors() {
+        let p = FbmParams::for_size(16, 16);
+        let rows = FbmRows::new(16, 16, 1, &p).unwrap();
+        assert_eq!((rows.width(), rows.height()), (16, 16));
+        for (first, len) in [(0, 15), (15, 32), (16, 16), (usize::MAX, 16)] {
+            let mut out = vec![0f32; len];
+            assert!(matches!(rows.read_rows(first, &mut out), Err(CoreError::Grid(_))));
+        }
+        assert!(matches!(FbmRows::new(0, 16, 1, &p), Err(CoreError::Grid(_))));
+        let bad = FbmParams { gain: 2.0, ..p };
+        assert!(matches!(FbmRows::new(16, 16, 1, &bad), Err(CoreError::Parameter { .. })));
     }
 }

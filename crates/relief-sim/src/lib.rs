@@ -1,7 +1,8 @@
 //! relief-sim: synthetic and dynamic terrain.
 //!
 //! - [`fbm_terrain`]: deterministic, seeded fBm mountains of any size, with
-//!   [`FbmParams::for_size`] picking parameters that look like real mountains;
+//!   [`FbmParams::for_size`] picking parameters that look like real mountains; [`FbmRows`]
+//!   computes the same terrain a band of rows at a time, for terrains larger than memory;
 //! - [`rivers_rain`]: the reference MLHM simulator's procedural RiversRain scene (fBm hills on
 //!   a slope, 256 m square) at any grid size, as a multi-layered height map;
 //! - [`carved_scene`]: MLHM scenes of the same extent with arches, a cave, a chasm and
@@ -26,5 +27,5 @@ pub use dynamic::{stamp, Brush, BrushKind, HeightFieldErosion, WaveParams, WaveS
 pub use erosion::{ErosionError, ErosionParams, ErosionState, SimulationPlanes, StepVolumes};
 pub use error::SimError;
 pub use fbm_params::{FbmParams, MAX_OCTAVES};
-pub use fbm_terrain::fbm_terrain;
+pub use fbm_terrain::{fbm_terrain, FbmRows};
 pub use rivers_rain::{rivers_rain, RIVERS_RAIN_EXTENT, RIVERS_RAIN_SEED};

@@ -67,19 +67,19 @@ pub struct BuildReport {
 }
 
 /// The bytes a build of a `width`-sample-wide raster in tiles of `tile` holds at most: a band
-/// of fine rows for the coarse level, the coarse band and its encoded tiles.
+/// of fine rows for the coarse level, the coarse band (with its deviations) and its encoded
+/// tiles.
 pub fn working_set_bytes(width: u64, tile: u32) -> u64 {
     let side = tile as u64 + 2;
-    // Level 1 reads 2 * side rows of level 0 and makes side rows of half the width, plus one
-    // group of encoded tiles; level 0 holds one band of side rows and the same group.
-    let fine = 2 * side * width * 4;
-    let coarse = side * width.div_ceil(2) * 4;
-    let group = (GROUP_TILES as u64) * side * side * 4;
-    (fine + coarse + group).max(side * width * 4 + group)
+    let tiles_x = width.div_ceil(tile as u64);
+    // Level 0: one band of side rows and the band's tiles, encoded. Level 1: 2 * side rows of
+    // level 0, side rows of half the width with their deviations, and its tiles, encoded.
+    let level0 = side * width * 4 + tiles_x * side * side * 4;
+    let level1 = 2 * side * width * 4
+        + 2 * side * width.div_ceil(2) * 4
+        + tiles_x.div_ceil(2) * side * side * 4;
+    level0.max(level1)
 }
-
-/// Tiles encoded at once before they are written.
-pub(crate) const GROUP_TILES: usize = 16;
 
 /// Builds (or resumes) the tile store at `dir` from `source`, reporting `(tiles done, tiles in
 /// all)` to `progress`. `sources` names the input files; a store that exists at `dir` is
@@ -255,7 +255,7 @@ impl StoreWriter {
             .all(|col| self.records[layout.index_of(TileId { level, col, row }) as usize].is_some())
     }
 
-    /// Writes a group of encoded tiles, syncs them, then writes and syncs their records.
+    /// Writes a band's encoded tiles, syncs them, then writes and syncs their records.
     fn write_tiles(
         &mut self,
         layout: &PyramidLayout,
@@ -330,12 +330,10 @@ struct Band {
 }
 
 impl Band {
-    /// Sample (col, row) of the level, the edge sample repeated beyond the level.
-    fn at(&self, col: i64, row: i64) -> (f32, f32) {
-        let c = col.clamp(0, self.width as i64 - 1) as usize;
-        let r = (row.clamp(self.first, self.first + self.rows as i64 - 1) - self.first) as usize;
-        let k = c + r * self.width;
-        (self.samples[k], self.deviation.get(k).copied().unwrap_or(0.0))
+    /// Where row `row` of the level starts in `samples`, the edge row repeated beyond the band.
+    fn row_start(&self, row: i64) -> usize {
+        (row.clamp(self.first, self.first + self.rows as i64 - 1) - self.first) as usize
+            * self.width
     }
 }
 
@@ -372,30 +370,29 @@ fn build_band(
         .filter(|id| store.records[layout.index_of(*id) as usize].is_none())
         .collect();
     let precision = store.header.precision;
-    for group in todo.chunks(GROUP_TILES) {
-        let mut encoded: Vec<(TileId, Vec<u8>, TileRecord)> = group
-            .par_iter()
-            .map(|&id| {
-                let (bytes, mut record) = cut_tile(layout, &band, id, precision);
-                record.error += layout
-                    .children(id)
-                    .filter_map(|c| store.records[layout.index_of(c) as usize])
-                    .map(|r| r.error)
-                    .fold(0.0, f32::max);
-                (id, bytes, record)
-            })
-            .collect();
-        if let Some(limit) = run.fail_after {
-            let room = limit.saturating_sub(run.built) as usize;
-            if room < encoded.len() {
-                encoded.truncate(room);
-                store.write_tiles(layout, &encoded)?;
-                return Err(TileError::Injected(limit));
-            }
+    let mut encoded: Vec<(TileId, Vec<u8>, TileRecord)> = todo
+        .par_iter()
+        .map(|&id| {
+            let (bytes, mut record) = cut_tile(layout, &band, id, precision);
+            record.error += layout
+                .children(id)
+                .filter_map(|c| store.records[layout.index_of(c) as usize])
+                .map(|r| r.error)
+                .fold(0.0, f32::max);
+            (id, bytes, record)
+        })
+        .collect();
+    drop(band);
+    if let Some(limit) = run.fail_after {
+        let room = limit.saturating_sub(run.built) as usize;
+        if room < encoded.len() {
+            encoded.truncate(room);
+            store.write_tiles(layout, &encoded)?;
+            return Err(TileError::Injected(limit));
         }
-        store.write_tiles(layout, &encoded)?;
-        run.built += encoded.len() as u64;
     }
+    store.write_tiles(layout, &encoded)?;
+    run.built += encoded.len() as u64;
     Ok(())
 }
 
@@ -411,26 +408,60 @@ fn cut_tile(
     let (c0, r0) = layout.stored_origin(id);
     let mut samples = vec![0f32; side * side];
     let mut error = 0f32;
-    for r in 0..side {
-        for c in 0..side {
-            let (v, dev) = band.at(c0 + c as i64, r0 + r as i64);
-            samples[c + r * side] = v;
-            let interior = (1..side - 1).contains(&r) && (1..side - 1).contains(&c);
-            if interior {
-                error = error.max(dev);
-            }
+    // The columns of the level this tile's stored columns show: the edge column repeated
+    // beyond the level.
+    let last_col = band.width as i64 - 1;
+    let columns: Vec<usize> =
+        (0..side).map(|c| (c0 + c as i64).clamp(0, last_col) as usize).collect();
+    let inside = columns[1]..=columns[side - 2];
+    for (r, out) in samples.chunks_exact_mut(side).enumerate() {
+        let k = band.row_start(r0 + r as i64);
+        let row = &band.samples[k..k + band.width];
+        for (o, &c) in out.iter_mut().zip(&columns) {
+            *o = row[c];
+        }
+        if (1..side - 1).contains(&r) && !band.deviation.is_empty() {
+            let dev = &band.deviation[k + inside.start()..=k + inside.end()];
+            error = dev.iter().copied().fold(error, f32::max);
         }
     }
     let mut bytes = vec![0u8; side * side * sample_bytes(precision)];
     encode_samples(precision, &samples, &mut bytes);
-    // The record describes the samples as stored (f16 rounds them).
-    decode_samples(precision, &bytes, &mut samples);
-    let valid = samples.iter().copied().filter(|v| !v.is_nan());
-    let (min, max) =
-        valid.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
-    let has_voids = samples.iter().any(|v| v.is_nan());
+    if precision != Precision::F32 {
+        // The record describes the samples as stored (f16 rounds them).
+        decode_samples(precision, &bytes, &mut samples);
+    }
+    let (min, max, has_voids) = bounds(&samples);
     let record = TileRecord { min, max, error, has_voids, checksum: slot_checksum(&bytes) };
     (bytes, record)
+}
+
+/// The smallest and largest non-void sample of `samples`, and whether any is a void (NaN).
+fn bounds(samples: &[f32]) -> (f32, f32, bool) {
+    // Eight lanes that the compiler turns into vector compares; a NaN compares false and
+    // leaves the bounds as they are.
+    const LANES: usize = 8;
+    let (mut lo, mut hi, mut nan) = ([f32::INFINITY; LANES], [f32::NEG_INFINITY; LANES], false);
+    let chunks = samples.chunks_exact(LANES);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for i in 0..LANES {
+            let v = chunk[i];
+            nan |= v.is_nan();
+            lo[i] = if v < lo[i] { v } else { lo[i] };
+            hi[i] = if v > hi[i] { v } else { hi[i] };
+        }
+    }
+    for &v in rest {
+        nan |= v.is_nan();
+        lo[0] = if v < lo[0] { v } else { lo[0] };
+        hi[0] = if v > hi[0] { v } else { hi[0] };
+    }
+    (
+        lo.into_iter().fold(f32::INFINITY, f32::min),
+        hi.into_iter().fold(f32::NEG_INFINITY, f32::max),
+        nan,
+    )
 }
 
 /// Rows `[first, end)` of `level`, each the 2x2 average of the level below (voids left out; a
@@ -452,32 +483,39 @@ fn coarse_band(
     let width = width as usize;
     let mut samples = vec![0f32; rows * width];
     let mut deviation = vec![0f32; rows * width];
+    let fine_rows = (fine_end - fine_first) as usize;
+    let fine_row = |r: usize| match r < fine_rows {
+        true => &fine[r * fine_w..(r + 1) * fine_w],
+        false => &[][..],
+    };
     samples.par_chunks_mut(width).zip(deviation.par_chunks_mut(width)).enumerate().for_each(
         |(r, (out, dev))| {
-            let fr = 2 * r;
-            let fine_rows = (fine_end - fine_first) as usize;
+            let (south, north) = (fine_row(2 * r), fine_row(2 * r + 1));
+            let at = |row: &[f32], c: usize| row.get(c).copied().unwrap_or(f32::NAN);
             for (c, (o, d)) in out.iter_mut().zip(dev.iter_mut()).enumerate() {
-                let values: [f32; 4] = std::array::from_fn(|k| {
-                    let (fc, frr) = (2 * c + (k & 1), fr + k / 2);
-                    if fc < fine_w && frr < fine_rows {
-                        fine[fc + frr * fine_w]
-                    } else {
-                        f32::NAN
-                    }
-                });
-                let valid = values.iter().copied().filter(|v| !v.is_nan());
-                let (sum, n) = valid.clone().fold((0f64, 0u32), |(s, n), v| (s + v as f64, n + 1));
-                if n == 0 {
-                    (*o, *d) = (f32::NAN, 0.0);
-                } else {
-                    let mean = (sum / n as f64) as f32;
-                    *o = mean;
-                    *d = valid.map(|v| (v - mean).abs()).fold(0.0, f32::max);
-                }
+                let (fc, fc1) = (2 * c, 2 * c + 1);
+                let values = [at(south, fc), at(south, fc1), at(north, fc), at(north, fc1)];
+                (*o, *d) = average(values);
             }
         },
     );
     Ok(Band { first, width, rows, samples, deviation })
+}
+
+/// The mean of the non-void `values` and the largest distance from it to them; a void (NaN)
+/// where all four are voids.
+fn average(values: [f32; 4]) -> (f32, f32) {
+    let (mut sum, mut n) = (0f64, 0u32);
+    for v in values.into_iter().filter(|v| !v.is_nan()) {
+        sum += v as f64;
+        n += 1;
+    }
+    if n == 0 {
+        return (f32::NAN, 0.0);
+    }
+    let mean = (sum / n as f64) as f32;
+    let deviation = values.into_iter().filter(|v| !v.is_nan()).map(|v| (v - mean).abs());
+    (mean, deviation.fold(0.0, f32::max))
 }
 
 /// Rows `[first, end)` of `level` (their tiles' inner samples), read back from the store and

@@ -1,5 +1,8 @@
 //! The tiles in memory: a least-recently-used cache bounded by the bytes its tiles hold, for
 //! height tiles ([`LoadedTile`]) and texture tiles ([`TextureTile`]) alike.
+//!
+//! The cache counts frames: a tile used by the frame being drawn is never dropped to make room
+//! for another, so tiles loaded ahead of the camera cannot push out the ones on screen.
 
 use crate::store::LoadedTile;
 use crate::texture_store::TextureTile;
@@ -33,7 +36,8 @@ impl CachedTile for TextureTile {
     }
 }
 
-/// Loaded tiles, at most `budget` bytes of them; the least recently used go first.
+/// Loaded tiles, at most `budget` bytes of them; the least recently used go first, never one
+/// the current frame uses.
 #[derive(Debug)]
 pub struct TileCache<T: CachedTile = LoadedTile> {
     budget: u64,
@@ -42,15 +46,27 @@ pub struct TileCache<T: CachedTile = LoadedTile> {
 
 #[derive(Debug)]
 struct State<T> {
-    tiles: HashMap<TileId, (Arc<T>, u64)>,
+    tiles: HashMap<TileId, Entry<T>>,
     bytes: u64,
     clock: u64,
+    frame: u64,
+}
+
+#[derive(Debug)]
+struct Entry<T> {
+    tile: Arc<T>,
+    /// When it was last used, on the cache's clock.
+    used: u64,
+    /// The last frame that used it.
+    frame: u64,
 }
 
 impl<T: CachedTile> TileCache<T> {
     /// An empty cache of at most `budget` bytes.
     pub fn new(budget: u64) -> Self {
-        TileCache { budget, state: Mutex::new(State { tiles: HashMap::new(), bytes: 0, clock: 0 }) }
+        // Frame 0 is no frame: tiles inserted but not used yet carry it.
+        let state = State { tiles: HashMap::new(), bytes: 0, clock: 0, frame: 1 };
+        TileCache { budget, state: Mutex::new(state) }
     }
 
     /// The most bytes it holds.
@@ -78,35 +94,48 @@ impl<T: CachedTile> TileCache<T> {
         self.lock().tiles.contains_key(&id)
     }
 
-    /// Tile `id` if it is in memory, marked as just used.
+    /// Starts a new frame: the tiles the last frame used may be dropped again.
+    pub fn begin_frame(&self) {
+        self.lock().frame += 1;
+    }
+
+    /// Tile `id` if it is in memory, marked as just used, by the current frame.
     pub fn get(&self, id: TileId) -> Option<Arc<T>> {
         let mut state = self.lock();
         state.clock += 1;
-        let now = state.clock;
-        state.tiles.get_mut(&id).map(|(tile, used)| {
-            *used = now;
-            tile.clone()
+        let (now, frame) = (state.clock, state.frame);
+        state.tiles.get_mut(&id).map(|entry| {
+            (entry.used, entry.frame) = (now, frame);
+            entry.tile.clone()
         })
     }
 
-    /// Keeps `tile`, dropping the least recently used tiles until the bytes fit the budget; a
-    /// tile larger than the whole budget is not kept.
-    pub fn insert(&self, tile: Arc<T>) {
+    /// Keeps `tile`, dropping the least recently used tiles that the current frame does not
+    /// use until the bytes fit the budget. Returns whether it kept the tile: not when that
+    /// would drop a tile of the current frame, or when the tile is larger than the budget.
+    pub fn insert(&self, tile: Arc<T>) -> bool {
         let (id, bytes) = (tile.tile_id(), tile.tile_bytes());
         let mut state = self.lock();
-        if bytes > self.budget || state.tiles.contains_key(&id) {
-            return;
+        if state.tiles.contains_key(&id) {
+            return true;
+        }
+        let frame = state.frame;
+        let droppable: u64 =
+            state.tiles.values().filter(|e| e.frame < frame).map(|e| e.tile.tile_bytes()).sum();
+        if state.bytes - droppable + bytes > self.budget {
+            return false;
         }
         while state.bytes + bytes > self.budget {
-            let oldest = state.tiles.iter().min_by_key(|(_, (_, used))| *used).map(|(id, _)| *id);
-            let Some(oldest) = oldest else { break };
-            let (gone, _) = state.tiles.remove(&oldest).expect("the oldest is there");
-            state.bytes -= gone.tile_bytes();
+            let oldest = state.tiles.iter().filter(|(_, e)| e.frame < frame);
+            let oldest = oldest.min_by_key(|(_, e)| e.used).map(|(id, _)| *id);
+            let gone = state.tiles.remove(&oldest.expect("droppable tiles")).expect("present");
+            state.bytes -= gone.tile.tile_bytes();
         }
         state.clock += 1;
-        let now = state.clock;
+        let used = state.clock;
         state.bytes += bytes;
-        state.tiles.insert(id, (tile, now));
+        state.tiles.insert(id, Entry { tile, used, frame: 0 });
+        true
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, State<T>> {
@@ -134,7 +163,8 @@ mod tests {
     fn the_cache_never_holds_more_than_its_budget_and_drops_the_least_recently_used() {
         let cache = TileCache::new(1000);
         for k in 0..50u32 {
-            cache.insert(tile(k, 100 + (k as u64 * 37) % 250));
+            cache.begin_frame();
+            assert!(cache.insert(tile(k, 100 + (k as u64 * 37) % 250)));
             // Counted independently of the cache's own counter.
             let held: u64 = (0..50)
                 .filter_map(|c| cache.get(TileId { level: 0, col: c, row: 0 }))
@@ -151,7 +181,29 @@ mod tests {
         cache.insert(tile(3, 100));
         assert!(cache.contains(TileId { level: 0, col: 0, row: 0 }));
         assert!(!cache.contains(TileId { level: 0, col: 1, row: 0 }));
-        cache.insert(tile(4, 301));
+        assert!(!cache.insert(tile(4, 301)));
         assert!(!cache.contains(TileId { level: 0, col: 4, row: 0 }));
+    }
+
+    #[test]
+    fn tiles_of_the_current_frame_are_never_dropped() {
+        let cache = TileCache::new(300);
+        for col in 0..3 {
+            assert!(cache.insert(tile(col, 100)));
+        }
+        cache.begin_frame();
+        let id = |col| TileId { level: 0, col, row: 0 };
+        cache.get(id(0));
+        cache.get(id(2));
+        // Room only by dropping tile 1, which this frame does not use.
+        assert!(cache.insert(tile(3, 100)));
+        assert!(!cache.contains(id(1)));
+        // No room without dropping a tile of this frame.
+        cache.get(id(3));
+        assert!(!cache.insert(tile(4, 100)));
+        assert!([0, 2, 3].iter().all(|&c| cache.contains(id(c))));
+        cache.begin_frame();
+        assert!(cache.insert(tile(4, 100)));
+        assert!(cache.bytes() <= 300);
     }
 }

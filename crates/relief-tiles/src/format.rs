@@ -140,9 +140,9 @@ impl From<StoredGeometry> for GridGeometry {
 /// The store's `index.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StoreHeader {
-    /// Always [`FORMAT_NAME`].
+    /// Always `"relief-tile-store"`.
     pub format: String,
-    /// [`FORMAT_VERSION`].
+    /// The format version, 1.
     pub version: u32,
     /// Whether every tile was built and checked. A store that is not complete is being built
     /// or was interrupted: renderers refuse it, `relief tile` resumes it.

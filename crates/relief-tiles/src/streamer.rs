@@ -88,9 +88,16 @@ impl TileStreamer {
         if let Some(error) = self.loader.take_error() {
             return Err(error);
         }
+        self.cache.begin_frame();
         let (wanted, max_error_px) = self.fitting_selection(camera, request)?;
         let mut stats =
             FrameStats { tiles_wanted: wanted.len(), max_error_px, ..FrameStats::default() };
+        // The wanted tiles' ancestors are kept in memory too: they stand in for tiles that have
+        // not arrived yet.
+        let ancestors = self.ancestors(&wanted);
+        for &id in &ancestors {
+            self.tile(id);
+        }
         let mut have: HashMap<TileId, Arc<LoadedTile>> = HashMap::new();
         let mut missing = Vec::new();
         for &id in &wanted {
@@ -108,18 +115,24 @@ impl TileStreamer {
             for tile in loaded {
                 let tile = tile?;
                 self.cache.insert(tile.clone());
+                self.cache.get(tile.id);
                 have.insert(tile.id, tile);
             }
             stats.io_wait_ms = started.elapsed().as_secs_f64() * 1e3;
         } else {
             stats.tiles_standing_in = missing.len();
-            // The nearest first: they cover the most pixels.
+            // Missing ancestors first, coarsest first (each covers many missing tiles), then the
+            // missing tiles nearest first (they cover the most pixels), then the tiles the
+            // camera's motion will need.
             let distance = |id: &TileId| {
                 let b = tile_bounds(&self.store, *id, self.surface);
                 camera.eye().clamp(b.min, b.max).distance(camera.eye())
             };
+            let mut queue: Vec<TileId> =
+                ancestors.iter().copied().filter(|&id| !self.cache.contains(id)).collect();
+            queue.sort_by(|a, b| b.level.cmp(&a.level).then(distance(a).total_cmp(&distance(b))));
             missing.sort_by(|a, b| distance(a).total_cmp(&distance(b)));
-            let mut queue = missing.clone();
+            queue.extend(&missing);
             queue.extend(self.predicted_tiles(camera, request, max_error_px));
             self.loader.request(queue);
             for id in missing {
@@ -141,6 +154,23 @@ impl TileStreamer {
         self.cache.get(id)
     }
 
+    /// The ancestors of `tiles` but the root, each once.
+    fn ancestors(&self, tiles: &[TileId]) -> Vec<TileId> {
+        let layout = self.store.layout();
+        let mut seen = HashSet::new();
+        for &id in tiles {
+            let mut at = id;
+            while let Some(parent) = layout.parent(at) {
+                if parent == self.root.id || !seen.insert(parent) {
+                    break;
+                }
+                at = parent;
+            }
+        }
+        seen.into_iter().collect()
+    }
+
+    /// The coarser tile in memory nearest above `id` (the root at worst).
     fn nearest_loaded_ancestor(&self, id: TileId) -> Arc<LoadedTile> {
         let layout = self.store.layout();
         let mut at = id;
@@ -153,28 +183,34 @@ impl TileStreamer {
         self.root.clone()
     }
 
-    /// The wanted tiles at the asked tolerance, or at a coarser one when they would not fit
-    /// the cache (each step 1.5 times the last).
+    /// The wanted tiles at the asked tolerance, or at a coarser one when they and their
+    /// ancestors would not fit the cache (each step 1.5 times the last). A frame that does not
+    /// wait leaves a quarter of the cache for the tiles loaded ahead of the camera.
     fn fitting_selection(
         &self,
         camera: &Camera,
         request: FrameRequest,
     ) -> Result<(Vec<TileId>, f64), TileError> {
         let per_tile = estimated_tile_bytes(&self.store);
+        let room = match request.wait {
+            true => self.cache.budget(),
+            false => self.cache.budget() / 4 * 3,
+        };
         let mut tolerance = request.max_error_px;
         loop {
             let wanted = select_tiles(&self.store, camera, self.surface, tolerance, request.cull);
-            let bytes = wanted.len() as u64 * per_tile;
-            if bytes <= self.cache.budget() {
+            let bytes = (wanted.len() + self.ancestors(&wanted).len()) as u64 * per_tile;
+            if bytes <= room {
                 return Ok((wanted, tolerance));
             }
             if tolerance == 0.0 {
                 return Err(TileError::Invalid(format!(
-                    "the view needs {} level-0 tiles ({} MiB in memory) at --max-error-px 0, more \
-                     than the cache's {} MiB; raise --cache-mb or --max-error-px",
+                    "the view needs {} level-0 tiles ({} MiB in memory with the coarser tiles \
+                     over them) at --max-error-px 0, more than the {} MiB the cache has for a \
+                     frame; raise --cache-mb or --max-error-px",
                     wanted.len(),
                     bytes >> 20,
-                    self.cache.budget() >> 20
+                    room >> 20
                 )));
             }
             tolerance *= 1.5;
@@ -314,7 +350,7 @@ impl Loader {
                     continue;
                 }
                 match store.load(id, surface) {
-                    Ok(tile) => cache.insert(Arc::new(tile)),
+                    Ok(tile) => drop(cache.insert(Arc::new(tile))),
                     Err(error) => {
                         let mut queue = worker.queue.lock().unwrap_or_else(|p| p.into_inner());
                         queue.error.get_or_insert(error);

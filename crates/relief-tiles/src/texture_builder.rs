@@ -9,7 +9,6 @@
 //! sRGB, averaged, encoded back and rounded to the nearest byte). As for the heights, a tile's
 //! slot is written and synced before its record, so a build that stops resumes where it was.
 
-use crate::builder::GROUP_TILES;
 use crate::format::{slot_checksum, SourceFile};
 use crate::texture_format::{
     linear_to_srgb8, srgb8_to_linear_table, texture_slot_bytes, texture_slot_offset, TextureHeader,
@@ -25,6 +24,9 @@ use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
 use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
+
+/// Texture tiles cut and written at once.
+const GROUP_TILES: usize = 16;
 
 /// An ortho photo to drape over a store's DEM: its rows, where it lies, and the file.
 pub struct TextureInput<'a> {

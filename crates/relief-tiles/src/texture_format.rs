@@ -36,7 +36,7 @@ pub struct TextureHeader {
     pub tile: u32,
     /// Levels of the pyramid: level `l + 1` averages 2x2 texels of level `l`, in linear light.
     pub levels: u32,
-    /// How texels are stored: [`TEXTURE_ENCODING`], R, G, B bytes in sRGB.
+    /// How texels are stored: `"srgb8"`, R, G, B bytes in sRGB.
     pub encoding: String,
     /// World (x, y) of level 0's south-west corner.
     pub origin: [f64; 2],

@@ -71,6 +71,7 @@ impl TextureStreamer {
         filter: TextureFilter,
     ) -> Result<(TexturedFrame, TextureFrameStats), TileError> {
         let started = Instant::now();
+        self.cache.begin_frame();
         let pyramid = TexturePyramid::new(&self.store);
         let layout = self.store.layout();
         let per_tile = self.store.tile_bytes();

@@ -174,70 +174,48 @@ impl TiledTerrain {
         }
     }
 
-    /// The rays `ids` of a batch (none of them with a hit yet) under node `at`: leaves trace
-    /// the rays that cross them together, with their own packets.
-    fn trace_packet(&self, at: u32, batch: &mut Batch<'_>, ids: &[u32]) {
+    /// The rays `ids` of a batch (all of sign class `class`, none decided yet) under node
+    /// `at`: leaves trace the rays that cross them together, with their own packets.
+    fn trace_packet(&self, at: u32, batch: &mut Batch<'_>, ids: &[u32], class: usize) {
         let node = &self.nodes[at as usize];
-        let mut entering: Vec<(u32, Clip)> = Vec::with_capacity(ids.len());
+        let mut entering = batch.scratch.take_clips();
         for &k in ids {
             if batch.done[k as usize] {
                 continue;
             }
             let ray = &batch.rays[k as usize];
-            if let Some(clip) = node.bounds().clip_with_inverse(ray, DVec3::ONE / ray.dir) {
+            if let Some(clip) = node.bounds().clip_with_inverse(ray, batch.inv_dirs[k as usize]) {
                 batch.steps[k as usize] += 1;
                 entering.push((k, clip));
             }
         }
-        if entering.is_empty() {
-            return;
-        }
-        match node {
-            Node::Leaf { tile, .. } => {
-                let tracer = tile.tracer.as_ref().expect("leaves have samples");
-                let parts: Vec<Ray> = entering
-                    .iter()
-                    .map(|&(k, clip)| Ray {
-                        t_min: clip.t_enter,
-                        t_max: clip.t_exit,
-                        ..batch.rays[k as usize]
-                    })
-                    .collect();
-                let mut steps = vec![0u32; parts.len()];
-                if batch.any {
-                    let mut blocked = vec![false; parts.len()];
-                    tracer.occluded_batch(&parts, &mut blocked, &mut steps);
-                    for (((k, _), b), s) in entering.iter().zip(blocked).zip(steps) {
-                        batch.steps[*k as usize] += s;
-                        batch.done[*k as usize] = b;
+        if !entering.is_empty() {
+            match node {
+                Node::Leaf { tile, .. } => {
+                    let tracer = tile.tracer.as_ref().expect("leaves have samples");
+                    batch.trace_leaf(tracer, &entering);
+                }
+                Node::Inner { orders, .. } => {
+                    let mut alive = batch.scratch.take_ids();
+                    alive.extend(entering.iter().map(|&(k, _)| k));
+                    for &child in &orders[class] {
+                        self.trace_packet(child, batch, &alive, class);
                     }
-                } else {
-                    let mut hits = vec![None; parts.len()];
-                    tracer.intersect_batch(&parts, &mut hits, &mut steps);
-                    for (((k, clip), hit), s) in entering.iter().zip(hits).zip(steps) {
-                        batch.steps[*k as usize] += s;
-                        if let Some(hit) = hit {
-                            batch.hits[*k as usize] =
-                                Some(entry_face_fixed(hit, clip, &batch.rays[*k as usize]));
-                            batch.done[*k as usize] = true;
-                        }
-                    }
+                    batch.scratch.ids.push(alive);
                 }
             }
-            Node::Inner { orders, .. } => {
-                for (class, order) in orders.iter().enumerate() {
-                    let of_class: Vec<u32> = entering
-                        .iter()
-                        .map(|&(k, _)| k)
-                        .filter(|&k| sign_class(batch.rays[k as usize].dir) == class)
-                        .collect();
-                    if of_class.is_empty() {
-                        continue;
-                    }
-                    for &child in order {
-                        self.trace_packet(child, batch, &of_class);
-                    }
-                }
+        }
+        batch.scratch.clips.push(entering);
+    }
+
+    /// Traces a batch: the rays of each sign class walk the tree together.
+    fn trace_batch(&self, batch: &mut Batch<'_>) {
+        for class in 0..4 {
+            let ids: Vec<u32> = (0..batch.rays.len() as u32)
+                .filter(|&k| sign_class(batch.rays[k as usize].dir) == class)
+                .collect();
+            if !ids.is_empty() {
+                self.trace_packet(0, batch, &ids, class);
             }
         }
     }
@@ -276,6 +254,8 @@ fn tile_slope(tile: &LoadedTile, x: f64, y: f64) -> Option<DVec2> {
 /// The rays of one batch as [`TiledTerrain::trace_packet`] walks them.
 struct Batch<'a> {
     rays: &'a [Ray],
+    /// `1 / dir` of each ray.
+    inv_dirs: Vec<DVec3>,
     /// First hits (unused for occlusion).
     hits: &'a mut [Option<Hit>],
     /// Whether a ray is decided: hit, or blocked.
@@ -283,6 +263,74 @@ struct Batch<'a> {
     steps: &'a mut [u32],
     /// Occlusion only: stop at any hit.
     any: bool,
+    scratch: Scratch,
+}
+
+/// Buffers the walk reuses instead of allocating at every node.
+#[derive(Default)]
+struct Scratch {
+    clips: Vec<Vec<(u32, Clip)>>,
+    ids: Vec<Vec<u32>>,
+    parts: Vec<Ray>,
+    hits: Vec<Option<Hit>>,
+    blocked: Vec<bool>,
+    steps: Vec<u32>,
+}
+
+impl Scratch {
+    fn take_clips(&mut self) -> Vec<(u32, Clip)> {
+        let mut v = self.clips.pop().unwrap_or_default();
+        v.clear();
+        v
+    }
+
+    fn take_ids(&mut self) -> Vec<u32> {
+        let mut v = self.ids.pop().unwrap_or_default();
+        v.clear();
+        v
+    }
+}
+
+impl<'a> Batch<'a> {
+    fn new(rays: &'a [Ray], hits: &'a mut [Option<Hit>], steps: &'a mut [u32], any: bool) -> Self {
+        let inv_dirs = rays.iter().map(|r| DVec3::ONE / r.dir).collect();
+        let done = vec![false; rays.len()];
+        Batch { rays, inv_dirs, hits, done, steps, any, scratch: Scratch::default() }
+    }
+
+    /// Traces the `entering` rays, each over the stretch where it crosses the tile's box.
+    fn trace_leaf(&mut self, tracer: &relief_trace::MipmapTracer, entering: &[(u32, Clip)]) {
+        let s = &mut self.scratch;
+        s.parts.clear();
+        s.parts.extend(entering.iter().map(|&(k, clip)| Ray {
+            t_min: clip.t_enter,
+            t_max: clip.t_exit,
+            ..self.rays[k as usize]
+        }));
+        s.steps.clear();
+        s.steps.resize(entering.len(), 0);
+        if self.any {
+            s.blocked.clear();
+            s.blocked.resize(entering.len(), false);
+            tracer.occluded_batch(&s.parts, &mut s.blocked, &mut s.steps);
+            for (((k, _), &b), &n) in entering.iter().zip(&s.blocked).zip(&s.steps) {
+                self.steps[*k as usize] += n;
+                self.done[*k as usize] = b;
+            }
+        } else {
+            s.hits.clear();
+            s.hits.resize(entering.len(), None);
+            tracer.intersect_batch(&s.parts, &mut s.hits, &mut s.steps);
+            for (((k, clip), hit), &n) in entering.iter().zip(&s.hits).zip(&s.steps) {
+                self.steps[*k as usize] += n;
+                if let Some(hit) = hit {
+                    self.hits[*k as usize] =
+                        Some(entry_face_fixed(*hit, clip, &self.rays[*k as usize]));
+                    self.done[*k as usize] = true;
+                }
+            }
+        }
+    }
 }
 
 /// A ray that enters the tile's box already in the solid hits the face it crossed: a wall
@@ -332,10 +380,7 @@ impl Tracer for TiledTerrain {
         if self.nodes.is_empty() {
             return;
         }
-        let done = vec![false; rays.len()];
-        let mut batch = Batch { rays, hits, done, steps, any: false };
-        let ids: Vec<u32> = (0..rays.len() as u32).collect();
-        self.trace_packet(0, &mut batch, &ids);
+        self.trace_batch(&mut Batch::new(rays, hits, steps, false));
     }
 
     /// As [`TiledTerrain::intersect_batch`], for occlusion.
@@ -346,10 +391,8 @@ impl Tracer for TiledTerrain {
             return;
         }
         let mut hits = vec![None; rays.len()];
-        let done = vec![false; rays.len()];
-        let mut batch = Batch { rays, hits: &mut hits, done, steps, any: true };
-        let ids: Vec<u32> = (0..rays.len() as u32).collect();
-        self.trace_packet(0, &mut batch, &ids);
+        let mut batch = Batch::new(rays, &mut hits, steps, true);
+        self.trace_batch(&mut batch);
         occluded.copy_from_slice(&batch.done);
     }
 }

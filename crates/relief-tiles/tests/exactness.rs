@@ -202,3 +202,77 @@ fn mixed_levels_leave_no_holes() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A store built from a mosaic of four SRTM tiles, at an error tolerance of 0, equals the
+/// mosaic read whole, from cameras looking across the seams between the tiles (where two
+/// .hgt files share their edge samples) and across tile seams, shadows included.
+#[test]
+fn a_mosaic_store_renders_the_mosaic_read_whole() {
+    let side = 1201;
+    let big = terrain(2 * side - 1, 2 * side - 1, 11, false);
+    let dir = temp_store("mosaic");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut paths = Vec::new();
+    for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+        // Tile (i, j): i rows of tiles north of the south-west one, j columns east.
+        let (r0, c0) = (i * (side - 1), j * (side - 1));
+        let samples = (0..side)
+            .flat_map(|r| (0..side).map(move |c| (r0 + r, c0 + c)))
+            .map(|(r, c)| 60.0 * big.samples[c + r * big.width])
+            .collect();
+        let field =
+            relief_core::HeightField::new(side, side, samples, GridGeometry::unit()).unwrap();
+        let path = dir.join(format!("N{:02}E{:03}.hgt", 36 + i, 7 + j));
+        relief_io::write_hgt(&path, &field).unwrap();
+        paths.push(path);
+    }
+    let options = relief_io::ReadOptions::default();
+    let mut rows = relief_io::open_mosaic(&paths, &options).unwrap();
+    let (width, height) = (rows.width(), rows.height());
+    assert_eq!((width, height), (2 * side - 1, 2 * side - 1), "tiles share their edges");
+    let mut samples = vec![0f32; width * height];
+    rows.read_rows(0, &mut samples).unwrap();
+    let whole =
+        Raster { width, height, samples, geometry: rows.geometry(), info: rows.info().clone() };
+    let store = dir.join("store");
+    let options = BuildOptions { tile: 256, ..BuildOptions::default() };
+    build_store(rows.as_mut(), Vec::new(), &store, &options, &|_, _| {}).unwrap();
+
+    let surface = Surface::Triangles;
+    let field = Arc::new(whole.into_height_field(Path::new("m"), VoidPolicy::Hole).unwrap());
+    let tracer = MipmapTracer::new(field.clone(), surface);
+    let bounds = field.world_bounds(surface);
+    let streamer = TileStreamer::new(TileStore::open(&store).unwrap(), surface, 1 << 30).unwrap();
+    let params = ShadingParams::for_terrain(&bounds).unwrap();
+    let (c, size) = (bounds.center(), bounds.max - bounds.min);
+    // Low over the seam between the western and eastern tiles, looking along it and across.
+    let views = [
+        (
+            DVec3::new(
+                c.x - 0.02 * size.x,
+                bounds.min.y + 0.2 * size.y,
+                bounds.max.z + 0.1 * size.x,
+            ),
+            c,
+        ),
+        (DVec3::new(c.x - 0.2 * size.x, c.y - 0.15 * size.y, bounds.max.z + 0.05 * size.x), c),
+    ];
+    for (eye, target) in views {
+        let camera = Camera::look_at(eye, target, DVec3::Z, 40.0, 96, 64).unwrap();
+        let request = FrameRequest { max_error_px: 0.0, cull: false, wait: true };
+        let (tiled, stats) = streamer.frame(&camera, request).unwrap();
+        assert!(stats.tiles_drawn > 8, "the view crosses seams: {stats:?}");
+        let (a, _) = render_gbuffer(&tracer, &camera, &bounds, &|_| {}).unwrap();
+        let (b, _) = render_gbuffer(&tiled, &camera, &bounds, &|_| {}).unwrap();
+        let (da, db) = (a.depth_hw(), b.depth_hw());
+        assert!(da.iter().filter(|d| d.is_finite()).count() > 1000, "the view sees the terrain");
+        for (k, (x, y)) in da.iter().zip(&db).enumerate() {
+            let same = (x.is_infinite() && x == y) || (x - y).abs() <= 1e-5 * x.abs().max(1.0);
+            assert!(same, "pixel {k}: whole {x}, tiled {y}");
+        }
+        let (ia, _) = shade_to_srgb8(&a, &tracer, &camera, &params).unwrap();
+        let (ib, _) = shade_to_srgb8(&b, &tiled, &camera, &params).unwrap();
+        assert!(ia == ib, "the shaded pictures differ");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

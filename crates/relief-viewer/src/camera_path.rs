@@ -95,6 +95,61 @@ impl CameraPath {
         }
         Ok(parsed)
     }
+
+    /// The times of the first and the last key, or `None` for a path without keys.
+    pub fn time_span(&self) -> Option<(f64, f64)> {
+        Some((self.keys.first()?.time_s, self.keys.last()?.time_s))
+    }
+
+    /// The camera at `time_s`, interpolated linearly between the keys on either side of it:
+    /// with `s` the fraction of the way from the key before to the key after, `eye`, `target`,
+    /// `up` and `fov_deg` are each `(1 - s) a + s b`, so that a key's own time gives that key
+    /// exactly. Before the first key the first camera, after the last the last (held).
+    /// `None` for a path without keys.
+    ///
+    /// The interpolated `up` is not normalised, and between two keys that turn the view
+    /// around it may come out parallel to the view or zero: a camera built from it checks
+    /// that, as it checks any up vector.
+    pub fn key_at(&self, time_s: f64) -> Option<CameraKey> {
+        let first = self.keys.first()?;
+        // The keys at or before `time_s`; the segment starts at the last of them.
+        let before = self.keys.partition_point(|k| k.time_s <= time_s);
+        if before == 0 {
+            return Some(CameraKey { time_s, ..first.clone() });
+        }
+        let a = &self.keys[before - 1];
+        let Some(b) = self.keys.get(before) else {
+            return Some(CameraKey { time_s, ..a.clone() });
+        };
+        let s = (time_s - a.time_s) / (b.time_s - a.time_s);
+        let mix = |x: f64, y: f64| (1.0 - s) * x + s * y;
+        let mix3 = |x: [f64; 3], y: [f64; 3]| [mix(x[0], y[0]), mix(x[1], y[1]), mix(x[2], y[2])];
+        Some(CameraKey {
+            time_s,
+            eye: mix3(a.eye, b.eye),
+            target: mix3(a.target, b.target),
+            up: mix3(a.up, b.up),
+            fov_deg: mix(a.fov_deg, b.fov_deg),
+        })
+    }
+
+    /// The times of `frames` frames spread evenly over the path's span `t0..=t1`: frame `i`
+    /// at `t0 + i (t1 - t0) / (frames - 1)` (computed as `(1 - r) t0 + r t1` with
+    /// `r = i / (frames - 1)`, so that the first and last frames fall exactly on the first and
+    /// last keys); one frame is at `t0`. Empty for a path without keys.
+    pub fn frame_times(&self, frames: u32) -> Vec<f64> {
+        let Some((t0, t1)) = self.time_span() else { return Vec::new() };
+        if frames == 1 {
+            return vec![t0];
+        }
+        let last = f64::from(frames - 1);
+        (0..frames)
+            .map(|i| {
+                let r = f64::from(i) / last;
+                (1.0 - r) * t0 + r * t1
+            })
+            .collect()
+    }
 }
 
 #[cfg(test)]
@@ -109,6 +164,36 @@ mod tests {
             up: [0.0, 0.0, 1.0],
             fov_deg: 45.0,
         }
+    }
+
+    #[test]
+    fn cameras_between_keys_are_interpolated_and_keys_hit_exactly() {
+        let mut path = CameraPath::default();
+        path.push(key(0.0, 1.0));
+        path.push(CameraKey { fov_deg: 60.0, up: [0.0, 1.0, 1.0], ..key(0.5, 2.0) });
+        path.push(key(1.5, 0.1));
+        assert_eq!(path.time_span(), Some((0.0, 1.5)));
+        for k in &path.keys {
+            assert_eq!(path.key_at(k.time_s).as_ref(), Some(k));
+        }
+        let middle = path.key_at(0.25).unwrap();
+        assert_eq!(middle.eye, [1.5, 0.0, 10.0]);
+        assert_eq!(middle.up, [0.0, 0.5, 1.0]);
+        assert_eq!(middle.fov_deg, 52.5);
+        // Held at the ends.
+        assert_eq!(path.key_at(-1.0).unwrap().eye, path.keys[0].eye);
+        assert_eq!(path.key_at(9.0).unwrap().eye, path.keys[2].eye);
+        assert_eq!(path.frame_times(4), [0.0, 0.5, 1.0, 1.5]);
+        assert_eq!(path.frame_times(1), [0.0]);
+        assert!(CameraPath::default().key_at(0.0).is_none());
+        assert!(CameraPath::default().frame_times(3).is_empty());
+        // Awkward spans still end on the last key.
+        let mut odd = CameraPath::default();
+        odd.push(key(0.1, 1.0));
+        odd.push(key(0.3, 2.0));
+        let times = odd.frame_times(7);
+        assert_eq!((times[0], times[6]), (0.1, 0.3));
+        assert_eq!(odd.key_at(times[6]).unwrap().eye, odd.keys[1].eye);
     }
 
     #[test]

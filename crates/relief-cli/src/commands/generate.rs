@@ -1,12 +1,12 @@
 //! `relief generate`: write synthetic terrains.
 
 use crate::args::{FbmArgs, GenerateCommand, MlhmArgs};
-use crate::{applies, input, memory, outputs};
+use crate::{applies, input, memory, outputs, progress};
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
-use relief_core::{Mlhm, Precision};
-use relief_io::MlhmScene;
-use relief_sim::{carved_scene, rivers_rain, CarvedScene, RIVERS_RAIN_SEED};
+use relief_core::{GridGeometry, Mlhm, Precision};
+use relief_io::{Format, GeoTiffStripWriter, MlhmScene, ReadOptions};
+use relief_sim::{carved_scene, rivers_rain, CarvedScene, FbmParams, FbmRows, RIVERS_RAIN_SEED};
 use std::path::Path;
 use std::time::Duration;
 
@@ -22,6 +22,9 @@ pub fn run(command: &GenerateCommand) -> Result<()> {
 fn run_fbm(args: &FbmArgs) -> Result<()> {
     outputs::check_writable(&args.output)?;
     outputs::check_height_file(&args.output, Some((args.size, args.size)))?;
+    if relief_io::format_of(&args.output, &ReadOptions::default())? == Format::GeoTiff {
+        return stream_fbm_geotiff(args);
+    }
     let field = input::fbm(args.size, args.seed, &memory::budget(None))?;
     relief_io::write_height_field(&args.output, &field)?;
     eprintln!(
@@ -33,6 +36,49 @@ fn run_fbm(args: &FbmArgs) -> Result<()> {
         field.max_sample()
     );
     Ok(())
+}
+
+/// Samples computed and written at a time by [`stream_fbm_geotiff`] (16 MiB of f32).
+const FBM_BAND_SAMPLES: usize = 1 << 22;
+
+/// `relief generate fbm -o out.tif`: the terrain computed and written a band of rows at a
+/// time, never whole in memory, to the very file [`relief_io::write_geotiff`] writes of it.
+/// Two passes: the lowest height first (samples start at 0), then the bands, north first.
+fn stream_fbm_geotiff(args: &FbmArgs) -> Result<()> {
+    let n = args.size;
+    let terrain = FbmRows::new(n, n, args.seed, &FbmParams::for_size(n, n))
+        .context("generating fBm terrain")?;
+    let bar = progress::bar(2 * n as u64, "generating");
+    terrain.lowest_with_progress(|rows| bar.set_position(rows as u64));
+    let mut out = GeoTiffStripWriter::create(&args.output, n, n, &GridGeometry::unit())?;
+    let band = (FBM_BAND_SAMPLES / n).clamp(1, n);
+    let mut samples = vec![0f32; band * n];
+    let mut highest = f32::NEG_INFINITY;
+    let mut end = n;
+    while end > 0 {
+        let first = end.saturating_sub(band);
+        let rows = &mut samples[..(end - first) * n];
+        terrain.read_rows(first, rows).context("generating fBm terrain")?;
+        highest = rows.iter().copied().fold(highest, f32::max);
+        // The file's rows run north first.
+        flip_rows(rows, n);
+        out.write_rows(rows)?;
+        bar.set_position((2 * n - first) as u64);
+        end = first;
+    }
+    out.finish()?;
+    bar.finish_and_clear();
+    eprintln!("wrote {} ({n} x {n}, heights 0.0..{highest:.1})", args.output.display());
+    Ok(())
+}
+
+/// Reverses the order of the `width`-sample rows of `samples` in place.
+fn flip_rows(samples: &mut [f32], width: usize) {
+    let height = samples.len() / width;
+    for row in 0..height / 2 {
+        let (top, bottom) = samples.split_at_mut((height - 1 - row) * width);
+        top[row * width..][..width].swap_with_slice(&mut bottom[..width]);
+    }
 }
 
 /// The scenes `relief generate mlhm` writes.

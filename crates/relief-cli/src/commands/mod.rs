@@ -4,6 +4,8 @@ mod bench;
 mod bench_dynamic;
 mod compare;
 mod convert;
+mod flythrough;
+mod flythrough_log;
 mod generate;
 mod info;
 mod info_mlhm;
@@ -38,6 +40,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Simulate(args) => simulate::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Tile(args) => tile::run(&args),
+        Command::Flythrough(args) => flythrough::run(&args),
     }
 }
 

@@ -87,15 +87,13 @@ fn check_output(args: &TileArgs) -> Result<()> {
     outputs::check_distinct(&[("-o", out.as_path())], &inputs)
 }
 
-/// The input as rows: one raster, or a mosaic of several.
+/// The input as rows read on request: one raster (streamed for GeoTIFF, .hgt and .npy), or
+/// a mosaic of several (.hgt tiles by their names, GeoTIFFs by their georeference).
 fn open_rows(paths: &[PathBuf], max_memory: u64) -> Result<Box<dyn RowSource>> {
     let options = ReadOptions { max_memory, ..ReadOptions::default() };
     match paths {
-        [one] => {
-            let raster = relief_io::read_raster(one, &options)?;
-            Ok(Box::new(relief_io::InMemoryRows::new(raster)))
-        }
-        _ => bail!("mosaics of several rasters are not supported yet"),
+        [one] => Ok(relief_io::open_rows(one, &options)?),
+        _ => Ok(relief_io::open_mosaic(paths, &options)?),
     }
 }
 

@@ -3,7 +3,7 @@
 //! run, paused and stepped from the viewer).
 
 use super::check_image;
-use crate::args::ViewArgs;
+use crate::args::{SceneArgs, ViewArgs};
 use crate::live::{LiveHeightField, LiveMlhm};
 use crate::scene::height_field::HeightFieldScene;
 use crate::scene::mlhm::LayeredScene;
@@ -56,7 +56,18 @@ fn open(
     args: &ViewArgs,
     max_memory: u64,
 ) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
-    let scene_args = &args.scene;
+    open_live_scene(&args.scene, max_memory, "relief view")
+}
+
+/// The renderer of the scene `scene_args` name (anything `relief render` takes but a tile
+/// store), drawn as `relief render` draws it, with its starting camera and settings; an MLHM
+/// scene's simulation may run. `command` names the command for the refusal of the hybrid and
+/// clipmap renderers, which draw with `relief render` only.
+pub(super) fn open_live_scene(
+    scene_args: &SceneArgs,
+    max_memory: u64,
+    command: &str,
+) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
         let live = LiveMlhm::new(
             LayeredScene::open(scene_args, path)?,
@@ -70,7 +81,7 @@ fn open(
     use crate::tracers::TracerChoice;
     if let Some(choice @ (TracerChoice::Hybrid | TracerChoice::Clipmap)) = &scene_args.tracer {
         anyhow::bail!(
-            "relief view draws with the naive, mipmap and safety tracers; the {choice} renderer \
+            "{command} draws with the naive, mipmap and safety tracers; the {choice} renderer \
              draws with relief render and relief bench"
         );
     }

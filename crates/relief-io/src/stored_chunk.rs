@@ -1,8 +1,11 @@
-//! ZSTD-compressed GeoTIFF chunks (Compression 50000, what GDAL writes for modern COGs): the
-//! stored bytes are decompressed by the pure-Rust `ruzstd` (the `tiff` crate's own ZSTD
-//! support wraps the C library), then the predictor is undone here, leaving native-endian
-//! samples as the `tiff` crate's decoder leaves those of the other compressions.
+//! GeoTIFF chunks decoded here from their stored bytes rather than by the `tiff` crate:
+//! ZSTD-compressed ones (Compression 50000, what GDAL writes for modern COGs), decompressed
+//! by the pure-Rust `ruzstd` (the `tiff` crate's own ZSTD support wraps the C library), and
+//! Deflate-compressed ones when many are decoded in parallel (by `flate2`'s pure-Rust
+//! backend); the predictor is then undone here, leaving native-endian samples as the `tiff`
+//! crate's decoder leaves them.
 
+use flate2::{Decompress, FlushDecompress, Status};
 use ruzstd::decoding::FrameDecoder;
 
 /// TIFF's Compression code for ZSTD.
@@ -36,9 +39,48 @@ impl Predictor {
     }
 }
 
-/// Decodes ZSTD chunks one after the other, reusing its buffers.
-pub(crate) struct ZstdChunkDecoder {
-    frames: FrameDecoder,
+/// TIFF's Compression codes for Deflate: 8 (Adobe) and 32946 (the old code).
+pub(crate) const COMPRESSION_DEFLATE: [u16; 2] = [8, 32946];
+
+/// The compressions a [`StoredChunkDecoder`] decodes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum StoredCodec {
+    /// ZSTD frames.
+    Zstd,
+    /// zlib (RFC 1950) streams.
+    Deflate,
+}
+
+impl StoredCodec {
+    /// The codec of a TIFF Compression code, if it is one of these.
+    pub(crate) fn of(compression: u16) -> Option<StoredCodec> {
+        if compression == COMPRESSION_ZSTD {
+            Some(StoredCodec::Zstd)
+        } else if COMPRESSION_DEFLATE.contains(&compression) {
+            Some(StoredCodec::Deflate)
+        } else {
+            None
+        }
+    }
+
+    /// "ZSTD" or "Deflate".
+    fn name(self) -> &'static str {
+        match self {
+            StoredCodec::Zstd => "ZSTD",
+            StoredCodec::Deflate => "Deflate",
+        }
+    }
+}
+
+/// The decompressor of a [`StoredCodec`], kept from one chunk to the next.
+enum Decompressor {
+    Zstd(Box<FrameDecoder>),
+    Deflate(Box<Decompress>),
+}
+
+/// Decodes stored chunks one after the other, reusing its buffers.
+pub(crate) struct StoredChunkDecoder {
+    decompressor: Decompressor,
     predictor: Predictor,
     /// Bytes per sample.
     sample_size: usize,
@@ -47,14 +89,25 @@ pub(crate) struct ZstdChunkDecoder {
     scratch: Vec<u8>,
 }
 
-impl ZstdChunkDecoder {
-    /// A decoder of chunks of `sample_size`-byte samples stored with `predictor`, in a file
-    /// whose byte order is big-endian when `big_endian`.
-    pub(crate) fn new(predictor: Predictor, sample_size: usize, big_endian: bool) -> Self {
-        let mut frames = FrameDecoder::new();
-        frames.set_max_window_size(MAX_WINDOW);
-        ZstdChunkDecoder {
-            frames,
+impl StoredChunkDecoder {
+    /// A decoder of `codec` chunks of `sample_size`-byte samples stored with `predictor`, in
+    /// a file whose byte order is big-endian when `big_endian`.
+    pub(crate) fn new(
+        codec: StoredCodec,
+        predictor: Predictor,
+        sample_size: usize,
+        big_endian: bool,
+    ) -> Self {
+        let decompressor = match codec {
+            StoredCodec::Zstd => {
+                let mut frames = FrameDecoder::new();
+                frames.set_max_window_size(MAX_WINDOW);
+                Decompressor::Zstd(Box::new(frames))
+            }
+            StoredCodec::Deflate => Decompressor::Deflate(Box::new(Decompress::new(true))),
+        };
+        StoredChunkDecoder {
+            decompressor,
             predictor,
             sample_size,
             swap: big_endian != cfg!(target_endian = "big"),
@@ -62,10 +115,18 @@ impl ZstdChunkDecoder {
         }
     }
 
+    /// "ZSTD" or "Deflate".
+    pub(crate) fn codec_name(&self) -> &'static str {
+        match self.decompressor {
+            Decompressor::Zstd(_) => StoredCodec::Zstd.name(),
+            Decompressor::Deflate(_) => StoredCodec::Deflate.name(),
+        }
+    }
+
     /// Decompresses the `compressed` bytes of one chunk into `out`, then undoes the predictor
     /// on each of its stored rows of `stride` bytes; returns how many bytes were decoded,
     /// which may be fewer than `out` holds (a short last strip). Fails, saying why, on data
-    /// that is not ZSTD, is corrupt, or decodes to more than `out` holds.
+    /// that is not of the codec, is corrupt, or decodes to more than `out` holds.
     pub(crate) fn decode(
         &mut self,
         compressed: &[u8],
@@ -73,14 +134,40 @@ impl ZstdChunkDecoder {
         stride: usize,
     ) -> Result<usize, String> {
         let capacity = out.len();
-        let decoded = self.frames.decode_all(compressed, out).map_err(|e| match e {
-            ruzstd::decoding::errors::FrameDecoderError::TargetTooSmall => {
-                format!("ZSTD data decodes to more than the chunk's {capacity} bytes")
+        let too_large = |codec: StoredCodec| {
+            format!("{} data decodes to more than the chunk's {capacity} bytes", codec.name())
+        };
+        let decoded = match &mut self.decompressor {
+            Decompressor::Zstd(frames) => {
+                frames.decode_all(compressed, out).map_err(|e| match e {
+                    ruzstd::decoding::errors::FrameDecoderError::TargetTooSmall => {
+                        too_large(StoredCodec::Zstd)
+                    }
+                    other => format!("corrupt ZSTD data ({other})"),
+                })?
             }
-            other => format!("corrupt ZSTD data ({other})"),
-        })?;
+            Decompressor::Deflate(zlib) => {
+                zlib.reset(true);
+                let status = zlib
+                    .decompress(compressed, out, FlushDecompress::Finish)
+                    .map_err(|e| format!("corrupt Deflate data ({e})"))?;
+                let (read, written) = (zlib.total_in() as usize, zlib.total_out() as usize);
+                if status != Status::StreamEnd && read < compressed.len() {
+                    // The output is full: the stream must end (its checksum) without more.
+                    let mut more = [0u8; 1];
+                    let rest = &compressed[read..];
+                    let status = zlib
+                        .decompress(rest, &mut more, FlushDecompress::Finish)
+                        .map_err(|e| format!("corrupt Deflate data ({e})"))?;
+                    if zlib.total_out() as usize > written || status != Status::StreamEnd {
+                        return Err(too_large(StoredCodec::Deflate));
+                    }
+                }
+                written
+            }
+        };
         if decoded > capacity {
-            return Err(format!("ZSTD data decodes to more than the chunk's {capacity} bytes"));
+            return Err(too_large(StoredCodec::Zstd));
         }
         if stride > 0 {
             for row in out[..decoded - decoded % stride].chunks_exact_mut(stride) {
@@ -169,7 +256,8 @@ mod tests {
         // Horizontal, 16-bit little-endian samples 5, 7, 4 stored as 5, +2, -3.
         let stored: Vec<u8> =
             [5u16, 2, 0u16.wrapping_sub(3)].iter().flat_map(|v| v.to_le_bytes()).collect();
-        let mut decoder = ZstdChunkDecoder::new(Predictor::Horizontal, 2, false);
+        let mut decoder =
+            StoredChunkDecoder::new(StoredCodec::Zstd, Predictor::Horizontal, 2, false);
         let mut out = vec![0u8; 6];
         assert_eq!(decoder.decode(&raw_frame(&stored), &mut out, 6), Ok(6));
         let values: Vec<u16> =
@@ -177,14 +265,15 @@ mod tests {
         assert_eq!(values, [5, 7, 4]);
         // Floating point: 1.0, 1.0 stored as planes then byte differences.
         let stored = [0x3f, 0, 0x41, 0, 0x80, 0, 0, 0];
-        let mut decoder = ZstdChunkDecoder::new(Predictor::FloatingPoint, 4, false);
+        let mut decoder =
+            StoredChunkDecoder::new(StoredCodec::Zstd, Predictor::FloatingPoint, 4, false);
         let mut out = vec![0u8; 8];
         assert_eq!(decoder.decode(&raw_frame(&stored), &mut out, 8), Ok(8));
         let values: Vec<f32> =
             out.chunks_exact(4).map(|b| f32::from_ne_bytes(b.try_into().unwrap())).collect();
         assert_eq!(values, [1.0, 1.0]);
         // No predictor, big-endian file.
-        let mut decoder = ZstdChunkDecoder::new(Predictor::None, 2, true);
+        let mut decoder = StoredChunkDecoder::new(StoredCodec::Zstd, Predictor::None, 2, true);
         let mut out = vec![0u8; 2];
         decoder.decode(&raw_frame(&[0x01, 0x02]), &mut out, 2).unwrap();
         assert_eq!(u16::from_ne_bytes([out[0], out[1]]), 0x0102);
@@ -192,7 +281,7 @@ mod tests {
 
     #[test]
     fn corrupt_or_oversized_data_is_an_error() {
-        let mut decoder = ZstdChunkDecoder::new(Predictor::None, 1, false);
+        let mut decoder = StoredChunkDecoder::new(StoredCodec::Zstd, Predictor::None, 1, false);
         let mut out = vec![0u8; 4];
         let err = decoder.decode(&raw_frame(&[1, 2, 3, 4, 5]), &mut out, 4).unwrap_err();
         assert!(err.contains("more than the chunk's 4 bytes"), "{err}");
