@@ -140,7 +140,56 @@ impl Georeference {
     pub fn is_pixel_is_point(&self) -> bool {
         self.geotiff.geo_key_directory.as_deref().is_some_and(|d| raster_type(d) == PIXEL_IS_POINT)
     }
+
+    /// The GeoKeys that define the CRS, each with its value as text (short values, doubles
+    /// from GeoDoubleParams, text from GeoAsciiParams), sorted by key; the raster type and the
+    /// citations (free text) are left out. Two files with equal keys are in the same CRS.
+    ///
+    /// ```
+    /// use relief_io::{Georeference, EPSG_WGS84};
+    /// let tile = Georeference::srtm_tile(36, -85, 1201);
+    /// // GTModelTypeGeoKey 2 (geographic), GeographicTypeGeoKey 4326.
+    /// assert_eq!(tile.crs_keys(), vec![(1024, "2".into()), (2048, EPSG_WGS84.to_string())]);
+    /// ```
+    pub fn crs_keys(&self) -> Vec<(u16, String)> {
+        let tags = &self.geotiff;
+        let Some(directory) = tags.geo_key_directory.as_deref() else {
+            return Vec::new();
+        };
+        let count = directory.get(3).map_or(0, |&c| usize::from(c));
+        let mut keys: Vec<(u16, String)> = directory
+            .get(4..)
+            .unwrap_or(&[])
+            .chunks_exact(4)
+            .take(count)
+            .filter(|key| key[0] != GT_RASTER_TYPE && !CITATION_KEYS.contains(&key[0]))
+            .map(|key| {
+                let (id, location, n, value) = (key[0], key[1], usize::from(key[2]), key[3]);
+                let at = usize::from(value);
+                let text = match location {
+                    0 => value.to_string(),
+                    34736 => {
+                        let doubles = tags.geo_double_params.as_deref().unwrap_or(&[]);
+                        format!("{:?}", doubles.get(at..at + n))
+                    }
+                    34737 => {
+                        let ascii = tags.geo_ascii_params.as_deref().unwrap_or(&[]);
+                        let text = ascii.get(at..at + n).map(String::from_utf8_lossy);
+                        format!("{text:?}")
+                    }
+                    _ => format!("{:?}", directory.get(at..at + n)),
+                };
+                (id, text)
+            })
+            .collect();
+        keys.sort();
+        keys
+    }
 }
+
+/// GeoKeys that name a citation (free text, not the CRS itself): GTCitation, GeogCitation,
+/// PCSCitation.
+const CITATION_KEYS: [u16; 3] = [1026, 2049, 3073];
 
 /// GTRasterTypeGeoKey of a GeoKey directory: PixelIsArea when absent or unreadable.
 fn raster_type(directory: &[u16]) -> u16 {

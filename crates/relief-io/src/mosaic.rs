@@ -1,7 +1,7 @@
 //! Several height files read as one raster: SRTM tiles placed by their names, GeoTIFFs by
 //! their georeference, each read as rows only where a request overlaps it.
 
-use crate::geokeys::{ModelGrid, GT_RASTER_TYPE};
+use crate::geokeys::ModelGrid;
 use crate::geotiff_rows::GeoTiffRows;
 use crate::hgt::hgt_mosaic_placement;
 use crate::hgt_rows::HgtRows;
@@ -371,48 +371,9 @@ fn mosaic_georeference(
     Georeference::from_geotiff_tags(tags)
 }
 
-/// GeoKeys that name a citation (free text, not the CRS itself): GTCitation, GeogCitation,
-/// PCSCitation.
-const CITATION_KEYS: [u16; 3] = [1026, 2049, 3073];
-
-/// The GeoKeys that define a file's CRS, each with its value as text (short values, doubles
-/// from GeoDoubleParams, text from GeoAsciiParams), sorted by key; the raster type and
-/// citations are left out.
+/// The CRS GeoKeys of a file (see [`Georeference::crs_keys`]); none without a georeference.
 fn crs_keys(info: &RasterInfo) -> Vec<(u16, String)> {
-    let Some(tags) = info.georeference.as_ref().map(|g| &g.geotiff) else {
-        return Vec::new();
-    };
-    let Some(directory) = tags.geo_key_directory.as_deref() else {
-        return Vec::new();
-    };
-    let count = directory.get(3).map_or(0, |&c| usize::from(c));
-    let mut keys: Vec<(u16, String)> = directory
-        .get(4..)
-        .unwrap_or(&[])
-        .chunks_exact(4)
-        .take(count)
-        .filter(|key| key[0] != GT_RASTER_TYPE && !CITATION_KEYS.contains(&key[0]))
-        .map(|key| {
-            let (id, location, n, value) = (key[0], key[1], usize::from(key[2]), key[3]);
-            let at = usize::from(value);
-            let text = match location {
-                0 => value.to_string(),
-                34736 => {
-                    let doubles = tags.geo_double_params.as_deref().unwrap_or(&[]);
-                    format!("{:?}", doubles.get(at..at + n))
-                }
-                34737 => {
-                    let ascii = tags.geo_ascii_params.as_deref().unwrap_or(&[]);
-                    let text = ascii.get(at..at + n).map(String::from_utf8_lossy);
-                    format!("{text:?}")
-                }
-                _ => format!("{:?}", directory.get(at..at + n)),
-            };
-            (id, text)
-        })
-        .collect();
-    keys.sort();
-    keys
+    info.georeference.as_ref().map_or_else(Vec::new, Georeference::crs_keys)
 }
 
 #[cfg(test)]

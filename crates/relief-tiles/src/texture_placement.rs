@@ -10,7 +10,7 @@
 
 use crate::TileError;
 use relief_core::GridGeometry;
-use relief_io::{GeoTiffTags, Georeference, OrthoInfo};
+use relief_io::{Georeference, OrthoInfo};
 
 /// Where a photo's kept pixels lie: the window of the file and its placement in the world.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,8 +39,6 @@ pub struct DemPlacement<'a> {
     pub georeference: Option<&'a Georeference>,
 }
 
-/// GeoKeys that say nothing about the CRS itself: GTRasterTypeGeoKey and the citations.
-const NOT_CRS_KEYS: [u16; 4] = [1025, 1026, 2049, 3073];
 /// GTModelTypeGeoKey.
 const MODEL_TYPE: u16 = 1024;
 /// GeographicTypeGeoKey.
@@ -48,7 +46,7 @@ const GEOGRAPHIC_TYPE: u16 = 2048;
 /// ProjectedCSTypeGeoKey.
 const PROJECTED_TYPE: u16 = 3072;
 /// The GeoKey value "user-defined".
-const USER_DEFINED: u16 = 32767;
+const USER_DEFINED: &str = "32767";
 
 /// Places the photo `ortho` over `dem`.
 ///
@@ -73,7 +71,7 @@ pub fn place_ortho(dem: &DemPlacement, ortho: &OrthoInfo) -> Result<TexturePlace
              it by; give a PNG (taken to span the DEM exactly) or a georeferenced DEM"
         )));
     };
-    if let Some(reason) = crs_difference(&own.geotiff, &photo.geotiff) {
+    if let Some(reason) = crs_difference(own, photo) {
         return Err(TileError::Invalid(format!(
             "--texture {name}: its CRS differs from the DEM's ({reason}); reproject it to the \
              DEM's CRS first"
@@ -136,74 +134,25 @@ fn sorted(a: f64, b: f64) -> (f64, f64) {
     (a.min(b), a.max(b))
 }
 
-/// A GeoKey's value: a short, or the doubles or text it points to.
-#[derive(Debug, Clone, PartialEq)]
-enum KeyValue {
-    Short(u16),
-    Doubles(Vec<f64>),
-    Text(Vec<u8>),
-}
-
-/// The CRS keys of a GeoKey directory, sorted, citations and the raster type left out.
-fn crs_keys(tags: &GeoTiffTags) -> Vec<(u16, KeyValue)> {
-    let Some(directory) = &tags.geo_key_directory else { return Vec::new() };
-    let count = directory.get(3).copied().unwrap_or(0) as usize;
-    let mut keys: Vec<(u16, KeyValue)> = directory
-        .get(4..)
-        .unwrap_or(&[])
-        .chunks_exact(4)
-        .take(count)
-        .filter(|k| !NOT_CRS_KEYS.contains(&k[0]))
-        .map(|k| {
-            let (id, location, n, value) = (k[0], k[1], k[2] as usize, k[3] as usize);
-            let range = value..value + n;
-            let value = match location {
-                34736 => KeyValue::Doubles(
-                    tags.geo_double_params
-                        .as_ref()
-                        .and_then(|v| v.get(range))
-                        .unwrap_or_default()
-                        .to_vec(),
-                ),
-                34737 => KeyValue::Text(
-                    tags.geo_ascii_params
-                        .as_ref()
-                        .and_then(|v| v.get(range))
-                        .unwrap_or_default()
-                        .to_vec(),
-                ),
-                _ => KeyValue::Short(value as u16),
-            };
-            (id, value)
-        })
-        .collect();
-    keys.sort_by_key(|k| k.0);
-    keys
-}
-
 /// How two files' CRSs differ, `None` when they are the same: the same model type and EPSG
-/// code when both name one, else the same CRS GeoKeys.
-fn crs_difference(dem: &GeoTiffTags, photo: &GeoTiffTags) -> Option<String> {
-    let (a, b) = (crs_keys(dem), crs_keys(photo));
-    let short = |keys: &[(u16, KeyValue)], id: u16| {
-        keys.iter().find(|k| k.0 == id).and_then(|k| match k.1 {
-            KeyValue::Short(v) => Some(v),
-            _ => None,
-        })
+/// code when both name one, else the same CRS GeoKeys ([`Georeference::crs_keys`]).
+fn crs_difference(dem: &Georeference, photo: &Georeference) -> Option<String> {
+    let (a, b) = (dem.crs_keys(), photo.crs_keys());
+    let key =
+        |keys: &[(u16, String)], id: u16| keys.iter().find(|k| k.0 == id).map(|k| k.1.clone());
+    let epsg = |keys: &[(u16, String)]| {
+        let code = key(keys, PROJECTED_TYPE).or_else(|| key(keys, GEOGRAPHIC_TYPE));
+        code.filter(|c| c != USER_DEFINED)
     };
-    let epsg = |keys: &[(u16, KeyValue)]| {
-        let code = short(keys, PROJECTED_TYPE).or_else(|| short(keys, GEOGRAPHIC_TYPE));
-        code.filter(|&c| c != USER_DEFINED)
-    };
-    let describe = |keys: &[(u16, KeyValue)]| match (epsg(keys), short(keys, MODEL_TYPE)) {
+    let describe = |keys: &[(u16, String)]| match (epsg(keys), key(keys, MODEL_TYPE).as_deref()) {
         (Some(code), _) => format!("EPSG:{code}"),
-        (None, Some(2)) => "a user-defined geographic CRS".to_string(),
+        (None, Some("2")) => "a user-defined geographic CRS".to_string(),
         (None, Some(_)) => "a user-defined projected CRS".to_string(),
         (None, None) if keys.is_empty() => "no CRS keys".to_string(),
         (None, None) => "a CRS without a model type".to_string(),
     };
     let same = match (epsg(&a), epsg(&b)) {
-        (Some(x), Some(y)) => x == y && short(&a, MODEL_TYPE) == short(&b, MODEL_TYPE),
+        (Some(x), Some(y)) => x == y && key(&a, MODEL_TYPE) == key(&b, MODEL_TYPE),
         _ => a == b,
     };
     (!same).then(|| format!("{} against the DEM's {}", describe(&b), describe(&a)))
