@@ -23,8 +23,8 @@ fn stderr(out: &Output) -> String {
 
 /// Small inputs every case below may use, made once: `f.npy` (48², fBm), `f.tif`, `f.png`
 /// (16-bit grey), `t.png` (an RGB picture, as a texture) and its depth `d.npy` (16x16),
-/// `s.mlhm` (a carved MLHM scene), `st` (a tile store of `f.tif`) and `p.json` (a camera path
-/// of three keys).
+/// `s.mlhm` (a carved MLHM scene), `st` (a tile store of `f.tif`), `stt` (the same with
+/// `t.png` as its photo) and `p.json` (a camera path of three keys).
 fn inputs() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
@@ -51,6 +51,9 @@ fn inputs() -> &'static Path {
             relief(&["generate", "mlhm", "--scene", "arches", "--size", "32", "-o", &p("s.mlhm")]);
         assert!(run.status.success(), "{}", stderr(&run));
         let run = relief(&["tile", &p("f.tif"), "-o", &p("st"), "--tile", "16"]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        let textured = ["tile", &p("f.tif"), "-o", &p("stt"), "--tile", "16", "--texture", &p("t.png")];
+        let run = relief(&textured);
         assert!(run.status.success(), "{}", stderr(&run));
         let key = |t: f64, x: f64| {
             format!(
@@ -188,6 +191,9 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("render {in}/f.npy -o {out}/a.png --stats {out}/s.txt", Expect::Refused("the statistics are written as .json")),
             ("render {in}/st --max-error-px 1 --cache-mb 16 --size 16x9 -o {out}/a.png", Expect::Ok),
             ("render {in}/f.tif --cache-mb 16 -o {out}/a.png", Expect::Refused("--cache-mb applies to tile stores")),
+            ("render {in}/stt --texture-filter bilinear --texture-cache-mb 16 --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/st --texture-filter anisotropic -o {out}/a.png", Expect::Refused("--texture-filter applies to textured tile stores")),
+            ("render {in}/f.tif --texture-cache-mb 16 -o {out}/a.png", Expect::Refused("--texture-cache-mb applies to tile stores")),
         ],
     ),
     (
@@ -356,6 +362,7 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("flythrough {in}/s.mlhm --path {in}/p.json --frames 1 -o {out}/frames --tracer hierarchy --backtrack miss --hierarchy-bounds f16 --size 16x9", Expect::Ok),
             ("flythrough {in}/st --path {in}/p.json --frames 3 -o {out}/frames --max-error-px 1 --cache-mb 16 --wait --stats {out}/s.json --size 16x9", Expect::Ok),
             ("flythrough {in}/st --path {in}/p.json --frames 2 -o {out}/frames --size 16x9", Expect::Ok),
+            ("flythrough {in}/stt --path {in}/p.json --frames 2 -o {out}/frames --texture-filter bilinear --texture-cache-mb 16 --size 16x9", Expect::Ok),
             ("flythrough {in}/f.tif --path {in}/p.json --frames 0 -o {out}/frames", Expect::Refused("between 1 and 100000")),
             ("flythrough {in}/f.tif --path {in}/p.json --frames 2 -o {in}/f.tif", Expect::Refused("not a folder")),
             ("flythrough {in}/st --path {in}/p.json --frames 2 -o {in}/st", Expect::Refused("would overwrite the input")),
