@@ -3,8 +3,9 @@
 //!
 //! A still render waits for every tile it needs. A fly-through never waits: tiles not in
 //! memory are asked of the loader thread (nearest first, then the tiles the camera's motion
-//! will need next), and their nearest ancestor in memory stands in until they arrive; the root
-//! tile is always in memory. Later frames refine as tiles arrive.
+//! will need next), and until they arrive finer tiles in memory that cover them stand in (when
+//! the error bound grew), or else their nearest ancestor in memory (the root tile is always in
+//! memory). Later frames refine as tiles arrive.
 
 use crate::cache::TileCache;
 use crate::lod::{select_tiles, tile_bounds};
@@ -135,9 +136,15 @@ impl TileStreamer {
             queue.extend(&missing);
             queue.extend(self.predicted_tiles(camera, request, max_error_px));
             self.loader.request(queue);
+            // Finer tiles in memory that cover a missing one stand in for it (the view's
+            // error bound grew); otherwise its nearest coarser tile in memory does.
+            let mut cover = Vec::new();
             for id in missing {
-                let stand_in = self.nearest_loaded_ancestor(id);
-                have.insert(stand_in.id, stand_in);
+                cover.clear();
+                if !self.resident_cover(id, COVER_LEVELS, &mut cover) {
+                    cover.push(self.nearest_loaded_ancestor(id));
+                }
+                have.extend(cover.drain(..).map(|tile| (tile.id, tile)));
             }
         }
         let terrain = self.terrain(have);
@@ -168,6 +175,26 @@ impl TileStreamer {
             }
         }
         seen.into_iter().collect()
+    }
+
+    /// Pushes onto `out` tiles in memory, at most `levels` levels below `id`, that together
+    /// cover it; false (and `out` as it was) when there are none such.
+    fn resident_cover(&self, id: TileId, levels: u32, out: &mut Vec<Arc<LoadedTile>>) -> bool {
+        let start = out.len();
+        if levels == 0 || id.level == 0 {
+            return false;
+        }
+        for child in self.store.layout().children(id) {
+            match self.tile(child) {
+                Some(tile) => out.push(tile),
+                None if self.resident_cover(child, levels - 1, out) => {}
+                None => {
+                    out.truncate(start);
+                    return false;
+                }
+            }
+        }
+        true
     }
 
     /// The coarser tile in memory nearest above `id` (the root at worst).
@@ -299,6 +326,9 @@ impl TileStreamer {
         TiledTerrain::new(root, self.surface, floor, g.z_scale)
     }
 }
+
+/// How many levels finer the tiles standing in for a missing tile may be.
+const COVER_LEVELS: u32 = 2;
 
 /// Bytes a loaded tile of `store` takes at most (samples, hole flags, max mipmap).
 pub fn estimated_tile_bytes(store: &TileStore) -> u64 {
