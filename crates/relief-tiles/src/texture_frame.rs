@@ -4,10 +4,12 @@
 //! After the G-buffer is traced, every hit pixel's footprint is computed exactly as the
 //! deferred pass will compute it ([`relief_shade::pixel_ground_footprint`], on the tangent
 //! plane of [`TiledTerrain::surface_slope`]), and the filter is run once without colour to
-//! record the texture tiles its samples touch. Those tiles are loaded (in parallel, checked
-//! against their checksums) and handed to the frame's [`TexturedFrame`], so that the shading
-//! pass reads them without locks and never waits. When they would not fit the texture cache,
-//! the finest level allowed is raised one level at a time until they do.
+//! record the texture tiles its samples touch. A still frame loads those tiles (in parallel,
+//! checked against their checksums); a frame of a fly-through does not wait for them: they are
+//! loaded in the background for later frames, and the coarser tiles in memory stand in. The
+//! tiles are handed to the frame's [`TexturedFrame`], so that the shading pass reads them
+//! without locks and never waits. When they would not fit the texture cache, the finest level
+//! allowed is raised one level at a time until they do.
 
 use crate::cache::TileCache;
 use crate::texture_format::{srgb8_to_linear_table, TEXEL_BYTES};
@@ -21,7 +23,8 @@ use relief_shade::{
 };
 use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
 use std::time::Instant;
 
 /// What a textured frame did.
@@ -29,7 +32,8 @@ use std::time::Instant;
 pub struct TextureFrameStats {
     /// Texture tiles the frame's pixels sample.
     pub tiles: usize,
-    /// Of those, tiles read from the store (the others were in the cache).
+    /// Of those, tiles read from the store for this frame (the others were in the cache, or,
+    /// in a frame that did not wait, are loading in the background).
     pub tiles_loaded: usize,
     /// Milliseconds spent choosing and loading them.
     pub io_ms: f64,
@@ -43,8 +47,10 @@ pub struct TextureFrameStats {
 /// A store's texture pyramid with its cache, making the albedo of frames.
 pub struct TextureStreamer {
     store: Arc<TextureStore>,
-    cache: TileCache<TextureTile>,
+    cache: Arc<TileCache<TextureTile>>,
     root: Arc<TextureTile>,
+    /// The background load of the tiles a frame that did not wait missed, while it runs.
+    background: Mutex<Option<JoinHandle<Result<(), TileError>>>>,
 }
 
 impl TextureStreamer {
@@ -52,7 +58,9 @@ impl TextureStreamer {
     /// always in memory, aside).
     pub fn new(store: TextureStore, cache_bytes: u64) -> Result<Self, TileError> {
         let root = Arc::new(store.load(store.layout().root())?);
-        Ok(TextureStreamer { store: Arc::new(store), cache: TileCache::new(cache_bytes), root })
+        let cache = Arc::new(TileCache::new(cache_bytes));
+        let background = Mutex::new(None);
+        Ok(TextureStreamer { store: Arc::new(store), cache, root, background })
     }
 
     /// The texture's pyramid.
@@ -61,14 +69,17 @@ impl TextureStreamer {
     }
 
     /// The albedo of the frame `camera` saw into `gbuffer` over `terrain`, filtered with
-    /// `filter`: loads the texture tiles the frame's footprints need. Fails when a tile cannot
-    /// be read or is damaged.
+    /// `filter`. With `wait`, loads the texture tiles the frame's footprints need; without,
+    /// starts loading them in the background (unless an earlier load still runs) and lets
+    /// coarser tiles in memory stand in. Fails when a tile cannot be read or is damaged (a
+    /// background load's failure is reported by the next frame).
     pub fn frame(
         &self,
         gbuffer: &GBuffer,
         camera: &Camera,
         terrain: Arc<TiledTerrain>,
         filter: TextureFilter,
+        wait: bool,
     ) -> Result<(TexturedFrame, TextureFrameStats), TileError> {
         let started = Instant::now();
         self.cache.begin_frame();
@@ -93,16 +104,39 @@ impl TextureStreamer {
                 None => missing.push(id),
             }
         }
-        let loaded: Vec<Result<TextureTile, TileError>> =
-            missing.par_iter().map(|&id| self.store.load(id)).collect();
-        for tile in loaded {
-            let tile = Arc::new(tile?);
-            self.cache.insert(tile.clone());
-            tiles.insert(tile.id, tile);
+        let mut background = self.background.lock().unwrap_or_else(|p| p.into_inner());
+        if background.as_ref().is_some_and(|load| load.is_finished()) {
+            let load = background.take().expect("a finished load");
+            load.join()
+                .unwrap_or_else(|_| Err(TileError::Invalid("texture loader panicked".into())))?;
         }
+        let tiles_loaded = match (wait, background.is_some()) {
+            (true, _) => {
+                let loaded: Vec<Result<TextureTile, TileError>> =
+                    missing.par_iter().map(|&id| self.store.load(id)).collect();
+                for tile in loaded {
+                    let tile = Arc::new(tile?);
+                    self.cache.insert(tile.clone());
+                    self.cache.get(tile.id);
+                    tiles.insert(tile.id, tile);
+                }
+                missing.len()
+            }
+            (false, true) => 0,
+            (false, false) => {
+                let (store, cache) = (self.store.clone(), self.cache.clone());
+                *background = Some(std::thread::spawn(move || {
+                    for id in missing {
+                        cache.insert(Arc::new(store.load(id)?));
+                    }
+                    Ok(())
+                }));
+                0
+            }
+        };
         let stats = TextureFrameStats {
             tiles: needed.len(),
-            tiles_loaded: missing.len(),
+            tiles_loaded,
             io_ms: started.elapsed().as_secs_f64() * 1e3,
             resident_bytes: self.cache.bytes() + self.root.bytes,
             min_level,

@@ -141,7 +141,7 @@ fn at_error_0_bilinear_level_0_is_the_photo_sampled_at_each_hit() {
     let terrain = Arc::new(terrain);
     let textures = TextureStreamer::new(texture, 64 << 20).unwrap();
     let (frame, stats) =
-        textures.frame(&gbuffer, &camera, terrain.clone(), TextureFilter::Bilinear).unwrap();
+        textures.frame(&gbuffer, &camera, terrain.clone(), TextureFilter::Bilinear, true).unwrap();
     assert_eq!(stats.min_level, 0);
     assert!(stats.tiles > 1, "{stats:?}");
     let (w, h) = PHOTO;
@@ -184,7 +184,7 @@ fn anisotropic_filtering_averages_the_checks_far_away() {
     // alternate 230 and 20, so bilinear samples spread, filtered ones gather near the mean.
     let far = 0.6 * gbuffer.distance.iter().filter(|d| d.is_finite()).fold(0f32, |a, &d| a.max(d));
     let spread = filters.map(|filter| {
-        let (frame, _) = textures.frame(&gbuffer, &camera, terrain.clone(), filter).unwrap();
+        let (frame, _) = textures.frame(&gbuffer, &camera, terrain.clone(), filter, true).unwrap();
         let mut reds = Vec::new();
         for j in 0..camera.height() {
             for i in 0..camera.width() {
@@ -269,4 +269,52 @@ fn a_damaged_texture_tile_is_named_and_a_store_without_texture_opens() {
     let store = TileStore::open(&plain).unwrap();
     assert!(TextureStore::open(&plain, store.header()).unwrap().is_none());
     std::fs::remove_dir_all(&plain).unwrap();
+}
+
+/// A frame that does not wait loads no texture tile itself: coarser ones stand in, the tiles
+/// arrive in the background, and later frames are the frame that waited.
+#[test]
+fn frames_that_do_not_wait_refine_as_texture_tiles_arrive() {
+    let dir = temp("nowait");
+    build(&dir);
+    let store = TileStore::open(&dir).unwrap();
+    let texture = || TextureStore::open(&dir, store.header()).unwrap().expect("a texture");
+    let bounds = store.world_bounds(Surface::Triangles);
+    let camera = camera();
+    let streamer =
+        TileStreamer::new(TileStore::open(&dir).unwrap(), Surface::Triangles, 64 << 20).unwrap();
+    let request = FrameRequest { max_error_px: 0.0, cull: true, wait: true };
+    let (terrain, _) = streamer.frame(&camera, request).unwrap();
+    let (gbuffer, _) = render_gbuffer(&terrain, &camera, &bounds, &|_| {}).unwrap();
+    let terrain = Arc::new(terrain);
+    let filter = TextureFilter::Bilinear;
+    let colours = |frame: &relief_tiles::TexturedFrame| -> Vec<DVec3> {
+        let hits = gbuffer.distance.iter().enumerate().filter(|(_, d)| d.is_finite());
+        let at = |k: usize| {
+            let (i, j) = (k as u32 % camera.width(), k as u32 / camera.width());
+            camera.ray(i, j).at(gbuffer.distance[k] as f64)
+        };
+        hits.map(|(k, _)| frame.albedo(&GroundFootprint::point(at(k)))).collect()
+    };
+    let waited = TextureStreamer::new(texture(), 64 << 20).unwrap();
+    let (frame, _) = waited.frame(&gbuffer, &camera, terrain.clone(), filter, true).unwrap();
+    let want = colours(&frame);
+
+    let streamer = TextureStreamer::new(texture(), 64 << 20).unwrap();
+    let (frame, stats) = streamer.frame(&gbuffer, &camera, terrain.clone(), filter, false).unwrap();
+    assert_eq!(stats.tiles_loaded, 0, "{stats:?}");
+    assert!(colours(&frame) != want, "the first frame is drawn from coarser tiles");
+    let mut refined = false;
+    for _ in 0..200 {
+        let (frame, stats) =
+            streamer.frame(&gbuffer, &camera, terrain.clone(), filter, false).unwrap();
+        assert_eq!(stats.tiles_loaded, 0);
+        if colours(&frame) == want {
+            refined = true;
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(refined, "later frames draw the tiles loaded in the background");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -250,7 +250,7 @@ impl FrameDrawer {
                 let (terrain, tiles) = scene.streamer.frame(camera, request)?;
                 let terrain = std::sync::Arc::new(terrain);
                 let (gbuffer, _) = render_gbuffer(&*terrain, camera, &scene.bounds, &|_| {})?;
-                let (params, _) = scene.frame_params(&gbuffer, camera, &terrain)?;
+                let (params, _) = scene.frame_params(&gbuffer, camera, &terrain, request.wait)?;
                 let (rgb, _) = shade_to_srgb8(&gbuffer, &*terrain, camera, &params)?;
                 Ok(DrawnFrame { rgb, tiles: Some(tiles), note: None })
             }

@@ -63,18 +63,19 @@ impl StoreScene {
     }
 
     /// The shading of the frame `camera` saw into `gbuffer` over `terrain`: the store's photo,
-    /// when it has one, filtered over each pixel's footprint (its tiles loaded for the frame),
-    /// else the scene's own.
+    /// when it has one, filtered over each pixel's footprint (its tiles loaded for the frame
+    /// when it `wait`s, else coarser ones standing in), else the scene's own.
     pub fn frame_params(
         &self,
         gbuffer: &GBuffer,
         camera: &Camera,
         terrain: &Arc<TiledTerrain>,
+        wait: bool,
     ) -> Result<(ShadingParams, Option<TextureFrameStats>)> {
         let Some((textures, filter)) = &self.texture else {
             return Ok((self.params.clone(), None));
         };
-        let (frame, stats) = textures.frame(gbuffer, camera, terrain.clone(), *filter)?;
+        let (frame, stats) = textures.frame(gbuffer, camera, terrain.clone(), *filter, wait)?;
         let params = ShadingParams {
             albedo: Albedo::Filtered(FilteredAlbedo(Arc::new(frame))),
             ..self.params.clone()
@@ -114,7 +115,7 @@ pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
     let trace_ms = outputs::ms_since(trace_started);
     bar.finish_and_clear();
     let texture_started = Instant::now();
-    let (params, textured) = scene.frame_params(&gbuffer, &camera, &terrain)?;
+    let (params, textured) = scene.frame_params(&gbuffer, &camera, &terrain, true)?;
     let texture_ms = outputs::ms_since(texture_started);
     let shade_started = Instant::now();
     let (rgb, shadow) = shade_to_srgb8(&gbuffer, &*terrain, &camera, &params)?;
