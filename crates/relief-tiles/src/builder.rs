@@ -223,21 +223,7 @@ impl StoreWriter {
             return Err(mismatch("exists and is not a tile store".into()));
         }
         std::fs::create_dir_all(dir).map_err(|e| TileError::io(dir, e))?;
-        let open = |name: &str, len: u64| -> Result<File, TileError> {
-            let path = dir.join(name);
-            let file = OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .open(&path)
-                .map_err(|e| TileError::io(&path, e))?;
-            let size = file.metadata().map_err(|e| TileError::io(&path, e))?.len();
-            if size != len {
-                file.set_len(len).map_err(|e| TileError::io(&path, e))?;
-            }
-            Ok(file)
-        };
+        let open = |name: &str, len: u64| open_sized(&dir.join(name), len);
         let count = layout.tile_count();
         let slot = slot_bytes(layout, header.precision);
         let table = open(TABLE_FILE, count * RECORD_BYTES as u64)?;
@@ -293,6 +279,23 @@ impl StoreWriter {
         self.header.complete = true;
         self.header.write(&self.dir)
     }
+}
+
+/// Opens (or creates) the store file at `path` for reading and writing, `len` bytes long: a
+/// new file is zeros, an interrupted build's keeps what it holds.
+pub(crate) fn open_sized(path: &Path, len: u64) -> Result<File, TileError> {
+    let file = OpenOptions::new()
+        .read(true)
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(path)
+        .map_err(|e| TileError::io(path, e))?;
+    let size = file.metadata().map_err(|e| TileError::io(path, e))?.len();
+    if size != len {
+        file.set_len(len).map_err(|e| TileError::io(path, e))?;
+    }
+    Ok(file)
 }
 
 /// Says how an existing store differs from the one asked for.

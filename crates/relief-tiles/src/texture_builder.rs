@@ -21,7 +21,7 @@ use crate::{PyramidLayout, TileError, TileId};
 use rayon::prelude::*;
 use relief_io::OrthoRows;
 use std::collections::HashMap;
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
 
@@ -114,21 +114,7 @@ pub(crate) fn build_texture(
 
 impl TextureWriter {
     fn open(dir: &Path, layout: &PyramidLayout) -> Result<Self, TileError> {
-        let open = |name: &str, len: u64| -> Result<File, TileError> {
-            let path = dir.join(name);
-            let file = OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .open(&path)
-                .map_err(|e| TileError::io(&path, e))?;
-            let size = file.metadata().map_err(|e| TileError::io(&path, e))?.len();
-            if size != len {
-                file.set_len(len).map_err(|e| TileError::io(&path, e))?;
-            }
-            Ok(file)
-        };
+        let open = |name: &str, len: u64| crate::builder::open_sized(&dir.join(name), len);
         let count = layout.tile_count();
         let table = open(TEXTURE_TABLE_FILE, count * TEXTURE_RECORD_BYTES as u64)?;
         let data = open(TEXTURE_DATA_FILE, count * texture_slot_bytes(layout))?;
