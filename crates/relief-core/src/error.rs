@@ -43,6 +43,19 @@ pub enum CoreError {
         /// What is wrong.
         reason: String,
     },
+    /// A layer of a material stack breaks an invariant (not finite, empty or running
+    /// backwards, overlapping the layer below, an unknown material).
+    #[error("stack ({x}, {y}), layer {layer}: {reason}")]
+    StackLayer {
+        /// Stack column (x).
+        x: usize,
+        /// Stack row (y).
+        y: usize,
+        /// Layer index within the stack, 0 at the bottom.
+        layer: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// A geometric parameter (spacing, scale, origin) is out of range.
     #[error("invalid {name}: {reason}")]
     Parameter {

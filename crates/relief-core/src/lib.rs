@@ -5,6 +5,8 @@
 //! - [`Mlhm`]: the multi-layered height map (cells of stacked [`MlhmColumn`]s of bedrock, sand,
 //!   water and air) in the reference layout, with its invariants and conservative f16
 //!   [`Precision`];
+//! - [`MaterialStacks`]: material-stack terrains (layers of materials per grid point, air
+//!   between them) and their LOD [`StacksMipmap`];
 //! - [`Ray`], [`Aabb`]: geometry used by the tracers;
 //! - [`Camera`]: the camera of relief's conventions, pinhole or orthographic ([`Projection`]),
 //!   with automatic [`Framing`], and the fixed [`benchmark_views`] every performance
@@ -28,6 +30,7 @@ mod height_field;
 mod mlhm;
 mod ray;
 mod sample_region;
+mod stacks;
 mod surface;
 
 pub use aabb::{Aabb, BoxFace, Clip};
@@ -39,6 +42,7 @@ pub use height_field::{GridGeometry, HeightField};
 pub use mlhm::{MaterialVolumes, Mlhm, MlhmColumn, MlhmHeights, Precision};
 pub use ray::Ray;
 pub use sample_region::SampleRegion;
+pub use stacks::{MaterialKind, MaterialStacks, StackLayer, StackMaterial, StacksMipmap};
 pub use surface::{splits_along_ad, Surface};
 
 /// Re-exported vector types used throughout relief's public API.

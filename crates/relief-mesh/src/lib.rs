@@ -52,6 +52,7 @@ mod height_pyramid;
 mod indexed_mesh;
 mod raster_target;
 mod rasterizer;
+mod terrain_mesh;
 mod triangle_setup;
 
 pub use clipmap::{Clipmap, ClipmapParams};
@@ -61,3 +62,4 @@ pub use height_pyramid::HeightPyramid;
 pub use indexed_mesh::{IndexedMesh, MeshHit};
 pub use raster_target::RasterTarget;
 pub use rasterizer::{Culling, DrawStats, Rasterizer};
+pub use terrain_mesh::{MeshPart, TerrainMesh};
