@@ -61,6 +61,11 @@ pub enum Command {
     /// wait for tiles (coarser ones stand in, so the frames depend on how fast the disk is)
     /// unless --wait is given; every other input gives the same frames every run.
     Flythrough(Box<FlythroughArgs>),
+    /// Mesh a material-stack terrain (Löffler et al. 2011): a .stacks file, an MLHM scene
+    /// (bedrock, sand, water) or a height file, smoothed and dual-contoured into a closed
+    /// `solid` mesh and a `water` mesh, at one level of detail or at the levels a camera
+    /// needs (crack-free between levels), written as glTF binary (.glb), OBJ or PLY.
+    Mesh(Box<MeshArgs>),
 }
 
 /// How height files are read.
@@ -251,6 +256,73 @@ pub struct RenderArgs {
     /// Options of tile stores.
     #[command(flatten)]
     pub tiles: TileRenderArgs,
+    /// Options of stacks meshes (--mode mesh).
+    #[command(flatten)]
+    pub stacks: StacksArgs,
+}
+
+/// The level of detail of a stacks mesh, and its screen-space error.
+#[derive(Debug, Clone, Args)]
+pub struct StacksArgs {
+    /// Stacks meshes: the level of detail, 0 the finest (the stacks themselves), each next
+    /// level half as fine; or auto: per octree node, as fine as the camera needs for cells of
+    /// at most --tau pixels [default: auto].
+    #[arg(long, value_name = "N|auto", value_parser = parse_lod)]
+    pub lod: Option<LodChoice>,
+    /// Stacks meshes with --lod auto: the largest screen-space size of a cell in pixels
+    /// (Löffler et al. 2011, equation 1) [default: 10].
+    #[arg(long, value_name = "PX", value_parser = tau_px, allow_hyphen_values = true)]
+    pub tau: Option<f64>,
+}
+
+impl StacksArgs {
+    /// The first option given, if any (for refusing it where it does nothing).
+    pub fn given(&self) -> Option<&'static str> {
+        [(self.lod.is_some(), "--lod"), (self.tau.is_some(), "--tau")]
+            .into_iter()
+            .find_map(|(given, name)| given.then_some(name))
+    }
+}
+
+/// `--lod`: a fixed level or the camera's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LodChoice {
+    /// One level everywhere, 0 finest.
+    Level(usize),
+    /// The levels the camera needs.
+    Auto,
+}
+
+fn parse_lod(s: &str) -> Result<LodChoice, String> {
+    if s == "auto" {
+        return Ok(LodChoice::Auto);
+    }
+    s.parse::<usize>()
+        .map(LodChoice::Level)
+        .map_err(|_| format!("'{s}' is not a level of detail (expected auto or 0, 1, 2, ...)"))
+}
+
+fn tau_px(s: &str) -> Result<f64, String> {
+    parse::number_in(s, "a number of pixels", &(0.01..=1e4))
+}
+
+/// `relief mesh`: the scene options of `relief render` (input, camera), the output, the level
+/// of detail and the stage timings.
+#[derive(Debug, Args)]
+pub struct MeshArgs {
+    /// The scene and camera (the camera matters with --lod auto).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Output mesh: .glb (glTF 2.0 binary), .obj or .ply.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Level of detail and screen-space error.
+    #[command(flatten)]
+    pub stacks: StacksArgs,
+    /// Write the stage timings (load_ms, build_ms, mesh_ms, write_ms, total_ms) and the mesh's
+    /// counts to this JSON file.
+    #[arg(long, value_name = "JSON")]
+    pub stats: Option<PathBuf>,
 }
 
 /// How a tile store (made by `relief tile`) is rendered.
@@ -360,6 +432,73 @@ pub struct FlythroughArgs {
     /// Options of tile stores.
     #[command(flatten)]
     pub tiles: TileRenderArgs,
+    /// Options of stacks meshes (--mode mesh).
+    #[command(flatten)]
+    pub stacks: StacksArgs,
+}
+
+/// The level of detail of a stacks mesh, and its screen-space error.
+#[derive(Debug, Clone, Args)]
+pub struct StacksArgs {
+    /// Stacks meshes: the level of detail, 0 the finest (the stacks themselves), each next
+    /// level half as fine; or auto: per octree node, as fine as the camera needs for cells of
+    /// at most --tau pixels [default: auto].
+    #[arg(long, value_name = "N|auto", value_parser = parse_lod)]
+    pub lod: Option<LodChoice>,
+    /// Stacks meshes with --lod auto: the largest screen-space size of a cell in pixels
+    /// (Löffler et al. 2011, equation 1) [default: 10].
+    #[arg(long, value_name = "PX", value_parser = tau_px, allow_hyphen_values = true)]
+    pub tau: Option<f64>,
+}
+
+impl StacksArgs {
+    /// The first option given, if any (for refusing it where it does nothing).
+    pub fn given(&self) -> Option<&'static str> {
+        [(self.lod.is_some(), "--lod"), (self.tau.is_some(), "--tau")]
+            .into_iter()
+            .find_map(|(given, name)| given.then_some(name))
+    }
+}
+
+/// `--lod`: a fixed level or the camera's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LodChoice {
+    /// One level everywhere, 0 finest.
+    Level(usize),
+    /// The levels the camera needs.
+    Auto,
+}
+
+fn parse_lod(s: &str) -> Result<LodChoice, String> {
+    if s == "auto" {
+        return Ok(LodChoice::Auto);
+    }
+    s.parse::<usize>()
+        .map(LodChoice::Level)
+        .map_err(|_| format!("'{s}' is not a level of detail (expected auto or 0, 1, 2, ...)"))
+}
+
+fn tau_px(s: &str) -> Result<f64, String> {
+    parse::number_in(s, "a number of pixels", &(0.01..=1e4))
+}
+
+/// `relief mesh`: the scene options of `relief render` (input, camera), the output, the level
+/// of detail and the stage timings.
+#[derive(Debug, Args)]
+pub struct MeshArgs {
+    /// The scene and camera (the camera matters with --lod auto).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Output mesh: .glb (glTF 2.0 binary), .obj or .ply.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Level of detail and screen-space error.
+    #[command(flatten)]
+    pub stacks: StacksArgs,
+    /// Write the stage timings (load_ms, build_ms, mesh_ms, write_ms, total_ms) and the mesh's
+    /// counts to this JSON file.
+    #[arg(long, value_name = "JSON")]
+    pub stats: Option<PathBuf>,
 }
 
 /// `relief tile`.
@@ -552,13 +691,17 @@ pub enum MlhmRenderMode {
     /// The smooth implicit surface of the boxes: where a cube of half-size `--sigma` around a
     /// point is half full of terrain (Nilles & Müller 2025, 3.3 and 4.3-4.6).
     Smooth,
+    /// The terrain as material stacks meshed by dual contouring at the camera's levels of
+    /// detail (Löffler et al. 2011) and rasterized; any input.
+    Mesh,
 }
 
 fn parse_mlhm_render_mode(s: &str) -> Result<MlhmRenderMode, String> {
     match s {
         "boxes" => Ok(MlhmRenderMode::Boxes),
         "smooth" => Ok(MlhmRenderMode::Smooth),
-        _ => Err(format!("unknown mode '{s}' (expected boxes or smooth)")),
+        "mesh" => Ok(MlhmRenderMode::Mesh),
+        _ => Err(format!("unknown mode '{s}' (expected boxes, smooth or mesh)")),
     }
 }
 

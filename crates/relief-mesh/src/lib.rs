@@ -52,6 +52,7 @@ mod height_pyramid;
 mod indexed_mesh;
 mod raster_target;
 mod rasterizer;
+mod stacks;
 mod terrain_mesh;
 mod triangle_setup;
 
@@ -62,4 +63,5 @@ pub use height_pyramid::HeightPyramid;
 pub use indexed_mesh::{IndexedMesh, MeshHit};
 pub use raster_target::RasterTarget;
 pub use rasterizer::{Culling, DrawStats, Rasterizer};
+pub use stacks::{MeshStats, NodeKey, Smoothing, StacksMeshParams, StacksMesher};
 pub use terrain_mesh::{MeshPart, TerrainMesh};

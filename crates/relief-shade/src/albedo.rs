@@ -21,6 +21,13 @@ pub enum Albedo {
     /// A texture filtered over each pixel's footprint on the terrain (see
     /// [`FootprintAlbedo`]): the deferred pass computes the footprint.
     Filtered(FilteredAlbedo),
+    /// The colour each pixel's renderer stored: the first three G-buffer material weights are
+    /// the linear RGB albedo (renderers of meshes with per-vertex colours, such as the stacks
+    /// meshes); `fallback` where the pass has no G-buffer pixel at hand.
+    GBufferColour {
+        /// The albedo used without a G-buffer pixel.
+        fallback: [f32; 3],
+    },
 }
 
 /// A colour source that filters its texture over each pixel's footprint: an ortho photo's mip
@@ -51,6 +58,7 @@ impl Albedo {
             Albedo::Uniform(c) => non_negative_colour("uniform albedo", *c),
             Albedo::Hypsometric(ramp) => ramp.validate(),
             Albedo::Texture(_) | Albedo::Filtered(_) => Ok(()),
+            Albedo::GBufferColour { fallback } => non_negative_colour("fallback albedo", *fallback),
         }
     }
 
@@ -63,6 +71,7 @@ impl Albedo {
             Albedo::Hypsometric(ramp) => ramp.albedo(position.z, normal.z),
             Albedo::Texture(texture) => texture.sample_bilinear(uv[0] as f64, uv[1] as f64),
             Albedo::Filtered(source) => source.0.albedo(&GroundFootprint::point(position)),
+            Albedo::GBufferColour { fallback } => DVec3::from(fallback.map(f64::from)),
         }
     }
 }

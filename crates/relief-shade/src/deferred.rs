@@ -278,6 +278,10 @@ impl ShadingPass<'_> {
                 let footprint = ground_footprint(self.camera, i as u32, j as u32, position, slope);
                 source.0.albedo(&footprint)
             }
+            Albedo::GBufferColour { .. } => {
+                let m = g.material[i + j * g.width];
+                DVec3::new(m[0] as f64, m[1] as f64, m[2] as f64)
+            }
             other => other.at(position, normal, g.uv[i + j * g.width]),
         };
         let direct = direct_lighting(

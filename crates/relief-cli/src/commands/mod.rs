@@ -10,9 +10,11 @@ mod generate;
 mod info;
 mod info_mlhm;
 mod info_tiles;
+mod mesh;
 mod render;
 mod render_clipmap;
 mod render_hybrid;
+mod render_mesh;
 mod render_mlhm;
 mod render_tiles;
 mod shade;
@@ -41,6 +43,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Compare(args) => compare::run(&args),
         Command::Tile(args) => tile::run(&args),
         Command::Flythrough(args) => flythrough::run(&args),
+        Command::Mesh(args) => mesh::run(&args),
     }
 }
 

@@ -1,7 +1,8 @@
 //! `relief render`: trace, shade and write a picture (and optionally depth and normals, and
 //! the stage timings with `--stats`).
 
-use super::{check_image, render_clipmap, render_hybrid, render_mlhm, render_tiles};
+use super::{check_image, render_clipmap, render_hybrid, render_mesh, render_mlhm, render_tiles};
+use crate::args::MlhmRenderMode;
 use crate::args::RenderArgs;
 use crate::scene::height_field::{check_safety_view, HeightFieldScene};
 use crate::tracers::{self, TracerChoice};
@@ -28,6 +29,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let Some(option) = args.tiles.given() {
         let here = crate::applies::input_kind(scene_args.input.input.as_deref());
         return Err(crate::applies::refuse(option, "tile stores (made by relief tile)", &here));
+    }
+    if scene_args.mode == Some(MlhmRenderMode::Mesh) {
+        return render_mesh::run(args, started);
+    }
+    if let Some(option) = args.stacks.given() {
+        return Err(crate::applies::refuse(option, "--mode mesh", "the ray-cast renderers"));
     }
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
         if let Some(option) = args.hybrid.given() {

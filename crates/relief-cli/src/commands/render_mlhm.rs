@@ -59,6 +59,7 @@ pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
     let surface = match mode {
         MlhmRenderMode::Boxes => "boxes".to_string(),
         MlhmRenderMode::Smooth => format!("a smooth surface (sigma {} m)", scene.sigma_or_cell()),
+        MlhmRenderMode::Mesh => "a mesh".to_string(),
     };
     eprintln!(
         "wrote {} ({w}x{h}, {}x{} MLHM scene as {surface}, preset {}, {how}; \

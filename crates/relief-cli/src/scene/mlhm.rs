@@ -52,6 +52,9 @@ impl LayeredScene {
     /// Reads the MLHM scene at `path`, refusing the options that do not apply to it.
     pub fn open(args: &SceneArgs, path: &Path) -> Result<Self> {
         let mode = args.mode.unwrap_or(MlhmRenderMode::Boxes);
+        if mode == MlhmRenderMode::Mesh {
+            bail!("--mode mesh is drawn by relief render and written by relief mesh, not here");
+        }
         if args.sigma.is_some() && mode == MlhmRenderMode::Boxes {
             return Err(applies::refuse("--sigma", "--mode smooth", "--mode boxes"));
         }
@@ -89,6 +92,7 @@ impl LayeredScene {
     ) -> Result<Box<dyn MlhmTracer>> {
         let map = &self.map;
         Ok(match (mode, choice) {
+            (MlhmRenderMode::Mesh, _) => bail!("--mode mesh has no tracer: it is rasterized"),
             (MlhmRenderMode::Boxes, MlhmTracerChoice::Naive) => {
                 Box::new(MlhmNaiveTracer::new(map.clone(), ORIGIN))
             }

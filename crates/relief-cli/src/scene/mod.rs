@@ -5,6 +5,7 @@
 
 pub mod height_field;
 pub mod mlhm;
+pub mod stacks;
 
 use crate::applies;
 use crate::args::SceneArgs;

@@ -1,0 +1,154 @@
+//! The octree over the stacks mipmap (section 3.3): nodes of `n^3` cells of one level, chosen
+//! for a camera by their screen-space extent (equation 1) against τ, then balanced so that
+//! neighbours (across faces, edges and corners) differ by at most one level.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+/// An octree node: its level (0 finest) and its position in nodes of that level; its own
+/// lattice points are `[key * n, key * n + n)` along each axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct NodeKey {
+    /// Level of the mipmap, 0 finest.
+    pub level: u8,
+    /// Node position along x, y, z.
+    pub at: [i32; 3],
+}
+
+impl NodeKey {
+    /// The node one level coarser that contains this one.
+    pub fn parent(&self) -> NodeKey {
+        NodeKey { level: self.level + 1, at: self.at.map(|c| c.div_euclid(2)) }
+    }
+
+    /// The eight nodes one level finer inside this one.
+    pub fn children(&self) -> impl Iterator<Item = NodeKey> + '_ {
+        (0..8).map(move |c| NodeKey {
+            level: self.level - 1,
+            at: std::array::from_fn(|a| 2 * self.at[a] + ((c >> a) & 1)),
+        })
+    }
+
+    /// The node's first own lattice point.
+    pub fn origin(&self, n: i32) -> [i32; 3] {
+        self.at.map(|c| c * n)
+    }
+}
+
+/// A set of leaves that partitions space: every point lies in exactly one leaf.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Leaves {
+    set: BTreeSet<NodeKey>,
+    max_level: u8,
+}
+
+impl Leaves {
+    /// Leaves chosen from `roots` (nodes of `max_level`) by `split`, which is asked about every
+    /// node above level 0.
+    pub fn select(roots: &[NodeKey], mut split: impl FnMut(&NodeKey) -> bool) -> Self {
+        let max_level = roots.first().map_or(0, |r| r.level);
+        let mut set = BTreeSet::new();
+        let mut stack: Vec<NodeKey> = roots.to_vec();
+        while let Some(node) = stack.pop() {
+            if node.level > 0 && split(&node) {
+                stack.extend(node.children());
+            } else {
+                set.insert(node);
+            }
+        }
+        let mut leaves = Leaves { set, max_level };
+        leaves.balance();
+        leaves
+    }
+
+    /// The leaves, ordered.
+    pub fn iter(&self) -> impl Iterator<Item = &NodeKey> {
+        self.set.iter()
+    }
+
+    /// Number of leaves.
+    pub fn len(&self) -> usize {
+        self.set.len()
+    }
+
+    /// The leaf covering the region of node `key` or a coarser leaf containing it, if any.
+    fn covering(&self, key: &NodeKey) -> Option<NodeKey> {
+        let mut k = *key;
+        loop {
+            if self.set.contains(&k) {
+                return Some(k);
+            }
+            if k.level >= self.max_level {
+                return None;
+            }
+            k = k.parent();
+        }
+    }
+
+    /// Splits leaves until no two neighbours (26-connected) differ by more than one level.
+    fn balance(&mut self) {
+        loop {
+            let mut to_split = BTreeSet::new();
+            for leaf in &self.set {
+                for d in neighbour_offsets() {
+                    let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
+                    if let Some(cover) = self.covering(&NodeKey { level: leaf.level, at }) {
+                        if cover.level > leaf.level + 1 {
+                            to_split.insert(cover);
+                        }
+                    }
+                }
+            }
+            if to_split.is_empty() {
+                return;
+            }
+            for node in to_split {
+                self.set.remove(&node);
+                self.set.extend(node.children());
+            }
+        }
+    }
+
+    /// For each leaf, the coarser leaves among its 26 neighbours (one level up, by balance).
+    pub fn coarser_neighbours(&self) -> BTreeMap<NodeKey, Vec<NodeKey>> {
+        let mut out = BTreeMap::new();
+        for leaf in &self.set {
+            let mut coarser = Vec::new();
+            for d in neighbour_offsets() {
+                let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
+                if let Some(cover) = self.covering(&NodeKey { level: leaf.level, at }) {
+                    if cover.level > leaf.level && !coarser.contains(&cover) {
+                        coarser.push(cover);
+                    }
+                }
+            }
+            coarser.sort();
+            out.insert(*leaf, coarser);
+        }
+        out
+    }
+}
+
+/// The 26 offsets to a node's neighbours.
+fn neighbour_offsets() -> impl Iterator<Item = [i32; 3]> {
+    (0..27).filter(|&i| i != 13).map(|i| [i % 3 - 1, (i / 3) % 3 - 1, i / 9 - 1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn balancing_keeps_neighbours_within_one_level() {
+        let roots: Vec<NodeKey> = (0..2)
+            .flat_map(|x| (0..2).map(move |y| NodeKey { level: 3, at: [x, y, 0] }))
+            .collect();
+        // Refine only towards the corner (0, 0, 0).
+        let leaves = Leaves::select(&roots, |k| k.at == [0, 0, 0]);
+        assert!(leaves.iter().any(|k| k.level == 0));
+        for (leaf, coarser) in leaves.coarser_neighbours() {
+            for c in coarser {
+                assert_eq!(c.level, leaf.level + 1, "{leaf:?} next to {c:?}");
+            }
+        }
+    }
+}

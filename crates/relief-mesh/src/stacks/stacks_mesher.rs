@@ -1,0 +1,369 @@
+//! The stacks mesher: the quadrangulation pipeline run over the octree's nodes, at one level of
+//! detail or at the levels a camera asks for, node meshes cached across frames and joined into
+//! one [`TerrainMesh`] of a `solid` and a `water` part.
+
+use super::density::{Channels, Density, Smoothing};
+use super::lattice::{Block, Lattice};
+use super::node_mesher::{coarse_block, fine_block, mesh_node, LevelField, NodeJob, NodeMesh};
+use super::octree::{Leaves, NodeKey};
+use crate::{MeshError, MeshPart, TerrainMesh};
+use rayon::prelude::*;
+use relief_core::{Camera, DVec3, MaterialKind, StacksMipmap};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// The parameters of the stacks mesher.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StacksMeshParams {
+    /// Cells per octree node along each axis (the paper's 17^3 nodes: 16 cells of 17 points).
+    pub node_cells: usize,
+    /// The low-pass filter of section 3.2.2.
+    pub smoothing: Smoothing,
+    /// Height of a density voxel at the finest level, metres; `None`: the stacks' spacing
+    /// along x (cubic voxels).
+    pub voxel_height: Option<f64>,
+}
+
+impl Default for StacksMeshParams {
+    fn default() -> Self {
+        StacksMeshParams {
+            node_cells: 16,
+            smoothing: Smoothing::Gaussian { sigma: 1.0 },
+            voxel_height: None,
+        }
+    }
+}
+
+/// The octree leaves chosen for one frame and what their meshing cost.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MeshStats {
+    /// Leaves selected.
+    pub nodes: usize,
+    /// Leaves whose mesh was made this frame (not found in the cache).
+    pub meshed: usize,
+    /// Leaves per level, finest first.
+    pub per_level: [usize; 16],
+}
+
+/// Meshes a stacks terrain: its mipmap, the lattices of its levels and a cache of node meshes.
+///
+/// ```
+/// use relief_core::{DVec2, MaterialStacks, StackLayer, StackMaterial, StacksMipmap};
+/// use relief_mesh::{StacksMesher, StacksMeshParams};
+/// // A 6 x 6 slab of bedrock, 3 m thick.
+/// let stacks = MaterialStacks::from_stacks(6, 6, DVec2::ONE, DVec2::ZERO,
+///     StackMaterial::defaults(), &vec![vec![StackLayer::new(0.0, 3.0, 0)]; 36]).unwrap();
+/// let mesher = StacksMesher::new(StacksMipmap::new(stacks), StacksMeshParams::default()).unwrap();
+/// let mesh = mesher.mesh_level(0).unwrap();
+/// assert!(mesh.part("solid").unwrap().quads.len() > 0);
+/// ```
+#[derive(Debug)]
+pub struct StacksMesher {
+    mipmap: StacksMipmap,
+    params: StacksMeshParams,
+    lattices: Vec<Lattice>,
+    channels: Channels,
+    kernel: Vec<f32>,
+    colors: Vec<[f32; 3]>,
+    liquid_color: [f32; 3],
+    /// Lattice z of the highest layer end at level 0.
+    top_k: f64,
+    /// Per level, per column: the lowest layer start and highest layer end, lattice k.
+    column_ranges: Vec<Vec<(f32, f32)>>,
+    cache: HashMap<(NodeKey, Vec<NodeKey>), Arc<NodeMesh>>,
+}
+
+impl StacksMesher {
+    /// A mesher for `mipmap`. Fails when the parameters are out of range (fewer than 2 cells a
+    /// node, a voxel height or a Gaussian's sigma not finite and positive).
+    pub fn new(mipmap: StacksMipmap, params: StacksMeshParams) -> Result<Self, MeshError> {
+        if params.node_cells < 2 || params.node_cells > 256 {
+            return Err(MeshError::Parameter {
+                name: "node cells",
+                reason: format!("{}: 2 to 256 cells a node", params.node_cells),
+            });
+        }
+        if let Smoothing::Gaussian { sigma } = params.smoothing {
+            if !(sigma.is_finite() && sigma > 0.0 && sigma <= 16.0) {
+                return Err(MeshError::Parameter {
+                    name: "sigma",
+                    reason: format!("{sigma}: must lie in (0, 16]"),
+                });
+            }
+        }
+        let level0 = &mipmap.levels()[0];
+        let dz0 = params.voxel_height.unwrap_or(level0.spacing().x);
+        if !(dz0.is_finite() && dz0 > 0.0) {
+            return Err(MeshError::Parameter {
+                name: "voxel height",
+                reason: format!("{dz0}: must be finite and positive"),
+            });
+        }
+        let (bottom, top) = level0.height_range().unwrap_or((0.0, 0.0));
+        let z0 = bottom as f64;
+        let lattices: Vec<Lattice> = mipmap
+            .levels()
+            .iter()
+            .enumerate()
+            .map(|(l, s)| Lattice::new(s, l, z0, dz0))
+            .collect();
+        let channels = Channels::new(level0);
+        let linear = |c: [u8; 3]| c.map(srgb_to_linear);
+        let colors = channels
+            .materials
+            .iter()
+            .map(|&m| linear(level0.materials()[m as usize].color))
+            .collect();
+        let liquid_color = level0
+            .materials()
+            .iter()
+            .find(|m| m.kind == MaterialKind::Liquid)
+            .map_or([0.03, 0.1, 0.3], |m| linear(m.color));
+        let column_ranges = mipmap
+            .levels()
+            .iter()
+            .zip(&lattices)
+            .map(|(s, lattice)| {
+                (0..s.height())
+                    .flat_map(|y| (0..s.width()).map(move |x| (x, y)))
+                    .map(|(x, y)| {
+                        let stack = s.stack(x, y);
+                        match (stack.first(), stack.last()) {
+                            (Some(lo), Some(hi)) => {
+                                (lattice.to_k(lo.start) as f32, lattice.to_k(hi.end) as f32)
+                            }
+                            _ => (f32::INFINITY, f32::NEG_INFINITY),
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        Ok(StacksMesher {
+            kernel: params.smoothing.kernel(),
+            top_k: (top as f64 - z0) / dz0,
+            mipmap,
+            params,
+            lattices,
+            channels,
+            colors,
+            liquid_color,
+            column_ranges,
+            cache: HashMap::new(),
+        })
+    }
+
+    /// The mipmap meshed.
+    pub fn mipmap(&self) -> &StacksMipmap {
+        &self.mipmap
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &StacksMeshParams {
+        &self.params
+    }
+
+    /// Number of levels of detail (the mipmap's levels).
+    pub fn level_count(&self) -> usize {
+        self.mipmap.levels().len()
+    }
+
+    fn n(&self) -> i32 {
+        self.params.node_cells as i32
+    }
+
+    /// The nodes of `level` that cover the terrain and the air ring around it.
+    fn nodes_of_level(&self, level: usize) -> Vec<NodeKey> {
+        let s = &self.mipmap.levels()[level];
+        let n = self.n();
+        let top = (self.top_k / (1u64 << level) as f64).ceil() as i32 + 1;
+        let last = [s.width() as i32, s.height() as i32, top];
+        let mut out = Vec::new();
+        for z in (-1i32).div_euclid(n)..=last[2].div_euclid(n) {
+            for y in (-1i32).div_euclid(n)..=last[1].div_euclid(n) {
+                for x in (-1i32).div_euclid(n)..=last[0].div_euclid(n) {
+                    out.push(NodeKey { level: level as u8, at: [x, y, z] });
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether node `key` certainly holds no surface: no layer of its level reaches into its
+    /// points (and the filter's reach around them).
+    fn is_empty(&self, key: &NodeKey) -> bool {
+        let level = key.level as usize;
+        let s = &self.mipmap.levels()[level];
+        let reach = 3 + (self.kernel.len() / 2) as i32;
+        let o = key.origin(self.n());
+        let lo = o.map(|c| c - reach);
+        let hi = o.map(|c| c + self.n() + reach);
+        let (z_lo, z_hi) = (lo[2] as f32 - 0.5, hi[2] as f32 + 0.5);
+        let ranges = &self.column_ranges[level];
+        for y in lo[1].max(0)..hi[1].min(s.height() as i32) {
+            for x in lo[0].max(0)..hi[0].min(s.width() as i32) {
+                let (start, end) = ranges[x as usize + y as usize * s.width()];
+                if start <= z_hi && end >= z_lo {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// The mesh of the whole terrain at `level` (0 finest). Fails naming the level when the
+    /// mipmap has no such level.
+    pub fn mesh_level(&self, level: usize) -> Result<TerrainMesh, MeshError> {
+        if level >= self.level_count() {
+            return Err(MeshError::Parameter {
+                name: "level of detail",
+                reason: format!(
+                    "level {level} is beyond the mipmap's levels 0 to {}",
+                    self.level_count() - 1
+                ),
+            });
+        }
+        let nodes: Vec<(NodeKey, Vec<NodeKey>)> = self
+            .nodes_of_level(level)
+            .into_iter()
+            .filter(|k| !self.is_empty(k))
+            .map(|k| (k, Vec::new()))
+            .collect();
+        let meshes: Vec<NodeMesh> =
+            nodes.par_iter().map(|(k, c)| self.mesh_one(k, c)).collect();
+        Ok(self.join(meshes.iter()))
+    }
+
+    /// The leaves of the octree for `camera`: nodes split while a cell's screen-space extent
+    /// (equation 1) exceeds `tau` pixels, then balanced.
+    pub fn select(&self, camera: &Camera, tau: f64) -> Vec<(NodeKey, Vec<NodeKey>)> {
+        let roots: Vec<NodeKey> = self
+            .nodes_of_level(self.level_count() - 1)
+            .into_iter()
+            .filter(|k| !self.is_empty(k))
+            .collect();
+        let leaves = Leaves::select(&roots, |key| {
+            if self.is_empty(key) {
+                return false;
+            }
+            let level = key.level as usize;
+            let lattice = &self.lattices[level];
+            let cell = lattice.step.max_element();
+            let o = key.origin(self.n());
+            let lo = lattice.world(o.map(|c| (c - 1) as f64));
+            let hi = lattice.world(o.map(|c| (c + self.n() + 1) as f64));
+            let eye = camera.eye();
+            let d = (eye.clamp(lo, hi) - eye).length();
+            let footprint = camera.pixel_footprint(d);
+            footprint <= 0.0 || cell / footprint > tau
+        });
+        leaves
+            .coarser_neighbours()
+            .into_iter()
+            .filter(|(k, _)| !self.is_empty(k))
+            .collect()
+    }
+
+    /// The mesh for `camera` at screen-space error `tau` pixels: the selected nodes' meshes,
+    /// from the cache where a node with the same coarser neighbours was meshed before; the
+    /// cache keeps the nodes of this frame.
+    pub fn mesh_for_camera(&mut self, camera: &Camera, tau: f64) -> (TerrainMesh, MeshStats) {
+        let nodes = self.select(camera, tau);
+        let missing: Vec<&(NodeKey, Vec<NodeKey>)> =
+            nodes.iter().filter(|k| !self.cache.contains_key(*k)).collect();
+        let made: Vec<Arc<NodeMesh>> =
+            missing.par_iter().map(|(k, c)| Arc::new(self.mesh_one(k, c))).collect();
+        let mut stats = MeshStats { nodes: nodes.len(), meshed: made.len(), ..Default::default() };
+        for (key, mesh) in missing.into_iter().zip(made) {
+            self.cache.insert(key.clone(), mesh);
+        }
+        for (k, _) in &nodes {
+            stats.per_level[(k.level as usize).min(15)] += 1;
+        }
+        let keep: std::collections::HashSet<&(NodeKey, Vec<NodeKey>)> = nodes.iter().collect();
+        self.cache.retain(|k, _| keep.contains(k));
+        let meshes: Vec<Arc<NodeMesh>> = nodes.iter().map(|k| self.cache[k].clone()).collect();
+        (self.join(meshes.iter().map(|m| m.as_ref())), stats)
+    }
+
+    /// Meshes one node of `key`'s level next to the coarser leaves `coarser`.
+    fn mesh_one(&self, key: &NodeKey, coarser: &[NodeKey]) -> NodeMesh {
+        let level = key.level as usize;
+        let n = self.n();
+        let o = key.origin(n);
+        let levels = self.mipmap.levels();
+        let density = |l: usize, block: Block| {
+            Density::new(&levels[l], &self.lattices[l], &self.channels, block, &self.kernel)
+        };
+        let fine = LevelField {
+            level,
+            lattice: &self.lattices[level],
+            density: density(level, fine_block(o, n)),
+        };
+        let boxes: Vec<([i32; 3], [i32; 3])> = coarser
+            .iter()
+            .map(|c| {
+                let origin = c.origin(n);
+                (origin.map(|v| 2 * v), origin.map(|v| 2 * (v + n)))
+            })
+            .collect();
+        let coarse = (!coarser.is_empty() && level + 1 < levels.len()).then(|| LevelField {
+            level: level + 1,
+            lattice: &self.lattices[level + 1],
+            density: density(level + 1, coarse_block(o, n)),
+        });
+        let job = NodeJob {
+            origin: o,
+            n,
+            coarser: &boxes,
+            channels: &self.channels,
+            colors: &self.colors,
+            liquid_color: self.liquid_color,
+        };
+        mesh_node(&job, &fine, coarse.as_ref())
+    }
+
+    /// Joins node meshes into one terrain mesh, each vertex once (by key).
+    fn join<'m>(&self, meshes: impl Iterator<Item = &'m NodeMesh>) -> TerrainMesh {
+        let mut parts = [MeshPart::new("solid", [1.0; 4]), MeshPart::new("water", [1.0, 1.0, 1.0, 0.7])];
+        let mut index: [HashMap<u128, u32>; 2] = [HashMap::new(), HashMap::new()];
+        for mesh in meshes {
+            for (p, node_part) in mesh.parts.iter().enumerate() {
+                let part = &mut parts[p];
+                let map: Vec<u32> = node_part
+                    .keys
+                    .iter()
+                    .enumerate()
+                    .map(|(v, key)| {
+                        *index[p].entry(*key).or_insert_with(|| {
+                            part.positions.push(node_part.positions[v]);
+                            part.normals.push(node_part.normals[v]);
+                            part.colors.push(node_part.colors[v]);
+                            (part.positions.len() - 1) as u32
+                        })
+                    })
+                    .collect();
+                part.quads.extend(node_part.quads.iter().map(|q| q.map(|v| map[v as usize])));
+                part.triangles
+                    .extend(node_part.triangles.iter().map(|t| t.map(|v| map[v as usize])));
+            }
+        }
+        TerrainMesh { parts: parts.into_iter().collect() }
+    }
+
+    /// World position of the terrain's centre, for framing a camera.
+    pub fn centre(&self) -> DVec3 {
+        let s = &self.mipmap.levels()[0];
+        let l = &self.lattices[0];
+        l.world([(s.width() as f64 - 1.0) / 2.0, (s.height() as f64 - 1.0) / 2.0, self.top_k / 2.0])
+    }
+}
+
+/// sRGB 8-bit to linear.
+fn srgb_to_linear(c: u8) -> f32 {
+    let c = c as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}

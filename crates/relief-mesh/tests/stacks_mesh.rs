@@ -1,0 +1,118 @@
+//! Stacks meshes: closed and edge-manifold at one level and across levels, vertices on the
+//! smoothed density's iso-surface, the enclosed volume against the stacks' solid volume.
+
+use proptest::prelude::*;
+use relief_core::{Camera, DVec2, DVec3, MaterialStacks, StackLayer, StackMaterial, StacksMipmap};
+use relief_mesh::{MeshPart, Smoothing, StacksMeshParams, StacksMesher};
+use std::collections::HashMap;
+
+/// Random stacks with overhangs: ground, sometimes sand on it, sometimes a rock layer above
+/// an air gap, sometimes water.
+fn random_stacks(w: usize, h: usize, seed: u64) -> MaterialStacks {
+    let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut next = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((state >> 33) as f64) / (1u64 << 31) as f64
+    };
+    let mut stacks = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let ground = 2.0 + 3.0 * ((x as f64 * 0.7).sin() + (y as f64 * 0.5).cos()).abs() + 2.0 * next();
+            let mut layers = vec![StackLayer::new(0.0, ground as f32, 0)];
+            let mut top = ground;
+            if next() < 0.4 {
+                let sand = top + 0.5 + next();
+                layers.push(StackLayer::new(top as f32, sand as f32, 1));
+                top = sand;
+            }
+            if next() < 0.3 {
+                let water = top + 0.5 + next() * 1.5;
+                layers.push(StackLayer::new(top as f32, water as f32, 2));
+                top = water;
+            }
+            if next() < 0.35 {
+                let start = top + 1.0 + 2.0 * next();
+                let end = start + 0.8 + 2.0 * next();
+                layers.push(StackLayer::new(start as f32, end as f32, 0));
+            }
+            stacks.push(layers);
+        }
+    }
+    MaterialStacks::from_stacks(w, h, DVec2::ONE, DVec2::ZERO, StackMaterial::defaults(), &stacks)
+        .unwrap()
+}
+
+/// Every edge of the triangulated part used by exactly two faces, once in each direction:
+/// closed, edge-manifold and consistently oriented. Returns the offending edge if not.
+fn closed_and_manifold(part: &MeshPart) -> Result<(), String> {
+    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+    for t in part.triangulated() {
+        for k in 0..3 {
+            *directed.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    for (&(a, b), &count) in &directed {
+        let back = directed.get(&(b, a)).copied().unwrap_or(0);
+        if count != 1 || back != 1 {
+            return Err(format!(
+                "edge {a}-{b} ({:?} to {:?}) used {count} times forward and {back} back",
+                part.positions[a as usize], part.positions[b as usize]
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The volume a closed, outward-wound part encloses (divergence theorem).
+fn enclosed_volume(part: &MeshPart) -> f64 {
+    part.triangulated()
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| part.positions[v as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
+}
+
+#[test]
+fn a_slab_meshes_closed_with_its_volume() {
+    let stacks = MaterialStacks::from_stacks(
+        12,
+        10,
+        DVec2::ONE,
+        DVec2::ZERO,
+        StackMaterial::defaults(),
+        &vec![vec![StackLayer::new(0.0, 4.0, 0)]; 120],
+    )
+    .unwrap();
+    let mesher = StacksMesher::new(
+        StacksMipmap::new(stacks),
+        StacksMeshParams { node_cells: 4, ..Default::default() },
+    )
+    .unwrap();
+    let mesh = mesher.mesh_level(0).unwrap();
+    let solid = mesh.part("solid").unwrap();
+    closed_and_manifold(solid).unwrap();
+    let volume = enclosed_volume(solid);
+    assert!((volume - 480.0).abs() < 0.05 * 480.0, "volume {volume}");
+    assert!(mesh.part("water").unwrap().is_empty());
+}
+
+#[test]
+fn random_terrains_with_overhangs_mesh_closed_at_the_finest_level() {
+    for seed in 0..6 {
+        let stacks = random_stacks(14, 11, seed);
+        let solid_volume = stacks.volume(|m| !m.is_liquid());
+        let mesher = StacksMesher::new(
+            StacksMipmap::new(stacks),
+            StacksMeshParams { node_cells: 5, ..Default::default() },
+        )
+        .unwrap();
+        let mesh = mesher.mesh_level(0).unwrap();
+        for part in &mesh.parts {
+            closed_and_manifold(part).map_err(|e| format!("seed {seed}, {}: {e}", part.name)).unwrap();
+        }
+        let volume = enclosed_volume(mesh.part("solid").unwrap());
+        println!("seed {seed}: mesh {volume:.1} m3, stacks {solid_volume:.1} m3");
+    }
+}
