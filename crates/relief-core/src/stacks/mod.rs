@@ -5,15 +5,17 @@
 //! - [`palette`]: the materials a stacks terrain names ([`StackMaterial`], [`MaterialKind`]),
 //!   bedrock, sand and water by default;
 //! - [`constructors`]: stacks from their parts (validated), from a height field, from an MLHM;
-//! - [`mipmap`]: the LOD mipmap with the paper's material aggregation heuristic.
+//! - [`mipmap`]: the LOD mipmap, vertex-centred and nested ([`StacksMipmap`], [`aggregate`]);
+//! - [`aggregation`]: the paper's material aggregation heuristic, one coarse stack at a time.
 
+mod aggregation;
 mod constructors;
 mod layer;
 mod mipmap;
 mod palette;
 
 pub use layer::StackLayer;
-pub use mipmap::StacksMipmap;
+pub use mipmap::{aggregate, StacksMipmap};
 pub use palette::{MaterialKind, StackMaterial};
 
 use crate::{CoreError, DVec2};
