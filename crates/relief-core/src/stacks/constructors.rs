@@ -211,4 +211,20 @@ mod tests {
         assert!(make(vec![StackLayer::new(0.0, 1.0, 7)]).is_err());
         assert!(make(vec![StackLayer::new(0.0, f32::NAN, 0)]).is_err());
     }
+
+    #[test]
+    fn offsets_past_the_layers_are_refused_not_a_panic() {
+        let err = MaterialStacks::from_parts(
+            2,
+            1,
+            DVec2::ONE,
+            DVec2::ZERO,
+            StackMaterial::defaults(),
+            vec![0, 100, 1],
+            vec![StackLayer::new(0.0, 1.0, 0)],
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("stack (0, 0)") && err.contains("past the 1 layers"), "{err}");
+    }
 }

@@ -134,7 +134,7 @@ impl MaterialStacks {
     }
 
     /// Checks every invariant; the first failure names the stack and the layer:
-    /// offsets start at 0, never decrease and end at the layer count; every layer's start and
+    /// offsets start at 0, never decrease, never pass the layer count and end at it; every layer's start and
     /// end are finite with `start < end`; a layer starts at or above the end of the layer below;
     /// every material index names a material of the palette.
     pub fn validate(&self) -> Result<(), CoreError> {
@@ -156,6 +156,12 @@ impl MaterialStacks {
             if end < begin {
                 return Err(CoreError::Grid(format!(
                     "stack ({x}, {y}): offsets run backwards ({begin} then {end})"
+                )));
+            }
+            if end as usize > self.layers.len() {
+                return Err(CoreError::Grid(format!(
+                    "stack ({x}, {y}): offset {end} past the {} layers",
+                    self.layers.len()
                 )));
             }
             let layers = &self.layers[begin as usize..end as usize];
