@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-600}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(npy npz geotiff hgt asc png mlhm_scene mlhm_native)
+[ ${#targets[@]} -gt 0 ] || targets=(npy npz geotiff hgt asc png mlhm_scene mlhm_native stacks_native)
 for target in "${targets[@]}"; do
   case $target in
     geotiff) max_len=200000 ;;

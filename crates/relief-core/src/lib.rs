@@ -42,7 +42,9 @@ pub use height_field::{GridGeometry, HeightField};
 pub use mlhm::{MaterialVolumes, Mlhm, MlhmColumn, MlhmHeights, Precision};
 pub use ray::Ray;
 pub use sample_region::SampleRegion;
-pub use stacks::{MaterialKind, MaterialStacks, StackLayer, StackMaterial, StacksMipmap};
+pub use stacks::{
+    aggregate, MaterialKind, MaterialStacks, StackLayer, StackMaterial, StacksMipmap,
+};
 pub use surface::{splits_along_ad, Surface};
 
 /// Re-exported vector types used throughout relief's public API.

@@ -23,6 +23,9 @@
 //!   [`read_mlhm_scene_header`] for the JSON alone (a procedural scene has no `.dat`);
 //! - [`read_mlhm_native`], [`write_mlhm_native`]: relief's own `.mlhm` files, a NumPy `.npz`
 //!   archive of the layer counts, the columns (f32 or f16) and the cell size;
+//! - [`read_stacks`], [`write_stacks`]: relief's own `.stacks` files of material stacks
+//!   ([`relief_core::MaterialStacks`]), a little-endian binary ([`is_stacks_path`] and
+//!   [`has_stacks_magic`] recognise one);
 //! - [`ReadOptions`]: the memory budget (refused before allocating), the `.npz` array, the PNG
 //!   encoding; [`default_memory_budget`]: the default budget, half the smaller of the
 //!   machine's memory and its cgroup's limit, with the words saying which applied;
@@ -89,6 +92,7 @@ mod read;
 mod rgb_geotiff_write;
 mod row_source;
 mod sample_type;
+mod stacks_native;
 mod stored_chunk;
 #[cfg(test)]
 mod test_corruption;
@@ -135,5 +139,9 @@ pub use raster::{
 pub use read::{format_of, read_raster, read_raster_from_bytes};
 pub use rgb_geotiff_write::write_rgb_geotiff;
 pub use row_source::{InMemoryRows, RowSource};
+pub use stacks_native::{
+    has_stacks_magic, is_stacks_path, read_stacks, stacks_from_bytes, stacks_to_bytes,
+    write_stacks, STACKS_EXTENSION, STACKS_MAGIC, STACKS_VERSION,
+};
 pub use void_fill::fill_voids;
 pub use write::write_height_field;

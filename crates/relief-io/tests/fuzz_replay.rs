@@ -4,13 +4,13 @@
 //! `short*`, read.
 
 use relief_io::{
-    read_mlhm_native_from_bytes, read_mlhm_scene_from_bytes, read_raster_from_bytes, Format,
-    ReadOptions, VoidPolicy,
+    read_mlhm_native_from_bytes, read_mlhm_scene_from_bytes, read_raster_from_bytes,
+    stacks_from_bytes, Format, ReadOptions, VoidPolicy,
 };
 use std::path::{Path, PathBuf};
 
-const TARGETS: [&str; 8] =
-    ["npy", "npz", "geotiff", "hgt", "asc", "png", "mlhm_scene", "mlhm_native"];
+const TARGETS: [&str; 9] =
+    ["npy", "npz", "geotiff", "hgt", "asc", "png", "mlhm_scene", "mlhm_native", "stacks_native"];
 
 fn files_in(dir: &Path) -> Vec<PathBuf> {
     let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
@@ -38,6 +38,10 @@ fn read(target: &str, bytes: &[u8]) -> Result<(), relief_io::IoError> {
     }
     if target == "mlhm_native" {
         read_mlhm_native_from_bytes(bytes, Path::new("fuzz.mlhm"), &options)?;
+        return Ok(());
+    }
+    if target == "stacks_native" {
+        stacks_from_bytes(bytes, Path::new("fuzz.stacks"))?;
         return Ok(());
     }
     let (format, bytes, name) = match target {

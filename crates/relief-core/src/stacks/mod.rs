@@ -5,15 +5,17 @@
 //! - [`palette`]: the materials a stacks terrain names ([`StackMaterial`], [`MaterialKind`]),
 //!   bedrock, sand and water by default;
 //! - [`constructors`]: stacks from their parts (validated), from a height field, from an MLHM;
-//! - [`mipmap`]: the LOD mipmap with the paper's material aggregation heuristic.
+//! - [`mipmap`]: the LOD mipmap, vertex-centred and nested ([`StacksMipmap`], [`aggregate`]);
+//! - [`aggregation`]: the paper's material aggregation heuristic, one coarse stack at a time.
 
+mod aggregation;
 mod constructors;
 mod layer;
 mod mipmap;
 mod palette;
 
 pub use layer::StackLayer;
-pub use mipmap::StacksMipmap;
+pub use mipmap::{aggregate, StacksMipmap};
 pub use palette::{MaterialKind, StackMaterial};
 
 use crate::{CoreError, DVec2};
@@ -132,7 +134,7 @@ impl MaterialStacks {
     }
 
     /// Checks every invariant; the first failure names the stack and the layer:
-    /// offsets start at 0, never decrease and end at the layer count; every layer's start and
+    /// offsets start at 0, never decrease, never pass the layer count and end at it; every layer's start and
     /// end are finite with `start < end`; a layer starts at or above the end of the layer below;
     /// every material index names a material of the palette.
     pub fn validate(&self) -> Result<(), CoreError> {
@@ -154,6 +156,12 @@ impl MaterialStacks {
             if end < begin {
                 return Err(CoreError::Grid(format!(
                     "stack ({x}, {y}): offsets run backwards ({begin} then {end})"
+                )));
+            }
+            if end as usize > self.layers.len() {
+                return Err(CoreError::Grid(format!(
+                    "stack ({x}, {y}): offset {end} past the {} layers",
+                    self.layers.len()
                 )));
             }
             let layers = &self.layers[begin as usize..end as usize];
