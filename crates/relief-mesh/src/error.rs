@@ -1,5 +1,7 @@
-//! The error type of relief-mesh: invalid meshes, targets and parameters, arranged by cause.
+//! The error type of relief-mesh: invalid meshes, targets and parameters, and failed mesh
+//! exports, arranged by cause.
 
+use std::path::PathBuf;
 use thiserror::Error;
 
 /// What can be wrong with a mesh, a raster target or a parameter handed to relief-mesh.
@@ -55,4 +57,28 @@ pub enum MeshError {
         /// Why it was refused.
         reason: String,
     },
+    /// A path's extension names no mesh format relief-mesh writes.
+    #[error("{}: unknown mesh format: the extension must be .glb, .obj or .ply", path.display())]
+    UnknownFormat {
+        /// The path whose extension was not recognised.
+        path: PathBuf,
+    },
+    /// The operating system refused to write an exported file (a missing directory,
+    /// permissions, a full disk, ...); no partial file is left behind.
+    #[error("{}: {message}", path.display())]
+    Io {
+        /// The file that was being written.
+        path: PathBuf,
+        /// The kind of the underlying I/O error.
+        kind: std::io::ErrorKind,
+        /// The underlying error's message.
+        message: String,
+    },
+}
+
+impl MeshError {
+    /// A [`MeshError::Io`] for `path` from the error the operating system gave.
+    pub(crate) fn io(path: &std::path::Path, error: &std::io::Error) -> Self {
+        MeshError::Io { path: path.to_path_buf(), kind: error.kind(), message: error.to_string() }
+    }
 }

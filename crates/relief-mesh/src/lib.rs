@@ -11,7 +11,9 @@
 //!   a block of a height field, in either [`relief_core::Surface`], so cells can be meshed one
 //!   by one and drawn without cracks;
 //! - [`Clipmap`]: geometry clipmaps (Losasso & Hoppe 2004) over a [`HeightPyramid`], the
-//!   comparison renderer of the hybrid paper, meshed per frame for a camera.
+//!   comparison renderer of the hybrid paper, meshed per frame for a camera;
+//! - [`TerrainMesh`]: the material-stack pipeline's named parts of quads and triangles, and
+//!   [`export`] to write one as glTF binary (`.glb`), OBJ or PLY.
 //!
 //! Filling a G-buffer: draw every mesh into one [`RasterTarget`] (each with its own
 //! `id_offset`), then for each pixel whose id falls in a mesh's range, take
@@ -47,6 +49,7 @@
 mod box_mesh;
 mod clipmap;
 mod error;
+pub mod export;
 mod height_field_mesh;
 mod height_pyramid;
 mod indexed_mesh;
