@@ -29,7 +29,7 @@ pub fn run(args: &RenderArgs, started: Instant) -> Result<()> {
     let bar = progress::spinner("meshing");
     let trace_started = Instant::now();
     let frame = renderer.render_into(&camera, &scene.bounds, &mut gbuffer)?;
-    let trace_ms = outputs::ms_since(trace_started);
+    let frame_ms = outputs::ms_since(trace_started);
     bar.finish_and_clear();
 
     let shade_started = Instant::now();
@@ -63,6 +63,7 @@ pub fn run(args: &RenderArgs, started: Instant) -> Result<()> {
             "load_ms": load_ms,
             "build_ms": frame.mesh_ms,
             "trace_ms": frame.raster_ms + frame.resolve_ms,
+            "frame_ms": frame_ms,
             "mesh_ms": frame.mesh_ms,
             "raster_ms": frame.raster_ms,
             "resolve_ms": frame.resolve_ms,

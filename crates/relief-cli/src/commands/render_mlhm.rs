@@ -79,6 +79,7 @@ pub fn run(args: &RenderArgs, path: &Path, started: Instant) -> Result<()> {
             "surface": match mode {
                 MlhmRenderMode::Boxes => "boxes",
                 MlhmRenderMode::Smooth => "smooth",
+                MlhmRenderMode::Mesh => "mesh",
             },
             "tracer": how,
             "preset": scene.preset.to_string(),

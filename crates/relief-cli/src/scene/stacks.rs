@@ -54,7 +54,7 @@ fn read(args: &SceneArgs) -> Result<MaterialStacks> {
         }
         Some(path) if input::is_mlhm_scene(path) => {
             let scene = input::load_mlhm(path, &args.input.read)?;
-            MaterialStacks::from_mlhm(&scene.map)
+            MaterialStacks::from_mlhm(&scene.mlhm)
                 .with_context(|| format!("stacks of {}", path.display()))
         }
         _ => {
