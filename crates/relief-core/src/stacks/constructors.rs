@@ -20,8 +20,7 @@ impl MaterialStacks {
         if width == 0 || height == 0 {
             return Err(CoreError::Grid(format!("{width}x{height} stacks: the grid is empty")));
         }
-        if !(spacing.x.is_finite() && spacing.y.is_finite() && spacing.x > 0.0 && spacing.y > 0.0)
-        {
+        if !(spacing.x.is_finite() && spacing.y.is_finite() && spacing.x > 0.0 && spacing.y > 0.0) {
             return Err(CoreError::Parameter {
                 name: "spacing",
                 reason: format!("{spacing} must be finite and positive"),
@@ -68,9 +67,10 @@ impl MaterialStacks {
         let mut layers = Vec::new();
         for stack in stacks {
             layers.extend_from_slice(stack);
-            offsets.push(u32::try_from(layers.len()).map_err(|_| {
-                CoreError::Grid(format!("more than {} layers", u32::MAX))
-            })?);
+            offsets.push(
+                u32::try_from(layers.len())
+                    .map_err(|_| CoreError::Grid(format!("more than {} layers", u32::MAX)))?,
+            );
         }
         Self::from_parts(width, height, spacing, origin, materials, offsets, layers)
     }
@@ -158,8 +158,7 @@ mod tests {
 
     #[test]
     fn a_height_field_becomes_bedrock_from_its_lowest_sample() {
-        let field =
-            HeightField::new(2, 1, vec![1.0, 3.0], GridGeometry::unit()).unwrap();
+        let field = HeightField::new(2, 1, vec![1.0, 3.0], GridGeometry::unit()).unwrap();
         let stacks = MaterialStacks::from_height_field(&field).unwrap();
         assert!(stacks.stack(0, 0).is_empty());
         assert_eq!(stacks.stack(1, 0), &[StackLayer::new(1.0, 3.0, StackMaterial::BEDROCK)]);
