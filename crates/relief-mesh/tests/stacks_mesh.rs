@@ -17,7 +17,8 @@ fn random_stacks(w: usize, h: usize, seed: u64) -> MaterialStacks {
     let mut stacks = Vec::new();
     for y in 0..h {
         for x in 0..w {
-            let ground = 2.0 + 3.0 * ((x as f64 * 0.7).sin() + (y as f64 * 0.5).cos()).abs() + 2.0 * next();
+            let ground =
+                2.0 + 3.0 * ((x as f64 * 0.7).sin() + (y as f64 * 0.5).cos()).abs() + 2.0 * next();
             let mut layers = vec![StackLayer::new(0.0, ground as f32, 0)];
             let mut top = ground;
             if next() < 0.4 {
@@ -112,7 +113,9 @@ fn random_terrains_with_overhangs_mesh_closed_at_the_finest_level() {
         .unwrap();
         let mesh = mesher.mesh_level(0).unwrap();
         for part in &mesh.parts {
-            closed_and_manifold(part).map_err(|e| format!("seed {seed}, {}: {e}", part.name)).unwrap();
+            closed_and_manifold(part)
+                .map_err(|e| format!("seed {seed}, {}: {e}", part.name))
+                .unwrap();
         }
         let volume = enclosed_volume(mesh.part("solid").unwrap());
         println!("seed {seed}: mesh {volume:.1} m3, stacks {solid_volume:.1} m3");
@@ -133,10 +136,16 @@ fn meshes_for_a_camera_join_across_levels_without_cracks() {
             Camera::look_at(eye, DVec3::new(30.0, 25.0, 0.0), DVec3::Z, 60.0, 160, 120).unwrap();
         let (mesh, stats) = mesher.mesh_for_camera(&camera, 20.0);
         let levels = stats.per_level.iter().filter(|&&n| n > 0).count();
-        println!("seed {seed}: nodes per level {:?}, {} faces", &stats.per_level[..5], mesh.face_count());
+        println!(
+            "seed {seed}: nodes per level {:?}, {} faces",
+            &stats.per_level[..5],
+            mesh.face_count()
+        );
         assert!(levels >= 3, "seed {seed}: fewer than three levels: {:?}", stats.per_level);
         for part in &mesh.parts {
-            closed_and_manifold(part).map_err(|e| format!("seed {seed}, {}: {e}", part.name)).unwrap();
+            closed_and_manifold(part)
+                .map_err(|e| format!("seed {seed}, {}: {e}", part.name))
+                .unwrap();
         }
     }
 }

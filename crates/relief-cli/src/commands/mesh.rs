@@ -39,7 +39,10 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let (mesh, nodes): (TerrainMesh, usize) = match lod {
         LodChoice::Level(level) => {
             if level >= levels {
-                bail!("level of detail {level} is beyond the mipmap: its levels are 0 to {}", levels - 1);
+                bail!(
+                    "level of detail {level} is beyond the mipmap: its levels are 0 to {}",
+                    levels - 1
+                );
             }
             (scene.mesher.mesh_level(level)?, 0)
         }

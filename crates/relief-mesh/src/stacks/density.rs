@@ -30,7 +30,9 @@ impl Smoothing {
             Smoothing::Box { radius } => vec![1.0; 2 * radius + 1],
             Smoothing::Gaussian { sigma } => {
                 let radius = (2.0 * sigma).ceil() as i64;
-                (-radius..=radius).map(|t| (-(t * t) as f64 / (2.0 * sigma * sigma)).exp()).collect()
+                (-radius..=radius)
+                    .map(|t| (-(t * t) as f64 / (2.0 * sigma * sigma)).exp())
+                    .collect()
             }
         };
         let sum: f64 = weights.iter().sum();
@@ -130,7 +132,15 @@ impl Density {
                 }
             }
         }
-        let channels = values.into_iter().map(|v| smooth(v, wide, block, kernel)).collect();
+        // The solid and liquid densities are smoothed; the materials' coverage, which only
+        // colours the vertices, is taken as it is.
+        let channels = values
+            .into_iter()
+            .enumerate()
+            .map(
+                |(c, v)| if c < 2 { smooth(v, wide, block, kernel) } else { crop(&v, wide, block) },
+            )
+            .collect();
         Density { block, channels }
     }
 
@@ -141,30 +151,57 @@ impl Density {
     }
 }
 
+/// `values` over `wide` cut to `inner`, row by row.
+fn crop(values: &[f32], wide: Block, inner: Block) -> Vec<f32> {
+    let mut out = Vec::with_capacity(inner.len());
+    let [nx, ny, nz] = inner.size;
+    for z in 0..nz {
+        for y in 0..ny {
+            let start =
+                wide.index_of([inner.min[0], inner.min[1] + y as i32, inner.min[2] + z as i32]);
+            out.extend_from_slice(&values[start..start + nx]);
+        }
+    }
+    out
+}
+
 /// `values` over `wide` filtered along x, y and z by `kernel` and cut to `inner`: each output
-/// sums its neighbours in a fixed order, so a point gets the same value in every block.
+/// sums its neighbours in a fixed order, so a point gets the same value in every block. A
+/// channel with no coverage stays zero without filtering.
 fn smooth(values: Vec<f32>, wide: Block, inner: Block, kernel: &[f32]) -> Vec<f32> {
-    let r = (kernel.len() / 2) as i32;
+    if values.iter().all(|&v| v == 0.0) {
+        return vec![0.0; inner.len()];
+    }
+    let r = kernel.len() / 2;
     let mut current = values;
-    let mut from = wide;
+    let mut size = wide.size;
     for axis in 0..3 {
-        let mut to = from;
-        to.min[axis] += r;
-        to.size[axis] -= 2 * r as usize;
-        let mut out = vec![0f32; to.len()];
-        let stride = from.stride(axis);
-        for (o, value) in out.iter_mut().enumerate() {
-            let p = to.point(o);
-            let base = from.index_of(p) - r as usize * stride;
-            let mut sum = 0f32;
-            for (t, w) in kernel.iter().enumerate() {
-                sum += w * current[base + t * stride];
+        let mut to = size;
+        to[axis] -= 2 * r;
+        let stride = match axis {
+            0 => 1,
+            1 => size[0],
+            _ => size[0] * size[1],
+        };
+        let mut out = vec![0f32; to[0] * to[1] * to[2]];
+        let mut o = 0;
+        for z in 0..to[2] {
+            for y in 0..to[1] {
+                let row = (z * size[1] + y) * size[0];
+                for x in 0..to[0] {
+                    let base = row + x;
+                    let mut sum = 0f32;
+                    for (t, w) in kernel.iter().enumerate() {
+                        sum += w * current[base + t * stride];
+                    }
+                    out[o] = sum;
+                    o += 1;
+                }
             }
-            *value = sum;
         }
         current = out;
-        from = to;
+        size = to;
     }
-    debug_assert_eq!(from, inner);
+    debug_assert_eq!(size, inner.size);
     current
 }

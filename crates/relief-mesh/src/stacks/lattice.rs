@@ -61,10 +61,7 @@ impl Block {
 
     /// The block grown by `r` points on every side.
     pub fn grown(&self, r: i32) -> Self {
-        Block {
-            min: self.min.map(|m| m - r),
-            size: self.size.map(|s| s + 2 * r as usize),
-        }
+        Block { min: self.min.map(|m| m - r), size: self.size.map(|s| s + 2 * r as usize) }
     }
 
     /// Index step between neighbours along `axis`.

@@ -16,7 +16,8 @@ use super::cell_patches::{edge_corners, edge_index, other_axes, CellPatches};
 use super::density::{Channels, Density};
 use super::lattice::{Block, Lattice};
 use relief_core::DVec3;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
+use std::borrow::Cow;
 
 /// The iso-value of the density: half covered.
 pub(crate) const ISO: f32 = 0.5;
@@ -101,7 +102,7 @@ struct Field<'a> {
     coarse: Option<&'a LevelField<'a>>,
     fitted: Vec<bool>,
     /// Fitted values, channel-major, over the fine block.
-    values: Vec<Vec<f32>>,
+    values: Cow<'a, [Vec<f32>]>,
 }
 
 impl Field<'_> {
@@ -117,20 +118,19 @@ impl Field<'_> {
 }
 
 /// Meshes one node.
-pub(crate) fn mesh_node(
-    job: &NodeJob,
-    fine: &LevelField,
-    coarse: Option<&LevelField>,
-) -> NodeMesh {
+pub(crate) fn mesh_node(job: &NodeJob, fine: &LevelField, coarse: Option<&LevelField>) -> NodeMesh {
     let block = fine.density.block;
-    let mut fitted = vec![false; block.len()];
-    let mut values = fine.density.channels.clone();
+    let mut fitted = Vec::new();
+    let mut values = Cow::Borrowed(fine.density.channels.as_slice());
     if let Some(coarse) = coarse {
+        fitted = vec![false; block.len()];
+        let values = values.to_mut();
         for (i, flag) in fitted.iter_mut().enumerate() {
             let p = block.point(i);
-            let in_band = job.coarser.iter().any(|(lo, hi)| {
-                (0..3).all(|a| p[a] >= lo[a] - 2 && p[a] <= hi[a] + 2)
-            });
+            let in_band = job
+                .coarser
+                .iter()
+                .any(|(lo, hi)| (0..3).all(|a| p[a] >= lo[a] - 2 && p[a] <= hi[a] + 2));
             if in_band {
                 *flag = true;
                 let q = p.map(|c| c.div_euclid(2));
@@ -262,7 +262,9 @@ fn push_face(part: &mut NodePart, quad: [u32; 4]) {
     }
     match distinct.len() {
         4 => part.quads.push(quad),
-        3 if distinct[0] != distinct[2] => part.triangles.push([distinct[0], distinct[1], distinct[2]]),
+        3 if distinct[0] != distinct[2] => {
+            part.triangles.push([distinct[0], distinct[1], distinct[2]])
+        }
         _ => {}
     }
 }
@@ -283,8 +285,8 @@ impl<'a> VertexTable<'a> {
             job,
             field,
             channel,
-            index: HashMap::new(),
-            patches: HashMap::new(),
+            index: HashMap::default(),
+            patches: HashMap::default(),
             part: NodePart::default(),
         }
     }
@@ -292,7 +294,7 @@ impl<'a> VertexTable<'a> {
     /// The vertex of the patch of `cell` that the lattice edge from `p` along `axis` crosses.
     fn vertex(&mut self, cell: [i32; 3], axis: usize, p: [i32; 3]) -> u32 {
         let field = self.field;
-        let snapped = (0..8).all(|c| field.fitted(corner(cell, c)));
+        let snapped = field.coarse.is_some() && (0..8).all(|c| field.fitted(corner(cell, c)));
         let (level_field, cell, p) = if snapped {
             // The fitted border meshes as the coarser level: the edge is the coarser edge
             // from floor(p / 2), the cell the coarser cell floor(cell / 2).
@@ -305,15 +307,17 @@ impl<'a> VertexTable<'a> {
         debug_assert!(offset.iter().all(|&d| d == 0 || d == 1), "{offset:?}");
         let e = edge_index(axis, offset);
         let channel = self.channel;
-        let values = if snapped {
-            corner_values(|q| level_field.density.at(channel, q), cell)
-        } else {
-            corner_values(|q| field.at(channel, q), cell)
+        let corner_values_here = || {
+            if snapped {
+                corner_values(|q| level_field.density.at(channel, q), cell)
+            } else {
+                corner_values(|q| field.at(channel, q), cell)
+            }
         };
         let patches = *self
             .patches
             .entry((level_field.level, cell))
-            .or_insert_with(|| CellPatches::new(&values, ISO));
+            .or_insert_with(|| CellPatches::new(&corner_values_here(), ISO));
         let patch = patches.of_edge[e];
         debug_assert_ne!(patch, CellPatches::NONE, "edge {e} of cell {cell:?} is not crossed");
         let key = vertex_key(level_field.level, cell, patch);
@@ -330,6 +334,7 @@ impl<'a> VertexTable<'a> {
                 field.at(ch, q)
             }
         };
+        let values = corner_values_here();
         let (position, normal, color) =
             self.attributes(level_field.lattice, cell, &values, &patches, patch, &read);
         self.part.positions.push(position);
@@ -366,8 +371,7 @@ impl<'a> VertexTable<'a> {
         }
         let local = sum.map(|s| s / count as f64);
         let weights = trilinear(local);
-        let position =
-            lattice.world(std::array::from_fn(|a| cell[a] as f64 + local[a]));
+        let position = lattice.world(std::array::from_fn(|a| cell[a] as f64 + local[a]));
 
         let mut gradient = DVec3::ZERO;
         for (c, &w) in weights.iter().enumerate() {
@@ -411,9 +415,7 @@ impl<'a> VertexTable<'a> {
 /// Trilinear weights of the eight corners at local coordinates `l`.
 fn trilinear(l: [f64; 3]) -> [f64; 8] {
     std::array::from_fn(|c| {
-        (0..3)
-            .map(|a| if (c >> a) & 1 == 1 { l[a] } else { 1.0 - l[a] })
-            .product()
+        (0..3).map(|a| if (c >> a) & 1 == 1 { l[a] } else { 1.0 - l[a] }).product()
     })
 }
 

@@ -139,9 +139,8 @@ mod tests {
 
     #[test]
     fn balancing_keeps_neighbours_within_one_level() {
-        let roots: Vec<NodeKey> = (0..2)
-            .flat_map(|x| (0..2).map(move |y| NodeKey { level: 3, at: [x, y, 0] }))
-            .collect();
+        let roots: Vec<NodeKey> =
+            (0..2).flat_map(|x| (0..2).map(move |y| NodeKey { level: 3, at: [x, y, 0] })).collect();
         // Refine only towards the corner (0, 0, 0).
         let leaves = Leaves::select(&roots, |k| k.at == [0, 0, 0]);
         assert!(leaves.iter().any(|k| k.level == 0));

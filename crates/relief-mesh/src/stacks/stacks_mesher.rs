@@ -68,8 +68,8 @@ pub struct StacksMesher {
     liquid_color: [f32; 3],
     /// Lattice z of the highest layer end at level 0.
     top_k: f64,
-    /// Per level, per column: the lowest layer start and highest layer end, lattice k.
-    column_ranges: Vec<Vec<(f32, f32)>>,
+    /// Per level, per column: where its layers and its solid from the bottom lie.
+    column_ranges: Vec<Vec<ColumnRange>>,
     cache: HashMap<(NodeKey, Vec<NodeKey>), Arc<NodeMesh>>,
 }
 
@@ -101,12 +101,8 @@ impl StacksMesher {
         }
         let (bottom, top) = level0.height_range().unwrap_or((0.0, 0.0));
         let z0 = bottom as f64;
-        let lattices: Vec<Lattice> = mipmap
-            .levels()
-            .iter()
-            .enumerate()
-            .map(|(l, s)| Lattice::new(s, l, z0, dz0))
-            .collect();
+        let lattices: Vec<Lattice> =
+            mipmap.levels().iter().enumerate().map(|(l, s)| Lattice::new(s, l, z0, dz0)).collect();
         let channels = Channels::new(level0);
         let linear = |c: [u8; 3]| c.map(srgb_to_linear);
         let colors = channels
@@ -126,15 +122,7 @@ impl StacksMesher {
             .map(|(s, lattice)| {
                 (0..s.height())
                     .flat_map(|y| (0..s.width()).map(move |x| (x, y)))
-                    .map(|(x, y)| {
-                        let stack = s.stack(x, y);
-                        match (stack.first(), stack.last()) {
-                            (Some(lo), Some(hi)) => {
-                                (lattice.to_k(lo.start) as f32, lattice.to_k(hi.end) as f32)
-                            }
-                            _ => (f32::INFINITY, f32::NEG_INFINITY),
-                        }
-                    })
+                    .map(|(x, y)| ColumnRange::of(s.stack(x, y), s.materials(), lattice))
                     .collect()
             })
             .collect();
@@ -188,8 +176,8 @@ impl StacksMesher {
         out
     }
 
-    /// Whether node `key` certainly holds no surface: no layer of its level reaches into its
-    /// points (and the filter's reach around them).
+    /// Whether node `key` certainly holds no surface: within its points and the filter's
+    /// reach around them, no layer of its level, or solid everywhere.
     fn is_empty(&self, key: &NodeKey) -> bool {
         let level = key.level as usize;
         let s = &self.mipmap.levels()[level];
@@ -198,11 +186,21 @@ impl StacksMesher {
         let lo = o.map(|c| c - reach);
         let hi = o.map(|c| c + self.n() + reach);
         let (z_lo, z_hi) = (lo[2] as f32 - 0.5, hi[2] as f32 + 0.5);
+        let inside =
+            lo[0] >= 0 && lo[1] >= 0 && hi[0] <= s.width() as i32 && hi[1] <= s.height() as i32;
         let ranges = &self.column_ranges[level];
+        let mut all_air = true;
+        let mut all_solid = inside;
         for y in lo[1].max(0)..hi[1].min(s.height() as i32) {
             for x in lo[0].max(0)..hi[0].min(s.width() as i32) {
-                let (start, end) = ranges[x as usize + y as usize * s.width()];
-                if start <= z_hi && end >= z_lo {
+                let c = &ranges[x as usize + y as usize * s.width()];
+                if c.start <= z_hi && c.end >= z_lo {
+                    all_air = false;
+                }
+                if !(c.solid_start <= z_lo && c.solid_end >= z_hi) {
+                    all_solid = false;
+                }
+                if !all_air && !all_solid {
                     return false;
                 }
             }
@@ -228,8 +226,7 @@ impl StacksMesher {
             .filter(|k| !self.is_empty(k))
             .map(|k| (k, Vec::new()))
             .collect();
-        let meshes: Vec<NodeMesh> =
-            nodes.par_iter().map(|(k, c)| self.mesh_one(k, c)).collect();
+        let meshes: Vec<NodeMesh> = nodes.par_iter().map(|(k, c)| self.mesh_one(k, c)).collect();
         Ok(self.join(meshes.iter()))
     }
 
@@ -256,11 +253,7 @@ impl StacksMesher {
             let footprint = camera.pixel_footprint(d);
             footprint <= 0.0 || cell / footprint > tau
         });
-        leaves
-            .coarser_neighbours()
-            .into_iter()
-            .filter(|(k, _)| !self.is_empty(k))
-            .collect()
+        leaves.coarser_neighbours().into_iter().filter(|(k, _)| !self.is_empty(k)).collect()
     }
 
     /// The mesh for `camera` at screen-space error `tau` pixels: the selected nodes' meshes,
@@ -323,9 +316,19 @@ impl StacksMesher {
     }
 
     /// Joins node meshes into one terrain mesh, each vertex once (by key).
-    fn join<'m>(&self, meshes: impl Iterator<Item = &'m NodeMesh>) -> TerrainMesh {
-        let mut parts = [MeshPart::new("solid", [1.0; 4]), MeshPart::new("water", [1.0, 1.0, 1.0, 0.7])];
-        let mut index: [HashMap<u128, u32>; 2] = [HashMap::new(), HashMap::new()];
+    fn join<'m>(&self, meshes: impl Iterator<Item = &'m NodeMesh> + Clone) -> TerrainMesh {
+        let mut parts =
+            [MeshPart::new("solid", [1.0; 4]), MeshPart::new("water", [1.0, 1.0, 1.0, 0.7])];
+        let mut index: [rustc_hash::FxHashMap<u128, u32>; 2] = Default::default();
+        for p in 0..2 {
+            let vertices: usize = meshes.clone().map(|m| m.parts[p].keys.len()).sum();
+            let quads: usize = meshes.clone().map(|m| m.parts[p].quads.len()).sum();
+            index[p].reserve(vertices);
+            parts[p].positions.reserve(vertices);
+            parts[p].normals.reserve(vertices);
+            parts[p].colors.reserve(vertices);
+            parts[p].quads.reserve(quads);
+        }
         for mesh in meshes {
             for (p, node_part) in mesh.parts.iter().enumerate() {
                 let part = &mut parts[p];
@@ -355,6 +358,52 @@ impl StacksMesher {
         let s = &self.mipmap.levels()[0];
         let l = &self.lattices[0];
         l.world([(s.width() as f64 - 1.0) / 2.0, (s.height() as f64 - 1.0) / 2.0, self.top_k / 2.0])
+    }
+}
+
+/// Where a column's layers lie, lattice k of its level: all of them, and the solid run from
+/// its lowest layer up to the first gap or liquid.
+#[derive(Debug, Clone, Copy)]
+struct ColumnRange {
+    start: f32,
+    end: f32,
+    solid_start: f32,
+    solid_end: f32,
+}
+
+impl ColumnRange {
+    fn of(
+        stack: &[relief_core::StackLayer],
+        materials: &[relief_core::StackMaterial],
+        lattice: &Lattice,
+    ) -> Self {
+        let (Some(first), Some(last)) = (stack.first(), stack.last()) else {
+            return ColumnRange {
+                start: f32::INFINITY,
+                end: f32::NEG_INFINITY,
+                solid_start: f32::INFINITY,
+                solid_end: f32::NEG_INFINITY,
+            };
+        };
+        let mut solid_end = f32::NEG_INFINITY;
+        let mut solid_start = f32::INFINITY;
+        for layer in stack {
+            let solid = !materials[layer.material as usize].is_liquid();
+            if !solid || (solid_end.is_finite() && layer.start > solid_end) {
+                break;
+            }
+            if solid_start.is_infinite() {
+                solid_start = layer.start;
+            }
+            solid_end = layer.end;
+        }
+        let k = |z: f32| lattice.to_k(z) as f32;
+        ColumnRange {
+            start: k(first.start),
+            end: k(last.end),
+            solid_start: if solid_start.is_finite() { k(solid_start) } else { f32::INFINITY },
+            solid_end: if solid_end.is_finite() { k(solid_end) } else { f32::NEG_INFINITY },
+        }
     }
 }
 
