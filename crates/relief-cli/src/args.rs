@@ -159,6 +159,10 @@ pub struct SceneArgs {
     /// terrain volume defines the surface (1/64 of a cell to 8 cells) [default: one cell].
     #[arg(long, value_parser = parse::positive_length, allow_hyphen_values = true)]
     pub sigma: Option<f64>,
+    /// Stacks meshes (--mode mesh; relief mesh --lod auto): the largest screen-space size of
+    /// a mesh cell in pixels (Löffler et al. 2011, equation 1) [default: 10].
+    #[arg(long, value_name = "PX", value_parser = tau_px, allow_hyphen_values = true)]
+    pub tau: Option<f64>,
     /// MLHM scenes: quality preset (Nilles & Müller 2025, section 5): low (no secondary rays,
     /// no AO), mid (water reflections and refractions with cheap absorption, sun shadows, AO
     /// of radius 1 m), high (expensive absorption, shadows and AO on reflected and refracted
@@ -256,32 +260,6 @@ pub struct RenderArgs {
     /// Options of tile stores.
     #[command(flatten)]
     pub tiles: TileRenderArgs,
-    /// Options of stacks meshes (--mode mesh).
-    #[command(flatten)]
-    pub stacks: StacksArgs,
-}
-
-/// The level of detail of a stacks mesh, and its screen-space error.
-#[derive(Debug, Clone, Args)]
-pub struct StacksArgs {
-    /// Stacks meshes: the level of detail, 0 the finest (the stacks themselves), each next
-    /// level half as fine; or auto: per octree node, as fine as the camera needs for cells of
-    /// at most --tau pixels [default: auto].
-    #[arg(long, value_name = "N|auto", value_parser = parse_lod)]
-    pub lod: Option<LodChoice>,
-    /// Stacks meshes with --lod auto: the largest screen-space size of a cell in pixels
-    /// (Löffler et al. 2011, equation 1) [default: 10].
-    #[arg(long, value_name = "PX", value_parser = tau_px, allow_hyphen_values = true)]
-    pub tau: Option<f64>,
-}
-
-impl StacksArgs {
-    /// The first option given, if any (for refusing it where it does nothing).
-    pub fn given(&self) -> Option<&'static str> {
-        [(self.lod.is_some(), "--lod"), (self.tau.is_some(), "--tau")]
-            .into_iter()
-            .find_map(|(given, name)| given.then_some(name))
-    }
 }
 
 /// `--lod`: a fixed level or the camera's.
@@ -306,8 +284,8 @@ fn tau_px(s: &str) -> Result<f64, String> {
     parse::number_in(s, "a number of pixels", &(0.01..=1e4))
 }
 
-/// `relief mesh`: the scene options of `relief render` (input, camera), the output, the level
-/// of detail and the stage timings.
+/// `relief mesh`: the scene options of `relief render` (input, camera, --sigma, --tau), the
+/// output, the level of detail and the stage timings.
 #[derive(Debug, Args)]
 pub struct MeshArgs {
     /// The scene and camera (the camera matters with --lod auto).
@@ -316,9 +294,11 @@ pub struct MeshArgs {
     /// Output mesh: .glb (glTF 2.0 binary), .obj or .ply.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Level of detail and screen-space error.
-    #[command(flatten)]
-    pub stacks: StacksArgs,
+    /// The level of detail, 0 the finest (the stacks themselves), each next level half as
+    /// fine; or auto: per octree node, as fine as the camera needs for cells of at most --tau
+    /// pixels [default: auto].
+    #[arg(long, value_name = "N|auto", value_parser = parse_lod)]
+    pub lod: Option<LodChoice>,
     /// Write the stage timings (load_ms, build_ms, mesh_ms, write_ms, total_ms) and the mesh's
     /// counts to this JSON file.
     #[arg(long, value_name = "JSON")]

@@ -91,7 +91,7 @@ fn a_slab_meshes_closed_with_its_volume() {
         StacksMeshParams { node_cells: 4, ..Default::default() },
     )
     .unwrap();
-    let mesh = mesher.mesh_level(0).unwrap();
+    let (mesh, _) = mesher.mesh_level(0).unwrap();
     let solid = mesh.part("solid").unwrap();
     closed_and_manifold(solid).unwrap();
     let volume = enclosed_volume(solid);
@@ -111,7 +111,7 @@ fn random_terrains_with_overhangs_mesh_closed_at_the_finest_level() {
             StacksMeshParams { node_cells: 5, ..Default::default() },
         )
         .unwrap();
-        let mesh = mesher.mesh_level(0).unwrap();
+        let (mesh, _) = mesher.mesh_level(0).unwrap();
         for part in &mesh.parts {
             closed_and_manifold(part)
                 .map_err(|e| format!("seed {seed}, {}: {e}", part.name))

@@ -4,8 +4,9 @@
 
 use crate::render::fill_gbuffer;
 use crate::{GBuffer, ShadeError};
-use relief_core::{Aabb, Camera};
-use relief_mesh::{IndexedMesh, MeshStats, RasterTarget, Rasterizer, StacksMesher};
+use rayon::prelude::*;
+use relief_core::{Aabb, Camera, DVec3};
+use relief_mesh::{MeshStats, RasterTarget, Rasterizer, StacksMesher};
 use relief_trace::Hit;
 use std::time::Instant;
 
@@ -65,12 +66,9 @@ impl StacksRenderer {
     ) -> Result<StacksFrameStats, ShadeError> {
         gbuffer.validate_for(camera)?;
         let start = Instant::now();
-        let (mesh, mesh_stats) = self.mesher.mesh_for_camera(camera, self.tau_px);
-        let meshes: Vec<IndexedMesh> = mesh
-            .parts
-            .iter()
-            .map(|p| p.to_indexed_mesh())
-            .collect::<Result<_, _>>()
+        let (meshes, mesh_stats) = self
+            .mesher
+            .draw_meshes_for_camera(camera, self.tau_px)
             .map_err(|e| ShadeError::Limits(e.to_string()))?;
         let mut stats = StacksFrameStats {
             mesh: mesh_stats,
@@ -85,55 +83,45 @@ impl StacksRenderer {
         } else {
             self.target.clear();
         }
-        let mut offsets = Vec::with_capacity(meshes.len());
-        let mut offset = 0u32;
-        for m in &meshes {
-            offsets.push(offset);
+        let offsets = [0, meshes[0].triangle_count() as u32];
+        for (m, &offset) in meshes.iter().zip(&offsets) {
             self.rasterizer
                 .draw(camera, m, offset, &mut self.target)
                 .map_err(|e| ShadeError::Limits(e.to_string()))?;
-            offset += m.triangle_count() as u32;
         }
         stats.raster_ms = ms(start);
 
         let start = Instant::now();
         let target = &self.target;
-        let locate = |id: u32| {
-            let part = offsets.iter().rposition(|&o| o <= id)?;
-            Some((&meshes[part], id - offsets[part]))
-        };
         // Position from the exact ray-plane hit; normal and colour interpolated.
-        let surface = |index: usize, i: u32, j: u32| -> Option<(Hit, [f32; 3])> {
-            let id = target.triangle[index];
-            if id == RasterTarget::NO_TRIANGLE {
-                return None;
-            }
-            let (mesh, triangle) = locate(id)?;
-            let ray = camera.ray(i, j);
-            let h = mesh.hit(triangle, &ray)?;
-            let mut attributes = [0f32; 6];
-            mesh.interpolate_attributes(triangle, h.barycentrics, &mut attributes).ok()?;
-            let smooth = relief_core::DVec3::new(
-                attributes[3] as f64,
-                attributes[4] as f64,
-                attributes[5] as f64,
-            );
-            let normal = match smooth.try_normalize() {
-                Some(n) if n.dot(ray.dir) < 0.0 => n,
-                _ => h.normal,
-            };
-            let colour = [attributes[0], attributes[1], attributes[2]];
-            Some((Hit { t: h.t, position: h.position, normal }, colour))
-        };
-        fill_gbuffer(gbuffer, camera, bounds, |index, i, j| surface(index, i, j).map(|s| s.0));
-        for index in 0..gbuffer.len() {
-            if gbuffer.distance[index].is_finite() {
-                let (i, j) = ((index % gbuffer.width) as u32, (index / gbuffer.width) as u32);
-                if let Some((_, c)) = surface(index, i, j) {
-                    gbuffer.material[index] = [c[0], c[1], c[2], 1.0];
+        let surfaces: Vec<Option<(Hit, [f32; 3])>> = (0..gbuffer.len())
+            .into_par_iter()
+            .map(|index| {
+                let id = target.triangle[index];
+                if id == RasterTarget::NO_TRIANGLE {
+                    return None;
                 }
+                let part = usize::from(id >= offsets[1]);
+                let (mesh, triangle) = (&meshes[part], id - offsets[part]);
+                let (i, j) = ((index % gbuffer.width) as u32, (index / gbuffer.width) as u32);
+                let ray = camera.ray(i, j);
+                let h = mesh.hit(triangle, &ray)?;
+                let mut a = [0f32; 6];
+                mesh.interpolate_attributes(triangle, h.barycentrics, &mut a).ok()?;
+                let smooth = DVec3::new(a[3] as f64, a[4] as f64, a[5] as f64);
+                let normal = match smooth.try_normalize() {
+                    Some(n) if n.dot(ray.dir) < 0.0 => n,
+                    _ => h.normal,
+                };
+                Some((Hit { t: h.t, position: h.position, normal }, [a[0], a[1], a[2]]))
+            })
+            .collect();
+        fill_gbuffer(gbuffer, camera, bounds, |index, _, _| surfaces[index].map(|s| s.0));
+        gbuffer.material.par_iter_mut().zip(&surfaces).for_each(|(m, s)| {
+            if let Some((_, c)) = s {
+                *m = [c[0], c[1], c[2], 1.0];
             }
-        }
+        });
         stats.resolve_ms = ms(start);
         Ok(stats)
     }

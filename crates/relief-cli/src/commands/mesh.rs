@@ -5,7 +5,7 @@ use crate::args::{LodChoice, MeshArgs};
 use crate::scene::stacks::StacksScene;
 use crate::{outputs, progress};
 use anyhow::{bail, Result};
-use relief_mesh::TerrainMesh;
+use relief_mesh::{MeshStats, TerrainMesh};
 use serde_json::json;
 use std::time::Instant;
 
@@ -26,8 +26,8 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         all.push(("--stats", path.as_path()));
     }
     outputs::check_distinct(&all, &inputs)?;
-    let lod = args.stacks.lod.unwrap_or(LodChoice::Auto);
-    if lod != LodChoice::Auto && args.stacks.tau.is_some() {
+    let lod = args.lod.unwrap_or(LodChoice::Auto);
+    if lod != LodChoice::Auto && args.scene.tau.is_some() {
         bail!("--tau applies to --lod auto, not to a fixed level");
     }
     let load_started = Instant::now();
@@ -36,7 +36,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let levels = scene.mesher.level_count();
     let bar = progress::spinner("meshing");
     let mesh_started = Instant::now();
-    let (mesh, nodes): (TerrainMesh, usize) = match lod {
+    let (mesh, mesh_stats): (TerrainMesh, MeshStats) = match lod {
         LodChoice::Level(level) => {
             if level >= levels {
                 bail!(
@@ -44,14 +44,14 @@ pub fn run(args: &MeshArgs) -> Result<()> {
                     levels - 1
                 );
             }
-            (scene.mesher.mesh_level(level)?, 0)
+            scene.mesher.mesh_level(level)?
         }
         LodChoice::Auto => {
-            let tau = args.stacks.tau.unwrap_or(DEFAULT_TAU_PX);
-            let (mesh, stats) = scene.mesher.mesh_for_camera(&scene.camera, tau);
-            (mesh, stats.nodes)
+            let tau = args.scene.tau.unwrap_or(DEFAULT_TAU_PX);
+            scene.mesher.mesh_for_camera(&scene.camera, tau)
         }
     };
+    let nodes = mesh_stats.nodes;
     let mesh_ms = outputs::ms_since(mesh_started);
     bar.finish_and_clear();
     let write_started = Instant::now();
@@ -76,6 +76,13 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             "levels": levels,
             "lod": match lod { LodChoice::Level(l) => json!(l), LodChoice::Auto => json!("auto") },
             "nodes": nodes,
+            "nodes_per_level": &mesh_stats.per_level[..levels.min(16)],
+            "select_ms": mesh_stats.select_ms,
+            "nodes_ms": mesh_stats.mesh_ms,
+            "join_ms": mesh_stats.join_ms,
+            "node_ms": if nodes > 0 { mesh_stats.mesh_ms / nodes as f64 } else { 0.0 },
+            "threads": rayon::current_num_threads(),
+            "mipmap_bytes": scene.mesher.mipmap().memory_bytes(),
             "solid_vertices": solid_vertices,
             "solid_faces": solid_faces,
             "water_vertices": water_vertices,

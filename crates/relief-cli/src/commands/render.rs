@@ -33,8 +33,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if scene_args.mode == Some(MlhmRenderMode::Mesh) {
         return render_mesh::run(args, started);
     }
-    if let Some(option) = args.stacks.given() {
-        return Err(crate::applies::refuse(option, "--mode mesh", "the ray-cast renderers"));
+    if scene_args.tau.is_some() {
+        return Err(crate::applies::refuse("--tau", "--mode mesh", "the ray-cast renderers"));
     }
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
         if let Some(option) = args.hybrid.given() {

@@ -2,13 +2,11 @@
 //! into the G-buffer and shaded by the deferred pass like every other renderer.
 
 use super::render::write_outputs;
-use crate::args::{LodChoice, RenderArgs};
-use crate::scene::stacks::StacksScene;
+use crate::args::RenderArgs;
+use crate::scene::stacks::{self, StacksScene};
 use crate::{outputs, progress};
 use anyhow::{bail, Result};
-use relief_core::Ray;
-use relief_shade::{shade_to_srgb8, Albedo, GBuffer, ShadingParams, StacksRenderer, Sun};
-use relief_trace::{Hit, Tracer};
+use relief_shade::{GBuffer, StacksRenderer};
 use serde_json::json;
 use std::time::Instant;
 
@@ -17,13 +15,10 @@ pub fn run(args: &RenderArgs, started: Instant) -> Result<()> {
     if let Some(option) = args.hybrid.given() {
         bail!("{option} applies to --tracer hybrid, not to --mode mesh");
     }
-    if let Some(LodChoice::Level(_)) = args.stacks.lod {
-        bail!("--mode mesh draws the camera's levels of detail (--lod auto); write one level with relief mesh --lod N");
-    }
     let scene = StacksScene::open(&args.scene)?;
     let load_ms = outputs::ms_since(started);
     let camera = scene.camera.clone();
-    let tau = args.stacks.tau.unwrap_or(super::mesh::DEFAULT_TAU_PX);
+    let tau = args.scene.tau.unwrap_or(super::mesh::DEFAULT_TAU_PX);
     let mut renderer = StacksRenderer::new(scene.mesher, tau)?;
     let mut gbuffer = GBuffer::new(camera.width() as usize, camera.height() as usize)?;
     let bar = progress::spinner("meshing");
@@ -33,14 +28,7 @@ pub fn run(args: &RenderArgs, started: Instant) -> Result<()> {
     bar.finish_and_clear();
 
     let shade_started = Instant::now();
-    let mut params = ShadingParams::for_terrain(&scene.bounds)?;
-    let (azimuth_deg, elevation_deg) = args.scene.sun;
-    params.sun = Sun { azimuth_deg, elevation_deg, ..params.sun };
-    params.exposure = args.scene.exposure;
-    params.albedo = Albedo::GBufferColour { fallback: [0.3; 3] };
-    // A mesh has no exact tracer for shadow rays.
-    params.shadows = false;
-    let (rgb, _) = shade_to_srgb8(&gbuffer, &NoOccluders, &camera, &params)?;
+    let rgb = stacks::shade(&gbuffer, &camera, &scene.bounds, args.scene.sun, args.scene.exposure)?;
     let shade_ms = outputs::ms_since(shade_started);
     let write_started = Instant::now();
     write_outputs(args, &camera, &gbuffer, rgb.as_flattened())?;
@@ -74,21 +62,4 @@ pub fn run(args: &RenderArgs, started: Instant) -> Result<()> {
         outputs::write_stats(path, &stats)?;
     }
     Ok(())
-}
-
-/// The shadow "tracer" of a mesh render without shadows: it meets nothing.
-struct NoOccluders;
-
-impl Tracer for NoOccluders {
-    fn name(&self) -> &'static str {
-        "none"
-    }
-
-    fn surface(&self) -> relief_core::Surface {
-        relief_core::Surface::Triangles
-    }
-
-    fn intersect_counted(&self, _ray: &Ray, _steps: &mut u32) -> Option<Hit> {
-        None
-    }
 }

@@ -68,6 +68,16 @@ pub(super) fn open_live_scene(
     max_memory: u64,
     command: &str,
 ) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
+    if scene_args.mode == Some(crate::args::MlhmRenderMode::Mesh) {
+        let scene = crate::scene::stacks::StacksScene::open(scene_args)?;
+        let tau = scene_args.tau.unwrap_or(super::mesh::DEFAULT_TAU_PX);
+        let live = crate::live::LiveStacks::new(scene, tau, scene_args.sun, scene_args.exposure)?;
+        let (camera, settings) = (live.camera(), live.settings());
+        return Ok((Arc::new(live), camera, settings));
+    }
+    if scene_args.tau.is_some() {
+        return Err(applies::refuse("--tau", "--mode mesh", "the ray-cast renderers"));
+    }
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
         let live = LiveMlhm::new(
             LayeredScene::open(scene_args, path)?,

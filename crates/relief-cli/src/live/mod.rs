@@ -9,9 +9,11 @@ mod height_field;
 mod interruptible;
 mod mlhm;
 mod simulation;
+mod stacks;
 
 pub use height_field::LiveHeightField;
 pub use mlhm::LiveMlhm;
+pub use stacks::LiveStacks;
 
 /// The index of `name` in `names`, or 0.
 fn position(names: &[String], name: &str) -> usize {

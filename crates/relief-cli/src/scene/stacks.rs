@@ -5,8 +5,10 @@
 use crate::args::SceneArgs;
 use crate::{applies, input};
 use anyhow::{Context, Result};
-use relief_core::{Aabb, Camera, DVec3, MaterialStacks, StacksMipmap};
+use relief_core::{Aabb, Camera, DVec3, MaterialStacks, Ray, StacksMipmap, Surface};
 use relief_mesh::{Smoothing, StacksMeshParams, StacksMesher};
+use relief_shade::{shade_to_srgb8, Albedo, GBuffer, ShadingParams, Sun};
+use relief_trace::{Hit, Tracer};
 use std::path::Path;
 
 /// Whether `path` names relief's stacks file, by the extension `.stacks`.
@@ -97,4 +99,39 @@ fn refuse_other_options(args: &SceneArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Shades a stacks mesh's G-buffer with the deferred pass: the vertex colours as albedo, the
+/// sun at `sun` (azimuth, elevation in degrees), `exposure`; no shadow rays (a mesh has no
+/// exact tracer for them).
+pub fn shade(
+    gbuffer: &GBuffer,
+    camera: &Camera,
+    bounds: &Aabb,
+    sun: (f64, f64),
+    exposure: f64,
+) -> Result<Vec<[u8; 3]>> {
+    let mut params = ShadingParams::for_terrain(bounds)?;
+    params.sun = Sun { azimuth_deg: sun.0, elevation_deg: sun.1, ..params.sun };
+    params.exposure = exposure;
+    params.albedo = Albedo::GBufferColour { fallback: [0.3; 3] };
+    params.shadows = false;
+    Ok(shade_to_srgb8(gbuffer, &NoOccluders, camera, &params)?.0)
+}
+
+/// The shadow "tracer" of a mesh drawn without shadows: it meets nothing.
+struct NoOccluders;
+
+impl Tracer for NoOccluders {
+    fn name(&self) -> &'static str {
+        "none"
+    }
+
+    fn surface(&self) -> Surface {
+        Surface::Triangles
+    }
+
+    fn intersect_counted(&self, _ray: &Ray, _steps: &mut u32) -> Option<Hit> {
+        None
+    }
 }

@@ -64,16 +64,6 @@ impl Block {
         Block { min: self.min.map(|m| m - r), size: self.size.map(|s| s + 2 * r as usize) }
     }
 
-    /// Index step between neighbours along `axis`.
-    #[inline]
-    pub fn stride(&self, axis: usize) -> usize {
-        match axis {
-            0 => 1,
-            1 => self.size[0],
-            _ => self.size[0] * self.size[1],
-        }
-    }
-
     /// Index of local coordinates.
     #[inline]
     pub fn index(&self, l: [usize; 3]) -> usize {

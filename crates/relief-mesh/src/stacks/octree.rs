@@ -60,16 +60,6 @@ impl Leaves {
         leaves
     }
 
-    /// The leaves, ordered.
-    pub fn iter(&self) -> impl Iterator<Item = &NodeKey> {
-        self.set.iter()
-    }
-
-    /// Number of leaves.
-    pub fn len(&self) -> usize {
-        self.set.len()
-    }
-
     /// The leaf covering the region of node `key` or a coarser leaf containing it, if any.
     fn covering(&self, key: &NodeKey) -> Option<NodeKey> {
         let mut k = *key;

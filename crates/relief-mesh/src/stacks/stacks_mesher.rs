@@ -6,11 +6,12 @@ use super::density::{Channels, Density, Smoothing};
 use super::lattice::{Block, Lattice};
 use super::node_mesher::{coarse_block, fine_block, mesh_node, LevelField, NodeJob, NodeMesh};
 use super::octree::{Leaves, NodeKey};
-use crate::{MeshError, MeshPart, TerrainMesh};
+use crate::{IndexedMesh, MeshError, MeshPart, TerrainMesh};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec3, MaterialKind, StacksMipmap};
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::time::Instant;
 
 /// The parameters of the stacks mesher.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,15 +35,21 @@ impl Default for StacksMeshParams {
     }
 }
 
-/// The octree leaves chosen for one frame and what their meshing cost.
+/// The octree nodes meshed for one level or one camera, and what meshing them cost.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct MeshStats {
-    /// Leaves selected.
+    /// Nodes selected (those that may hold surface).
     pub nodes: usize,
-    /// Leaves whose mesh was made this frame (not found in the cache).
+    /// Nodes whose mesh was made now (not found in the cache).
     pub meshed: usize,
-    /// Leaves per level, finest first.
+    /// Nodes per level, finest first.
     pub per_level: [usize; 16],
+    /// Milliseconds choosing the nodes.
+    pub select_ms: f64,
+    /// Milliseconds meshing the nodes not in the cache (all cores).
+    pub mesh_ms: f64,
+    /// Milliseconds joining the nodes' meshes into one.
+    pub join_ms: f64,
 }
 
 /// Meshes a stacks terrain: its mipmap, the lattices of its levels and a cache of node meshes.
@@ -54,7 +61,7 @@ pub struct MeshStats {
 /// let stacks = MaterialStacks::from_stacks(6, 6, DVec2::ONE, DVec2::ZERO,
 ///     StackMaterial::defaults(), &vec![vec![StackLayer::new(0.0, 3.0, 0)]; 36]).unwrap();
 /// let mesher = StacksMesher::new(StacksMipmap::new(stacks), StacksMeshParams::default()).unwrap();
-/// let mesh = mesher.mesh_level(0).unwrap();
+/// let (mesh, _) = mesher.mesh_level(0).unwrap();
 /// assert!(mesh.part("solid").unwrap().quads.len() > 0);
 /// ```
 #[derive(Debug)]
@@ -210,7 +217,7 @@ impl StacksMesher {
 
     /// The mesh of the whole terrain at `level` (0 finest). Fails naming the level when the
     /// mipmap has no such level.
-    pub fn mesh_level(&self, level: usize) -> Result<TerrainMesh, MeshError> {
+    pub fn mesh_level(&self, level: usize) -> Result<(TerrainMesh, MeshStats), MeshError> {
         if level >= self.level_count() {
             return Err(MeshError::Parameter {
                 name: "level of detail",
@@ -220,14 +227,29 @@ impl StacksMesher {
                 ),
             });
         }
+        let start = Instant::now();
         let nodes: Vec<(NodeKey, Vec<NodeKey>)> = self
             .nodes_of_level(level)
             .into_iter()
             .filter(|k| !self.is_empty(k))
             .map(|k| (k, Vec::new()))
             .collect();
+        let select_ms = ms(start);
+        let start = Instant::now();
         let meshes: Vec<NodeMesh> = nodes.par_iter().map(|(k, c)| self.mesh_one(k, c)).collect();
-        Ok(self.join(meshes.iter()))
+        let mesh_ms = ms(start);
+        let start = Instant::now();
+        let mesh = self.join(meshes.iter());
+        let mut stats = MeshStats {
+            nodes: nodes.len(),
+            meshed: nodes.len(),
+            select_ms,
+            mesh_ms,
+            join_ms: ms(start),
+            ..Default::default()
+        };
+        stats.per_level[level.min(15)] = nodes.len();
+        Ok((mesh, stats))
     }
 
     /// The leaves of the octree for `camera`: nodes split while a cell's screen-space extent
@@ -256,16 +278,25 @@ impl StacksMesher {
         leaves.coarser_neighbours().into_iter().filter(|(k, _)| !self.is_empty(k)).collect()
     }
 
-    /// The mesh for `camera` at screen-space error `tau` pixels: the selected nodes' meshes,
-    /// from the cache where a node with the same coarser neighbours was meshed before; the
-    /// cache keeps the nodes of this frame.
-    pub fn mesh_for_camera(&mut self, camera: &Camera, tau: f64) -> (TerrainMesh, MeshStats) {
+    /// The selected nodes' meshes for `camera` at screen-space error `tau` pixels, from the
+    /// cache where a node with the same coarser neighbours was meshed before; the cache then
+    /// keeps the nodes of this frame.
+    fn frame_nodes(&mut self, camera: &Camera, tau: f64) -> (Vec<Arc<NodeMesh>>, MeshStats) {
+        let start = Instant::now();
         let nodes = self.select(camera, tau);
+        let select_ms = ms(start);
+        let start = Instant::now();
         let missing: Vec<&(NodeKey, Vec<NodeKey>)> =
             nodes.iter().filter(|k| !self.cache.contains_key(*k)).collect();
         let made: Vec<Arc<NodeMesh>> =
             missing.par_iter().map(|(k, c)| Arc::new(self.mesh_one(k, c))).collect();
-        let mut stats = MeshStats { nodes: nodes.len(), meshed: made.len(), ..Default::default() };
+        let mut stats = MeshStats {
+            nodes: nodes.len(),
+            meshed: made.len(),
+            select_ms,
+            mesh_ms: ms(start),
+            ..Default::default()
+        };
         for (key, mesh) in missing.into_iter().zip(made) {
             self.cache.insert(key.clone(), mesh);
         }
@@ -274,8 +305,35 @@ impl StacksMesher {
         }
         let keep: std::collections::HashSet<&(NodeKey, Vec<NodeKey>)> = nodes.iter().collect();
         self.cache.retain(|k, _| keep.contains(k));
-        let meshes: Vec<Arc<NodeMesh>> = nodes.iter().map(|k| self.cache[k].clone()).collect();
-        (self.join(meshes.iter().map(|m| m.as_ref())), stats)
+        (nodes.iter().map(|k| self.cache[k].clone()).collect(), stats)
+    }
+
+    /// The mesh for `camera` at screen-space error `tau` pixels (see
+    /// [`StacksMesher::select`]), each vertex once; node meshes come from the cache where a
+    /// node with the same coarser neighbours was meshed for an earlier camera.
+    pub fn mesh_for_camera(&mut self, camera: &Camera, tau: f64) -> (TerrainMesh, MeshStats) {
+        let (meshes, mut stats) = self.frame_nodes(camera, tau);
+        let start = Instant::now();
+        let mesh = self.join(meshes.iter().map(|m| m.as_ref()));
+        stats.join_ms = ms(start);
+        (mesh, stats)
+    }
+
+    /// The same nodes' meshes for drawing: the solid, then the water, as triangle meshes with
+    /// the colour (3 floats) then the normal (3 floats) per vertex. The nodes' meshes are
+    /// appended as they are (a vertex a neighbouring node shares appears in both, at the same
+    /// position), which the rasterizer needs no more.
+    pub fn draw_meshes_for_camera(
+        &mut self,
+        camera: &Camera,
+        tau: f64,
+    ) -> Result<([IndexedMesh; 2], MeshStats), MeshError> {
+        let (meshes, mut stats) = self.frame_nodes(camera, tau);
+        let start = Instant::now();
+        let solid = append_for_drawing(&meshes, 0)?;
+        let water = append_for_drawing(&meshes, 1)?;
+        stats.join_ms = ms(start);
+        Ok(([solid, water], stats))
     }
 
     /// Meshes one node of `key`'s level next to the coarser leaves `coarser`.
@@ -405,6 +463,58 @@ impl ColumnRange {
             solid_end: if solid_end.is_finite() { k(solid_end) } else { f32::NEG_INFINITY },
         }
     }
+}
+
+/// Part `part` of every node's mesh appended into one triangle mesh with colour and normal
+/// attributes, the nodes filled in parallel at offsets from prefix sums.
+fn append_for_drawing(meshes: &[Arc<NodeMesh>], part: usize) -> Result<IndexedMesh, MeshError> {
+    let mut vertex_at = Vec::with_capacity(meshes.len() + 1);
+    let (mut v, mut t) = (0usize, 0usize);
+    for m in meshes {
+        vertex_at.push(v);
+        let p = &m.parts[part];
+        v += p.positions.len();
+        t += 2 * p.quads.len() + p.triangles.len();
+    }
+    let mut positions = vec![DVec3::ZERO; v];
+    let mut triangles = vec![[0u32; 3]; t];
+    let mut attributes = vec![0f32; 6 * v];
+    // Split the outputs into each node's share, then fill the shares in parallel.
+    let mut shares = Vec::with_capacity(meshes.len());
+    let (mut pos_rest, mut tri_rest, mut att_rest) =
+        (positions.as_mut_slice(), triangles.as_mut_slice(), attributes.as_mut_slice());
+    for (k, m) in meshes.iter().enumerate() {
+        let p = &m.parts[part];
+        let (pos, r1) = std::mem::take(&mut pos_rest).split_at_mut(p.positions.len());
+        let (tri, r2) =
+            std::mem::take(&mut tri_rest).split_at_mut(2 * p.quads.len() + p.triangles.len());
+        let (att, r3) = std::mem::take(&mut att_rest).split_at_mut(6 * p.positions.len());
+        (pos_rest, tri_rest, att_rest) = (r1, r2, r3);
+        shares.push((p, vertex_at[k] as u32, pos, tri, att));
+    }
+    shares.into_par_iter().for_each(|(p, base, pos, tri, att)| {
+        pos.copy_from_slice(&p.positions);
+        for (k, (c, n)) in p.colors.iter().zip(&p.normals).enumerate() {
+            att[6 * k..6 * k + 3].copy_from_slice(c);
+            att[6 * k + 3..6 * k + 6].copy_from_slice(n);
+        }
+        let mut out = 0;
+        for q in &p.quads {
+            let [a, b, c, d] = q.map(|i| i + base);
+            tri[out] = [a, b, c];
+            tri[out + 1] = [a, c, d];
+            out += 2;
+        }
+        for tr in &p.triangles {
+            tri[out] = tr.map(|i| i + base);
+            out += 1;
+        }
+    });
+    IndexedMesh::new(positions, triangles)?.with_attributes(6, attributes)
+}
+
+fn ms(start: Instant) -> f64 {
+    start.elapsed().as_secs_f64() * 1e3
 }
 
 /// sRGB 8-bit to linear.
