@@ -149,3 +149,76 @@ fn meshes_for_a_camera_join_across_levels_without_cracks() {
         }
     }
 }
+
+/// A 64 x 64 terrain of rolling ground with a rock bridge over an air gap, a sand bank and a
+/// pond: features several cells thick.
+fn bridge_terrain() -> MaterialStacks {
+    let mut stacks = Vec::new();
+    for y in 0..64 {
+        for x in 0..64 {
+            let (xf, yf) = (x as f32, y as f32);
+            let ground = 10.0 + 3.0 * (xf / 9.0).sin() * (yf / 11.0).cos();
+            let mut layers = vec![StackLayer::new(0.0, ground, 0)];
+            let mut top = ground;
+            if x > 40 {
+                layers.push(StackLayer::new(top, top + 2.5, 1));
+                top += 2.5;
+            }
+            if (8..24).contains(&x) && (40..56).contains(&y) {
+                layers.push(StackLayer::new(top, top + 3.0, 2));
+                top += 3.0;
+            }
+            if (20..44).contains(&x) && (10..50).contains(&y) {
+                let start = top.max(ground) + 5.0;
+                layers.push(StackLayer::new(start.max(19.0), 24.0, 0));
+            }
+            stacks.push(layers);
+        }
+    }
+    MaterialStacks::from_stacks(64, 64, DVec2::ONE, DVec2::ZERO, StackMaterial::defaults(), &stacks)
+        .unwrap()
+}
+
+#[test]
+fn the_finest_mesh_encloses_the_stacks_volume_within_a_few_percent() {
+    let stacks = bridge_terrain();
+    let solid = stacks.volume(|m| !m.is_liquid());
+    let water = stacks.volume(|m| m.is_liquid());
+    let mesher = StacksMesher::new(StacksMipmap::new(stacks), StacksMeshParams::default()).unwrap();
+    let (mesh, _) = mesher.mesh_level(0).unwrap();
+    for part in &mesh.parts {
+        closed_and_manifold(part).unwrap();
+    }
+    let mesh_solid = enclosed_volume(mesh.part("solid").unwrap());
+    let mesh_water = enclosed_volume(mesh.part("water").unwrap());
+    println!("solid {mesh_solid:.0} of {solid:.0} m3, water {mesh_water:.0} of {water:.0} m3");
+    assert!((mesh_solid - solid).abs() < 0.03 * solid, "solid {mesh_solid} against {solid}");
+    // The pond is three voxels deep: the rounding of its edges costs a fifth of it.
+    assert!((mesh_water - water).abs() < 0.25 * water, "water {mesh_water} against {water}");
+}
+
+#[test]
+fn a_camera_mesh_encloses_about_the_finest_mesh_volume() {
+    let stacks = bridge_terrain();
+    let solid = stacks.volume(|m| !m.is_liquid());
+    let mut mesher = StacksMesher::new(
+        StacksMipmap::new(stacks),
+        StacksMeshParams { node_cells: 8, ..Default::default() },
+    )
+    .unwrap();
+    let camera = Camera::look_at(
+        DVec3::new(-10.0, -10.0, 30.0),
+        DVec3::new(32.0, 32.0, 10.0),
+        DVec3::Z,
+        50.0,
+        320,
+        240,
+    )
+    .unwrap();
+    let (mesh, stats) = mesher.mesh_for_camera(&camera, 8.0);
+    assert!(stats.per_level.iter().filter(|&&n| n > 0).count() >= 2, "{:?}", stats.per_level);
+    closed_and_manifold(mesh.part("solid").unwrap()).unwrap();
+    let volume = enclosed_volume(mesh.part("solid").unwrap());
+    println!("camera mesh {volume:.0} of {solid:.0} m3, nodes {:?}", &stats.per_level[..4]);
+    assert!((volume - solid).abs() < 0.1 * solid, "{volume} against {solid}");
+}

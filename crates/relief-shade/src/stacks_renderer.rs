@@ -130,3 +130,106 @@ impl StacksRenderer {
 fn ms(start: Instant) -> f64 {
     start.elapsed().as_secs_f64() * 1e3
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_core::{DVec2, MaterialStacks, Ray, StackLayer, StackMaterial, StacksMipmap};
+    use relief_mesh::{StacksMeshParams, StacksMesher};
+
+    /// Ground with an overhanging slab and a pond.
+    fn mesher() -> StacksMesher {
+        let mut stacks = Vec::new();
+        for y in 0..20 {
+            for x in 0..20 {
+                let ground = 4.0 + 1.5 * (x as f32 / 3.0).sin() * (y as f32 / 4.0).cos();
+                let mut layers = vec![StackLayer::new(0.0, ground, 0)];
+                if (12..18).contains(&x) && (2..8).contains(&y) {
+                    layers.push(StackLayer::new(ground, ground + 2.0, 2));
+                }
+                if (4..12).contains(&x) && (6..16).contains(&y) {
+                    layers.push(StackLayer::new(8.0, 10.0, 0));
+                }
+                stacks.push(layers);
+            }
+        }
+        let stacks = MaterialStacks::from_stacks(
+            20,
+            20,
+            DVec2::ONE,
+            DVec2::ZERO,
+            StackMaterial::defaults(),
+            &stacks,
+        )
+        .unwrap();
+        StacksMesher::new(
+            StacksMipmap::new(stacks),
+            StacksMeshParams { node_cells: 4, ..Default::default() },
+        )
+        .unwrap()
+    }
+
+    /// The nearest hit of `ray` with any triangle, brute force (Möller-Trumbore).
+    fn nearest(ray: &Ray, triangles: &[[DVec3; 3]]) -> f64 {
+        let mut best = f64::INFINITY;
+        for [a, b, c] in triangles {
+            let (e1, e2) = (*b - *a, *c - *a);
+            let p = ray.dir.cross(e2);
+            let det = e1.dot(p);
+            if det.abs() < 1e-14 {
+                continue;
+            }
+            let s = ray.origin - *a;
+            let u = s.dot(p) / det;
+            let q = s.cross(e1);
+            let v = ray.dir.dot(q) / det;
+            let t = e2.dot(q) / det;
+            if u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0 {
+                best = best.min(t);
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn the_rasterized_depth_is_the_meshs_exact_depth() {
+        let camera = Camera::look_at(
+            DVec3::new(-6.0, -8.0, 18.0),
+            DVec3::new(10.0, 10.0, 4.0),
+            DVec3::Z,
+            55.0,
+            64,
+            48,
+        )
+        .unwrap();
+        let bounds = Aabb::new(DVec3::new(0.0, 0.0, 0.0), DVec3::new(20.0, 20.0, 10.0));
+        let mut renderer = StacksRenderer::new(mesher(), 3.0).unwrap();
+        let mut gbuffer = GBuffer::new(64, 48).unwrap();
+        let stats = renderer.render_into(&camera, &bounds, &mut gbuffer).unwrap();
+        assert!(stats.mesh.per_level.iter().filter(|&&n| n > 0).count() >= 2);
+        // The same nodes (from the cache), joined, as triangles.
+        let (mesh, _) = renderer.mesher.mesh_for_camera(&camera, 3.0);
+        let triangles: Vec<[DVec3; 3]> = mesh
+            .parts
+            .iter()
+            .flat_map(|p| p.triangulated().into_iter().map(|t| t.map(|v| p.positions[v as usize])))
+            .collect();
+        let mut off = 0;
+        let mut hits = 0;
+        for j in 0..48 {
+            for i in 0..64 {
+                let expected = nearest(&camera.ray(i, j), &triangles);
+                let got = gbuffer.distance[(i + j * 64) as usize] as f64;
+                hits += usize::from(expected.is_finite());
+                let agree = if expected.is_finite() {
+                    (got - expected).abs() <= 1e-4 * expected
+                } else {
+                    got.is_infinite()
+                };
+                off += usize::from(!agree);
+            }
+        }
+        assert!(hits > 500, "{hits} pixels see the terrain");
+        assert!(off <= 2, "{off} pixels differ from the brute-force depth");
+    }
+}

@@ -133,7 +133,7 @@ mod tests {
             (0..2).flat_map(|x| (0..2).map(move |y| NodeKey { level: 3, at: [x, y, 0] })).collect();
         // Refine only towards the corner (0, 0, 0).
         let leaves = Leaves::select(&roots, |k| k.at == [0, 0, 0]);
-        assert!(leaves.iter().any(|k| k.level == 0));
+        assert!(leaves.coarser_neighbours().keys().any(|k| k.level == 0));
         for (leaf, coarser) in leaves.coarser_neighbours() {
             for c in coarser {
                 assert_eq!(c.level, leaf.level + 1, "{leaf:?} next to {c:?}");

@@ -500,9 +500,16 @@ fn append_for_drawing(meshes: &[Arc<NodeMesh>], part: usize) -> Result<IndexedMe
         }
         let mut out = 0;
         for q in &p.quads {
+            // Split along the shorter diagonal, as the exported mesh is.
+            let at = |v: u32| p.positions[v as usize];
             let [a, b, c, d] = q.map(|i| i + base);
-            tri[out] = [a, b, c];
-            tri[out + 1] = [a, c, d];
+            if at(q[0]).distance_squared(at(q[2])) <= at(q[1]).distance_squared(at(q[3])) {
+                tri[out] = [a, b, c];
+                tri[out + 1] = [a, c, d];
+            } else {
+                tri[out] = [a, b, d];
+                tri[out + 1] = [b, c, d];
+            }
             out += 2;
         }
         for tr in &p.triangles {
@@ -524,5 +531,83 @@ fn srgb_to_linear(c: u8) -> f32 {
         c / 12.92
     } else {
         ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_core::{DVec2, MaterialStacks, StackLayer, StackMaterial};
+
+    /// Rolling ground with an overhanging slab and a sand bank.
+    fn terrain() -> MaterialStacks {
+        let mut stacks = Vec::new();
+        for y in 0..24 {
+            for x in 0..24 {
+                let ground = 6.0 + 2.0 * (x as f32 / 4.0).sin() * (y as f32 / 5.0).cos();
+                let mut layers = vec![StackLayer::new(0.0, ground, 0)];
+                if x > 14 {
+                    layers.push(StackLayer::new(ground, ground + 1.5, 1));
+                }
+                if (6..16).contains(&x) && (4..18).contains(&y) {
+                    layers.push(StackLayer::new(11.0, 14.0, 0));
+                }
+                stacks.push(layers);
+            }
+        }
+        MaterialStacks::from_stacks(
+            24,
+            24,
+            DVec2::ONE,
+            DVec2::ZERO,
+            StackMaterial::defaults(),
+            &stacks,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn vertices_lie_on_the_smoothed_density_iso_surface() {
+        let mesher = StacksMesher::new(
+            StacksMipmap::new(terrain()),
+            StacksMeshParams { node_cells: 6, ..Default::default() },
+        )
+        .unwrap();
+        let (mesh, _) = mesher.mesh_level(0).unwrap();
+        let lattice = &mesher.lattices[0];
+        let block = Block::between([-4, -4, -4], [28, 28, 24]);
+        let density = Density::new(
+            &mesher.mipmap.levels()[0],
+            lattice,
+            &mesher.channels,
+            block,
+            &mesher.kernel,
+        );
+        let solid = mesh.part("solid").unwrap();
+        assert!(solid.vertex_count() > 500);
+        let mut worst = 0f64;
+        for position in &solid.positions {
+            let p = (*position - lattice.origin) / lattice.step;
+            let cell = [p.x.floor() as i32, p.y.floor() as i32, p.z.floor() as i32];
+            let local = [p.x - cell[0] as f64, p.y - cell[1] as f64, p.z - cell[2] as f64];
+            // The trilinear interpolant of the density and its gradient at the vertex.
+            let (mut f, mut g) = (0.0, DVec3::ZERO);
+            for c in 0..8 {
+                let bits = [c & 1, (c >> 1) & 1, (c >> 2) & 1];
+                let v = density.at(0, std::array::from_fn(|a| cell[a] + bits[a] as i32)) as f64;
+                let w: [f64; 3] =
+                    std::array::from_fn(|a| if bits[a] == 1 { local[a] } else { 1.0 - local[a] });
+                f += v * w[0] * w[1] * w[2];
+                let sign = |a: usize| if bits[a] == 1 { 1.0 } else { -1.0 };
+                g +=
+                    DVec3::new(sign(0) * w[1] * w[2], sign(1) * w[0] * w[2], sign(2) * w[0] * w[1])
+                        * v;
+            }
+            // Distance to the iso-surface, first order, in cells.
+            let distance = (f - 0.5).abs() / g.length().max(1e-9);
+            worst = worst.max(distance);
+        }
+        println!("worst distance to the iso-surface: {worst:.3} cells");
+        assert!(worst < 0.15, "a vertex lies {worst} cells off the iso-surface");
     }
 }
