@@ -21,13 +21,13 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Render a height field or an MLHM scene (.json or .mlhm) to a PNG (and optionally its depth and
-    /// normals as .npy).
+    /// Render a height field, an MLHM scene (.json or .mlhm) or a stacks terrain (.stacks, or
+    /// any input with --mode mesh) to a PNG (and optionally its depth and normals as .npy).
     Render(Box<RenderArgs>),
     /// Write a synthetic terrain.
     #[command(subcommand)]
     Generate(GenerateCommand),
-    /// Describe a height file or an MLHM scene (.json or .mlhm).
+    /// Describe a height file, an MLHM scene (.json or .mlhm) or a stacks file (.stacks).
     Info(InfoArgs),
     /// Convert a height file to another format (by the output's extension).
     Convert(ConvertArgs),
@@ -151,12 +151,17 @@ pub struct SceneArgs {
     /// [default: mipmap]. For an MLHM scene (.json or .mlhm): naive or hierarchy [default: hierarchy].
     #[arg(long)]
     pub tracer: Option<TracerChoice>,
-    /// MLHM scenes: how their columns are rendered: boxes, or smooth (the terrain they stand
-    /// for, smoothed in all three dimensions over a cube of half-size --sigma) [default: boxes].
+    /// How the terrain is drawn. MLHM scenes: boxes, or smooth (the terrain they stand for,
+    /// smoothed in all three dimensions over a cube of half-size --sigma) [default: boxes].
+    /// Any input: mesh (its material stacks smoothed over --sigma and dual-contoured at the
+    /// camera's levels of detail, cells of at most --tau pixels, rasterized; Löffler et al.
+    /// 2011), the only mode of a .stacks file.
     #[arg(long, value_parser = parse_mlhm_render_mode)]
     pub mode: Option<MlhmRenderMode>,
     /// MLHM smooth mode: the smoothing radius in metres, the half-size of the cube whose
     /// terrain volume defines the surface (1/64 of a cell to 8 cells) [default: one cell].
+    /// Mesh mode: the standard deviation of the Gaussian smoothing the stacks' density, in
+    /// metres [default: one cell].
     #[arg(long, value_parser = parse::positive_length, allow_hyphen_values = true)]
     pub sigma: Option<f64>,
     /// Stacks meshes (--mode mesh; relief mesh --lod auto): the largest screen-space size of

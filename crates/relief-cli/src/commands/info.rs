@@ -1,7 +1,7 @@
 //! `relief info`: what a height file holds and what rendering it costs (an MLHM scene:
 //! [`super::info_mlhm`]).
 
-use super::{info_mlhm, info_tiles, BYTES_PER_PIXEL};
+use super::{info_mlhm, info_stacks, info_tiles, BYTES_PER_PIXEL};
 use crate::args::InfoArgs;
 use crate::{applies, input};
 use anyhow::Result;
@@ -11,6 +11,9 @@ use std::io::Write;
 pub fn run(args: &InfoArgs) -> Result<()> {
     if input::is_mlhm_scene(&args.input) {
         return info_mlhm::run(args);
+    }
+    if crate::scene::stacks::is_stacks_file(&args.input) {
+        return info_stacks::run(args);
     }
     if args.input.is_dir() {
         return info_tiles::run(args);

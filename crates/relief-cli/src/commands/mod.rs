@@ -9,6 +9,7 @@ mod flythrough_log;
 mod generate;
 mod info;
 mod info_mlhm;
+mod info_stacks;
 mod info_tiles;
 mod mesh;
 mod render;

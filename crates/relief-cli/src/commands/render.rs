@@ -5,6 +5,7 @@ use super::{check_image, render_clipmap, render_hybrid, render_mesh, render_mlhm
 use crate::args::MlhmRenderMode;
 use crate::args::RenderArgs;
 use crate::scene::height_field::{check_safety_view, HeightFieldScene};
+use crate::scene::stacks::is_stacks_file;
 use crate::tracers::{self, TracerChoice};
 use crate::{input, memory, outputs, progress};
 use anyhow::Result;
@@ -30,7 +31,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let here = crate::applies::input_kind(scene_args.input.input.as_deref());
         return Err(crate::applies::refuse(option, "tile stores (made by relief tile)", &here));
     }
-    if scene_args.mode == Some(MlhmRenderMode::Mesh) {
+    let stacks_file = scene_args.input.input.as_deref().is_some_and(is_stacks_file);
+    if scene_args.mode == Some(MlhmRenderMode::Mesh) || stacks_file {
         return render_mesh::run(args, started);
     }
     if scene_args.tau.is_some() {
