@@ -27,6 +27,9 @@ pub(crate) const ISO: f32 = 0.5;
 pub(crate) struct NodePart {
     /// The key of each vertex (see [`vertex_key`]).
     pub keys: Vec<u128>,
+    /// Whether another node may make the same vertex: a cell on the node's border (its ring
+    /// of overlap, or its last cell, which is the next node's ring) or of a coarser level.
+    pub shared: Vec<bool>,
     /// Positions, world.
     pub positions: Vec<DVec3>,
     /// Unit normals pointing out of the volume.
@@ -241,8 +244,9 @@ fn mesh_part(job: &NodeJob, field: &Field, channel: usize) -> NodePart {
             slot += 1;
         }
     }
-    let NodePart { keys, positions, normals, colors, .. } = vertices.part;
+    let NodePart { keys, shared, positions, normals, colors, .. } = vertices.part;
     part.keys = keys;
+    part.shared = shared;
     part.positions = positions;
     part.normals = normals;
     part.colors = colors;
@@ -327,6 +331,8 @@ impl<'a> VertexTable<'a> {
         let v = self.part.keys.len() as u32;
         self.index.insert(key, v);
         self.part.keys.push(key);
+        let (o, n) = (self.job.origin, self.job.n);
+        self.part.shared.push(snapped || (0..3).any(|a| cell[a] < o[a] || cell[a] >= o[a] + n - 1));
         let read = |ch: usize, q: [i32; 3]| {
             if snapped {
                 level_field.density.at(ch, q)

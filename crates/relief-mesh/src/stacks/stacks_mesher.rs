@@ -395,12 +395,18 @@ impl StacksMesher {
                     .iter()
                     .enumerate()
                     .map(|(v, key)| {
-                        *index[p].entry(*key).or_insert_with(|| {
+                        let mut push = || {
                             part.positions.push(node_part.positions[v]);
                             part.normals.push(node_part.normals[v]);
                             part.colors.push(node_part.colors[v]);
                             (part.positions.len() - 1) as u32
-                        })
+                        };
+                        // A vertex no other node makes needs no lookup.
+                        if node_part.shared[v] {
+                            *index[p].entry(*key).or_insert_with(push)
+                        } else {
+                            push()
+                        }
                     })
                     .collect();
                 part.quads.extend(node_part.quads.iter().map(|q| q.map(|v| map[v as usize])));
@@ -409,13 +415,6 @@ impl StacksMesher {
             }
         }
         TerrainMesh { parts: parts.into_iter().collect() }
-    }
-
-    /// World position of the terrain's centre, for framing a camera.
-    pub fn centre(&self) -> DVec3 {
-        let s = &self.mipmap.levels()[0];
-        let l = &self.lattices[0];
-        l.world([(s.width() as f64 - 1.0) / 2.0, (s.height() as f64 - 1.0) / 2.0, self.top_k / 2.0])
     }
 }
 
