@@ -11,7 +11,8 @@
 //!   ground is too low for a roof, the ground is cut down to the gap's floor (a ledge);
 //! - **caves**: where a second mask noise exceeds its threshold, an air gap a smoothly varying
 //!   depth below the ground, always under a roof of rock;
-//! - **sand** replacing the top of the ground on gentle slopes, thicker the gentler;
+//! - **sand** replacing the top of the ground on gentle slopes of the lower half of the
+//!   relief, thicker the gentler and the lower;
 //! - **arches**: along the zero lines of a third (ridge) noise, where a gate noise allows, a
 //!   slab of rock at a deck height above the smoothed ground: merged into the hills it meets
 //!   and free above the valleys between them, thinning out where it would hang too high;
@@ -53,8 +54,8 @@ pub struct StacksTerrainParams {
     pub max_height: f64,
     /// Fraction of the stacks whose ground lies under the sea level, 0 to 1 [default: 0.1].
     pub water_fraction: f64,
-    /// Thickness in metres of the sand on flat ground, thinning to none on slopes of 1 in
-    /// 1.5 and steeper, >= 0 [default: 3].
+    /// Thickness in metres of the sand on flat low ground, thinning to none on slopes of 2 in
+    /// 5 and steeper and on the upper half of the relief, >= 0 [default: 3].
     pub sand_thickness: f64,
 }
 
@@ -128,10 +129,7 @@ pub fn stacks_terrain(
     let bands: Vec<Vec<StackLayer>> = offsets[1..]
         .par_chunks_mut(band_rows * width)
         .enumerate()
-        .map_init(
-            || world.worker(),
-            |worker, (b, ends)| worker.band(&world, b * band_rows, ends),
-        )
+        .map_init(|| world.worker(), |worker, (b, ends)| worker.band(&world, b * band_rows, ends))
         .collect();
     // Band-local offsets made global; each band's layers moved over and freed in turn.
     let total: usize = bands.iter().map(Vec::len).sum();
@@ -212,7 +210,10 @@ impl Field {
     }
 
     fn scratch(&self) -> FieldScratch {
-        FieldScratch { caches: vec![CellCache::default(); self.octaves.len()], ..Default::default() }
+        FieldScratch {
+            caches: vec![CellCache::default(); self.octaves.len()],
+            ..Default::default()
+        }
     }
 
     /// The field at the stack centres of row `y` into `out` (one per column).
@@ -283,14 +284,14 @@ struct Sizes {
 }
 
 /// Overhang mask threshold and the width of its ramp to the full gap.
-const OVERHANG_THRESHOLD: f32 = 0.1;
+const OVERHANG_THRESHOLD: f32 = 0.16;
 const OVERHANG_RAMP: f32 = 0.12;
 /// Cave mask threshold and ramp.
-const CAVE_THRESHOLD: f32 = 0.14;
+const CAVE_THRESHOLD: f32 = 0.2;
 const CAVE_RAMP: f32 = 0.1;
 /// Half-width of the arches' ridge band in noise units, and the gate's threshold.
 const ARCH_BAND: f32 = 0.05;
-const ARCH_GATE: f32 = 0.08;
+const ARCH_GATE: f32 = 0.14;
 
 impl World {
     fn new(
@@ -426,6 +427,9 @@ fn box_blur(values: &[f32], width: usize, height: usize, r: usize) -> Vec<f32> {
     out
 }
 
+/// Slope (rise over run) from which no sand lies.
+const SAND_SLOPE: f32 = 0.4;
+
 /// Cubic smoothstep of `t` clamped to [0, 1].
 #[inline]
 fn smooth01(t: f32) -> f32 {
@@ -481,10 +485,9 @@ impl Worker {
         // Overhang stratum: an absolute height, carved inside the rock, cutting the ground
         // down to its floor where the roof would be too thin.
         let mask = self.rows[0][x];
-        let thickness =
-            s.overhang_gap * smooth01((mask - OVERHANG_THRESHOLD) / OVERHANG_RAMP) * {
-                0.55 + 0.9 * (self.rows[2][x] + 0.5).clamp(0.0, 1.0)
-            };
+        let thickness = s.overhang_gap * smooth01((mask - OVERHANG_THRESHOLD) / OVERHANG_RAMP) * {
+            0.55 + 0.9 * (self.rows[2][x] + 0.5).clamp(0.0, 1.0)
+        };
         if thickness >= MIN_LAYER {
             let centre = w.base + w.relief * (0.15 + 0.7 * (self.rows[1][x] + 0.5).clamp(0.0, 1.0));
             let (low, high) = ((centre - 0.5 * thickness).max(MIN_LAYER), centre + 0.5 * thickness);
@@ -509,7 +512,10 @@ impl Worker {
         // Sand: the top of the ground, thicker on gentler slopes.
         if let Some(last) = solid.last_mut() {
             let slope = slope(w, x, y);
-            let depth = w.sand * (1.0 - slope / 0.66).clamp(0.0, 1.0).powi(2);
+            let altitude = (last.1 - w.base) / w.relief;
+            let depth = w.sand
+                * (1.0 - slope / SAND_SLOPE).clamp(0.0, 1.0)
+                * (1.0 - smooth01((altitude - 0.4) / 0.2));
             if depth >= MIN_LAYER && last.1 - last.0 >= 2.0 * MIN_LAYER {
                 let split = (last.1 - depth).max(last.0 + MIN_LAYER);
                 let end = last.1;
@@ -629,14 +635,14 @@ mod tests {
     }
 
     #[test]
-    fn has_overhangs_sand_water_and_arches() {
+    fn has_overhangs_sand_and_water() {
         for (w, h) in [(64, 32), (400, 300)] {
             let stacks = terrain(w, h, 5);
             let cells = w * h;
             let layered = (0..cells).filter(|i| overhangs(stacks.stack(i % w, i / w))).count();
             assert!(layered > cells / 100, "{w}x{h}: {layered} stacks with overhangs");
             let count = |m: u8| stacks.layers().iter().filter(|l| l.material == m).count();
-            assert!(count(SAND) > cells / 10, "{w}x{h}: {} sand layers", count(SAND));
+            assert!(count(SAND) > cells / 25, "{w}x{h}: {} sand layers", count(SAND));
             assert!(count(WATER) > cells / 50, "{w}x{h}: {} water layers", count(WATER));
         }
     }
