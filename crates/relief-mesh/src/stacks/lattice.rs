@@ -28,7 +28,7 @@ impl Lattice {
 
     /// A height in lattice units along z.
     #[inline]
-    pub fn to_k(&self, z: f32) -> f64 {
+    pub fn to_k(self, z: f32) -> f64 {
         (z as f64 - self.origin.z) / self.step.z
     }
 
@@ -62,16 +62,6 @@ impl Block {
     /// The block grown by `r` points on every side.
     pub fn grown(&self, r: i32) -> Self {
         Block { min: self.min.map(|m| m - r), size: self.size.map(|s| s + 2 * r as usize) }
-    }
-
-    /// Index step between neighbours along `axis`.
-    #[inline]
-    pub fn stride(&self, axis: usize) -> usize {
-        match axis {
-            0 => 1,
-            1 => self.size[0],
-            _ => self.size[0] * self.size[1],
-        }
     }
 
     /// Index of local coordinates.

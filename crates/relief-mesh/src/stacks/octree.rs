@@ -60,16 +60,6 @@ impl Leaves {
         leaves
     }
 
-    /// The leaves, ordered.
-    pub fn iter(&self) -> impl Iterator<Item = &NodeKey> {
-        self.set.iter()
-    }
-
-    /// Number of leaves.
-    pub fn len(&self) -> usize {
-        self.set.len()
-    }
-
     /// The leaf covering the region of node `key` or a coarser leaf containing it, if any.
     fn covering(&self, key: &NodeKey) -> Option<NodeKey> {
         let mut k = *key;
@@ -143,7 +133,7 @@ mod tests {
             (0..2).flat_map(|x| (0..2).map(move |y| NodeKey { level: 3, at: [x, y, 0] })).collect();
         // Refine only towards the corner (0, 0, 0).
         let leaves = Leaves::select(&roots, |k| k.at == [0, 0, 0]);
-        assert!(leaves.iter().any(|k| k.level == 0));
+        assert!(leaves.coarser_neighbours().keys().any(|k| k.level == 0));
         for (leaf, coarser) in leaves.coarser_neighbours() {
             for c in coarser {
                 assert_eq!(c.level, leaf.level + 1, "{leaf:?} next to {c:?}");
