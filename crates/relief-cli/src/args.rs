@@ -665,6 +665,35 @@ pub enum GenerateCommand {
     Fbm(FbmArgs),
     /// A multi-layered height map scene (the reference simulator's JSON + .dat).
     Mlhm(MlhmArgs),
+    /// A material-stack terrain (Löffler et al. 2011): seeded fBm bedrock with overhangs,
+    /// caves and arches, sand on gentle slopes and water below a sea level.
+    Stacks(StacksGenArgs),
+}
+
+/// `relief generate stacks`.
+#[derive(Debug, Args)]
+pub struct StacksGenArgs {
+    /// Stacks along x (1 to 65536; the paper's benchmark terrain is 2048 x 4096).
+    #[arg(long, value_name = "N", value_parser = terrain_side, allow_hyphen_values = true)]
+    pub width: usize,
+    /// Stacks along y (1 to 65536).
+    #[arg(long, value_name = "N", value_parser = terrain_side, allow_hyphen_values = true)]
+    pub height: usize,
+    /// Random seed.
+    #[arg(long, default_value = "1", value_parser = seed, allow_hyphen_values = true)]
+    pub seed: u64,
+    /// Distance between neighbouring stacks in metres.
+    #[arg(long, value_name = "M", default_value = "2", value_parser = parse::positive_length, allow_hyphen_values = true)]
+    pub spacing: f64,
+    /// Highest height of the terrain in metres (the paper's 512 voxels of 1.5 m).
+    #[arg(long, value_name = "M", default_value = "768", value_parser = parse::positive_length, allow_hyphen_values = true)]
+    pub max_height: f64,
+    /// Memory generation may take, e.g. 512M, 8G (default: half the machine's or cgroup's memory).
+    #[arg(long, value_parser = parse::bytes, allow_hyphen_values = true)]
+    pub max_memory: Option<u64>,
+    /// Output: a .stacks file (relief's own material-stack file).
+    #[arg(short, long)]
+    pub output: PathBuf,
 }
 
 /// `relief generate mlhm`.

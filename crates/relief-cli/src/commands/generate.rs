@@ -1,20 +1,24 @@
 //! `relief generate`: write synthetic terrains.
 
-use crate::args::{FbmArgs, GenerateCommand, MlhmArgs};
+use crate::args::{FbmArgs, GenerateCommand, MlhmArgs, StacksGenArgs};
 use crate::{applies, input, memory, outputs, progress};
 use anyhow::{bail, Context, Result};
 use indicatif::ProgressBar;
-use relief_core::{GridGeometry, Mlhm, Precision};
+use relief_core::{GridGeometry, MaterialStacks, Mlhm, Precision, StackMaterial};
 use relief_io::{Format, GeoTiffStripWriter, MlhmScene, ReadOptions};
-use relief_sim::{carved_scene, rivers_rain, CarvedScene, FbmParams, FbmRows, RIVERS_RAIN_SEED};
+use relief_sim::{
+    carved_scene, rivers_rain, stacks_terrain, CarvedScene, FbmParams, FbmRows,
+    StacksTerrainParams, RIVERS_RAIN_SEED,
+};
 use std::path::Path;
 use std::time::Duration;
 
-/// Runs `relief generate fbm` or `relief generate mlhm`.
+/// Runs `relief generate fbm`, `relief generate mlhm` or `relief generate stacks`.
 pub fn run(command: &GenerateCommand) -> Result<()> {
     match command {
         GenerateCommand::Fbm(args) => run_fbm(args),
         GenerateCommand::Mlhm(args) => run_mlhm(args),
+        GenerateCommand::Stacks(args) => run_stacks(args),
     }
 }
 
@@ -236,6 +240,91 @@ fn layer_summary(map: &Mlhm) -> String {
     let layered = counts.iter().filter(|&&n| n >= 2).count();
     let most = counts.iter().copied().max().unwrap_or(0);
     format!("{layered} cells with 2+ columns, at most {most}")
+}
+
+/// Bytes per stack while a stacks terrain is generated and written, measured on the paper's
+/// 2048 x 4096 terrain with room to spare: the ground and its smoothed copy, the fBm field,
+/// the offsets, and the layers (about 1.5 a stack) twice over, built and then as file bytes.
+const STACKS_BYTES_PER_STACK: u128 = 80;
+
+/// Stacks from which generating takes seconds and a spinner is shown (on a terminal).
+const LONG_STACKS: usize = 1 << 20;
+
+/// Runs `relief generate stacks`.
+fn run_stacks(args: &StacksGenArgs) -> Result<()> {
+    if !relief_io::is_stacks_path(&args.output) {
+        bail!(
+            "output {}: a stacks terrain is written as a .{} file",
+            args.output.display(),
+            relief_io::STACKS_EXTENSION
+        );
+    }
+    let memory::Budget { bytes: limit, origin } = memory::budget(args.max_memory);
+    let needed = args.width as u128 * args.height as u128 * STACKS_BYTES_PER_STACK;
+    if needed > u128::from(limit) {
+        bail!(
+            "a {}x{} stacks terrain needs about {} MiB, over the {} MiB memory limit ({origin})",
+            args.width,
+            args.height,
+            needed >> 20,
+            limit >> 20
+        );
+    }
+    outputs::check_writable(&args.output)?;
+    let params = StacksTerrainParams {
+        spacing: args.spacing,
+        max_height: args.max_height,
+        ..StacksTerrainParams::default()
+    };
+    let spinner = (args.width * args.height >= LONG_STACKS).then(|| {
+        let spinner = ProgressBar::new_spinner();
+        spinner.set_message("generating stacks");
+        spinner.enable_steady_tick(Duration::from_millis(200));
+        spinner
+    });
+    let started = std::time::Instant::now();
+    let generated = stacks_terrain(args.width, args.height, args.seed, &params);
+    let elapsed = started.elapsed();
+    if let Some(spinner) = &spinner {
+        spinner.set_message(format!("writing {}", args.output.display()));
+    }
+    let written = generated
+        .context("generating the stacks terrain")
+        .and_then(|stacks| Ok(relief_io::write_stacks(&args.output, &stacks).map(|()| stacks)?));
+    if let Some(spinner) = spinner {
+        spinner.finish_and_clear();
+    }
+    let stacks = written?;
+    eprintln!(
+        "wrote {} ({} x {} stacks of {} m, {}; generated in {:.0} ms)",
+        args.output.display(),
+        stacks.width(),
+        stacks.height(),
+        args.spacing,
+        stacks_summary(&stacks),
+        elapsed.as_secs_f64() * 1e3
+    );
+    Ok(())
+}
+
+/// The layers and features of `stacks`, e.g. "12034567 layers, 120345 stacks with
+/// overhangs, heights 0.0..700.1 m".
+fn stacks_summary(stacks: &MaterialStacks) -> String {
+    let offsets = stacks.offsets();
+    let layers = stacks.layers();
+    let overhangs = offsets
+        .windows(2)
+        .filter(|w| {
+            layers[w[0] as usize..w[1] as usize]
+                .windows(2)
+                .any(|p| p[1].start > p[0].end && p[1].material != StackMaterial::WATER)
+        })
+        .count();
+    let (low, high) = stacks.height_range().unwrap_or((0.0, 0.0));
+    format!(
+        "{} layers, {overhangs} stacks with overhangs, heights {low:.1}..{high:.1} m",
+        layers.len()
+    )
 }
 
 #[cfg(test)]

@@ -17,7 +17,7 @@ pub fn run(args: &RenderArgs, started: Instant) -> Result<()> {
     }
     let scene = StacksScene::open(&args.scene)?;
     let load_ms = outputs::ms_since(started);
-    let camera = scene.camera.clone();
+    let camera = scene.camera;
     let tau = args.scene.tau.unwrap_or(super::mesh::DEFAULT_TAU_PX);
     let mut renderer = StacksRenderer::new(scene.mesher, tau)?;
     let mut gbuffer = GBuffer::new(camera.width() as usize, camera.height() as usize)?;

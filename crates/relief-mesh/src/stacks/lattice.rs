@@ -28,7 +28,7 @@ impl Lattice {
 
     /// A height in lattice units along z.
     #[inline]
-    pub fn to_k(&self, z: f32) -> f64 {
+    pub fn to_k(self, z: f32) -> f64 {
         (z as f64 - self.origin.z) / self.step.z
     }
 
