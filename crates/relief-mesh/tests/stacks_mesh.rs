@@ -222,3 +222,37 @@ fn a_camera_mesh_encloses_about_the_finest_mesh_volume() {
     println!("camera mesh {volume:.0} of {solid:.0} m3, nodes {:?}", &stats.per_level[..4]);
     assert!((volume - solid).abs() < 0.1 * solid, "{volume} against {solid}");
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Random terrains, cameras anywhere (inside the terrain's box, outside the domain,
+    /// looking up), any tau and either filter: the camera's mesh is closed and edge-manifold.
+    #[test]
+    fn camera_meshes_of_random_terrains_are_closed(
+        seed in 0u64..10_000,
+        eye in (-15.0f64..55.0, -15.0f64..45.0, 1.0f64..30.0),
+        target in (0.0f64..40.0, 0.0f64..33.0, -5.0f64..20.0),
+        tau in 2.0f64..40.0,
+        box_filter in any::<bool>(),
+    ) {
+        let eye = DVec3::new(eye.0, eye.1, eye.2);
+        let target = DVec3::new(target.0, target.1, target.2);
+        prop_assume!(eye.distance(target) > 1.0);
+        let smoothing =
+            if box_filter { Smoothing::Box { radius: 1 } } else { Smoothing::Gaussian { sigma: 1.0 } };
+        let mut mesher = StacksMesher::new(
+            StacksMipmap::new(random_stacks(40, 33, seed)),
+            StacksMeshParams { node_cells: 4, smoothing, ..Default::default() },
+        )
+        .unwrap();
+        let camera = Camera::look_at(eye, target, DVec3::Z, 60.0, 160, 120);
+        prop_assume!(camera.is_ok(), "a view along the up vector");
+        let (mesh, _) = mesher.mesh_for_camera(&camera.unwrap(), tau);
+        for part in &mesh.parts {
+            if let Err(e) = closed_and_manifold(part) {
+                return Err(TestCaseError::fail(format!("{}: {e}", part.name)));
+            }
+        }
+    }
+}

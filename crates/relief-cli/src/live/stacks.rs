@@ -28,7 +28,7 @@ impl LiveStacks {
         let describe = format!("{}x{} stacks terrain", level0.width(), level0.height());
         Ok(LiveStacks {
             bounds: scene.bounds,
-            camera: scene.camera.clone(),
+            camera: scene.camera,
             renderer: Mutex::new(StacksRenderer::new(scene.mesher, tau_px)?),
             sun,
             exposure,
@@ -38,7 +38,7 @@ impl LiveStacks {
 
     /// The starting camera.
     pub fn camera(&self) -> Camera {
-        self.camera.clone()
+        self.camera
     }
 
     /// The viewer's starting settings: one way to draw, the command line's sun and exposure.

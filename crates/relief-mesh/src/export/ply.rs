@@ -1,5 +1,6 @@
 //! Binary PLY (`.ply`) export: every non-empty part's vertices and faces concatenated, quads
-//! kept as quads.
+//! kept as quads when every face is a quad, else every face a triangle (the quads split along
+//! their shorter diagonal): readers such as trimesh need one length for every face list.
 //!
 //! The header is `format binary_little_endian 1.0` with `element vertex` (`float x y z`,
 //! `float nx ny nz`, `uchar red green blue`) and `element face` (`list uchar int
@@ -11,7 +12,7 @@
 //! bits, normals unit length.
 
 use super::{exported_parts, one_word_name, srgb_encode_u8, unit_normal};
-use crate::{MeshError, TerrainMesh};
+use crate::{MeshError, MeshPart, TerrainMesh};
 use std::path::Path;
 
 /// `mesh` as the bytes of a binary PLY file (see the module docs of [`crate::export`] for
@@ -19,7 +20,16 @@ use std::path::Path;
 pub fn to_ply_bytes(mesh: &TerrainMesh) -> Result<Vec<u8>, MeshError> {
     let parts = exported_parts(mesh)?;
     let vertices: usize = parts.iter().map(|p| p.vertex_count()).sum();
-    let faces: usize = parts.iter().map(|p| p.quads.len() + p.triangles.len()).sum();
+    let all_quads = parts.iter().all(|p| p.triangles.is_empty());
+    let faces_of = |p: &MeshPart| -> Vec<Vec<u32>> {
+        if all_quads {
+            p.quads.iter().map(|q| q.to_vec()).collect()
+        } else {
+            p.triangulated().into_iter().map(|t| t.to_vec()).collect()
+        }
+    };
+    let part_faces: Vec<Vec<Vec<u32>>> = parts.iter().map(|p| faces_of(p)).collect();
+    let faces: usize = part_faces.iter().map(Vec::len).sum();
     // PLY's indices here are `int`.
     if vertices > i32::MAX as usize + 1 {
         return Err(MeshError::Limits(format!(
@@ -30,7 +40,7 @@ pub fn to_ply_bytes(mesh: &TerrainMesh) -> Result<Vec<u8>, MeshError> {
     header.push_str("comment relief terrain mesh: right-handed, z up, metres; colours sRGB\n");
     let (mut first_vertex, mut first_face) = (0, 0);
     for (index, part) in parts.iter().enumerate() {
-        let (v, f) = (part.vertex_count(), part.quads.len() + part.triangles.len());
+        let (v, f) = (part.vertex_count(), part_faces[index].len());
         header.push_str(&format!(
             "comment part {} vertices {first_vertex}..{} faces {first_face}..{}\n",
             one_word_name(&part.name, index),
@@ -72,8 +82,7 @@ pub fn to_ply_bytes(mesh: &TerrainMesh) -> Result<Vec<u8>, MeshError> {
         }
     }
     let mut offset: u32 = 0;
-    for part in &parts {
-        let faces = part.quads.iter().map(|q| &q[..]).chain(part.triangles.iter().map(|t| &t[..]));
+    for (part, faces) in parts.iter().zip(&part_faces) {
         for face in faces {
             out.push(face.len() as u8);
             for &v in face {
@@ -99,16 +108,20 @@ mod tests {
     #[test]
     fn ply_header_and_binary_body_agree() {
         let mut mesh = two_cubes();
+        let quads = to_ply_bytes(&mesh).unwrap();
+        let end = quads.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+        assert_eq!(quads.len() - end, 16 * 27 + 12 * 17, "twelve quads");
+        // One triangle among quads: every face a triangle.
         mesh.parts[1].triangles.push([0, 1, 2]);
         let bytes = to_ply_bytes(&mesh).unwrap();
         let end = bytes.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
         let header = std::str::from_utf8(&bytes[..end]).unwrap();
         assert!(header.starts_with("ply\nformat binary_little_endian 1.0\n"), "{header}");
-        assert!(header.contains("comment part solid vertices 0..8 faces 0..6\n"), "{header}");
-        assert!(header.contains("comment part water vertices 8..16 faces 6..13\n"), "{header}");
-        assert!(header.contains("element vertex 16\n") && header.contains("element face 13\n"));
+        assert!(header.contains("comment part solid vertices 0..8 faces 0..12\n"), "{header}");
+        assert!(header.contains("comment part water vertices 8..16 faces 12..25\n"), "{header}");
+        assert!(header.contains("element vertex 16\n") && header.contains("element face 25\n"));
         let body = &bytes[end..];
-        assert_eq!(body.len(), 16 * 27 + 12 * 17 + 13);
+        assert_eq!(body.len(), 16 * 27 + 25 * 13);
         // Vertex 7 of the solid cube: (1, 1, 1), white.
         let v7 = &body[7 * 27..8 * 27];
         let f = |k: usize| f32::from_le_bytes(v7[4 * k..4 * k + 4].try_into().unwrap());
@@ -116,13 +129,11 @@ mod tests {
         assert_eq!(v7[24..], [255, 255, 255]);
         // The first face of the water cube, offset by the solid's 8 vertices.
         let faces = &body[16 * 27..];
-        let water = &faces[6 * 17..7 * 17];
-        assert_eq!(water[0], 4);
+        let water = &faces[12 * 13..13 * 13];
+        assert_eq!(water[0], 3);
         let index = |k: usize| i32::from_le_bytes(water[1 + 4 * k..5 + 4 * k].try_into().unwrap());
-        assert_eq!([index(0), index(1), index(2), index(3)], [8, 10, 11, 9]);
-        let last = &faces[12 * 17..];
-        assert_eq!(last[0], 3);
-        assert_eq!(last.len(), 13);
+        assert!((0..3).all(|k| (8..16).contains(&index(k))));
+        assert_eq!(faces.len(), 25 * 13);
     }
 
     #[test]

@@ -75,8 +75,7 @@ impl CellPatches {
                 match crossing.len() {
                     2 => union(&mut parent, edges[crossing[0]], edges[crossing[1]]),
                     4 => {
-                        let v = corners.map(|c| values[c]);
-                        let saddle = (v[0] * v[2] - v[1] * v[3]) / (v[0] + v[2] - v[1] - v[3]);
+                        let saddle = face_saddle(corners.map(|c| values[c]));
                         // The corners on the saddle's side are joined across the face; the
                         // others are cut off, each by the pair of edges that meet at it.
                         let cut_first = (saddle > iso) != inside(corners[0]);
@@ -107,6 +106,18 @@ impl CellPatches {
         }
         CellPatches { of_edge, count }
     }
+}
+
+/// The value at the saddle point of the bilinear interpolant of a face's four values `v`, in
+/// cyclic order around the face. Computed from the two diagonals, each sorted, so that every
+/// cell and quad that looks at the face, in whatever order, gets the same bits.
+pub(crate) fn face_saddle(v: [f32; 4]) -> f32 {
+    let sorted = |a: f32, b: f32| if a <= b { (a, b) } else { (b, a) };
+    let (mut d, mut e) = (sorted(v[0], v[2]), sorted(v[1], v[3]));
+    if (e.0, e.1) < (d.0, d.1) {
+        std::mem::swap(&mut d, &mut e);
+    }
+    (d.0 * d.1 - e.0 * e.1) / ((d.0 + d.1) - (e.0 + e.1))
 }
 
 /// The corner bits of corner `c` as offsets.

@@ -12,8 +12,8 @@
 //! level does and shares its vertices; faces that collapse are dropped or become triangles).
 //! Every vertex is named by a key (level, cell, patch), so nodes' meshes join by key.
 
-use super::cell_patches::{edge_corners, edge_index, other_axes, CellPatches};
-use super::density::{Channels, Density};
+use super::cell_patches::{edge_corners, edge_index, face_saddle, other_axes, CellPatches};
+use super::density::Density;
 use super::lattice::{Block, Lattice};
 use relief_core::DVec3;
 use rustc_hash::FxHashMap as HashMap;
@@ -77,8 +77,6 @@ pub(crate) struct NodeJob<'a> {
     pub n: i32,
     /// Lattice boxes (closed, in this node's level's points) of the coarser neighbours.
     pub coarser: &'a [([i32; 3], [i32; 3])],
-    /// The density channels.
-    pub channels: &'a Channels,
     /// Linear colour of each per-material channel's material.
     pub colors: &'a [[f32; 3]],
     /// Linear colour of the liquid.
@@ -211,6 +209,7 @@ fn mesh_part(job: &NodeJob, field: &Field, channel: usize) -> NodePart {
     // Vertices: allocated on first use, one per (resolved cell, patch).
     let mut vertices = VertexTable::new(job, field, channel);
     let mut faces: Vec<[u32; 4]> = vec![[0; 4]; total as usize];
+    let mut fans: Vec<[u32; 3]> = Vec::new();
     for (i, &count) in face_count.iter().enumerate() {
         if count == 0 {
             continue;
@@ -229,18 +228,63 @@ fn mesh_part(job: &NodeJob, field: &Field, channel: usize) -> NodePart {
                 1 => (2, 0),
                 _ => (0, 1),
             };
-            // The four cells around the edge, counter-clockwise seen from +axis.
-            let mut quad = [0u32; 4];
-            for (k, (db, dc)) in [(-1, -1), (0, -1), (0, 0), (-1, 0)].into_iter().enumerate() {
+            // The four cells around the edge, counter-clockwise seen from +axis, and the
+            // direction from the edge into the lattice face between each and the next.
+            let offsets = [(-1, -1), (0, -1), (0, 0), (-1, 0)];
+            let mut towards = [[0i32; 3]; 4];
+            (towards[0][c], towards[1][b], towards[2][c], towards[3][b]) = (-1, 1, 1, -1);
+            let resolved: [Resolved; 4] = std::array::from_fn(|k| {
                 let mut cell = p;
-                cell[b] += db;
-                cell[c] += dc;
-                quad[k] = vertices.vertex(cell, axis, p);
+                cell[b] += offsets[k].0;
+                cell[c] += offsets[k].1;
+                vertices.resolve(cell, p)
+            });
+            let quad: [u32; 4] = std::array::from_fn(|k| vertices.patch_vertex(resolved[k], axis));
+            // A lattice face the surface crosses on all four edges (a saddle) holds two
+            // separate crossings; their mesh edges get a vertex each on the face, so that
+            // two cells whose single patches both span the face do not share one edge four
+            // times.
+            let mut polygon = Vec::with_capacity(8);
+            let mut saddles = false;
+            if !collapses(&quad) {
+                for k in 0..4 {
+                    let (from, to) = (resolved[k], resolved[(k + 1) % 4]);
+                    if quad[k] == quad[(k + 1) % 4] {
+                        continue;
+                    }
+                    polygon.push(quad[k]);
+                    // Both cells on one grid: the face between them there; a fine cell next
+                    // to a coarser one: the fine face.
+                    let (on_coarse, edge) =
+                        if from.snapped && to.snapped { (true, from.edge) } else { (false, p) };
+                    if let Some(v) = vertices.saddle_vertex(on_coarse, edge, axis, towards[k]) {
+                        polygon.push(v);
+                        saddles = true;
+                    }
+                }
+            }
+            if !saddles {
+                // No saddle face: the quad, or what stitching collapsed it to.
+                polygon = quad.to_vec();
             }
             if !inside {
-                quad.reverse();
+                polygon.reverse();
             }
-            faces[slot] = quad;
+            if !saddles {
+                faces[slot] = [polygon[0], polygon[1], polygon[2], polygon[3]];
+            } else {
+                // A fan around the edge's own crossing.
+                let snapped = resolved.iter().all(|r| r.snapped);
+                let centre =
+                    vertices.edge_vertex(snapped, if snapped { resolved[0].edge } else { p }, axis);
+                for k in 0..polygon.len() {
+                    let (u, w) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+                    if u != w {
+                        fans.push([centre, u, w]);
+                    }
+                }
+                faces[slot] = [u32::MAX; 4];
+            }
             slot += 1;
         }
     }
@@ -250,10 +294,19 @@ fn mesh_part(job: &NodeJob, field: &Field, channel: usize) -> NodePart {
     part.positions = positions;
     part.normals = normals;
     part.colors = colors;
-    for quad in faces {
+    for quad in faces.into_iter().filter(|q| q[0] != u32::MAX) {
         push_face(&mut part, quad);
     }
+    part.triangles.extend(fans);
     part
+}
+
+/// Whether a quad whose corners stitching may have merged has collapsed to a segment or a
+/// point (fewer than three corners left, or two opposite corners merged).
+fn collapses(quad: &[u32; 4]) -> bool {
+    let distinct: Vec<u32> =
+        (0..4).filter(|&k| quad[k] != quad[(k + 1) % 4]).map(|k| quad[k]).collect();
+    distinct.len() < 3 || (distinct.len() == 3 && distinct[0] == distinct[2])
 }
 
 /// Adds a quad, or the triangle it collapsed to, or nothing when it collapsed further.
@@ -295,94 +348,161 @@ impl<'a> VertexTable<'a> {
         }
     }
 
-    /// The vertex of the patch of `cell` that the lattice edge from `p` along `axis` crosses.
-    fn vertex(&mut self, cell: [i32; 3], axis: usize, p: [i32; 3]) -> u32 {
+    /// The cell a quad corner takes: `cell` itself, or, when all its corners are fitted, the
+    /// coarser cell `floor(cell / 2)`; with the quad's edge start `p` on the same grid.
+    fn resolve(&self, cell: [i32; 3], p: [i32; 3]) -> Resolved {
         let field = self.field;
         let snapped = field.coarse.is_some() && (0..8).all(|c| field.fitted(corner(cell, c)));
-        let (level_field, cell, p) = if snapped {
+        if snapped {
             // The fitted border meshes as the coarser level: the edge is the coarser edge
             // from floor(p / 2), the cell the coarser cell floor(cell / 2).
-            let coarse = field.coarse.expect("fitted points have a coarser level");
-            (coarse, cell.map(|c| c.div_euclid(2)), p.map(|c| c.div_euclid(2)))
+            Resolved {
+                snapped,
+                cell: cell.map(|c| c.div_euclid(2)),
+                edge: p.map(|c| c.div_euclid(2)),
+            }
         } else {
-            (field.fine, cell, p)
-        };
-        let offset = std::array::from_fn(|a| p[a] - cell[a]);
+            Resolved { snapped, cell, edge: p }
+        }
+    }
+
+    /// The level a resolved cell belongs to.
+    fn level(&self, snapped: bool) -> &'a LevelField<'a> {
+        if snapped {
+            self.field.coarse.expect("snapped cells have a coarser level")
+        } else {
+            self.field.fine
+        }
+    }
+
+    /// Channel `ch` at lattice point `q` of the fine (fitted) or the coarser field.
+    fn read(&self, snapped: bool, ch: usize, q: [i32; 3]) -> f32 {
+        if snapped {
+            self.level(true).density.at(ch, q)
+        } else {
+            self.field.at(ch, q)
+        }
+    }
+
+    /// The vertex of the patch of cell `r` that the lattice edge from `r.edge` along `axis`
+    /// crosses.
+    fn patch_vertex(&mut self, r: Resolved, axis: usize) -> u32 {
+        let level = self.level(r.snapped);
+        let offset = std::array::from_fn(|a| r.edge[a] - r.cell[a]);
         debug_assert!(offset.iter().all(|&d| d == 0 || d == 1), "{offset:?}");
         let e = edge_index(axis, offset);
         let channel = self.channel;
-        let corner_values_here = || {
-            if snapped {
-                corner_values(|q| level_field.density.at(channel, q), cell)
-            } else {
-                corner_values(|q| field.at(channel, q), cell)
-            }
-        };
+        let values = corner_values(|q| self.read(r.snapped, channel, q), r.cell);
         let patches = *self
             .patches
-            .entry((level_field.level, cell))
-            .or_insert_with(|| CellPatches::new(&corner_values_here(), ISO));
+            .entry((level.level, r.cell))
+            .or_insert_with(|| CellPatches::new(&values, ISO));
         let patch = patches.of_edge[e];
-        debug_assert_ne!(patch, CellPatches::NONE, "edge {e} of cell {cell:?} is not crossed");
-        let key = vertex_key(level_field.level, cell, patch);
+        debug_assert_ne!(patch, CellPatches::NONE, "edge {e} of cell {:?} is not crossed", r.cell);
+        let key = vertex_key(level.level, r.cell, patch);
         if let Some(&v) = self.index.get(&key) {
             return v;
         }
-        let v = self.part.keys.len() as u32;
-        self.index.insert(key, v);
-        self.part.keys.push(key);
-        let (o, n) = (self.job.origin, self.job.n);
-        self.part.shared.push(snapped || (0..3).any(|a| cell[a] < o[a] || cell[a] >= o[a] + n - 1));
-        let read = |ch: usize, q: [i32; 3]| {
-            if snapped {
-                level_field.density.at(ch, q)
-            } else {
-                field.at(ch, q)
-            }
-        };
-        let values = corner_values_here();
-        let (position, normal, color) =
-            self.attributes(level_field.lattice, cell, &values, &patches, patch, &read);
-        self.part.positions.push(position);
-        self.part.normals.push(normal);
-        self.part.colors.push(color);
-        v
-    }
-
-    /// Position (the mean of the patch's edge crossings), normal (the 3D Sobel gradient,
-    /// interpolated) and colour (the materials' smoothed densities, interpolated) of a vertex.
-    fn attributes(
-        &self,
-        lattice: &Lattice,
-        cell: [i32; 3],
-        values: &[f32; 8],
-        patches: &CellPatches,
-        patch: u8,
-        read: &dyn Fn(usize, [i32; 3]) -> f32,
-    ) -> (DVec3, [f32; 3], [f32; 3]) {
+        // The mean of the patch's edge crossings.
         let mut sum = [0f64; 3];
         let mut count = 0;
-        for e in 0..12 {
-            if patches.of_edge[e] != patch {
-                continue;
-            }
+        for e in (0..12).filter(|&e| patches.of_edge[e] == patch) {
             let (a, b) = edge_corners(e);
-            let t = ((ISO - values[a]) / (values[b] - values[a])) as f64;
+            let t = crossing(values[a], values[b]);
             for (axis, s) in sum.iter_mut().enumerate() {
                 let from = ((a >> axis) & 1) as f64;
-                let to = ((b >> axis) & 1) as f64;
-                *s += from + t * (to - from);
+                *s += from + t * (((b >> axis) & 1) as f64 - from);
             }
             count += 1;
         }
         let local = sum.map(|s| s / count as f64);
-        let weights = trilinear(local);
-        let position = lattice.world(std::array::from_fn(|a| cell[a] as f64 + local[a]));
+        let (o, n) = (self.job.origin, self.job.n);
+        let shared = r.snapped || (0..3).any(|a| r.cell[a] < o[a] || r.cell[a] >= o[a] + n - 1);
+        self.add_vertex(key, shared, r.snapped, r.cell, local)
+    }
 
+    /// The vertex of the crossing of a saddle face that the lattice edge from `p` along
+    /// `axis` takes part in: the face spans `axis` and the unit step `towards`; `None` when the
+    /// face is no saddle (two of its edges crossed, not four).
+    fn saddle_vertex(
+        &mut self,
+        snapped: bool,
+        p: [i32; 3],
+        axis: usize,
+        towards: [i32; 3],
+    ) -> Option<u32> {
+        let step = |q: [i32; 3], d: [i32; 3]| -> [i32; 3] { std::array::from_fn(|a| q[a] + d[a]) };
+        let mut unit = [0; 3];
+        unit[axis] = 1;
+        let q = [p, step(p, unit), step(step(p, unit), towards), step(p, towards)];
+        let channel = self.channel;
+        let v = q.map(|x| self.read(snapped, channel, x));
+        let inside = v.map(|x| x > ISO);
+        if !(inside[0] != inside[1] && inside[2] == inside[0] && inside[3] == inside[1]) {
+            return None;
+        }
+        // Corners 0 and 2 joined across the face: corners 1 and 3 are cut off, this edge's
+        // crossing pairs with the one of edge 1-2; else with the one of edge 3-0.
+        let first_joined = (face_saddle(v) > ISO) == inside[0];
+        let (cut, partner) = if first_joined { (1, (1, 2)) } else { (0, (3, 0)) };
+        let face_min: [i32; 3] = std::array::from_fn(|a| p[a] + towards[a].min(0));
+        let normal_axis = 3 - axis - (0..3).find(|&a| towards[a] != 0).expect("a step");
+        let (t0, t1) = other_axes(normal_axis);
+        let corner_bits = (q[cut][t0] - face_min[t0]) | ((q[cut][t1] - face_min[t1]) << 1);
+        let key = vertex_key(
+            self.level(snapped).level,
+            face_min,
+            0x80 | ((normal_axis as u8) << 4) | corner_bits as u8,
+        );
+        if let Some(&v) = self.index.get(&key) {
+            return Some(v);
+        }
+        let point = |x: [i32; 3], y: [i32; 3], vx: f32, vy: f32| -> [f64; 3] {
+            // From the lower end, as every crossing is computed.
+            let (lo, hi, vlo, vhi) = if x < y { (x, y, vx, vy) } else { (y, x, vy, vx) };
+            let t = crossing(vlo, vhi);
+            std::array::from_fn(|a| (lo[a] - face_min[a]) as f64 + t * (hi[a] - lo[a]) as f64)
+        };
+        let m = point(q[0], q[1], v[0], v[1]);
+        let n = point(q[partner.0], q[partner.1], v[partner.0], v[partner.1]);
+        let local = std::array::from_fn(|a| 0.5 * (m[a] + n[a]));
+        Some(self.add_vertex(key, true, snapped, face_min, local))
+    }
+
+    /// The vertex at the crossing of the lattice edge from `p` along `axis`.
+    fn edge_vertex(&mut self, snapped: bool, p: [i32; 3], axis: usize) -> u32 {
+        let key = vertex_key(self.level(snapped).level, p, 0x40 | axis as u8);
+        if let Some(&v) = self.index.get(&key) {
+            return v;
+        }
+        let mut q = p;
+        q[axis] += 1;
+        let channel = self.channel;
+        let t = crossing(self.read(snapped, channel, p), self.read(snapped, channel, q));
+        let mut local = [0.0; 3];
+        local[axis] = t;
+        self.add_vertex(key, true, snapped, p, local)
+    }
+
+    /// Adds the vertex `key` at `local` coordinates of the cell from `base`: its position,
+    /// normal (the 3D Sobel gradient of the density, interpolated) and colour (the materials'
+    /// densities, interpolated).
+    fn add_vertex(
+        &mut self,
+        key: u128,
+        shared: bool,
+        snapped: bool,
+        base: [i32; 3],
+        local: [f64; 3],
+    ) -> u32 {
+        let lattice = self.level(snapped).lattice;
+        let weights = trilinear(local);
+        let position = lattice.world(std::array::from_fn(|a| base[a] as f64 + local[a]));
+        let read = |ch: usize, q: [i32; 3]| self.read(snapped, ch, q);
         let mut gradient = DVec3::ZERO;
         for (c, &w) in weights.iter().enumerate() {
             if w != 0.0 {
-                gradient += sobel(read, self.channel, corner(cell, c)) * w;
+                gradient += sobel(&read, self.channel, corner(base, c)) * w;
             }
         }
         let gradient = gradient / lattice.step;
@@ -391,7 +511,6 @@ impl<'a> VertexTable<'a> {
         } else {
             [0.0, 0.0, 1.0]
         };
-
         let color = if self.channel == 1 {
             self.job.liquid_color
         } else {
@@ -400,7 +519,9 @@ impl<'a> VertexTable<'a> {
             for (m, color) in self.job.colors.iter().enumerate() {
                 let mut w_m = 0.0;
                 for (c, &w) in weights.iter().enumerate() {
-                    w_m += w * read(2 + m, corner(cell, c)).max(0.0) as f64;
+                    if w != 0.0 {
+                        w_m += w * read(2 + m, corner(base, c)).max(0.0) as f64;
+                    }
                 }
                 total += w_m;
                 for k in 0..3 {
@@ -413,9 +534,31 @@ impl<'a> VertexTable<'a> {
                 self.job.colors.first().copied().unwrap_or([0.5; 3])
             }
         };
-        let _ = self.job.channels;
-        (position, normal, color)
+        let v = self.part.keys.len() as u32;
+        self.index.insert(key, v);
+        self.part.keys.push(key);
+        self.part.shared.push(shared);
+        self.part.positions.push(position);
+        self.part.normals.push(normal);
+        self.part.colors.push(color);
+        v
     }
+}
+
+/// Where the iso-surface crosses the lattice edge from a point of value `from` to its upper
+/// neighbour of value `to`, as a fraction of the edge.
+#[inline]
+fn crossing(from: f32, to: f32) -> f64 {
+    ((ISO - from) / (to - from)) as f64
+}
+
+/// A quad corner's cell as the mesh takes it: the node's own level's, or the coarser cell a
+/// cell of fitted corners takes (`snapped`), with the quad's edge start on the same grid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Resolved {
+    snapped: bool,
+    cell: [i32; 3],
+    edge: [i32; 3],
 }
 
 /// Trilinear weights of the eight corners at local coordinates `l`.

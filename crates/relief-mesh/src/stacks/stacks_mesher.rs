@@ -366,7 +366,6 @@ impl StacksMesher {
             origin: o,
             n,
             coarser: &boxes,
-            channels: &self.channels,
             colors: &self.colors,
             liquid_color: self.liquid_color,
         };
