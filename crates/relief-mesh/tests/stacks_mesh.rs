@@ -98,6 +98,19 @@ fn a_slab_meshes_closed_with_its_volume() {
     // The smoothing and the dual vertices round the slab's edges off: about a cell's
     // chamfer along each of them.
     assert!((volume - 9600.0).abs() < 0.05 * 9600.0, "volume {volume}");
+    // The Sobel normals of the flat top point up, those of the walls sideways.
+    let (mut top, mut wall) = (0, 0);
+    for (p, n) in solid.positions.iter().zip(&solid.normals) {
+        if p.z > 7.99 && (3.0..37.0).contains(&p.x) && (3.0..27.0).contains(&p.y) {
+            assert!(n[2] > 0.999, "normal {n:?} at {p}");
+            top += 1;
+        }
+        if p.x < 0.01 && (3.0..5.0).contains(&p.z) && (3.0..27.0).contains(&p.y) {
+            assert!(n[0] < -0.999, "normal {n:?} at {p}");
+            wall += 1;
+        }
+    }
+    assert!(top > 500 && wall > 20, "{top} top and {wall} wall vertices checked");
     assert!(mesh.part("water").unwrap().is_empty());
 }
 

@@ -184,18 +184,15 @@ fn smooth(values: Vec<f32>, wide: Block, inner: Block, kernel: &[f32]) -> Vec<f3
             _ => size[0] * size[1],
         };
         let mut out = vec![0f32; to[0] * to[1] * to[2]];
-        let mut o = 0;
-        for z in 0..to[2] {
-            for y in 0..to[1] {
-                let row = (z * size[1] + y) * size[0];
-                for x in 0..to[0] {
-                    let base = row + x;
-                    let mut sum = 0f32;
-                    for (t, w) in kernel.iter().enumerate() {
-                        sum += w * current[base + t * stride];
-                    }
-                    out[o] = sum;
-                    o += 1;
+        // Row by row, each tap added over the whole row: contiguous, so it vectorizes; every
+        // output still sums its taps in the kernel's order.
+        for (row, out_row) in out.chunks_exact_mut(to[0]).enumerate() {
+            let (y, z) = (row % to[1], row / to[1]);
+            let start = (z * size[1] + y) * size[0];
+            for (t, &w) in kernel.iter().enumerate() {
+                let src = &current[start + t * stride..start + t * stride + to[0]];
+                for (o, &v) in out_row.iter_mut().zip(src) {
+                    *o += w * v;
                 }
             }
         }

@@ -333,6 +333,11 @@ struct VertexTable<'a> {
     channel: usize,
     index: HashMap<u128, u32>,
     patches: HashMap<(usize, [i32; 3]), CellPatches>,
+    /// The node's own cells (`[o - 1, o + n)` along each axis, unsnapped): their patches and
+    /// their patch vertices, looked up without hashing.
+    own_cells: Block,
+    own_patches: Vec<Option<CellPatches>>,
+    own_vertices: Vec<[u32; 4]>,
     part: NodePart,
 }
 
@@ -344,6 +349,9 @@ impl<'a> VertexTable<'a> {
             channel,
             index: HashMap::default(),
             patches: HashMap::default(),
+            own_cells: Block::between(job.origin.map(|c| c - 1), job.origin.map(|c| c + job.n)),
+            own_patches: vec![None; ((job.n + 1) as usize).pow(3)],
+            own_vertices: vec![[u32::MAX; 4]; ((job.n + 1) as usize).pow(3)],
             part: NodePart::default(),
         }
     }
@@ -376,6 +384,7 @@ impl<'a> VertexTable<'a> {
     }
 
     /// Channel `ch` at lattice point `q` of the fine (fitted) or the coarser field.
+    #[inline]
     fn read(&self, snapped: bool, ch: usize, q: [i32; 3]) -> f32 {
         if snapped {
             self.level(true).density.at(ch, q)
@@ -392,18 +401,41 @@ impl<'a> VertexTable<'a> {
         debug_assert!(offset.iter().all(|&d| d == 0 || d == 1), "{offset:?}");
         let e = edge_index(axis, offset);
         let channel = self.channel;
-        let values = corner_values(|q| self.read(r.snapped, channel, q), r.cell);
-        let patches = *self
-            .patches
-            .entry((level.level, r.cell))
-            .or_insert_with(|| CellPatches::new(&values, ISO));
+        let values = |table: &Self| corner_values(|q| table.read(r.snapped, channel, q), r.cell);
+        let own = (!r.snapped).then(|| self.own_cells.index_of(r.cell));
+        let cached = match own {
+            Some(i) => self.own_patches[i],
+            None => self.patches.get(&(level.level, r.cell)).copied(),
+        };
+        let patches = match cached {
+            Some(patches) => patches,
+            None => {
+                let patches = CellPatches::new(&values(self), ISO);
+                match own {
+                    Some(i) => self.own_patches[i] = Some(patches),
+                    None => {
+                        self.patches.insert((level.level, r.cell), patches);
+                    }
+                }
+                patches
+            }
+        };
         let patch = patches.of_edge[e];
         debug_assert_ne!(patch, CellPatches::NONE, "edge {e} of cell {:?} is not crossed", r.cell);
         let key = vertex_key(level.level, r.cell, patch);
-        if let Some(&v) = self.index.get(&key) {
-            return v;
+        match own {
+            Some(i) if self.own_vertices[i][patch as usize] != u32::MAX => {
+                return self.own_vertices[i][patch as usize]
+            }
+            None => {
+                if let Some(&v) = self.index.get(&key) {
+                    return v;
+                }
+            }
+            _ => {}
         }
         // The mean of the patch's edge crossings.
+        let values = values(self);
         let mut sum = [0f64; 3];
         let mut count = 0;
         for e in (0..12).filter(|&e| patches.of_edge[e] == patch) {
@@ -418,7 +450,14 @@ impl<'a> VertexTable<'a> {
         let local = sum.map(|s| s / count as f64);
         let (o, n) = (self.job.origin, self.job.n);
         let shared = r.snapped || (0..3).any(|a| r.cell[a] < o[a] || r.cell[a] >= o[a] + n - 1);
-        self.add_vertex(key, shared, r.snapped, r.cell, local)
+        let v = self.add_vertex(key, shared, r.snapped, r.cell, local);
+        match own {
+            Some(i) => self.own_vertices[i][patch as usize] = v,
+            None => {
+                self.index.insert(key, v);
+            }
+        }
+        v
     }
 
     /// The vertex of the crossing of a saddle face that the lattice edge from `p` along
@@ -466,7 +505,9 @@ impl<'a> VertexTable<'a> {
         let m = point(q[0], q[1], v[0], v[1]);
         let n = point(q[partner.0], q[partner.1], v[partner.0], v[partner.1]);
         let local = std::array::from_fn(|a| 0.5 * (m[a] + n[a]));
-        Some(self.add_vertex(key, true, snapped, face_min, local))
+        let v = self.add_vertex(key, true, snapped, face_min, local);
+        self.index.insert(key, v);
+        Some(v)
     }
 
     /// The vertex at the crossing of the lattice edge from `p` along `axis`.
@@ -481,10 +522,13 @@ impl<'a> VertexTable<'a> {
         let t = crossing(self.read(snapped, channel, p), self.read(snapped, channel, q));
         let mut local = [0.0; 3];
         local[axis] = t;
-        self.add_vertex(key, true, snapped, p, local)
+        let v = self.add_vertex(key, true, snapped, p, local);
+        self.index.insert(key, v);
+        v
     }
 
-    /// Adds the vertex `key` at `local` coordinates of the cell from `base`: its position,
+    /// Adds the vertex `key` (its caller remembers it) at `local` coordinates of the cell from
+    /// `base`: its position,
     /// normal (the 3D Sobel gradient of the density, interpolated) and colour (the materials'
     /// densities, interpolated).
     fn add_vertex(
@@ -499,11 +543,26 @@ impl<'a> VertexTable<'a> {
         let weights = trilinear(local);
         let position = lattice.world(std::array::from_fn(|a| base[a] as f64 + local[a]));
         let read = |ch: usize, q: [i32; 3]| self.read(snapped, ch, q);
+        // The 4 x 4 x 4 points around the cell, read once: the Sobel gradients of its corners.
+        let (block, values) = if snapped {
+            let level = self.level(true);
+            (level.density.block, &level.density.channels[self.channel][..])
+        } else {
+            (self.field.fine.density.block, &self.field.values[self.channel][..])
+        };
+        let first = block.index_of(base.map(|c| c - 1));
+        let (sy, sz) = (block.size[0], block.size[0] * block.size[1]);
+        let mut around = [[[0f32; 4]; 4]; 4];
+        for (k, plane) in around.iter_mut().enumerate() {
+            for (j, row) in plane.iter_mut().enumerate() {
+                let start = first + k * sz + j * sy;
+                row.copy_from_slice(&values[start..start + 4]);
+            }
+        }
+        let corners = sobel(&around);
         let mut gradient = DVec3::ZERO;
         for (c, &w) in weights.iter().enumerate() {
-            if w != 0.0 {
-                gradient += sobel(&read, self.channel, corner(base, c)) * w;
-            }
+            gradient += corners[c] * w;
         }
         let gradient = gradient / lattice.step;
         let normal = if gradient.length_squared() > 0.0 {
@@ -535,7 +594,6 @@ impl<'a> VertexTable<'a> {
             }
         };
         let v = self.part.keys.len() as u32;
-        self.index.insert(key, v);
         self.part.keys.push(key);
         self.part.shared.push(shared);
         self.part.positions.push(position);
@@ -568,24 +626,48 @@ fn trilinear(l: [f64; 3]) -> [f64; 8] {
     })
 }
 
-/// The 3D Sobel gradient of a channel at lattice point `p`, lattice units.
-fn sobel(read: &dyn Fn(usize, [i32; 3]) -> f32, channel: usize, p: [i32; 3]) -> DVec3 {
-    let mut g = [0f64; 3];
-    for (axis, out) in g.iter_mut().enumerate() {
-        let (b, c) = other_axes(axis);
-        for db in -1..=1i32 {
-            for dc in -1..=1i32 {
-                let w = ((2 - db.abs()) * (2 - dc.abs())) as f64;
-                let mut q = p;
-                q[b] += db;
-                q[c] += dc;
-                let mut hi = q;
-                hi[axis] += 1;
-                let mut lo = q;
-                lo[axis] -= 1;
-                *out += w * (read(channel, hi) - read(channel, lo)) as f64;
+/// The 3D Sobel gradients, lattice units, at the eight corners of the cell whose 4 x 4 x 4
+/// surrounding points are `around` (`around[z][y][x]`, the cell's corner 0 at index 1):
+/// central differences along each axis, smoothed by (1, 2, 1) along the other two.
+fn sobel(around: &[[[f32; 4]; 4]; 4]) -> [DVec3; 8] {
+    let g = |x: usize, y: usize, z: usize| around[z][y][x];
+    let mut out = [[0f32; 3]; 8];
+    for axis in 0..3 {
+        // Differences along `axis` at the two inner positions of that axis, all positions of
+        // the other two; then (1, 2, 1) along each of them at their inner positions.
+        let mut d = [[[0f32; 4]; 4]; 2];
+        for (i, plane) in d.iter_mut().enumerate() {
+            for (u, row) in plane.iter_mut().enumerate() {
+                for (v, value) in row.iter_mut().enumerate() {
+                    let (hi, lo) = match axis {
+                        0 => (g(i + 2, u, v), g(i, u, v)),
+                        1 => (g(u, i + 2, v), g(u, i, v)),
+                        _ => (g(u, v, i + 2), g(u, v, i)),
+                    };
+                    *value = hi - lo;
+                }
+            }
+        }
+        for i in 0..2 {
+            for u in 0..2 {
+                for v in 0..2 {
+                    let mut sum = 0f32;
+                    for (du, wu) in [1f32, 2.0, 1.0].into_iter().enumerate() {
+                        for (dv, wv) in [1f32, 2.0, 1.0].into_iter().enumerate() {
+                            sum += wu * wv * d[i][u + du][v + dv];
+                        }
+                    }
+                    // Corner bits: x in bit 0, y in bit 1, z in bit 2; (u, v) are the other
+                    // two axes in increasing order.
+                    let (x, y, z) = match axis {
+                        0 => (i, u, v),
+                        1 => (u, i, v),
+                        _ => (u, v, i),
+                    };
+                    out[x | (y << 1) | (z << 2)][axis] = sum / 32.0;
+                }
             }
         }
     }
-    DVec3::from_array(g) / 32.0
+    out.map(|g| DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64))
 }

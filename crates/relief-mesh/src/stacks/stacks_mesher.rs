@@ -239,7 +239,7 @@ impl StacksMesher {
         let meshes: Vec<NodeMesh> = nodes.par_iter().map(|(k, c)| self.mesh_one(k, c)).collect();
         let mesh_ms = ms(start);
         let start = Instant::now();
-        let mesh = self.join(meshes.iter());
+        let mesh = self.join(&meshes.iter().collect::<Vec<_>>());
         let mut stats = MeshStats {
             nodes: nodes.len(),
             meshed: nodes.len(),
@@ -314,7 +314,7 @@ impl StacksMesher {
     pub fn mesh_for_camera(&mut self, camera: &Camera, tau: f64) -> (TerrainMesh, MeshStats) {
         let (meshes, mut stats) = self.frame_nodes(camera, tau);
         let start = Instant::now();
-        let mesh = self.join(meshes.iter().map(|m| m.as_ref()));
+        let mesh = self.join(&meshes.iter().map(|m| m.as_ref()).collect::<Vec<_>>());
         stats.join_ms = ms(start);
         (mesh, stats)
     }
@@ -373,48 +373,51 @@ impl StacksMesher {
     }
 
     /// Joins node meshes into one terrain mesh, each vertex once (by key).
-    fn join<'m>(&self, meshes: impl Iterator<Item = &'m NodeMesh> + Clone) -> TerrainMesh {
-        let mut parts =
-            [MeshPart::new("solid", [1.0; 4]), MeshPart::new("water", [1.0, 1.0, 1.0, 0.7])];
-        let mut index: [rustc_hash::FxHashMap<u128, u32>; 2] = Default::default();
-        for p in 0..2 {
-            let vertices: usize = meshes.clone().map(|m| m.parts[p].keys.len()).sum();
-            let quads: usize = meshes.clone().map(|m| m.parts[p].quads.len()).sum();
-            index[p].reserve(vertices);
-            parts[p].positions.reserve(vertices);
-            parts[p].normals.reserve(vertices);
-            parts[p].colors.reserve(vertices);
-            parts[p].quads.reserve(quads);
-        }
-        for mesh in meshes {
-            for (p, node_part) in mesh.parts.iter().enumerate() {
-                let part = &mut parts[p];
-                let map: Vec<u32> = node_part
-                    .keys
-                    .iter()
-                    .enumerate()
-                    .map(|(v, key)| {
-                        let mut push = || {
-                            part.positions.push(node_part.positions[v]);
-                            part.normals.push(node_part.normals[v]);
-                            part.colors.push(node_part.colors[v]);
-                            (part.positions.len() - 1) as u32
-                        };
-                        // A vertex no other node makes needs no lookup.
-                        if node_part.shared[v] {
-                            *index[p].entry(*key).or_insert_with(push)
-                        } else {
-                            push()
-                        }
-                    })
-                    .collect();
-                part.quads.extend(node_part.quads.iter().map(|q| q.map(|v| map[v as usize])));
-                part.triangles
-                    .extend(node_part.triangles.iter().map(|t| t.map(|v| map[v as usize])));
-            }
-        }
-        TerrainMesh { parts: parts.into_iter().collect() }
+    fn join(&self, meshes: &[&NodeMesh]) -> TerrainMesh {
+        // The solid and the water are joined at the same time.
+        let (solid, water) = rayon::join(
+            || join_part(meshes, 0, MeshPart::new("solid", [1.0; 4])),
+            || join_part(meshes, 1, MeshPart::new("water", [1.0, 1.0, 1.0, 0.7])),
+        );
+        TerrainMesh { parts: vec![solid, water] }
     }
+}
+
+/// Part `p` of the nodes' meshes joined into `part`, each vertex once (by key; a vertex only
+/// one node makes needs no lookup).
+fn join_part(meshes: &[&NodeMesh], p: usize, mut part: MeshPart) -> MeshPart {
+    let vertices: usize = meshes.iter().map(|m| m.parts[p].keys.len()).sum();
+    let quads: usize = meshes.iter().map(|m| m.parts[p].quads.len()).sum();
+    let mut index = rustc_hash::FxHashMap::<u128, u32>::default();
+    index.reserve(vertices / 2);
+    part.positions.reserve(vertices);
+    part.normals.reserve(vertices);
+    part.colors.reserve(vertices);
+    part.quads.reserve(quads);
+    for mesh in meshes {
+        let node_part = &mesh.parts[p];
+        let map: Vec<u32> = node_part
+            .keys
+            .iter()
+            .enumerate()
+            .map(|(v, key)| {
+                let mut push = || {
+                    part.positions.push(node_part.positions[v]);
+                    part.normals.push(node_part.normals[v]);
+                    part.colors.push(node_part.colors[v]);
+                    (part.positions.len() - 1) as u32
+                };
+                if node_part.shared[v] {
+                    *index.entry(*key).or_insert_with(push)
+                } else {
+                    push()
+                }
+            })
+            .collect();
+        part.quads.extend(node_part.quads.iter().map(|q| q.map(|v| map[v as usize])));
+        part.triangles.extend(node_part.triangles.iter().map(|t| t.map(|v| map[v as usize])));
+    }
+    part
 }
 
 /// Where a column's layers lie, lattice k of its level: all of them, and the solid run from
