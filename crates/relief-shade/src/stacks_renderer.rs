@@ -207,12 +207,11 @@ mod tests {
         let mut gbuffer = GBuffer::new(64, 48).unwrap();
         let stats = renderer.render_into(&camera, &bounds, &mut gbuffer).unwrap();
         assert!(stats.mesh.per_level.iter().filter(|&&n| n > 0).count() >= 2);
-        // The same nodes (from the cache), joined, as triangles.
-        let (mesh, _) = renderer.mesher.mesh_for_camera(&camera, 3.0);
-        let triangles: Vec<[DVec3; 3]> = mesh
-            .parts
+        // The same meshes (the nodes from the cache), as triangles.
+        let (meshes, _) = renderer.mesher.draw_meshes_for_camera(&camera, 3.0).unwrap();
+        let triangles: Vec<[DVec3; 3]> = meshes
             .iter()
-            .flat_map(|p| p.triangulated().into_iter().map(|t| t.map(|v| p.positions[v as usize])))
+            .flat_map(|m| m.triangles().iter().map(|t| t.map(|v| m.positions()[v as usize])))
             .collect();
         let mut off = 0;
         let mut hits = 0;

@@ -2,6 +2,7 @@
 //! for a camera by their screen-space extent (equation 1) against τ, then balanced so that
 //! neighbours (across faces, edges and corners) differ by at most one level.
 
+use rustc_hash::FxHashSet;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// An octree node: its level (0 finest) and its position in nodes of that level; its own
@@ -37,7 +38,7 @@ impl NodeKey {
 /// A set of leaves that partitions space: every point lies in exactly one leaf.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Leaves {
-    set: BTreeSet<NodeKey>,
+    set: FxHashSet<NodeKey>,
     max_level: u8,
 }
 
@@ -46,7 +47,7 @@ impl Leaves {
     /// node above level 0.
     pub fn select(roots: &[NodeKey], mut split: impl FnMut(&NodeKey) -> bool) -> Self {
         let max_level = roots.first().map_or(0, |r| r.level);
-        let mut set = BTreeSet::new();
+        let mut set = FxHashSet::default();
         let mut stack: Vec<NodeKey> = roots.to_vec();
         while let Some(node) = stack.pop() {
             if node.level > 0 && split(&node) {

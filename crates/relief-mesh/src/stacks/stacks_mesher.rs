@@ -75,8 +75,9 @@ pub struct StacksMesher {
     liquid_color: [f32; 3],
     /// Lattice z of the highest layer end at level 0.
     top_k: f64,
-    /// Per level, per column: where its layers and its solid from the bottom lie.
-    column_ranges: Vec<Vec<ColumnRange>>,
+    /// Per level: the width of its grid of node columns, and per node column where the
+    /// layers within its reach lie (see [`ColumnRange`]).
+    node_columns: Vec<(usize, Vec<ColumnRange>)>,
     cache: HashMap<(NodeKey, Vec<NodeKey>), Arc<NodeMesh>>,
 }
 
@@ -122,16 +123,13 @@ impl StacksMesher {
             .iter()
             .find(|m| m.kind == MaterialKind::Liquid)
             .map_or([0.03, 0.1, 0.3], |m| linear(m.color));
-        let column_ranges = mipmap
+        let n = params.node_cells as i32;
+        let reach = 3 + (params.smoothing.kernel().len() / 2) as i32;
+        let node_columns = mipmap
             .levels()
             .iter()
             .zip(&lattices)
-            .map(|(s, lattice)| {
-                (0..s.height())
-                    .flat_map(|y| (0..s.width()).map(move |x| (x, y)))
-                    .map(|(x, y)| ColumnRange::of(s.stack(x, y), s.materials(), lattice))
-                    .collect()
-            })
+            .map(|(s, lattice)| node_columns(s, lattice, n, reach))
             .collect();
         Ok(StacksMesher {
             kernel: params.smoothing.kernel(),
@@ -142,7 +140,7 @@ impl StacksMesher {
             channels,
             colors,
             liquid_color,
-            column_ranges,
+            node_columns,
             cache: HashMap::new(),
         })
     }
@@ -187,32 +185,25 @@ impl StacksMesher {
     /// reach around them, no layer of its level, or solid everywhere.
     fn is_empty(&self, key: &NodeKey) -> bool {
         let level = key.level as usize;
-        let s = &self.mipmap.levels()[level];
-        let reach = 3 + (self.kernel.len() / 2) as i32;
-        let o = key.origin(self.n());
-        let lo = o.map(|c| c - reach);
-        let hi = o.map(|c| c + self.n() + reach);
-        let (z_lo, z_hi) = (lo[2] as f32 - 0.5, hi[2] as f32 + 0.5);
-        let inside =
-            lo[0] >= 0 && lo[1] >= 0 && hi[0] <= s.width() as i32 && hi[1] <= s.height() as i32;
-        let ranges = &self.column_ranges[level];
-        let mut all_air = true;
-        let mut all_solid = inside;
-        for y in lo[1].max(0)..hi[1].min(s.height() as i32) {
-            for x in lo[0].max(0)..hi[0].min(s.width() as i32) {
-                let c = &ranges[x as usize + y as usize * s.width()];
-                if c.start <= z_hi && c.end >= z_lo {
-                    all_air = false;
-                }
-                if !(c.solid_start <= z_lo && c.solid_end >= z_hi) {
-                    all_solid = false;
-                }
-                if !all_air && !all_solid {
-                    return false;
-                }
-            }
+        let n = self.n();
+        let (w, columns) = &self.node_columns[level];
+        let (x, y) = (key.at[0] + 1, key.at[1] + 1);
+        if x < 0 || y < 0 || x as usize >= *w || (x as usize + y as usize * w) >= columns.len() {
+            return true;
         }
-        true
+        let c = &columns[x as usize + y as usize * w];
+        let reach = self.reach();
+        let z_lo = (key.at[2] * n - reach) as f32 - 0.5;
+        let z_hi = (key.at[2] * n + n + reach) as f32 + 0.5;
+        let all_air = c.end < z_lo || c.start > z_hi;
+        let all_solid = c.solid_start <= z_lo && c.solid_end >= z_hi;
+        all_air || all_solid
+    }
+
+    /// How far beyond its points a node's density reaches: its cells' ring, the Sobel
+    /// neighbours and the filter.
+    fn reach(&self) -> i32 {
+        3 + (self.kernel.len() / 2) as i32
     }
 
     /// The mesh of the whole terrain at `level` (0 finest). Fails naming the level when the
@@ -255,6 +246,13 @@ impl StacksMesher {
     /// The leaves of the octree for `camera`: nodes split while a cell's screen-space extent
     /// (equation 1) exceeds `tau` pixels, then balanced.
     pub fn select(&self, camera: &Camera, tau: f64) -> Vec<(NodeKey, Vec<NodeKey>)> {
+        self.select_nodes(camera, tau, false)
+    }
+
+    /// The leaves as [`StacksMesher::select`] chooses them; with `cull`, nodes outside the
+    /// camera's view are not refined, and not returned (their neighbours still stitch to
+    /// them as they are).
+    fn select_nodes(&self, camera: &Camera, tau: f64, cull: bool) -> Vec<(NodeKey, Vec<NodeKey>)> {
         let roots: Vec<NodeKey> = self
             .nodes_of_level(self.level_count() - 1)
             .into_iter()
@@ -265,25 +263,47 @@ impl StacksMesher {
                 return false;
             }
             let level = key.level as usize;
-            let lattice = &self.lattices[level];
-            let cell = lattice.step.max_element();
-            let o = key.origin(self.n());
-            let lo = lattice.world(o.map(|c| (c - 1) as f64));
-            let hi = lattice.world(o.map(|c| (c + self.n() + 1) as f64));
+            let cell = self.lattices[level].step.max_element();
+            let (lo, hi) = self.node_box(key);
+            if cull && outside_view(camera, lo, hi) {
+                return false;
+            }
             let eye = camera.eye();
             let d = (eye.clamp(lo, hi) - eye).length();
             let footprint = camera.pixel_footprint(d);
             footprint <= 0.0 || cell / footprint > tau
         });
-        leaves.coarser_neighbours().into_iter().filter(|(k, _)| !self.is_empty(k)).collect()
+        leaves
+            .coarser_neighbours()
+            .into_iter()
+            .filter(|(k, _)| !self.is_empty(k))
+            .filter(|(k, _)| {
+                let (lo, hi) = self.node_box(k);
+                !(cull && outside_view(camera, lo, hi))
+            })
+            .collect()
+    }
+
+    /// The world box around a node's cells.
+    fn node_box(&self, key: &NodeKey) -> (DVec3, DVec3) {
+        let lattice = &self.lattices[key.level as usize];
+        let o = key.origin(self.n());
+        let lo = lattice.world(o.map(|c| (c - 1) as f64));
+        let hi = lattice.world(o.map(|c| (c + self.n() + 1) as f64));
+        (lo, hi)
     }
 
     /// The selected nodes' meshes for `camera` at screen-space error `tau` pixels, from the
     /// cache where a node with the same coarser neighbours was meshed before; the cache then
     /// keeps the nodes of this frame.
-    fn frame_nodes(&mut self, camera: &Camera, tau: f64) -> (Vec<Arc<NodeMesh>>, MeshStats) {
+    fn frame_nodes(
+        &mut self,
+        camera: &Camera,
+        tau: f64,
+        cull: bool,
+    ) -> (Vec<Arc<NodeMesh>>, MeshStats) {
         let start = Instant::now();
-        let nodes = self.select(camera, tau);
+        let nodes = self.select_nodes(camera, tau, cull);
         let select_ms = ms(start);
         let start = Instant::now();
         let missing: Vec<&(NodeKey, Vec<NodeKey>)> =
@@ -312,14 +332,15 @@ impl StacksMesher {
     /// [`StacksMesher::select`]), each vertex once; node meshes come from the cache where a
     /// node with the same coarser neighbours was meshed for an earlier camera.
     pub fn mesh_for_camera(&mut self, camera: &Camera, tau: f64) -> (TerrainMesh, MeshStats) {
-        let (meshes, mut stats) = self.frame_nodes(camera, tau);
+        let (meshes, mut stats) = self.frame_nodes(camera, tau, false);
         let start = Instant::now();
         let mesh = self.join(&meshes.iter().map(|m| m.as_ref()).collect::<Vec<_>>());
         stats.join_ms = ms(start);
         (mesh, stats)
     }
 
-    /// The same nodes' meshes for drawing: the solid, then the water, as triangle meshes with
+    /// The same nodes' meshes for drawing, those outside the camera's view left out: the
+    /// solid, then the water, as triangle meshes with
     /// the colour (3 floats) then the normal (3 floats) per vertex. The nodes' meshes are
     /// appended as they are (a vertex a neighbouring node shares appears in both, at the same
     /// position), which the rasterizer needs no more.
@@ -328,7 +349,7 @@ impl StacksMesher {
         camera: &Camera,
         tau: f64,
     ) -> Result<([IndexedMesh; 2], MeshStats), MeshError> {
-        let (meshes, mut stats) = self.frame_nodes(camera, tau);
+        let (meshes, mut stats) = self.frame_nodes(camera, tau, true);
         let start = Instant::now();
         let solid = append_for_drawing(&meshes, 0)?;
         let water = append_for_drawing(&meshes, 1)?;
@@ -420,6 +441,50 @@ fn join_part(meshes: &[&NodeMesh], p: usize, mut part: MeshPart) -> MeshPart {
     part
 }
 
+/// The node columns of one level (nodes `-1 ..= size / n` along x and y, x fastest), each
+/// the union of the ranges of the stacks within `reach` of its points; a node column reaching
+/// beyond the grid is never solid throughout.
+fn node_columns(
+    stacks: &relief_core::MaterialStacks,
+    lattice: &Lattice,
+    n: i32,
+    reach: i32,
+) -> (usize, Vec<ColumnRange>) {
+    let (w, h) = (stacks.width() as i32, stacks.height() as i32);
+    let columns: Vec<ColumnRange> = (0..stacks.height())
+        .flat_map(|y| (0..stacks.width()).map(move |x| (x, y)))
+        .map(|(x, y)| ColumnRange::of(stacks.stack(x, y), stacks.materials(), lattice))
+        .collect();
+    let nodes_x = (w.div_euclid(n) + 2) as usize;
+    let nodes_y = (h.div_euclid(n) + 2) as usize;
+    let mut out = Vec::with_capacity(nodes_x * nodes_y);
+    for ny in 0..nodes_y as i32 {
+        for nx in 0..nodes_x as i32 {
+            let (ox, oy) = ((nx - 1) * n, (ny - 1) * n);
+            let (lo_x, hi_x) = (ox - reach, ox + n + reach);
+            let (lo_y, hi_y) = (oy - reach, oy + n + reach);
+            let inside = lo_x >= 0 && lo_y >= 0 && hi_x <= w && hi_y <= h;
+            let mut union = ColumnRange::EMPTY;
+            union.solid_start = f32::NEG_INFINITY;
+            union.solid_end = f32::INFINITY;
+            for y in lo_y.max(0)..hi_y.min(h) {
+                for x in lo_x.max(0)..hi_x.min(w) {
+                    let c = &columns[(x + y * w) as usize];
+                    union.start = union.start.min(c.start);
+                    union.end = union.end.max(c.end);
+                    union.solid_start = union.solid_start.max(c.solid_start);
+                    union.solid_end = union.solid_end.min(c.solid_end);
+                }
+            }
+            if !inside {
+                union.solid_start = f32::INFINITY;
+            }
+            out.push(union);
+        }
+    }
+    (nodes_x, out)
+}
+
 /// Where a column's layers lie, lattice k of its level: all of them, and the solid run from
 /// its lowest layer up to the first gap or liquid.
 #[derive(Debug, Clone, Copy)]
@@ -431,18 +496,21 @@ struct ColumnRange {
 }
 
 impl ColumnRange {
+    /// A column with no layer.
+    const EMPTY: ColumnRange = ColumnRange {
+        start: f32::INFINITY,
+        end: f32::NEG_INFINITY,
+        solid_start: f32::INFINITY,
+        solid_end: f32::NEG_INFINITY,
+    };
+
     fn of(
         stack: &[relief_core::StackLayer],
         materials: &[relief_core::StackMaterial],
         lattice: &Lattice,
     ) -> Self {
         let (Some(first), Some(last)) = (stack.first(), stack.last()) else {
-            return ColumnRange {
-                start: f32::INFINITY,
-                end: f32::NEG_INFINITY,
-                solid_start: f32::INFINITY,
-                solid_end: f32::NEG_INFINITY,
-            };
+            return ColumnRange::EMPTY;
         };
         let mut solid_end = f32::NEG_INFINITY;
         let mut solid_start = f32::INFINITY;
@@ -519,6 +587,36 @@ fn append_for_drawing(meshes: &[Arc<NodeMesh>], part: usize) -> Result<IndexedMe
         }
     });
     IndexedMesh::new(positions, triangles)?.with_attributes(6, attributes)
+}
+
+/// Whether the box `lo`..`hi` lies wholly outside the camera's view: all its corners behind
+/// the eye, or beyond one side of the image.
+fn outside_view(camera: &Camera, lo: DVec3, hi: DVec3) -> bool {
+    let half_h = camera.half_height();
+    let half_w = half_h * camera.width() as f64 / camera.height() as f64;
+    let perspective = camera.fov_deg().is_some();
+    let mut outside = [true; 5];
+    for c in 0..8 {
+        let p = DVec3::new(
+            if c & 1 == 0 { lo.x } else { hi.x },
+            if c & 2 == 0 { lo.y } else { hi.y },
+            if c & 4 == 0 { lo.z } else { hi.z },
+        );
+        let d = p - camera.eye();
+        let (x, y, z) = (d.dot(camera.right()), d.dot(camera.image_up()), d.dot(camera.forward()));
+        let scale = if perspective { z.max(0.0) } else { 1.0 };
+        let checks = [
+            z < 0.0,
+            x > scale * half_w,
+            x < -scale * half_w,
+            y > scale * half_h,
+            y < -scale * half_h,
+        ];
+        for (o, check) in outside.iter_mut().zip(checks) {
+            *o &= check;
+        }
+    }
+    outside.iter().any(|&o| o)
 }
 
 fn ms(start: Instant) -> f64 {
