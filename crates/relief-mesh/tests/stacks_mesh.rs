@@ -269,3 +269,75 @@ proptest! {
         }
     }
 }
+
+/// A random multi-layered height map with overhangs: per cell one to three columns of bedrock,
+/// sand and water under air gaps.
+fn random_mlhm(w: usize, h: usize, seed: u64) -> relief_core::Mlhm {
+    use relief_core::{Mlhm, MlhmColumn};
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut map = Mlhm::new(w, h, 3, 1.0).unwrap();
+    for y in 0..h {
+        for x in 0..w {
+            let ground = 3.0 + 2.0 * ((x as f64 / 4.0).sin() + (y as f64 / 5.0).cos()) + next();
+            let mut columns = Vec::new();
+            let layers = 1 + (next() * 3.0) as usize;
+            let mut bedrock = ground;
+            for k in 0..layers.min(3) {
+                let sand = if next() < 0.5 { next() * 1.5 } else { 0.0 };
+                let water = if next() < 0.3 { next() * 2.0 } else { 0.0 };
+                let top = k + 1 == layers.min(3);
+                let ceiling =
+                    if top { f64::INFINITY } else { bedrock + sand + water + 1.0 + 2.0 * next() };
+                columns.push(MlhmColumn::new(
+                    bedrock as f32,
+                    sand as f32,
+                    water as f32,
+                    ceiling as f32,
+                ));
+                bedrock = ceiling + 1.0 + 2.0 * next();
+            }
+            map.set_cell(x, y, &columns).unwrap();
+        }
+    }
+    map
+}
+
+#[test]
+fn random_mlhms_with_overhangs_mesh_closed_at_one_level_and_across_levels() {
+    for seed in 0..4 {
+        let stacks = MaterialStacks::from_mlhm(&random_mlhm(36, 30, seed)).unwrap();
+        let mut mesher = StacksMesher::new(
+            StacksMipmap::new(stacks),
+            StacksMeshParams { node_cells: 4, ..Default::default() },
+        )
+        .unwrap();
+        let (mesh, _) = mesher.mesh_level(0).unwrap();
+        for part in &mesh.parts {
+            closed_and_manifold(part)
+                .map_err(|e| format!("seed {seed}, {}: {e}", part.name))
+                .unwrap();
+        }
+        let camera = Camera::look_at(
+            DVec3::new(-4.0, -3.0, 14.0),
+            DVec3::new(25.0, 20.0, 2.0),
+            DVec3::Z,
+            60.0,
+            160,
+            120,
+        )
+        .unwrap();
+        let (mesh, stats) = mesher.mesh_for_camera(&camera, 12.0);
+        assert!(stats.per_level.iter().filter(|&&n| n > 0).count() >= 2, "{:?}", stats.per_level);
+        for part in &mesh.parts {
+            closed_and_manifold(part)
+                .map_err(|e| format!("seed {seed}, {}: {e}", part.name))
+                .unwrap();
+        }
+    }
+}

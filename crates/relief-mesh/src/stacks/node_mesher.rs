@@ -629,6 +629,8 @@ fn trilinear(l: [f64; 3]) -> [f64; 8] {
 /// The 3D Sobel gradients, lattice units, at the eight corners of the cell whose 4 x 4 x 4
 /// surrounding points are `around` (`around[z][y][x]`, the cell's corner 0 at index 1):
 /// central differences along each axis, smoothed by (1, 2, 1) along the other two.
+// The indices name lattice positions; iterators would hide which is which.
+#[allow(clippy::needless_range_loop)]
 fn sobel(around: &[[[f32; 4]; 4]; 4]) -> [DVec3; 8] {
     let g = |x: usize, y: usize, z: usize| around[z][y][x];
     let mut out = [[0f32; 3]; 8];

@@ -693,7 +693,7 @@ mod tests {
             let (mut f, mut g) = (0.0, DVec3::ZERO);
             for c in 0..8 {
                 let bits = [c & 1, (c >> 1) & 1, (c >> 2) & 1];
-                let v = density.at(0, std::array::from_fn(|a| cell[a] + bits[a] as i32)) as f64;
+                let v = density.at(0, std::array::from_fn(|a| cell[a] + bits[a])) as f64;
                 let w: [f64; 3] =
                     std::array::from_fn(|a| if bits[a] == 1 { local[a] } else { 1.0 - local[a] });
                 f += v * w[0] * w[1] * w[2];
