@@ -168,6 +168,10 @@ pub struct SceneArgs {
     /// a mesh cell in pixels (Löffler et al. 2011, equation 1) [default: 10].
     #[arg(long, value_name = "PX", value_parser = tau_px, allow_hyphen_values = true)]
     pub tau: Option<f64>,
+    /// Stacks meshes: the height of a density voxel at the finest level, metres; smaller
+    /// voxels keep more of a DEM's relief whose spacing is coarse [default: the spacing].
+    #[arg(long, value_name = "M", value_parser = parse::positive_length, allow_hyphen_values = true)]
+    pub voxel_height: Option<f64>,
     /// MLHM scenes: quality preset (Nilles & Müller 2025, section 5): low (no secondary rays,
     /// no AO), mid (water reflections and refractions with cheap absorption, sun shadows, AO
     /// of radius 1 m), high (expensive absorption, shadows and AO on reflected and refracted

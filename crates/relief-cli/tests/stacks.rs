@@ -273,3 +273,32 @@ fn a_stacks_file_meshes_and_bad_input_is_refused_with_exit_code_2() {
     assert!(!png.exists());
     assert!(!out.exists(), "a refused run wrote {}", out.display());
 }
+
+#[test]
+fn a_height_file_meshes_as_bedrock_with_finer_voxels_when_asked() {
+    let dir = folder("height file");
+    let dem = dir.join("hills dem.npy");
+    ok(&["generate", "fbm", "--size", "48", "-o", dem.to_str().unwrap()]);
+    let faces = |voxel: Option<&str>| {
+        let stats = dir.join("stats.json");
+        let out = dir.join("hills.glb");
+        let mut args = vec!["mesh", dem.to_str().unwrap(), "--lod", "0", "-o"];
+        args.extend([out.to_str().unwrap(), "--stats", stats.to_str().unwrap()]);
+        if let Some(v) = voxel {
+            args.extend(["--voxel-height", v]);
+        }
+        ok(&args);
+        let stats: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+        stats["solid_faces"].as_u64().unwrap()
+    };
+    // Voxels a quarter of the spacing high resolve the slopes in more faces.
+    let (cubic, fine) = (faces(None), faces(Some("0.25")));
+    assert!(cubic > 1000 && 2 * fine > 3 * cubic, "{cubic} faces, then {fine}");
+    let png = dir.join("never.png");
+    refused(
+        &["render", dem.to_str().unwrap(), "--voxel-height", "1", "-o", png.to_str().unwrap()],
+        "--voxel-height",
+    );
+    assert!(!png.exists());
+}

@@ -35,8 +35,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if scene_args.mode == Some(MlhmRenderMode::Mesh) || stacks_file {
         return render_mesh::run(args, started);
     }
-    if scene_args.tau.is_some() {
-        return Err(crate::applies::refuse("--tau", "--mode mesh", "the ray-cast renderers"));
+    for (given, option) in
+        [(scene_args.tau.is_some(), "--tau"), (scene_args.voxel_height.is_some(), "--voxel-height")]
+    {
+        if given {
+            return Err(crate::applies::refuse(option, "--mode mesh", "the ray-cast renderers"));
+        }
     }
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
         if let Some(option) = args.hybrid.given() {

@@ -77,8 +77,12 @@ pub(super) fn open_live_scene(
         let (camera, settings) = (live.camera(), live.settings());
         return Ok((Arc::new(live), camera, settings));
     }
-    if scene_args.tau.is_some() {
-        return Err(applies::refuse("--tau", "--mode mesh", "the ray-cast renderers"));
+    for (given, option) in
+        [(scene_args.tau.is_some(), "--tau"), (scene_args.voxel_height.is_some(), "--voxel-height")]
+    {
+        if given {
+            return Err(applies::refuse(option, "--mode mesh", "the ray-cast renderers"));
+        }
     }
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
         let live = LiveMlhm::new(

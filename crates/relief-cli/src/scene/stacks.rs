@@ -38,7 +38,8 @@ impl StacksScene {
             None => Smoothing::Gaussian { sigma: 1.0 },
         };
         let bounds = stacks_bounds(&stacks);
-        let params = StacksMeshParams { smoothing, ..Default::default() };
+        let params =
+            StacksMeshParams { smoothing, voxel_height: args.voxel_height, ..Default::default() };
         let mesher = StacksMesher::new(StacksMipmap::new(stacks), params)?;
         let camera = super::camera(args, &bounds)?;
         Ok(StacksScene { mesher, bounds, camera })
