@@ -1,6 +1,6 @@
 //! The quadrangulation of one octree node (sections 3.2.3 to 3.2.5 and 3.4): its density with
-//! the finer side's border fitted to a coarser neighbour, the classification of its cells, the
-//! allocation of vertices and faces by prefix sums, the vertex attributes and the faces.
+//! the finer side's border fitted to a coarser neighbour, the classification of its edges, the
+//! allocation of faces by prefix sums, the vertices (numbered on first use) and the faces.
 //!
 //! Stitching. A node meshes the cells `[o - 1, o + n)` of its level along each axis (one cell
 //! of overlap) and makes the faces of the lattice edges that start at its own points
@@ -11,6 +11,12 @@
 //! coarser cell `floor(c / 2)` (T-junction removal: the finer border meshes as the coarser
 //! level does and shares its vertices; faces that collapse are dropped or become triangles).
 //! Every vertex is named by a key (level, cell, patch), so nodes' meshes join by key.
+//!
+//! Saddles. A lattice face whose four edges the surface crosses holds two separate crossings;
+//! where two cells' single patches both span such a face, plain dual contouring would join
+//! them by one mesh edge shared by four faces. Each crossing gets a vertex on the face, named by
+//! the face and the corner it cuts off, and a quad with one is drawn as a fan around its
+//! edge's crossing: every mesh edge then borders exactly two faces.
 
 use super::cell_patches::{edge_corners, edge_index, face_saddle, other_axes, CellPatches};
 use super::density::Density;
