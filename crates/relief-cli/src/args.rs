@@ -293,9 +293,32 @@ fn tau_px(s: &str) -> Result<f64, String> {
     parse::number_in(s, "a number of pixels", &(0.01..=1e4))
 }
 
-/// `relief mesh`: the scene options of `relief render` (input, camera, --sigma, --tau), the
-/// output, the level of detail and the stage timings.
+/// `relief mesh`: the scene options of `relief render` (input, camera, --sigma, --tau,
+/// --voxel-height), the output, the level of detail and the stage timings. The options of
+/// tracers, shading and MLHM rendering are hidden and refused (the sun and exposure, which have
+/// defaults, are hidden and unused).
 #[derive(Debug, Args)]
+#[command(
+    mut_arg("tracer", |a| a.hide(true)),
+    mut_arg("surface", |a| a.hide(true)),
+    mut_arg("mode", |a| a.hide(true)),
+    mut_arg("preset", |a| a.hide(true)),
+    mut_arg("hierarchy_bounds", |a| a.hide(true)),
+    mut_arg("backtrack", |a| a.hide(true)),
+    mut_arg("safety", |a| a.hide(true)),
+    mut_arg("phi_max", |a| a.hide(true)),
+    mut_arg("isotropic", |a| a.hide(true)),
+    mut_arg("positive", |a| a.hide(true)),
+    mut_arg("linear_surface", |a| a.hide(true)),
+    mut_arg("safety_reach", |a| a.hide(true)),
+    mut_arg("cache_dir", |a| a.hide(true)),
+    mut_arg("no_cache", |a| a.hide(true)),
+    mut_arg("sun", |a| a.hide(true)),
+    mut_arg("no_shadows", |a| a.hide(true)),
+    mut_arg("no_ao", |a| a.hide(true)),
+    mut_arg("texture", |a| a.hide(true)),
+    mut_arg("exposure", |a| a.hide(true))
+)]
 pub struct MeshArgs {
     /// The scene and camera (the camera matters with --lod auto).
     #[command(flatten)]

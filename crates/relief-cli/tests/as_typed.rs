@@ -23,8 +23,9 @@ fn stderr(out: &Output) -> String {
 
 /// Small inputs every case below may use, made once: `f.npy` (48², fBm), `f.tif`, `f.png`
 /// (16-bit grey), `t.png` (an RGB picture, as a texture) and its depth `d.npy` (16x16),
-/// `s.mlhm` (a carved MLHM scene), `st` (a tile store of `f.tif`), `stt` (the same with
-/// `t.png` as its photo) and `p.json` (a camera path of three keys).
+/// `s.mlhm` (a carved MLHM scene), `g.stacks` (a generated stacks terrain), `st` (a tile
+/// store of `f.tif`), `stt` (the same with `t.png` as its photo) and `p.json` (a camera path
+/// of three keys).
 fn inputs() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
@@ -49,6 +50,9 @@ fn inputs() -> &'static Path {
         assert!(run.status.success(), "{}", stderr(&run));
         let run =
             relief(&["generate", "mlhm", "--scene", "arches", "--size", "32", "-o", &p("s.mlhm")]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        let stacks = ["generate", "stacks", "--width", "24", "--height", "16", "-o", &p("g.stacks")];
+        let run = relief(&stacks);
         assert!(run.status.success(), "{}", stderr(&run));
         let run = relief(&["tile", &p("f.tif"), "-o", &p("st"), "--tile", "16"]);
         assert!(run.status.success(), "{}", stderr(&run));
@@ -194,6 +198,12 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("render {in}/stt --texture-filter bilinear --texture-cache-mb 16 --size 16x9 -o {out}/a.png", Expect::Ok),
             ("render {in}/st --texture-filter anisotropic -o {out}/a.png", Expect::Refused("--texture-filter applies to textured tile stores")),
             ("render {in}/f.tif --texture-cache-mb 16 -o {out}/a.png", Expect::Refused("--texture-cache-mb applies to tile stores")),
+            ("render {in}/s.mlhm --mode mesh --tau 4 --sigma 8 --voxel-height 4 --size 16x9 -o {out}/a.png --depth {out}/d.npy --stats {out}/s.json", Expect::Ok),
+            ("render {in}/f.npy --mode mesh --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/f.npy --tau 4 -o {out}/a.png", Expect::Refused("--tau applies to --mode mesh only")),
+            ("render {in}/f.npy --voxel-height 1 -o {out}/a.png", Expect::Refused("--voxel-height applies to --mode mesh only")),
+            ("render {in}/f.npy --mode mesh --tau 0 -o {out}/a.png", Expect::Refused("outside 0.01..10000")),
+            ("render {in}/f.npy --mode mesh --tracer naive -o {out}/a.png", Expect::Refused("--tracer applies to the ray-cast renderers only")),
         ],
     ),
     (
@@ -257,6 +267,8 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("view --frame-budget 1", Expect::Refused("between 5 and 1000")),
             ("view --output-dir {out}/missing", Expect::Refused("is not a folder")),
             ("view {in}/f.png --frames 1 --screenshot {in}/f.png", Expect::Refused("would overwrite the input")),
+            ("view {in}/s.mlhm --mode mesh --tau 6 --voxel-height 4 --size 16x9 --frames 1", Expect::Ok),
+            ("view {in}/f.npy --tau 4", Expect::Refused("--tau applies to --mode mesh only")),
         ],
     ),
     (
@@ -283,11 +295,38 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
         ],
     ),
     (
+        "generate stacks",
+        &[
+            ("generate stacks --width 24 --height 16 --seed 4 --spacing 1.5 --max-height 40 --max-memory 1G -o {out}/t.stacks", Expect::Ok),
+            ("generate stacks --width 24 --height 16 --output {out}/t.npy", Expect::Refused(".stacks")),
+            ("generate stacks --width 0 --height 16 -o {out}/t.stacks", Expect::Refused("between 1 and 65536")),
+        ],
+    ),
+    (
+        "mesh",
+        &[
+            ("mesh {in}/s.mlhm --lod 0 -o {out}/m.glb --stats {out}/s.json", Expect::Ok),
+            ("mesh {in}/g.stacks --lod 1 -o {out}/m.glb", Expect::Ok),
+            ("mesh {in}/f.npy --spacing 2,3 --z-scale 3 --north-up --voxel-height 0.5 --sigma 2 --lod 1 --output {out}/m.obj", Expect::Ok),
+            ("mesh --fbm-size 24 --seed 3 --eye=-40,-30,60 --target 12,12,0 --up 0,0,1 --fov 40 --size 64x36 --tau 4 -o {out}/m.ply", Expect::Ok),
+            ("mesh {in}/s.mlhm --view 45,30 --lod auto -o {out}/m.glb", Expect::Ok),
+            ("mesh {in}/s.mlhm --view 0,90 --ortho --ortho-height 100 -o {out}/m.glb", Expect::Ok),
+            ("mesh {in}/f.png --png-encoding grey --voids fill --max-memory 1G -o {out}/m.glb", Expect::Ok),
+            ("mesh {in}/f.tif --array heights -o {out}/m.glb", Expect::Refused("--array applies to NumPy archives (.npz) only")),
+            ("mesh {in}/s.mlhm --lod 99 -o {out}/m.glb", Expect::Refused("level of detail 99")),
+            ("mesh {in}/s.mlhm -o {out}/m.stl", Expect::Refused(".glb")),
+            ("mesh {in}/s.mlhm --lod 0 --tau 3 -o {out}/m.glb", Expect::Refused("--tau applies to --lod auto")),
+            ("mesh {in}/s.mlhm --tracer naive -o {out}/m.glb", Expect::Refused("--tracer applies to the ray-cast renderers only, not to relief mesh")),
+            ("mesh {in}/s.mlhm --mode boxes -o {out}/m.glb", Expect::Refused("--mode applies to relief render only")),
+        ],
+    ),
+    (
         "info",
         &[
             ("info {in}/f.tif", Expect::Ok),
             ("info {in}/f.png --png-encoding terrarium --max-memory 1G", Expect::Refused("Terrarium heights need 8-bit RGB")),
             ("info {in}/s.mlhm", Expect::Ok),
+            ("info {in}/g.stacks", Expect::Ok),
             ("info {in}/f.tif --voids hole", Expect::Refused("--voids applies to render and convert only")),
             ("info {in}/f.tif --array a", Expect::Refused("--array applies to NumPy archives")),
         ],
@@ -360,6 +399,7 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("flythrough --fbm-size 24 --seed 3 --path {in}/p.json --frames 2 -o {out}/frames --size 16x9", Expect::Ok),
             ("flythrough {in}/s.mlhm --path {in}/p.json --frames 2 -o {out}/frames --mode smooth --sigma 1 --preset low --no-ao --size 16x9", Expect::Ok),
             ("flythrough {in}/s.mlhm --path {in}/p.json --frames 1 -o {out}/frames --tracer hierarchy --backtrack miss --hierarchy-bounds f16 --size 16x9", Expect::Ok),
+            ("flythrough {in}/s.mlhm --path {in}/p.json --frames 2 -o {out}/frames --mode mesh --tau 6 --voxel-height 4 --sigma 8 --size 16x9", Expect::Ok),
             ("flythrough {in}/st --path {in}/p.json --frames 3 -o {out}/frames --max-error-px 1 --cache-mb 16 --wait --stats {out}/s.json --size 16x9", Expect::Ok),
             ("flythrough {in}/st --path {in}/p.json --frames 2 -o {out}/frames --size 16x9", Expect::Ok),
             ("flythrough {in}/stt --path {in}/p.json --frames 2 -o {out}/frames --texture-filter bilinear --texture-cache-mb 16 --size 16x9", Expect::Ok),

@@ -1,7 +1,7 @@
 //! `relief mesh`: a material-stack terrain dual-contoured at one level of detail or at the
 //! camera's levels, written as glTF binary, OBJ or PLY.
 
-use crate::args::{LodChoice, MeshArgs};
+use crate::args::{LodChoice, MeshArgs, MlhmRenderMode};
 use crate::scene::stacks::StacksScene;
 use crate::{outputs, progress};
 use anyhow::{bail, Result};
@@ -26,12 +26,21 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         all.push(("--stats", path.as_path()));
     }
     outputs::check_distinct(&all, &inputs)?;
+    let scene = &args.scene;
+    for (given, option) in [
+        (scene.mode.is_some_and(|m| m != MlhmRenderMode::Mesh), "--mode"),
+        (scene.no_shadows, "--no-shadows"),
+    ] {
+        if given {
+            return Err(crate::applies::refuse(option, "relief render", "relief mesh"));
+        }
+    }
     let lod = args.lod.unwrap_or(LodChoice::Auto);
     if lod != LodChoice::Auto && args.scene.tau.is_some() {
         bail!("--tau applies to --lod auto, not to a fixed level");
     }
     let load_started = Instant::now();
-    let mut scene = StacksScene::open(&args.scene)?;
+    let mut scene = StacksScene::open(&args.scene, "relief mesh")?;
     let load_ms = outputs::ms_since(load_started);
     let levels = scene.mesher.level_count();
     let bar = progress::spinner("meshing");

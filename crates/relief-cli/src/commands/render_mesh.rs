@@ -15,7 +15,7 @@ pub fn run(args: &RenderArgs, started: Instant) -> Result<()> {
     if let Some(option) = args.hybrid.given() {
         bail!("{option} applies to --tracer hybrid, not to --mode mesh");
     }
-    let scene = StacksScene::open(&args.scene)?;
+    let scene = StacksScene::open(&args.scene, "--mode mesh")?;
     let load_ms = outputs::ms_since(started);
     let camera = scene.camera;
     let tau = args.scene.tau.unwrap_or(super::mesh::DEFAULT_TAU_PX);

@@ -71,7 +71,7 @@ pub(super) fn open_live_scene(
     let stacks_file =
         scene_args.input.input.as_deref().is_some_and(crate::scene::stacks::is_stacks_file);
     if scene_args.mode == Some(crate::args::MlhmRenderMode::Mesh) || stacks_file {
-        let scene = crate::scene::stacks::StacksScene::open(scene_args)?;
+        let scene = crate::scene::stacks::StacksScene::open(scene_args, "--mode mesh")?;
         let tau = scene_args.tau.unwrap_or(super::mesh::DEFAULT_TAU_PX);
         let live = crate::live::LiveStacks::new(scene, tau, scene_args.sun, scene_args.exposure)?;
         let (camera, settings) = (live.camera(), live.settings());

@@ -29,8 +29,9 @@ pub struct StacksScene {
 impl StacksScene {
     /// Reads the input of `args` as stacks and builds its mipmap; `--sigma` is the Gaussian
     /// smoothing's standard deviation in metres (default: one cell).
-    pub fn open(args: &SceneArgs) -> Result<Self> {
-        refuse_other_options(args)?;
+    /// `here` names the command, for refusals of options that do not apply to it.
+    pub fn open(args: &SceneArgs, here: &str) -> Result<Self> {
+        refuse_other_options(args, here)?;
         let stacks = read(args)?;
         let spacing = stacks.spacing().x;
         let smoothing = match args.sigma {
@@ -83,8 +84,7 @@ fn stacks_bounds(stacks: &MaterialStacks) -> Aabb {
 }
 
 /// Refuses the options of tracers and MLHM rendering that do nothing for a stacks mesh.
-fn refuse_other_options(args: &SceneArgs) -> Result<()> {
-    let here = "--mode mesh";
+fn refuse_other_options(args: &SceneArgs, here: &str) -> Result<()> {
     for (given, option) in [
         (args.tracer.is_some(), "--tracer"),
         (args.surface.is_some(), "--surface"),
