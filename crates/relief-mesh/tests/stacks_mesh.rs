@@ -341,3 +341,28 @@ fn random_mlhms_with_overhangs_mesh_closed_at_one_level_and_across_levels() {
         }
     }
 }
+
+#[test]
+fn meshes_are_the_same_whatever_the_thread_count() {
+    let mesh = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut mesher = StacksMesher::new(
+                StacksMipmap::new(random_stacks(40, 33, 7)),
+                StacksMeshParams { node_cells: 4, ..Default::default() },
+            )
+            .unwrap();
+            let camera = Camera::look_at(
+                DVec3::new(-3.0, 2.0, 9.0),
+                DVec3::new(30.0, 25.0, 0.0),
+                DVec3::Z,
+                60.0,
+                160,
+                120,
+            )
+            .unwrap();
+            (mesher.mesh_level(0).unwrap().0, mesher.mesh_for_camera(&camera, 20.0).0)
+        })
+    };
+    assert_eq!(mesh(1), mesh(3));
+}
