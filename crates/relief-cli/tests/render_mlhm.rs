@@ -298,7 +298,7 @@ fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
             vec![cave.clone(), "--mode".into(), "smooth".into(), "--sigma".into(), "nan".into()],
             "must be a positive length",
         ),
-        (vec![cave.clone(), "--mode".into(), "spheres".into()], "expected boxes or smooth"),
+        (vec![cave.clone(), "--mode".into(), "spheres".into()], "expected boxes, smooth or mesh"),
         (vec![cave.clone(), "--surface".into(), "triangles".into()], "--surface triangles"),
         (vec![cave.clone(), "--z-scale".into(), "2".into()], "--z-scale"),
         (vec![cave.clone(), "--max-memory".into(), "8K".into()], "memory limit"),
