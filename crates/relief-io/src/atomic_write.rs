@@ -33,6 +33,12 @@ pub(crate) fn write_atomically(
     result
 }
 
+/// Writes `bytes` to `path` atomically (see [`write_atomically`]): for outputs another crate
+/// encodes, such as relief-mesh's exported meshes.
+pub fn write_bytes_atomically(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    write_atomically(path, |w| w.write_all(bytes).map_err(|e| IoError::io(path, e)))
+}
+
 /// Runs `write` on `file`, flushes it and syncs it to disk.
 fn fill(
     path: &Path,

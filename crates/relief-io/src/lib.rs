@@ -102,6 +102,7 @@ mod void_fill;
 mod write;
 
 pub use asc::{read_asc, write_asc};
+pub use atomic_write::write_bytes_atomically;
 pub use error::IoError;
 pub use geodesy::metres_per_degree;
 pub use georeference::{GeoTiffTags, Georeference, EPSG_WGS84};

@@ -63,22 +63,4 @@ pub enum MeshError {
         /// The path whose extension was not recognised.
         path: PathBuf,
     },
-    /// The operating system refused to write an exported file (a missing directory,
-    /// permissions, a full disk, ...); no partial file is left behind.
-    #[error("{}: {message}", path.display())]
-    Io {
-        /// The file that was being written.
-        path: PathBuf,
-        /// The kind of the underlying I/O error.
-        kind: std::io::ErrorKind,
-        /// The underlying error's message.
-        message: String,
-    },
-}
-
-impl MeshError {
-    /// A [`MeshError::Io`] for `path` from the error the operating system gave.
-    pub(crate) fn io(path: &std::path::Path, error: &std::io::Error) -> Self {
-        MeshError::Io { path: path.to_path_buf(), kind: error.kind(), message: error.to_string() }
-    }
 }

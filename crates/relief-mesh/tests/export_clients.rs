@@ -4,7 +4,7 @@
 //! is 1 (.ci/run installs them and sets it): then it fails.
 
 use relief_core::DVec3;
-use relief_mesh::export::{write_glb, write_mesh, write_obj, write_ply, MeshFormat};
+use relief_mesh::export::{to_glb_bytes, to_obj_bytes, to_ply_bytes, MeshFormat};
 use relief_mesh::{MeshPart, TerrainMesh};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -115,7 +115,7 @@ fn the_gltf_validator_accepts_the_glb_files() {
     ];
     for (name, mesh) in &meshes {
         let path = dir.0.join(name);
-        write_glb(&path, mesh).unwrap();
+        std::fs::write(&path, to_glb_bytes(mesh).unwrap()).unwrap();
         let Some(report) = gltf_validator(&path) else { return };
         println!("{name}: validator {} {}", report["validatorVersion"], report["issues"]);
         assert_clean(&report);
@@ -180,9 +180,9 @@ fn trimesh_reads_the_glb_obj_and_ply_files() {
     // Linear 0.2159 is sRGB 128/255: the colours of .obj and .ply files are sRGB-encoded.
     mesh.parts[0].colors[0] = [0.215_861; 3];
     let paths = ["cubes.glb", "cubes.obj", "cubes.ply"].map(|name| dir.0.join(name));
-    write_glb(&paths[0], &mesh).unwrap();
-    write_obj(&paths[1], &mesh).unwrap();
-    write_ply(&paths[2], &mesh).unwrap();
+    std::fs::write(&paths[0], to_glb_bytes(&mesh).unwrap()).unwrap();
+    std::fs::write(&paths[1], to_obj_bytes(&mesh).unwrap()).unwrap();
+    std::fs::write(&paths[2], to_ply_bytes(&mesh).unwrap()).unwrap();
     let Some(report) = trimesh(TRIMESH_SCRIPT, &paths.each_ref().map(PathBuf::as_path)) else {
         return;
     };
@@ -237,15 +237,21 @@ fn trimesh_reads_the_glb_obj_and_ply_files() {
 }
 
 #[test]
-fn write_mesh_names_the_format_by_extension() {
+fn the_extension_names_the_format() {
     let dir = TestDir::new("extension");
     let mesh = two_cubes(DVec3::ZERO);
     for (name, format) in
         [("a.GLB", MeshFormat::Glb), ("b.Obj", MeshFormat::Obj), ("c.ply", MeshFormat::Ply)]
     {
-        assert_eq!(write_mesh(&dir.0.join(name), &mesh).unwrap(), format);
+        assert_eq!(MeshFormat::from_path(&dir.0.join(name)).unwrap(), format);
+        let bytes = format.to_bytes(&mesh).unwrap();
+        let expected = match format {
+            MeshFormat::Glb => to_glb_bytes(&mesh),
+            MeshFormat::Obj => to_obj_bytes(&mesh),
+            MeshFormat::Ply => to_ply_bytes(&mesh),
+        };
+        assert_eq!(bytes, expected.unwrap());
     }
-    let err = write_mesh(&dir.0.join("d.stl"), &mesh).unwrap_err();
+    let err = MeshFormat::from_path(&dir.0.join("d.stl")).unwrap_err();
     assert!(err.to_string().contains(".glb, .obj or .ply"), "{err}");
-    assert!(!dir.0.join("d.stl").exists());
 }

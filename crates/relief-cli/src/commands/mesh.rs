@@ -64,7 +64,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let mesh_ms = outputs::ms_since(mesh_started);
     bar.finish_and_clear();
     let write_started = Instant::now();
-    format.write(&args.output, &mesh)?;
+    relief_io::write_bytes_atomically(&args.output, &format.to_bytes(&mesh)?)?;
     let write_ms = outputs::ms_since(write_started);
     let count = |name: &str| {
         mesh.part(name).map_or((0, 0), |p| (p.vertex_count(), p.quads.len() + p.triangles.len()))

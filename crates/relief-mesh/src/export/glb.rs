@@ -16,7 +16,6 @@
 use super::{clamp_unit, exported_parts, unit_normal};
 use crate::{MeshError, MeshPart, TerrainMesh};
 use serde_json::{json, Value};
-use std::path::Path;
 
 /// The GLB header's magic, `glTF`.
 const MAGIC: u32 = 0x4654_6C67;
@@ -45,11 +44,6 @@ pub fn to_glb_bytes(mesh: &TerrainMesh) -> Result<Vec<u8>, MeshError> {
         gltf.add_part(index, part, centre)?;
     }
     gltf.into_glb()
-}
-
-/// Writes `mesh` to `path` as glTF 2.0 binary, atomically.
-pub fn write_glb(path: &Path, mesh: &TerrainMesh) -> Result<(), MeshError> {
-    super::atomic_write::write_atomically(path, &to_glb_bytes(mesh)?)
 }
 
 /// relief's `(x, y, z)` in glTF's axes, `(x, z, -y)`.

@@ -15,9 +15,9 @@
 //! | [`.obj`](to_obj_bytes) | relief's z up, as they are | decimal text of the f64 values | `v x y z r g b`, sRGB-encoded in `[0, 1]` | quads and triangles |
 //! | [`.ply`](to_ply_bytes) | relief's z up, as they are | f32 | `uchar red green blue`, sRGB-encoded | quads and triangles |
 //!
-//! Files are written atomically: into a temporary file in the same directory, renamed over
-//! the target only once complete, so a failed write leaves no partial file and keeps an
-//! existing one as it was.
+//! The encoders make bytes; writing them is the caller's (relief's command line writes them
+//! atomically with `relief_io::write_bytes_atomically`, so a failed write leaves no partial
+//! file).
 //!
 //! ```
 //! use relief_core::DVec3;
@@ -35,14 +35,13 @@
 //! assert!(MeshFormat::from_path("terrain.stl".as_ref()).is_err());
 //! ```
 
-mod atomic_write;
 mod glb;
 mod obj;
 mod ply;
 
-pub use glb::{to_glb_bytes, write_glb};
-pub use obj::{to_obj_bytes, write_obj};
-pub use ply::{to_ply_bytes, write_ply};
+pub use glb::to_glb_bytes;
+pub use obj::to_obj_bytes;
+pub use ply::to_ply_bytes;
 
 use crate::{MeshError, MeshPart, TerrainMesh};
 use std::path::Path;
@@ -88,20 +87,6 @@ impl MeshFormat {
             MeshFormat::Ply => to_ply_bytes(mesh),
         }
     }
-
-    /// Writes `mesh` in this format to `path`, atomically, whatever its extension.
-    pub fn write(self, path: &Path, mesh: &TerrainMesh) -> Result<(), MeshError> {
-        let bytes = self.to_bytes(mesh)?;
-        atomic_write::write_atomically(path, &bytes)
-    }
-}
-
-/// Writes `mesh` to `path` in the format its extension names ([`MeshFormat::from_path`]),
-/// atomically, and returns that format.
-pub fn write_mesh(path: &Path, mesh: &TerrainMesh) -> Result<MeshFormat, MeshError> {
-    let format = MeshFormat::from_path(path)?;
-    format.write(path, mesh)?;
-    Ok(format)
 }
 
 /// The parts of `mesh` that have faces, each checked to be exportable (see the module docs).
@@ -314,28 +299,19 @@ mod tests {
     }
 
     #[test]
-    fn write_mesh_picks_the_format_and_leaves_no_temporary() {
-        let dir = std::env::temp_dir().join(format!("relief-mesh-export-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
+    fn the_extension_picks_the_format_and_bad_meshes_are_refused() {
         let mesh = two_cubes();
-        for name in ["t.glb", "t.OBJ", "t.ply"] {
-            let path = dir.join(name);
-            let format = write_mesh(&path, &mesh).unwrap();
-            assert_eq!(std::fs::read(&path).unwrap(), format.to_bytes(&mesh).unwrap());
+        for (name, format) in
+            [("t.glb", MeshFormat::Glb), ("t.OBJ", MeshFormat::Obj), ("t.ply", MeshFormat::Ply)]
+        {
+            assert_eq!(MeshFormat::from_path(name.as_ref()).unwrap(), format);
         }
-        // An unknown extension writes nothing; an invalid mesh keeps the old file.
-        assert!(write_mesh(&dir.join("t.stl"), &mesh).is_err());
+        assert!(MeshFormat::from_path("t.stl".as_ref()).is_err());
         let mut bad = mesh.clone();
         bad.parts[0].quads[0][0] = 99;
-        assert!(write_mesh(&dir.join("t.glb"), &bad).is_err());
-        assert_eq!(std::fs::read(dir.join("t.glb")).unwrap(), to_glb_bytes(&mesh).unwrap());
-        let mut names: Vec<_> = std::fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().into_string().unwrap())
-            .collect();
-        names.sort();
-        assert_eq!(names, ["t.OBJ", "t.glb", "t.ply"]);
-        std::fs::remove_dir_all(&dir).unwrap();
+        for format in [MeshFormat::Glb, MeshFormat::Obj, MeshFormat::Ply] {
+            assert!(format.to_bytes(&mesh).is_ok());
+            assert!(format.to_bytes(&bad).is_err(), "{format:?}");
+        }
     }
 }

@@ -12,7 +12,6 @@
 use super::{exported_parts, one_word_name, srgb_encode, unit_normal};
 use crate::{MeshError, TerrainMesh};
 use std::fmt::{self, Write};
-use std::path::Path;
 
 /// `mesh` as the text of an OBJ file (see the module docs of [`crate::export`] for what is
 /// checked).
@@ -59,11 +58,6 @@ pub fn to_obj_bytes(mesh: &TerrainMesh) -> Result<Vec<u8>, MeshError> {
     })();
     text.map_err(|e| MeshError::Limits(format!("formatting the OBJ text failed: {e}")))?;
     Ok(out.into_bytes())
-}
-
-/// Writes `mesh` to `path` as OBJ, atomically.
-pub fn write_obj(path: &Path, mesh: &TerrainMesh) -> Result<(), MeshError> {
-    super::atomic_write::write_atomically(path, &to_obj_bytes(mesh)?)
 }
 
 #[cfg(test)]

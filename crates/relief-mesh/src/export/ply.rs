@@ -13,7 +13,6 @@
 
 use super::{exported_parts, one_word_name, srgb_encode_u8, unit_normal};
 use crate::{MeshError, MeshPart, TerrainMesh};
-use std::path::Path;
 
 /// `mesh` as the bytes of a binary PLY file (see the module docs of [`crate::export`] for
 /// what is checked).
@@ -93,11 +92,6 @@ pub fn to_ply_bytes(mesh: &TerrainMesh) -> Result<Vec<u8>, MeshError> {
         offset += part.vertex_count() as u32;
     }
     Ok(out)
-}
-
-/// Writes `mesh` to `path` as binary PLY, atomically.
-pub fn write_ply(path: &Path, mesh: &TerrainMesh) -> Result<(), MeshError> {
-    super::atomic_write::write_atomically(path, &to_ply_bytes(mesh)?)
 }
 
 #[cfg(test)]
