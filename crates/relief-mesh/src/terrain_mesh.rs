@@ -1,7 +1,6 @@
 //! The meshes the material-stack pipeline makes and relief exports: named parts (`solid`,
 //! `water`) of quads and triangles with per-vertex normals and colours ([`TerrainMesh`]).
 
-use crate::{IndexedMesh, MeshError};
 use relief_core::DVec3;
 
 /// One named part of a [`TerrainMesh`]: an indexed mesh of quads and triangles (a quad whose
@@ -48,30 +47,22 @@ impl MeshPart {
     /// triangles; the winding is kept.
     pub fn triangulated(&self) -> Vec<[u32; 3]> {
         let mut out = Vec::with_capacity(self.quads.len() * 2 + self.triangles.len());
-        for &[a, b, c, d] in &self.quads {
-            let p = |v: u32| self.positions[v as usize];
-            if p(a).distance_squared(p(c)) <= p(b).distance_squared(p(d)) {
-                out.push([a, b, c]);
-                out.push([a, c, d]);
-            } else {
-                out.push([a, b, d]);
-                out.push([b, c, d]);
-            }
+        for quad in &self.quads {
+            out.extend(split_quad(*quad, |v| self.positions[v as usize]));
         }
         out.extend_from_slice(&self.triangles);
         out
     }
+}
 
-    /// The part as an [`IndexedMesh`] for the rasterizer, with the colour (3 floats) then
-    /// the normal (3 floats) as per-vertex attributes.
-    pub fn to_indexed_mesh(&self) -> Result<IndexedMesh, MeshError> {
-        let mut attributes = Vec::with_capacity(self.positions.len() * 6);
-        for (color, normal) in self.colors.iter().zip(&self.normals) {
-            attributes.extend_from_slice(color);
-            attributes.extend_from_slice(normal);
-        }
-        IndexedMesh::new(self.positions.clone(), self.triangulated())?
-            .with_attributes(6, attributes)
+/// The two triangles of quad `[a, b, c, d]` split along its shorter diagonal (`a, b, c` and
+/// `a, c, d`, or `a, b, d` and `b, c, d`), winding kept; `at` gives a corner's position.
+pub(crate) fn split_quad(quad: [u32; 4], at: impl Fn(u32) -> DVec3) -> [[u32; 3]; 2] {
+    let [a, b, c, d] = quad;
+    if at(a).distance_squared(at(c)) <= at(b).distance_squared(at(d)) {
+        [[a, b, c], [a, c, d]]
+    } else {
+        [[a, b, d], [b, c, d]]
     }
 }
 

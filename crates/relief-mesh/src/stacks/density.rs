@@ -38,11 +38,6 @@ impl Smoothing {
         let sum: f64 = weights.iter().sum();
         weights.iter().map(|w| (w / sum) as f32).collect()
     }
-
-    /// Half the kernel's width: how far the density must extend beyond a block.
-    pub fn radius(&self) -> usize {
-        self.kernel().len() / 2
-    }
 }
 
 /// What each density channel accumulates: channel 0 the solids, channel 1 the liquids, then

@@ -6,6 +6,7 @@ use super::density::{Channels, Density, Smoothing};
 use super::lattice::{Block, Lattice};
 use super::node_mesher::{coarse_block, fine_block, mesh_node, LevelField, NodeJob, NodeMesh};
 use super::octree::{Leaves, NodeKey};
+use crate::terrain_mesh::split_quad;
 use crate::{IndexedMesh, MeshError, MeshPart, TerrainMesh};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec3, MaterialKind, StacksMipmap};
@@ -124,7 +125,8 @@ impl StacksMesher {
             .find(|m| m.kind == MaterialKind::Liquid)
             .map_or([0.03, 0.1, 0.3], |m| linear(m.color));
         let n = params.node_cells as i32;
-        let reach = 3 + (params.smoothing.kernel().len() / 2) as i32;
+        let kernel = params.smoothing.kernel();
+        let reach = node_reach(&kernel);
         let node_columns = mipmap
             .levels()
             .iter()
@@ -132,7 +134,7 @@ impl StacksMesher {
             .map(|(s, lattice)| node_columns(s, lattice, n, reach))
             .collect();
         Ok(StacksMesher {
-            kernel: params.smoothing.kernel(),
+            kernel,
             top_k: (top as f64 - z0) / dz0,
             mipmap,
             params,
@@ -203,7 +205,7 @@ impl StacksMesher {
     /// How far beyond its points a node's density reaches: its cells' ring, the Sobel
     /// neighbours and the filter.
     fn reach(&self) -> i32 {
-        3 + (self.kernel.len() / 2) as i32
+        node_reach(&self.kernel)
     }
 
     /// The mesh of the whole terrain at `level` (0 finest). Fails naming the level when the
@@ -441,6 +443,12 @@ fn join_part(meshes: &[&NodeMesh], p: usize, mut part: MeshPart) -> MeshPart {
     part
 }
 
+/// How far beyond its points a node's density reaches with filter `kernel`: its cells' ring,
+/// the Sobel neighbours and the filter's half-width.
+fn node_reach(kernel: &[f32]) -> i32 {
+    3 + (kernel.len() / 2) as i32
+}
+
 /// The node columns of one level (nodes `-1 ..= size / n` along x and y, x fastest), each
 /// the union of the ranges of the stacks within `reach` of its points; a node column reaching
 /// beyond the grid is never solid throughout.
@@ -569,16 +577,10 @@ fn append_for_drawing(meshes: &[Arc<NodeMesh>], part: usize) -> Result<IndexedMe
         }
         let mut out = 0;
         for q in &p.quads {
-            // Split along the shorter diagonal, as the exported mesh is.
-            let at = |v: u32| p.positions[v as usize];
-            let [a, b, c, d] = q.map(|i| i + base);
-            if at(q[0]).distance_squared(at(q[2])) <= at(q[1]).distance_squared(at(q[3])) {
-                tri[out] = [a, b, c];
-                tri[out + 1] = [a, c, d];
-            } else {
-                tri[out] = [a, b, d];
-                tri[out + 1] = [b, c, d];
-            }
+            // Split as the exported mesh is.
+            let [first, second] = split_quad(*q, |v| p.positions[v as usize]);
+            tri[out] = first.map(|i| i + base);
+            tri[out + 1] = second.map(|i| i + base);
             out += 2;
         }
         for tr in &p.triangles {
