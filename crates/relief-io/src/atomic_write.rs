@@ -33,8 +33,9 @@ pub(crate) fn write_atomically(
     result
 }
 
-/// Writes `bytes` to `path` atomically (see [`write_atomically`]): for outputs another crate
-/// encodes, such as relief-mesh's exported meshes.
+/// Writes `bytes` to `path` atomically: into a temporary file beside it, synced, then renamed
+/// over `path`; on any error the temporary file is removed and `path` is left as it was. For
+/// outputs another crate encodes, such as relief-mesh's exported meshes.
 pub fn write_bytes_atomically(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     write_atomically(path, |w| w.write_all(bytes).map_err(|e| IoError::io(path, e)))
 }
