@@ -263,6 +263,10 @@ pub struct RenderArgs {
     /// shades as it traces: trace_ms holds both, shade_ms the tone mapping.
     #[arg(long, value_name = "JSON")]
     pub stats: Option<PathBuf>,
+    /// How hard a .png picture is compressed: none, fast (several times faster to write than
+    /// balanced, a slightly larger file), balanced or high (the smallest file) [default: fast].
+    #[arg(long, value_name = "LEVEL")]
+    pub png_compression: Option<relief_io::PngCompression>,
     /// Options of the hybrid renderer.
     #[command(flatten)]
     pub hybrid: HybridArgs,
@@ -441,6 +445,9 @@ pub struct FlythroughArgs {
     /// those still loading, so they depend on how fast the disk is.
     #[arg(long)]
     pub wait: bool,
+    /// How hard the frames' PNGs are compressed: none, fast, balanced or high.
+    #[arg(long, value_name = "LEVEL", default_value = "fast")]
+    pub png_compression: relief_io::PngCompression,
     /// Options of tile stores.
     #[command(flatten)]
     pub tiles: TileRenderArgs,

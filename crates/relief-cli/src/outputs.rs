@@ -24,10 +24,17 @@ pub fn picture_format(option: &str, path: &Path) -> Result<PictureFormat> {
     }
 }
 
-/// Writes the `width x height` RGB picture `rgb` to `path` in the format its extension names.
-pub fn write_picture(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
+/// Writes the `width x height` RGB picture `rgb` to `path` in the format its extension names,
+/// a PNG compressed as `png` says.
+pub fn write_picture(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+    png: relief_io::PngCompression,
+) -> Result<()> {
     match picture_format("-o", path)? {
-        PictureFormat::Png => relief_io::write_png_rgb8(path, width, height, rgb)?,
+        PictureFormat::Png => relief_io::write_png_rgb8_compressed(path, width, height, rgb, png)?,
         PictureFormat::Jpeg => relief_io::write_jpeg_rgb8(path, width, height, rgb)?,
     }
     Ok(())

@@ -132,7 +132,7 @@ pub use open_rows::open_rows;
 pub use ortho_read::{open_ortho, OrthoInfo, OrthoRows};
 pub use png_height::{read_png_height, write_png16_height};
 pub use png_read::{read_png_rgb, RgbImage};
-pub use png_write::{write_png_gray16, write_png_rgb8};
+pub use png_write::{write_png_gray16, write_png_rgb8, write_png_rgb8_compressed, PngCompression};
 pub use raster::{
     DegreeSpacing, Format, PngEncoding, Raster, RasterInfo, ReadOptions, VoidPolicy,
     BYTES_PER_SAMPLE,

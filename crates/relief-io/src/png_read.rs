@@ -120,6 +120,26 @@ mod tests {
     }
 
     #[test]
+    fn every_compression_level_round_trips_and_the_levels_trade_size() {
+        let dir = TestDir::new("png-levels");
+        let (w, h) = (64u32, 48u32);
+        // A smooth gradient with some noise: compressible, as rendered pictures are.
+        let rgb: Vec<u8> =
+            (0..w * h * 3).map(|v| ((v / 3 % w) * 3 + (v * 7919 % 5)) as u8).collect();
+        let mut sizes = Vec::new();
+        for level in crate::PngCompression::ALL {
+            let path = dir.path().join(format!("{level}.png"));
+            crate::write_png_rgb8_compressed(&path, w, h, &rgb, level).unwrap();
+            let image = read_png_rgb(&path).unwrap();
+            assert_eq!(image.pixels.as_flattened(), &rgb[..], "{level}");
+            assert_eq!(level.name().parse::<crate::PngCompression>(), Ok(level));
+            sizes.push(std::fs::metadata(&path).unwrap().len());
+        }
+        assert!(sizes[0] > sizes[1] && sizes[1] >= sizes[3], "sizes {sizes:?}");
+        assert!("fastest".parse::<crate::PngCompression>().is_err());
+    }
+
+    #[test]
     fn other_colour_types_become_rgb() {
         let dir = TestDir::new("png-kinds");
         let path = dir.path().join("kind.png");

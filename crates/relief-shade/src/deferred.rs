@@ -127,34 +127,11 @@ fn shade_with<T: Copy + Default + Send>(
         ShadeError::Limits(format!("cannot allocate {} shaded pixels: {e}", gbuffer.len()))
     })?;
     radiance.resize(gbuffer.len(), T::default());
-    let pass = ShadingPass {
-        gbuffer,
-        tracer,
-        camera,
-        params,
-        to_sun: params.sun.direction(),
-        sky_ambient: params.sky.ambient(),
-    };
-    // Strips of TILE_SIZE rows, tile by tile: the shadow rays of a tile go to the tracer as
-    // one batch, then its pixels are shaded.
+    let pass = ShadingPass::new(gbuffer, 0, tracer, camera, params);
     let stats = radiance
         .par_chunks_mut(TILE_SIZE * width)
         .enumerate()
-        .map(|(s, strip)| {
-            let mut stats = TraceStats::default();
-            let mut shadows = ShadowTile::default();
-            let rows = strip.len() / width;
-            for tile_x in (0..width).step_by(TILE_SIZE) {
-                let tile = Tile::new(tile_x, s * TILE_SIZE, width, s * TILE_SIZE + rows);
-                shadows.trace(&pass, tile, &mut stats);
-                let seen = shadows.views.iter().zip(&shadows.visibility);
-                for ((i, j), (view, &visibility)) in tile.pixels().zip(seen) {
-                    strip[i + (j - s * TILE_SIZE) * width] =
-                        store(pass.radiance(i, j, view, visibility));
-                }
-            }
-            stats
-        })
+        .map(|(s, strip)| pass.shade_strip(s * TILE_SIZE, strip, &store))
         .reduce(TraceStats::default, TraceStats::merge);
     Ok((radiance, stats))
 }
@@ -223,9 +200,11 @@ enum Lighting {
     Shadowed(Ray),
 }
 
-/// The per-pass constants of [`shade`].
-struct ShadingPass<'a> {
+/// The per-pass constants of [`shade`], over a G-buffer of whole rows of the camera's image
+/// from `first_row` on (all of them, or a strip).
+pub(crate) struct ShadingPass<'a> {
     gbuffer: &'a GBuffer,
+    first_row: usize,
     tracer: &'a dyn Tracer,
     camera: &'a Camera,
     params: &'a ShadingParams,
@@ -233,12 +212,62 @@ struct ShadingPass<'a> {
     sky_ambient: DVec3,
 }
 
-impl ShadingPass<'_> {
+impl<'a> ShadingPass<'a> {
+    /// The pass that shades `gbuffer`, whose row 0 is row `first_row` of `camera`'s image,
+    /// tracing shadow rays through `tracer`; the parameters must be valid.
+    pub(crate) fn new(
+        gbuffer: &'a GBuffer,
+        first_row: usize,
+        tracer: &'a dyn Tracer,
+        camera: &'a Camera,
+        params: &'a ShadingParams,
+    ) -> Self {
+        ShadingPass {
+            gbuffer,
+            first_row,
+            tracer,
+            camera,
+            params,
+            to_sun: params.sun.direction(),
+            sky_ambient: params.sky.ambient(),
+        }
+    }
+
+    /// Shades the image rows from `top` on (at most [`TILE_SIZE`], all in the G-buffer) into
+    /// `out`, tile by tile: the shadow rays of a tile go to the tracer as one batch, then its
+    /// pixels are shaded and stored as `store` makes them.
+    pub(crate) fn shade_strip<T>(
+        &self,
+        top: usize,
+        out: &mut [T],
+        store: &impl Fn(DVec3) -> T,
+    ) -> TraceStats {
+        let width = self.gbuffer.width;
+        let rows = out.len() / width;
+        let mut stats = TraceStats::default();
+        let mut shadows = ShadowTile::default();
+        for tile_x in (0..width).step_by(TILE_SIZE) {
+            let tile = Tile::new(tile_x, top, width, top + rows);
+            shadows.trace(self, tile, &mut stats);
+            let seen = shadows.views.iter().zip(&shadows.visibility);
+            for ((i, j), (view, &visibility)) in tile.pixels().zip(seen) {
+                out[i + (j - top) * width] = store(self.radiance(i, j, view, visibility));
+            }
+        }
+        stats
+    }
+
+    /// The G-buffer index of image pixel (i, j).
+    #[inline]
+    fn index(&self, i: usize, j: usize) -> usize {
+        i + (j - self.first_row) * self.gbuffer.width
+    }
+
     /// What pixel (i, j), whose camera ray is `ray`, sees.
     #[inline]
     fn view(&self, i: usize, j: usize, ray: Ray) -> View {
         let g = self.gbuffer;
-        let k = i + j * g.width;
+        let k = self.index(i, j);
         let distance = g.distance[k] as f64;
         if !distance.is_finite() {
             return View { ray, hit: None };
@@ -279,10 +308,10 @@ impl ShadingPass<'_> {
                 source.0.albedo(&footprint)
             }
             Albedo::GBufferColour { .. } => {
-                let m = g.material[i + j * g.width];
+                let m = g.material[self.index(i, j)];
                 DVec3::new(m[0] as f64, m[1] as f64, m[2] as f64)
             }
-            other => other.at(position, normal, g.uv[i + j * g.width]),
+            other => other.at(position, normal, g.uv[self.index(i, j)]),
         };
         let direct = direct_lighting(
             albedo,

@@ -1,5 +1,7 @@
 //! The G-buffer: what every renderer writes per pixel and the deferred shading pass reads.
 
+use rayon::prelude::*;
+
 use crate::ShadeError;
 
 /// One pixel of a [`GBuffer`]: the first surface seen through it, or a miss.
@@ -178,6 +180,73 @@ impl GBuffer {
     /// The normals as a flat `(H, W, 3)` array, row 0 the top row.
     pub fn normals_hw3(&self) -> Vec<f32> {
         self.normal.iter().flatten().copied().collect()
+    }
+}
+
+/// Consecutive whole rows of a [`GBuffer`], borrowed mutably: a strip that one worker fills.
+pub(crate) struct GBufferRows<'a> {
+    pub(crate) distance: &'a mut [f32],
+    pub(crate) position: &'a mut [[f32; 3]],
+    pub(crate) normal: &'a mut [[f32; 3]],
+    pub(crate) material: &'a mut [[f32; 4]],
+    pub(crate) uv: &'a mut [[f32; 2]],
+    pub(crate) footprint: &'a mut [f32],
+}
+
+impl GBufferRows<'_> {
+    /// Writes `pixel` at `k`, counted from the strip's first pixel.
+    #[inline]
+    pub(crate) fn set(&mut self, k: usize, pixel: &GBufferPixel) {
+        self.distance[k] = pixel.distance;
+        self.position[k] = pixel.position;
+        self.normal[k] = pixel.normal;
+        self.material[k] = pixel.material;
+        self.uv[k] = pixel.uv;
+        self.footprint[k] = pixel.footprint;
+    }
+
+    /// Pixels in the strip.
+    pub(crate) fn len(&self) -> usize {
+        self.distance.len()
+    }
+}
+
+impl GBuffer {
+    /// The first `rows` rows (at most the buffer's).
+    pub(crate) fn rows_mut(&mut self, rows: usize) -> GBufferRows<'_> {
+        let n = rows * self.width;
+        GBufferRows {
+            distance: &mut self.distance[..n],
+            position: &mut self.position[..n],
+            normal: &mut self.normal[..n],
+            material: &mut self.material[..n],
+            uv: &mut self.uv[..n],
+            footprint: &mut self.footprint[..n],
+        }
+    }
+
+    /// The buffer cut into strips of `rows` rows (the last may be shorter), top to bottom, to
+    /// fill in parallel. The buffer must be [`validate`](Self::validate)d.
+    pub(crate) fn strips_mut(
+        &mut self,
+        rows: usize,
+    ) -> impl IndexedParallelIterator<Item = GBufferRows<'_>> {
+        let n = rows * self.width;
+        self.distance
+            .par_chunks_mut(n)
+            .zip(self.position.par_chunks_mut(n))
+            .zip(self.normal.par_chunks_mut(n))
+            .zip(self.material.par_chunks_mut(n))
+            .zip(self.uv.par_chunks_mut(n))
+            .zip(self.footprint.par_chunks_mut(n))
+            .map(|(((((distance, position), normal), material), uv), footprint)| GBufferRows {
+                distance,
+                position,
+                normal,
+                material,
+                uv,
+                footprint,
+            })
     }
 }
 

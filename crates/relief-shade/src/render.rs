@@ -4,6 +4,7 @@ use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, Ray};
 use relief_trace::{Hit, Tracer};
 
+use crate::gbuffer::GBufferRows;
 use crate::{shadow_ray, GBuffer, GBufferPixel, RayBatch, ShadeError, TraceStats};
 
 /// Side of the square image tiles traced as one unit of parallel work, in pixels.
@@ -163,48 +164,44 @@ pub fn render_gbuffer_into(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<TraceStats, ShadeError> {
     gbuffer.validate_for(camera)?;
-    let width = gbuffer.width;
-    let pixel = HitEncoder::new(bounds, camera);
+    let encoder = HitEncoder::new(bounds, camera);
     // Strips of TILE_SIZE rows are disjoint slices of every array: each worker writes its own
     // strip in place, tile by tile, so nothing is copied and no pixel depends on the schedule.
-    let strip = TILE_SIZE * width;
-    let GBuffer { distance, position, normal, material, uv, footprint, .. } = gbuffer;
-    let stats = distance
-        .par_chunks_mut(strip)
-        .zip(position.par_chunks_mut(strip))
-        .zip(normal.par_chunks_mut(strip))
-        .zip(material.par_chunks_mut(strip))
-        .zip(uv.par_chunks_mut(strip))
-        .zip(footprint.par_chunks_mut(strip))
+    let stats = gbuffer
+        .strips_mut(TILE_SIZE)
         .enumerate()
-        .map(|(s, (((((distance, position), normal), material), uv), footprint))| {
-            let mut stats = TraceStats::default();
-            let rows = distance.len() / width;
-            let mut batch = RayBatch::default();
-            let top = s * TILE_SIZE;
-            for tile_x in (0..width).step_by(TILE_SIZE) {
-                let tile = Tile::new(tile_x, top, width, top + rows);
-                batch.clear();
-                tile.camera_rays(camera, &mut batch.rays);
-                batch.intersect(tracer);
-                for (n, (i, j)) in tile.pixels().enumerate() {
-                    let (hit, steps) = (batch.hits[n], batch.steps[n]);
-                    let k = i + (j - top) * width;
-                    stats.record(steps, hit.is_some());
-                    let p = pixel.g_buffer_pixel(hit);
-                    distance[k] = p.distance;
-                    position[k] = p.position;
-                    normal[k] = p.normal;
-                    material[k] = p.material;
-                    uv[k] = p.uv;
-                    footprint[k] = p.footprint;
-                }
-                progress(batch.rays.len() as u64);
-            }
-            stats
-        })
+        .map(|(s, mut strip)| trace_strip(tracer, &encoder, s * TILE_SIZE, &mut strip, progress))
         .reduce(TraceStats::default, TraceStats::merge);
     Ok(stats)
+}
+
+/// Traces the camera rays of the image rows from `top` on that `strip` holds (whole rows of
+/// the camera's image, at most [`TILE_SIZE`]) into it, tile by tile, each tile's rays as one
+/// batch, calling `progress` with each tile's pixel count.
+pub(crate) fn trace_strip(
+    tracer: &dyn Tracer,
+    encoder: &HitEncoder,
+    top: usize,
+    strip: &mut GBufferRows,
+    progress: &(dyn Fn(u64) + Sync),
+) -> TraceStats {
+    let width = encoder.camera.width() as usize;
+    let rows = strip.len() / width;
+    let mut stats = TraceStats::default();
+    let mut batch = RayBatch::default();
+    for tile_x in (0..width).step_by(TILE_SIZE) {
+        let tile = Tile::new(tile_x, top, width, top + rows);
+        batch.clear();
+        tile.camera_rays(encoder.camera, &mut batch.rays);
+        batch.intersect(tracer);
+        for (n, (i, j)) in tile.pixels().enumerate() {
+            let (hit, steps) = (batch.hits[n], batch.steps[n]);
+            stats.record(steps, hit.is_some());
+            strip.set(i + (j - top) * width, &encoder.g_buffer_pixel(hit));
+        }
+        progress(batch.rays.len() as u64);
+    }
+    stats
 }
 
 /// Writes every pixel of `gbuffer` from `hit_of(index, i, j)`, the hit of pixel (i, j) (index
@@ -218,36 +215,20 @@ pub(crate) fn fill_gbuffer(
 ) {
     let width = gbuffer.width;
     let encoder = HitEncoder::new(bounds, camera);
-    let strip = TILE_SIZE * width;
-    let GBuffer { distance, position, normal, material, uv, footprint, .. } = gbuffer;
-    distance
-        .par_chunks_mut(strip)
-        .zip(position.par_chunks_mut(strip))
-        .zip(normal.par_chunks_mut(strip))
-        .zip(material.par_chunks_mut(strip))
-        .zip(uv.par_chunks_mut(strip))
-        .zip(footprint.par_chunks_mut(strip))
-        .enumerate()
-        .for_each(|(s, (((((distance, position), normal), material), uv), footprint))| {
-            for k in 0..distance.len() {
-                let index = s * strip + k;
-                let (i, j) = ((index % width) as u32, (index / width) as u32);
-                let p = encoder.g_buffer_pixel(hit_of(index, i, j));
-                distance[k] = p.distance;
-                position[k] = p.position;
-                normal[k] = p.normal;
-                material[k] = p.material;
-                uv[k] = p.uv;
-                footprint[k] = p.footprint;
-            }
-        });
+    gbuffer.strips_mut(TILE_SIZE).enumerate().for_each(|(s, mut strip)| {
+        for k in 0..strip.len() {
+            let index = s * TILE_SIZE * width + k;
+            let (i, j) = ((index % width) as u32, (index / width) as u32);
+            strip.set(k, &encoder.g_buffer_pixel(hit_of(index, i, j)));
+        }
+    });
 }
 
 /// Everything needed to turn one pixel's hit into a G-buffer pixel.
 pub(crate) struct HitEncoder<'a> {
     uv: UvMap,
     /// The camera, for the pixel's footprint ([`Camera::pixel_footprint`]).
-    camera: &'a Camera,
+    pub(crate) camera: &'a Camera,
 }
 
 impl<'a> HitEncoder<'a> {

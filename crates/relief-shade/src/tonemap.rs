@@ -3,6 +3,7 @@
 use rayon::prelude::*;
 
 use crate::error::non_negative;
+use crate::srgb8_table::srgb8_steps;
 use crate::ShadeError;
 
 /// The sRGB encoding of a linear value in `[0, 1]` (IEC 61966-2-1; values outside are clamped,
@@ -30,8 +31,11 @@ pub fn aces_filmic(x: f32) -> f32 {
         // Past white (the fit exceeds 1 from about 7.24 on); also keeps x² from overflowing.
         return 1.0;
     }
+    // In f64, so that the curve rounded to f32 never steps down where the f32 arithmetic's
+    // rounding would wiggle: the 8-bit table of its steps (srgb8_table.rs) relies on that.
+    let x = x as f64;
     let (a, b, c, d, e) = (2.51, 0.03, 2.43, 0.59, 0.14);
-    clamp_unit((x * (a * x + b)) / (x * (c * x + d) + e))
+    clamp_unit(((x * (a * x + b)) / (x * (c * x + d) + e)) as f32)
 }
 
 /// Tone-maps linear radiance to interleaved 8-bit sRGB (`R, G, B` per pixel, same order):
@@ -39,18 +43,25 @@ pub fn aces_filmic(x: f32) -> f32 {
 /// [`linear_to_srgb`], then rounded to the nearest of 0..=255.
 ///
 /// Fails when `exposure` is negative or not finite. Negative or NaN radiance gives 0.
+///
+/// The bytes come from a table of the curve's steps (see `srgb8_table.rs`), equal to the
+/// formula's bit for bit without a power function per channel.
 pub fn tonemap_to_srgb8(radiance: &[[f32; 3]], exposure: f64) -> Result<Vec<u8>, ShadeError> {
-    encode_rgb8(radiance, exposure, srgb8_curve)
+    let steps = srgb8_steps();
+    encode_rgb8(radiance, exposure, |x| steps.byte(x))
 }
 
-/// The curve of [`tonemap_to_srgb8`] for a channel already multiplied by the exposure.
-fn srgb8_curve(x: f32) -> f32 {
-    linear_to_srgb(aces_filmic(x))
+/// The byte of [`tonemap_to_srgb8`] for a channel already multiplied by the exposure, from
+/// the formula: what the table of steps reproduces.
+pub(crate) fn srgb8_byte_by_formula(x: f32) -> u8 {
+    to_byte(linear_to_srgb(aces_filmic(x)))
 }
 
 /// One pixel of [`tonemap_to_srgb8`] (the exposure already checked).
+#[inline]
 pub(crate) fn srgb8_pixel(radiance: [f32; 3], exposure: f32) -> [u8; 3] {
-    radiance.map(|channel| to_byte(srgb8_curve(channel * exposure)))
+    let steps = srgb8_steps();
+    radiance.map(|channel| steps.byte(channel * exposure))
 }
 
 /// A value in `[0, 1]` rounded to the nearest of 0..=255.
@@ -58,19 +69,19 @@ fn to_byte(value: f32) -> u8 {
     (value * 255.0).round() as u8
 }
 
-/// Every channel of `radiance` times `exposure` through `curve` (onto `[0, 1]`), rounded to
-/// the nearest of 0..=255, interleaved; fails when `exposure` is negative or not finite.
+/// Every channel of `radiance` times `exposure` through `byte`, interleaved; fails when
+/// `exposure` is negative or not finite.
 fn encode_rgb8(
     radiance: &[[f32; 3]],
     exposure: f64,
-    curve: impl Fn(f32) -> f32 + Sync,
+    byte: impl Fn(f32) -> u8 + Sync,
 ) -> Result<Vec<u8>, ShadeError> {
     non_negative("exposure", exposure)?;
     let exposure = exposure as f32;
     let mut out = vec![0u8; radiance.len() * 3];
     out.par_chunks_mut(3).zip(radiance.par_iter()).for_each(|(rgb, pixel)| {
         for (o, &channel) in rgb.iter_mut().zip(pixel) {
-            *o = to_byte(curve(channel * exposure));
+            *o = byte(channel * exposure);
         }
     });
     Ok(out)
@@ -88,7 +99,7 @@ pub fn tonemap_reinhard_to_rgb8(
     encode_rgb8(radiance, exposure, |x| {
         // An infinite channel gives inf / inf: white, as its limit.
         let compressed = if x == f32::INFINITY { 1.0 } else { clamp_unit(x / (1.0 + x)) };
-        compressed.powf(1.0 / 2.2)
+        to_byte(compressed.powf(1.0 / 2.2))
     })
 }
 

@@ -45,8 +45,14 @@ pub fn run(args: &FlythroughArgs) -> Result<()> {
         let time_ms = outputs::ms_since(frame_started);
         let write_started = Instant::now();
         let file = args.output.join(format!("frame-{index:0digits$}.png"));
-        outputs::write_picture(&file, camera.width(), camera.height(), drawn.rgb.as_flattened())
-            .with_context(|| format!("writing {}", file.display()))?;
+        outputs::write_picture(
+            &file,
+            camera.width(),
+            camera.height(),
+            drawn.rgb.as_flattened(),
+            args.png_compression,
+        )
+        .with_context(|| format!("writing {}", file.display()))?;
         let frame = FlightFrame {
             frame: index as u32,
             time_s,

@@ -8,9 +8,9 @@ use crate::scene::height_field::{check_safety_view, HeightFieldScene};
 use crate::scene::stacks::is_stacks_file;
 use crate::tracers::{self, TracerChoice};
 use crate::{input, memory, outputs, progress};
-use anyhow::Result;
+use anyhow::{bail, Result};
 use relief_core::Camera;
-use relief_shade::{render_gbuffer, shade_to_srgb8, GBuffer};
+use relief_shade::{render_gbuffer, render_to_srgb8, shade_to_srgb8, GBuffer};
 use relief_trace::{Simd, Tracer};
 use serde_json::{json, Value};
 use std::path::Path;
@@ -85,6 +85,29 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let build_ms = outputs::ms_since(build_started);
 
     let pixels = camera.width() as u64 * camera.height() as u64;
+    let summary = format!("{surface} {choice} tracer");
+    if args.depth.is_none() && args.normals.is_none() {
+        // Only the picture: trace and shade strip by strip, with no image-sized G-buffer.
+        let bar = progress::bar(pixels, "rendering");
+        let (rgb, stats) =
+            render_to_srgb8(tracer.as_ref(), camera, &scene.bounds(), &scene.params, &|n| {
+                bar.inc(n)
+            })?;
+        bar.finish_and_clear();
+        let rendered = Rendered {
+            rgb: rgb.as_flattened(),
+            gbuffer: None,
+            hits: stats.primary.hits,
+            shadow_rays: stats.shadow.rays,
+            load_ms,
+            build_ms,
+            trace_ms: stats.trace_ms,
+            shade_ms: stats.shade_ms,
+        };
+        let extra = json!({ "mean_steps": stats.primary.mean_steps() });
+        let tracer_name = choice.to_string();
+        return write_and_report(args, &scene, &tracer_name, rendered, started, &summary, extra);
+    }
     let bar = progress::bar(pixels, "tracing");
     let trace_started = Instant::now();
     let (gbuffer, primary) =
@@ -93,7 +116,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     bar.finish_and_clear();
     let drawn =
         Drawn { gbuffer: &gbuffer, shadow_tracer: tracer.as_ref(), load_ms, build_ms, trace_ms };
-    let summary = format!("{surface} {choice} tracer");
     let extra = json!({ "mean_steps": primary.mean_steps() });
     shade_and_write(args, &scene, &choice.to_string(), drawn, started, |_| {}, &summary, extra)
 }
@@ -111,9 +133,7 @@ pub(super) struct Drawn<'a> {
 }
 
 /// The end every height-field renderer shares: shades `drawn` (then `recolour` the pixels,
-/// counted in the shading time), writes the outputs `args` ask for, says `wrote PATH (WxH,
-/// summary)`, and with `--stats` writes the keys every renderer has (input, terrain, surface,
-/// `tracer`, image, rays, hits, shadow rays and the stage timings) and those of `extra`.
+/// counted in the shading time), then [`write_and_report`]s.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn shade_and_write(
     args: &RenderArgs,
@@ -125,20 +145,61 @@ pub(super) fn shade_and_write(
     summary: &str,
     extra: Value,
 ) -> Result<()> {
-    let camera = &scene.camera;
     let shade_started = Instant::now();
     let (mut rgb, shadow) =
-        shade_to_srgb8(drawn.gbuffer, drawn.shadow_tracer, camera, &scene.params)?;
+        shade_to_srgb8(drawn.gbuffer, drawn.shadow_tracer, &scene.camera, &scene.params)?;
     recolour(&mut rgb);
-    let shade_ms = outputs::ms_since(shade_started);
+    let rendered = Rendered {
+        rgb: rgb.as_flattened(),
+        gbuffer: Some(drawn.gbuffer),
+        hits: drawn.gbuffer.distance.iter().filter(|d| d.is_finite()).count() as u64,
+        shadow_rays: shadow.rays,
+        load_ms: drawn.load_ms,
+        build_ms: drawn.build_ms,
+        trace_ms: drawn.trace_ms,
+        shade_ms: outputs::ms_since(shade_started),
+    };
+    write_and_report(args, scene, tracer, rendered, started, summary, extra)
+}
+
+/// A height field's picture, shaded, with what `--stats` reports.
+struct Rendered<'a> {
+    /// The picture, 8-bit sRGB.
+    rgb: &'a [u8],
+    /// The primary hits, where the renderer kept them (for --depth and --normals).
+    gbuffer: Option<&'a GBuffer>,
+    hits: u64,
+    shadow_rays: u64,
+    load_ms: f64,
+    build_ms: f64,
+    trace_ms: f64,
+    shade_ms: f64,
+}
+
+/// Writes the outputs `args` asks for, says `wrote PATH (WxH, summary)`, and with `--stats`
+/// writes the keys every renderer has (input, terrain, surface, `tracer`, image, rays, hits,
+/// shadow rays and the stage timings) and those of `extra`.
+#[allow(clippy::too_many_arguments)]
+fn write_and_report(
+    args: &RenderArgs,
+    scene: &HeightFieldScene,
+    tracer: &str,
+    rendered: Rendered,
+    started: Instant,
+    summary: &str,
+    extra: Value,
+) -> Result<()> {
+    let camera = &scene.camera;
     let write_started = Instant::now();
-    write_outputs(args, camera, drawn.gbuffer, rgb.as_flattened())?;
+    match rendered.gbuffer {
+        Some(gbuffer) => write_outputs(args, camera, gbuffer, rendered.rgb)?,
+        None => write_picture(args, camera, rendered.rgb)?,
+    }
     let write_ms = outputs::ms_since(write_started);
     let (w, h) = (camera.width(), camera.height());
     eprintln!("wrote {} ({w}x{h}, {summary})", args.output.display());
     let Some(path) = &args.stats else { return Ok(()) };
     let field = &scene.field;
-    let hits = drawn.gbuffer.distance.iter().filter(|d| d.is_finite()).count();
     let mut stats = json!({
         "input": input_name(args),
         "kind": "height field",
@@ -149,12 +210,12 @@ pub(super) fn shade_and_write(
         "height": h,
         "threads": rayon::current_num_threads(),
         "rays": u64::from(w) * u64::from(h),
-        "hits": hits,
-        "shadow_rays": shadow.rays,
-        "load_ms": drawn.load_ms,
-        "build_ms": drawn.build_ms,
-        "trace_ms": drawn.trace_ms,
-        "shade_ms": shade_ms,
+        "hits": rendered.hits,
+        "shadow_rays": rendered.shadow_rays,
+        "load_ms": rendered.load_ms,
+        "build_ms": rendered.build_ms,
+        "trace_ms": rendered.trace_ms,
+        "shade_ms": rendered.shade_ms,
         "write_ms": write_ms,
         "total_ms": outputs::ms_since(started),
     });
@@ -176,7 +237,10 @@ pub(super) fn input_name(args: &RenderArgs) -> Value {
 /// output and the input) that are one file.
 fn check_outputs(args: &RenderArgs) -> Result<()> {
     outputs::check_writable(&args.output)?;
-    outputs::picture_format("-o", &args.output)?;
+    let format = outputs::picture_format("-o", &args.output)?;
+    if args.png_compression.is_some() && format != outputs::PictureFormat::Png {
+        bail!("--png-compression: -o {} is not a .png picture", args.output.display());
+    }
     let mut all = vec![("-o", args.output.as_path())];
     for (option, path) in [("--depth", &args.depth), ("--normals", &args.normals)] {
         if let Some(path) = path {
@@ -195,14 +259,21 @@ fn check_outputs(args: &RenderArgs) -> Result<()> {
     outputs::check_distinct(&all, &inputs)
 }
 
-/// The PNG of the tone-mapped `rgb`, and the depth and normals of `gbuffer` where asked for.
+/// The picture `-o` names, of the tone-mapped `rgb`.
+fn write_picture(args: &RenderArgs, camera: &Camera, rgb: &[u8]) -> Result<()> {
+    let png = args.png_compression.unwrap_or_default();
+    outputs::write_picture(&args.output, camera.width(), camera.height(), rgb, png)
+}
+
+/// The picture of the tone-mapped `rgb`, and the depth and normals of `gbuffer` where asked
+/// for.
 pub(super) fn write_outputs(
     args: &RenderArgs,
     camera: &Camera,
     gbuffer: &GBuffer,
     rgb: &[u8],
 ) -> Result<()> {
-    outputs::write_picture(&args.output, camera.width(), camera.height(), rgb)?;
+    write_picture(args, camera, rgb)?;
     let (h, w) = (camera.height() as usize, camera.width() as usize);
     if let Some(path) = &args.depth {
         relief_io::write_npy_f32(path, &[h, w], &gbuffer.depth_hw())?;

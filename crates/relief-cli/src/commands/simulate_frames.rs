@@ -151,7 +151,8 @@ impl Frames {
         let frame = self.times.len() + 1;
         let path = self.dir.join(format!("frame-{frame:05}.png"));
         let rgb = tonemap_reinhard_to_rgb8(&image.radiance, self.shading.exposure)?;
-        outputs::write_picture(&path, self.camera.width(), self.camera.height(), &rgb)
+        let (w, h) = (self.camera.width(), self.camera.height());
+        outputs::write_picture(&path, w, h, &rgb, relief_io::PngCompression::Fast)
             .with_context(|| format!("writing {}", path.display()))?;
         let write = ms_since(started);
 

@@ -1,0 +1,117 @@
+//! The whole render in one pass: each worker traces a strip of rows into a G-buffer of its
+//! own, shades it and tone-maps it, so no image-sized G-buffer is ever held.
+
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+use relief_core::{Aabb, Camera};
+use relief_trace::Tracer;
+
+use crate::deferred::ShadingPass;
+use crate::render::{trace_strip, HitEncoder};
+use crate::tonemap::srgb8_pixel;
+use crate::{GBuffer, ShadeError, ShadingParams, TraceStats, TILE_SIZE};
+
+/// What [`render_to_srgb8`] counted and timed.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StripRenderStats {
+    /// The camera rays.
+    pub primary: TraceStats,
+    /// The shadow rays.
+    pub shadow: TraceStats,
+    /// Milliseconds of the pass's wall time spent tracing camera rays: the wall time split in
+    /// proportion to the time the workers spent tracing and shading.
+    pub trace_ms: f64,
+    /// The rest of the pass's wall time: shading, shadow rays and tone mapping.
+    pub shade_ms: f64,
+}
+
+/// Renders `camera`'s picture of the terrain `tracer` intersects (world bounds `bounds`) to
+/// 8-bit sRGB, row-major from the top: the bytes of [`crate::render_gbuffer`] followed by
+/// [`crate::shade_to_srgb8`], without an image-sized G-buffer.
+///
+/// Strips of [`TILE_SIZE`] rows are traced and shaded in parallel, each in a G-buffer of its
+/// worker's (56 bytes a pixel of one strip, which stays in cache, instead of the image's);
+/// every pixel is computed as the two-pass render computes it, so the picture is the same
+/// byte for byte, whatever the thread count. `progress` is called with each tile's pixel
+/// count as its camera rays are traced. Fails when a parameter is invalid.
+pub fn render_to_srgb8(
+    tracer: &dyn Tracer,
+    camera: &Camera,
+    bounds: &Aabb,
+    params: &ShadingParams,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<(Vec<[u8; 3]>, StripRenderStats), ShadeError> {
+    params.validate()?;
+    let (width, height) = (camera.width() as usize, camera.height() as usize);
+    // The strip G-buffer also refuses an empty image.
+    GBuffer::new(width, TILE_SIZE.min(height))?;
+    let mut rgb = Vec::new();
+    rgb.try_reserve_exact(width * height).map_err(|e| {
+        ShadeError::Limits(format!("cannot allocate a {width} x {height} picture: {e}"))
+    })?;
+    rgb.resize(width * height, [0u8; 3]);
+    let encoder = HitEncoder::new(bounds, camera);
+    let exposure = params.exposure as f32;
+    let store = |radiance: relief_core::DVec3| srgb8_pixel(radiance.as_vec3().to_array(), exposure);
+    let started = Instant::now();
+    let totals = rgb
+        .par_chunks_mut(TILE_SIZE * width)
+        .enumerate()
+        .map_init(
+            || GBuffer::new(width, TILE_SIZE.min(height)).ok(),
+            |strip_gbuffer, (s, out)| -> Result<StripTotals, ShadeError> {
+                let strip_gbuffer = strip_gbuffer.as_mut().ok_or_else(|| {
+                    ShadeError::Limits(format!(
+                        "cannot allocate a G-buffer of {width} x {TILE_SIZE}"
+                    ))
+                })?;
+                let top = s * TILE_SIZE;
+                let rows = out.len() / width;
+                let traced = Instant::now();
+                let mut strip = strip_gbuffer.rows_mut(rows);
+                let primary = trace_strip(tracer, &encoder, top, &mut strip, progress);
+                let shaded = Instant::now();
+                let pass = ShadingPass::new(strip_gbuffer, top, tracer, camera, params);
+                let shadow = pass.shade_strip(top, out, &store);
+                let done = Instant::now();
+                Ok(StripTotals {
+                    primary,
+                    shadow,
+                    tracing: shaded - traced,
+                    shading: done - shaded,
+                })
+            },
+        )
+        .try_reduce(StripTotals::default, |a, b| Ok(a.merge(b)))?;
+    let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+    let busy = (totals.tracing + totals.shading).as_secs_f64();
+    let trace_share = if busy > 0.0 { totals.tracing.as_secs_f64() / busy } else { 0.0 };
+    let stats = StripRenderStats {
+        primary: totals.primary,
+        shadow: totals.shadow,
+        trace_ms: wall_ms * trace_share,
+        shade_ms: wall_ms * (1.0 - trace_share),
+    };
+    Ok((rgb, stats))
+}
+
+/// The counts and worker times of some strips.
+#[derive(Default)]
+struct StripTotals {
+    primary: TraceStats,
+    shadow: TraceStats,
+    tracing: Duration,
+    shading: Duration,
+}
+
+impl StripTotals {
+    fn merge(self, other: StripTotals) -> StripTotals {
+        StripTotals {
+            primary: self.primary.merge(other.primary),
+            shadow: self.shadow.merge(other.shadow),
+            tracing: self.tracing + other.tracing,
+            shading: self.shading + other.shading,
+        }
+    }
+}
