@@ -25,7 +25,7 @@
 //! (which covers `ε`; holes keep their stored value, the lowest valid sample, so `D` only
 //! overestimates). Blocks past the grid hold minus infinity. One pass from the sun's side
 //! computes every `U`, in `f64` with `k` shrunk by a relative `1e-9` and the stored `f32`
-//! rounded up, so `U` never falls below `H`.
+//! raised by a relative `2^-22` (more than its rounding), so `U` never falls below `H`.
 //!
 //! # Deciding a ray
 //!
@@ -46,10 +46,10 @@ use relief_core::{DVec3, HeightField, Ray, Surface};
 use std::sync::Arc;
 
 /// How many cells a shadow ray walks before it is handed to the wrapped tracer.
-pub const WALK_CELLS: u32 = 64;
+pub const WALK_CELLS: u32 = 16;
 
 /// The side, in cells, of the blocks [`SunShadows::new`] bounds the shadow over.
-pub const DEFAULT_SHADOW_BLOCK: usize = 2;
+pub const DEFAULT_SHADOW_BLOCK: usize = 4;
 
 /// Horizontal distance, in cells, within which a cell counts as under a ray's point: far
 /// beyond the rounding of any tracer's cell boundaries.
@@ -79,6 +79,8 @@ pub struct SunShadows<T> {
     grid: CellGrid,
     /// The swept world direction towards the sun.
     towards_sun: DVec3,
+    /// The reciprocal of the sun direction in cell space.
+    cell_inv_dir: DVec3,
     /// Block side in cells.
     block: usize,
     blocks_x: usize,
@@ -95,6 +97,8 @@ pub struct SunShadows<T> {
     bound: Vec<f32>,
     /// How far above a bound a ray must pass to count as above it.
     margin: f64,
+    /// How many cells a ray walks before it is traced ([`WALK_CELLS`]).
+    walk: u32,
 }
 
 impl<T: Tracer> SunShadows<T> {
@@ -139,6 +143,7 @@ impl<T: Tracer> SunShadows<T> {
             inner,
             grid,
             towards_sun,
+            cell_inv_dir: DVec3::ONE / dir,
             block,
             blocks_x,
             blocks_y,
@@ -148,6 +153,7 @@ impl<T: Tracer> SunShadows<T> {
             minor_len,
             bound: Vec::new(),
             margin: 1e-7 * (1.0 + lo.abs().max(hi.abs()) + (hi - lo)),
+            walk: WALK_CELLS,
             field,
         };
         if major_len > 0 && minor_len > 0 {
@@ -155,7 +161,7 @@ impl<T: Tracer> SunShadows<T> {
             let major = if major_is_x { dir.x.abs() } else { dir.y.abs() };
             let rise = block as f64 * (dir.z / major) * (1.0 - 1e-9);
             let widened = shadows.widened_block_maxima();
-            shadows.bound = shadows.sweep(&widened, major_len, rise);
+            shadows.bound = shadows.sweep(widened, major_len, rise);
         }
         Ok(shadows)
     }
@@ -183,7 +189,9 @@ impl<T: Tracer> SunShadows<T> {
         if ray.dir != self.towards_sun || self.bound.is_empty() {
             return false;
         }
-        let r = self.grid.to_cell_space(ray);
+        // The ray in cell space, as the tracers map it, with the sun's reciprocal direction.
+        let mut r = self.grid.to_cell_space_dir_only(ray);
+        r.inv_dir = self.cell_inv_dir;
         let t0 = r.t_min;
         if !(t0.is_finite() && t0 <= r.t_max) {
             return false;
@@ -210,7 +218,7 @@ impl<T: Tracer> SunShadows<T> {
                 f64::INFINITY
             }
         };
-        for _ in 0..WALK_CELLS {
+        for _ in 0..self.walk {
             *steps += 1;
             if za - self.margin > self.bound_at(cx, cy) as f64 {
                 return true;
@@ -283,9 +291,10 @@ impl<T: Tracer> SunShadows<T> {
                     && zb - (p0 + pu * ub + pv * vb) > self.margin
             });
         }
+        // (Truncation is the floor of the non-negative values.)
         let span = |lo: f64, hi: f64, cells: usize| {
-            let first = (lo - NEAR).floor().max(0.0) as usize;
-            let last = ((hi + NEAR).floor().max(0.0) as usize).min(cells - 1);
+            let first = (lo - NEAR).max(0.0) as usize;
+            let last = ((hi + NEAR).max(0.0) as usize).min(cells - 1);
             first..=last
         };
         // When the ray comes within NEAR of cell m along one axis (before `t_a`: already).
@@ -305,7 +314,8 @@ impl<T: Tracer> SunShadows<T> {
                 let top = self.grid.cell_max(samples, mx, my) as f64;
                 let t = ty.max(near_from(mx, o.x, d.x, inv.x));
                 let z = if t > t_a { o.z + t * d.z } else { za };
-                if !(z - self.margin > top) {
+                // (Not `<=`: a NaN height proves nothing.)
+                if (z - self.margin).partial_cmp(&top) != Some(std::cmp::Ordering::Greater) {
                     return false;
                 }
             }
@@ -316,15 +326,15 @@ impl<T: Tracer> SunShadows<T> {
     /// The swept bound `U` of the block holding cell (cx, cy).
     #[inline]
     fn bound_at(&self, cx: usize, cy: usize) -> f32 {
-        let (bx, by) = (cx / self.block, cy / self.block);
+        let (bx, by) = if self.block == 1 { (cx, cy) } else { (cx / self.block, cy / self.block) };
         let mx = if self.flip_x { self.blocks_x - 1 - bx } else { bx };
         let my = if self.flip_y { self.blocks_y - 1 - by } else { by };
         let (i, j) = if self.major_is_x { (mx, my) } else { (my, mx) };
         self.bound[i * self.minor_len + j]
     }
 
-    /// `D` of every block, row-major in the field's own block order: the highest sample any
-    /// cell of the block, widened by one cell on every side, reads.
+    /// `D` of every block in sweep order: the highest sample any cell of the block, widened
+    /// by one cell on every side, reads.
     fn widened_block_maxima(&self) -> Vec<f32> {
         let (b, w) = (self.block, self.field.width());
         let reach = match self.grid.surface() {
@@ -338,59 +348,86 @@ impl<T: Tracer> SunShadows<T> {
             first..=last
         };
         let (cells_x, cells_y) = (self.grid.cells_x(), self.grid.cells_y());
+        let (blocks_x, blocks_y) = (self.blocks_x, self.blocks_y);
         let samples = self.field.samples();
-        // Along rows first: each sample row reduced to one value per block column.
-        let rows: Vec<f32> = samples
-            .par_chunks(w)
-            .flat_map_iter(|row| {
-                (0..self.blocks_x).map(move |bx| {
-                    row[samples_of(bx, cells_x)].iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v))
-                })
-            })
-            .collect();
-        let mut widened = vec![f32::NEG_INFINITY; self.blocks_x * self.blocks_y];
-        widened.par_chunks_mut(self.blocks_x).enumerate().for_each(|(by, out)| {
-            for r in samples_of(by, cells_y) {
-                let row = &rows[r * self.blocks_x..(r + 1) * self.blocks_x];
-                for (o, &v) in out.iter_mut().zip(row) {
-                    *o = o.max(v);
+        // Rows of blocks, mirrored along both axes as the sweep has them: down the sample
+        // rows first (whole rows at a time), then along the row.
+        let mut widened = vec![f32::NEG_INFINITY; blocks_x * blocks_y];
+        widened.par_chunks_mut(blocks_x).enumerate().for_each_init(
+            || vec![f32::NEG_INFINITY; w],
+            |column_max, (my, out)| {
+                let by = if self.flip_y { blocks_y - 1 - my } else { my };
+                column_max.fill(f32::NEG_INFINITY);
+                for r in samples_of(by, cells_y) {
+                    for (m, &v) in column_max.iter_mut().zip(&samples[r * w..(r + 1) * w]) {
+                        *m = m.max(v);
+                    }
+                }
+                for (bx, m) in column_max
+                    .chunks(b)
+                    .map(|c| c.iter().fold(f32::NEG_INFINITY, |a, &v| a.max(v)))
+                    .enumerate()
+                    .take(blocks_x)
+                {
+                    let range = samples_of(bx, cells_x);
+                    let (first, last) = (*range.start(), *range.end());
+                    // The block's own samples, and those just outside it that its widened cells read.
+                    let mut d = m;
+                    for c in (first..bx * b).chain((bx + 1) * b..=last) {
+                        d = d.max(column_max[c]);
+                    }
+                    let mx = if self.flip_x { blocks_x - 1 - bx } else { bx };
+                    out[mx] = d;
+                }
+            },
+        );
+        if !self.major_is_x {
+            return widened;
+        }
+        // Rows of the sweep run along y: transpose, in tiles that stay in cache.
+        const TILE: usize = 32;
+        let mut transposed = vec![f32::NEG_INFINITY; blocks_x * blocks_y];
+        transposed.par_chunks_mut(TILE * blocks_y).enumerate().for_each(|(ti, band)| {
+            let rows = band.len() / blocks_y;
+            for j0 in (0..blocks_y).step_by(TILE) {
+                for j in j0..(j0 + TILE).min(blocks_y) {
+                    let source =
+                        &widened[j * blocks_x + ti * TILE..j * blocks_x + ti * TILE + rows];
+                    for (r, &v) in source.iter().enumerate() {
+                        band[r * blocks_y + j] = v;
+                    }
                 }
             }
         });
-        widened
+        transposed
     }
 
-    /// The sweep: `U` of every block in sweep order from the blocks' `widened` maxima, with
-    /// the ray rising `rise` per block along the dominant axis.
-    fn sweep(&self, widened: &[f32], major_len: usize, rise: f64) -> Vec<f32> {
-        let minor_len = self.minor_len;
-        // D in sweep order, then the 2 x 2 maximum that bounds the ground track of one step.
-        let mut bound = vec![f32::NEG_INFINITY; major_len * minor_len];
-        let d_at = |i: usize, j: usize| -> f32 {
-            if i >= major_len || j >= minor_len {
-                return f32::NEG_INFINITY;
-            }
-            let (mx, my) = if self.major_is_x { (i, j) } else { (j, i) };
-            let bx = if self.flip_x { self.blocks_x - 1 - mx } else { mx };
-            let by = if self.flip_y { self.blocks_y - 1 - my } else { my };
-            widened[bx + by * self.blocks_x]
-        };
-        bound.par_chunks_mut(minor_len).enumerate().for_each(|(i, row)| {
-            for (j, s) in row.iter_mut().enumerate() {
-                *s = d_at(i, j).max(d_at(i, j + 1)).max(d_at(i + 1, j)).max(d_at(i + 1, j + 1));
-            }
-        });
-        // From the sun's side: U(I, J) = max(S(I, J), max(U(I+1, J), U(I+1, J+1)) - rise), in
-        // f64 (a minus-infinity sentinel past the last J), stored rounded up.
-        let mut next = vec![f64::NEG_INFINITY; minor_len + 1];
-        let mut current = vec![f64::NEG_INFINITY; minor_len + 1];
-        for row in bound.chunks_exact_mut(minor_len).rev() {
-            for (j, s) in row.iter_mut().enumerate() {
-                let u = (*s as f64).max(next[j].max(next[j + 1]) - rise);
+    /// The sweep, in place over the blocks' `widened` maxima in sweep order: `U` of every
+    /// block, with the ray rising `rise` per block along the dominant axis.
+    fn sweep(&self, mut bound: Vec<f32>, major_len: usize, rise: f64) -> Vec<f32> {
+        let n = self.minor_len;
+        // From the sun's side: U(I, J) = max(S(I, J), max(U(I+1, J), U(I+1, J+1)) - rise) with
+        // S the largest D over {I, I+1} x {J, J+1}. In f64, with a finite stand-in for minus
+        // infinity (past the last J, and before the first row) so that the stored value can
+        // be rounded up without branches: raised by a relative 2^-22, more than the f32
+        // rounding takes off.
+        const NOTHING: f64 = -1e300;
+        let mut next = vec![NOTHING; n + 1];
+        let mut current = vec![NOTHING; n + 1];
+        // D of the row on the sun's side (before the sweep overwrote it), and of this one.
+        let mut there = vec![f32::NEG_INFINITY; n + 1];
+        let mut here = vec![f32::NEG_INFINITY; n + 1];
+        for i in (0..major_len).rev() {
+            let out = &mut bound[i * n..(i + 1) * n];
+            here[..n].copy_from_slice(out);
+            for j in 0..n {
+                let s = here[j].max(here[j + 1]).max(there[j]).max(there[j + 1]) as f64;
+                let u = s.max(NOTHING).max(next[j].max(next[j + 1]) - rise);
                 current[j] = u;
-                *s = round_up(u);
+                out[j] = (u + u.abs() * (1.0 / 4194304.0) + 1e-44) as f32;
             }
             std::mem::swap(&mut next, &mut current);
+            std::mem::swap(&mut there, &mut here);
         }
         bound
     }
@@ -404,17 +441,6 @@ fn step(c: usize, d: f64, cells: usize) -> Option<usize> {
         Some(c + 1).filter(|&c| c < cells)
     } else {
         c.checked_sub(1)
-    }
-}
-
-/// The smallest `f32` at least `v`.
-#[inline]
-fn round_up(v: f64) -> f32 {
-    let f = v as f32;
-    if (f as f64) < v {
-        f.next_up()
-    } else {
-        f
     }
 }
 

@@ -160,7 +160,7 @@ fn sweep_decides_most_lit_rays_on_smooth_terrain() {
                 }
                 let share = proven as f64 / lit as f64;
                 assert!(
-                    rays.len() > 1000 && share > 0.85,
+                    rays.len() > 1000 && share > 0.75,
                     "{surface} sun {azimuth}/{elevation} block {block}: {proven} of {lit} lit rays \
                      of {} proven ({steps} cells walked)",
                     rays.len()
