@@ -912,6 +912,12 @@ pub struct BenchArgs {
     /// traversal instead of its packets), for comparison.
     #[arg(long)]
     pub single_rays: bool,
+    /// Decide the shadow rays the sun's shadow sweep proves lit without tracing them
+    /// (relief_trace::SunShadows; exact) and trace the others; reports the sweep's build time
+    /// and the share of rays it decided. Off by default: on the fBm views it is slower than
+    /// the mipmap tracer's packets (docs/performance.md).
+    #[arg(long)]
+    pub shadow_sweep: bool,
     /// Options of the hybrid renderer (with `--tracers hybrid`, or `--dynamic`).
     #[command(flatten)]
     pub hybrid: HybridArgs,

@@ -235,6 +235,15 @@ impl CellGrid {
         CellRay { ray, inv_dir: DVec3::ONE / ray.dir }
     }
 
+    /// [`CellGrid::to_cell_space`] without the reciprocal direction (left at zero), for a
+    /// caller that knows it already: the same origin and direction, bit for bit.
+    #[inline]
+    pub(crate) fn to_cell_space_dir_only(&self, world_ray: &Ray) -> CellRay {
+        let grid_ray = self.geometry.ray_to_grid_scaled(world_ray, self.grid_scale);
+        let ray = Ray { origin: grid_ray.origin - self.shift, ..grid_ray };
+        CellRay { ray, inv_dir: DVec3::ZERO }
+    }
+
     /// The world hit for a cell-space hit at `t` with grid-space `normal` (zero: started inside).
     pub fn world_hit(&self, world_ray: &Ray, t: f64, normal: DVec3) -> Hit {
         let normal = if normal == DVec3::ZERO {

@@ -11,6 +11,9 @@
 //! - [`SafetyTracer`]: marching with precomputed safety shapes, for static terrain and the
 //!   `triangles` surface (Baboud et al. 2011; see [`safety`]).
 //!
+//! Shadow rays towards one sun can go through [`SunShadows`], which wraps any of them and
+//! decides most of those rays without tracing, exactly, from a sweep along the sun's azimuth.
+//!
 //! The per-cell machinery of hybrid rendering (mesh near, ray cast far; Ammann et al. 2010)
 //! is in [`hybrid`]; [`MipmapTracer::edit`] keeps the exact tracer up to date under edits.
 //!
@@ -45,6 +48,7 @@ mod mlhm;
 mod naive_tracer;
 mod packet;
 pub mod safety;
+mod shadow_sweep;
 mod tracer;
 
 pub use cell_grid::{CellGrid, CellRay, Entry, Segment};
@@ -60,6 +64,7 @@ pub use mlhm::{
 pub use naive_tracer::NaiveTracer;
 pub use packet::Simd;
 pub use safety::{SafetyOptions, SafetyShapes, SafetyTracer};
+pub use shadow_sweep::{SunShadows, DEFAULT_SHADOW_BLOCK, WALK_CELLS};
 pub use tracer::{build_tracer, Hit, Tracer, TracerKind};
 
 /// The README's library example, compiled and run as a doctest.

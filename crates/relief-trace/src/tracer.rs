@@ -72,6 +72,42 @@ pub trait Tracer: Send + Sync {
     }
 }
 
+/// A reference to a tracer is the tracer (so wrappers such as [`crate::SunShadows`] can hold
+/// a `&dyn Tracer`); every method forwards, batches included.
+impl<T: Tracer + ?Sized> Tracer for &T {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+
+    fn surface(&self) -> Surface {
+        (**self).surface()
+    }
+
+    fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
+        (**self).intersect_counted(ray, steps)
+    }
+
+    fn occluded_counted(&self, ray: &Ray, steps: &mut u32) -> bool {
+        (**self).occluded_counted(ray, steps)
+    }
+
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        (**self).intersect(ray)
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        (**self).occluded(ray)
+    }
+
+    fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
+        (**self).intersect_batch(rays, hits, steps)
+    }
+
+    fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
+        (**self).occluded_batch(rays, occluded, steps)
+    }
+}
+
 /// The height-field tracers relief offers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum TracerKind {

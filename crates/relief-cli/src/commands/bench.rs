@@ -2,7 +2,9 @@
 //!
 //! For every view, surface and tracer it prints the acceleration-structure build time, primary
 //! and shadow rays per second, mean and maximum traversal steps per ray and the process's peak
-//! memory so far. Every view is traced `--repeat` times and the fastest run is reported.
+//! memory so far. With `--shadow-sweep`, shadow rays go through the sun's shadow sweep
+//! ([`SunShadows`]) first: its build time and the share of shadow rays it decides without
+//! tracing are reported apart. Every view is traced `--repeat` times and the fastest run is reported.
 //! Measurements, not assertions: run it on an otherwise idle machine.
 
 use crate::args::BenchArgs;
@@ -15,7 +17,7 @@ use relief_shade::{
     render_gbuffer_into, sun_direction, ClipmapRenderer, GBuffer, HybridRenderer, RayBatch, Tile,
     TraceStats, TILE_SIZE,
 };
-use relief_trace::{Hit, Simd, Tracer, TracerKind};
+use relief_trace::{Hit, Simd, SunShadows, Tracer, TracerKind};
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
@@ -35,6 +37,9 @@ struct Measurement<'a> {
     shadow: TraceStats,
     /// `None`: the tracer does not admit the sun's shadow rays.
     shadow_s: Option<f64>,
+    /// The shadow sweep's build time and the share of shadow rays it proved lit without
+    /// tracing; `None` without a sweep.
+    sweep: Option<(f64, f64)>,
     peak_mib: f64,
     /// What the mipmap tracer's packet tests ran on.
     simd: Simd,
@@ -94,7 +99,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         )?;
         writeln!(
             out,
-            "{:<13} {:<9} {:<18} {:>9} {:>9} {:>6} {:>7} {:>6} {:>9} {:>7} {:>8}",
+            "{:<13} {:<9} {:<18} {:>9} {:>9} {:>6} {:>7} {:>6} {:>9} {:>7} {:>8} {:>8} {:>7}",
             "view",
             "surface",
             "tracer",
@@ -105,7 +110,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             "max",
             "shad Mr/s",
             "steps",
-            "peak MiB"
+            "peak MiB",
+            "sweep ms",
+            "swept %"
         )?;
     }
     let sun = sun_direction(SUN.0, SUN.1);
@@ -153,12 +160,27 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let traced: &dyn Tracer = if args.single_rays { &one_at_a_time } else { exact };
                 bar.finish_and_clear();
                 let (mut shadow, mut shadow_s) = (TraceStats::default(), None::<f64>);
+                let mut sweep = None;
                 if shadows {
+                    let timer = Instant::now();
+                    let swept = if args.shadow_sweep {
+                        Some(SunShadows::new(traced, field.clone(), sun)?)
+                    } else {
+                        None
+                    };
+                    let sweep_s = timer.elapsed().as_secs_f64();
+                    let traced: &dyn Tracer = match &swept {
+                        Some(swept) => swept,
+                        None => traced,
+                    };
                     for _ in 0..repeat {
                         let timer = Instant::now();
                         shadow = shadow_rays(traced, &camera, &gbuffer, sun);
                         let s = timer.elapsed().as_secs_f64();
                         shadow_s = Some(shadow_s.map_or(s, |best| best.min(s)));
+                    }
+                    if let Some(swept) = &swept {
+                        sweep = Some((sweep_s, proven_share(swept, &camera, &gbuffer, sun)));
                     }
                 }
                 if let Some(dir) = &args.depth_dir {
@@ -181,6 +203,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     primary_s,
                     shadow,
                     shadow_s,
+                    sweep,
                     peak_mib,
                     simd: simd.effective(),
                     single_rays: args.single_rays,
@@ -297,6 +320,9 @@ fn refuse_unused_options(args: &BenchArgs) -> Result<()> {
     if args.hybrid.show_lop {
         return Err(applies::refuse("--show-lop", "relief render", "relief bench"));
     }
+    if args.dynamic.is_some() && args.shadow_sweep {
+        return Err(applies::refuse("--shadow-sweep", "the tracers' shadow rays", "--dynamic"));
+    }
     if args.dynamic.is_none() && args.frames != 20 {
         return Err(applies::refuse("--frames", "--dynamic", "the tracers measured"));
     }
@@ -344,7 +370,7 @@ impl Measurement<'_> {
 
     fn row(&self) -> String {
         format!(
-            "{:<13} {:<9} {:<18} {:>9.1} {:>9.2} {:>6.1} {:>7.1} {:>6} {:>9} {:>7.1} {:>8.0}",
+            "{:<13} {:<9} {:<18} {:>9.1} {:>9.2} {:>6.1} {:>7.1} {:>6} {:>9} {:>7.1} {:>8.0} {:>8} {:>7}",
             self.view,
             self.surface,
             self.tracer.to_string(),
@@ -355,7 +381,9 @@ impl Measurement<'_> {
             self.primary.max_steps,
             self.shadow_mrays().map_or("-".into(), |m| format!("{m:.2}")),
             self.shadow.mean_steps(),
-            self.peak_mib
+            self.peak_mib,
+            self.sweep.map_or("-".into(), |(s, _)| format!("{:.1}", s * 1e3)),
+            self.sweep.map_or("-".into(), |(_, share)| format!("{:.1}", share * 100.0))
         )
     }
 
@@ -367,7 +395,8 @@ impl Measurement<'_> {
                 "{{\"view\": \"{}\", \"surface\": \"{}\", \"tracer\": \"{}\", \"simd\": \"{}\", \"single_rays\": {}, \"threads\": {}, ",
                 "\"build_ms\": {}, \"primary_rays\": {}, \"primary_s\": {}, \"primary_hits\": {}, ",
                 "\"primary_mean_steps\": {}, \"primary_max_steps\": {}, \"shadow_rays\": {}, ",
-                "\"shadow_s\": {}, \"shadow_mean_steps\": {}, \"peak_mib\": {}, ",
+                "\"shadow_s\": {}, \"shadow_mean_steps\": {}, \"shadow_sweep_build_s\": {}, ",
+                "\"shadow_sweep_decided\": {}, \"peak_mib\": {}, ",
                 "\"camera\": {{\"eye\": {}, \"target\": {}, \"up\": {}, \"fov_deg\": {}, ",
                 "\"width\": {}, \"height\": {}}}, \"sun\": {{\"azimuth_deg\": {}, \"elevation_deg\": {}}}}}"
             ),
@@ -386,6 +415,8 @@ impl Measurement<'_> {
             self.shadow.rays,
             self.shadow_s.map_or("null".into(), |s| s.to_string()),
             self.shadow.mean_steps(),
+            self.sweep.map_or("null".into(), |(s, _)| s.to_string()),
+            self.sweep.map_or("null".into(), |(_, share)| share.to_string()),
             self.peak_mib,
             v(c.eye()),
             v(c.target()),
@@ -421,4 +452,28 @@ fn shadow_rays(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer, sun: DVe
             stats
         })
         .reduce(TraceStats::default, TraceStats::merge)
+}
+
+/// The share of the shadow rays towards `sun` from the hits of `gbuffer` that `sweep` proves
+/// lit without tracing.
+fn proven_share(
+    sweep: &SunShadows<&dyn Tracer>,
+    camera: &Camera,
+    gbuffer: &GBuffer,
+    sun: DVec3,
+) -> f64 {
+    let (width, height) = (gbuffer.width, gbuffer.height);
+    let (proven, rays) = (0..height.div_ceil(TILE_SIZE))
+        .into_par_iter()
+        .map(|strip| {
+            let mut rays = Vec::new();
+            let rows = strip * TILE_SIZE..((strip + 1) * TILE_SIZE).min(height);
+            for tile_x in (0..width).step_by(TILE_SIZE) {
+                let tile = Tile::new(tile_x, rows.start, width, rows.end);
+                tile.shadow_rays(camera, gbuffer, sun, &mut rays);
+            }
+            (rays.iter().filter(|r| sweep.proves_lit(r, &mut 0)).count(), rays.len())
+        })
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    proven as f64 / rays.max(1) as f64
 }

@@ -1,0 +1,495 @@
+//! Shadow rays towards one sun decided without tracing: a sweep along the sun's azimuth bounds,
+//! per block of cells, the height of the shadow the terrain casts, so that a shadow ray that
+//! rises above that bound after its first few cells is proven lit ([`SunShadows`]).
+//!
+//! # The bound
+//!
+//! Work in cell space (see [`CellGrid`]), where the ray towards the sun rises `k` per unit of
+//! horizontal travel along the sun's dominant horizontal axis. Let `M(x)` be the highest
+//! [`CellGrid::cell_max`] of the cells whose closed footprint lies within a small `ε` of the
+//! horizontal point `x` (minus infinity away from the grid), and
+//! `H(p) = sup over s >= 0 of M(p + s L) - s k` the height of the terrain's shadow over `p`
+//! (`L` the horizontal direction towards the sun, scaled to one unit along the dominant axis).
+//! A ray towards the sun from a point `q` with `q.z > H(q.xy)` stays above every cell it could
+//! meet, so no tracer finds it occluded.
+//!
+//! The sweep computes, for square blocks of `B x B` cells, a bound `U >= H` over the block
+//! (and `ε` around it). Step `B` cells along the dominant axis: from any point of block
+//! `(I, J)` (indices mirrored so that the sun lies towards growing `I` and `J`), the ray's
+//! ground track over that step stays within the 2 x 2 blocks `{I, I+1} x {J, J+1}` and lands
+//! in block `(I+1, J)` or `(I+1, J+1)`, having risen `B k`. So
+//!
+//! `U(I, J) = max(max of D over the 2 x 2 blocks, max(U(I+1, J), U(I+1, J+1)) - B k)`
+//!
+//! where `D` is a block's maximum sample over its cells widened by one cell on every side
+//! (which covers `ε`; holes keep their stored value, the lowest valid sample, so `D` only
+//! overestimates). Blocks past the grid hold minus infinity. One pass from the sun's side
+//! computes every `U`, in `f64` with `k` shrunk by a relative `1e-9` and the stored `f32`
+//! raised by a relative `2^-22` (more than its rounding), so `U` never falls below `H`.
+//!
+//! # Deciding a ray
+//!
+//! A ray whose direction is exactly the swept sun direction walks its first cells by a 2D DDA
+//! from its start. At each cell's entry point it is proven lit when its height exceeds `U` of
+//! the cell's block by a margin (`1e-7` of the heights' magnitude and range, far above the
+//! rounding of any exact cell test). Otherwise the part of the ray over the cell must pass
+//! above every cell within `ε` of it by the same margin, or the ray is undecided; so is a ray
+//! not decided within [`WALK_CELLS`] cells, a ray that does not start over the grid, and any
+//! ray with another direction: those are traced by the wrapped tracer. Leaving the grid with
+//! every cell cleared also proves the ray lit. A proven ray is not occluded for any exact
+//! tracer: each of its points is above every cell the tracer could test there.
+
+use crate::cell_grid::{CellGrid, CellRay};
+use crate::{Hit, TraceError, Tracer};
+use rayon::prelude::*;
+use relief_core::{DVec3, HeightField, Ray, Surface};
+use std::sync::Arc;
+
+/// How many cells a shadow ray walks before it is handed to the wrapped tracer.
+pub const WALK_CELLS: u32 = 16;
+
+/// The side, in cells, of the blocks [`SunShadows::new`] bounds the shadow over.
+pub const DEFAULT_SHADOW_BLOCK: usize = 4;
+
+/// Horizontal distance, in cells, within which a cell counts as under a ray's point: far
+/// beyond the rounding of any tracer's cell boundaries.
+const NEAR: f64 = 1e-6;
+
+/// A tracer whose shadow rays towards one sun are decided, where a sweep along the sun's
+/// azimuth proves them lit, without tracing; every other ray (and every undecided one) goes
+/// to the wrapped tracer `T`. See the [module documentation](self) for the bound and why the
+/// answers equal the wrapped tracer's.
+///
+/// ```
+/// use std::sync::Arc;
+/// use relief_core::{DVec3, GridGeometry, HeightField, Ray, Surface};
+/// use relief_trace::{MipmapTracer, SunShadows, Tracer};
+/// let field = Arc::new(HeightField::new(8, 8, vec![1.0; 64], GridGeometry::unit()).unwrap());
+/// let sun = DVec3::new(0.6, 0.0, 0.8);
+/// let tracer = MipmapTracer::new(field.clone(), Surface::Triangles);
+/// let shadows = SunShadows::new(tracer, field, sun).unwrap();
+/// let ray = Ray::new(DVec3::new(4.0, 4.0, 1.001), sun);
+/// assert!(!shadows.occluded(&ray));
+/// assert!(shadows.proves_lit(&ray, &mut 0));
+/// ```
+#[derive(Debug, Clone)]
+pub struct SunShadows<T> {
+    inner: T,
+    field: Arc<HeightField>,
+    grid: CellGrid,
+    /// The swept world direction towards the sun.
+    towards_sun: DVec3,
+    /// The reciprocal of the sun direction in cell space.
+    cell_inv_dir: DVec3,
+    /// Block side in cells.
+    block: usize,
+    blocks_x: usize,
+    blocks_y: usize,
+    /// Whether the sun's dominant horizontal axis (in cell space) is x.
+    major_is_x: bool,
+    /// Whether the sun lies towards decreasing x (resp. y): the sweep index is mirrored.
+    flip_x: bool,
+    flip_y: bool,
+    /// Blocks along the minor axis: the length of a row of `bound`.
+    minor_len: usize,
+    /// `U` of every block, in sweep order: row `I` (dominant axis, mirrored) holds the blocks
+    /// `J` (minor axis, mirrored).
+    bound: Vec<f32>,
+    /// How far above a bound a ray must pass to count as above it.
+    margin: f64,
+    /// How many cells a ray walks before it is traced ([`WALK_CELLS`]).
+    walk: u32,
+}
+
+impl<T: Tracer> SunShadows<T> {
+    /// Sweeps the shadow of `field` under the sun in world direction `towards_sun` (any length;
+    /// shadow rays must use exactly this vector as their direction to be decided here) over
+    /// blocks of [`DEFAULT_SHADOW_BLOCK`] cells, wrapping `inner`, which must trace the same
+    /// `field` (its surface is taken from `inner`).
+    ///
+    /// Errors: [`TraceError::Options`] when `towards_sun` is not finite or does not point
+    /// above the horizon.
+    pub fn new(inner: T, field: Arc<HeightField>, towards_sun: DVec3) -> Result<Self, TraceError> {
+        Self::with_block(inner, field, towards_sun, DEFAULT_SHADOW_BLOCK)
+    }
+
+    /// [`SunShadows::new`] over blocks of `block x block` cells: smaller blocks bound the
+    /// shadow more tightly, larger ones build faster and take less memory
+    /// (`4 / block^2` bytes a cell).
+    ///
+    /// Errors: as [`SunShadows::new`], and [`TraceError::Options`] when `block` is 0.
+    pub fn with_block(
+        inner: T,
+        field: Arc<HeightField>,
+        towards_sun: DVec3,
+        block: usize,
+    ) -> Result<Self, TraceError> {
+        if !towards_sun.is_finite() || towards_sun.z <= 0.0 {
+            return Err(TraceError::Options(format!(
+                "the sun direction {towards_sun} must be finite and point above the horizon"
+            )));
+        }
+        if block == 0 {
+            return Err(TraceError::Options("shadow sweep blocks of 0 cells".into()));
+        }
+        let grid = CellGrid::new(&field, inner.surface());
+        let dir = towards_sun * field.geometry().grid_scale();
+        let major_is_x = dir.x.abs() >= dir.y.abs();
+        let (blocks_x, blocks_y) = (grid.cells_x().div_ceil(block), grid.cells_y().div_ceil(block));
+        let (major_len, minor_len) =
+            if major_is_x { (blocks_x, blocks_y) } else { (blocks_y, blocks_x) };
+        let (lo, hi) = (field.min_sample() as f64, field.max_sample() as f64);
+        let mut shadows = SunShadows {
+            inner,
+            grid,
+            towards_sun,
+            cell_inv_dir: DVec3::ONE / dir,
+            block,
+            blocks_x,
+            blocks_y,
+            major_is_x,
+            flip_x: dir.x < 0.0,
+            flip_y: dir.y < 0.0,
+            minor_len,
+            bound: Vec::new(),
+            margin: 1e-7 * (1.0 + lo.abs().max(hi.abs()) + (hi - lo)),
+            walk: WALK_CELLS,
+            field,
+        };
+        if major_len > 0 && minor_len > 0 {
+            // The ray's rise over one block along the dominant axis, shrunk against rounding.
+            let major = if major_is_x { dir.x.abs() } else { dir.y.abs() };
+            let rise = block as f64 * (dir.z / major) * (1.0 - 1e-9);
+            let widened = shadows.widened_block_maxima();
+            shadows.bound = shadows.sweep(widened, major_len, rise);
+        }
+        Ok(shadows)
+    }
+
+    /// The wrapped tracer.
+    pub fn inner(&self) -> &T {
+        &self.inner
+    }
+
+    /// The world direction towards the sun the shadow was swept for.
+    pub fn towards_sun(&self) -> DVec3 {
+        self.towards_sun
+    }
+
+    /// Bytes the swept bound takes.
+    pub fn memory_bytes(&self) -> usize {
+        self.bound.len() * std::mem::size_of::<f32>()
+    }
+
+    /// Whether the sweep proves `ray` not occluded without tracing it: only a ray whose
+    /// direction is exactly [`SunShadows::towards_sun`] and which starts over the grid can be
+    /// proven lit. `false` means undecided (the ray may or may not be occluded). Adds the
+    /// cells walked to `steps`.
+    pub fn proves_lit(&self, ray: &Ray, steps: &mut u32) -> bool {
+        if ray.dir != self.towards_sun || self.bound.is_empty() {
+            return false;
+        }
+        // The ray in cell space, as the tracers map it, with the sun's reciprocal direction.
+        let mut r = self.grid.to_cell_space_dir_only(ray);
+        r.inv_dir = self.cell_inv_dir;
+        let t0 = r.t_min;
+        if !(t0.is_finite() && t0 <= r.t_max) {
+            return false;
+        }
+        let (cells_x, cells_y) = (self.grid.cells_x(), self.grid.cells_y());
+        let (o, d, inv) = (r.origin, r.dir, r.inv_dir);
+        let (mut xa, mut ya, mut za) = (o.x + t0 * d.x, o.y + t0 * d.y, o.z + t0 * d.z);
+        if !(xa >= 0.0 && xa <= cells_x as f64 && ya >= 0.0 && ya <= cells_y as f64) {
+            return false;
+        }
+        if za.is_nan() {
+            return false;
+        }
+        let mut cx = (xa as usize).min(cells_x - 1);
+        let mut cy = (ya as usize).min(cells_y - 1);
+        let samples = self.field.samples();
+        let mut t_a = t0;
+        let leave = |c: usize, o: f64, d: f64, inv: f64| {
+            if d > 0.0 {
+                ((c + 1) as f64 - o) * inv
+            } else if d < 0.0 {
+                (c as f64 - o) * inv
+            } else {
+                f64::INFINITY
+            }
+        };
+        for _ in 0..self.walk {
+            *steps += 1;
+            if za - self.margin > self.bound_at(cx, cy) as f64 {
+                return true;
+            }
+            let (tx, ty) = (leave(cx, o.x, d.x, inv.x), leave(cy, o.y, d.y, inv.y));
+            let t_b = tx.min(ty);
+            // A vertical ray stays over its point.
+            let (xb, yb) =
+                if t_b.is_finite() { (o.x + t_b * d.x, o.y + t_b * d.y) } else { (xa, ya) };
+            let zb = if t_b.is_finite() { o.z + t_b * d.z } else { f64::INFINITY };
+            if !self.passes_above(samples, (cx, cy), &r, t_a, [xa, ya, za], [xb, yb, zb]) {
+                return false;
+            }
+            if !t_b.is_finite() {
+                return true;
+            }
+            // Step to the next cell; leaving the grid with every cell cleared proves the ray.
+            if tx == t_b {
+                match step(cx, d.x, cells_x) {
+                    Some(c) => cx = c,
+                    None => return true,
+                }
+            }
+            if ty == t_b {
+                match step(cy, d.y, cells_y) {
+                    Some(c) => cy = c,
+                    None => return true,
+                }
+            }
+            (t_a, xa, ya, za) = (t_b, xb, yb, zb);
+        }
+        false
+    }
+
+    /// Whether the ray's part from `a` (at `t_a`) to `b` (cell space, rising), over cell
+    /// `(cx, cy)`, passes above the solid of every cell within [`NEAR`] of it by the margin.
+    ///
+    /// For `triangles`, over a cell with a surface, the ray must pass above both planes of
+    /// the cell (the surface is the larger, and the planes are linear along the ray, so both
+    /// ends decide): the surface is continuous across the cell's edges (its neighbours with
+    /// a surface share the edge samples; the others hold nothing), so the neighbours' solid
+    /// within [`NEAR`] is below the ray too. Otherwise (`boxes`, or a cell over a hole,
+    /// beside whose walls the ray may pass) the ray must pass above the highest point of
+    /// every cell within [`NEAR`] of the part from where it comes that near.
+    #[inline]
+    fn passes_above(
+        &self,
+        samples: &[f32],
+        (cx, cy): (usize, usize),
+        r: &CellRay,
+        t_a: f64,
+        [xa, ya, za]: [f64; 3],
+        [xb, yb, zb]: [f64; 3],
+    ) -> bool {
+        if self.grid.surface() == Surface::Triangles && !self.grid.is_empty_cell(cx, cy) {
+            let w = self.field.width();
+            let i = cx + cy * w;
+            let (sa, sb) = (samples[i] as f64, samples[i + 1] as f64);
+            let (sc, sd) = (samples[i + w] as f64, samples[i + w + 1] as f64);
+            // The two planes z = p0 + pu u + pv v over local (u, v), as the exact test has them.
+            let planes = if relief_core::splits_along_ad(sa, sb, sc, sd) {
+                [(sa, sb - sa, sd - sb), (sa, sd - sc, sc - sa)]
+            } else {
+                [(sa, sb - sa, sc - sa), (sb + sc - sd, sd - sc, sd - sb)]
+            };
+            let (ua, va) = (xa - cx as f64, ya - cy as f64);
+            let (ub, vb) = (xb - cx as f64, yb - cy as f64);
+            return planes.iter().all(|&(p0, pu, pv)| {
+                za - (p0 + pu * ua + pv * va) > self.margin
+                    && zb - (p0 + pu * ub + pv * vb) > self.margin
+            });
+        }
+        // (Truncation is the floor of the non-negative values.)
+        let span = |lo: f64, hi: f64, cells: usize| {
+            let first = (lo - NEAR).max(0.0) as usize;
+            let last = ((hi + NEAR).max(0.0) as usize).min(cells - 1);
+            first..=last
+        };
+        // When the ray comes within NEAR of cell m along one axis (before `t_a`: already).
+        let near_from = |m: usize, o: f64, d: f64, inv: f64| {
+            if d > 0.0 {
+                (m as f64 - NEAR - o) * inv
+            } else if d < 0.0 {
+                ((m + 1) as f64 + NEAR - o) * inv
+            } else {
+                f64::NEG_INFINITY
+            }
+        };
+        let (o, d, inv) = (r.origin, r.dir, r.inv_dir);
+        for my in span(ya.min(yb), ya.max(yb), self.grid.cells_y()) {
+            let ty = near_from(my, o.y, d.y, inv.y);
+            for mx in span(xa.min(xb), xa.max(xb), self.grid.cells_x()) {
+                let top = self.grid.cell_max(samples, mx, my) as f64;
+                let t = ty.max(near_from(mx, o.x, d.x, inv.x));
+                let z = if t > t_a { o.z + t * d.z } else { za };
+                // (Not `<=`: a NaN height proves nothing.)
+                if (z - self.margin).partial_cmp(&top) != Some(std::cmp::Ordering::Greater) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// The swept bound `U` of the block holding cell (cx, cy).
+    #[inline]
+    fn bound_at(&self, cx: usize, cy: usize) -> f32 {
+        let (bx, by) = if self.block == 1 { (cx, cy) } else { (cx / self.block, cy / self.block) };
+        let mx = if self.flip_x { self.blocks_x - 1 - bx } else { bx };
+        let my = if self.flip_y { self.blocks_y - 1 - by } else { by };
+        let (i, j) = if self.major_is_x { (mx, my) } else { (my, mx) };
+        self.bound[i * self.minor_len + j]
+    }
+
+    /// `D` of every block in sweep order: the highest sample any cell of the block, widened
+    /// by one cell on every side, reads.
+    fn widened_block_maxima(&self) -> Vec<f32> {
+        let (b, w) = (self.block, self.field.width());
+        let reach = match self.grid.surface() {
+            Surface::Boxes => 0,
+            Surface::Triangles => 1,
+        };
+        // The samples read by the cells of block `k` widened by one cell, along one axis.
+        let samples_of = |k: usize, cells: usize| {
+            let first = (k * b).saturating_sub(1);
+            let last = ((k + 1) * b).min(cells - 1) + reach;
+            first..=last
+        };
+        let (cells_x, cells_y) = (self.grid.cells_x(), self.grid.cells_y());
+        let (blocks_x, blocks_y) = (self.blocks_x, self.blocks_y);
+        let samples = self.field.samples();
+        // Rows of blocks, mirrored along both axes as the sweep has them: down the sample
+        // rows first (whole rows at a time), then along the row.
+        let mut widened = vec![f32::NEG_INFINITY; blocks_x * blocks_y];
+        widened.par_chunks_mut(blocks_x).enumerate().for_each_init(
+            || vec![f32::NEG_INFINITY; w],
+            |column_max, (my, out)| {
+                let by = if self.flip_y { blocks_y - 1 - my } else { my };
+                column_max.fill(f32::NEG_INFINITY);
+                for r in samples_of(by, cells_y) {
+                    for (m, &v) in column_max.iter_mut().zip(&samples[r * w..(r + 1) * w]) {
+                        *m = m.max(v);
+                    }
+                }
+                for (bx, m) in column_max
+                    .chunks(b)
+                    .map(|c| c.iter().fold(f32::NEG_INFINITY, |a, &v| a.max(v)))
+                    .enumerate()
+                    .take(blocks_x)
+                {
+                    let range = samples_of(bx, cells_x);
+                    let (first, last) = (*range.start(), *range.end());
+                    // The block's own samples, and those just outside it that its widened cells read.
+                    let mut d = m;
+                    for c in (first..bx * b).chain((bx + 1) * b..=last) {
+                        d = d.max(column_max[c]);
+                    }
+                    let mx = if self.flip_x { blocks_x - 1 - bx } else { bx };
+                    out[mx] = d;
+                }
+            },
+        );
+        if !self.major_is_x {
+            return widened;
+        }
+        // Rows of the sweep run along y: transpose, in tiles that stay in cache.
+        const TILE: usize = 32;
+        let mut transposed = vec![f32::NEG_INFINITY; blocks_x * blocks_y];
+        transposed.par_chunks_mut(TILE * blocks_y).enumerate().for_each(|(ti, band)| {
+            let rows = band.len() / blocks_y;
+            for j0 in (0..blocks_y).step_by(TILE) {
+                for j in j0..(j0 + TILE).min(blocks_y) {
+                    let source =
+                        &widened[j * blocks_x + ti * TILE..j * blocks_x + ti * TILE + rows];
+                    for (r, &v) in source.iter().enumerate() {
+                        band[r * blocks_y + j] = v;
+                    }
+                }
+            }
+        });
+        transposed
+    }
+
+    /// The sweep, in place over the blocks' `widened` maxima in sweep order: `U` of every
+    /// block, with the ray rising `rise` per block along the dominant axis.
+    fn sweep(&self, mut bound: Vec<f32>, major_len: usize, rise: f64) -> Vec<f32> {
+        let n = self.minor_len;
+        // From the sun's side: U(I, J) = max(S(I, J), max(U(I+1, J), U(I+1, J+1)) - rise) with
+        // S the largest D over {I, I+1} x {J, J+1}. In f64, with a finite stand-in for minus
+        // infinity (past the last J, and before the first row) so that the stored value can
+        // be rounded up without branches: raised by a relative 2^-22, more than the f32
+        // rounding takes off.
+        const NOTHING: f64 = -1e300;
+        let mut next = vec![NOTHING; n + 1];
+        let mut current = vec![NOTHING; n + 1];
+        // D of the row on the sun's side (before the sweep overwrote it), and of this one.
+        let mut there = vec![f32::NEG_INFINITY; n + 1];
+        let mut here = vec![f32::NEG_INFINITY; n + 1];
+        for i in (0..major_len).rev() {
+            let out = &mut bound[i * n..(i + 1) * n];
+            here[..n].copy_from_slice(out);
+            for j in 0..n {
+                let s = here[j].max(here[j + 1]).max(there[j]).max(there[j + 1]) as f64;
+                let u = s.max(NOTHING).max(next[j].max(next[j + 1]) - rise);
+                current[j] = u;
+                out[j] = (u + u.abs() * (1.0 / 4194304.0) + 1e-44) as f32;
+            }
+            std::mem::swap(&mut next, &mut current);
+            std::mem::swap(&mut there, &mut here);
+        }
+        bound
+    }
+}
+
+/// The next cell index along an axis the ray moves along with sign `d`, or `None` past the
+/// grid's `cells`.
+#[inline]
+fn step(c: usize, d: f64, cells: usize) -> Option<usize> {
+    if d > 0.0 {
+        Some(c + 1).filter(|&c| c < cells)
+    } else {
+        c.checked_sub(1)
+    }
+}
+
+impl<T: Tracer> Tracer for SunShadows<T> {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn surface(&self) -> Surface {
+        self.inner.surface()
+    }
+
+    fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
+        self.inner.intersect_counted(ray, steps)
+    }
+
+    fn occluded_counted(&self, ray: &Ray, steps: &mut u32) -> bool {
+        !self.proves_lit(ray, steps) && self.inner.occluded_counted(ray, steps)
+    }
+
+    fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
+        self.inner.intersect_batch(rays, hits, steps)
+    }
+
+    /// Decides what the sweep proves lit and traces the other rays as one batch of the
+    /// wrapped tracer.
+    fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
+        assert!(rays.len() == occluded.len() && rays.len() == steps.len(), "batch slices differ");
+        let mut undecided = Vec::with_capacity(rays.len());
+        for (k, ray) in rays.iter().enumerate() {
+            if self.proves_lit(ray, &mut steps[k]) {
+                occluded[k] = false;
+            } else {
+                undecided.push(k);
+            }
+        }
+        if undecided.len() == rays.len() {
+            return self.inner.occluded_batch(rays, occluded, steps);
+        }
+        if undecided.is_empty() {
+            return;
+        }
+        let traced: Vec<Ray> = undecided.iter().map(|&k| rays[k]).collect();
+        let mut blocked = vec![false; traced.len()];
+        let mut traced_steps = vec![0; traced.len()];
+        self.inner.occluded_batch(&traced, &mut blocked, &mut traced_steps);
+        for ((&k, b), s) in undecided.iter().zip(blocked).zip(traced_steps) {
+            occluded[k] = b;
+            steps[k] += s;
+        }
+    }
+}
