@@ -85,12 +85,6 @@ impl Kernel for Avx2 {
     }
 
     #[inline(always)]
-    fn count_steps(p: &mut RayPacket, g: usize, active: u8) {
-        // SAFETY: as in `children`.
-        unsafe { count_steps(p, g, active) }
-    }
-
-    #[inline(always)]
     fn below_planes(
         p: &mut RayPacket,
         g: usize,

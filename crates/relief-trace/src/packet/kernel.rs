@@ -15,10 +15,6 @@ pub(crate) trait Kernel {
     /// top over its footprint.
     fn children(packet: &mut RayPacket, g: usize, quad: &Quad, active: u8) -> [u8; 4];
 
-    /// Counts one step for every ray of group `g` among `active` (a node the packet's beam
-    /// tested for them).
-    fn count_steps(packet: &mut RayPacket, g: usize, active: u8);
-
     /// The rays of group `g` that may pass below either of the two `planes` of the
     /// `triangles` cell `cell` whose lower corner is `corner`, within `slack[i]` of plane `i`.
     fn below_planes(
@@ -73,13 +69,6 @@ impl Kernel for Portable {
             }
         }
         hits
-    }
-
-    #[inline(always)]
-    fn count_steps(p: &mut RayPacket, g: usize, active: u8) {
-        for lane in (0..LANES).filter(|lane| active >> lane & 1 != 0) {
-            p.steps.0[g * LANES + lane] += 1;
-        }
     }
 
     #[inline(always)]

@@ -10,7 +10,6 @@
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
-mod beam;
 mod kernel;
 mod ray_packet;
 mod traversal;

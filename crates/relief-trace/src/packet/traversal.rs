@@ -7,7 +7,6 @@
 //! so along every ray the nodes come in the order of `t`: the first cell whose exact test
 //! hits holds the ray's first hit, and the ray leaves the packet there.
 
-use super::beam::Beam;
 use super::kernel::Kernel;
 use super::ray_packet::{CellBox, Plane, Quad, RayPacket, LANES, PACKET_RAYS};
 use crate::cell_grid::CellGrid;
@@ -60,8 +59,6 @@ pub(crate) struct Traversal<'a> {
     len: usize,
     /// The rays that hit.
     done: u64,
-    /// The cone around the packet's rays, when they share their origin.
-    beam: Option<Beam>,
 }
 
 impl<'a> Traversal<'a> {
@@ -75,8 +72,7 @@ impl<'a> Traversal<'a> {
         // A grid of one cell has no stored level: start from a virtual level-1 node over it.
         let top = terrain.mipmap.top_level().max(1) as u32;
         stack[0] = Pending { level: top, x: 0, y: 0, rays: packet.all() };
-        let beam = if beam_on() { Beam::of(packet, terrain.grid.bounds().min.z) } else { None };
-        Traversal { packet, hits, stack, len: 1, done: 0, beam }
+        Traversal { packet, hits, stack, len: 1, done: 0 }
     }
 
     /// Visits the next node; `false` once the walk is over.
@@ -106,15 +102,7 @@ impl<'a> Traversal<'a> {
         let level = node.level as usize - 1;
         let block = terrain.mipmap.children(level, x, y);
         let quad = walk.quad(level, x, y, ORDER_INDEX.map(|c| block[c ^ walk.flip()]));
-        let open = match &self.beam {
-            Some(beam) if rays == p.all() && beam.covers(&quad) => {
-                for g in groups(rays) {
-                    K::count_steps(p, g, (rays >> (g * LANES)) as u8);
-                }
-                beam.children(&quad).map(|open| if open { rays } else { 0 })
-            }
-            _ => test_children::<K>(p, &quad, rays),
-        };
+        let open = test_children::<K>(p, &quad, rays);
         for c in (0..4).rev() {
             if open[c] != 0 {
                 let (i, j) = ORDER[c];
@@ -127,13 +115,6 @@ impl<'a> Traversal<'a> {
         }
         self.len > 0
     }
-}
-
-/// Whether packets of rays from one point use their beam (an experiment, measured in
-/// docs/performance.md: on unless `RELIEF_PACKET_BEAM=0`).
-fn beam_on() -> bool {
-    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *ON.get_or_init(|| std::env::var("RELIEF_PACKET_BEAM").map(|v| v != "0").unwrap_or(true))
 }
 
 /// Walks every traversal to its end, a node of each in turn: the packets' work does not
