@@ -14,7 +14,10 @@
 //! and traces single rays with the mipmap tracer from the eye (`single rays`) and from that
 //! same start (`single rays, start known`). A second table traces the shadow rays of the
 //! mipmap's hits (as `relief bench` makes them) whole, and with their first 2, 8 and 32 units
-//! skipped: not exact, a diagnostic of where a shadow ray's time goes.
+//! skipped: not exact, a diagnostic of where a shadow ray's time goes. A third renders the
+//! whole picture in one pass (`render_to_srgb8`: trace, shade and tone-map strip by strip, as
+//! `relief render` does; the PNG not written) with `nothing`, `answer known` and `mipmap`,
+//! without shadows, and with `mipmap` and shadows: what shading costs beyond tracing.
 //! Each figure is the fastest of five runs, in millions of rays per second (every pixel counts
 //! as a ray, misses included, as in `relief bench`).
 //!
@@ -26,7 +29,9 @@
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, DVec3, Ray, Surface};
-use relief_shade::{render_gbuffer_into, sun_direction, GBuffer, Tile, TILE_SIZE};
+use relief_shade::{
+    render_gbuffer_into, render_to_srgb8, sun_direction, GBuffer, ShadingParams, Tile, TILE_SIZE,
+};
 use relief_trace::{Hit, MipmapTracer, Tracer};
 use std::sync::Arc;
 use std::time::Instant;
@@ -238,6 +243,7 @@ fn main() -> Result<()> {
         "single rays, start known"
     );
     let mut shadows = Vec::new();
+    let mut pictures = Vec::new();
     for (view, camera) in benchmark_views(&field, w, h)?.into_iter().take(3) {
         let mut gbuffer = GBuffer::new(w as usize, h as usize)?;
         let mut render = |tracer: &dyn Tracer| {
@@ -274,6 +280,20 @@ fn main() -> Result<()> {
             "{view:<14} {nothing:>8.1} {known:>13.1} {mipmap:>8.1} {packets_late:>21.1} {single:>12.1} {started_late:>25.1}"
         );
         shadows.push((view, shadow_rates(&tracer, &camera, &gbuffer)));
+        let mut params = ShadingParams::for_terrain(&bounds)?;
+        params.shadows = false;
+        let picture = |tracer: &dyn Tracer, params: &ShadingParams| {
+            rays / fastest(|| {
+                std::hint::black_box(
+                    render_to_srgb8(tracer, &camera, &bounds, params, &|_| {})
+                        .expect("valid parameters"),
+                );
+            }) / 1e6
+        };
+        let unshadowed = [&Nothing as &dyn Tracer, &answers, &tracer].map(|t| picture(t, &params));
+        params.shadows = true;
+        let shadowed = picture(&tracer, &params);
+        pictures.push((view, unshadowed, shadowed));
     }
     println!("\nshadow rays (mipmap packets), started this far along their ray; Mrays/s");
     print!("{:<14}", "view");
@@ -283,6 +303,14 @@ fn main() -> Result<()> {
         print!("{view:<14}");
         rates.iter().for_each(|rate| print!(" {rate:>8.1}"));
         println!();
+    }
+    println!("\nthe whole picture in one pass (render_to_srgb8), no shadows unless said; Mrays/s");
+    println!(
+        "{:<14} {:>8} {:>13} {:>8} {:>17}",
+        "view", "nothing", "answer known", "mipmap", "mipmap, shadows"
+    );
+    for (view, [nothing, known, mipmap], shadowed) in &pictures {
+        println!("{view:<14} {nothing:>8.1} {known:>13.1} {mipmap:>8.1} {shadowed:>17.1}");
     }
     Ok(())
 }
