@@ -4,42 +4,45 @@
 //! [`crate::tonemap_to_srgb8`]'s byte of a channel is `round(255 * srgb(aces(x)))`, which never
 //! decreases as `x` grows. So it is the number of steps at or below `x`: the table keeps, for
 //! every byte `b` in 1..=255, the smallest `f32` at which the curve reaches `b`, found by
-//! bisection over the `f32` values with the curve itself, and answers in a lookup and at most a
-//! few comparisons the byte that the curve (a `powf` in `f64` per channel) gives, bit for bit.
+//! bisection over the `f32` values with the curve itself, and answers with two lookups and one
+//! comparison the byte that the curve (a `powf` in `f64` per channel) gives, bit for bit.
 
 use std::sync::OnceLock;
 
-/// Buckets of the coarse index per unit of input: at most about one step falls in a bucket,
-/// where the curve is steepest (near black, about 700 bytes per unit).
-const BUCKETS_PER_UNIT: f32 = 2048.0;
+/// Buckets of the coarse index per unit of input, a power of two so that `x * BUCKETS_PER_UNIT`
+/// is exact and bucket `k` is exactly `[k, k + 1) / BUCKETS_PER_UNIT`. At most one step falls
+/// in a bucket (checked when the table is built): near black, where the curve is steepest, a
+/// step is about 1/700 wide.
+const BUCKETS_PER_UNIT: f32 = 4096.0;
 
 /// The steps of a non-decreasing curve from `[0, inf)` onto the bytes 0..=255.
 #[derive(Debug)]
 pub(crate) struct ByteSteps {
     /// `first[b]`: the smallest input whose byte is at least `b` (`first[0]` is 0).
     first: [f32; 256],
-    /// `below[k]`: a byte no greater than that of any input in bucket `k`, i.e. in
-    /// `[k / BUCKETS_PER_UNIT, (k + 1) / BUCKETS_PER_UNIT)`.
-    below: Vec<u8>,
+    /// `at_start[k]`: the byte of the first input of bucket `k`.
+    at_start: Vec<u8>,
 }
 
 impl ByteSteps {
-    /// The steps of `byte`, which must map 0 to 0, never decrease, and reach 255.
+    /// The steps of `byte`, which must map 0 to 0, never decrease, reach 255 and step at most
+    /// once a bucket.
     fn new(byte: impl Fn(f32) -> u8) -> Self {
         let mut first = [0.0f32; 256];
         for (b, step) in first.iter_mut().enumerate().skip(1) {
             *step = smallest_reaching(&byte, b as u8);
         }
         let buckets = (first[255] * BUCKETS_PER_UNIT) as usize + 1;
-        let below = (0..buckets)
+        let steps_to = |x: f32| first.iter().skip(1).take_while(|&&t| t <= x).count();
+        let at_start: Vec<u8> =
+            (0..buckets).map(|k| steps_to(k as f32 / BUCKETS_PER_UNIT) as u8).collect();
+        let most_in_a_bucket = (0..buckets)
             .map(|k| {
-                // The bucket before's lower edge: below every input the index can put here,
-                // whatever the rounding of `x * BUCKETS_PER_UNIT`.
-                let edge = k.saturating_sub(1) as f32 / BUCKETS_PER_UNIT;
-                first.iter().skip(1).take_while(|&&t| t <= edge).count() as u8
+                steps_to(((k + 1) as f32 / BUCKETS_PER_UNIT).next_down()) - at_start[k] as usize
             })
-            .collect();
-        ByteSteps { first, below }
+            .max();
+        assert!(most_in_a_bucket <= Some(1), "the curve steps more than once in a bucket");
+        ByteSteps { first, at_start }
     }
 
     /// The byte of `x`: 0 for negative or NaN input, 255 from the last step on.
@@ -51,12 +54,9 @@ impl ByteSteps {
         if x >= self.first[255] {
             return 255;
         }
-        // x lies below first[255], so the bucket exists.
-        let mut b = self.below[(x * BUCKETS_PER_UNIT) as usize];
-        while x >= self.first[b as usize + 1] {
-            b += 1;
-        }
-        b
+        // x lies below first[255], so its bucket exists and its byte is below 255.
+        let b = self.at_start[(x * BUCKETS_PER_UNIT) as usize];
+        b + u8::from(x >= self.first[b as usize + 1])
     }
 }
 
