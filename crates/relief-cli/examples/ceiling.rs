@@ -30,7 +30,8 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, DVec3, Ray, Surface};
 use relief_shade::{
-    render_gbuffer_into, render_to_srgb8, sun_direction, GBuffer, ShadingParams, Tile, TILE_SIZE,
+    render_gbuffer_into, render_to_srgb8, sun_direction, GBuffer, KeptHits, ShadingParams, Tile,
+    TILE_SIZE,
 };
 use relief_trace::{Hit, MipmapTracer, Tracer};
 use std::sync::Arc;
@@ -285,7 +286,7 @@ fn main() -> Result<()> {
         let picture = |tracer: &dyn Tracer, params: &ShadingParams| {
             rays / fastest(|| {
                 std::hint::black_box(
-                    render_to_srgb8(tracer, &camera, &bounds, params, &|_| {})
+                    render_to_srgb8(tracer, &camera, &bounds, params, KeptHits::default(), &|_| {})
                         .expect("valid parameters"),
                 );
             }) / 1e6

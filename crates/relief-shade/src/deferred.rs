@@ -5,6 +5,7 @@ use relief_core::{Aabb, Camera, DVec3, Ray};
 use relief_trace::Tracer;
 
 use crate::error::non_negative;
+use crate::gbuffer::image_plane;
 use crate::sky::validate_fog_density;
 use crate::tonemap::srgb8_pixel;
 use crate::{
@@ -122,11 +123,7 @@ fn shade_with<T: Copy + Default + Send>(
     params.validate()?;
     gbuffer.validate_for(camera)?;
     let width = gbuffer.width;
-    let mut radiance = Vec::new();
-    radiance.try_reserve_exact(gbuffer.len()).map_err(|e| {
-        ShadeError::Limits(format!("cannot allocate {} shaded pixels: {e}", gbuffer.len()))
-    })?;
-    radiance.resize(gbuffer.len(), T::default());
+    let mut radiance = image_plane(gbuffer.len(), T::default(), "shaded image")?;
     let pass = ShadingPass::new(gbuffer, 0, tracer, camera, params);
     let stats = radiance
         .par_chunks_mut(TILE_SIZE * width)

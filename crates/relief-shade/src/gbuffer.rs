@@ -252,12 +252,17 @@ impl GBuffer {
 
 /// A vector of `n` copies of `value`, or an error when it cannot be allocated.
 fn filled<T: Copy>(n: usize, value: T) -> Result<Vec<T>, ShadeError> {
-    let mut v = Vec::new();
-    v.try_reserve_exact(n).map_err(|e| {
-        ShadeError::Limits(format!("cannot allocate a G-buffer plane of {n} pixels: {e}"))
+    image_plane(n, value, "G-buffer plane")
+}
+
+/// `n` copies of `value`, or an error naming `what` when they cannot be allocated.
+pub(crate) fn image_plane<T: Copy>(n: usize, value: T, what: &str) -> Result<Vec<T>, ShadeError> {
+    let mut plane = Vec::new();
+    plane.try_reserve_exact(n).map_err(|e| {
+        ShadeError::Limits(format!("cannot allocate the {what} of {n} pixels: {e}"))
     })?;
-    v.resize(n, value);
-    Ok(v)
+    plane.resize(n, value);
+    Ok(plane)
 }
 
 #[cfg(test)]

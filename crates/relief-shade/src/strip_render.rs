@@ -8,9 +8,32 @@ use relief_core::{Aabb, Camera};
 use relief_trace::Tracer;
 
 use crate::deferred::ShadingPass;
+use crate::gbuffer::image_plane;
 use crate::render::{trace_strip, HitEncoder};
 use crate::tonemap::srgb8_pixel;
 use crate::{GBuffer, ShadeError, ShadingParams, TraceStats, TILE_SIZE};
+
+/// What [`render_to_srgb8`] keeps of the primary hits besides the picture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct KeptHits {
+    /// The distance to each pixel's hit, as [`GBuffer::distance`] holds it.
+    pub depth: bool,
+    /// Each pixel's unit normal, as [`GBuffer::normal`] holds it.
+    pub normals: bool,
+}
+
+/// A picture from [`render_to_srgb8`], with what it was asked to keep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StripRender {
+    /// 8-bit sRGB, row-major from the top.
+    pub rgb: Vec<[u8; 3]>,
+    /// The depth image (`+inf` for a miss), row-major from the top, when kept.
+    pub depth: Option<Vec<f32>>,
+    /// The unit normals (zeros for a miss), row-major from the top, when kept.
+    pub normals: Option<Vec<[f32; 3]>>,
+    /// The rays counted and the time spent.
+    pub stats: StripRenderStats,
+}
 
 /// What [`render_to_srgb8`] counted and timed.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -27,53 +50,72 @@ pub struct StripRenderStats {
 }
 
 /// Renders `camera`'s picture of the terrain `tracer` intersects (world bounds `bounds`) to
-/// 8-bit sRGB, row-major from the top: the bytes of [`crate::render_gbuffer`] followed by
-/// [`crate::shade_to_srgb8`], without an image-sized G-buffer.
+/// 8-bit sRGB, with the depth and normals `keep` asks for: the bytes (and depth and normals)
+/// of [`crate::render_gbuffer`] followed by [`crate::shade_to_srgb8`], without an image-sized
+/// G-buffer.
 ///
 /// Strips of [`TILE_SIZE`] rows are traced and shaded in parallel, each in a G-buffer of its
 /// worker's (56 bytes a pixel of one strip, which stays in cache, instead of the image's);
 /// every pixel is computed as the two-pass render computes it, so the picture is the same
 /// byte for byte, whatever the thread count. `progress` is called with each tile's pixel
-/// count as its camera rays are traced. Fails when a parameter is invalid.
+/// count as its camera rays are traced. Fails when a parameter is invalid or the outputs
+/// cannot be allocated.
 pub fn render_to_srgb8(
     tracer: &dyn Tracer,
     camera: &Camera,
     bounds: &Aabb,
     params: &ShadingParams,
+    keep: KeptHits,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<(Vec<[u8; 3]>, StripRenderStats), ShadeError> {
+) -> Result<StripRender, ShadeError> {
     params.validate()?;
     let (width, height) = (camera.width() as usize, camera.height() as usize);
     // The strip G-buffer also refuses an empty image.
     GBuffer::new(width, TILE_SIZE.min(height))?;
-    let mut rgb = Vec::new();
-    rgb.try_reserve_exact(width * height).map_err(|e| {
-        ShadeError::Limits(format!("cannot allocate a {width} x {height} picture: {e}"))
-    })?;
-    rgb.resize(width * height, [0u8; 3]);
+    let n = width * height;
+    let mut rgb = image_plane(n, [0u8; 3], "picture")?;
+    let mut depth = keep.depth.then(|| image_plane(n, 0.0f32, "depth image")).transpose()?;
+    let mut normals = keep.normals.then(|| image_plane(n, [0.0f32; 3], "normals")).transpose()?;
+    let strip_len = TILE_SIZE * width;
+    let mut depth_strips = depth.as_mut().map(|d| d.chunks_mut(strip_len));
+    let mut normal_strips = normals.as_mut().map(|d| d.chunks_mut(strip_len));
+    let strips: Vec<Strip> = rgb
+        .chunks_mut(strip_len)
+        .enumerate()
+        .map(|(s, rgb)| Strip {
+            top: s * TILE_SIZE,
+            rgb,
+            depth: depth_strips.as_mut().and_then(Iterator::next),
+            normals: normal_strips.as_mut().and_then(Iterator::next),
+        })
+        .collect();
     let encoder = HitEncoder::new(bounds, camera);
     let exposure = params.exposure as f32;
     let store = |radiance: relief_core::DVec3| srgb8_pixel(radiance.as_vec3().to_array(), exposure);
     let started = Instant::now();
-    let totals = rgb
-        .par_chunks_mut(TILE_SIZE * width)
-        .enumerate()
+    let totals = strips
+        .into_par_iter()
         .map_init(
             || GBuffer::new(width, TILE_SIZE.min(height)).ok(),
-            |strip_gbuffer, (s, out)| -> Result<StripTotals, ShadeError> {
+            |strip_gbuffer, strip| -> Result<StripTotals, ShadeError> {
                 let strip_gbuffer = strip_gbuffer.as_mut().ok_or_else(|| {
                     ShadeError::Limits(format!(
                         "cannot allocate a G-buffer of {width} x {TILE_SIZE}"
                     ))
                 })?;
-                let top = s * TILE_SIZE;
-                let rows = out.len() / width;
+                let (top, pixels) = (strip.top, strip.rgb.len());
                 let traced = Instant::now();
-                let mut strip = strip_gbuffer.rows_mut(rows);
-                let primary = trace_strip(tracer, &encoder, top, &mut strip, progress);
+                let mut rows = strip_gbuffer.rows_mut(pixels / width);
+                let primary = trace_strip(tracer, &encoder, top, &mut rows, progress);
                 let shaded = Instant::now();
                 let pass = ShadingPass::new(strip_gbuffer, top, tracer, camera, params);
-                let shadow = pass.shade_strip(top, out, &store);
+                let shadow = pass.shade_strip(top, strip.rgb, &store);
+                if let Some(depth) = strip.depth {
+                    depth.copy_from_slice(&strip_gbuffer.distance[..pixels]);
+                }
+                if let Some(normals) = strip.normals {
+                    normals.copy_from_slice(&strip_gbuffer.normal[..pixels]);
+                }
                 let done = Instant::now();
                 Ok(StripTotals {
                     primary,
@@ -93,7 +135,16 @@ pub fn render_to_srgb8(
         trace_ms: wall_ms * trace_share,
         shade_ms: wall_ms * (1.0 - trace_share),
     };
-    Ok((rgb, stats))
+    Ok(StripRender { rgb, depth, normals, stats })
+}
+
+/// One strip's share of the outputs.
+struct Strip<'a> {
+    /// The strip's first image row.
+    top: usize,
+    rgb: &'a mut [[u8; 3]],
+    depth: Option<&'a mut [f32]>,
+    normals: Option<&'a mut [[f32; 3]]>,
 }
 
 /// The counts and worker times of some strips.

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use relief_core::{Camera, GridGeometry, HeightField, Surface};
 use relief_shade::{
-    render_gbuffer, render_to_srgb8, shade_to_srgb8, Albedo, RgbTexture, ShadingParams,
+    render_gbuffer, render_to_srgb8, shade_to_srgb8, Albedo, KeptHits, RgbTexture, ShadingParams,
 };
 use relief_trace::{build_tracer, TracerKind};
 
@@ -54,18 +54,25 @@ fn the_strip_render_is_the_two_pass_render() {
         let progress = |n: u64| {
             pixels.fetch_add(n, Ordering::Relaxed);
         };
-        for threads in [1, 2] {
+        for (threads, depth, normals) in [(1, true, false), (2, false, true), (2, false, false)] {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             pixels.store(0, Ordering::Relaxed);
-            let (got, stats) = pool
-                .install(|| render_to_srgb8(&*tracer, &camera, &bounds, &params, &progress))
+            let keep = KeptHits { depth, normals };
+            let got = pool
+                .install(|| render_to_srgb8(&*tracer, &camera, &bounds, &params, keep, &progress))
                 .unwrap();
             let case = format!("{surface} {w}x{h} shadows {shadows}, {threads} threads");
-            assert!(got == want, "{case}: the pictures differ");
-            assert_eq!(stats.primary, primary, "{case}");
-            assert_eq!(stats.shadow, shadow, "{case}");
+            assert!(got.rgb == want, "{case}: the pictures differ");
+            assert_eq!(got.stats.primary, primary, "{case}");
+            assert_eq!(got.stats.shadow, shadow, "{case}");
             assert_eq!(pixels.load(Ordering::Relaxed), u64::from(w * h), "{case}");
-            assert!(stats.trace_ms >= 0.0 && stats.shade_ms >= 0.0);
+            assert!(got.stats.trace_ms >= 0.0 && got.stats.shade_ms >= 0.0);
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(got.depth.map(|d| bits(&d)), depth.then(|| bits(&gbuffer.distance)));
+            assert_eq!(
+                got.normals.map(|n| bits(n.as_flattened())),
+                normals.then(|| bits(gbuffer.normal.as_flattened()))
+            );
         }
         assert!(primary.hits > 0 && primary.hits < primary.rays, "a real scene");
         assert_eq!(shadow.hits > 0, shadows, "some pixels are in shadow");
@@ -80,5 +87,6 @@ fn bad_parameters_are_refused() {
     let camera = Camera::frame(&bounds, 8, 8).unwrap();
     let mut params = ShadingParams::for_terrain(&bounds).unwrap();
     params.exposure = -1.0;
-    assert!(render_to_srgb8(&*tracer, &camera, &bounds, &params, &|_| {}).is_err());
+    let keep = KeptHits::default();
+    assert!(render_to_srgb8(&*tracer, &camera, &bounds, &params, keep, &|_| {}).is_err());
 }

@@ -8,9 +8,9 @@ use crate::scene::height_field::{check_safety_view, HeightFieldScene};
 use crate::scene::stacks::is_stacks_file;
 use crate::tracers::{self, TracerChoice};
 use crate::{input, memory, outputs, progress};
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use relief_core::Camera;
-use relief_shade::{render_gbuffer, render_to_srgb8, shade_to_srgb8, GBuffer};
+use relief_shade::{render_to_srgb8, shade_to_srgb8, GBuffer, KeptHits};
 use relief_trace::{Simd, Tracer};
 use serde_json::{json, Value};
 use std::path::Path;
@@ -86,38 +86,27 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let pixels = camera.width() as u64 * camera.height() as u64;
     let summary = format!("{surface} {choice} tracer");
-    if args.depth.is_none() && args.normals.is_none() {
-        // Only the picture: trace and shade strip by strip, with no image-sized G-buffer.
-        let bar = progress::bar(pixels, "rendering");
-        let (rgb, stats) =
-            render_to_srgb8(tracer.as_ref(), camera, &scene.bounds(), &scene.params, &|n| {
-                bar.inc(n)
-            })?;
-        bar.finish_and_clear();
-        let rendered = Rendered {
-            rgb: rgb.as_flattened(),
-            gbuffer: None,
-            hits: stats.primary.hits,
-            shadow_rays: stats.shadow.rays,
-            load_ms,
-            build_ms,
-            trace_ms: stats.trace_ms,
-            shade_ms: stats.shade_ms,
-        };
-        let extra = json!({ "mean_steps": stats.primary.mean_steps() });
-        let tracer_name = choice.to_string();
-        return write_and_report(args, &scene, &tracer_name, rendered, started, &summary, extra);
-    }
-    let bar = progress::bar(pixels, "tracing");
-    let trace_started = Instant::now();
-    let (gbuffer, primary) =
-        render_gbuffer(tracer.as_ref(), camera, &scene.bounds(), &|n| bar.inc(n))?;
-    let trace_ms = outputs::ms_since(trace_started);
-    bar.finish_and_clear();
+    // Traced and shaded strip by strip, with no image-sized G-buffer.
+    let bar = progress::bar(pixels, "rendering");
+    let keep = KeptHits { depth: args.depth.is_some(), normals: args.normals.is_some() };
+    let bounds = scene.bounds();
     let drawn =
-        Drawn { gbuffer: &gbuffer, shadow_tracer: tracer.as_ref(), load_ms, build_ms, trace_ms };
-    let extra = json!({ "mean_steps": primary.mean_steps() });
-    shade_and_write(args, &scene, &choice.to_string(), drawn, started, |_| {}, &summary, extra)
+        render_to_srgb8(tracer.as_ref(), camera, &bounds, &scene.params, keep, &|n| bar.inc(n))?;
+    bar.finish_and_clear();
+    let stats = &drawn.stats;
+    let rendered = Rendered {
+        rgb: drawn.rgb.as_flattened(),
+        depth: drawn.depth.as_deref(),
+        normals: drawn.normals.as_deref(),
+        hits: stats.primary.hits,
+        shadow_rays: stats.shadow.rays,
+        load_ms,
+        build_ms,
+        trace_ms: stats.trace_ms,
+        shade_ms: stats.shade_ms,
+    };
+    let extra = json!({ "mean_steps": stats.primary.mean_steps() });
+    write_and_report(args, &scene, &choice.to_string(), rendered, started, &summary, extra)
 }
 
 /// A height field's G-buffer as a renderer drew it, with what shading and `--stats` need.
@@ -151,7 +140,8 @@ pub(super) fn shade_and_write(
     recolour(&mut rgb);
     let rendered = Rendered {
         rgb: rgb.as_flattened(),
-        gbuffer: Some(drawn.gbuffer),
+        depth: Some(&drawn.gbuffer.distance),
+        normals: Some(&drawn.gbuffer.normal),
         hits: drawn.gbuffer.distance.iter().filter(|d| d.is_finite()).count() as u64,
         shadow_rays: shadow.rays,
         load_ms: drawn.load_ms,
@@ -166,8 +156,10 @@ pub(super) fn shade_and_write(
 struct Rendered<'a> {
     /// The picture, 8-bit sRGB.
     rgb: &'a [u8],
-    /// The primary hits, where the renderer kept them (for --depth and --normals).
-    gbuffer: Option<&'a GBuffer>,
+    /// The distances to the primary hits, where the renderer kept them (for --depth).
+    depth: Option<&'a [f32]>,
+    /// The normals of the primary hits, where the renderer kept them (for --normals).
+    normals: Option<&'a [[f32; 3]]>,
     hits: u64,
     shadow_rays: u64,
     load_ms: f64,
@@ -191,10 +183,7 @@ fn write_and_report(
 ) -> Result<()> {
     let camera = &scene.camera;
     let write_started = Instant::now();
-    match rendered.gbuffer {
-        Some(gbuffer) => write_outputs(args, camera, gbuffer, rendered.rgb)?,
-        None => write_picture(args, camera, rendered.rgb)?,
-    }
+    write_pictures_and_arrays(args, camera, rendered.rgb, rendered.depth, rendered.normals)?;
     let write_ms = outputs::ms_since(write_started);
     let (w, h) = (camera.width(), camera.height());
     eprintln!("wrote {} ({w}x{h}, {summary})", args.output.display());
@@ -259,12 +248,6 @@ fn check_outputs(args: &RenderArgs) -> Result<()> {
     outputs::check_distinct(&all, &inputs)
 }
 
-/// The picture `-o` names, of the tone-mapped `rgb`.
-fn write_picture(args: &RenderArgs, camera: &Camera, rgb: &[u8]) -> Result<()> {
-    let png = args.png_compression.unwrap_or_default();
-    outputs::write_picture(&args.output, camera.width(), camera.height(), rgb, png)
-}
-
 /// The picture of the tone-mapped `rgb`, and the depth and normals of `gbuffer` where asked
 /// for.
 pub(super) fn write_outputs(
@@ -273,13 +256,30 @@ pub(super) fn write_outputs(
     gbuffer: &GBuffer,
     rgb: &[u8],
 ) -> Result<()> {
-    write_picture(args, camera, rgb)?;
+    write_pictures_and_arrays(args, camera, rgb, Some(&gbuffer.distance), Some(&gbuffer.normal))
+}
+
+/// The picture of the tone-mapped `rgb` (compressed as `--png-compression` says), and the
+/// depth and normals where asked for (the renderer must have kept them: row-major images from
+/// the top).
+fn write_pictures_and_arrays(
+    args: &RenderArgs,
+    camera: &Camera,
+    rgb: &[u8],
+    depth: Option<&[f32]>,
+    normals: Option<&[[f32; 3]]>,
+) -> Result<()> {
+    let png = args.png_compression.unwrap_or_default();
+    outputs::write_picture(&args.output, camera.width(), camera.height(), rgb, png)?;
     let (h, w) = (camera.height() as usize, camera.width() as usize);
-    if let Some(path) = &args.depth {
-        relief_io::write_npy_f32(path, &[h, w], &gbuffer.depth_hw())?;
-    }
-    if let Some(path) = &args.normals {
-        relief_io::write_npy_f32(path, &[h, w, 3], &gbuffer.normals_hw3())?;
+    for (path, array, shape) in [
+        (&args.depth, depth, vec![h, w]),
+        (&args.normals, normals.map(<[[f32; 3]]>::as_flattened), vec![h, w, 3]),
+    ] {
+        if let Some(path) = path {
+            let array = array.context("the renderer kept no such array")?;
+            relief_io::write_npy_f32(path, &shape, array)?;
+        }
     }
     Ok(())
 }
