@@ -11,7 +11,7 @@ use numpy::{PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::Surface;
-use relief_shade::{render_gbuffer, shade_to_srgb8, ShadingParams, Sun};
+use relief_shade::{render_to_srgb8, KeptHits, ShadingParams, Sun};
 
 /// What `render` returns: the RGB image and its depth.
 type Rendered<'py> = (Bound<'py, PyArray3<u8>>, Bound<'py, PyArray2<f32>>);
@@ -85,9 +85,10 @@ pub fn render<'py>(
     let traced = py.detach(|| {
         let tracer = build(&field, surface, kind);
         let bounds = field.world_bounds(surface);
-        let (gbuffer, _) = render_gbuffer(tracer.as_ref(), &camera, &bounds, &|_| {})?;
-        let (rgb, _) = shade_to_srgb8(&gbuffer, tracer.as_ref(), &camera, &params)?;
-        Ok::<_, relief_shade::ShadeError>((rgb.into_flattened(), gbuffer.depth_hw()))
+        let keep = KeptHits { depth: true, normals: false };
+        let drawn = render_to_srgb8(tracer.as_ref(), &camera, &bounds, &params, keep, &|_| {})?;
+        let depth = drawn.depth.unwrap_or_default();
+        Ok::<_, relief_shade::ShadeError>((drawn.rgb.into_flattened(), depth))
     });
     let (rgb, depth) = traced.map_err(argument)?;
     let (w, h) = (width as usize, height as usize);
