@@ -57,7 +57,7 @@ const NEAR: f64 = 1e-6;
 
 /// A tracer whose shadow rays towards one sun are decided, where a sweep along the sun's
 /// azimuth proves them lit, without tracing; every other ray (and every undecided one) goes
-/// to the wrapped tracer `T`. See the [module documentation](self) for the bound and why the
+/// to the wrapped tracer `T`. See the module documentation (`shadow_sweep.rs`) for the bound and why the
 /// answers equal the wrapped tracer's.
 ///
 /// ```
