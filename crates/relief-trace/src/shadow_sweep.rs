@@ -51,6 +51,9 @@ pub const WALK_CELLS: u32 = 16;
 /// The side, in cells, of the blocks [`SunShadows::new`] bounds the shadow over.
 pub const DEFAULT_SHADOW_BLOCK: usize = 4;
 
+/// How many cells along each ray of a batch are prefetched before the batch is walked.
+const PREFETCH_CELLS: usize = 8;
+
 /// Horizontal distance, in cells, within which a cell counts as under a ray's point: far
 /// beyond the rounding of any tracer's cell boundaries.
 const NEAR: f64 = 1e-6;
@@ -83,6 +86,8 @@ pub struct SunShadows<T> {
     cell_inv_dir: DVec3,
     /// Block side in cells.
     block: usize,
+    /// `log2(block)` when the side is a power of two (a shift instead of a division).
+    block_shift: Option<u32>,
     blocks_x: usize,
     blocks_y: usize,
     /// Whether the sun's dominant horizontal axis (in cell space) is x.
@@ -92,13 +97,15 @@ pub struct SunShadows<T> {
     flip_y: bool,
     /// Blocks along the minor axis: the length of a row of `bound`.
     minor_len: usize,
-    /// `U` of every block, in sweep order: row `I` (dominant axis, mirrored) holds the blocks
-    /// `J` (minor axis, mirrored).
+    /// `U` of every block, row by row along x (block `(bx, by)` at `bx + by * blocks_x`).
     bound: Vec<f32>,
     /// How far above a bound a ray must pass to count as above it.
     margin: f64,
     /// How many cells a ray walks before it is traced ([`WALK_CELLS`]).
     walk: u32,
+    /// Whether the walk takes [`SunShadows::walk_triangles`]: the `triangles` surface of a
+    /// field without holes.
+    fast_triangles: bool,
 }
 
 impl<T: Tracer> SunShadows<T> {
@@ -133,6 +140,7 @@ impl<T: Tracer> SunShadows<T> {
             return Err(TraceError::Options("shadow sweep blocks of 0 cells".into()));
         }
         let grid = CellGrid::new(&field, inner.surface());
+        let inner_surface_is_triangles = inner.surface() == Surface::Triangles;
         let dir = towards_sun * field.geometry().grid_scale();
         let major_is_x = dir.x.abs() >= dir.y.abs();
         let (blocks_x, blocks_y) = (grid.cells_x().div_ceil(block), grid.cells_y().div_ceil(block));
@@ -145,6 +153,7 @@ impl<T: Tracer> SunShadows<T> {
             towards_sun,
             cell_inv_dir: DVec3::ONE / dir,
             block,
+            block_shift: block.is_power_of_two().then(|| block.trailing_zeros()),
             blocks_x,
             blocks_y,
             major_is_x,
@@ -154,6 +163,7 @@ impl<T: Tracer> SunShadows<T> {
             bound: Vec::new(),
             margin: 1e-7 * (1.0 + lo.abs().max(hi.abs()) + (hi - lo)),
             walk: WALK_CELLS,
+            fast_triangles: inner_surface_is_triangles && field.holes().is_none(),
             field,
         };
         if major_len > 0 && minor_len > 0 {
@@ -161,7 +171,8 @@ impl<T: Tracer> SunShadows<T> {
             let major = if major_is_x { dir.x.abs() } else { dir.y.abs() };
             let rise = block as f64 * (dir.z / major) * (1.0 - 1e-9);
             let widened = shadows.widened_block_maxima();
-            shadows.bound = shadows.sweep(widened, major_len, rise);
+            let swept = shadows.sweep(widened, major_len, rise);
+            shadows.bound = shadows.unmirrored(&swept);
         }
         Ok(shadows)
     }
@@ -186,27 +197,38 @@ impl<T: Tracer> SunShadows<T> {
     /// proven lit. `false` means undecided (the ray may or may not be occluded). Adds the
     /// cells walked to `steps`.
     pub fn proves_lit(&self, ray: &Ray, steps: &mut u32) -> bool {
+        self.decide(ray, steps) == Some(false)
+    }
+
+    /// What the walk of the ray's first cells proves without tracing: `Some(false)` when the
+    /// ray is lit (see [`SunShadows::proves_lit`]), `Some(true)` when one of its points within
+    /// its range lies inside the solid by the margin (so every exact tracer finds it
+    /// occluded), `None` when it is undecided. Adds the cells walked to `steps`.
+    pub fn decide(&self, ray: &Ray, steps: &mut u32) -> Option<bool> {
         if ray.dir != self.towards_sun || self.bound.is_empty() {
-            return false;
+            return None;
         }
         // The ray in cell space, as the tracers map it, with the sun's reciprocal direction.
         let mut r = self.grid.to_cell_space_dir_only(ray);
         r.inv_dir = self.cell_inv_dir;
         let t0 = r.t_min;
         if !(t0.is_finite() && t0 <= r.t_max) {
-            return false;
+            return None;
         }
         let (cells_x, cells_y) = (self.grid.cells_x(), self.grid.cells_y());
         let (o, d, inv) = (r.origin, r.dir, r.inv_dir);
         let (mut xa, mut ya, mut za) = (o.x + t0 * d.x, o.y + t0 * d.y, o.z + t0 * d.z);
         if !(xa >= 0.0 && xa <= cells_x as f64 && ya >= 0.0 && ya <= cells_y as f64) {
-            return false;
+            return None;
         }
         if za.is_nan() {
-            return false;
+            return None;
         }
         let mut cx = (xa as usize).min(cells_x - 1);
         let mut cy = (ya as usize).min(cells_y - 1);
+        if self.fast_triangles && (d.x != 0.0 || d.y != 0.0) {
+            return self.walk_triangles(&r, t0, (cx, cy), steps);
+        }
         let samples = self.field.samples();
         let mut t_a = t0;
         let leave = |c: usize, o: f64, d: f64, inv: f64| {
@@ -221,7 +243,7 @@ impl<T: Tracer> SunShadows<T> {
         for _ in 0..self.walk {
             *steps += 1;
             if za - self.margin > self.bound_at(cx, cy) as f64 {
-                return true;
+                return Some(false);
             }
             let (tx, ty) = (leave(cx, o.x, d.x, inv.x), leave(cy, o.y, d.y, inv.y));
             let t_b = tx.min(ty);
@@ -230,27 +252,185 @@ impl<T: Tracer> SunShadows<T> {
                 if t_b.is_finite() { (o.x + t_b * d.x, o.y + t_b * d.y) } else { (xa, ya) };
             let zb = if t_b.is_finite() { o.z + t_b * d.z } else { f64::INFINITY };
             if !self.passes_above(samples, (cx, cy), &r, t_a, [xa, ya, za], [xb, yb, zb]) {
-                return false;
+                // Near the solid: inside it over this cell, or (through a wall) over the next?
+                if self.inside(samples, (cx, cy), &r, t_a, t_b) {
+                    return Some(true);
+                }
+                let (nx, ny) = (
+                    if tx == t_b { step(cx, d.x, cells_x) } else { Some(cx) },
+                    if ty == t_b { step(cy, d.y, cells_y) } else { Some(cy) },
+                );
+                let (Some(nx), Some(ny)) = (nx, ny) else { return None };
+                let t_c = leave(nx, o.x, d.x, inv.x).min(leave(ny, o.y, d.y, inv.y));
+                return self.inside(samples, (nx, ny), &r, t_b, t_c).then_some(true);
             }
             if !t_b.is_finite() {
-                return true;
+                return Some(false);
             }
             // Step to the next cell; leaving the grid with every cell cleared proves the ray.
             if tx == t_b {
                 match step(cx, d.x, cells_x) {
                     Some(c) => cx = c,
-                    None => return true,
+                    None => return Some(false),
                 }
             }
             if ty == t_b {
                 match step(cy, d.y, cells_y) {
                     Some(c) => cy = c,
-                    None => return true,
+                    None => return Some(false),
                 }
             }
             (t_a, xa, ya, za) = (t_b, xb, yb, zb);
         }
-        false
+        None
+    }
+
+    /// The walk of [`SunShadows::decide`] over the `triangles` surface of a field without
+    /// holes, for a ray that moves horizontally, from `t0` over cell `(cx, cy)`: the same tests
+    /// (the bound at each cell's entry point, both planes of the cell at both ends of the
+    /// ray's part over it), with few branches the processor could mispredict.
+    #[inline]
+    fn walk_triangles(
+        &self,
+        r: &CellRay,
+        t0: f64,
+        (mut cx, mut cy): (usize, usize),
+        steps: &mut u32,
+    ) -> Option<bool> {
+        let (o, d, inv) = (r.origin, r.dir, r.inv_dir);
+        let (cells_x, cells_y) = (self.grid.cells_x(), self.grid.cells_y());
+        let (w, samples, margin) = (self.field.width(), self.field.samples(), self.margin);
+        // The boundary a cell is left through along each axis (`cx + up_x`), and the step.
+        let (up_x, up_y) = ((d.x > 0.0) as usize, (d.y > 0.0) as usize);
+        let (step_x, step_y) = (if d.x > 0.0 { 1 } else { usize::MAX }, if d.y > 0.0 { 1 } else { usize::MAX });
+        let leave = |c: usize, up: usize, o: f64, d: f64, inv: f64| {
+            if d != 0.0 {
+                ((c + up) as f64 - o) * inv
+            } else {
+                f64::INFINITY
+            }
+        };
+        let (mut t_a, mut xa, mut ya, mut za) = (t0, o.x + t0 * d.x, o.y + t0 * d.y, o.z + t0 * d.z);
+        for _ in 0..self.walk {
+            *steps += 1;
+            if za - margin > self.bound_at(cx, cy) as f64 {
+                return Some(false);
+            }
+            let (tx, ty) = (leave(cx, up_x, o.x, d.x, inv.x), leave(cy, up_y, o.y, d.y, inv.y));
+            let t_b = tx.min(ty);
+            let (xb, yb, zb) = (o.x + t_b * d.x, o.y + t_b * d.y, o.z + t_b * d.z);
+            let i = cx + cy * w;
+            let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
+            let (c, e) = (samples[i + w] as f64, samples[i + w + 1] as f64);
+            // The two planes of `passes_above`, chosen without a branch.
+            let ad = relief_core::splits_along_ad(a, b, c, e);
+            let planes = [
+                (a, b - a, if ad { e - b } else { c - a }),
+                (if ad { a } else { b + c - e }, e - c, if ad { c - a } else { e - b }),
+            ];
+            let (ua, va, ub, vb) = (xa - cx as f64, ya - cy as f64, xb - cx as f64, yb - cy as f64);
+            let mut above = true;
+            for (p0, pu, pv) in planes {
+                above &= (za - (p0 + pu * ua + pv * va) > margin)
+                    & (zb - (p0 + pu * ub + pv * vb) > margin);
+            }
+            if !above {
+                let samples = self.field.samples();
+                if self.inside(samples, (cx, cy), r, t_a, t_b) {
+                    return Some(true);
+                }
+                return None;
+            }
+            if tx == t_b {
+                cx = cx.wrapping_add(step_x);
+            }
+            if ty == t_b {
+                cy = cy.wrapping_add(step_y);
+            }
+            // Leaving the grid with every cell cleared proves the ray.
+            if cx >= cells_x || cy >= cells_y {
+                return Some(false);
+            }
+            (t_a, xa, ya, za) = (t_b, xb, yb, zb);
+        }
+        None
+    }
+
+    /// Whether the ray's point halfway between `t_a` and `t_b` (its part over cell
+    /// `(cx, cy)`) lies within the ray's range, at least [`NEAR`] inside the cell's footprint,
+    /// and inside the cell's solid by the margin: above the solid's bottom, below its top
+    /// (boxes) or below the larger of the two triangles' planes (triangles). Then every exact
+    /// tracer finds the ray occluded.
+    #[inline]
+    fn inside(
+        &self,
+        samples: &[f32],
+        (cx, cy): (usize, usize),
+        r: &CellRay,
+        t_a: f64,
+        t_b: f64,
+    ) -> bool {
+        let t = 0.5 * (t_a + t_b);
+        if !(t.is_finite() && t <= r.t_max) || self.grid.is_empty_cell(cx, cy) {
+            return false;
+        }
+        let p = r.origin + t * r.dir;
+        let (u, v) = (p.x - cx as f64, p.y - cy as f64);
+        let interior = |u: f64| u > NEAR && u < 1.0 - NEAR;
+        if !(interior(u) && interior(v) && p.z - self.margin > self.grid.bounds().min.z) {
+            return false;
+        }
+        let w = self.field.width();
+        let i = cx + cy * w;
+        let top = match self.grid.surface() {
+            Surface::Boxes => samples[i] as f64,
+            Surface::Triangles => {
+                let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
+                let (c, d) = (samples[i + w] as f64, samples[i + w + 1] as f64);
+                let planes = if relief_core::splits_along_ad(a, b, c, d) {
+                    [(a, b - a, d - b), (a, d - c, c - a)]
+                } else {
+                    [(a, b - a, c - a), (b + c - d, d - c, d - b)]
+                };
+                planes.map(|(p0, pu, pv)| p0 + pu * u + pv * v).into_iter().fold(f64::MIN, f64::max)
+            }
+        };
+        p.z + self.margin < top
+    }
+
+    /// Asks the memory system early for what deciding `ray` will read: the samples of the
+    /// cells under its first [`PREFETCH_CELLS`] steps along the sun's dominant axis and the
+    /// bound of its first block.
+    #[inline]
+    fn prefetch(&self, ray: &Ray) {
+        if ray.dir != self.towards_sun || self.bound.is_empty() {
+            return;
+        }
+        let r = self.grid.to_cell_space_dir_only(ray);
+        let p = r.origin + r.t_min * r.dir;
+        let (cells_x, cells_y) = (self.grid.cells_x() as f64, self.grid.cells_y() as f64);
+        if !(p.x >= 0.0 && p.x <= cells_x && p.y >= 0.0 && p.y <= cells_y) {
+            return;
+        }
+        let major = if self.major_is_x { r.dir.x.abs() } else { r.dir.y.abs() };
+        let (sx, sy) = (r.dir.x / major, r.dir.y / major);
+        let (w, samples) = (self.field.width(), self.field.samples());
+        let rows = match self.grid.surface() {
+            Surface::Boxes => 1,
+            Surface::Triangles => 2,
+        };
+        for s in 0..PREFETCH_CELLS {
+            let x = (p.x + s as f64 * sx).clamp(0.0, cells_x - 1.0) as usize;
+            let y = (p.y + s as f64 * sy).clamp(0.0, cells_y - 1.0) as usize;
+            if s == 0 {
+                prefetch(&self.bound[self.bound_index(x, y)]);
+            }
+            for row in y..y + rows {
+                if let Some(sample) = samples.get(x + row * w) {
+                    prefetch(sample);
+                }
+            }
+        }
     }
 
     /// Whether the ray's part from `a` (at `t_a`) to `b` (cell space, rising), over cell
@@ -326,11 +506,33 @@ impl<T: Tracer> SunShadows<T> {
     /// The swept bound `U` of the block holding cell (cx, cy).
     #[inline]
     fn bound_at(&self, cx: usize, cy: usize) -> f32 {
-        let (bx, by) = if self.block == 1 { (cx, cy) } else { (cx / self.block, cy / self.block) };
-        let mx = if self.flip_x { self.blocks_x - 1 - bx } else { bx };
-        let my = if self.flip_y { self.blocks_y - 1 - by } else { by };
-        let (i, j) = if self.major_is_x { (mx, my) } else { (my, mx) };
-        self.bound[i * self.minor_len + j]
+        self.bound[self.bound_index(cx, cy)]
+    }
+
+    /// Where [`SunShadows::bound_at`] of cell (cx, cy) is stored.
+    #[inline]
+    fn bound_index(&self, cx: usize, cy: usize) -> usize {
+        let (bx, by) = match self.block_shift {
+            Some(shift) => (cx >> shift, cy >> shift),
+            None => (cx / self.block, cy / self.block),
+        };
+        bx + by * self.blocks_x
+    }
+
+    /// The blocks' values of `swept` (in sweep order: row `I` along the dominant axis,
+    /// mirrored, holds the blocks `J` along the other, mirrored) row by row along x.
+    fn unmirrored(&self, swept: &[f32]) -> Vec<f32> {
+        let (blocks_x, blocks_y) = (self.blocks_x, self.blocks_y);
+        let mut bound = vec![0.0; swept.len()];
+        bound.par_chunks_mut(blocks_x).enumerate().for_each(|(by, row)| {
+            let my = if self.flip_y { blocks_y - 1 - by } else { by };
+            for (bx, out) in row.iter_mut().enumerate() {
+                let mx = if self.flip_x { blocks_x - 1 - bx } else { bx };
+                let (i, j) = if self.major_is_x { (mx, my) } else { (my, mx) };
+                *out = swept[i * self.minor_len + j];
+            }
+        });
+        bound
     }
 
     /// `D` of every block in sweep order: the highest sample any cell of the block, widened
@@ -341,10 +543,12 @@ impl<T: Tracer> SunShadows<T> {
             Surface::Boxes => 0,
             Surface::Triangles => 1,
         };
-        // The samples read by the cells of block `k` widened by one cell, along one axis.
+        // The samples read by the cells of block `k` widened by one cell, along one axis; not
+        // widened over a continuous surface (see the module documentation).
+        let widen = !self.fast_triangles as usize;
         let samples_of = |k: usize, cells: usize| {
-            let first = (k * b).saturating_sub(1);
-            let last = ((k + 1) * b).min(cells - 1) + reach;
+            let first = (k * b).saturating_sub(widen);
+            let last = ((k + 1) * b + widen - 1).min(cells - 1) + reach;
             first..=last
         };
         let (cells_x, cells_y) = (self.grid.cells_x(), self.grid.cells_y());
@@ -444,6 +648,19 @@ fn step(c: usize, d: f64, cells: usize) -> Option<usize> {
     }
 }
 
+/// A hint that `value` will be read soon.
+#[inline(always)]
+fn prefetch<V>(value: &V) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: prefetching is a hint that never faults; SSE is part of x86-64.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>(value as *const V as *const i8);
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}
+
 impl<T: Tracer> Tracer for SunShadows<T> {
     fn name(&self) -> &'static str {
         self.inner.name()
@@ -458,23 +675,29 @@ impl<T: Tracer> Tracer for SunShadows<T> {
     }
 
     fn occluded_counted(&self, ray: &Ray, steps: &mut u32) -> bool {
-        !self.proves_lit(ray, steps) && self.inner.occluded_counted(ray, steps)
+        match self.decide(ray, steps) {
+            Some(occluded) => occluded,
+            None => self.inner.occluded_counted(ray, steps),
+        }
     }
 
     fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
         self.inner.intersect_batch(rays, hits, steps)
     }
 
-    /// Decides what the sweep proves lit and traces the other rays as one batch of the
+    /// Decides what the walk proves (lit or occluded) and traces the other rays as one batch of the
     /// wrapped tracer.
     fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
         assert!(rays.len() == occluded.len() && rays.len() == steps.len(), "batch slices differ");
+        // The batch's first cells are fetched from memory together, not one ray at a time.
+        for ray in rays {
+            self.prefetch(ray);
+        }
         let mut undecided = Vec::with_capacity(rays.len());
         for (k, ray) in rays.iter().enumerate() {
-            if self.proves_lit(ray, &mut steps[k]) {
-                occluded[k] = false;
-            } else {
-                undecided.push(k);
+            match self.decide(ray, &mut steps[k]) {
+                Some(blocked) => occluded[k] = blocked,
+                None => undecided.push(k),
             }
         }
         if undecided.len() == rays.len() {

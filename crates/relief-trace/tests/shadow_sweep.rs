@@ -52,7 +52,9 @@ fn check(
     let mut proven = 0;
     for ray in rays {
         let expected = mipmap.occluded(ray);
+        let decided = shadows.decide(ray, &mut 0);
         let lit = shadows.proves_lit(ray, &mut 0);
+        prop_assert_eq!(lit, decided == Some(false));
         proven += lit as usize;
         prop_assert!(
             !(lit && expected),
@@ -62,6 +64,10 @@ fn check(
             !(lit && naive.occluded(ray)),
             "{surface} block {block}: proven lit but naive occluded: {ray:?}"
         );
+        if decided == Some(true) {
+            prop_assert!(expected, "{surface} block {block}: proven occluded but lit: {ray:?}");
+            prop_assert!(naive.occluded(ray), "{surface} block {block}: proven occluded, naive lit");
+        }
         prop_assert_eq!(shadows.occluded(ray), expected, "{} {:?}", surface, ray);
         prop_assert_eq!(naive_shadows.occluded(ray), naive.occluded(ray), "{} {:?}", surface, ray);
     }
@@ -156,8 +162,16 @@ fn sweep_decides_most_lit_rays_on_smooth_terrain() {
                 let mut steps = 0;
                 let proven = rays.iter().filter(|r| shadows.proves_lit(r, &mut steps)).count();
                 for ray in &rays {
-                    assert_eq!(shadows.occluded(ray), mipmap.occluded(ray), "{ray:?}");
+                    let expected = mipmap.occluded(ray);
+                    assert_eq!(shadows.occluded(ray), expected, "{ray:?}");
+                    if let Some(decided) = shadows.decide(ray, &mut 0) {
+                        assert_eq!(decided, expected, "{ray:?}");
+                    }
                 }
+                let mut batch = vec![false; rays.len()];
+                shadows.occluded_batch(&rays, &mut batch, &mut vec![0; rays.len()]);
+                let plain: Vec<bool> = rays.iter().map(|r| mipmap.occluded(r)).collect();
+                assert_eq!(batch, plain);
                 let share = proven as f64 / lit as f64;
                 assert!(
                     rays.len() > 1000 && share > 0.75,
