@@ -66,7 +66,10 @@ fn check(
         );
         if decided == Some(true) {
             prop_assert!(expected, "{surface} block {block}: proven occluded but lit: {ray:?}");
-            prop_assert!(naive.occluded(ray), "{surface} block {block}: proven occluded, naive lit");
+            prop_assert!(
+                naive.occluded(ray),
+                "{surface} block {block}: proven occluded, naive lit"
+            );
         }
         prop_assert_eq!(shadows.occluded(ray), expected, "{} {:?}", surface, ray);
         prop_assert_eq!(naive_shadows.occluded(ray), naive.occluded(ray), "{} {:?}", surface, ray);
@@ -76,7 +79,34 @@ fn check(
     shadows.occluded_batch(rays, &mut batch, &mut steps);
     let mut plain = vec![true; rays.len()];
     mipmap.occluded_batch(rays, &mut plain, &mut vec![0; rays.len()]);
-    prop_assert_eq!(batch, plain, "{} batch", surface);
+    prop_assert_eq!(&batch, &plain, "{} batch", surface);
+    let mut decided = vec![None; rays.len()];
+    shadows.decide_batch(rays, &mut decided, &mut vec![0; rays.len()]);
+    for (ray, decision) in rays.iter().zip(decided) {
+        prop_assert_eq!(decision, shadows.decide(ray, &mut 0), "{} decide_batch", surface);
+    }
+    // Short walks: most undecided rays are traced from where their walk stopped.
+    for cells in [1, 2, 3] {
+        let short = SunShadows::with_block(&mipmap, field.clone(), towards_sun, block)
+            .unwrap()
+            .with_walk_cells(cells);
+        let naive_short = SunShadows::with_block(&naive, field.clone(), towards_sun, block)
+            .unwrap()
+            .with_walk_cells(cells);
+        let mut batch = vec![true; rays.len()];
+        short.occluded_batch(rays, &mut batch, &mut vec![0; rays.len()]);
+        prop_assert_eq!(&batch, &plain, "{} walks of {} cells, batch", surface, cells);
+        for ray in rays {
+            prop_assert_eq!(short.occluded(ray), mipmap.occluded(ray), "{} {:?}", surface, ray);
+            prop_assert_eq!(
+                naive_short.occluded(ray),
+                naive.occluded(ray),
+                "{} {:?}",
+                surface,
+                ray
+            );
+        }
+    }
     Ok(proven)
 }
 

@@ -37,7 +37,7 @@ struct Measurement<'a> {
     shadow: TraceStats,
     /// `None`: the tracer does not admit the sun's shadow rays.
     shadow_s: Option<f64>,
-    /// The shadow sweep's build time and the share of shadow rays it proved lit without
+    /// The shadow sweep's build time and the share of shadow rays it decided without
     /// tracing; `None` without a sweep.
     sweep: Option<(f64, f64)>,
     peak_mib: f64,
@@ -454,8 +454,8 @@ fn shadow_rays(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer, sun: DVe
         .reduce(TraceStats::default, TraceStats::merge)
 }
 
-/// The share of the shadow rays towards `sun` from the hits of `gbuffer` that `sweep` proves
-/// lit without tracing.
+/// The share of the shadow rays towards `sun` from the hits of `gbuffer` that `sweep`
+/// decides (proves lit or occluded) without tracing.
 fn proven_share(
     sweep: &SunShadows<&dyn Tracer>,
     camera: &Camera,
@@ -472,7 +472,7 @@ fn proven_share(
                 let tile = Tile::new(tile_x, rows.start, width, rows.end);
                 tile.shadow_rays(camera, gbuffer, sun, &mut rays);
             }
-            (rays.iter().filter(|r| sweep.proves_lit(r, &mut 0)).count(), rays.len())
+            (rays.iter().filter(|r| sweep.decide(r, &mut 0).is_some()).count(), rays.len())
         })
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     proven as f64 / rays.max(1) as f64
