@@ -152,6 +152,9 @@ pub struct SunShadows<T> {
     /// Whether the walk takes [`SunShadows::walk_triangles`]: the `triangles` surface of a
     /// field without holes.
     fast_triangles: bool,
+    /// Whether batches of such walks run in AVX2 registers: the processor has AVX2, the
+    /// blocks' side is a power of two and every index fits in 32 bits.
+    avx2: bool,
 }
 
 impl<T: Tracer> SunShadows<T> {
@@ -210,6 +213,9 @@ impl<T: Tracer> SunShadows<T> {
             margin: 1e-7 * (1.0 + lo.abs().max(hi.abs()) + (hi - lo)),
             walk: WALK_CELLS,
             fast_triangles: inner_surface_is_triangles && field.holes().is_none(),
+            avx2: avx2_available()
+                && block.is_power_of_two()
+                && field.samples().len() < i32::MAX as usize / 2,
             field,
         };
         if major_len > 0 && minor_len > 0 {
@@ -472,12 +478,181 @@ impl<T: Tracer> SunShadows<T> {
             for (lane, ray) in lanes.iter_mut().zip(rays) {
                 *lane = self.start(ray);
             }
+            #[cfg(target_arch = "x86_64")]
+            if self.avx2 && walked.len() == LANES {
+                // SAFETY: `avx2` holds only where the processor has AVX2 (see `with_block`).
+                unsafe { self.walk_triangles_avx2(&lanes, walked, steps) };
+            } else {
+                self.walk_triangles_lanes(&lanes, walked, steps);
+            }
+            #[cfg(not(target_arch = "x86_64"))]
             self.walk_triangles_lanes(&lanes, walked, steps);
             for (out, (lane, ray)) in walked.iter_mut().zip(lanes.iter().zip(rays)) {
                 if lane.is_none() {
                     *out = Walked::From(ray.t_min);
                 }
             }
+        }
+    }
+
+    /// [`SunShadows::walk_triangles_lanes`] of exactly [`LANES`] rays in AVX2 registers: the
+    /// same operations in the same order (no fused multiply-adds), so the same decisions.
+    ///
+    /// # Safety
+    /// The processor must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn walk_triangles_avx2(
+        &self,
+        lanes: &[Option<Start>; LANES],
+        walked: &mut [Walked],
+        steps: &mut [u32],
+    ) {
+        use std::arch::x86_64::*;
+        let Some(first) = lanes.iter().flatten().next() else { return };
+        let (d, inv) = (first.0.dir, first.0.inv_dir);
+        let (cells_x, cells_y) = (self.grid.cells_x() as i32, self.grid.cells_y() as i32);
+        let (w, samples) = (self.field.width() as i32, self.field.samples());
+        let shift = _mm_cvtsi32_si128(self.block_shift.unwrap_or(0) as i32);
+        let blocks_x = _mm_set1_epi32(self.blocks_x as i32);
+        let margin = _mm256_set1_pd(self.margin);
+        // 64-bit and 32-bit lane masks from four bits.
+        let bits64 = _mm256_setr_epi64x(1, 2, 4, 8);
+        let bits32 = _mm_setr_epi32(1, 2, 4, 8);
+        let mask64 = |m: i32| {
+            let v = _mm256_and_si256(_mm256_set1_epi64x(m as i64), bits64);
+            _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, bits64))
+        };
+        let mask32 = |m: i32| _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(m), bits32), bits32);
+        let (mut o, mut at, mut cell) = ([[0.0f64; 4]; 3], [[0.0f64; 4]; 4], [[0i32; 4]; 2]);
+        let mut active = 0i32;
+        for (k, lane) in lanes.iter().enumerate() {
+            if let Some((r, t0, (cx, cy))) = lane {
+                let p = r.origin;
+                (o[0][k], o[1][k], o[2][k]) = (p.x, p.y, p.z);
+                at[0][k] = *t0;
+                (at[1][k], at[2][k], at[3][k]) = (p.x + t0 * d.x, p.y + t0 * d.y, p.z + t0 * d.z);
+                (cell[0][k], cell[1][k]) = (*cx as i32, *cy as i32);
+                walked[k] = Walked::From(*t0);
+                active |= 1 << k;
+            }
+        }
+        let load = |v: &[f64; 4]| _mm256_loadu_pd(v.as_ptr());
+        let (ox, oy, oz) = (load(&o[0]), load(&o[1]), load(&o[2]));
+        let (mut t_a, mut xa, mut ya, mut za) = (load(&at[0]), load(&at[1]), load(&at[2]), load(&at[3]));
+        let mut cx = _mm_loadu_si128(cell[0].as_ptr() as *const __m128i);
+        let mut cy = _mm_loadu_si128(cell[1].as_ptr() as *const __m128i);
+        let (dx, dy, dz) = (_mm256_set1_pd(d.x), _mm256_set1_pd(d.y), _mm256_set1_pd(d.z));
+        let (inv_x, inv_y) = (_mm256_set1_pd(inv.x), _mm256_set1_pd(inv.y));
+        let (up_x, up_y) = (_mm_set1_epi32((d.x > 0.0) as i32), _mm_set1_epi32((d.y > 0.0) as i32));
+        let step_x = _mm256_set1_pd(if d.x > 0.0 { 1.0 } else { -1.0 });
+        let step_y = _mm256_set1_pd(if d.y > 0.0 { 1.0 } else { -1.0 });
+        let infinity = _mm256_set1_pd(f64::INFINITY);
+        let zero = _mm256_setzero_pd();
+        let (last_x, last_y) = (_mm_set1_epi32(cells_x - 1), _mm_set1_epi32(cells_y - 1));
+        let lane_t = |v: __m256d, k: usize| {
+            let mut out = [0.0f64; 4];
+            _mm256_storeu_pd(out.as_mut_ptr(), v);
+            out[k]
+        };
+        for _ in 0..self.walk {
+            if active == 0 {
+                return;
+            }
+            for (k, steps) in steps.iter_mut().enumerate() {
+                *steps += (active >> k & 1) as u32;
+            }
+            // The bound at each cell's entry point.
+            let block = _mm_add_epi32(
+                _mm_mullo_epi32(_mm_srl_epi32(cy, shift), blocks_x),
+                _mm_srl_epi32(cx, shift),
+            );
+            let bound = _mm256_cvtps_pd(_mm_i32gather_ps::<4>(self.bound.as_ptr(), block));
+            let lit = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(za, margin), bound))
+                & active;
+            // Where each ray leaves its cell.
+            let (fx, fy) = (_mm256_cvtepi32_pd(cx), _mm256_cvtepi32_pd(cy));
+            let tx = if d.x != 0.0 {
+                _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtepi32_pd(_mm_add_epi32(cx, up_x)), ox), inv_x)
+            } else {
+                infinity
+            };
+            let ty = if d.y != 0.0 {
+                _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtepi32_pd(_mm_add_epi32(cy, up_y)), oy), inv_y)
+            } else {
+                infinity
+            };
+            let t_b = _mm256_min_pd(tx, ty);
+            let xb = _mm256_add_pd(ox, _mm256_mul_pd(t_b, dx));
+            let yb = _mm256_add_pd(oy, _mm256_mul_pd(t_b, dy));
+            let zb = _mm256_add_pd(oz, _mm256_mul_pd(t_b, dz));
+            // The cell's corners and its two planes.
+            let i = _mm_add_epi32(cx, _mm_mullo_epi32(cy, _mm_set1_epi32(w)));
+            let base = samples.as_ptr();
+            let gather = |offset: i32| {
+                let index = _mm_add_epi32(i, _mm_set1_epi32(offset));
+                _mm256_cvtps_pd(_mm_i32gather_ps::<4>(base, index))
+            };
+            let (a, b, c, e) = (gather(0), gather(1), gather(w), gather(w + 1));
+            let ad = _mm256_cmp_pd::<_CMP_LE_OQ>(_mm256_add_pd(a, e), _mm256_add_pd(b, c));
+            let (c_a, e_b) = (_mm256_sub_pd(c, a), _mm256_sub_pd(e, b));
+            let planes = [
+                (a, _mm256_sub_pd(b, a), _mm256_blendv_pd(c_a, e_b, ad)),
+                (
+                    _mm256_blendv_pd(_mm256_sub_pd(_mm256_add_pd(b, c), e), a, ad),
+                    _mm256_sub_pd(e, c),
+                    _mm256_blendv_pd(e_b, c_a, ad),
+                ),
+            ];
+            let (ua, va) = (_mm256_sub_pd(xa, fx), _mm256_sub_pd(ya, fy));
+            let (ub, vb) = (_mm256_sub_pd(xb, fx), _mm256_sub_pd(yb, fy));
+            let mut above = _mm256_cmp_pd::<_CMP_EQ_OQ>(zero, zero);
+            for (p0, pu, pv) in planes {
+                let at_a = _mm256_add_pd(_mm256_add_pd(p0, _mm256_mul_pd(pu, ua)), _mm256_mul_pd(pv, va));
+                let at_b = _mm256_add_pd(_mm256_add_pd(p0, _mm256_mul_pd(pu, ub)), _mm256_mul_pd(pv, vb));
+                above = _mm256_and_pd(above, _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(za, at_a), margin));
+                above = _mm256_and_pd(above, _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(zb, at_b), margin));
+            }
+            let above = _mm256_movemask_pd(above);
+            let failed = active & !lit & !above;
+            for k in (0..LANES).filter(|k| lit >> k & 1 != 0) {
+                walked[k] = Walked::Lit;
+            }
+            for k in (0..LANES).filter(|k| failed >> k & 1 != 0) {
+                let r = &lanes[k].as_ref().expect("an active lane has a ray").0;
+                let cell = (_mm_extract_epi32_dyn(cx, k) as usize, _mm_extract_epi32_dyn(cy, k) as usize);
+                let (ta, tb) = (lane_t(t_a, k), lane_t(t_b, k));
+                walked[k] = if self.inside(samples, cell, r, ta, tb) {
+                    Walked::Occluded
+                } else {
+                    Walked::From(ta)
+                };
+            }
+            let going = active & !lit & above;
+            // Step to the next cell; leaving the grid with every cell cleared proves the ray.
+            let sx = _mm256_cvtpd_epi32(_mm256_blendv_pd(zero, step_x, _mm256_cmp_pd::<_CMP_EQ_OQ>(tx, t_b)));
+            let sy = _mm256_cvtpd_epi32(_mm256_blendv_pd(zero, step_y, _mm256_cmp_pd::<_CMP_EQ_OQ>(ty, t_b)));
+            let (nx, ny) = (_mm_add_epi32(cx, sx), _mm_add_epi32(cy, sy));
+            let outside = _mm_or_si128(
+                _mm_or_si128(_mm_cmplt_epi32(nx, _mm_setzero_si128()), _mm_cmpgt_epi32(nx, last_x)),
+                _mm_or_si128(_mm_cmplt_epi32(ny, _mm_setzero_si128()), _mm_cmpgt_epi32(ny, last_y)),
+            );
+            let left = _mm_movemask_ps(_mm_castsi128_ps(outside)) & going;
+            for k in (0..LANES).filter(|k| left >> k & 1 != 0) {
+                walked[k] = Walked::Lit;
+            }
+            let moving = going & !left;
+            let (m64, m32) = (mask64(moving), mask32(moving));
+            cx = _mm_blendv_epi8(cx, nx, m32);
+            cy = _mm_blendv_epi8(cy, ny, m32);
+            t_a = _mm256_blendv_pd(t_a, t_b, m64);
+            xa = _mm256_blendv_pd(xa, xb, m64);
+            ya = _mm256_blendv_pd(ya, yb, m64);
+            za = _mm256_blendv_pd(za, zb, m64);
+            for k in (0..LANES).filter(|k| moving >> k & 1 != 0) {
+                walked[k] = Walked::From(lane_t(t_b, k));
+            }
+            active = moving;
         }
     }
 
@@ -909,6 +1084,28 @@ impl Walked {
             Walked::From(_) => None,
         }
     }
+}
+
+/// Whether this processor runs AVX2 instructions.
+fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Lane `k` of four 32-bit integers.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn _mm_extract_epi32_dyn(v: std::arch::x86_64::__m128i, k: usize) -> i32 {
+    let mut out = [0i32; 4];
+    // SAFETY: an unaligned store of 16 bytes into a 16-byte array (SSE2, part of x86-64).
+    unsafe { std::arch::x86_64::_mm_storeu_si128(out.as_mut_ptr() as *mut _, v) };
+    out[k]
 }
 
 /// A hint that `value` will be read soon.
