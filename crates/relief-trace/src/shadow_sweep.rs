@@ -61,21 +61,21 @@
 //!
 //! # Speed
 //!
-//! A batch ([`Tracer::occluded_batch`]) first asks the memory system for the cells along every
-//! ray's first steps, then walks the rays, over a continuous `triangles` surface four at a
-//! time (interleaved, so the processor overlaps their work), and traces the
-//! undecided ones as one batch of the wrapped tracer. A batch whose rays start densely (a
-//! close view) goes to the wrapped tracer whole: its packets share their work between such
-//! rays, and the walks, one ray at a time, would be slower.
+//! Over the `triangles` surface of a field without holes, a batch
+//! ([`Tracer::occluded_batch`]) first asks the memory system for the cells along every ray's
+//! first steps, then walks the rays four at a time (in AVX2 registers where the processor has
+//! them, else interleaved), and traces the undecided ones as one batch of the wrapped tracer.
+//! A batch whose rays start densely (a close view) goes to the wrapped tracer whole: its
+//! packets share their work between such rays. Over the `boxes` surface, or with holes, every
+//! batch goes to the wrapped tracer whole ([`SunShadows::walks_batches`]): the walk there,
+//! which tests the cells beside the ray for walls, was slower than the packets (0.7-0.9x), and
+//! only single rays are walked.
 //!
-//! Measured on the 4096^2 fBm terrain at 1920x1080 under `relief bench`'s sun (`relief bench
-//! --input fbm-4096.npy --tracers mipmap` with and without `--shadow-sweep`, alternated, on a
-//! shared 2-core machine), against the mipmap tracer's packets alone: the `triangles`
-//! surface's shadow rays 1.05-1.27x as fast in the three-quarter and top-down views and
-//! 0.96-1.2x in the flight view; the `boxes` surface's 0.73-0.95x (its walk tests the cells
-//! beside the ray for walls, and 34-47% of its rays are shadowed, few of them proven). The
-//! sweep itself took 50-80 ms (blocks of 2 cells, 16 MiB), more than one frame's shadow rays
-//! save: it pays when one sun lights many frames.
+//! Measured on the 4096^2 fBm terrain at 1920x1080 under `relief bench`'s sun, in-process
+//! against the mipmap tracer's packets alone (alternating, fastest of five, on a shared 2-core
+//! machine): the `triangles` surface's shadow rays 1.4-1.5x as fast in the three-quarter view,
+//! 1.55-1.8x top-down and 1.03x in the flight view. The sweep itself takes 50-80 ms there
+//! (blocks of 2 cells, 16 MiB).
 
 use crate::cell_grid::{CellGrid, CellRay};
 use crate::{Hit, TraceError, Tracer};
@@ -189,13 +189,13 @@ impl<T: Tracer> SunShadows<T> {
             return Err(TraceError::Options("shadow sweep blocks of 0 cells".into()));
         }
         let grid = CellGrid::new(&field, inner.surface());
-        let inner_surface_is_triangles = inner.surface() == Surface::Triangles;
         let dir = towards_sun * field.geometry().grid_scale();
         let major_is_x = dir.x.abs() >= dir.y.abs();
         let (blocks_x, blocks_y) = (grid.cells_x().div_ceil(block), grid.cells_y().div_ceil(block));
         let (major_len, minor_len) =
             if major_is_x { (blocks_x, blocks_y) } else { (blocks_y, blocks_x) };
         let (lo, hi) = (field.min_sample() as f64, field.max_sample() as f64);
+        let fast_triangles = Self::walks_batches_over(&field, grid.surface());
         let mut shadows = SunShadows {
             inner,
             grid,
@@ -212,7 +212,7 @@ impl<T: Tracer> SunShadows<T> {
             bound: Vec::new(),
             margin: 1e-7 * (1.0 + lo.abs().max(hi.abs()) + (hi - lo)),
             walk: WALK_CELLS,
-            fast_triangles: inner_surface_is_triangles && field.holes().is_none(),
+            fast_triangles,
             avx2: avx2_available()
                 && block.is_power_of_two()
                 && field.samples().len() < i32::MAX as usize / 2,
@@ -234,6 +234,20 @@ impl<T: Tracer> SunShadows<T> {
     pub fn with_walk_cells(mut self, cells: u32) -> Self {
         self.walk = cells;
         self
+    }
+
+    /// Whether [`Tracer::occluded_batch`] walks its rays before tracing the undecided ones:
+    /// over the `triangles` surface of a field without holes, where that was measured to pay.
+    /// Otherwise (the `boxes` surface, whose walks test the cells beside the ray for walls;
+    /// holes) batches go to the wrapped tracer whole, and only single rays are walked.
+    pub fn walks_batches(&self) -> bool {
+        self.fast_triangles
+    }
+
+    /// [`SunShadows::walks_batches`] of a sweep over `surface` of `field`, known before
+    /// building it.
+    pub fn walks_batches_over(field: &HeightField, surface: Surface) -> bool {
+        surface == Surface::Triangles && field.holes().is_none()
     }
 
     /// The wrapped tracer.
@@ -539,7 +553,8 @@ impl<T: Tracer> SunShadows<T> {
         }
         let load = |v: &[f64; 4]| _mm256_loadu_pd(v.as_ptr());
         let (ox, oy, oz) = (load(&o[0]), load(&o[1]), load(&o[2]));
-        let (mut t_a, mut xa, mut ya, mut za) = (load(&at[0]), load(&at[1]), load(&at[2]), load(&at[3]));
+        let (mut t_a, mut xa, mut ya, mut za) =
+            (load(&at[0]), load(&at[1]), load(&at[2]), load(&at[3]));
         let mut cx = _mm_loadu_si128(cell[0].as_ptr() as *const __m128i);
         let mut cy = _mm_loadu_si128(cell[1].as_ptr() as *const __m128i);
         let (dx, dy, dz) = (_mm256_set1_pd(d.x), _mm256_set1_pd(d.y), _mm256_set1_pd(d.z));
@@ -568,8 +583,9 @@ impl<T: Tracer> SunShadows<T> {
                 _mm_srl_epi32(cx, shift),
             );
             let bound = _mm256_cvtps_pd(_mm_i32gather_ps::<4>(self.bound.as_ptr(), block));
-            let lit = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(za, margin), bound))
-                & active;
+            let lit =
+                _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(za, margin), bound))
+                    & active;
             // Where each ray leaves its cell.
             let (fx, fy) = (_mm256_cvtepi32_pd(cx), _mm256_cvtepi32_pd(cy));
             let tx = if d.x != 0.0 {
@@ -608,10 +624,18 @@ impl<T: Tracer> SunShadows<T> {
             let (ub, vb) = (_mm256_sub_pd(xb, fx), _mm256_sub_pd(yb, fy));
             let mut above = _mm256_cmp_pd::<_CMP_EQ_OQ>(zero, zero);
             for (p0, pu, pv) in planes {
-                let at_a = _mm256_add_pd(_mm256_add_pd(p0, _mm256_mul_pd(pu, ua)), _mm256_mul_pd(pv, va));
-                let at_b = _mm256_add_pd(_mm256_add_pd(p0, _mm256_mul_pd(pu, ub)), _mm256_mul_pd(pv, vb));
-                above = _mm256_and_pd(above, _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(za, at_a), margin));
-                above = _mm256_and_pd(above, _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(zb, at_b), margin));
+                let at_a =
+                    _mm256_add_pd(_mm256_add_pd(p0, _mm256_mul_pd(pu, ua)), _mm256_mul_pd(pv, va));
+                let at_b =
+                    _mm256_add_pd(_mm256_add_pd(p0, _mm256_mul_pd(pu, ub)), _mm256_mul_pd(pv, vb));
+                above = _mm256_and_pd(
+                    above,
+                    _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(za, at_a), margin),
+                );
+                above = _mm256_and_pd(
+                    above,
+                    _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(zb, at_b), margin),
+                );
             }
             let above = _mm256_movemask_pd(above);
             let failed = active & !lit & !above;
@@ -620,7 +644,8 @@ impl<T: Tracer> SunShadows<T> {
             }
             for k in (0..LANES).filter(|k| failed >> k & 1 != 0) {
                 let r = &lanes[k].as_ref().expect("an active lane has a ray").0;
-                let cell = (_mm_extract_epi32_dyn(cx, k) as usize, _mm_extract_epi32_dyn(cy, k) as usize);
+                let cell =
+                    (_mm_extract_epi32_dyn(cx, k) as usize, _mm_extract_epi32_dyn(cy, k) as usize);
                 let (ta, tb) = (lane_t(t_a, k), lane_t(t_b, k));
                 walked[k] = if self.inside(samples, cell, r, ta, tb) {
                     Walked::Occluded
@@ -630,8 +655,16 @@ impl<T: Tracer> SunShadows<T> {
             }
             let going = active & !lit & above;
             // Step to the next cell; leaving the grid with every cell cleared proves the ray.
-            let sx = _mm256_cvtpd_epi32(_mm256_blendv_pd(zero, step_x, _mm256_cmp_pd::<_CMP_EQ_OQ>(tx, t_b)));
-            let sy = _mm256_cvtpd_epi32(_mm256_blendv_pd(zero, step_y, _mm256_cmp_pd::<_CMP_EQ_OQ>(ty, t_b)));
+            let sx = _mm256_cvtpd_epi32(_mm256_blendv_pd(
+                zero,
+                step_x,
+                _mm256_cmp_pd::<_CMP_EQ_OQ>(tx, t_b),
+            ));
+            let sy = _mm256_cvtpd_epi32(_mm256_blendv_pd(
+                zero,
+                step_y,
+                _mm256_cmp_pd::<_CMP_EQ_OQ>(ty, t_b),
+            ));
             let (nx, ny) = (_mm_add_epi32(cx, sx), _mm_add_epi32(cy, sy));
             let outside = _mm_or_si128(
                 _mm_or_si128(_mm_cmplt_epi32(nx, _mm_setzero_si128()), _mm_cmpgt_epi32(nx, last_x)),
@@ -1153,7 +1186,7 @@ impl<T: Tracer> Tracer for SunShadows<T> {
     /// wrapped tracer.
     fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
         assert!(rays.len() == occluded.len() && rays.len() == steps.len(), "batch slices differ");
-        if self.dense(rays) {
+        if !self.walks_batches() || self.dense(rays) {
             return self.inner.occluded_batch(rays, occluded, steps);
         }
         // The batch's first cells are fetched from memory together, not one ray at a time.
