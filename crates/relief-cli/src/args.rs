@@ -915,7 +915,7 @@ pub struct BenchArgs {
     /// Decide the shadow rays the sun's shadow sweep proves lit or occluded without tracing
     /// them (relief_trace::SunShadows; exact) and trace the others, and report the sweep's
     /// build time and the share of rays it decided: the default, for the triangles surface of
-    /// a field without holes (on the 4096^2 fBm views, 1.4-1.8x as fast in the three-quarter
+    /// a field without holes (on the 4096^2 fBm views, 1.3-1.5x as fast in the three-quarter
     /// and top-down views, as fast in the flight view; elsewhere the sweep does not pay and is
     /// not built).
     #[arg(long, overrides_with = "no_shadow_sweep")]

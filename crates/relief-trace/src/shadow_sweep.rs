@@ -72,10 +72,13 @@
 //! only single rays are walked.
 //!
 //! Measured on the 4096^2 fBm terrain at 1920x1080 under `relief bench`'s sun, in-process
-//! against the mipmap tracer's packets alone (alternating, fastest of five, on a shared 2-core
-//! machine): the `triangles` surface's shadow rays 1.4-1.5x as fast in the three-quarter view,
-//! 1.55-1.8x top-down and 1.03x in the flight view. The sweep itself takes 50-80 ms there
-//! (blocks of 2 cells, 16 MiB).
+//! against the mipmap tracer's packets alone (alternating, fastest of three or five, on a
+//! shared 2-core machine), with blocks of 4 cells (the default; the sweep took 13 ms, 4 MiB):
+//! the `triangles` surface's shadow rays 1.34-1.36x as fast in the three-quarter view,
+//! 1.42-1.44x top-down and 0.99-1.03x in the flight view, so that a frame's shadow rays plus
+//! the sweep take 93 against 105 ms (three-quarter) and 123 against 160 ms (top-down), but
+//! 75 against 61 ms in the flight view. Blocks of 2 cells (40-45 ms, 16 MiB): 1.41-1.44x,
+//! 1.56-1.58x and 1.04-1.14x, for a sun that lights many frames.
 
 use crate::cell_grid::{CellGrid, CellRay};
 use crate::{Hit, TraceError, Tracer};
@@ -86,8 +89,10 @@ use std::sync::Arc;
 /// How many cells a shadow ray walks before it is handed to the wrapped tracer.
 pub const WALK_CELLS: u32 = 16;
 
-/// The side, in cells, of the blocks [`SunShadows::new`] bounds the shadow over.
-pub const DEFAULT_SHADOW_BLOCK: usize = 2;
+/// The side, in cells, of the blocks [`SunShadows::new`] bounds the shadow over: 4 builds in
+/// a third of the time of 2 (13 against 40-45 ms at 4096^2) for 5-10% slower shadow rays, so
+/// that the sweep pays within one frame (module documentation, "Speed").
+pub const DEFAULT_SHADOW_BLOCK: usize = 4;
 
 /// Rays a cell (over the box of a batch's starting points) above which the batch goes to
 /// the wrapped tracer without walks: its packets share the work of rays that close (on the
