@@ -52,7 +52,9 @@ fn check(
     let mut proven = 0;
     for ray in rays {
         let expected = mipmap.occluded(ray);
+        let decided = shadows.decide(ray, &mut 0);
         let lit = shadows.proves_lit(ray, &mut 0);
+        prop_assert_eq!(lit, decided == Some(false));
         proven += lit as usize;
         prop_assert!(
             !(lit && expected),
@@ -62,6 +64,13 @@ fn check(
             !(lit && naive.occluded(ray)),
             "{surface} block {block}: proven lit but naive occluded: {ray:?}"
         );
+        if decided == Some(true) {
+            prop_assert!(expected, "{surface} block {block}: proven occluded but lit: {ray:?}");
+            prop_assert!(
+                naive.occluded(ray),
+                "{surface} block {block}: proven occluded, naive lit"
+            );
+        }
         prop_assert_eq!(shadows.occluded(ray), expected, "{} {:?}", surface, ray);
         prop_assert_eq!(naive_shadows.occluded(ray), naive.occluded(ray), "{} {:?}", surface, ray);
     }
@@ -70,7 +79,34 @@ fn check(
     shadows.occluded_batch(rays, &mut batch, &mut steps);
     let mut plain = vec![true; rays.len()];
     mipmap.occluded_batch(rays, &mut plain, &mut vec![0; rays.len()]);
-    prop_assert_eq!(batch, plain, "{} batch", surface);
+    prop_assert_eq!(&batch, &plain, "{} batch", surface);
+    let mut decided = vec![None; rays.len()];
+    shadows.decide_batch(rays, &mut decided, &mut vec![0; rays.len()]);
+    for (ray, decision) in rays.iter().zip(decided) {
+        prop_assert_eq!(decision, shadows.decide(ray, &mut 0), "{} decide_batch", surface);
+    }
+    // Short walks: most undecided rays are traced from where their walk stopped.
+    for cells in [1, 2, 3] {
+        let short = SunShadows::with_block(&mipmap, field.clone(), towards_sun, block)
+            .unwrap()
+            .with_walk_cells(cells);
+        let naive_short = SunShadows::with_block(&naive, field.clone(), towards_sun, block)
+            .unwrap()
+            .with_walk_cells(cells);
+        let mut batch = vec![true; rays.len()];
+        short.occluded_batch(rays, &mut batch, &mut vec![0; rays.len()]);
+        prop_assert_eq!(&batch, &plain, "{} walks of {} cells, batch", surface, cells);
+        for ray in rays {
+            prop_assert_eq!(short.occluded(ray), mipmap.occluded(ray), "{} {:?}", surface, ray);
+            prop_assert_eq!(
+                naive_short.occluded(ray),
+                naive.occluded(ray),
+                "{} {:?}",
+                surface,
+                ray
+            );
+        }
+    }
     Ok(proven)
 }
 
@@ -156,8 +192,16 @@ fn sweep_decides_most_lit_rays_on_smooth_terrain() {
                 let mut steps = 0;
                 let proven = rays.iter().filter(|r| shadows.proves_lit(r, &mut steps)).count();
                 for ray in &rays {
-                    assert_eq!(shadows.occluded(ray), mipmap.occluded(ray), "{ray:?}");
+                    let expected = mipmap.occluded(ray);
+                    assert_eq!(shadows.occluded(ray), expected, "{ray:?}");
+                    if let Some(decided) = shadows.decide(ray, &mut 0) {
+                        assert_eq!(decided, expected, "{ray:?}");
+                    }
                 }
+                let mut batch = vec![false; rays.len()];
+                shadows.occluded_batch(&rays, &mut batch, &mut vec![0; rays.len()]);
+                let plain: Vec<bool> = rays.iter().map(|r| mipmap.occluded(r)).collect();
+                assert_eq!(batch, plain);
                 let share = proven as f64 / lit as f64;
                 assert!(
                     rays.len() > 1000 && share > 0.75,

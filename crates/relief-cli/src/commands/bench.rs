@@ -2,9 +2,10 @@
 //!
 //! For every view, surface and tracer it prints the acceleration-structure build time, primary
 //! and shadow rays per second, mean and maximum traversal steps per ray and the process's peak
-//! memory so far. With `--shadow-sweep`, shadow rays go through the sun's shadow sweep
-//! ([`SunShadows`]) first: its build time and the share of shadow rays it decides without
-//! tracing are reported apart. Every view is traced `--repeat` times and the fastest run is reported.
+//! memory so far. Over the triangles surface of a field without holes, shadow rays go through
+//! the sun's shadow sweep ([`SunShadows`]) first, unless `--no-shadow-sweep`: its build time
+//! and the share of shadow rays it decides without tracing are reported apart (elsewhere the
+//! sweep does not pay, and is not built). Every view is traced `--repeat` times and the fastest run is reported.
 //! Measurements, not assertions: run it on an otherwise idle machine.
 
 use crate::args::BenchArgs;
@@ -37,7 +38,7 @@ struct Measurement<'a> {
     shadow: TraceStats,
     /// `None`: the tracer does not admit the sun's shadow rays.
     shadow_s: Option<f64>,
-    /// The shadow sweep's build time and the share of shadow rays it proved lit without
+    /// The shadow sweep's build time and the share of shadow rays it decided without
     /// tracing; `None` without a sweep.
     sweep: Option<(f64, f64)>,
     peak_mib: f64,
@@ -163,7 +164,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let mut sweep = None;
                 if shadows {
                     let timer = Instant::now();
-                    let swept = if args.shadow_sweep {
+                    let swept = if !args.no_shadow_sweep
+                        && SunShadows::<&dyn Tracer>::walks_batches_over(&field, surface)
+                    {
                         Some(SunShadows::new(traced, field.clone(), sun)?)
                     } else {
                         None
@@ -320,8 +323,14 @@ fn refuse_unused_options(args: &BenchArgs) -> Result<()> {
     if args.hybrid.show_lop {
         return Err(applies::refuse("--show-lop", "relief render", "relief bench"));
     }
-    if args.dynamic.is_some() && args.shadow_sweep {
-        return Err(applies::refuse("--shadow-sweep", "the tracers' shadow rays", "--dynamic"));
+    if args.dynamic.is_some() {
+        for (given, option) in
+            [(args.shadow_sweep, "--shadow-sweep"), (args.no_shadow_sweep, "--no-shadow-sweep")]
+        {
+            if given {
+                return Err(applies::refuse(option, "the tracers' shadow rays", "--dynamic"));
+            }
+        }
     }
     if args.dynamic.is_none() && args.frames != 20 {
         return Err(applies::refuse("--frames", "--dynamic", "the tracers measured"));
@@ -454,8 +463,8 @@ fn shadow_rays(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer, sun: DVe
         .reduce(TraceStats::default, TraceStats::merge)
 }
 
-/// The share of the shadow rays towards `sun` from the hits of `gbuffer` that `sweep` proves
-/// lit without tracing.
+/// The share of the shadow rays towards `sun` from the hits of `gbuffer` that `sweep`
+/// decides (proves lit or occluded) without tracing.
 fn proven_share(
     sweep: &SunShadows<&dyn Tracer>,
     camera: &Camera,
@@ -472,7 +481,7 @@ fn proven_share(
                 let tile = Tile::new(tile_x, rows.start, width, rows.end);
                 tile.shadow_rays(camera, gbuffer, sun, &mut rays);
             }
-            (rays.iter().filter(|r| sweep.proves_lit(r, &mut 0)).count(), rays.len())
+            (rays.iter().filter(|r| sweep.decide(r, &mut 0).is_some()).count(), rays.len())
         })
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     proven as f64 / rays.max(1) as f64
