@@ -1,0 +1,401 @@
+//! The walks of a batch of shadow rays, four at a time in AVX2 registers where the processor
+//! has them.
+
+use super::*;
+
+impl<T: Tracer> SunShadows<T> {
+    /// [`SunShadows::walk`] of every ray of `rays` into `walked`.
+    pub(super) fn walk_batch(&self, rays: &[Ray], walked: &mut [Walked], steps: &mut [u32]) {
+        let d = self.cell_inv_dir;
+        if !(self.fast_triangles && (d.x.is_finite() || d.y.is_finite())) {
+            for ((ray, out), steps) in rays.iter().zip(walked.iter_mut()).zip(steps.iter_mut()) {
+                *out = self.walk(ray, steps);
+            }
+            return;
+        }
+        for ((rays, walked), steps) in
+            rays.chunks(LANES).zip(walked.chunks_mut(LANES)).zip(steps.chunks_mut(LANES))
+        {
+            let mut lanes = [None; LANES];
+            for (lane, ray) in lanes.iter_mut().zip(rays) {
+                *lane = self.start(ray);
+            }
+            #[cfg(target_arch = "x86_64")]
+            if self.avx2 && walked.len() == LANES {
+                // SAFETY: `avx2` holds only where the processor has AVX2 (see `with_block`).
+                unsafe { self.walk_triangles_avx2(&lanes, walked, steps) };
+            } else {
+                self.walk_triangles_lanes(&lanes, walked, steps);
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            self.walk_triangles_lanes(&lanes, walked, steps);
+            for (out, (lane, ray)) in walked.iter_mut().zip(lanes.iter().zip(rays)) {
+                if lane.is_none() {
+                    *out = Walked::From(ray.t_min);
+                }
+            }
+        }
+    }
+
+    /// [`SunShadows::walk_triangles_lanes`] of exactly [`LANES`] rays in AVX2 registers: the
+    /// same operations in the same order (no fused multiply-adds), so the same decisions.
+    ///
+    /// # Safety
+    /// The processor must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn walk_triangles_avx2(
+        &self,
+        lanes: &[Option<Start>; LANES],
+        walked: &mut [Walked],
+        steps: &mut [u32],
+    ) {
+        use std::arch::x86_64::*;
+        let Some(first) = lanes.iter().flatten().next() else { return };
+        let (d, inv) = (first.0.dir, first.0.inv_dir);
+        let (cells_x, cells_y) = (self.grid.cells_x() as i32, self.grid.cells_y() as i32);
+        let (w, samples) = (self.field.width() as i32, self.field.samples());
+        let shift = _mm_cvtsi32_si128(self.block_shift.unwrap_or(0) as i32);
+        let blocks_x = _mm_set1_epi32(self.blocks_x as i32);
+        let margin = _mm256_set1_pd(self.margin);
+        // 64-bit and 32-bit lane masks from four bits.
+        let bits64 = _mm256_setr_epi64x(1, 2, 4, 8);
+        let bits32 = _mm_setr_epi32(1, 2, 4, 8);
+        let mask64 = |m: i32| {
+            let v = _mm256_and_si256(_mm256_set1_epi64x(m as i64), bits64);
+            _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, bits64))
+        };
+        let mask32 = |m: i32| _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(m), bits32), bits32);
+        let (mut o, mut at, mut cell) = ([[0.0f64; 4]; 3], [[0.0f64; 4]; 4], [[0i32; 4]; 2]);
+        let mut active = 0i32;
+        for (k, lane) in lanes.iter().enumerate() {
+            if let Some((r, t0, (cx, cy))) = lane {
+                let p = r.origin;
+                (o[0][k], o[1][k], o[2][k]) = (p.x, p.y, p.z);
+                at[0][k] = *t0;
+                (at[1][k], at[2][k], at[3][k]) = (p.x + t0 * d.x, p.y + t0 * d.y, p.z + t0 * d.z);
+                (cell[0][k], cell[1][k]) = (*cx as i32, *cy as i32);
+                walked[k] = Walked::From(*t0);
+                active |= 1 << k;
+            }
+        }
+        let load = |v: &[f64; 4]| _mm256_loadu_pd(v.as_ptr());
+        let (ox, oy, oz) = (load(&o[0]), load(&o[1]), load(&o[2]));
+        let (mut t_a, mut xa, mut ya, mut za) =
+            (load(&at[0]), load(&at[1]), load(&at[2]), load(&at[3]));
+        let mut cx = _mm_loadu_si128(cell[0].as_ptr() as *const __m128i);
+        let mut cy = _mm_loadu_si128(cell[1].as_ptr() as *const __m128i);
+        let (dx, dy, dz) = (_mm256_set1_pd(d.x), _mm256_set1_pd(d.y), _mm256_set1_pd(d.z));
+        let (inv_x, inv_y) = (_mm256_set1_pd(inv.x), _mm256_set1_pd(inv.y));
+        let (up_x, up_y) = (_mm_set1_epi32((d.x > 0.0) as i32), _mm_set1_epi32((d.y > 0.0) as i32));
+        let step_x = _mm256_set1_pd(if d.x > 0.0 { 1.0 } else { -1.0 });
+        let step_y = _mm256_set1_pd(if d.y > 0.0 { 1.0 } else { -1.0 });
+        let infinity = _mm256_set1_pd(f64::INFINITY);
+        let zero = _mm256_setzero_pd();
+        let (last_x, last_y) = (_mm_set1_epi32(cells_x - 1), _mm_set1_epi32(cells_y - 1));
+        let lane_t = |v: __m256d, k: usize| {
+            let mut out = [0.0f64; 4];
+            _mm256_storeu_pd(out.as_mut_ptr(), v);
+            out[k]
+        };
+        for _ in 0..self.walk {
+            if active == 0 {
+                return;
+            }
+            for (k, steps) in steps.iter_mut().enumerate() {
+                *steps += (active >> k & 1) as u32;
+            }
+            // The bound at each cell's entry point.
+            let block = _mm_add_epi32(
+                _mm_mullo_epi32(_mm_srl_epi32(cy, shift), blocks_x),
+                _mm_srl_epi32(cx, shift),
+            );
+            let bound = _mm256_cvtps_pd(_mm_i32gather_ps::<4>(self.bound.as_ptr(), block));
+            let lit =
+                _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(za, margin), bound))
+                    & active;
+            // Where each ray leaves its cell.
+            let (fx, fy) = (_mm256_cvtepi32_pd(cx), _mm256_cvtepi32_pd(cy));
+            let tx = if d.x != 0.0 {
+                _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtepi32_pd(_mm_add_epi32(cx, up_x)), ox), inv_x)
+            } else {
+                infinity
+            };
+            let ty = if d.y != 0.0 {
+                _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtepi32_pd(_mm_add_epi32(cy, up_y)), oy), inv_y)
+            } else {
+                infinity
+            };
+            let t_b = _mm256_min_pd(tx, ty);
+            let xb = _mm256_add_pd(ox, _mm256_mul_pd(t_b, dx));
+            let yb = _mm256_add_pd(oy, _mm256_mul_pd(t_b, dy));
+            let zb = _mm256_add_pd(oz, _mm256_mul_pd(t_b, dz));
+            // The cell's corners and its two planes.
+            let i = _mm_add_epi32(cx, _mm_mullo_epi32(cy, _mm_set1_epi32(w)));
+            let base = samples.as_ptr();
+            let gather = |offset: i32| {
+                let index = _mm_add_epi32(i, _mm_set1_epi32(offset));
+                _mm256_cvtps_pd(_mm_i32gather_ps::<4>(base, index))
+            };
+            let (a, b, c, e) = (gather(0), gather(1), gather(w), gather(w + 1));
+            let ad = _mm256_cmp_pd::<_CMP_LE_OQ>(_mm256_add_pd(a, e), _mm256_add_pd(b, c));
+            let (c_a, e_b) = (_mm256_sub_pd(c, a), _mm256_sub_pd(e, b));
+            let planes = [
+                (a, _mm256_sub_pd(b, a), _mm256_blendv_pd(c_a, e_b, ad)),
+                (
+                    _mm256_blendv_pd(_mm256_sub_pd(_mm256_add_pd(b, c), e), a, ad),
+                    _mm256_sub_pd(e, c),
+                    _mm256_blendv_pd(e_b, c_a, ad),
+                ),
+            ];
+            let (ua, va) = (_mm256_sub_pd(xa, fx), _mm256_sub_pd(ya, fy));
+            let (ub, vb) = (_mm256_sub_pd(xb, fx), _mm256_sub_pd(yb, fy));
+            let mut above = _mm256_cmp_pd::<_CMP_EQ_OQ>(zero, zero);
+            for (p0, pu, pv) in planes {
+                let at_a =
+                    _mm256_add_pd(_mm256_add_pd(p0, _mm256_mul_pd(pu, ua)), _mm256_mul_pd(pv, va));
+                let at_b =
+                    _mm256_add_pd(_mm256_add_pd(p0, _mm256_mul_pd(pu, ub)), _mm256_mul_pd(pv, vb));
+                above = _mm256_and_pd(
+                    above,
+                    _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(za, at_a), margin),
+                );
+                above = _mm256_and_pd(
+                    above,
+                    _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(zb, at_b), margin),
+                );
+            }
+            let above = _mm256_movemask_pd(above);
+            let failed = active & !lit & !above;
+            for k in (0..LANES).filter(|k| lit >> k & 1 != 0) {
+                walked[k] = Walked::Lit;
+            }
+            for k in (0..LANES).filter(|k| failed >> k & 1 != 0) {
+                let r = &lanes[k].as_ref().expect("an active lane has a ray").0;
+                let cell =
+                    (_mm_extract_epi32_dyn(cx, k) as usize, _mm_extract_epi32_dyn(cy, k) as usize);
+                let (ta, tb) = (lane_t(t_a, k), lane_t(t_b, k));
+                walked[k] = if self.inside(samples, cell, r, ta, tb) {
+                    Walked::Occluded
+                } else {
+                    Walked::From(ta)
+                };
+            }
+            let going = active & !lit & above;
+            // Step to the next cell; leaving the grid with every cell cleared proves the ray.
+            let sx = _mm256_cvtpd_epi32(_mm256_blendv_pd(
+                zero,
+                step_x,
+                _mm256_cmp_pd::<_CMP_EQ_OQ>(tx, t_b),
+            ));
+            let sy = _mm256_cvtpd_epi32(_mm256_blendv_pd(
+                zero,
+                step_y,
+                _mm256_cmp_pd::<_CMP_EQ_OQ>(ty, t_b),
+            ));
+            let (nx, ny) = (_mm_add_epi32(cx, sx), _mm_add_epi32(cy, sy));
+            let outside = _mm_or_si128(
+                _mm_or_si128(_mm_cmplt_epi32(nx, _mm_setzero_si128()), _mm_cmpgt_epi32(nx, last_x)),
+                _mm_or_si128(_mm_cmplt_epi32(ny, _mm_setzero_si128()), _mm_cmpgt_epi32(ny, last_y)),
+            );
+            let left = _mm_movemask_ps(_mm_castsi128_ps(outside)) & going;
+            for k in (0..LANES).filter(|k| left >> k & 1 != 0) {
+                walked[k] = Walked::Lit;
+            }
+            let moving = going & !left;
+            let (m64, m32) = (mask64(moving), mask32(moving));
+            cx = _mm_blendv_epi8(cx, nx, m32);
+            cy = _mm_blendv_epi8(cy, ny, m32);
+            t_a = _mm256_blendv_pd(t_a, t_b, m64);
+            xa = _mm256_blendv_pd(xa, xb, m64);
+            ya = _mm256_blendv_pd(ya, yb, m64);
+            za = _mm256_blendv_pd(za, zb, m64);
+            for k in (0..LANES).filter(|k| moving >> k & 1 != 0) {
+                walked[k] = Walked::From(lane_t(t_b, k));
+            }
+            active = moving;
+        }
+    }
+
+    /// [`SunShadows::walk_triangles`] of up to [`LANES`] rays (`None`: undecided) at once.
+    #[inline]
+    pub(super) fn walk_triangles_lanes(
+        &self,
+        lanes: &[Option<Start>; LANES],
+        decided: &mut [Walked],
+        steps: &mut [u32],
+    ) {
+        let (cells_x, cells_y) = (self.grid.cells_x(), self.grid.cells_y());
+        let (w, samples, margin) = (self.field.width(), self.field.samples(), self.margin);
+        let (Some(first), n) = (lanes.iter().flatten().next(), decided.len()) else {
+            return;
+        };
+        // Every ray has the sun's direction.
+        let (d, inv) = (first.0.dir, first.0.inv_dir);
+        let (up_x, up_y) = ((d.x > 0.0) as usize, (d.y > 0.0) as usize);
+        let step_x = if d.x > 0.0 { 1 } else { usize::MAX };
+        let step_y = if d.y > 0.0 { 1 } else { usize::MAX };
+        let leave = |c: usize, up: usize, o: f64, d: f64, inv: f64| {
+            if d != 0.0 {
+                ((c + up) as f64 - o) * inv
+            } else {
+                f64::INFINITY
+            }
+        };
+        let mut origin = [DVec3::ZERO; LANES];
+        let mut at = [[0.0f64; 4]; LANES];
+        let mut cell = [(0usize, 0usize); LANES];
+        let mut active = [false; LANES];
+        for k in 0..n {
+            if let Some((r, t0, c)) = &lanes[k] {
+                decided[k] = Walked::From(*t0);
+                let o = r.origin;
+                origin[k] = o;
+                at[k] = [*t0, o.x + t0 * d.x, o.y + t0 * d.y, o.z + t0 * d.z];
+                cell[k] = *c;
+                active[k] = true;
+            }
+        }
+        for _ in 0..self.walk {
+            if !active.iter().any(|&a| a) {
+                return;
+            }
+            for k in 0..n {
+                if !active[k] {
+                    continue;
+                }
+                steps[k] += 1;
+                let (o, (cx, cy)) = (origin[k], cell[k]);
+                let [t_a, xa, ya, za] = at[k];
+                if za - margin > self.bound_at(cx, cy) as f64 {
+                    (decided[k], active[k]) = (Walked::Lit, false);
+                    continue;
+                }
+                let (tx, ty) = (leave(cx, up_x, o.x, d.x, inv.x), leave(cy, up_y, o.y, d.y, inv.y));
+                let t_b = tx.min(ty);
+                let (xb, yb, zb) = (o.x + t_b * d.x, o.y + t_b * d.y, o.z + t_b * d.z);
+                let i = cx + cy * w;
+                let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
+                let (c, e) = (samples[i + w] as f64, samples[i + w + 1] as f64);
+                let ad = relief_core::splits_along_ad(a, b, c, e);
+                let planes = [
+                    (a, b - a, if ad { e - b } else { c - a }),
+                    (if ad { a } else { b + c - e }, e - c, if ad { c - a } else { e - b }),
+                ];
+                let (ua, va, ub, vb) =
+                    (xa - cx as f64, ya - cy as f64, xb - cx as f64, yb - cy as f64);
+                let mut above = true;
+                for (p0, pu, pv) in planes {
+                    above &= (za - (p0 + pu * ua + pv * va) > margin)
+                        & (zb - (p0 + pu * ub + pv * vb) > margin);
+                }
+                if !above {
+                    let r = &lanes[k].as_ref().expect("an active lane has a ray").0;
+                    decided[k] = if self.inside(samples, (cx, cy), r, t_a, t_b) {
+                        Walked::Occluded
+                    } else {
+                        Walked::From(t_a)
+                    };
+                    active[k] = false;
+                    continue;
+                }
+                let (nx, ny) = (
+                    if tx == t_b { cx.wrapping_add(step_x) } else { cx },
+                    if ty == t_b { cy.wrapping_add(step_y) } else { cy },
+                );
+                if nx >= cells_x || ny >= cells_y {
+                    (decided[k], active[k]) = (Walked::Lit, false);
+                    continue;
+                }
+                cell[k] = (nx, ny);
+                at[k] = [t_b, xb, yb, zb];
+                decided[k] = Walked::From(t_b);
+            }
+        }
+    }
+
+    /// Whether the rays start so close together (more than [`DENSE_RAYS_PER_CELL`] a cell
+    /// over the box of their starting points) that the wrapped tracer's batch, which shares
+    /// its work between neighbouring rays, traces them faster than the walks decide them.
+    pub(super) fn dense(&self, rays: &[Ray]) -> bool {
+        if rays.len() < 2 {
+            return false;
+        }
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for ray in rays {
+            let p = ray.at(ray.t_min);
+            (lo, hi) = (lo.min(p), hi.max(p));
+        }
+        let cells = (hi - lo) * self.field.geometry().grid_scale();
+        let area = (cells.x.abs() + 1.0) * (cells.y.abs() + 1.0);
+        rays.len() as f64 > DENSE_RAYS_PER_CELL * area
+    }
+
+    /// Asks the memory system early for what deciding `ray` will read: the samples of the
+    /// cells under its first [`PREFETCH_CELLS`] steps along the sun's dominant axis and the
+    /// bounds of their blocks.
+    #[inline]
+    pub(super) fn prefetch(&self, ray: &Ray) {
+        if ray.dir != self.towards_sun || self.bound.is_empty() {
+            return;
+        }
+        let r = self.grid.to_cell_space_dir_only(ray);
+        let p = r.origin + r.t_min * r.dir;
+        let (cells_x, cells_y) = (self.grid.cells_x() as f64, self.grid.cells_y() as f64);
+        if !(p.x >= 0.0 && p.x <= cells_x && p.y >= 0.0 && p.y <= cells_y) {
+            return;
+        }
+        let major = if self.major_is_x { r.dir.x.abs() } else { r.dir.y.abs() };
+        let (sx, sy) = (r.dir.x / major, r.dir.y / major);
+        let (w, samples) = (self.field.width(), self.field.samples());
+        let rows = match self.grid.surface() {
+            Surface::Boxes => 1,
+            Surface::Triangles => 2,
+        };
+        for s in 0..PREFETCH_CELLS {
+            let x = (p.x + s as f64 * sx).clamp(0.0, cells_x - 1.0) as usize;
+            let y = (p.y + s as f64 * sy).clamp(0.0, cells_y - 1.0) as usize;
+            prefetch(&self.bound[self.bound_index(x, y)]);
+            for row in y..y + rows {
+                if let Some(sample) = samples.get(x + row * w) {
+                    prefetch(sample);
+                }
+            }
+        }
+    }
+}
+
+/// Whether this processor runs AVX2 instructions.
+pub(super) fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Lane `k` of four 32-bit integers.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn _mm_extract_epi32_dyn(v: std::arch::x86_64::__m128i, k: usize) -> i32 {
+    let mut out = [0i32; 4];
+    // SAFETY: an unaligned store of 16 bytes into a 16-byte array (SSE2, part of x86-64).
+    unsafe { std::arch::x86_64::_mm_storeu_si128(out.as_mut_ptr() as *mut _, v) };
+    out[k]
+}
+
+/// A hint that `value` will be read soon.
+#[inline(always)]
+fn prefetch<V>(value: &V) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: prefetching is a hint that never faults; SSE is part of x86-64.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>(value as *const V as *const i8);
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}
