@@ -259,8 +259,10 @@ pub struct RenderArgs {
     pub normals: Option<PathBuf>,
     /// Write the stage timings to this JSON file after the render: load_ms (reading the
     /// input, framing), build_ms (the tracer's structures), trace_ms, shade_ms, write_ms and
-    /// total_ms, with the rays, hits, image size and tracer. For an MLHM scene the renderer
-    /// shades as it traces: trace_ms holds both, shade_ms the tone mapping.
+    /// total_ms, with the rays, hits, image size and tracer. A height field's ray casters
+    /// trace and shade strip by strip: trace_ms and shade_ms split that pass's time in
+    /// proportion to the workers' time in each. For an MLHM scene the renderer shades as it
+    /// traces: trace_ms holds both, shade_ms the tone mapping.
     #[arg(long, value_name = "JSON")]
     pub stats: Option<PathBuf>,
     /// How hard a .png picture is compressed: none, fast (several times faster to write than
