@@ -348,18 +348,9 @@ impl CellGrid {
         cy: usize,
         seg: &Segment,
     ) -> Option<(f64, DVec3)> {
-        let w = self.samples_width;
-        let i = cx + cy * w;
-        let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
-        let (c, d) = (samples[i + w] as f64, samples[i + w + 1] as f64);
-        // The surface over the cell is the larger of the two triangles' planes
-        // z = p0 + pu * u + pv * v (u, v local coordinates), since the split takes the lower
-        // diagonal. The solid is below both planes' maximum.
-        let planes = if relief_core::splits_along_ad(a, b, c, d) {
-            [(a, b - a, d - b), (a, d - c, c - a)]
-        } else {
-            [(a, b - a, c - a), (b + c - d, d - c, d - b)]
-        };
+        // The surface over the cell is the larger of the two triangles' planes, since the
+        // split takes the lower diagonal. The solid is below both planes' maximum.
+        let planes = triangle_planes(samples, self.samples_width, cx, cy);
         let (u0, v0) = (ray.origin.x - cx as f64, ray.origin.y - cy as f64);
         let local = |t: f64| (u0 + t * ray.dir.x, v0 + t * ray.dir.y);
         let ((u_in, v_in), (u_out, v_out)) = (local(seg.t_enter), local(seg.t_exit));
@@ -504,4 +495,24 @@ pub(crate) fn axis_span(o: f64, d: f64, inv: f64, lo: f64) -> (f64, f64) {
     } else {
         (f64::INFINITY, f64::NEG_INFINITY)
     }
+}
+
+/// The planes `z = p0 + pu u + pv v` (`u`, `v` local to the cell, 0 to 1) of the two
+/// triangles of the `triangles` surface over cell `(cx, cy)` of `samples`, `width` samples a
+/// row: the lower-sum diagonal's split. Chosen without a branch the processor could mispredict.
+#[inline]
+pub(crate) fn triangle_planes(
+    samples: &[f32],
+    width: usize,
+    cx: usize,
+    cy: usize,
+) -> [(f64, f64, f64); 2] {
+    let i = cx + cy * width;
+    let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
+    let (c, d) = (samples[i + width] as f64, samples[i + width + 1] as f64);
+    let ad = relief_core::splits_along_ad(a, b, c, d);
+    [
+        (a, b - a, if ad { d - b } else { c - a }),
+        (if ad { a } else { b + c - d }, d - c, if ad { c - a } else { d - b }),
+    ]
 }

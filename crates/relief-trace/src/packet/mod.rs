@@ -22,6 +22,7 @@ use relief_core::{DVec3, Ray};
 use std::cell::RefCell;
 use std::fmt;
 use std::str::FromStr;
+pub(crate) use traversal::prefetch;
 use traversal::{CellHit, Pending, Terrain, Traversal, STACK};
 
 /// The instructions the packet traversal's node tests run on.

@@ -319,7 +319,7 @@ fn triangle_planes([a, b, c, d]: [f32; 4]) -> ([Plane; 2], f32) {
 
 /// A hint that `value` will be read soon.
 #[inline(always)]
-fn prefetch<T>(value: &T) {
+pub(crate) fn prefetch<T>(value: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: prefetching is a hint that never faults; SSE is part of x86-64.
     unsafe {

@@ -2,6 +2,8 @@
 //! has them.
 
 use super::*;
+use crate::cell_grid::triangle_planes;
+use crate::packet::prefetch;
 
 impl<T: Tracer> SunShadows<T> {
     /// [`SunShadows::walk`] of every ray of `rays` into `walked`.
@@ -274,14 +276,7 @@ impl<T: Tracer> SunShadows<T> {
                 let (tx, ty) = (leave(cx, up_x, o.x, d.x, inv.x), leave(cy, up_y, o.y, d.y, inv.y));
                 let t_b = tx.min(ty);
                 let (xb, yb, zb) = (o.x + t_b * d.x, o.y + t_b * d.y, o.z + t_b * d.z);
-                let i = cx + cy * w;
-                let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
-                let (c, e) = (samples[i + w] as f64, samples[i + w + 1] as f64);
-                let ad = relief_core::splits_along_ad(a, b, c, e);
-                let planes = [
-                    (a, b - a, if ad { e - b } else { c - a }),
-                    (if ad { a } else { b + c - e }, e - c, if ad { c - a } else { e - b }),
-                ];
+                let planes = triangle_planes(samples, w, cx, cy);
                 let (ua, va, ub, vb) =
                     (xa - cx as f64, ya - cy as f64, xb - cx as f64, yb - cy as f64);
                 let mut above = true;
@@ -385,17 +380,4 @@ fn _mm_extract_epi32_dyn(v: std::arch::x86_64::__m128i, k: usize) -> i32 {
     // SAFETY: an unaligned store of 16 bytes into a 16-byte array (SSE2, part of x86-64).
     unsafe { std::arch::x86_64::_mm_storeu_si128(out.as_mut_ptr() as *mut _, v) };
     out[k]
-}
-
-/// A hint that `value` will be read soon.
-#[inline(always)]
-fn prefetch<V>(value: &V) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: prefetching is a hint that never faults; SSE is part of x86-64.
-    unsafe {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        _mm_prefetch::<_MM_HINT_T0>(value as *const V as *const i8);
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = value;
 }

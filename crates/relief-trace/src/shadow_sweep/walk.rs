@@ -1,6 +1,7 @@
 //! The walk of one shadow ray over its first cells: what it proves lit or occluded.
 
 use super::*;
+use crate::cell_grid::triangle_planes;
 
 impl<T: Tracer> SunShadows<T> {
     /// The walk of `ray`: what it proves, or from where on the ray it proves nothing.
@@ -148,15 +149,7 @@ impl<T: Tracer> SunShadows<T> {
             let (tx, ty) = (leave(cx, up_x, o.x, d.x, inv.x), leave(cy, up_y, o.y, d.y, inv.y));
             let t_b = tx.min(ty);
             let (xb, yb, zb) = (o.x + t_b * d.x, o.y + t_b * d.y, o.z + t_b * d.z);
-            let i = cx + cy * w;
-            let (a, b) = (samples[i] as f64, samples[i + 1] as f64);
-            let (c, e) = (samples[i + w] as f64, samples[i + w + 1] as f64);
-            // The two planes of `passes_above`, chosen without a branch.
-            let ad = relief_core::splits_along_ad(a, b, c, e);
-            let planes = [
-                (a, b - a, if ad { e - b } else { c - a }),
-                (if ad { a } else { b + c - e }, e - c, if ad { c - a } else { e - b }),
-            ];
+            let planes = triangle_planes(samples, w, cx, cy);
             let (ua, va, ub, vb) = (xa - cx as f64, ya - cy as f64, xb - cx as f64, yb - cy as f64);
             let mut above = true;
             for (p0, pu, pv) in planes {
@@ -248,16 +241,8 @@ impl<T: Tracer> SunShadows<T> {
         [xb, yb, zb]: [f64; 3],
     ) -> bool {
         if self.grid.surface() == Surface::Triangles && !self.grid.is_empty_cell(cx, cy) {
-            let w = self.field.width();
-            let i = cx + cy * w;
-            let (sa, sb) = (samples[i] as f64, samples[i + 1] as f64);
-            let (sc, sd) = (samples[i + w] as f64, samples[i + w + 1] as f64);
-            // The two planes z = p0 + pu u + pv v over local (u, v), as the exact test has them.
-            let planes = if relief_core::splits_along_ad(sa, sb, sc, sd) {
-                [(sa, sb - sa, sd - sb), (sa, sd - sc, sc - sa)]
-            } else {
-                [(sa, sb - sa, sc - sa), (sb + sc - sd, sd - sc, sd - sb)]
-            };
+            // The two planes over local (u, v), as the exact test has them.
+            let planes = triangle_planes(samples, self.field.width(), cx, cy);
             let (ua, va) = (xa - cx as f64, ya - cy as f64);
             let (ub, vb) = (xb - cx as f64, yb - cy as f64);
             return planes.iter().all(|&(p0, pu, pv)| {
