@@ -286,8 +286,16 @@ fn main() -> Result<()> {
         let picture = |tracer: &dyn Tracer, params: &ShadingParams| {
             rays / fastest(|| {
                 std::hint::black_box(
-                    render_to_srgb8(tracer, &camera, &bounds, params, KeptHits::default(), &|_| {})
-                        .expect("valid parameters"),
+                    render_to_srgb8(
+                        tracer,
+                        tracer,
+                        &camera,
+                        &bounds,
+                        params,
+                        KeptHits::default(),
+                        &|_| {},
+                    )
+                    .expect("valid parameters"),
                 );
             }) / 1e6
         };

@@ -11,7 +11,8 @@ use numpy::{PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::Surface;
-use relief_shade::{render_to_srgb8, KeptHits, ShadingParams, Sun};
+use relief_shade::{render_to_srgb8, sun_shadow_sweep, KeptHits, ShadingParams, Sun};
+use relief_trace::Tracer;
 
 /// What `render` returns: the RGB image and its depth.
 type Rendered<'py> = (Bound<'py, PyArray3<u8>>, Bound<'py, PyArray2<f32>>);
@@ -86,7 +87,21 @@ pub fn render<'py>(
         let tracer = build(&field, surface, kind);
         let bounds = field.world_bounds(surface);
         let keep = KeptHits { depth: true, normals: false };
-        let drawn = render_to_srgb8(tracer.as_ref(), &camera, &bounds, &params, keep, &|_| {})?;
+        let pixels = camera.width() as usize * camera.height() as usize;
+        let sweep = sun_shadow_sweep(tracer.as_ref(), &field, surface, &params, pixels);
+        let shadow_tracer: &dyn Tracer = match &sweep {
+            Some(sweep) => sweep,
+            None => tracer.as_ref(),
+        };
+        let drawn = render_to_srgb8(
+            tracer.as_ref(),
+            shadow_tracer,
+            &camera,
+            &bounds,
+            &params,
+            keep,
+            &|_| {},
+        )?;
         let depth = drawn.depth.unwrap_or_default();
         Ok::<_, relief_shade::ShadeError>((drawn.rgb.into_flattened(), depth))
     });

@@ -80,7 +80,10 @@ pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGO
 pub use stacks_renderer::{StacksFrameStats, StacksRenderer};
 pub use stats::TraceStats;
 pub use strip_render::{render_to_srgb8, KeptHits, StripRender, StripRenderStats};
-pub use sun::{light_visibility, shadow_ray, shadow_ray_offset, sun_direction, Sun, SHADOW_BIAS};
+pub use sun::{
+    light_visibility, shadow_ray, shadow_ray_offset, sun_direction, sun_shadow_sweep, Sun,
+    SHADOW_BIAS,
+};
 pub use texture::RgbTexture;
 pub use texture_filter::{
     filter_texture, FootprintAxes, MipTexture, TexelFootprint, TextureFilter,

@@ -50,7 +50,8 @@ pub struct StripRenderStats {
 }
 
 /// Renders `camera`'s picture of the terrain `tracer` intersects (world bounds `bounds`) to
-/// 8-bit sRGB, with the depth and normals `keep` asks for: the bytes (and depth and normals)
+/// 8-bit sRGB, its shadow rays traced by `shadow_tracer` (the same tracer, or one that decides
+/// the sun's shadow rays faster, as [`relief_trace::SunShadows`] wrapping it does), with the depth and normals `keep` asks for: the bytes (and depth and normals)
 /// of [`crate::render_gbuffer`] followed by [`crate::shade_to_srgb8`], without an image-sized
 /// G-buffer.
 ///
@@ -62,6 +63,7 @@ pub struct StripRenderStats {
 /// cannot be allocated.
 pub fn render_to_srgb8(
     tracer: &dyn Tracer,
+    shadow_tracer: &dyn Tracer,
     camera: &Camera,
     bounds: &Aabb,
     params: &ShadingParams,
@@ -108,7 +110,7 @@ pub fn render_to_srgb8(
                 let mut rows = strip_gbuffer.rows_mut(pixels / width);
                 let primary = trace_strip(tracer, &encoder, top, &mut rows, progress);
                 let shaded = Instant::now();
-                let pass = ShadingPass::new(strip_gbuffer, top, tracer, camera, params);
+                let pass = ShadingPass::new(strip_gbuffer, top, shadow_tracer, camera, params);
                 let shadow = pass.shade_strip(top, strip.rgb, &store);
                 if let Some(depth) = strip.depth {
                     depth.copy_from_slice(&strip_gbuffer.distance[..pixels]);

@@ -1,10 +1,12 @@
 //! The sun: its direction from compass angles, its irradiance, and shadow rays towards it.
 
-use relief_core::{DVec3, Ray};
-use relief_trace::Tracer;
+use std::sync::Arc;
+
+use relief_core::{DVec3, HeightField, Ray, Surface};
+use relief_trace::{SunShadows, Tracer};
 
 use crate::error::non_negative;
-use crate::{ShadeError, TraceStats};
+use crate::{ShadeError, ShadingParams, TraceStats};
 
 /// A distant directional light.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,6 +55,25 @@ impl Sun {
     pub fn is_up(&self) -> bool {
         self.elevation_deg >= 0.0
     }
+}
+
+/// The sun's shadow sweep for the shadow rays of a picture of `pixels` pixels of `surface` of
+/// `field`, shaded with `params`: [`SunShadows`] around `tracer` (which must trace that
+/// surface), exact and faster; `None` where no shadow ray goes to the sun or the sweep would not
+/// pay ([`SunShadows::pays_for`]).
+pub fn sun_shadow_sweep<'t>(
+    tracer: &'t dyn Tracer,
+    field: &Arc<HeightField>,
+    surface: Surface,
+    params: &ShadingParams,
+    pixels: usize,
+) -> Option<SunShadows<&'t dyn Tracer>> {
+    let traced = params.shadows && params.sun.irradiance > 0.0;
+    if !traced || !SunShadows::<&dyn Tracer>::pays_for(field, surface, pixels) {
+        return None;
+    }
+    // A sun on or below the horizon casts no shadow rays and is refused here.
+    SunShadows::new(tracer, field.clone(), params.sun.direction()).ok()
 }
 
 /// Unit vector towards a light at compass `azimuth_deg` (clockwise from north = +y, so 90 is

@@ -5,7 +5,8 @@ use std::sync::Arc;
 
 use relief_core::{Camera, GridGeometry, HeightField, Surface};
 use relief_shade::{
-    render_gbuffer, render_to_srgb8, shade_to_srgb8, Albedo, KeptHits, RgbTexture, ShadingParams,
+    render_gbuffer, render_to_srgb8, shade_to_srgb8, sun_shadow_sweep, Albedo, KeptHits,
+    RgbTexture, ShadingParams,
 };
 use relief_trace::{build_tracer, TracerKind};
 
@@ -38,6 +39,7 @@ fn the_strip_render_is_the_two_pass_render() {
         (Surface::Boxes, (53, 9), true, Some(texture.clone())),
         (Surface::Boxes, (40, 35), false, Some(texture)),
     ];
+    let mut swept = 0;
     for (surface, (w, h), shadows, albedo) in cases {
         let bounds = field.world_bounds(surface);
         let tracer = build_tracer(field.clone(), surface, TracerKind::Mipmap);
@@ -59,7 +61,9 @@ fn the_strip_render_is_the_two_pass_render() {
             pixels.store(0, Ordering::Relaxed);
             let keep = KeptHits { depth, normals };
             let got = pool
-                .install(|| render_to_srgb8(&*tracer, &camera, &bounds, &params, keep, &progress))
+                .install(|| {
+                    render_to_srgb8(&*tracer, &*tracer, &camera, &bounds, &params, keep, &progress)
+                })
                 .unwrap();
             let case = format!("{surface} {w}x{h} shadows {shadows}, {threads} threads");
             assert!(got.rgb == want, "{case}: the pictures differ");
@@ -74,9 +78,20 @@ fn the_strip_render_is_the_two_pass_render() {
                 normals.then(|| bits(gbuffer.normal.as_flattened()))
             );
         }
+        // The sun's shadow sweep decides the shadow rays as the tracer does.
+        if let Some(sweep) = sun_shadow_sweep(&*tracer, &field, surface, &params, (w * h) as usize)
+        {
+            let keep = KeptHits::default();
+            let got = render_to_srgb8(&*tracer, &sweep, &camera, &bounds, &params, keep, &|_| {})
+                .unwrap();
+            assert!(got.rgb == want, "{surface} {w}x{h} with the sweep: the pictures differ");
+            assert_eq!((got.stats.shadow.rays, got.stats.shadow.hits), (shadow.rays, shadow.hits));
+            swept += 1;
+        }
         assert!(primary.hits > 0 && primary.hits < primary.rays, "a real scene");
         assert_eq!(shadow.hits > 0, shadows, "some pixels are in shadow");
     }
+    assert_eq!(swept, 1, "the sweep is built for the triangles with shadows only");
 }
 
 #[test]
@@ -88,5 +103,5 @@ fn bad_parameters_are_refused() {
     let mut params = ShadingParams::for_terrain(&bounds).unwrap();
     params.exposure = -1.0;
     let keep = KeptHits::default();
-    assert!(render_to_srgb8(&*tracer, &camera, &bounds, &params, keep, &|_| {}).is_err());
+    assert!(render_to_srgb8(&*tracer, &*tracer, &camera, &bounds, &params, keep, &|_| {}).is_err());
 }

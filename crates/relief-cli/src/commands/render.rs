@@ -10,7 +10,7 @@ use crate::tracers::{self, TracerChoice};
 use crate::{input, memory, outputs, progress};
 use anyhow::{bail, Context, Result};
 use relief_core::Camera;
-use relief_shade::{render_to_srgb8, shade_to_srgb8, GBuffer, KeptHits};
+use relief_shade::{render_to_srgb8, shade_to_srgb8, sun_shadow_sweep, GBuffer, KeptHits};
 use relief_trace::{Simd, Tracer};
 use serde_json::{json, Value};
 use std::path::Path;
@@ -82,16 +82,28 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         eprintln!("{}", built.note);
     }
     let tracer = built.tracer;
+    let pixels = camera.width() as usize * camera.height() as usize;
+    let sweep = sun_shadow_sweep(tracer.as_ref(), &scene.field, surface, &scene.params, pixels);
+    let shadow_tracer: &dyn Tracer = match &sweep {
+        Some(sweep) => sweep,
+        None => tracer.as_ref(),
+    };
     let build_ms = outputs::ms_since(build_started);
 
-    let pixels = camera.width() as u64 * camera.height() as u64;
     let summary = format!("{surface} {choice} tracer");
     // Traced and shaded strip by strip, with no image-sized G-buffer.
-    let bar = progress::bar(pixels, "rendering");
+    let bar = progress::bar(pixels as u64, "rendering");
     let keep = KeptHits { depth: args.depth.is_some(), normals: args.normals.is_some() };
     let bounds = scene.bounds();
-    let drawn =
-        render_to_srgb8(tracer.as_ref(), camera, &bounds, &scene.params, keep, &|n| bar.inc(n))?;
+    let drawn = render_to_srgb8(
+        tracer.as_ref(),
+        shadow_tracer,
+        camera,
+        &bounds,
+        &scene.params,
+        keep,
+        &|n| bar.inc(n),
+    )?;
     bar.finish_and_clear();
     let stats = &drawn.stats;
     let rendered = Rendered {

@@ -261,6 +261,14 @@ impl<T: Tracer> SunShadows<T> {
         surface == Surface::Triangles && field.holes().is_none()
     }
 
+    /// Whether a sweep over `surface` of `field` pays for about `rays` shadow rays: it walks
+    /// batches there ([`SunShadows::walks_batches_over`]), and the rays are at least one per
+    /// 16 samples, below which its build (a pass over the field, about 1 ns a sample) costs
+    /// more than it saves.
+    pub fn pays_for(field: &HeightField, surface: Surface, rays: usize) -> bool {
+        Self::walks_batches_over(field, surface) && rays >= field.width() * field.height() / 16
+    }
+
     /// The wrapped tracer.
     pub fn inner(&self) -> &T {
         &self.inner
