@@ -234,8 +234,7 @@ impl<T: Tracer> SunShadows<T> {
             let major = if major_is_x { dir.x.abs() } else { dir.y.abs() };
             let rise = block as f64 * (dir.z / major) * (1.0 - 1e-9);
             let widened = shadows.widened_block_maxima();
-            let swept = shadows.sweep(widened, major_len, rise);
-            shadows.bound = shadows.unmirrored(&swept);
+            shadows.bound = shadows.sweep(widened, major_len, rise);
         }
         Ok(shadows)
     }
