@@ -61,15 +61,15 @@ impl Sun {
 /// `field`, shaded with `params`: [`SunShadows`] around `tracer` (which must trace that
 /// surface), exact and faster; `None` where no shadow ray goes to the sun or the sweep would not
 /// pay ([`SunShadows::pays_for`]).
-pub fn sun_shadow_sweep<'t>(
-    tracer: &'t dyn Tracer,
+pub fn sun_shadow_sweep<T: Tracer>(
+    tracer: T,
     field: &Arc<HeightField>,
     surface: Surface,
     params: &ShadingParams,
     pixels: usize,
-) -> Option<SunShadows<&'t dyn Tracer>> {
+) -> Option<SunShadows<T>> {
     let traced = params.shadows && params.sun.irradiance > 0.0;
-    if !traced || !SunShadows::<&dyn Tracer>::pays_for(field, surface, pixels) {
+    if !traced || !SunShadows::<T>::pays_for(field, surface, pixels) {
         return None;
     }
     // A sun on or below the horizon casts no shadow rays and is refused here.

@@ -72,41 +72,48 @@ pub trait Tracer: Send + Sync {
     }
 }
 
-/// A reference to a tracer is the tracer (so wrappers such as [`crate::SunShadows`] can hold
-/// a `&dyn Tracer`); every method forwards, batches included.
-impl<T: Tracer + ?Sized> Tracer for &T {
-    fn name(&self) -> &'static str {
-        (**self).name()
-    }
+/// A reference to a tracer, or a shared one, is the tracer (so wrappers such as
+/// [`crate::SunShadows`] can hold a `&dyn Tracer` or an `Arc<dyn Tracer>`); every method
+/// forwards, batches included.
+macro_rules! forward_tracer {
+    ($($pointer:ty),*) => {$(
+        impl<T: Tracer + ?Sized> Tracer for $pointer {
+            fn name(&self) -> &'static str {
+                (**self).name()
+            }
 
-    fn surface(&self) -> Surface {
-        (**self).surface()
-    }
+            fn surface(&self) -> Surface {
+                (**self).surface()
+            }
 
-    fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
-        (**self).intersect_counted(ray, steps)
-    }
+            fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
+                (**self).intersect_counted(ray, steps)
+            }
 
-    fn occluded_counted(&self, ray: &Ray, steps: &mut u32) -> bool {
-        (**self).occluded_counted(ray, steps)
-    }
+            fn occluded_counted(&self, ray: &Ray, steps: &mut u32) -> bool {
+                (**self).occluded_counted(ray, steps)
+            }
 
-    fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        (**self).intersect(ray)
-    }
+            fn intersect(&self, ray: &Ray) -> Option<Hit> {
+                (**self).intersect(ray)
+            }
 
-    fn occluded(&self, ray: &Ray) -> bool {
-        (**self).occluded(ray)
-    }
+            fn occluded(&self, ray: &Ray) -> bool {
+                (**self).occluded(ray)
+            }
 
-    fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
-        (**self).intersect_batch(rays, hits, steps)
-    }
+            fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
+                (**self).intersect_batch(rays, hits, steps)
+            }
 
-    fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
-        (**self).occluded_batch(rays, occluded, steps)
-    }
+            fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
+                (**self).occluded_batch(rays, occluded, steps)
+            }
+        }
+    )*};
 }
+
+forward_tracer!(&T, Arc<T>);
 
 /// The height-field tracers relief offers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

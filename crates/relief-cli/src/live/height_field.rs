@@ -7,9 +7,9 @@ use crate::scene::height_field::{check_safety_view, HeightFieldScene};
 use crate::tracers::{self, TracerChoice};
 use anyhow::{bail, Result};
 use relief_core::{Camera, Surface};
-use relief_shade::{render_gbuffer, shade_to_srgb8, ShadingParams, Sun};
+use relief_shade::{render_to_srgb8, sun_shadow_sweep, KeptHits, ShadingParams, Sun};
 use relief_trace::safety::SafetyTracer;
-use relief_trace::{Simd, Tracer, TracerKind};
+use relief_trace::{Simd, SunShadows, Tracer, TracerKind};
 use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
@@ -28,6 +28,16 @@ pub struct LiveHeightField {
     built: Mutex<HashMap<(usize, Surface), Arc<dyn Tracer>>>,
     /// The scene's shading, the viewer's settings applied frame by frame.
     params: Mutex<ShadingParams>,
+    /// The sun's shadow sweep of the last frame that had one, kept for the frames after it
+    /// while its tracer, surface and sun stay.
+    sweep: Mutex<Option<KeptSweep>>,
+}
+
+/// A shadow sweep and what it was built for: the tracer's choice index, the surface and the
+/// direction towards the sun, bit for bit.
+struct KeptSweep {
+    built_for: (usize, Surface, [u64; 3]),
+    sweep: Arc<SunShadows<Arc<dyn Tracer>>>,
 }
 
 impl LiveHeightField {
@@ -62,6 +72,7 @@ impl LiveHeightField {
             safety: safety_tracer,
             built: Mutex::new(built),
             params,
+            sweep: Mutex::new(None),
         })
     }
 
@@ -102,6 +113,30 @@ impl LiveHeightField {
         Ok(tracer)
     }
 
+    /// The sun's shadow sweep for a frame of `pixels` pixels drawn by `tracer` (choice `index`)
+    /// over `surface` with `params`: the kept one when it was built for the same, else built
+    /// now ([`sun_shadow_sweep`]) and kept; `None` where it would not pay.
+    fn sweep(
+        &self,
+        index: usize,
+        surface: Surface,
+        tracer: &Arc<dyn Tracer>,
+        params: &ShadingParams,
+        pixels: usize,
+    ) -> Option<Arc<SunShadows<Arc<dyn Tracer>>>> {
+        let built_for = (index, surface, params.sun.direction().to_array().map(f64::to_bits));
+        let mut kept = self.sweep.lock().expect("no render panicked");
+        if let Some(kept) = kept.as_ref().filter(|k| k.built_for == built_for) {
+            if params.shadows && params.sun.irradiance > 0.0 {
+                return Some(kept.sweep.clone());
+            }
+        }
+        let field = &self.scene.field;
+        let sweep = Arc::new(sun_shadow_sweep(tracer.clone(), field, surface, params, pixels)?);
+        *kept = Some(KeptSweep { built_for, sweep: sweep.clone() });
+        Some(sweep)
+    }
+
     /// The frame of `camera` with `settings`, its tracer stopped by `cancel`.
     fn render_frame(
         &self,
@@ -132,15 +167,24 @@ impl LiveHeightField {
             }
         }
         let built = self.tracer(index, surface)?;
+        let pixels = camera.width() as usize * camera.height() as usize;
+        let sweep = self.sweep(index, surface, &built, &params, pixels);
         let tracer = Interruptible { inner: built.as_ref(), cancel };
+        let shadow_tracer: &dyn Tracer = match &sweep {
+            Some(sweep) => sweep.as_ref(),
+            None => built.as_ref(),
+        };
+        let shadow_tracer = Interruptible { inner: shadow_tracer, cancel };
         let bounds = self.scene.field.world_bounds(surface);
-        let (gbuffer, traced) = render_gbuffer(&tracer, camera, &bounds, &|_| {})?;
-        let (rgb, shaded) = shade_to_srgb8(&gbuffer, &tracer, camera, &params)?;
+        let keep = KeptHits::default();
+        let drawn =
+            render_to_srgb8(&tracer, &shadow_tracer, camera, &bounds, &params, keep, &|_| {})?;
+        let (traced, shaded) = (drawn.stats.primary, drawn.stats.shadow);
         let stats = FrameStats {
             rays: traced.rays + shaded.rays,
             steps_per_ray: Some(traced.mean_steps()),
         };
-        Ok(Frame { width: camera.width(), height: camera.height(), rgb, stats, note })
+        Ok(Frame { width: camera.width(), height: camera.height(), rgb: drawn.rgb, stats, note })
     }
 }
 
