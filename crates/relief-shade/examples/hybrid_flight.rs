@@ -1,9 +1,16 @@
 //! Times the hybrid renderer against the mipmap tracer on the flight view of `relief bench`
 //! (seeded fBm terrain): `cargo run --release -p relief-shade --example hybrid_flight -- 4096
-//! 1920x1080 [far] [T] [cell]`.
+//! 1920x1080 [far] [T] [cell]`. Then times the mipmap tracer's packets on the pixels of each
+//! kind the hybrid drew (exact far field, mesh, sky) alone, the other rays of each tile left
+//! empty: what each kind costs the mipmap tracer.
 
 use relief_core::{benchmark_views, Surface};
-use relief_shade::{render_gbuffer_into, FarField, GBuffer, HybridRenderer};
+use rayon::prelude::*;
+use relief_core::Camera;
+use relief_shade::{
+    render_gbuffer_into, FarField, GBuffer, HybridRenderer, PixelSource, Tile, TILE_SIZE,
+};
+use relief_trace::Tracer;
 use relief_trace::hybrid::HybridParams;
 use relief_trace::MipmapTracer;
 use std::sync::Arc;
@@ -34,7 +41,8 @@ fn main() {
         render_gbuffer_into(&mipmap, &camera, &bounds, &mut g1, &|_| {}).unwrap();
         let mip_ms = start.elapsed().as_secs_f64() * 1e3;
         let start = Instant::now();
-        let stats = hybrid.render_into(&camera, &bounds, &mut g2, None).unwrap();
+        let mut sources = Vec::new();
+        let stats = hybrid.render_into(&camera, &bounds, &mut g2, Some(&mut sources)).unwrap();
         let hyb_ms = start.elapsed().as_secs_f64() * 1e3;
         let differ = g1
             .distance
@@ -46,5 +54,50 @@ fn main() {
             })
             .count();
         println!("round {round}: mipmap {mip_ms:.1} ms, hybrid ({far}) {hyb_ms:.1} ms; {differ} pixels differ; {stats:?}");
+        for (name, kind) in [
+            ("exact far field", PixelSource::Exact),
+            ("mesh", PixelSource::Mesh),
+            ("sky", PixelSource::Nothing),
+        ] {
+            let start = Instant::now();
+            let rays = trace_kind(&mipmap, &camera, &sources, kind);
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            println!("  the mipmap tracer on the {name} pixels alone ({rays} rays): {ms:.1} ms");
+        }
     }
+}
+
+/// Traces, with `tracer`'s batches tile by tile, the camera rays of the pixels `sources` says
+/// `kind` drew (the others' rays empty); returns how many rays were traced.
+fn trace_kind(
+    tracer: &dyn Tracer,
+    camera: &Camera,
+    sources: &[PixelSource],
+    kind: PixelSource,
+) -> usize {
+    let (w, h) = (camera.width() as usize, camera.height() as usize);
+    (0..h.div_ceil(TILE_SIZE))
+        .into_par_iter()
+        .map(|strip| {
+            let mut traced = 0;
+            for x in (0..w).step_by(TILE_SIZE) {
+                let tile = Tile::new(x, strip * TILE_SIZE, w, h);
+                let rays: Vec<_> = tile
+                    .pixels()
+                    .map(|(i, j)| {
+                        let ray = camera.ray(i as u32, j as u32);
+                        if sources[i + j * w] == kind {
+                            traced += 1;
+                            ray
+                        } else {
+                            ray.with_range(1.0, 0.0)
+                        }
+                    })
+                    .collect();
+                let (mut hits, mut steps) = (vec![None; rays.len()], vec![0; rays.len()]);
+                tracer.intersect_batch(&rays, &mut hits, &mut steps);
+            }
+            traced
+        })
+        .sum()
 }

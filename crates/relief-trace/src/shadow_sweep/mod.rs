@@ -62,8 +62,8 @@
 //! # Speed
 //!
 //! Over the `triangles` surface of a field without holes, a batch
-//! ([`Tracer::occluded_batch`]) first asks the memory system for the cells along every ray's
-//! first steps, then walks the rays four at a time (in AVX2 registers where the processor has
+//! ([`Tracer::occluded_batch`]) first asks the memory system for every ray's first cell,
+//! then walks the rays four at a time (in AVX2 registers where the processor has
 //! them, else interleaved), and traces the undecided ones as one batch of the wrapped tracer.
 //! A batch whose rays start densely (a close view) goes to the wrapped tracer whole: its
 //! packets share their work between such rays. Over the `boxes` surface, or with holes, every
@@ -78,7 +78,10 @@
 //! 1.42-1.44x top-down and 0.99-1.03x in the flight view, so that a frame's shadow rays plus
 //! the sweep take 93 against 105 ms (three-quarter) and 123 against 160 ms (top-down), but
 //! 75 against 61 ms in the flight view. Blocks of 2 cells (40-45 ms, 16 MiB): 1.41-1.44x,
-//! 1.56-1.58x and 1.04-1.14x, for a sun that lights many frames.
+//! 1.56-1.58x and 1.04-1.14x, for a sun that lights many frames. Since then the sweep is
+//! built in place in its final layout (about 15 ms at 4096^2) and a batch prefetches one cell
+//! a ray instead of eight, which made the top-down view's shadow rays 15% faster
+//! (docs/performance.md).
 
 mod batch;
 mod bound;
