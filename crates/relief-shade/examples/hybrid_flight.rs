@@ -4,15 +4,15 @@
 //! kind the hybrid drew (exact far field, mesh, sky) alone, the other rays of each tile left
 //! empty: what each kind costs the mipmap tracer.
 
-use relief_core::{benchmark_views, Surface};
 use rayon::prelude::*;
 use relief_core::Camera;
+use relief_core::{benchmark_views, Surface};
 use relief_shade::{
     render_gbuffer_into, FarField, GBuffer, HybridRenderer, PixelSource, Tile, TILE_SIZE,
 };
-use relief_trace::Tracer;
 use relief_trace::hybrid::HybridParams;
 use relief_trace::MipmapTracer;
+use relief_trace::Tracer;
 use std::sync::Arc;
 use std::time::Instant;
 
