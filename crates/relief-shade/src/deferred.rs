@@ -51,6 +51,12 @@ impl Default for ShadingParams {
 }
 
 impl ShadingParams {
+    /// Whether shading with these parameters traces shadow rays towards the sun: shadows on,
+    /// the sun up and shining.
+    pub fn traces_shadow_rays(&self) -> bool {
+        self.shadows && self.sun.is_up() && self.sun.irradiance > 0.0
+    }
+
     /// The defaults, with the hypsometric ramp spanning the elevations of `bounds` and fog
     /// scaled to its diagonal (30% at twice the diagonal).
     ///

@@ -51,8 +51,9 @@ pub struct StripRenderStats {
 
 /// Renders `camera`'s picture of the terrain `tracer` intersects (world bounds `bounds`) to
 /// 8-bit sRGB, its shadow rays traced by `shadow_tracer` (the same tracer, or one that decides
-/// the sun's shadow rays faster, as [`relief_trace::SunShadows`] wrapping it does), with the depth and normals `keep` asks for: the bytes (and depth and normals)
-/// of [`crate::render_gbuffer`] followed by [`crate::shade_to_srgb8`], without an image-sized
+/// the sun's shadow rays faster, as [`relief_trace::SunShadows`] wrapping it does), with the
+/// depth and normals `keep` asks for: the bytes (and depth and normals) of
+/// [`crate::render_gbuffer`] followed by [`crate::shade_to_srgb8`], without an image-sized
 /// G-buffer.
 ///
 /// Strips of [`TILE_SIZE`] rows are traced and shaded in parallel, each in a G-buffer of its

@@ -68,11 +68,10 @@ pub fn sun_shadow_sweep<T: Tracer>(
     params: &ShadingParams,
     pixels: usize,
 ) -> Option<SunShadows<T>> {
-    let traced = params.shadows && params.sun.irradiance > 0.0;
-    if !traced || !SunShadows::<T>::pays_for(field, surface, pixels) {
+    if !params.traces_shadow_rays() || !SunShadows::<T>::pays_for(field, surface, pixels) {
         return None;
     }
-    // A sun on or below the horizon casts no shadow rays and is refused here.
+    // A sun on the horizon lights nothing and is refused here.
     SunShadows::new(tracer, field.clone(), params.sun.direction()).ok()
 }
 

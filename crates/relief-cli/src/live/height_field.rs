@@ -124,12 +124,13 @@ impl LiveHeightField {
         params: &ShadingParams,
         pixels: usize,
     ) -> Option<Arc<SunShadows<Arc<dyn Tracer>>>> {
+        if !params.traces_shadow_rays() {
+            return None;
+        }
         let built_for = (index, surface, params.sun.direction().to_array().map(f64::to_bits));
         let mut kept = self.sweep.lock().expect("no render panicked");
         if let Some(kept) = kept.as_ref().filter(|k| k.built_for == built_for) {
-            if params.shadows && params.sun.irradiance > 0.0 {
-                return Some(kept.sweep.clone());
-            }
+            return Some(kept.sweep.clone());
         }
         let field = &self.scene.field;
         let sweep = Arc::new(sun_shadow_sweep(tracer.clone(), field, surface, params, pixels)?);

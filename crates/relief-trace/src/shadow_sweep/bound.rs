@@ -73,8 +73,13 @@ impl<T: Tracer> SunShadows<T> {
     /// The sweep, in place over the blocks' `widened` maxima (as
     /// [`SunShadows::widened_block_maxima`] lays them out): `U` of every block, with the ray
     /// rising `rise` per block along the dominant axis.
-    pub(super) fn sweep(&self, mut bound: Vec<f32>, major_len: usize, rise: f64) -> Vec<f32> {
-        let n = self.minor_len;
+    pub(super) fn sweep(&self, mut bound: Vec<f32>, rise: f64) -> Vec<f32> {
+        // Rows of the sweep, and blocks in a row.
+        let (major_len, n) = if self.major_is_x {
+            (self.blocks_x, self.blocks_y)
+        } else {
+            (self.blocks_y, self.blocks_x)
+        };
         // Block `J` of row `I` of the sweep (`I` along the dominant axis, `J` along the other,
         // both mirrored) is `bound[origin + I * i_step + J * j_step]`: the sweep's rows are
         // rows of `bound`, or its columns when x is the dominant axis.

@@ -157,8 +157,6 @@ pub struct SunShadows<T> {
     /// Whether the sun lies towards decreasing x (resp. y): the sweep index is mirrored.
     flip_x: bool,
     flip_y: bool,
-    /// Blocks along the minor axis: the length of a row of `bound`.
-    minor_len: usize,
     /// `U` of every block, row by row along x (block `(bx, by)` at `bx + by * blocks_x`).
     bound: Vec<f32>,
     /// How far above a bound a ray must pass to count as above it.
@@ -208,8 +206,6 @@ impl<T: Tracer> SunShadows<T> {
         let dir = towards_sun * field.geometry().grid_scale();
         let major_is_x = dir.x.abs() >= dir.y.abs();
         let (blocks_x, blocks_y) = (grid.cells_x().div_ceil(block), grid.cells_y().div_ceil(block));
-        let (major_len, minor_len) =
-            if major_is_x { (blocks_x, blocks_y) } else { (blocks_y, blocks_x) };
         let (lo, hi) = (field.min_sample() as f64, field.max_sample() as f64);
         let fast_triangles = Self::walks_batches_over(&field, grid.surface());
         let mut shadows = SunShadows {
@@ -224,7 +220,6 @@ impl<T: Tracer> SunShadows<T> {
             major_is_x,
             flip_x: dir.x < 0.0,
             flip_y: dir.y < 0.0,
-            minor_len,
             bound: Vec::new(),
             margin: 1e-7 * (1.0 + lo.abs().max(hi.abs()) + (hi - lo)),
             walk: WALK_CELLS,
@@ -234,12 +229,12 @@ impl<T: Tracer> SunShadows<T> {
                 && field.samples().len() < i32::MAX as usize / 2,
             field,
         };
-        if major_len > 0 && minor_len > 0 {
+        if blocks_x > 0 && blocks_y > 0 {
             // The ray's rise over one block along the dominant axis, shrunk against rounding.
             let major = if major_is_x { dir.x.abs() } else { dir.y.abs() };
             let rise = block as f64 * (dir.z / major) * (1.0 - 1e-9);
             let widened = shadows.widened_block_maxima();
-            shadows.bound = shadows.sweep(widened, major_len, rise);
+            shadows.bound = shadows.sweep(widened, rise);
         }
         Ok(shadows)
     }
