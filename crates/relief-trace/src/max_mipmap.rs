@@ -139,6 +139,13 @@ impl MaxMipmap {
         (x < l.nodes_x && y < l.nodes_y).then(|| self.values[l.offset + l.index(x, y)])
     }
 
+    /// The maximum stored in node (x, y) of stored `level` (1 or more), which must exist.
+    #[inline]
+    pub(crate) fn node(&self, level: usize, x: usize, y: usize) -> f32 {
+        let l = self.levels[level];
+        self.values[l.offset + l.index(x, y)]
+    }
+
     /// The maxima of the four children at stored `level` (1 or more) of node (x, y) one level
     /// up, which must exist: `[(2x, 2y), (2x+1, 2y), (2x, 2y+1), (2x+1, 2y+1)]`, minus
     /// infinity for children outside the grid.

@@ -220,6 +220,10 @@ impl Tracer for MipmapTracer {
         "mipmap"
     }
 
+    fn max_mipmap(&self) -> Option<&MaxMipmap> {
+        Some(&self.mipmap)
+    }
+
     fn surface(&self) -> Surface {
         self.grid.surface()
     }

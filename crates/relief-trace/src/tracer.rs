@@ -5,7 +5,7 @@ use std::fmt;
 use std::str::FromStr;
 use std::sync::Arc;
 
-use crate::{MipmapTracer, NaiveTracer};
+use crate::{MaxMipmap, MipmapTracer, NaiveTracer};
 
 /// The first point of a ray inside the terrain's solid.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -70,6 +70,13 @@ pub trait Tracer: Send + Sync {
             *blocked = self.occluded_counted(ray, steps);
         }
     }
+
+    /// The max mipmap this tracer traverses, if it keeps one: what is built over the same
+    /// field and surface later (the sun's shadow sweep) reads its maxima instead of the
+    /// samples.
+    fn max_mipmap(&self) -> Option<&MaxMipmap> {
+        None
+    }
 }
 
 /// A reference to a tracer, or a shared one, is the tracer (so wrappers such as
@@ -108,6 +115,10 @@ macro_rules! forward_tracer {
 
             fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
                 (**self).occluded_batch(rays, occluded, steps)
+            }
+
+            fn max_mipmap(&self) -> Option<&MaxMipmap> {
+                (**self).max_mipmap()
             }
         }
     )*};

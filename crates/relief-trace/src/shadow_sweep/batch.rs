@@ -58,7 +58,8 @@ impl<T: Tracer> SunShadows<T> {
         let (cells_x, cells_y) = (self.grid.cells_x() as i32, self.grid.cells_y() as i32);
         let (w, samples) = (self.field.width() as i32, self.field.samples());
         let shift = _mm_cvtsi32_si128(self.block_shift.unwrap_or(0) as i32);
-        let blocks_x = _mm_set1_epi32(self.blocks_x as i32);
+        let (stride_x, stride_y) =
+            (_mm_set1_epi32(self.stride_x as i32), _mm_set1_epi32(self.stride_y as i32));
         let margin = _mm256_set1_pd(self.margin);
         // 64-bit and 32-bit lane masks from four bits.
         let bits64 = _mm256_setr_epi64x(1, 2, 4, 8);
@@ -109,8 +110,8 @@ impl<T: Tracer> SunShadows<T> {
             }
             // The bound at each cell's entry point.
             let block = _mm_add_epi32(
-                _mm_mullo_epi32(_mm_srl_epi32(cy, shift), blocks_x),
-                _mm_srl_epi32(cx, shift),
+                _mm_mullo_epi32(_mm_srl_epi32(cy, shift), stride_y),
+                _mm_mullo_epi32(_mm_srl_epi32(cx, shift), stride_x),
             );
             let bound = _mm256_cvtps_pd(_mm_i32gather_ps::<4>(self.bound.as_ptr(), block));
             let lit =

@@ -16,10 +16,52 @@ impl<T: Tracer> SunShadows<T> {
             Some(shift) => (cx >> shift, cy >> shift),
             None => (cx / self.block, cy / self.block),
         };
-        bx + by * self.blocks_x
+        bx * self.stride_x + by * self.stride_y
     }
 
-    /// `D` of every block, row by row along x as [`SunShadows::bound_at`] reads them: the
+    /// `D` of every block (see the module documentation), laid out as the bound: read from
+    /// the wrapped tracer's max mipmap where that holds them (blocks of `2^l` cells over a
+    /// `triangles` surface without holes, whose `D` is not widened: level `l`'s nodes), else
+    /// computed from the samples.
+    pub(super) fn block_maxima(&self) -> Vec<f32> {
+        let level = self.block_shift.unwrap_or(0) as usize;
+        let mipmap = self.inner.max_mipmap().filter(|m| {
+            self.fast_triangles
+                && level >= 1
+                && level <= m.top_level()
+                && m.nodes(0) == (self.grid.cells_x(), self.grid.cells_y())
+                && m.nodes(level) == (self.blocks_x, self.blocks_y)
+        });
+        if let Some(mipmap) = mipmap {
+            // The sweep's rows, each along the minor axis.
+            let (rows, row_len) = if self.major_is_x {
+                (self.blocks_x, self.blocks_y)
+            } else {
+                (self.blocks_y, self.blocks_x)
+            };
+            let mut maxima = vec![f32::NEG_INFINITY; rows * row_len];
+            maxima.par_chunks_mut(row_len).enumerate().for_each(|(r, row)| {
+                for (k, d) in row.iter_mut().enumerate() {
+                    let (bx, by) = if self.major_is_x { (r, k) } else { (k, r) };
+                    *d = mipmap.node(level, bx, by);
+                }
+            });
+            return maxima;
+        }
+        let widened = self.widened_block_maxima();
+        if self.stride_x == 1 {
+            return widened;
+        }
+        let mut maxima = vec![f32::NEG_INFINITY; widened.len()];
+        maxima.par_chunks_mut(self.blocks_y).enumerate().for_each(|(bx, column)| {
+            for (by, d) in column.iter_mut().enumerate() {
+                *d = widened[bx + by * self.blocks_x];
+            }
+        });
+        maxima
+    }
+
+    /// `D` of every block, row by row along x (block `(bx, by)` at `bx + by * blocks_x`): the
     /// highest sample any cell of the block, widened by one cell on every side, reads.
     pub(super) fn widened_block_maxima(&self) -> Vec<f32> {
         let (b, w) = (self.block, self.field.width());
@@ -70,25 +112,20 @@ impl<T: Tracer> SunShadows<T> {
         widened
     }
 
-    /// The sweep, in place over the blocks' `widened` maxima (as
-    /// [`SunShadows::widened_block_maxima`] lays them out): `U` of every block, with the ray
-    /// rising `rise` per block along the dominant axis.
+    /// The sweep, in place over the blocks' maxima `D` (as [`SunShadows::block_maxima`] lays
+    /// them out): `U` of every block, with the ray rising `rise` per block along the dominant
+    /// axis.
     pub(super) fn sweep(&self, mut bound: Vec<f32>, rise: f64) -> Vec<f32> {
-        // Rows of the sweep, and blocks in a row.
-        let (major_len, n) = if self.major_is_x {
-            (self.blocks_x, self.blocks_y)
+        // Rows of the sweep (along the dominant axis), blocks in a row, and whether each index
+        // is mirrored. Row `I` of the sweep (`I` along the dominant axis, `J` along the other,
+        // both mirrored so that the sun lies towards growing `I` and `J`) is stored row `I`
+        // (or `rows - 1 - I`) of `bound`, block `J` at `J` (or `n - 1 - J`) in it.
+        let (rows, n, flip_i, flip_j) = if self.major_is_x {
+            (self.blocks_x, self.blocks_y, self.flip_x, self.flip_y)
         } else {
-            (self.blocks_y, self.blocks_x)
+            (self.blocks_y, self.blocks_x, self.flip_y, self.flip_x)
         };
-        // Block `J` of row `I` of the sweep (`I` along the dominant axis, `J` along the other,
-        // both mirrored) is `bound[origin + I * i_step + J * j_step]`: the sweep's rows are
-        // rows of `bound`, or its columns when x is the dominant axis.
-        let (blocks_x, blocks_y) = (self.blocks_x as isize, self.blocks_y as isize);
-        let (x_first, x_step) = if self.flip_x { (blocks_x - 1, -1) } else { (0, 1) };
-        let (y_first, y_step) =
-            if self.flip_y { ((blocks_y - 1) * blocks_x, -blocks_x) } else { (0, blocks_x) };
-        let (i_step, j_step) = if self.major_is_x { (x_step, y_step) } else { (y_step, x_step) };
-        let origin = x_first + y_first;
+        debug_assert_eq!(self.stride_x.min(self.stride_y), 1, "the sweep's rows are contiguous");
         // From the sun's side: U(I, J) = max(S(I, J), max(U(I+1, J), U(I+1, J+1)) - rise) with
         // S the largest D over {I, I+1} x {J, J+1}. In f64, with a finite stand-in for minus
         // infinity (past the last J, and before the first row) so that the stored value can
@@ -97,24 +134,63 @@ impl<T: Tracer> SunShadows<T> {
         const NOTHING: f64 = -1e300;
         let mut next = vec![NOTHING; n + 1];
         let mut current = vec![NOTHING; n + 1];
-        // D of the row on the sun's side (before the sweep overwrote it), and of this one.
+        // D of the row on the sun's side (before the sweep overwrote it), and of this one, in
+        // the order of J.
         let mut there = vec![f32::NEG_INFINITY; n + 1];
         let mut here = vec![f32::NEG_INFINITY; n + 1];
-        for i in (0..major_len).rev() {
-            let first = origin + i as isize * i_step;
-            let at = |j: usize| (first + j as isize * j_step) as usize;
-            for (j, d) in here[..n].iter_mut().enumerate() {
-                *d = bound[at(j)];
+        let mut stored = vec![0.0f32; n];
+        for i in (0..rows).rev() {
+            let r = if flip_i { rows - 1 - i } else { i };
+            let row = &mut bound[r * n..(r + 1) * n];
+            if flip_j {
+                here[..n].iter_mut().zip(row.iter().rev()).for_each(|(d, &v)| *d = v);
+            } else {
+                here[..n].copy_from_slice(row);
             }
             for j in 0..n {
                 let s = here[j].max(here[j + 1]).max(there[j]).max(there[j + 1]) as f64;
                 let u = s.max(NOTHING).max(next[j].max(next[j + 1]) - rise);
                 current[j] = u;
-                bound[at(j)] = (u + u.abs() * (1.0 / 4194304.0) + 1e-44) as f32;
+                stored[j] = (u + u.abs() * (1.0 / 4194304.0) + 1e-44) as f32;
+            }
+            if flip_j {
+                row.iter_mut().rev().zip(&stored).for_each(|(d, &v)| *d = v);
+            } else {
+                row.copy_from_slice(&stored);
             }
             std::mem::swap(&mut next, &mut current);
             std::mem::swap(&mut there, &mut here);
         }
         bound
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{MipmapTracer, NaiveTracer};
+    use relief_core::GridGeometry;
+
+    #[test]
+    fn maxima_read_from_the_mipmap_sweep_as_those_from_the_samples() {
+        // Sizes that are and are not multiples of the block, suns along every axis and
+        // diagonal (both layouts, every mirroring).
+        for (w, h) in [(23, 17), (33, 33), (9, 40)] {
+            let samples = (0..w * h).map(|k| ((k * 7919) % 101) as f32 * 0.37).collect();
+            let field = Arc::new(HeightField::new(w, h, samples, GridGeometry::unit()).unwrap());
+            let mipmap = MipmapTracer::new(field.clone(), Surface::Triangles);
+            let naive = NaiveTracer::new(field.clone(), Surface::Triangles);
+            for (x, y) in [(1.0, 0.2), (-1.0, 0.5), (0.3, 1.0), (-0.4, -1.0), (1.0, -1.0)] {
+                let sun = DVec3::new(x, y, 0.7);
+                for block in [2, 4, 8] {
+                    let read = SunShadows::with_block(&mipmap, field.clone(), sun, block).unwrap();
+                    let computed =
+                        SunShadows::with_block(&naive, field.clone(), sun, block).unwrap();
+                    assert!(read.inner.max_mipmap().is_some() && naive.max_mipmap().is_none());
+                    assert_eq!(read.block_maxima(), computed.block_maxima(), "{w}x{h} {sun}");
+                    assert_eq!(read.bound, computed.bound, "{w}x{h} {sun} block {block}");
+                }
+            }
+        }
     }
 }

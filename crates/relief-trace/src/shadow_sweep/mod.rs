@@ -152,12 +152,17 @@ pub struct SunShadows<T> {
     block_shift: Option<u32>,
     blocks_x: usize,
     blocks_y: usize,
+    /// Where block `(bx, by)`'s bound is stored: at `bx * stride_x + by * stride_y`, so that
+    /// the sweep's rows (along the sun's dominant axis) are contiguous: row by row along x
+    /// (`stride_x` 1) when y is the dominant axis, column by column when it is x.
+    stride_x: usize,
+    stride_y: usize,
     /// Whether the sun's dominant horizontal axis (in cell space) is x.
     major_is_x: bool,
     /// Whether the sun lies towards decreasing x (resp. y): the sweep index is mirrored.
     flip_x: bool,
     flip_y: bool,
-    /// `U` of every block, row by row along x (block `(bx, by)` at `bx + by * blocks_x`).
+    /// `U` of every block, laid out by `stride_x` and `stride_y`.
     bound: Vec<f32>,
     /// How far above a bound a ray must pass to count as above it.
     margin: f64,
@@ -217,6 +222,8 @@ impl<T: Tracer> SunShadows<T> {
             block_shift: block.is_power_of_two().then(|| block.trailing_zeros()),
             blocks_x,
             blocks_y,
+            stride_x: if major_is_x { blocks_y } else { 1 },
+            stride_y: if major_is_x { 1 } else { blocks_x },
             major_is_x,
             flip_x: dir.x < 0.0,
             flip_y: dir.y < 0.0,
@@ -233,8 +240,8 @@ impl<T: Tracer> SunShadows<T> {
             // The ray's rise over one block along the dominant axis, shrunk against rounding.
             let major = if major_is_x { dir.x.abs() } else { dir.y.abs() };
             let rise = block as f64 * (dir.z / major) * (1.0 - 1e-9);
-            let widened = shadows.widened_block_maxima();
-            shadows.bound = shadows.sweep(widened, rise);
+            let maxima = shadows.block_maxima();
+            shadows.bound = shadows.sweep(maxima, rise);
         }
         Ok(shadows)
     }
@@ -346,6 +353,10 @@ impl<T: Tracer> Tracer for SunShadows<T> {
 
     fn surface(&self) -> Surface {
         self.inner.surface()
+    }
+
+    fn max_mipmap(&self) -> Option<&crate::MaxMipmap> {
+        self.inner.max_mipmap()
     }
 
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
