@@ -4,22 +4,30 @@
 //! [`crate::tonemap_to_srgb8`]'s byte of a channel is `round(255 * srgb(aces(x)))`, which never
 //! decreases as `x` grows. So it is the number of steps at or below `x`: the table keeps, for
 //! every byte `b` in 1..=255, the smallest `f32` at which the curve reaches `b`, found by
-//! bisection over the `f32` values with the curve itself, and answers with two lookups and one
-//! comparison the byte that the curve (a `powf` in `f64` per channel) gives, bit for bit.
+//! bisection over the `f32` values with the curve itself, and a coarse index by the input's
+//! bit pattern (buckets a fixed fraction of an octave wide), and answers with two lookups and
+//! one comparison the byte that the curve (a `powf` in `f64` per channel) gives, bit for bit.
 
 use std::sync::OnceLock;
 
-/// Buckets of the coarse index per unit of input, a power of two so that `x * BUCKETS_PER_UNIT`
-/// is exact and bucket `k` is exactly `[k, k + 1) / BUCKETS_PER_UNIT`. At most one step falls
-/// in a bucket (checked when the table is built): near black, where the curve is steepest, a
-/// step is about 1/700 wide.
-const BUCKETS_PER_UNIT: f32 = 4096.0;
+/// Buckets of the coarse index per octave of input, as a number of mantissa bits: bucket `k`
+/// holds the `f32` values whose bit patterns lie `k << (23 - BUCKET_BITS)` and more above the
+/// lowest bucket's start, so a bucket is 1/256 of its octave wide (at most one step falls in a
+/// bucket, checked when the table is built) and the index is small enough (about 3,600
+/// entries) to stay in the first-level cache.
+const BUCKET_BITS: u32 = 8;
+
+/// The shift from an `f32`'s bit pattern to its bucket.
+const BUCKET_SHIFT: u32 = 23 - BUCKET_BITS;
 
 /// The steps of a non-decreasing curve from `[0, inf)` onto the bytes 0..=255.
 #[derive(Debug)]
 pub(crate) struct ByteSteps {
     /// `first[b]`: the smallest input whose byte is at least `b` (`first[0]` is 0).
     first: [f32; 256],
+    /// The bit pattern of the power of two at or below `first[1]`, where bucket 0 starts
+    /// (every smaller input has byte 0).
+    lowest: u32,
     /// `at_start[k]`: the byte of the first input of bucket `k`.
     at_start: Vec<u8>,
 }
@@ -32,30 +40,33 @@ impl ByteSteps {
         for (b, step) in first.iter_mut().enumerate().skip(1) {
             *step = smallest_reaching(&byte, b as u8);
         }
-        let buckets = (first[255] * BUCKETS_PER_UNIT) as usize + 1;
+        let lowest = first[1].to_bits() >> 23 << 23;
+        let bucket_start = |k: u32| f32::from_bits(lowest + (k << BUCKET_SHIFT));
+        let buckets = ((first[255].to_bits() - lowest) >> BUCKET_SHIFT) + 1;
         let steps_to = |x: f32| first.iter().skip(1).take_while(|&&t| t <= x).count();
-        let at_start: Vec<u8> =
-            (0..buckets).map(|k| steps_to(k as f32 / BUCKETS_PER_UNIT) as u8).collect();
+        let at_start: Vec<u8> = (0..buckets).map(|k| steps_to(bucket_start(k)) as u8).collect();
         let most_in_a_bucket = (0..buckets)
-            .map(|k| {
-                steps_to(((k + 1) as f32 / BUCKETS_PER_UNIT).next_down()) - at_start[k] as usize
-            })
+            .map(|k| steps_to(bucket_start(k + 1).next_down()) - at_start[k as usize] as usize)
             .max();
         assert!(most_in_a_bucket <= Some(1), "the curve steps more than once in a bucket");
-        ByteSteps { first, at_start }
+        ByteSteps { first, lowest, at_start }
     }
 
     /// The byte of `x`: 0 for negative or NaN input, 255 from the last step on.
     #[inline]
     pub(crate) fn byte(&self, x: f32) -> u8 {
-        if x.is_nan() || x <= 0.0 {
+        // Also false for NaN.
+        if !(x > 0.0) {
             return 0;
         }
         if x >= self.first[255] {
             return 255;
         }
+        let Some(above) = x.to_bits().checked_sub(self.lowest) else {
+            return 0;
+        };
         // x lies below first[255], so its bucket exists and its byte is below 255.
-        let b = self.at_start[(x * BUCKETS_PER_UNIT) as usize];
+        let b = self.at_start[(above >> BUCKET_SHIFT) as usize];
         b + u8::from(x >= self.first[b as usize + 1])
     }
 }
