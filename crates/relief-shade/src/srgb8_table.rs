@@ -55,8 +55,7 @@ impl ByteSteps {
     /// The byte of `x`: 0 for negative or NaN input, 255 from the last step on.
     #[inline]
     pub(crate) fn byte(&self, x: f32) -> u8 {
-        // Also false for NaN.
-        if !(x > 0.0) {
+        if x.is_nan() || x <= 0.0 {
             return 0;
         }
         if x >= self.first[255] {
