@@ -5,7 +5,7 @@ use relief_core::{Aabb, Camera, DVec3, Ray};
 use relief_trace::{Hit, Tracer};
 
 use crate::gbuffer::GBufferRows;
-use crate::{shadow_ray, GBuffer, GBufferPixel, RayBatch, ShadeError, TraceStats};
+use crate::{shadow_ray, Albedo, GBuffer, GBufferPixel, RayBatch, ShadeError, TraceStats};
 
 /// Side of the square image tiles traced as one unit of parallel work, in pixels.
 pub const TILE_SIZE: usize = 16;
@@ -197,7 +197,7 @@ pub(crate) fn trace_strip(
         for (n, (i, j)) in tile.pixels().enumerate() {
             let (hit, steps) = (batch.hits[n], batch.steps[n]);
             stats.record(steps, hit.is_some());
-            strip.set(i + (j - top) * width, &encoder.g_buffer_pixel(hit));
+            encoder.write(strip, i + (j - top) * width, hit);
         }
         progress(batch.rays.len() as u64);
     }
@@ -229,12 +229,59 @@ pub(crate) struct HitEncoder<'a> {
     uv: UvMap,
     /// The camera, for the pixel's footprint ([`Camera::pixel_footprint`]).
     pub(crate) camera: &'a Camera,
+    /// The channels [`HitEncoder::write`] fills.
+    channels: Channels,
+}
+
+/// Which channels of a G-buffer a pass fills: every one, or only those the deferred shading
+/// of a picture reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Channels {
+    /// Every channel, for a G-buffer its caller reads.
+    All,
+    /// Distance and normal, plus texture coordinates when `uv` and the material when
+    /// `material`: what [`crate::ShadingPass`] reads of a strip, the rest left as it was.
+    Shaded { uv: bool, material: bool },
 }
 
 impl<'a> HitEncoder<'a> {
-    /// The encoder of hits seen by `camera`, texture coordinates spanning `bounds`.
+    /// The encoder of hits seen by `camera`, texture coordinates spanning `bounds`, filling
+    /// every channel.
     pub(crate) fn new(bounds: &Aabb, camera: &'a Camera) -> Self {
-        HitEncoder { uv: UvMap::new(bounds), camera }
+        HitEncoder { uv: UvMap::new(bounds), camera, channels: Channels::All }
+    }
+
+    /// [`HitEncoder::new`] filling only the channels shading with `albedo` reads.
+    pub(crate) fn for_shading(bounds: &Aabb, camera: &'a Camera, albedo: &Albedo) -> Self {
+        let channels = Channels::Shaded {
+            uv: matches!(albedo, Albedo::Texture(_)),
+            material: matches!(albedo, Albedo::GBufferColour { .. }),
+        };
+        HitEncoder { channels, ..HitEncoder::new(bounds, camera) }
+    }
+
+    /// Writes the G-buffer pixel of a camera ray's hit (or miss) at `k` of `strip`, the
+    /// channels this encoder fills.
+    #[inline]
+    pub(crate) fn write(&self, strip: &mut GBufferRows, k: usize, hit: Option<Hit>) {
+        let Channels::Shaded { uv, material } = self.channels else {
+            strip.set(k, &self.g_buffer_pixel(hit));
+            return;
+        };
+        let miss = GBufferPixel::MISS;
+        let (distance, normal) = match &hit {
+            None => (miss.distance, miss.normal),
+            Some(hit) => (hit.t as f32, hit.normal.as_vec3().to_array()),
+        };
+        strip.distance[k] = distance;
+        strip.normal[k] = normal;
+        if uv {
+            strip.uv[k] = hit.map_or(miss.uv, |hit| self.uv.at(hit.position));
+        }
+        if material {
+            let hit_material = GBufferPixel::HEIGHT_FIELD_MATERIAL;
+            strip.material[k] = if hit.is_some() { hit_material } else { miss.material };
+        }
     }
 
     /// The G-buffer pixel of a camera ray's hit (or miss).

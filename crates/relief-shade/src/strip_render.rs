@@ -92,7 +92,7 @@ pub fn render_to_srgb8(
             normals: normal_strips.as_mut().and_then(Iterator::next),
         })
         .collect();
-    let encoder = HitEncoder::new(bounds, camera);
+    let encoder = HitEncoder::for_shading(bounds, camera, &params.albedo);
     let exposure = params.exposure as f32;
     let store = |radiance: relief_core::DVec3| srgb8_pixel(radiance.as_vec3().to_array(), exposure);
     let started = Instant::now();

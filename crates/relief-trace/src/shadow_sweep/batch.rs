@@ -213,10 +213,11 @@ impl<T: Tracer> SunShadows<T> {
             xa = _mm256_blendv_pd(xa, xb, m64);
             ya = _mm256_blendv_pd(ya, yb, m64);
             za = _mm256_blendv_pd(za, zb, m64);
-            for k in (0..LANES).filter(|k| moving >> k & 1 != 0) {
-                walked[k] = Walked::From(lane_t(t_b, k));
-            }
             active = moving;
+        }
+        // The rays still walking when the walk ends are traced from where they stopped.
+        for k in (0..LANES).filter(|k| active >> k & 1 != 0) {
+            walked[k] = Walked::From(lane_t(t_a, k));
         }
     }
 
