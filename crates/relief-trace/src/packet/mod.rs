@@ -22,7 +22,7 @@ use relief_core::{DVec3, Ray};
 use std::cell::RefCell;
 use std::fmt;
 use std::str::FromStr;
-pub(crate) use traversal::prefetch;
+pub(crate) use traversal::{prefetch, prefetch_address};
 use traversal::{CellHit, Pending, Terrain, Traversal, STACK};
 
 /// The instructions the packet traversal's node tests run on.

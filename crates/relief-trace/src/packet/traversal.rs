@@ -320,14 +320,21 @@ fn triangle_planes([a, b, c, d]: [f32; 4]) -> ([Plane; 2], f32) {
 /// A hint that `value` will be read soon.
 #[inline(always)]
 pub(crate) fn prefetch<T>(value: &T) {
+    prefetch_address(value as *const T);
+}
+
+/// A hint that the memory at `address` will be read soon: any address, in bounds or not (a
+/// prefetch never faults and reads nothing into the program).
+#[inline(always)]
+pub(crate) fn prefetch_address<T>(address: *const T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: prefetching is a hint that never faults; SSE is part of x86-64.
     unsafe {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        _mm_prefetch::<_MM_HINT_T0>(value as *const T as *const i8);
+        _mm_prefetch::<_MM_HINT_T0>(address as *const i8);
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = value;
+    let _ = address;
 }
 
 #[cfg(test)]
