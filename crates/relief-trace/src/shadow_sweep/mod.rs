@@ -64,7 +64,9 @@
 //! Over the `triangles` surface of a field without holes, a batch
 //! ([`Tracer::occluded_batch`]) first asks the memory system for every ray's first cell,
 //! then walks the rays four at a time (in AVX2 registers where the processor has
-//! them, else interleaved), and traces the undecided ones as one batch of the wrapped tracer.
+//! them, two groups of four lanes in turn, a lane taking the next ray as soon as its own is
+//! decided; else interleaved), and traces the undecided ones as one batch of the wrapped
+//! tracer.
 //! A batch whose rays start densely (a close view) goes to the wrapped tracer whole: its
 //! packets share their work between such rays. Over the `boxes` surface, or with holes, every
 //! batch goes to the wrapped tracer whole ([`SunShadows::walks_batches`]): the walk there,
