@@ -51,14 +51,15 @@ impl GgxSpecular {
         if n_l <= 0.0 {
             return 0.0;
         }
-        let n_v = normal.dot(to_eye).max(MIN_COS_VIEW);
+        let n_v_signed = normal.dot(to_eye);
+        let n_v = n_v_signed.max(MIN_COS_VIEW);
         // The half vector h = (v + l) / |v + l| is never formed: |v + l|^2 = 2 + 2 v.l, so
         // (n.h)^2 = (n.v + n.l)^2 / |v + l|^2 and v.h = |v + l| / 2. Eye and light opposite
         // (|v + l| = 0) leave no half vector: n.h = v.h = 0, as a zero half vector gives.
         let v_l = to_eye.dot(to_light);
         let sum_squared = 2.0 + 2.0 * v_l;
         let (n_h2, v_h) = if sum_squared > 0.0 {
-            let n_h = (normal.dot(to_eye) + n_l).max(0.0);
+            let n_h = (n_v_signed + n_l).max(0.0);
             (n_h * n_h / sum_squared, (0.5 * sum_squared.sqrt()).clamp(0.0, 1.0))
         } else {
             (0.0, 0.0)

@@ -68,17 +68,15 @@ impl<T: Tracer> SunShadows<T> {
         let mask32 = |m: i32| _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(m), bits32), bits32);
         let load = |v: &[f64; 4]| _mm256_loadu_pd(v.as_ptr());
         let store = |v: &mut [f64; 4], x: __m256d| _mm256_storeu_pd(v.as_mut_ptr(), x);
+        // Every ray has the sun's direction: in cell space as `start` maps it, its reciprocal.
+        let d = self.grid.to_cell_space_dir_only(&Ray::new(DVec3::ZERO, self.towards_sun)).dir;
+        let inv = self.cell_inv_dir;
         // From a cell to the one AHEAD steps diagonally towards the sun, in samples.
-        let look_ahead = {
-            let d = self.cell_inv_dir;
-            let (sx, sy) = (if d.x > 0.0 { 1 } else { -1 }, if d.y > 0.0 { 1 } else { -1 });
-            AHEAD * (sx * (d.x.is_finite() as i32) + sy * w * (d.y.is_finite() as i32))
-        };
+        let toward = |d: f64| (d > 0.0) as i32 - (d < 0.0) as i32;
+        let look_ahead = AHEAD * (toward(d.x) + toward(d.y) * w);
         let mut next = 0;
-        // Every ray has the sun's direction (in cell space) and its reciprocal.
-        let mut sun: Option<(DVec3, DVec3)> = None;
         // Free lanes take the next rays that start over the grid.
-        let mut refill = |g: &mut LaneWalks, walked: &mut [Walked], sun: &mut Option<_>| {
+        let mut refill = |g: &mut LaneWalks, walked: &mut [Walked]| {
             for k in 0..LANES {
                 while g.active >> k & 1 == 0 && next < rays.len() {
                     let (i, ray) = (next, &rays[next]);
@@ -87,12 +85,11 @@ impl<T: Tracer> SunShadows<T> {
                         walked[i] = Walked::From(ray.t_min);
                         continue;
                     };
-                    walked[i] = Walked::From(t0);
                     if self.walk == 0 {
+                        walked[i] = Walked::From(t0);
                         continue;
                     }
-                    let (p, d): (DVec3, DVec3) =
-                        (r.origin, sun.get_or_insert((r.dir, r.inv_dir)).0);
+                    let p = r.origin;
                     (g.origin[0][k], g.origin[1][k], g.origin[2][k]) = (p.x, p.y, p.z);
                     g.at[0][k] = t0;
                     (g.at[1][k], g.at[2][k], g.at[3][k]) =
@@ -104,10 +101,7 @@ impl<T: Tracer> SunShadows<T> {
             }
         };
         // One cell of every active lane's walk.
-        let step = |g: &mut LaneWalks,
-                    walked: &mut [Walked],
-                    steps: &mut [u32],
-                    (d, inv): (DVec3, DVec3)| {
+        let step = |g: &mut LaneWalks, walked: &mut [Walked], steps: &mut [u32]| {
             let mut active = g.active;
             if active == 0 {
                 return;
@@ -259,14 +253,13 @@ impl<T: Tracer> SunShadows<T> {
         let mut groups: [LaneWalks; GROUPS] = Default::default();
         loop {
             for g in groups.iter_mut() {
-                refill(g, walked, &mut sun);
+                refill(g, walked);
             }
-            let Some(sun) = sun else { return };
             if groups.iter().all(|g| g.active == 0) {
                 return;
             }
             for g in groups.iter_mut() {
-                step(g, walked, steps, sun);
+                step(g, walked, steps);
             }
         }
     }
@@ -424,24 +417,14 @@ pub(super) fn avx2_available() -> bool {
     }
 }
 
-/// Lane `k` of four 32-bit integers.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-fn _mm_extract_epi32_dyn(v: std::arch::x86_64::__m128i, k: usize) -> i32 {
-    let mut out = [0i32; 4];
-    // SAFETY: an unaligned store of 16 bytes into a 16-byte array (SSE2, part of x86-64).
-    unsafe { std::arch::x86_64::_mm_storeu_si128(out.as_mut_ptr() as *mut _, v) };
-    out[k]
-}
-
 /// Groups of lanes the AVX2 walk advances in turn (`relief bench`'s shadow rays on the fBm
 /// views at 4096^2: 2 groups 4-5% faster than 1 on the three-quarter and top-down views, 4
-/// groups no faster than 1).
+/// groups 5% slower than 2).
 const GROUPS: usize = 2;
 
 /// How many cells ahead of a walking ray (diagonally, towards the sun) the AVX2 walk asks
 /// the memory system for the samples (`relief bench`'s shadow rays: 3 about 3% faster than
-/// none on the three-quarter and top-down views, 6 no faster than none).
+/// none on the three-quarter and top-down views, 6 about as fast as none).
 const AHEAD: i32 = 3;
 
 /// The walks in progress in one group of [`LANES`] lanes, between cells: each lane's ray
