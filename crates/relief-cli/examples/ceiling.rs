@@ -33,7 +33,7 @@ use relief_shade::{
     render_gbuffer_into, render_to_srgb8, sun_direction, GBuffer, KeptHits, ShadingParams, Tile,
     TILE_SIZE,
 };
-use relief_trace::{Hit, MipmapTracer, Tracer};
+use relief_trace::{Hit, MipmapTracer, NaiveTracer, Tracer};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -224,6 +224,7 @@ fn main() -> Result<()> {
     let path = std::env::args().nth(1).context("usage: ceiling TERRAIN.npy")?;
     let field = Arc::new(relief_io::read_npy_height_field(path.as_ref())?);
     let tracer = MipmapTracer::new(field.clone(), Surface::Triangles);
+    let naive = NaiveTracer::new(field.clone(), Surface::Triangles);
     let bounds = field.world_bounds(Surface::Triangles);
     let (w, h) = (1920, 1080);
     let rays = (w * h) as f64;
@@ -234,14 +235,15 @@ fn main() -> Result<()> {
         rayon::current_num_threads()
     );
     println!(
-        "{:<14} {:>8} {:>13} {:>8} {:>21} {:>12} {:>25}",
+        "{:<14} {:>8} {:>13} {:>8} {:>21} {:>12} {:>25} {:>23}",
         "view",
         "nothing",
         "answer known",
         "mipmap",
         "mipmap, start known",
         "single rays",
-        "single rays, start known"
+        "single rays, start known",
+        "cell walk, start known"
     );
     let mut shadows = Vec::new();
     let mut pictures = Vec::new();
@@ -277,8 +279,40 @@ fn main() -> Result<()> {
                     }
                 })
             }) / 1e6;
+        let walked_late =
+            rays / fastest(|| {
+                pixels.par_iter().for_each(|&(i, j)| {
+                    let ray = camera.ray(i, j);
+                    if let Some(hit) = answers.hits[(i + j * w) as usize] {
+                        let late = Ray::new(ray.at(oracle_start(&hit, footprint)), ray.dir);
+                        std::hint::black_box(naive.intersect(&late));
+                    }
+                })
+            }) / 1e6;
+        let walk_steps: u64 = pixels
+            .iter()
+            .filter_map(|&(i, j)| {
+                let ray = camera.ray(i, j);
+                answers.hits[(i + j * w) as usize].map(|hit| {
+                    let late = Ray::new(ray.at(oracle_start(&hit, footprint)), ray.dir);
+                    let mut steps = 0;
+                    naive.intersect_counted(&late, &mut steps);
+                    steps as u64
+                })
+            })
+            .sum();
+        let hit_count = answers.hits.iter().flatten().count();
+        let camera_only = rays / fastest(|| {
+                pixels.par_iter().for_each(|&(i, j)| {
+                    let ray = camera.ray(i, j);
+                    if let Some(hit) = answers.hits[(i + j * w) as usize] {
+                        std::hint::black_box(Ray::new(ray.at(oracle_start(&hit, footprint)), ray.dir));
+                    }
+                })
+            }) / 1e6;
+        eprintln!("{view}: {hit_count} hits, {:.2} cells walked per hit; camera rays and starts alone {camera_only:.1}", walk_steps as f64 / hit_count as f64);
         println!(
-            "{view:<14} {nothing:>8.1} {known:>13.1} {mipmap:>8.1} {packets_late:>21.1} {single:>12.1} {started_late:>25.1}"
+            "{view:<14} {nothing:>8.1} {known:>13.1} {mipmap:>8.1} {packets_late:>21.1} {single:>12.1} {started_late:>25.1} {walked_late:>23.1}"
         );
         shadows.push((view, shadow_rates(&tracer, &camera, &gbuffer)));
         let mut params = ShadingParams::for_terrain(&bounds)?;
