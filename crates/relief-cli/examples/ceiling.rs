@@ -28,12 +28,12 @@
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use relief_core::{benchmark_views, Camera, DVec3, Ray, Surface};
+use relief_core::{benchmark_views, Camera, DVec3, HeightField, Ray, Surface};
 use relief_shade::{
     render_gbuffer_into, render_to_srgb8, sun_direction, GBuffer, KeptHits, ShadingParams, Tile,
     TILE_SIZE,
 };
-use relief_trace::{Hit, MipmapTracer, NaiveTracer, Tracer};
+use relief_trace::{Hit, MipmapTracer, NaiveTracer, SunShadows, Tracer};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -178,10 +178,34 @@ fn oracle_start(hit: &Hit, footprint: f64) -> f64 {
 /// others skip the ray's first stretch (not exact: a diagnostic of where the time goes).
 const SHADOW_SKIPS: [f64; 4] = [0.0, 2.0, 8.0, 32.0];
 
-/// Shadow rays per second, in millions, from every hit of `gbuffer` towards the benchmark's
-/// sun, made as `relief bench` makes them and traced a tile at a time, started
-/// [`SHADOW_SKIPS`] along their rays.
-fn shadow_rates(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer) -> [f64; 4] {
+/// How far along its range a shadow ray of the `first cell` column may go: a thousandth of a
+/// unit, which keeps it in the cell it starts in.
+const FIRST_CELL: f64 = 1e-3;
+
+/// Where the `at the hit` column starts a camera ray: this relative distance before its hit,
+/// inside the hit's cell.
+const AT_HIT: f64 = 1e-9;
+
+/// The shadow table's row of a view, in millions of rays per second.
+struct ShadowRates {
+    /// The mipmap's packets, the rays started [`SHADOW_SKIPS`] along.
+    skipped: [f64; 4],
+    /// `relief render`'s shadow rays: the sun's sweep over the mipmap tracer.
+    swept: f64,
+    /// The naive tracer, one ray at a time, over the first [`FIRST_CELL`] of each ray: the
+    /// exact test of the cell it starts in and nothing else.
+    first_cell: f64,
+}
+
+/// The shadow rays from every hit of `gbuffer` towards the benchmark's sun, made beforehand
+/// as `relief bench` makes them and traced a tile at a time: [`ShadowRates`].
+fn shadow_rates(
+    field: &Arc<HeightField>,
+    tracer: &MipmapTracer,
+    naive: &NaiveTracer,
+    camera: &Camera,
+    gbuffer: &GBuffer,
+) -> Result<ShadowRates> {
     let sun = sun_direction(315.0, 35.0);
     let (w, h) = (gbuffer.width, gbuffer.height);
     let mut tiles = Vec::new();
@@ -193,20 +217,35 @@ fn shadow_rates(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer) -> [f64
         }
     }
     let count = tiles.iter().map(Vec::len).sum::<usize>() as f64;
-    SHADOW_SKIPS.map(|skip| {
+    let batches = |tracer: &dyn Tracer, tiles: &[Vec<Ray>]| {
+        count
+            / fastest(|| {
+                tiles.par_iter().for_each(|rays| {
+                    let (mut occluded, mut steps) = (vec![false; rays.len()], vec![0; rays.len()]);
+                    tracer.occluded_batch(rays, &mut occluded, &mut steps);
+                    std::hint::black_box(occluded);
+                })
+            })
+            / 1e6
+    };
+    let skipped = SHADOW_SKIPS.map(|skip| {
         let skipped: Vec<Vec<Ray>> = tiles
             .iter()
             .map(|rays| rays.iter().map(|r| Ray { origin: r.at(skip), ..*r }).collect())
             .collect();
-        let s = fastest(|| {
-            skipped.par_iter().for_each(|rays| {
-                let (mut occluded, mut steps) = (vec![false; rays.len()], vec![0; rays.len()]);
-                tracer.occluded_batch(rays, &mut occluded, &mut steps);
-                std::hint::black_box(occluded);
+        batches(tracer, &skipped)
+    });
+    let swept = batches(&SunShadows::new(tracer, field.clone(), sun)?, &tiles);
+    let first: Vec<Ray> =
+        tiles.iter().flatten().map(|r| r.with_range(r.t_min, r.t_min + FIRST_CELL)).collect();
+    let first_cell = count
+        / fastest(|| {
+            first.par_iter().for_each(|r| {
+                std::hint::black_box(naive.occluded(r));
             })
-        });
-        count / s / 1e6
-    })
+        })
+        / 1e6;
+    Ok(ShadowRates { skipped, swept, first_cell })
 }
 
 /// The shortest of five runs of `f`, in seconds.
@@ -235,18 +274,18 @@ fn main() -> Result<()> {
         rayon::current_num_threads()
     );
     println!(
-        "{:<14} {:>8} {:>13} {:>8} {:>21} {:>12} {:>25} {:>23}",
+        "{:<14} {:>8} {:>13} {:>8} {:>21} {:>12} {:>25}",
         "view",
         "nothing",
         "answer known",
         "mipmap",
         "mipmap, start known",
         "single rays",
-        "single rays, start known",
-        "cell walk, start known"
+        "single rays, start known"
     );
     let mut shadows = Vec::new();
     let mut pictures = Vec::new();
+    let mut floors = Vec::new();
     for (view, camera) in benchmark_views(&field, w, h)?.into_iter().take(3) {
         let mut gbuffer = GBuffer::new(w as usize, h as usize)?;
         let mut render = |tracer: &dyn Tracer| {
@@ -279,42 +318,42 @@ fn main() -> Result<()> {
                     }
                 })
             }) / 1e6;
-        let walked_late =
-            rays / fastest(|| {
-                pixels.par_iter().for_each(|&(i, j)| {
-                    let ray = camera.ray(i, j);
-                    if let Some(hit) = answers.hits[(i + j * w) as usize] {
-                        let late = Ray::new(ray.at(oracle_start(&hit, footprint)), ray.dir);
-                        std::hint::black_box(naive.intersect(&late));
-                    }
-                })
-            }) / 1e6;
-        let walk_steps: u64 = pixels
-            .iter()
-            .filter_map(|&(i, j)| {
+        // The floor of any continuation: each hit ray started at a known point before its hit
+        // and walked cell by cell with the exact test, its misses skipped.
+        let hits = answers.hits.iter().flatten().count() as f64;
+        let from_known = |start: &(dyn Fn(&Hit) -> f64 + Sync), trace: bool| {
+            let late = |i: u32, j: u32| {
                 let ray = camera.ray(i, j);
-                answers.hits[(i + j * w) as usize].map(|hit| {
-                    let late = Ray::new(ray.at(oracle_start(&hit, footprint)), ray.dir);
-                    let mut steps = 0;
-                    naive.intersect_counted(&late, &mut steps);
-                    steps as u64
-                })
-            })
-            .sum();
-        let hit_count = answers.hits.iter().flatten().count();
-        let camera_only = rays / fastest(|| {
-                pixels.par_iter().for_each(|&(i, j)| {
-                    let ray = camera.ray(i, j);
-                    if let Some(hit) = answers.hits[(i + j * w) as usize] {
-                        std::hint::black_box(Ray::new(ray.at(oracle_start(&hit, footprint)), ray.dir));
-                    }
-                })
-            }) / 1e6;
-        eprintln!("{view}: {hit_count} hits, {:.2} cells walked per hit; camera rays and starts alone {camera_only:.1}", walk_steps as f64 / hit_count as f64);
+                answers.hits[(i + j * w) as usize].map(|hit| Ray::new(ray.at(start(&hit)), ray.dir))
+            };
+            let rate =
+                rays / fastest(|| {
+                    pixels.par_iter().for_each(|&(i, j)| {
+                        if let Some(ray) = late(i, j) {
+                            if trace {
+                                std::hint::black_box(naive.intersect(&ray));
+                            } else {
+                                std::hint::black_box(ray);
+                            }
+                        }
+                    })
+                }) / 1e6;
+            let mut cells = 0u64;
+            for ray in pixels.iter().filter_map(|&(i, j)| late(i, j)) {
+                let mut steps = 0;
+                naive.intersect_counted(&ray, &mut steps);
+                cells += steps as u64;
+            }
+            (rate, cells as f64 / hits)
+        };
+        let made = from_known(&|hit| oracle_start(hit, footprint), false).0;
+        let walked = from_known(&|hit| oracle_start(hit, footprint), true);
+        let at_hit = from_known(&|hit| hit.t * (1.0 - AT_HIT), true);
+        floors.push((view, made, walked, at_hit));
         println!(
-            "{view:<14} {nothing:>8.1} {known:>13.1} {mipmap:>8.1} {packets_late:>21.1} {single:>12.1} {started_late:>25.1} {walked_late:>23.1}"
+            "{view:<14} {nothing:>8.1} {known:>13.1} {mipmap:>8.1} {packets_late:>21.1} {single:>12.1} {started_late:>25.1}"
         );
-        shadows.push((view, shadow_rates(&tracer, &camera, &gbuffer)));
+        shadows.push((view, shadow_rates(&field, &tracer, &naive, &camera, &gbuffer)?));
         let mut params = ShadingParams::for_terrain(&bounds)?;
         params.shadows = false;
         let picture = |tracer: &dyn Tracer, params: &ShadingParams| {
@@ -338,14 +377,34 @@ fn main() -> Result<()> {
         let shadowed = picture(&tracer, &params);
         pictures.push((view, unshadowed, shadowed));
     }
-    println!("\nshadow rays (mipmap packets), started this far along their ray; Mrays/s");
+    println!(
+        "\nhit rays one at a time from a known start, misses skipped, no G-buffer; Mrays/s of all pixels"
+    );
+    println!(
+        "{:<14} {:>11} {:>24} {:>14} {:>20} {:>14}",
+        "view",
+        "rays made",
+        "cell walk, start known",
+        "cells per hit",
+        "one cell, at the hit",
+        "cells per hit"
+    );
+    for (view, made, (walked, walk_cells), (at_hit, hit_cells)) in floors {
+        println!(
+            "{view:<14} {made:>11.1} {walked:>24.1} {walk_cells:>14.2} {at_hit:>20.1} {hit_cells:>14.3}"
+        );
+    }
+    println!(
+        "\nshadow rays made beforehand: mipmap packets started this far along their ray, the \
+         sweep, the first cell alone; Mrays/s"
+    );
     print!("{:<14}", "view");
     SHADOW_SKIPS.iter().for_each(|skip| print!(" {skip:>8}"));
-    println!();
+    println!(" {:>8} {:>10}", "sweep", "first cell");
     for (view, rates) in shadows {
         print!("{view:<14}");
-        rates.iter().for_each(|rate| print!(" {rate:>8.1}"));
-        println!();
+        rates.skipped.iter().for_each(|rate| print!(" {rate:>8.1}"));
+        println!(" {:>8.1} {:>10.1}", rates.swept, rates.first_cell);
     }
     println!("\nthe whole picture in one pass (render_to_srgb8), no shadows unless said; Mrays/s");
     println!(
