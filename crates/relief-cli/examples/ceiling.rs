@@ -12,9 +12,15 @@
 //!   footprint before its hit, as a perfect lower bound on its distance would allow;
 //!
 //! and traces single rays with the mipmap tracer from the eye (`single rays`) and from that
-//! same start (`single rays, start known`). A second table traces the shadow rays of the
-//! mipmap's hits (as `relief bench` makes them) whole, and with their first 2, 8 and 32 units
-//! skipped: not exact, a diagnostic of where a shadow ray's time goes. A third renders the
+//! same start (`single rays, start known`). A second table gives the floor of any exact
+//! tracer: the hit rays alone, one at a time with the naive tracer's exact cell test, walked
+//! cell by cell from that start (`cell walk, start known`, the best a continuation from a
+//! neighbour's hit could do) and from just before the hit (`one cell, at the hit`: making,
+//! moving and clipping the ray and one exact cell test), beside the cost of making the rays
+//! alone. A third traces the shadow rays of the mipmap's hits (made beforehand as `relief
+//! bench` makes them) with the mipmap's packets whole and with their first 2, 8 and 32 units
+//! skipped (not exact, a diagnostic of where a shadow ray's time goes), through the sun's
+//! sweep as `relief render` does, and over their first cell alone. A fourth renders the
 //! whole picture in one pass (`render_to_srgb8`: trace, shade and tone-map strip by strip, as
 //! `relief render` does; the PNG not written) with `nothing`, `answer known` and `mipmap`,
 //! without shadows, and with `mipmap` and shadows: what shading costs beyond tracing.
