@@ -327,34 +327,35 @@ fn main() -> Result<()> {
         // The floor of any continuation: each hit ray started at a known point before its hit
         // and walked cell by cell with the exact test, its misses skipped.
         let hits = answers.hits.iter().flatten().count() as f64;
+        let late = |start: &dyn Fn(&Hit) -> f64, i: u32, j: u32| {
+            let ray = camera.ray(i, j);
+            answers.hits[(i + j * w) as usize].map(|hit| Ray::new(ray.at(start(&hit)), ray.dir))
+        };
+        // Mrays/s of making every hit ray from `start` and, if `trace`, tracing it.
         let from_known = |start: &(dyn Fn(&Hit) -> f64 + Sync), trace: bool| {
-            let late = |i: u32, j: u32| {
-                let ray = camera.ray(i, j);
-                answers.hits[(i + j * w) as usize].map(|hit| Ray::new(ray.at(start(&hit)), ray.dir))
-            };
-            let rate =
-                rays / fastest(|| {
-                    pixels.par_iter().for_each(|&(i, j)| {
-                        if let Some(ray) = late(i, j) {
-                            if trace {
-                                std::hint::black_box(naive.intersect(&ray));
-                            } else {
-                                std::hint::black_box(ray);
-                            }
-                        }
-                    })
-                }) / 1e6;
+            rays / fastest(|| {
+                pixels.par_iter().for_each(|&(i, j)| {
+                    if let Some(ray) = late(start, i, j) {
+                        std::hint::black_box(if trace { naive.intersect(&ray) } else { None });
+                        std::hint::black_box(ray);
+                    }
+                })
+            }) / 1e6
+        };
+        let cells_per_hit = |start: &dyn Fn(&Hit) -> f64| {
             let mut cells = 0u64;
-            for ray in pixels.iter().filter_map(|&(i, j)| late(i, j)) {
+            for ray in pixels.iter().filter_map(|&(i, j)| late(start, i, j)) {
                 let mut steps = 0;
                 naive.intersect_counted(&ray, &mut steps);
                 cells += steps as u64;
             }
-            (rate, cells as f64 / hits)
+            cells as f64 / hits
         };
-        let made = from_known(&|hit| oracle_start(hit, footprint), false).0;
-        let walked = from_known(&|hit| oracle_start(hit, footprint), true);
-        let at_hit = from_known(&|hit| hit.t * (1.0 - AT_HIT), true);
+        let before = |hit: &Hit| oracle_start(hit, footprint);
+        let at = |hit: &Hit| hit.t * (1.0 - AT_HIT);
+        let made = from_known(&before, false);
+        let walked = (from_known(&before, true), cells_per_hit(&before));
+        let at_hit = (from_known(&at, true), cells_per_hit(&at));
         floors.push((view, made, walked, at_hit));
         println!(
             "{view:<14} {nothing:>8.1} {known:>13.1} {mipmap:>8.1} {packets_late:>21.1} {single:>12.1} {started_late:>25.1}"
