@@ -4,12 +4,30 @@
 
 mod common;
 
-use common::{python, TestDir};
+use common::{clients, python, TestDir};
 use relief_io::{
     read_geotiff, read_layers_geotiff, read_npy, read_raster, write_layers_geotiff, write_npy_f32,
     IoError, Layer, LayerRaster, ReadOptions,
 };
 use std::path::Path;
+
+fn main() {
+    clients::run(vec![
+        clients::trial!(zstd_geotiffs_written_by_gdal_read_as_gdal_reads_them, Rasterio),
+        clients::trial!(layer_files_keep_the_inputs_georeference_crs_and_nodata, Rasterio),
+        clients::trial!(relief_reads_its_single_layer_file_back),
+        clients::trial!(layer_rasters_that_do_not_add_up_are_refused),
+        clients::trial!(corrupt_zstd_chunks_and_other_codecs_give_errors, Rasterio),
+        clients::trial!(
+            geotiffs_written_strip_by_strip_read_in_gdal_with_their_placement,
+            Rasterio
+        ),
+        clients::accounting_trial(
+            "zstd_geotiffs_written_by_gdal_read_as_gdal_reads_them",
+            clients::Client::Rasterio,
+        ),
+    ]);
+}
 
 /// `samples` (row 0 south) with their rows reversed: north-up, as GDAL gives them.
 fn north_up(samples: &[f32], width: usize) -> Vec<f32> {
@@ -21,7 +39,6 @@ fn same(a: f32, b: f32) -> bool {
     a == b || (a.is_nan() && b.is_nan())
 }
 
-#[test]
 fn zstd_geotiffs_written_by_gdal_read_as_gdal_reads_them() {
     let dir = TestDir::new("gis-zstd");
     // GDAL writes each variant and, beside it, the samples it reads back (north-up .npy) and
@@ -67,7 +84,7 @@ print(json.dumps(cases))
 "#,
         dir = dir.path().display()
     );
-    let Some(out) = python("rasterio", &script) else { return };
+    let out = python("rasterio", &script).unwrap();
     let cases: Vec<(String, Vec<f64>, f64)> = parse_cases(&out);
     assert_eq!(cases.len(), 10, "{out}");
     let options = ReadOptions::default();
@@ -108,7 +125,6 @@ fn parse_cases(json: &str) -> Vec<(String, Vec<f64>, f64)> {
         .collect()
 }
 
-#[test]
 fn layer_files_keep_the_inputs_georeference_crs_and_nodata() {
     let dir = TestDir::new("gis-layers");
     // The inputs: GDAL writes a projected and a geographic GeoTIFF; the SRTM tile is raw bytes.
@@ -133,9 +149,7 @@ tile.tofile(f'{{d}}/N36W085.hgt')
 "#,
         dir = dir.path().display()
     );
-    if python("rasterio", &script).is_none() {
-        return;
-    }
+    python("rasterio", &script).unwrap();
     let names = ["shadow", "sky & <sun>"];
     for input in ["projected.tif", "geographic.tif", "N36W085.hgt"] {
         let source = dir.join(input);
@@ -206,7 +220,6 @@ print('ok', out.tags().get('AREA_OR_POINT'), src.tags().get('AREA_OR_POINT'))
     }
 }
 
-#[test]
 fn relief_reads_its_single_layer_file_back() {
     let dir = TestDir::new("gis-own");
     let source = relief_io::Georeference::north_up_grid(1000.0, 2000.0, 30.0, 30.0);
@@ -228,7 +241,6 @@ fn relief_reads_its_single_layer_file_back() {
     assert_eq!(raster.geometry.origin.y, 2000.0 - 60.0);
 }
 
-#[test]
 fn layer_rasters_that_do_not_add_up_are_refused() {
     let dir = TestDir::new("gis-bad-layers");
     let path = dir.join("bad.tif");
@@ -251,7 +263,6 @@ fn layer_rasters_that_do_not_add_up_are_refused() {
     assert!(!Path::new(&path).exists());
 }
 
-#[test]
 fn corrupt_zstd_chunks_and_other_codecs_give_errors() {
     let dir = TestDir::new("gis-zstd-corrupt");
     let script = format!(
@@ -269,9 +280,7 @@ for name, opts in [('zstd', dict(compress='ZSTD', predictor=2, tiled=True, block
 "#,
         dir = dir.path().display()
     );
-    if python("rasterio", &script).is_none() {
-        return;
-    }
+    python("rasterio", &script).unwrap();
     let options = ReadOptions::default();
     let path = dir.join("zstd.tif");
     let good = std::fs::read(&path).unwrap();
@@ -313,7 +322,6 @@ for name, opts in [('zstd', dict(compress='ZSTD', predictor=2, tiled=True, block
     }
 }
 
-#[test]
 fn geotiffs_written_strip_by_strip_read_in_gdal_with_their_placement() {
     use relief_core::{DVec2, GridGeometry};
     let dir = TestDir::new("gis-strip-writer");
@@ -347,7 +355,5 @@ print('ok')
         path = path.display(),
         expected = expected.display(),
     );
-    if let Some(out) = python("rasterio", &check) {
-        assert_eq!(out, "ok");
-    }
+    assert_eq!(python("rasterio", &check).unwrap(), "ok");
 }

@@ -49,3 +49,5 @@ pub use shared_data_lookup::shared_data;
 mod python_client;
 #[allow(unused_imports)]
 pub use python_client::python;
+
+pub mod clients;

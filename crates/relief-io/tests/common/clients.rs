@@ -1,0 +1,212 @@
+//! The real clients some tests need (GDAL through rasterio, Pillow, NumPy, trimesh, the Khronos
+//! glTF validator, Xvfb, xdotool), and the test harness that reports a test whose client is
+//! missing as ignored, with the reason and the install command, instead of passing it.
+//!
+//! Shared by the test targets of relief-io, relief-cli and relief-mesh that need a client
+//! (included by path, as `shared_data.rs` is). Each such target has `harness = false` in its
+//! crate's Cargo.toml and a `main` that lists its tests with the clients each needs:
+//!
+//! ```ignore
+//! fn main() {
+//!     clients::run(vec![
+//!         clients::trial!(reads_back_with_gdal, Rasterio),
+//!         clients::trial!(needs_no_client),
+//!     ]);
+//! }
+//! ```
+//!
+//! Each client is probed once per test process, when a test first needs it. Where one is
+//! missing, the test is reported `ignored (client missing: ...)`; with
+//! RELIEF_REQUIRE_CLIENTS=1 (.ci/run sets it and installs the clients) it fails instead.
+
+use libtest_mimic::{Arguments, Completion, Failed, Trial};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::OnceLock;
+
+/// What starts the reason of a test ignored for a missing client; `.ci/run` counts these.
+pub const MISSING: &str = "client missing";
+
+/// A program or library outside the workspace that a test runs to check relief's output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Client {
+    /// GDAL's Python binding, rasterio.
+    Rasterio,
+    /// Pillow (`import PIL`).
+    Pillow,
+    /// NumPy.
+    Numpy,
+    /// trimesh, a Python mesh library.
+    Trimesh,
+    /// The Khronos glTF validator (npm `gltf-validator` in tools/gltf-validator, run by node).
+    GltfValidator,
+    /// Xvfb, a virtual X server.
+    Xvfb,
+    /// xdotool, which types keys and moves the mouse in an X window.
+    Xdotool,
+}
+
+const ALL: [Client; 7] = [
+    Client::Rasterio,
+    Client::Pillow,
+    Client::Numpy,
+    Client::Trimesh,
+    Client::GltfValidator,
+    Client::Xvfb,
+    Client::Xdotool,
+];
+
+impl Client {
+    /// What is missing when the probe fails, and how to install it.
+    pub fn missing(self) -> String {
+        let python = |module: &str, package: &str| {
+            format!("python3 cannot import {module}, install: pip install {package}")
+        };
+        match self {
+            Client::Rasterio => python("rasterio", "rasterio"),
+            Client::Pillow => python("PIL", "pillow"),
+            Client::Numpy => python("numpy", "numpy"),
+            Client::Trimesh => python("trimesh", "trimesh"),
+            Client::GltfValidator => "node or the glTF validator is not installed, install: \
+                 apt-get install nodejs npm && npm ci --prefix tools/gltf-validator"
+                .to_string(),
+            Client::Xvfb => "Xvfb is not on PATH, install: apt-get install xvfb".to_string(),
+            Client::Xdotool => {
+                "xdotool is not on PATH, install: apt-get install xdotool".to_string()
+            }
+        }
+    }
+
+    /// Whether the client is there; probed once per process.
+    pub fn present(self) -> bool {
+        static PROBED: [OnceLock<bool>; ALL.len()] = [const { OnceLock::new() }; ALL.len()];
+        let index = ALL.iter().position(|&c| c == self).unwrap();
+        *PROBED[index].get_or_init(|| self.probe())
+    }
+
+    fn probe(self) -> bool {
+        let imports = |module: &str| {
+            Command::new("python3")
+                .args(["-c", &format!("import {module}")])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .status()
+                .is_ok_and(|s| s.success())
+        };
+        match self {
+            Client::Rasterio => imports("rasterio"),
+            Client::Pillow => imports("PIL"),
+            Client::Numpy => imports("numpy"),
+            Client::Trimesh => imports("trimesh"),
+            Client::GltfValidator => {
+                // As validate_gltf.mjs finds it.
+                let dir = std::env::var_os("RELIEF_GLTF_VALIDATOR_DIR")
+                    .map(PathBuf::from)
+                    .unwrap_or_else(|| repository().join("tools/gltf-validator"));
+                on_path("node") && dir.join("node_modules/gltf-validator/package.json").is_file()
+            }
+            Client::Xvfb => on_path("Xvfb"),
+            Client::Xdotool => on_path("xdotool"),
+        }
+    }
+}
+
+/// The repository's root (every crate is `crates/NAME`).
+fn repository() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Whether an executable file named `program` is in a folder of PATH.
+fn on_path(program: &str) -> bool {
+    use std::os::unix::fs::PermissionsExt;
+    let Some(path) = std::env::var_os("PATH") else { return false };
+    std::env::split_paths(&path).any(|dir| {
+        std::fs::metadata(dir.join(program))
+            .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+    })
+}
+
+/// Whether a missing client fails a test rather than having it ignored (.ci/run sets it).
+pub fn required() -> bool {
+    std::env::var("RELIEF_REQUIRE_CLIENTS").as_deref() == Ok("1")
+}
+
+/// The test `name` running `test` (which fails by panicking) where every client of `needs` is
+/// present; else ignored, with the reason and the install commands, or with
+/// RELIEF_REQUIRE_CLIENTS=1 failed. Prefer the [`trial!`] macro, which names it after `test`.
+pub fn trial_needing(name: &str, needs: &[Client], test: fn()) -> Trial {
+    let needs = needs.to_vec();
+    Trial::ignorable_test(name, move || {
+        let missing: Vec<String> =
+            needs.iter().filter(|c| !c.present()).map(|c| c.missing()).collect();
+        if missing.is_empty() {
+            test();
+            return Ok(Completion::Completed);
+        }
+        let reason = format!("{MISSING}: {}", missing.join("; "));
+        if required() {
+            return Err(Failed::from(format!(
+                "{reason}; required by RELIEF_REQUIRE_CLIENTS=1 (.ci/run installs it)"
+            )));
+        }
+        Ok(Completion::ignored_with(reason))
+    })
+}
+
+/// `trial!(test_fn, Client, ...)`: the [`trial_needing`] named after the function, needing those
+/// clients (none for a test that needs no client). `clients` must name this module.
+#[allow(unused_macros)]
+macro_rules! trial {
+    ($test:ident $(, $client:ident)* $(,)?) => {
+        clients::trial_needing(stringify!($test), &[$(clients::Client::$client),*], $test)
+    };
+}
+#[allow(unused_imports)]
+pub(crate) use trial;
+
+/// Runs `trials` as libtest does (same options and output: `cargo test -- FILTER` works) and
+/// exits with its code.
+pub fn run(trials: Vec<Trial>) -> ! {
+    libtest_mimic::run(&Arguments::from_args(), trials).exit()
+}
+
+/// A test of this accounting: reruns this test binary on `name` (a test that needs `client`)
+/// with a PATH where `client` is missing (only a `python3` that can import nothing, no node,
+/// no Xvfb, no xdotool), and checks that the test is reported ignored with the reason, and
+/// that with RELIEF_REQUIRE_CLIENTS=1 it fails, saying why.
+pub fn accounting_trial(name: &'static str, client: Client) -> Trial {
+    Trial::test(format!("a_missing_client_ignores_{name}"), move || {
+        let stub =
+            std::env::temp_dir().join(format!("relief-clients-stub-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&stub).unwrap();
+        let python3 = stub.join("python3");
+        std::fs::write(&python3, "#!/bin/sh\nexit 1\n").unwrap();
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&python3, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let run = |require: &str| {
+            let out = Command::new(std::env::current_exe().unwrap())
+                .args([name, "--exact", "--test-threads", "1", "--color", "never"])
+                .env("PATH", &stub)
+                .env("RELIEF_REQUIRE_CLIENTS", require)
+                .env_remove("RELIEF_GLTF_VALIDATOR_DIR")
+                .output()
+                .unwrap();
+            (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned())
+        };
+        let (ok, text) = run("0");
+        let reason = format!("{MISSING}: {}", client.missing());
+        let line = format!("test {name} ... ignored ({reason})");
+        if !ok || !text.contains(&line) || !text.contains("0 passed; 0 failed; 1 ignored") {
+            return Err(format!("expected `{line}` and 1 ignored, got:\n{text}").into());
+        }
+        let (ok, text) = run("1");
+        let failed = text.contains(&format!("test {name} ... FAILED"))
+            && text.contains(&reason)
+            && text.contains("0 passed; 1 failed; 0 ignored");
+        let _ = std::fs::remove_dir_all(&stub);
+        if ok || !failed {
+            return Err(format!("with RELIEF_REQUIRE_CLIENTS=1 {name} should fail:\n{text}").into());
+        }
+        Ok(())
+    })
+}
