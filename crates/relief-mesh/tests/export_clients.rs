@@ -1,7 +1,11 @@
 //! The exported .glb, .obj and .ply files read back by the real clients of those formats: the
 //! Khronos glTF validator (npm `gltf-validator`, run by node through `validate_gltf.mjs`) and
-//! trimesh (Python). Without a client a test says so and skips, unless RELIEF_REQUIRE_CLIENTS
-//! is 1 (.ci/run installs them and sets it): then it fails.
+//! trimesh (Python). A test whose client is missing is reported ignored, with the reason, or
+//! fails with RELIEF_REQUIRE_CLIENTS=1 (.ci/run installs them and sets it): the harness in
+//! relief-io's tests/common/clients.rs.
+
+#[path = "../../relief-io/tests/common/clients.rs"]
+mod clients;
 
 use relief_core::DVec3;
 use relief_mesh::export::{to_glb_bytes, to_obj_bytes, to_ply_bytes, MeshFormat};
@@ -10,16 +14,20 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// Whether a missing client fails the test rather than skipping it.
-fn clients_required() -> bool {
-    std::env::var("RELIEF_REQUIRE_CLIENTS").as_deref() == Ok("1")
-}
-
-/// Skips (returns `None`, after saying why) or, with RELIEF_REQUIRE_CLIENTS=1, fails.
-fn missing<T>(what: &str) -> Option<T> {
-    assert!(!clients_required(), "{what} (RELIEF_REQUIRE_CLIENTS=1; .ci/run installs it)");
-    println!("skipped: {what}");
-    None
+fn main() {
+    clients::run(vec![
+        clients::trial!(the_gltf_validator_accepts_the_glb_files, GltfValidator),
+        clients::trial!(trimesh_reads_the_glb_obj_and_ply_files, Trimesh),
+        clients::trial!(the_extension_names_the_format),
+        clients::accounting_trial(
+            "the_gltf_validator_accepts_the_glb_files",
+            clients::Client::GltfValidator,
+        ),
+        clients::accounting_trial(
+            "trimesh_reads_the_glb_obj_and_ply_files",
+            clients::Client::Trimesh,
+        ),
+    ]);
 }
 
 /// A fresh, empty directory under the system's temporary directory, removed when dropped.
@@ -68,32 +76,22 @@ fn two_cubes(origin: DVec3) -> TerrainMesh {
     }
 }
 
-/// The Khronos validator's report on the .glb at `path`; `None` when node or the validator
-/// is missing (see [`missing`]).
-fn gltf_validator(path: &Path) -> Option<Value> {
+/// The Khronos validator's report on the .glb at `path` (the harness has found node and the
+/// validator).
+fn gltf_validator(path: &Path) -> Value {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/validate_gltf.mjs");
-    let out = match Command::new("node").arg(&script).arg(path).output() {
-        Ok(out) => out,
-        Err(e) => return missing(&format!("node is required to run the glTF validator: {e}")),
-    };
+    let out = Command::new("node").arg(&script).arg(path).output().expect("node runs");
     let stderr = String::from_utf8_lossy(&out.stderr);
-    if out.status.code() == Some(3) {
-        return missing(&format!("the glTF validator is required: {}", stderr.trim()));
-    }
     assert!(out.status.success(), "{}: {stderr}", script.display());
-    Some(serde_json::from_slice(&out.stdout).unwrap())
+    serde_json::from_slice(&out.stdout).unwrap()
 }
 
-/// Runs a Python script with trimesh on `args` and returns what it printed, parsed as JSON;
-/// `None` when python3 cannot import trimesh (see [`missing`]).
-fn trimesh(script: &str, args: &[&Path]) -> Option<Value> {
-    let probe = Command::new("python3").args(["-c", "import trimesh"]).output();
-    if !probe.is_ok_and(|o| o.status.success()) {
-        return missing("python3 with trimesh is required");
-    }
+/// Runs a Python script with trimesh on `args` and returns what it printed, parsed as JSON
+/// (the harness has found python3 with trimesh).
+fn trimesh(script: &str, args: &[&Path]) -> Value {
     let out = Command::new("python3").arg("-c").arg(script).args(args).output().unwrap();
     assert!(out.status.success(), "{script}\n{}", String::from_utf8_lossy(&out.stderr));
-    Some(serde_json::from_slice(&out.stdout).unwrap())
+    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 /// Asserts that the validator found no errors, warnings or infos (listing them if it did).
@@ -104,7 +102,6 @@ fn assert_clean(report: &Value) {
     }
 }
 
-#[test]
 fn the_gltf_validator_accepts_the_glb_files() {
     let dir = TestDir::new("validator");
     // Near the origin, far out in UTM-like coordinates, and without any faces.
@@ -116,7 +113,7 @@ fn the_gltf_validator_accepts_the_glb_files() {
     for (name, mesh) in &meshes {
         let path = dir.0.join(name);
         std::fs::write(&path, to_glb_bytes(mesh).unwrap()).unwrap();
-        let Some(report) = gltf_validator(&path) else { return };
+        let report = gltf_validator(&path);
         println!("{name}: validator {} {}", report["validatorVersion"], report["issues"]);
         assert_clean(&report);
         if name == &"cubes.glb" {
@@ -124,7 +121,7 @@ fn the_gltf_validator_accepts_the_glb_files() {
             let bytes = std::fs::read(&path).unwrap();
             let cut = dir.0.join("cut.glb");
             std::fs::write(&cut, &bytes[..bytes.len() - 40]).unwrap();
-            let report = gltf_validator(&cut).unwrap();
+            let report = gltf_validator(&cut);
             assert!(report["issues"]["numErrors"].as_u64().unwrap() > 0, "{report:#}");
         }
         let info = &report["info"];
@@ -173,7 +170,6 @@ for key, path in (("obj", obj), ("ply", ply)):
 print(json.dumps(out))
 "#;
 
-#[test]
 fn trimesh_reads_the_glb_obj_and_ply_files() {
     let dir = TestDir::new("trimesh");
     let mut mesh = two_cubes(DVec3::new(10.0, 20.0, 30.0));
@@ -183,9 +179,7 @@ fn trimesh_reads_the_glb_obj_and_ply_files() {
     std::fs::write(&paths[0], to_glb_bytes(&mesh).unwrap()).unwrap();
     std::fs::write(&paths[1], to_obj_bytes(&mesh).unwrap()).unwrap();
     std::fs::write(&paths[2], to_ply_bytes(&mesh).unwrap()).unwrap();
-    let Some(report) = trimesh(TRIMESH_SCRIPT, &paths.each_ref().map(PathBuf::as_path)) else {
-        return;
-    };
+    let report = trimesh(TRIMESH_SCRIPT, &paths.each_ref().map(PathBuf::as_path));
     println!("trimesh: {report}");
     let close = |value: &Value, want: f64| (value.as_f64().unwrap() - want).abs() < 1e-6;
 
@@ -236,7 +230,6 @@ fn trimesh_reads_the_glb_obj_and_ply_files() {
     }
 }
 
-#[test]
 fn the_extension_names_the_format() {
     let dir = TestDir::new("extension");
     let mesh = two_cubes(DVec3::ZERO);
