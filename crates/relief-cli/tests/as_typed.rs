@@ -2,15 +2,35 @@
 //! of every `--help` driven at least once (negative numbers, every output extension,
 //! conflicting outputs, options that do nothing, a top-down camera, out-of-range values), and
 //! what relief writes read back by the real clients of its formats (GDAL through rasterio,
-//! Pillow, NumPy) where they are installed.
+//! Pillow, NumPy). The tests that need a client (those, or Xvfb for `relief view`) are reported
+//! ignored, with the reason, where it is missing (tests/common/clients.rs).
 
 mod common;
 
-use common::{python, read_f32_npy, relief, scratch, shared_data, x_server};
+use common::{clients, python, read_f32_npy, relief, scratch, shared_data, x_server};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::OnceLock;
+
+fn main() {
+    clients::run(vec![
+        clients::trial!(every_option_of_every_help_is_driven),
+        clients::trial!(every_view_option_runs_on_a_virtual_x_server, Xvfb),
+        clients::trial!(help_says_which_size_each_command_means),
+        clients::trial!(negative_numbers_are_values_of_every_numeric_option),
+        clients::trial!(a_top_down_camera_puts_north_at_the_top),
+        clients::trial!(info_describes_mlhm_scenes),
+        clients::trial!(numbers_in_messages_are_readable),
+        clients::trial!(the_bench_table_is_aligned),
+        clients::trial!(outputs_are_read_back_by_relief),
+        clients::trial!(outputs_are_read_back_by_gdal, Rasterio),
+        clients::trial!(outputs_are_read_back_by_pillow, Pillow),
+        clients::trial!(outputs_are_read_back_by_numpy, Numpy),
+        clients::trial!(every_readme_command_runs_as_typed),
+        clients::trial!(every_readme_view_command_runs_as_typed, Xvfb),
+    ]);
+}
 
 /// The repository's root.
 fn repo() -> PathBuf {
@@ -447,8 +467,18 @@ fn options_in_help(command: &str) -> BTreeSet<String> {
         .collect()
 }
 
-#[test]
 fn every_option_of_every_help_is_driven() {
+    help_cases(false);
+}
+
+/// `relief view`'s cases, on a virtual X server of their own.
+fn every_view_option_runs_on_a_virtual_x_server() {
+    help_cases(true);
+}
+
+/// Checks that the cases drive every option of every command's `--help`, and runs the cases
+/// of `relief view` (`view`) or those of every other command.
+fn help_cases(view: bool) {
     for (command, cases) in CASES {
         let driven: BTreeSet<String> = cases
             .iter()
@@ -460,7 +490,7 @@ fn every_option_of_every_help_is_driven() {
         assert!(!listed.is_empty(), "{command} --help lists no options");
         let missing: Vec<&String> = listed.difference(&driven).collect();
         assert!(missing.is_empty(), "relief {command}: no case drives {missing:?}");
-        if *command == "view" && x_server().is_none() {
+        if (*command == "view") != view {
             continue;
         }
         for (line, expect) in *cases {
@@ -469,7 +499,6 @@ fn every_option_of_every_help_is_driven() {
     }
 }
 
-#[test]
 fn help_says_which_size_each_command_means() {
     let help = |command: &str| {
         let mut args: Vec<&str> = command.split(' ').collect();
@@ -483,7 +512,6 @@ fn help_says_which_size_each_command_means() {
     assert!(help("generate mlhm").contains("Cells per side"));
 }
 
-#[test]
 fn negative_numbers_are_values_of_every_numeric_option() {
     // Each numeric option given a negative value: clap must take it as the value (whatever
     // the option then makes of it), never as an unknown flag.
@@ -544,7 +572,6 @@ fn negative_numbers_are_values_of_every_numeric_option() {
     }
 }
 
-#[test]
 fn a_top_down_camera_puts_north_at_the_top() {
     // A ramp rising to the north, seen from straight above: the top rows (north) are nearer.
     let ramp = scratch("ramp.npy");
@@ -578,7 +605,6 @@ fn a_top_down_camera_puts_north_at_the_top() {
     assert!((left - right).abs() < 1e-3, "east-west is level: {left} vs {right}");
 }
 
-#[test]
 fn info_describes_mlhm_scenes() {
     let out = case("info {in}/s.mlhm", Expect::Ok);
     let text = String::from_utf8_lossy(&out.stdout).into_owned();
@@ -597,7 +623,6 @@ fn info_describes_mlhm_scenes() {
     }
 }
 
-#[test]
 fn numbers_in_messages_are_readable() {
     for (line, range) in [
         ("render {in}/f.npy --spacing 1e300 -o {out}/a.png", "1e-6..10000000"),
@@ -609,7 +634,6 @@ fn numbers_in_messages_are_readable() {
     }
 }
 
-#[test]
 fn the_bench_table_is_aligned() {
     let out =
         relief(&["bench", "--size", "24", "--res", "16x9", "--repeat", "1", "--views", "flight"]);
@@ -630,16 +654,34 @@ fn the_bench_table_is_aligned() {
     }
 }
 
-#[test]
-fn outputs_are_read_back_by_the_clients_of_their_formats() {
-    let dir = scratch("clients");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
-    for ext in ["tif", "png", "asc", "npy"] {
-        case(&format!("generate fbm --size 40 -o {}", path(&format!("f.{ext}"))), Expect::Ok);
-    }
-    let hgt = path("N36W085.hgt");
-    case(&format!("generate fbm --size 1201 -o {hgt}"), Expect::Ok);
+/// The outputs the clients read back, written once: `f.tif`, `f.png`, `f.asc`, `f.npy` and
+/// `N36W085.hgt` by `relief generate`, `a.jpg`, `a.jpeg` and the depth `d.npy` by `relief
+/// render`.
+fn outputs() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = scratch("clients");
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+        for ext in ["tif", "png", "asc", "npy"] {
+            case(&format!("generate fbm --size 40 -o {}", path(&format!("f.{ext}"))), Expect::Ok);
+        }
+        case(&format!("generate fbm --size 1201 -o {}", path("N36W085.hgt")), Expect::Ok);
+        case(
+            &format!(
+                "render --fbm-size 24 --size 20x10 -o {} --depth {}",
+                path("a.jpg"),
+                path("d.npy")
+            ),
+            Expect::Ok,
+        );
+        case(&format!("render --fbm-size 24 --size 20x10 -o {}", path("a.jpeg")), Expect::Ok);
+        dir
+    })
+}
+
+fn outputs_are_read_back_by_relief() {
+    let dir = outputs();
     // relief reads each back as the format its name says.
     for (name, format) in [
         ("f.tif", "GeoTIFF"),
@@ -648,54 +690,60 @@ fn outputs_are_read_back_by_the_clients_of_their_formats() {
         ("f.npy", "NumPy"),
         ("N36W085.hgt", "SRTM"),
     ] {
-        let out = relief(&["info", &path(name)]);
+        let out = relief(&["info", dir.join(name).to_str().unwrap()]);
         let text = String::from_utf8_lossy(&out.stdout).into_owned();
         assert!(out.status.success() && text.contains(format), "{name}: {text}{}", stderr(&out));
     }
+    let bytes = std::fs::read(dir.join("a.jpg")).unwrap();
+    assert_eq!(&bytes[..3], &[0xFF, 0xD8, 0xFF], "a JPEG starts with SOI");
+}
+
+fn outputs_are_read_back_by_gdal() {
     let shapes = python(
         "rasterio",
         &format!(
             "import rasterio\nfor n in ['f.tif', 'f.asc', 'f.png', 'N36W085.hgt']:\n    \
              r = rasterio.open('{0}/' + n)\n    print(n, r.driver, r.width, r.height, r.dtypes[0])",
-            dir.display()
+            outputs().display()
         ),
-    );
-    if let Some(shapes) = shapes {
-        for expected in [
-            "f.tif GTiff 40 40 float32",
-            "f.asc AAIGrid 40 40",
-            "f.png PNG 40 40 uint16",
-            "N36W085.hgt SRTMHGT 1201 1201 int16",
-        ] {
-            assert!(shapes.contains(expected), "GDAL read {shapes}, expected {expected}");
-        }
-    }
-    case(
-        &format!(
-            "render --fbm-size 24 --size 20x10 -o {} --depth {}",
-            path("a.jpg"),
-            path("d.npy")
-        ),
-        Expect::Ok,
-    );
-    case(&format!("render --fbm-size 24 --size 20x10 -o {}", path("a.jpeg")), Expect::Ok);
-    let bytes = std::fs::read(path("a.jpg")).unwrap();
-    assert_eq!(&bytes[..3], &[0xFF, 0xD8, 0xFF], "a JPEG starts with SOI");
-    if let Some(read) = python(
-        "PIL",
-        &format!("from PIL import Image\nfor n in ['a.jpg', 'a.jpeg']:\n    i = Image.open('{}/' + n)\n    print(i.format, i.size)", dir.display()),
-    ) {
-        assert_eq!(read, "JPEG (20, 10)\nJPEG (20, 10)");
-    }
-    if let Some(shape) =
-        python("numpy", &format!("import numpy\nprint(numpy.load('{}').shape)", path("d.npy")))
-    {
-        assert_eq!(shape, "(10, 20)");
+    )
+    .unwrap();
+    for expected in [
+        "f.tif GTiff 40 40 float32",
+        "f.asc AAIGrid 40 40",
+        "f.png PNG 40 40 uint16",
+        "N36W085.hgt SRTMHGT 1201 1201 int16",
+    ] {
+        assert!(shapes.contains(expected), "GDAL read {shapes}, expected {expected}");
     }
 }
 
-#[test]
+fn outputs_are_read_back_by_pillow() {
+    let read = python(
+        "PIL",
+        &format!("from PIL import Image\nfor n in ['a.jpg', 'a.jpeg']:\n    i = Image.open('{}/' + n)\n    print(i.format, i.size)", outputs().display()),
+    );
+    assert_eq!(read.unwrap(), "JPEG (20, 10)\nJPEG (20, 10)");
+}
+
+fn outputs_are_read_back_by_numpy() {
+    let depth = outputs().join("d.npy");
+    let shape =
+        python("numpy", &format!("import numpy\nprint(numpy.load('{}').shape)", depth.display()));
+    assert_eq!(shape.unwrap(), "(10, 20)");
+}
+
 fn every_readme_command_runs_as_typed() {
+    readme_commands(false);
+}
+
+/// The README's `relief view` commands, on a virtual X server.
+fn every_readme_view_command_runs_as_typed() {
+    readme_commands(true);
+}
+
+/// Runs the README's `relief view` commands (`view`) or all its others.
+fn readme_commands(view: bool) {
     // The README's `cargo run --release -- ...` lines, continuation lines joined, run in a
     // scratch folder that sees the repository's crates/ and data/ as the README's paths do.
     let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
@@ -722,6 +770,9 @@ fn every_readme_command_runs_as_typed() {
     }
     for command in &commands {
         let mut args: Vec<&str> = command.split_whitespace().collect();
+        if (args[0] == "view") != view {
+            continue;
+        }
         // The full benchmark (4096², 1920x1080, naive and mipmap) takes minutes: as typed,
         // but on a small terrain and image.
         if args == ["bench"] {
@@ -730,7 +781,7 @@ fn every_readme_command_runs_as_typed() {
         // The viewer runs until its window is closed: as typed, on a virtual X server, for a
         // few frames.
         let x = if args[0] == "view" {
-            let Some(x) = x_server() else { continue };
+            let x = x_server().expect("Xvfb starts");
             if !args.contains(&"--frames") {
                 args.extend(["--frames", "3"]);
             }

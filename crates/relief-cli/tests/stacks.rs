@@ -1,23 +1,27 @@
 //! `relief mesh` and `relief render --mode mesh` as a user types them: an MLHM scene meshed
 //! into a .glb the Khronos glTF validator accepts and trimesh reads as a closed solid and a
 //! closed water body, OBJ and PLY read back, the camera's levels of detail, and bad input
-//! refused with exit code 2 and no file.
+//! refused with exit code 2 and no file. A test whose client (the validator, trimesh) is missing
+//! is reported ignored, with the reason (tests/common/clients.rs).
 
 mod common;
 
-use common::{read_f32_npy, relief, scratch};
+use common::{clients, read_f32_npy, relief, scratch};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// Whether a missing client fails the test rather than skipping it.
-fn clients_required() -> bool {
-    std::env::var("RELIEF_REQUIRE_CLIENTS").as_deref() == Ok("1")
-}
-
-/// Says why a check is skipped, or fails with RELIEF_REQUIRE_CLIENTS=1.
-fn skip(what: &str) {
-    assert!(!clients_required(), "{what} (RELIEF_REQUIRE_CLIENTS=1; .ci/run installs it)");
-    println!("skipped: {what}");
+fn main() {
+    clients::run(vec![
+        clients::trial!(
+            an_mlhm_scene_meshes_into_a_glb_the_validator_and_trimesh_accept,
+            GltfValidator,
+            Trimesh,
+        ),
+        clients::trial!(obj_and_ply_of_the_camera_levels_read_back, Trimesh),
+        clients::trial!(render_mode_mesh_draws_the_lod_mesh_with_depth_and_stats),
+        clients::trial!(a_stacks_file_meshes_and_bad_input_is_refused_with_exit_code_2),
+        clients::trial!(a_height_file_meshes_as_bedrock_with_finer_voxels_when_asked),
+    ]);
 }
 
 /// A scratch folder whose name has a space, as users' folders do.
@@ -63,21 +67,15 @@ fn refused(args: &[&str], expected: &str) {
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
 }
 
-/// Python with trimesh runs `script` (the file's path as sys.argv[1]); its stdout, or `None`
-/// when python or trimesh is missing (skipped, or failed with RELIEF_REQUIRE_CLIENTS=1).
-fn trimesh(script: &str, file: &Path) -> Option<String> {
-    let probe = Command::new("python3").args(["-c", "import trimesh"]).output();
-    if !probe.is_ok_and(|o| o.status.success()) {
-        skip("python3 with trimesh is required to read the meshes back");
-        return None;
-    }
+/// Python with trimesh (the harness has found it) runs `script` (the file's path as
+/// sys.argv[1]); its stdout.
+fn trimesh(script: &str, file: &Path) -> String {
     let out = Command::new("python3").args(["-c", script]).arg(file).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout).to_string();
     assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
-    Some(stdout)
+    stdout
 }
 
-#[test]
 fn an_mlhm_scene_meshes_into_a_glb_the_validator_and_trimesh_accept() {
     let dir = folder("glb");
     // 2 m cells: the scene's water, up to 2.9 m deep, is thick enough to mesh.
@@ -104,19 +102,12 @@ fn an_mlhm_scene_meshes_into_a_glb_the_validator_and_trimesh_accept() {
     // The Khronos glTF validator.
     let script =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../relief-mesh/tests/validate_gltf.mjs");
-    match Command::new("node").arg(&script).arg(&glb).output() {
-        Ok(out) if out.status.code() == Some(3) => {
-            skip(&format!("the glTF validator: {}", String::from_utf8_lossy(&out.stderr)))
-        }
-        Ok(out) => {
-            let report: serde_json::Value = serde_json::from_slice(&out.stdout)
-                .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stderr)));
-            let issues = &report["issues"];
-            assert_eq!(issues["numErrors"], 0, "{report}");
-            assert_eq!(issues["numWarnings"], 0, "{report}");
-        }
-        Err(e) => skip(&format!("node is required to run the glTF validator: {e}")),
-    }
+    let out = Command::new("node").arg(&script).arg(&glb).output().expect("node runs");
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stderr)));
+    let issues = &report["issues"];
+    assert_eq!(issues["numErrors"], 0, "{report}");
+    assert_eq!(issues["numWarnings"], 0, "{report}");
 
     // trimesh: two named meshes, each closed and consistently wound, with volume.
     let report = trimesh(
@@ -127,18 +118,15 @@ fn an_mlhm_scene_meshes_into_a_glb_the_validator_and_trimesh_accept() {
          \x20   print(name, m.is_watertight, m.is_winding_consistent, round(float(m.volume), 1))\n",
         &glb,
     );
-    if let Some(report) = report {
-        let lines: Vec<&str> = report.lines().collect();
-        assert_eq!(lines.len(), 2, "{report}");
-        for (line, name) in lines.iter().zip(["solid", "water"]) {
-            let fields: Vec<&str> = line.split_whitespace().collect();
-            assert_eq!(fields[..3], [name, "True", "True"], "{report}");
-            assert!(fields[3].parse::<f64>().unwrap() > 0.0, "{report}");
-        }
+    let lines: Vec<&str> = report.lines().collect();
+    assert_eq!(lines.len(), 2, "{report}");
+    for (line, name) in lines.iter().zip(["solid", "water"]) {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        assert_eq!(fields[..3], [name, "True", "True"], "{report}");
+        assert!(fields[3].parse::<f64>().unwrap() > 0.0, "{report}");
     }
 }
 
-#[test]
 fn obj_and_ply_of_the_camera_levels_read_back() {
     let dir = folder("obj ply");
     let input = scene(&dir, "64");
@@ -163,15 +151,11 @@ fn obj_and_ply_of_the_camera_levels_read_back() {
              print(len(m.vertices), len(m.faces))\n",
             &path,
         );
-        if let Some(report) = report {
-            let counts: Vec<usize> =
-                report.split_whitespace().map(|v| v.parse().unwrap()).collect();
-            assert!(counts[0] > 1000 && counts[1] > 1000, "{name}: {report}");
-        }
+        let counts: Vec<usize> = report.split_whitespace().map(|v| v.parse().unwrap()).collect();
+        assert!(counts[0] > 1000 && counts[1] > 1000, "{name}: {report}");
     }
 }
 
-#[test]
 fn render_mode_mesh_draws_the_lod_mesh_with_depth_and_stats() {
     let dir = folder("render");
     let input = scene(&dir, "64");
@@ -236,7 +220,6 @@ fn stacks_file(path: &Path, width: u32, height: u32, stacks: &[Vec<(f32, f32, u8
     std::fs::write(path, b).unwrap();
 }
 
-#[test]
 fn a_stacks_file_meshes_and_bad_input_is_refused_with_exit_code_2() {
     let dir = folder("refused");
     let good = dir.join("arch.stacks");
@@ -274,7 +257,6 @@ fn a_stacks_file_meshes_and_bad_input_is_refused_with_exit_code_2() {
     assert!(!out.exists(), "a refused run wrote {}", out.display());
 }
 
-#[test]
 fn a_height_file_meshes_as_bedrock_with_finer_voxels_when_asked() {
     let dir = folder("height file");
     let dem = dir.join("hills dem.npy");

@@ -2,14 +2,44 @@
 //! opens its window, renders frames progressively, plays a script (switching an MLHM scene's
 //! mode and preset too), records a camera path, and saves each screenshot once, exactly
 //! `relief render` of the same camera; an MLHM scene's simulation stepped in the viewer is
-//! `relief simulate` rendered, and run with its rain switched it changes the picture.
+//! `relief simulate` rendered, and run with its rain switched it changes the picture. Where Xvfb
+//! (or xdotool) is missing, the tests that need it are reported ignored, with the reason
+//! (tests/common/clients.rs).
 
 mod common;
 
-use common::{assert_refused, relief, scratch, x_server};
+use common::{assert_refused, clients, relief, scratch, x_server};
 use relief_viewer::CameraPath;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+fn main() {
+    clients::run(vec![
+        clients::trial!(without_a_display_it_says_so_in_one_line_and_exits_2),
+        clients::trial!(bad_viewer_options_are_refused_before_any_window),
+        clients::trial!(a_screenshot_at_rest_is_relief_render_of_the_same_camera, Xvfb),
+        clients::trial!(
+            mlhm_mode_and_preset_switched_at_run_time_render_as_relief_render_does,
+            Xvfb
+        ),
+        clients::trial!(a_scripted_flight_moves_switches_records_and_replays_as_render, Xvfb),
+        clients::trial!(an_mlhm_simulation_stepped_in_the_viewer_is_relief_simulate_rendered, Xvfb),
+        clients::trial!(
+            an_mlhm_simulation_run_and_its_rain_switched_by_keys_changes_the_picture,
+            Xvfb
+        ),
+        clients::trial!(
+            keys_and_the_mouse_typed_into_the_window_fly_it_save_and_close_it,
+            Xvfb,
+            Xdotool
+        ),
+        clients::trial!(the_readme_and_the_viewer_docs_list_every_key_as_f1_does),
+        clients::accounting_trial(
+            "a_screenshot_at_rest_is_relief_render_of_the_same_camera",
+            clients::Client::Xvfb,
+        ),
+    ]);
+}
 
 /// Runs `relief` with `args` on the X server `display`.
 fn relief_on(display: &str, args: &[&str]) -> Output {
@@ -51,7 +81,6 @@ fn assert_not_blank(path: &Path, n: usize) {
     assert!(colours.len() >= n, "{}: only {} colours", path.display(), colours.len());
 }
 
-#[test]
 fn without_a_display_it_says_so_in_one_line_and_exits_2() {
     let out = Command::new(env!("CARGO_BIN_EXE_relief"))
         .args(["view", "--fbm-size", "16"])
@@ -65,7 +94,6 @@ fn without_a_display_it_says_so_in_one_line_and_exits_2() {
     assert_refused(&out, "cannot connect to the X server");
 }
 
-#[test]
 fn bad_viewer_options_are_refused_before_any_window() {
     let dir = folder("view-refused");
     let shot = dir.join("s.jpg");
@@ -85,9 +113,8 @@ fn bad_viewer_options_are_refused_before_any_window() {
     assert_refused(&relief(&["view", "--screenshot", "a.png"]), "--frames");
 }
 
-#[test]
 fn a_screenshot_at_rest_is_relief_render_of_the_same_camera() {
-    let Some(x) = x_server() else { return };
+    let x = x_server().expect("Xvfb starts");
     let dir = folder("view-equals-render");
     let scene = dir.join("arches scene.mlhm");
     let run = relief(&["generate", "mlhm", "--scene", "arches", "--size", "32"]);
@@ -121,9 +148,8 @@ fn a_screenshot_at_rest_is_relief_render_of_the_same_camera() {
     }
 }
 
-#[test]
 fn mlhm_mode_and_preset_switched_at_run_time_render_as_relief_render_does() {
-    let Some(x) = x_server() else { return };
+    let x = x_server().expect("Xvfb starts");
     let dir = folder("view-mlhm-switch");
     let scene = dir.join("s.mlhm");
     let run =
@@ -162,9 +188,8 @@ fn mlhm_mode_and_preset_switched_at_run_time_render_as_relief_render_does() {
     assert_eq!(pixels(&last), max, "after M and 4: the smooth mode at the max preset");
 }
 
-#[test]
 fn a_scripted_flight_moves_switches_records_and_replays_as_render() {
-    let Some(x) = x_server() else { return };
+    let x = x_server().expect("Xvfb starts");
     let dir = folder("view-script");
     let (stats, last) = (dir.join("frames.json"), dir.join("last.png"));
     // Orbit closer and round for 12 frames, start recording, fly (Tab) forward turning for
@@ -281,9 +306,8 @@ fn render_picture(scene: &Path, picture: &Path, camera: &[&str]) -> (u32, u32, V
     pixels(picture)
 }
 
-#[test]
 fn an_mlhm_simulation_stepped_in_the_viewer_is_relief_simulate_rendered() {
-    let Some(x) = x_server() else { return };
+    let x = x_server().expect("Xvfb starts");
     let dir = folder("view-simulation-steps");
     let camera = ["--eye", "-100,-150,200", "--target", "128,128,0", "--size", "160x90"];
     let (scene, opened) = rivers_rain(&dir, &camera);
@@ -305,9 +329,8 @@ fn an_mlhm_simulation_stepped_in_the_viewer_is_relief_simulate_rendered() {
     assert_eq!(pixels(&shot), simulated, "3 steps in the viewer, at rest");
 }
 
-#[test]
 fn an_mlhm_simulation_run_and_its_rain_switched_by_keys_changes_the_picture() {
-    let Some(x) = x_server() else { return };
+    let x = x_server().expect("Xvfb starts");
     let dir = folder("view-simulation-run");
     let camera = ["--eye", "-100,-150,200", "--target", "128,128,0", "--size", "160x90"];
     let (scene, opened) = rivers_rain(&dir, &camera);
@@ -358,17 +381,9 @@ fn xdotool(display: &str, args: &[&str]) -> bool {
         .is_ok_and(|s| s.success())
 }
 
-#[test]
 fn keys_and_the_mouse_typed_into_the_window_fly_it_save_and_close_it() {
-    let Some(x) = x_server() else { return };
-    if !xdotool(&x.display, &["version"]) {
-        assert!(
-            std::env::var("RELIEF_REQUIRE_CLIENTS").as_deref() != Ok("1"),
-            "xdotool is required (RELIEF_REQUIRE_CLIENTS=1; .ci/run installs it)"
-        );
-        println!("skipped: xdotool is not installed");
-        return;
-    }
+    let x = x_server().expect("Xvfb starts");
+    assert!(xdotool(&x.display, &["version"]), "xdotool runs");
     let dir = folder("view-typed");
     let stats = dir.join("frames.json");
     let viewer = Command::new(env!("CARGO_BIN_EXE_relief"))
@@ -407,7 +422,6 @@ fn keys_and_the_mouse_typed_into_the_window_fly_it_save_and_close_it() {
     assert!(json["frames"].as_array().unwrap().iter().any(|f| f["moving"] == true), "{json}");
 }
 
-#[test]
 fn the_readme_and_the_viewer_docs_list_every_key_as_f1_does() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     for doc in ["README.md", "docs/viewer.md"] {

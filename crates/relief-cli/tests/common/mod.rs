@@ -82,6 +82,9 @@ mod python_client;
 #[allow(unused_imports)]
 pub use python_client::python;
 
+#[path = "../../../relief-io/tests/common/clients.rs"]
+pub mod clients;
+
 #[path = "../../../relief-io/tests/common/shared_data.rs"]
 mod shared_data_lookup;
 #[allow(unused_imports)]
