@@ -2,6 +2,10 @@
 
 The binary is $RELIEF_BIN, else target/release/relief of this repository, built with
 ``cargo build --release -p relief-cli`` when it is missing.
+
+A test whose client (rasterio, Pillow) is missing is skipped, and pytest reports it so
+(``-rs`` lists the reasons). With RELIEF_REQUIRE_CLIENTS=1 (.ci/run sets it and installs the
+clients) a session in which any test was skipped fails.
 """
 
 import os
@@ -12,6 +16,33 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[3]
+
+_skipped = []
+
+
+def pytest_runtest_logreport(report):
+    """Notes every skipped test (an expected failure, xfail, is not a skip)."""
+    if report.skipped and not hasattr(report, "wasxfail"):
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else report.longrepr
+        _skipped.append(f"{report.nodeid}: {reason}")
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """With RELIEF_REQUIRE_CLIENTS=1, fails a session in which any test was skipped."""
+    if os.environ.get("RELIEF_REQUIRE_CLIENTS") != "1" or not _skipped:
+        return
+    reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+    if reporter is not None:
+        reporter.ensure_newline()
+        reporter.write_line(
+            f"{len(_skipped)} test(s) skipped, and RELIEF_REQUIRE_CLIENTS=1 requires their "
+            "clients (.ci/run installs them):",
+            red=True,
+        )
+        for line in _skipped:
+            reporter.write_line(f"  {line}")
+    if session.exitstatus == pytest.ExitCode.OK:
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 
 def hills(rows=40, cols=48):
