@@ -4,7 +4,9 @@
 /// Runs a Python snippet with the real client of a format (e.g. `rasterio`, GDAL's Python
 /// binding) and returns what it printed; `None` (after saying so) when python3 cannot import
 /// `module` and RELIEF_REQUIRE_CLIENTS is not 1 (.ci/run sets it and installs the clients).
-/// A script that fails fails the test, with its error output.
+/// A script that fails fails the test, with its error output. A test run by the clients
+/// harness (`clients.rs`, `clients::trial!(test, Rasterio)`) is ignored, with the reason,
+/// before it gets here without the module, so it never sees `None`.
 pub fn python(module: &str, script: &str) -> Option<String> {
     use std::process::Command;
     let probe = Command::new("python3").args(["-c", &format!("import {module}")]).output();
