@@ -164,10 +164,14 @@ macro_rules! trial {
 #[allow(unused_imports)]
 pub(crate) use trial;
 
-/// Runs `trials` as libtest does (same options and output: `cargo test -- FILTER` works) and
-/// exits with its code.
+/// Runs `trials` as libtest does (same options and output: `cargo test -- FILTER` works, and
+/// RUST_TEST_THREADS too) and exits with its code.
 pub fn run(trials: Vec<Trial>) -> ! {
-    libtest_mimic::run(&Arguments::from_args(), trials).exit()
+    let mut args = Arguments::from_args();
+    if args.test_threads.is_none() {
+        args.test_threads = std::env::var("RUST_TEST_THREADS").ok().and_then(|n| n.parse().ok());
+    }
+    libtest_mimic::run(&args, trials).exit()
 }
 
 /// A test of this accounting: reruns this test binary on `name` (a test that needs `client`)
