@@ -18,6 +18,15 @@
 //! Each client is probed once per test process, when a test first needs it. Where one is
 //! missing, the test is reported `ignored (client missing: ...)`; with
 //! RELIEF_REQUIRE_CLIENTS=1 (.ci/run sets it and installs the clients) it fails instead.
+//!
+//! To move a file of plain `#[test]`s that need a client here: add `[[test]] name = "FILE"
+//! harness = false` to its crate's Cargo.toml (and `libtest-mimic.workspace = true` to its
+//! dev-dependencies if it lacks it); in the file, delete each `#[test]` line and add the `main`
+//! above listing every test with the clients it needs (a test left out is dead code, which
+//! Clippy refuses); make the skip branches of the helpers hard expectations
+//! (`python(..).unwrap()`, `x_server().expect(..)`), since a listed test only runs where its
+//! clients are; split a test that needs a client for only part of its checks. A crate without
+//! `tests/common` includes this file by `#[path]` as `mod clients;`.
 
 use libtest_mimic::{Arguments, Completion, Failed, Trial};
 use std::path::{Path, PathBuf};
