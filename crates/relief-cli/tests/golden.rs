@@ -4,12 +4,25 @@
 //!
 //! Regenerate after an intended change of the pictures with:
 //! `RELIEF_BLESS=1 cargo test -p relief-cli --test golden`
+//! In a bare clone (no ../shared) a test that reads the shared data is reported ignored.
 
 mod common;
 
-use common::shared_data;
+use common::{clients, shared_data};
 use std::path::Path;
 use std::process::Command;
+
+fn main() {
+    clients::run(vec![
+        clients::trial!(default_pipeline_matches_the_golden_image),
+        clients::trial!(mlhm_scene_with_water_at_the_mid_preset_matches_the_golden_image),
+        clients::trial!(mlhm_scene_smooth_at_the_mid_preset_matches_the_golden_image),
+        clients::trial_reading!(
+            the_real_scene_smoothed_matches_the_golden_image,
+            "data/ngwm24-scene/scene.json"
+        ),
+    ]);
+}
 
 fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
     let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
@@ -51,13 +64,11 @@ fn assert_matches_golden(args: &[&str], golden: &str) {
     );
 }
 
-#[test]
 fn default_pipeline_matches_the_golden_image() {
     let args = ["render", "--fbm-size", "64", "--seed", "7", "--size", "96x64"];
     assert_matches_golden(&args, "tests/golden/fbm-96x64.png");
 }
 
-#[test]
 fn mlhm_scene_with_water_at_the_mid_preset_matches_the_golden_image() {
     let scene = combined_scene("boxes");
     let args = ["render", &scene, "--preset", "mid", "--size", "96x64"];
@@ -77,14 +88,12 @@ fn combined_scene(name: &str) -> String {
     scene
 }
 
-#[test]
 fn mlhm_scene_smooth_at_the_mid_preset_matches_the_golden_image() {
     let scene = combined_scene("smooth");
     let args = ["render", &scene, "--mode", "smooth", "--preset", "mid", "--size", "96x64"];
     assert_matches_golden(&args, "tests/golden/mlhm-combined-smooth-mid-96x64.png");
 }
 
-#[test]
 fn the_real_scene_smoothed_matches_the_golden_image() {
     let Some(json) = shared_data("data/ngwm24-scene/scene.json") else { return };
     // Low over the scene's north-east corner, looking at the side walls of its terraces.

@@ -3,16 +3,35 @@
 //! from every preset, a hand-made scene gives the depths worked out by hand (from above and
 //! from under water), the real scene renders at every preset, and bad options or files are
 //! refused with exit code 2 before anything is written.
+//! In a bare clone (no ../shared) a test that reads the shared data is reported ignored.
 
 mod common;
 
 use common::{
-    assert_refused, depth_straight_down, read_f32_npy, relief, render_depth, scratch, shared_data,
+    assert_refused, clients, depth_straight_down, read_f32_npy, relief, render_depth, scratch,
+    shared_data,
 };
 use relief_core::{Mlhm, MlhmColumn};
 use relief_io::{read_mlhm_scene, write_mlhm_scene, MlhmScene, ReadOptions};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
+
+fn main() {
+    clients::run(vec![
+        clients::trial!(a_carved_scene_renders_with_depth_and_normals),
+        clients::trial!(naive_and_hierarchy_tracers_give_the_same_depth),
+        clients::trial!(straight_down_depths_match_the_hand_made_scene),
+        clients::trial!(every_preset_renders_the_same_surfaces_with_more_rays_for_more_quality),
+        clients::trial!(a_camera_under_water_sees_the_bottom_below_and_the_surface_above),
+        clients::trial_reading!(
+            the_real_scene_renders_at_every_preset,
+            "data/ngwm24-scene/scene.json"
+        ),
+        clients::trial!(the_smooth_surface_renders_at_every_preset_with_and_without_the_hierarchy),
+        clients::trial!(a_flat_scene_renders_smooth_as_its_plane),
+        clients::trial!(bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing),
+    ]);
+}
 
 /// The cave scene at 32 x 32 cells, generated once per test process.
 fn cave() -> &'static Path {
@@ -44,7 +63,6 @@ fn render(scene: &Path, name: &str, extra: &[&str]) -> (Vec<f32>, String) {
     (depth, stderr)
 }
 
-#[test]
 fn a_carved_scene_renders_with_depth_and_normals() {
     let normals = scratch("cave-normals.npy");
     let (depth, stderr) = render(cave(), "cave", &["--normals", normals.to_str().unwrap()]);
@@ -78,7 +96,6 @@ fn eye_in_the_cave() -> (String, String) {
     (format!("{ex},{ey},{z}"), format!("{},{},{}", ex + 100.0, ey + 37.0, z - 10.0))
 }
 
-#[test]
 fn naive_and_hierarchy_tracers_give_the_same_depth() {
     let (eye, target) = eye_in_the_cave();
     let inside = ["--eye", eye.as_str(), "--target", target.as_str(), "--fov", "90"];
@@ -119,7 +136,6 @@ fn hand_scene() -> PathBuf {
     json
 }
 
-#[test]
 fn straight_down_depths_match_the_hand_made_scene() {
     let json = hand_scene();
     for tracer in [&["--tracer", "naive"][..], &[], &["--backtrack", "miss"]] {
@@ -141,7 +157,6 @@ fn rays_per_pixel(stderr: &str) -> f64 {
     before.rsplit(' ').next().unwrap().parse().unwrap_or_else(|_| panic!("{stderr}"))
 }
 
-#[test]
 fn every_preset_renders_the_same_surfaces_with_more_rays_for_more_quality() {
     let json = scratch("presets-combined.json");
     let args = ["generate", "mlhm", "--scene", "combined", "--size", "48", "-o"];
@@ -166,7 +181,6 @@ fn every_preset_renders_the_same_surfaces_with_more_rays_for_more_quality() {
     assert!(rays_per_pixel(&no_shadows) < rays_per_pixel(&shadows));
 }
 
-#[test]
 fn a_camera_under_water_sees_the_bottom_below_and_the_surface_above() {
     let json = hand_scene();
     // Cell (0, 0): sand top at 1.5 m, water surface at 2 m; the eye is in the water at 1.75 m.
@@ -201,7 +215,6 @@ fn a_camera_under_water_sees_the_bottom_below_and_the_surface_above() {
     assert!(image.pixels.iter().all(|p| p.iter().any(|&c| c > 0)), "a black pixel");
 }
 
-#[test]
 fn the_real_scene_renders_at_every_preset() {
     let Some(json) = shared_data("data/ngwm24-scene/scene.json") else { return };
     for preset in ["low", "mid", "high", "max"] {
@@ -212,7 +225,6 @@ fn the_real_scene_renders_at_every_preset() {
     }
 }
 
-#[test]
 fn the_smooth_surface_renders_at_every_preset_with_and_without_the_hierarchy() {
     let mut previous = 0.0;
     for preset in ["low", "mid", "high", "max"] {
@@ -236,7 +248,6 @@ fn the_smooth_surface_renders_at_every_preset_with_and_without_the_hierarchy() {
     assert!(differing * 200 < with.len(), "{differing} of {} pixels differ", with.len());
 }
 
-#[test]
 fn a_flat_scene_renders_smooth_as_its_plane() {
     let mut map = Mlhm::new(16, 16, 1, 0.5).unwrap();
     for y in 0..16 {
@@ -254,7 +265,6 @@ fn a_flat_scene_renders_smooth_as_its_plane() {
     }
 }
 
-#[test]
 fn bad_options_and_files_are_refused_with_exit_code_2_and_write_nothing() {
     let cave = cave().to_str().unwrap().to_string();
     let garbage = scratch("garbage.json");

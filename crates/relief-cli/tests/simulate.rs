@@ -1,12 +1,26 @@
 //! `relief simulate` end to end: a generated RiversRain scene simulated, written with its
 //! state and step count, continued by a second run exactly as one unbroken run, and the real
 //! scene the reference simulator saved (../shared/data/ngwm24-scene) simulated further.
+//! In a bare clone (no ../shared) a test that reads the shared data is reported ignored.
 
 mod common;
 
-use common::{relief, scratch, shared_data};
+use common::{clients, relief, scratch, shared_data};
 use relief_io::{read_mlhm_scene, ReadOptions};
 use std::path::Path;
+
+fn main() {
+    clients::run(vec![
+        clients::trial!(a_generated_scene_simulates_and_continues_exactly),
+        clients::trial!(a_truncated_dat_is_refused),
+        clients::trial_reading!(
+            the_reference_scene_simulates_further,
+            "data/ngwm24-scene/scene.json"
+        ),
+        clients::trial!(frames_are_rendered_every_k_steps_with_their_times),
+        clients::trial!(frame_options_out_of_place_are_refused),
+    ]);
+}
 
 fn run(args: &[&str]) -> String {
     let out = relief(args);
@@ -23,7 +37,6 @@ fn p(path: &Path) -> &str {
     path.to_str().unwrap()
 }
 
-#[test]
 fn a_generated_scene_simulates_and_continues_exactly() {
     let input = scratch("sim-rivers.json");
     run(&["generate", "mlhm", "--scene", "rivers-rain", "--size", "32", "-o", p(&input)]);
@@ -76,7 +89,6 @@ fn a_generated_scene_simulates_and_continues_exactly() {
     assert!(stats["rain_m3"].as_f64().unwrap() > 0.0);
 }
 
-#[test]
 fn a_truncated_dat_is_refused() {
     let input = scratch("sim-cut.json");
     run(&["generate", "mlhm", "--scene", "arches", "--size", "16", "-o", p(&input)]);
@@ -89,7 +101,6 @@ fn a_truncated_dat_is_refused() {
     assert!(!scratch("sim-cut-out.json").exists());
 }
 
-#[test]
 fn the_reference_scene_simulates_further() {
     let Some(input) = shared_data("data/ngwm24-scene/scene.json") else { return };
     let output = scratch("ngwm24-simulated.json");
@@ -106,7 +117,6 @@ fn the_reference_scene_simulates_further() {
     assert!((out.settings["Simulation/Evaporation"].as_f64().unwrap() - 0.01).abs() < 1e-6);
 }
 
-#[test]
 fn frames_are_rendered_every_k_steps_with_their_times() {
     let input = scratch("sim-frames-in.json");
     run(&["generate", "mlhm", "--scene", "rivers-rain", "--size", "24", "-o", p(&input)]);
@@ -162,7 +172,6 @@ fn frames_are_rendered_every_k_steps_with_their_times() {
     }
 }
 
-#[test]
 fn frame_options_out_of_place_are_refused() {
     let input = scratch("sim-frames-bad.json");
     run(&["generate", "mlhm", "--scene", "arches", "--size", "16", "-o", p(&input)]);

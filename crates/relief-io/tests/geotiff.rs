@@ -1,10 +1,11 @@
 //! GeoTIFF reading and writing: a real DEM, files made here with the `tiff` crate for every
 //! sample type, compression and chunk layout, placements, the writer's round trip and broken
 //! files.
+//! In a bare clone (no ../shared) a test that reads the shared data is reported ignored.
 
 mod common;
 
-use common::{shared_data, TestDir};
+use common::{clients, shared_data, TestDir};
 
 use relief_core::{DVec2, GridGeometry, HeightField};
 use relief_io::{
@@ -19,6 +20,33 @@ use tiff::encoder::colortype::{self, ColorType};
 use tiff::encoder::compression::{CompressionAlgorithm, Deflate, DeflateLevel, Lzw, Packbits};
 use tiff::encoder::{Compression, Predictor, TiffEncoder, TiffValue};
 use tiff::tags::Tag;
+
+fn main() {
+    clients::run(vec![
+        clients::trial!(jacksboro_dem_reads_with_its_size_type_placement_and_values),
+        clients::trial_reading!(
+            jacksboro_rows_run_south_to_north_like_the_numpy_copy_flipped,
+            "data/jacksboro_fault_dem.npy"
+        ),
+        clients::trial!(written_field_reads_back_with_the_same_geometry_samples_and_holes),
+        clients::trial!(z_scale_is_applied_to_written_values),
+        clients::trial!(failed_writes_leave_no_file),
+        clients::trial!(every_sample_type_in_strips_and_tiles_with_every_compression),
+        clients::trial!(nan_nodata_marks_nan_samples_as_voids),
+        clients::trial!(sparse_tiles_are_filled_with_nodata),
+        clients::trial!(reading_holds_the_samples_and_one_strip_not_the_decoded_file),
+        clients::trial!(placements_of_projected_rasters),
+        clients::trial!(geographic_pixel_is_point_raster_is_placed_in_metres),
+        clients::trial!(every_truncation_of_the_fixture_is_an_error),
+        clients::trial!(corrupted_tiles_are_refused_or_read_at_their_size_as_their_codec_allows),
+        clients::trial!(wrong_magic_empty_file_directory_and_missing_file),
+        clients::trial!(a_tiny_file_claiming_a_huge_raster_is_refused_before_allocating),
+        clients::trial!(zero_sized_raster_is_a_format_error),
+        clients::trial!(rgb_images_and_other_layouts_are_unsupported),
+        clients::trial!(nan_without_nodata_is_refused_naming_its_place),
+        clients::trial!(big_endian_files_read_like_little_endian_ones),
+    ]);
+}
 
 // ---------------------------------------------------------------------------------------------
 // Allocation accounting: the largest amount of heap this thread held at once.
@@ -292,7 +320,6 @@ fn assert_north_up_samples(raster: &Raster, expected: &[f32], case: &str) {
 // ---------------------------------------------------------------------------------------------
 // The real DEM.
 
-#[test]
 fn jacksboro_dem_reads_with_its_size_type_placement_and_values() {
     let raster = read_geotiff(&fixture(), &ReadOptions::default()).unwrap();
     assert_eq!((raster.width, raster.height), (403, 344));
@@ -318,7 +345,6 @@ fn jacksboro_dem_reads_with_its_size_type_placement_and_values() {
     assert!(raster.samples.iter().all(|v| v.fract() == 0.0));
 }
 
-#[test]
 fn jacksboro_rows_run_south_to_north_like_the_numpy_copy_flipped() {
     let Some(npy) = shared_data("data/jacksboro_fault_dem.npy") else { return };
     let raster = read_geotiff(&fixture(), &ReadOptions::default()).unwrap();
@@ -340,7 +366,6 @@ fn jacksboro_rows_run_south_to_north_like_the_numpy_copy_flipped() {
 // ---------------------------------------------------------------------------------------------
 // The writer.
 
-#[test]
 fn written_field_reads_back_with_the_same_geometry_samples_and_holes() {
     let dir = TestDir::new("roundtrip");
     let (w, h) = (29, 17);
@@ -393,7 +418,6 @@ fn written_field_reads_back_with_the_same_geometry_samples_and_holes() {
     assert!(first_row[w - 1].is_nan());
 }
 
-#[test]
 fn z_scale_is_applied_to_written_values() {
     let dir = TestDir::new("zscale");
     let geometry = GridGeometry { z_scale: 0.5, ..GridGeometry::unit() };
@@ -404,7 +428,6 @@ fn z_scale_is_applied_to_written_values() {
     assert_eq!(raster.samples, [1.0, 2.0, 3.0, 4.0, 5.0, -6.0]);
 }
 
-#[test]
 fn failed_writes_leave_no_file() {
     let dir = TestDir::new("write-fail");
     let field = HeightField::new(2, 2, vec![0.0; 4], GridGeometry::unit()).unwrap();
@@ -503,7 +526,6 @@ fn check_sample_type<C: ColorType>(
     }
 }
 
-#[test]
 fn every_sample_type_in_strips_and_tiles_with_every_compression() {
     use colortype::*;
     let dir = TestDir::new("types");
@@ -550,7 +572,6 @@ fn every_sample_type_in_strips_and_tiles_with_every_compression() {
     });
 }
 
-#[test]
 fn nan_nodata_marks_nan_samples_as_voids() {
     let dir = TestDir::new("nan-nodata");
     let mut values = vec![1.5f32; 12];
@@ -572,7 +593,6 @@ fn nan_nodata_marks_nan_samples_as_voids() {
     assert!(raster.samples[1 + 4].is_nan());
 }
 
-#[test]
 fn sparse_tiles_are_filled_with_nodata() {
     let dir = TestDir::new("sparse");
     let samples =
@@ -591,7 +611,6 @@ fn sparse_tiles_are_filled_with_nodata() {
     assert!(raster.samples[19].is_nan() && raster.samples[15] == 5.0);
 }
 
-#[test]
 fn reading_holds_the_samples_and_one_strip_not_the_decoded_file() {
     let dir = TestDir::new("memory");
     let (w, h) = (600usize, 500usize);
@@ -635,7 +654,6 @@ fn close(a: DVec2, b: DVec2) -> bool {
     (a - b).length() < 1e-9
 }
 
-#[test]
 fn placements_of_projected_rasters() {
     let dir = TestDir::new("placement");
     let keys = |raster_type: u16| {
@@ -706,7 +724,6 @@ fn placements_of_projected_rasters() {
     assert!(matches!(zero, Err(IoError::Format { .. })));
 }
 
-#[test]
 fn geographic_pixel_is_point_raster_is_placed_in_metres() {
     let dir = TestDir::new("geographic");
     // An SRTM-like layout: 1 arc-second samples, the first sample's centre at (-84 E, 37 N).
@@ -740,7 +757,6 @@ fn geographic_pixel_is_point_raster_is_placed_in_metres() {
 // ---------------------------------------------------------------------------------------------
 // Broken and unsupported files.
 
-#[test]
 fn every_truncation_of_the_fixture_is_an_error() {
     let dir = TestDir::new("truncated");
     let good = std::fs::read(fixture()).unwrap();
@@ -755,7 +771,6 @@ fn every_truncation_of_the_fixture_is_an_error() {
     }
 }
 
-#[test]
 fn corrupted_tiles_are_refused_or_read_at_their_size_as_their_codec_allows() {
     let dir = TestDir::new("corrupt");
     let samples = Samples {
@@ -800,7 +815,6 @@ fn corrupted_tiles_are_refused_or_read_at_their_size_as_their_codec_allows() {
     }
 }
 
-#[test]
 fn wrong_magic_empty_file_directory_and_missing_file() {
     let dir = TestDir::new("paths");
     let mut bytes = std::fs::read(fixture()).unwrap();
@@ -861,7 +875,6 @@ fn hand_made_tiff(entries: &[(u16, u16, u32, u32)], trailing: &[u8]) -> Vec<u8> 
     bytes
 }
 
-#[test]
 fn a_tiny_file_claiming_a_huge_raster_is_refused_before_allocating() {
     let dir = TestDir::new("huge");
     const SHORT: u16 = 3;
@@ -898,7 +911,6 @@ fn a_tiny_file_claiming_a_huge_raster_is_refused_before_allocating() {
     assert!(peak < 1 << 20, "reading the header took {peak} bytes");
 }
 
-#[test]
 fn zero_sized_raster_is_a_format_error() {
     let dir = TestDir::new("zero");
     let bytes = hand_made_tiff(
@@ -916,7 +928,6 @@ fn zero_sized_raster_is_a_format_error() {
     assert!(matches!(err, IoError::Format { .. }), "{err}");
 }
 
-#[test]
 fn rgb_images_and_other_layouts_are_unsupported() {
     let dir = TestDir::new("unsupported");
     let rgb = encode_strips::<colortype::RGB8>(
@@ -949,7 +960,6 @@ fn rgb_images_and_other_layouts_are_unsupported() {
     );
 }
 
-#[test]
 fn nan_without_nodata_is_refused_naming_its_place() {
     let dir = TestDir::new("nan");
     let mut values = vec![0.5f32; 6 * 4];
@@ -984,7 +994,6 @@ fn nan_without_nodata_is_refused_naming_its_place() {
     );
 }
 
-#[test]
 fn big_endian_files_read_like_little_endian_ones() {
     let dir = TestDir::new("big-endian");
     // "MM", version 42, the IFD at 8; entries of (tag, type, count, value) with SHORT values

@@ -1,10 +1,11 @@
 //! relief's native `.mlhm` files: bit-exact round trips in f32 and f16 (hand-made, random and
 //! the real reference scene), archives built by hand as NumPy would build them, and refusal,
 //! by cause and without panic, of every broken file.
+//! In a bare clone (no ../shared) a test that reads the shared data is reported ignored.
 
 mod common;
 
-use common::{shared_data, TestDir};
+use common::{clients, shared_data, TestDir};
 use proptest::prelude::*;
 use relief_core::{Mlhm, MlhmColumn, Precision};
 use relief_io::{
@@ -15,6 +16,25 @@ use std::io::{Read, Write};
 use std::path::Path;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipArchive, ZipWriter};
+
+fn main() {
+    clients::run(vec![
+        clients::trial!(f32_maps_round_trip_bit_exactly_in_the_documented_layout),
+        clients::trial!(f16_maps_round_trip_bit_exactly_as_float16),
+        clients::trial_reading!(
+            the_real_reference_scene_round_trips,
+            "data/ngwm24-scene/scene.json"
+        ),
+        clients::trial!(archives_as_numpy_writes_them_are_read),
+        clients::trial!(missing_arrays_wrong_types_and_shapes_are_refused_by_cause),
+        clients::trial!(hostile_sizes_are_refused_before_allocating),
+        clients::trial!(broken_invariants_are_refused_naming_cell_and_column),
+        clients::trial!(truncated_and_foreign_files_are_refused),
+        clients::trial!(writing_into_a_missing_folder_fails_and_leaves_nothing),
+        clients::trial!(random_maps_round_trip_bit_exactly),
+        clients::trial!(corrupted_bytes_are_refused_or_read_as_the_map_written),
+    ]);
+}
 
 const INF: f32 = f32::INFINITY;
 
@@ -62,7 +82,6 @@ fn members(bytes: &[u8]) -> Vec<(String, String)> {
         .collect()
 }
 
-#[test]
 fn f32_maps_round_trip_bit_exactly_in_the_documented_layout() {
     let dir = TestDir::new("mlhm-native-f32");
     let map = small_map();
@@ -91,7 +110,6 @@ fn f32_maps_round_trip_bit_exactly_in_the_documented_layout() {
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2, "a temporary file is left");
 }
 
-#[test]
 fn f16_maps_round_trip_bit_exactly_as_float16() {
     let dir = TestDir::new("mlhm-native-f16");
     let map = small_map().to_precision(Precision::F16).unwrap();
@@ -107,7 +125,6 @@ fn f16_maps_round_trip_bit_exactly_as_float16() {
     assert!(f32_size < std::fs::metadata(dir.join("full.mlhm")).unwrap().len());
 }
 
-#[test]
 fn the_real_reference_scene_round_trips() {
     let Some(path) = shared_data("data/ngwm24-scene/scene.json") else { return };
     let dir = TestDir::new("mlhm-native-real");
@@ -208,7 +225,6 @@ fn with(name: &str, bytes: Option<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
     members
 }
 
-#[test]
 fn archives_as_numpy_writes_them_are_read() {
     let options = ReadOptions::default();
     assert_eq!(read_members(&valid_members(), &options).unwrap(), valid_map());
@@ -279,7 +295,6 @@ fn limits(e: &IoError) -> bool {
     matches!(e, IoError::Limits { .. })
 }
 
-#[test]
 fn missing_arrays_wrong_types_and_shapes_are_refused_by_cause() {
     refused(&with("relief_mlhm_version.npy", None), format, &["not a relief .mlhm"]);
     refused(&with("columns.npy", None), format, &["no array 'columns'"]);
@@ -352,7 +367,6 @@ fn missing_arrays_wrong_types_and_shapes_are_refused_by_cause() {
     refused(&with("columns.npy", Some(columns("<c8", "(2, 1, 2, 4)", 128))), unsupported, &["c8"]);
 }
 
-#[test]
 fn hostile_sizes_are_refused_before_allocating() {
     // A header that claims far more than the member holds.
     let huge = npy("<f4", false, "(200, 100000, 100000, 4)", &[0; 64]);
@@ -371,7 +385,6 @@ fn hostile_sizes_are_refused_before_allocating() {
     refused(&with("cell_size.npy", Some(padded)), format, &["cell_size"]);
 }
 
-#[test]
 fn broken_invariants_are_refused_naming_cell_and_column() {
     let columns = |change: &dyn Fn(&mut [f32])| {
         let mut values = f32_values(&valid_members()[3].1);
@@ -398,7 +411,6 @@ fn broken_invariants_are_refused_naming_cell_and_column() {
     }
 }
 
-#[test]
 fn truncated_and_foreign_files_are_refused() {
     let dir = TestDir::new("mlhm-native-broken");
     let path = dir.join("small.mlhm");
@@ -424,7 +436,6 @@ fn truncated_and_foreign_files_are_refused() {
     assert!(format(&err) || matches!(err, IoError::Io { .. }), "{err}");
 }
 
-#[test]
 fn writing_into_a_missing_folder_fails_and_leaves_nothing() {
     let dir = TestDir::new("mlhm-native-missing");
     let err = write_mlhm_native(&dir.join("no/such.mlhm"), &small_map()).unwrap_err();
@@ -469,7 +480,6 @@ fn random_map() -> impl Strategy<Value = Mlhm> {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
-    #[test]
     fn random_maps_round_trip_bit_exactly(map in random_map()) {
         let dir = TestDir::new("mlhm-native-random");
         let back = round_trip(&map, &dir, "random.mlhm");
@@ -478,7 +488,6 @@ proptest! {
         prop_assert_eq!(back, map);
     }
 
-    #[test]
     fn corrupted_bytes_are_refused_or_read_as_the_map_written(
         map in random_map(),
         changes in prop::collection::vec((any::<prop::sample::Index>(), any::<u8>()), 1..6),

@@ -1,10 +1,11 @@
 //! Scenes of the reference MLHM simulator: the real scene in ../shared/data/ngwm24-scene read
 //! and checked against the figures of the reference notes, round trips in f32 and f16, and
 //! refusal of broken files.
+//! In a bare clone (no ../shared) a test that reads the shared data is reported ignored.
 
 mod common;
 
-use common::{shared_data, TestDir};
+use common::{clients, shared_data, TestDir};
 
 use relief_core::{Mlhm, MlhmColumn, Precision};
 use relief_io::{
@@ -13,6 +14,23 @@ use relief_io::{
 };
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+fn main() {
+    clients::run(vec![
+        clients::trial_reading!(
+            the_real_scene_matches_the_reference_figures,
+            "data/ngwm24-scene/scene.json"
+        ),
+        clients::trial_reading!(
+            the_real_scene_round_trips_in_f32_and_f16,
+            "data/ngwm24-scene/scene.json"
+        ),
+        clients::trial!(small_scenes_round_trip_in_both_precisions),
+        clients::trial!(broken_files_are_refused_with_errors_naming_the_file),
+        clients::trial!(truncated_and_corrupted_streams_never_panic),
+        clients::trial!(half_precision_merges_gaps_it_cannot_resolve_and_resets_their_state),
+    ]);
+}
 
 /// The real scene's JSON path, or `None` (with the reason printed) in a bare clone.
 fn real_scene() -> Option<PathBuf> {
@@ -24,7 +42,6 @@ fn two_decimals(v: f32) -> f64 {
     (f64::from(v) * 100.0).round() / 100.0
 }
 
-#[test]
 fn the_real_scene_matches_the_reference_figures() {
     let Some(path) = real_scene() else { return };
     let header = read_mlhm_scene_header(&path).unwrap();
@@ -65,7 +82,6 @@ fn the_real_scene_matches_the_reference_figures() {
     assert_eq!(state.fluxes.len(), 256 * 256 * 4);
 }
 
-#[test]
 fn the_real_scene_round_trips_in_f32_and_f16() {
     let Some(path) = real_scene() else { return };
     let scene = read_mlhm_scene(&path, &ReadOptions::default()).unwrap();
@@ -119,7 +135,6 @@ fn small_scene() -> MlhmScene {
     scene
 }
 
-#[test]
 fn small_scenes_round_trip_in_both_precisions() {
     let dir = TestDir::new("small");
     for precision in [Precision::F32, Precision::F16] {
@@ -149,7 +164,6 @@ fn zlib(bytes: &[u8]) -> Vec<u8> {
     z.finish().unwrap()
 }
 
-#[test]
 fn broken_files_are_refused_with_errors_naming_the_file() {
     let dir = TestDir::new("broken");
     write_mlhm_scene(&dir.join("s.json"), &small_scene()).unwrap();
@@ -201,7 +215,6 @@ fn broken_files_are_refused_with_errors_naming_the_file() {
     assert!(matches!(err, IoError::Limits { .. }), "{err}");
 }
 
-#[test]
 fn truncated_and_corrupted_streams_never_panic() {
     let path = Path::new("mem/s.json");
     let dir = TestDir::new("trunc");
@@ -245,7 +258,6 @@ fn truncated_and_corrupted_streams_never_panic() {
     println!("{refused} refused, {unchanged} read back unchanged");
 }
 
-#[test]
 fn half_precision_merges_gaps_it_cannot_resolve_and_resets_their_state() {
     let dir = TestDir::new("merge");
     let mut map = Mlhm::new(2, 1, 2, 1.0).unwrap();

@@ -1,6 +1,7 @@
 //! The real clients some tests need (GDAL through rasterio, Pillow, NumPy, trimesh, the Khronos
 //! glTF validator, Xvfb, xdotool), and the test harness that reports a test whose client is
-//! missing as ignored, with the reason and the install command, instead of passing it.
+//! missing as ignored, with the reason and the install command, instead of passing it; and
+//! likewise a test that reads the shared data (../shared) in a bare clone.
 //!
 //! Shared by the test targets of relief-io, relief-cli and relief-mesh that need a client
 //! (included by path, as `shared_data.rs` is). Each such target has `harness = false` in its
@@ -35,6 +36,9 @@ use std::sync::OnceLock;
 
 /// What starts the reason of a test ignored for a missing client; `.ci/run` counts these.
 pub const MISSING: &str = "client missing";
+
+/// What starts the reason of a test ignored for want of the shared data; `.ci/run` counts these.
+pub const SHARED_MISSING: &str = "shared data missing";
 
 /// A program or library outside the workspace that a test runs to check relief's output.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -172,6 +176,37 @@ macro_rules! trial {
 }
 #[allow(unused_imports)]
 pub(crate) use trial;
+
+/// The test `name` running `test`, which reads `relative` (say `data/jacksboro_fault_dem.npy`)
+/// from the project's shared folder with `shared_data`: ignored, with the reason, where that
+/// file and the folder, ../shared beside the repository, are absent (a bare clone) and
+/// RELIEF_REQUIRE_SHARED_DATA is not 1. Elsewhere it runs, and `shared_data` fails it if the
+/// file is missing. Prefer the [`trial_reading!`] macro, which names it after `test`.
+pub fn trial_reading_shared_data(name: &str, relative: &'static str, test: fn()) -> Trial {
+    Trial::ignorable_test(name, move || {
+        // Where shared_data.rs looks.
+        let shared = repository().join("../shared");
+        let required = std::env::var("RELIEF_REQUIRE_SHARED_DATA").as_deref() == Ok("1");
+        if !shared.join(relative).is_file() && !shared.is_dir() && !required {
+            return Ok(Completion::ignored_with(format!(
+                "{SHARED_MISSING}: ../shared, which holds {relative}, is not beside the \
+                 repository"
+            )));
+        }
+        test();
+        Ok(Completion::Completed)
+    })
+}
+
+/// `trial_reading!(test_fn, "data/FILE")`: the [`trial_reading_shared_data`] named after the function.
+#[allow(unused_macros)]
+macro_rules! trial_reading {
+    ($test:ident, $relative:expr $(,)?) => {
+        clients::trial_reading_shared_data(stringify!($test), $relative, $test)
+    };
+}
+#[allow(unused_imports)]
+pub(crate) use trial_reading;
 
 /// Runs `trials` as libtest does (same options and output: `cargo test -- FILTER` works, and
 /// RUST_TEST_THREADS too) and exits with its code.
