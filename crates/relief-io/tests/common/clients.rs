@@ -29,6 +29,9 @@
 //! clients are; split a test that needs a client for only part of its checks. A crate without
 //! `tests/common` includes this file by `#[path]` as `mod clients;`.
 
+// Each test target uses a part of it.
+#![allow(dead_code)]
+
 use libtest_mimic::{Arguments, Completion, Failed, Trial};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
