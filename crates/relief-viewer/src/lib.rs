@@ -8,7 +8,8 @@
 //! ([`SimulationControl`]) and the render thread asks the scene for the steps before a frame.
 //!
 //! `relief view` (in relief-cli) is its front end; the same loop runs scripted for tests
-//! ([`Script`], `--frames N --screenshot S.png`).
+//! ([`Script`], `--frames N --screenshot S.png`), in a window or, without a display,
+//! headless ([`run_headless`]).
 #![deny(missing_docs)]
 
 mod camera_controller;
@@ -34,7 +35,7 @@ pub use script::{Script, ScriptFrame, SCRIPT_FRAME_S};
 pub use simulation::{SimulationControl, SimulationReport, SimulationRequest};
 pub use summary::{FrameRecord, ViewerSummary};
 pub use view_settings::{SceneChoices, ViewSettings};
-pub use window::{check_display, run, ViewerConfig};
+pub use window::{check_display, run, run_headless, ViewerConfig};
 
 use std::path::PathBuf;
 

@@ -21,7 +21,7 @@ use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, EventLoopProxy};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::PhysicalKey;
 use winit::window::{Window, WindowId};
 
@@ -74,13 +74,78 @@ pub fn run(
     let event_loop = EventLoop::<Rendered>::with_user_event()
         .build()
         .map_err(|e| ViewerError::NoDisplay(format!("cannot connect to the X server: {e}")))?;
-    let (jobs, worker) = spawn_render_thread(renderer.clone(), event_loop.create_proxy());
+    let proxy = event_loop.create_proxy();
+    let (jobs, worker) =
+        spawn_render_thread(renderer.clone(), move |rendered| proxy.send_event(rendered).is_ok());
     let mut app = App::new(renderer, config, jobs);
     let ran = event_loop.run_app(&mut app);
     drop(app.jobs.take());
     let _ = worker.join();
     ran.map_err(|e| ViewerError::Window(e.to_string()))?;
     app.finish()
+}
+
+/// Draws the frames of a `--frames` run (`config.frames` must be set) without a window or a
+/// display: the scripted run's loop, the same frames, the same screenshot and stats, with the
+/// render thread's frames taken as they come instead of through the window's event loop.
+pub fn run_headless(
+    renderer: Arc<dyn SceneRenderer>,
+    config: ViewerConfig,
+) -> Result<ViewerSummary, ViewerError> {
+    if config.frames.is_none() {
+        return Err(ViewerError::NoDisplay(
+            "a viewer without a window draws a --frames run only".into(),
+        ));
+    }
+    let (send, receive) = mpsc::channel::<Rendered>();
+    let (jobs, worker) =
+        spawn_render_thread(renderer.clone(), move |rendered| send.send(rendered).is_ok());
+    let mut app = App::new(renderer, config, jobs);
+    let control = Headless::default();
+    app.play_script_frame(&control, 0);
+    app.drive_script(&control);
+    while !control.exiting() && app.busy {
+        match receive.recv() {
+            Ok(rendered) => app.on_rendered(&control, rendered),
+            Err(_) => break,
+        }
+    }
+    drop(app.jobs.take());
+    let _ = worker.join();
+    app.finish()
+}
+
+/// What the viewer's loop asks of the loop it runs in: to stop, and whether it is stopping
+/// (winit's event loop with a window, or [`Headless`] without).
+trait LoopControl {
+    /// Stops the loop once the current event is handled.
+    fn exit(&self);
+    /// Whether the loop was asked to stop.
+    fn exiting(&self) -> bool;
+}
+
+impl LoopControl for ActiveEventLoop {
+    fn exit(&self) {
+        ActiveEventLoop::exit(self);
+    }
+
+    fn exiting(&self) -> bool {
+        ActiveEventLoop::exiting(self)
+    }
+}
+
+/// The loop of a run without a window: it stops when asked.
+#[derive(Default)]
+struct Headless(std::cell::Cell<bool>);
+
+impl LoopControl for Headless {
+    fn exit(&self) {
+        self.0.set(true);
+    }
+
+    fn exiting(&self) -> bool {
+        self.0.get()
+    }
 }
 
 /// A frame to render.
@@ -108,9 +173,11 @@ enum Rendered {
     Failed(String),
 }
 
+/// The render thread: it renders the jobs sent to it and hands each result to `deliver`,
+/// stopping when `deliver` says no one listens any more.
 fn spawn_render_thread(
     renderer: Arc<dyn SceneRenderer>,
-    proxy: EventLoopProxy<Rendered>,
+    deliver: impl Fn(Rendered) -> bool + Send + 'static,
 ) -> (mpsc::Sender<Job>, std::thread::JoinHandle<()>) {
     let (send, receive) = mpsc::channel::<Job>();
     let worker = std::thread::spawn(move || {
@@ -118,7 +185,7 @@ fn spawn_render_thread(
             let simulated = match job.simulate.map(|r| renderer.simulate(&r)).transpose() {
                 Ok(report) => report,
                 Err(e) => {
-                    let _ = proxy.send_event(Rendered::Failed(e));
+                    deliver(Rendered::Failed(e));
                     return;
                 }
             };
@@ -135,7 +202,7 @@ fn spawn_render_thread(
                 },
                 Err(e) => Rendered::Failed(e),
             };
-            if proxy.send_event(rendered).is_err() {
+            if !deliver(rendered) {
                 return;
             }
         }
@@ -241,13 +308,13 @@ impl App {
     }
 
     /// Stops the event loop with `error`.
-    fn fail(&mut self, event_loop: &ActiveEventLoop, error: ViewerError) {
+    fn fail(&mut self, event_loop: &dyn LoopControl, error: ViewerError) {
         self.error.get_or_insert(error);
         event_loop.exit();
     }
 
     /// Sends the next frame to the render thread, if it is idle and there is one to render.
-    fn schedule(&mut self, event_loop: &ActiveEventLoop) {
+    fn schedule(&mut self, event_loop: &dyn LoopControl) {
         if self.busy {
             return;
         }
@@ -256,7 +323,7 @@ impl App {
     }
 
     /// Sends `request` to the render thread with the current camera and settings.
-    fn send(&mut self, event_loop: &ActiveEventLoop, request: FrameRequest) {
+    fn send(&mut self, event_loop: &dyn LoopControl, request: FrameRequest) {
         let camera = match self.controller.camera(request.width, request.height) {
             Ok(camera) => camera,
             Err(e) => return self.fail(event_loop, ViewerError::Render(e.to_string())),
@@ -298,7 +365,7 @@ impl App {
     }
 
     /// Carries out `action`.
-    fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) {
+    fn act(&mut self, event_loop: &dyn LoopControl, action: Action) {
         let result = match action {
             Action::Quit => {
                 event_loop.exit();
@@ -381,7 +448,7 @@ impl App {
     }
 
     /// Applies the script's frame `k`: its presses, then its held keys for one frame's time.
-    fn play_script_frame(&mut self, event_loop: &ActiveEventLoop, k: usize) {
+    fn play_script_frame(&mut self, event_loop: &dyn LoopControl, k: usize) {
         let frame = self.config.script.frame(k);
         for key in frame.pressed {
             if let Some(action) = action_for(key) {
@@ -403,7 +470,7 @@ impl App {
     }
 
     /// A frame came back from the render thread.
-    fn on_rendered(&mut self, event_loop: &ActiveEventLoop, rendered: Rendered) {
+    fn on_rendered(&mut self, event_loop: &dyn LoopControl, rendered: Rendered) {
         self.busy = false;
         self.in_flight = None;
         let (request, frame, elapsed, moving) = match rendered {
@@ -477,7 +544,7 @@ impl App {
     }
 
     /// Plays the script's next frame.
-    fn advance_script(&mut self, event_loop: &ActiveEventLoop) {
+    fn advance_script(&mut self, event_loop: &dyn LoopControl) {
         self.script_frame += 1;
         self.play_script_frame(event_loop, self.script_frame);
     }
@@ -487,7 +554,7 @@ impl App {
     /// full view again until `frames` were shown, or saves the screenshot and ends the run.
     /// Once the run is ending it does nothing: the loop calls it again (`about_to_wait`)
     /// before it stops, and the screenshot is saved once.
-    fn drive_script(&mut self, event_loop: &ActiveEventLoop) {
+    fn drive_script(&mut self, event_loop: &dyn LoopControl) {
         let Some(frames) = self.config.frames else { return };
         while !self.busy && self.error.is_none() && !event_loop.exiting() {
             if self.scheduler.next().is_some() {

@@ -23,6 +23,9 @@ use std::time::Instant;
 pub fn run(args: &FlythroughArgs) -> Result<()> {
     let started = Instant::now();
     refuse_camera_options(args)?;
+    if let Some(path) = &args.scene.input.input {
+        crate::scene::check_input(path, "relief flythrough")?;
+    }
     check_outputs(args)?;
     let flight = plan(args)?;
     let scene_args = &args.scene;
