@@ -19,7 +19,8 @@ pub fn defaulted_spacing(field: &HeightField) -> Option<String> {
     let relief = high - low;
     let (w, h) = (field.width() as f64 * g.dx.abs(), field.height() as f64 * g.dy.abs());
     let extent = w.max(h);
-    if !(relief > NEEDLE_RELIEF_RATIO * extent) {
+    let needle = relief > NEEDLE_RELIEF_RATIO * extent;
+    if !needle {
         return None;
     }
     Some(format!(

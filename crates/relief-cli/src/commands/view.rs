@@ -169,7 +169,7 @@ fn check_outputs(args: &ViewArgs) -> Result<PathBuf> {
     outputs::check_distinct(&all, &inputs)?;
     let dir = args.output_dir.clone().unwrap_or_else(|| PathBuf::from("."));
     if dir.exists() && !dir.is_dir() {
-        bail!("--output-dir {}: a file is there, not a folder", dir.display());
+        bail!("--output-dir {} is not a folder (a file is there)", dir.display());
     }
     Ok(dir)
 }
