@@ -69,38 +69,50 @@ pub enum ImageHolding {
         normals: bool,
     },
     /// A G-buffer of the whole image, shaded once it is full (tile stores, the hybrid and
-    /// clipmap renderers, MLHM scenes, meshes, the viewer's frames).
+    /// clipmap renderers, meshes, the viewer's frames).
     WholeGBuffer,
+    /// An MLHM scene's renderer: its G-buffer, the shading's buffers (shadows, ambient
+    /// occlusion, water) and the radiance of the whole image.
+    Mlhm,
 }
+
+/// Bytes an MLHM render holds a pixel: measured 124 (the slope of the peak resident set of
+/// the reference scene ngwm24 rendered at 1000x563 and 2000x1125, preset mid).
+pub const MLHM_BYTES_PER_PIXEL: u64 = 128;
 
 /// Bytes a whole-image G-buffer renderer holds a pixel: the G-buffer (56), the linear
 /// radiance (12) and the 8-bit output (3). Measured: a tile store rendered at 4000x2250 peaks
 /// at 60 bytes a pixel.
 pub const GBUFFER_BYTES_PER_PIXEL: u64 = 71;
 
-/// Bytes the strip renderer holds a pixel of the picture: the 8-bit output (3) and the PNG
-/// encoder's buffers (measured at under 0.7).
-pub const STRIP_BYTES_PER_PIXEL: u64 = 4;
+/// Half-bytes the strip renderer holds a pixel of the picture: the 8-bit output (3 bytes) and
+/// the PNG encoder's buffers (measured at under half a byte), 3.5 bytes in all.
+const STRIP_HALF_BYTES_PER_PIXEL: u64 = 7;
 
-/// Bytes a pixel of a strip G-buffer takes (`relief_shade::GBufferPixel`), with the shading
-/// pass's own buffers.
+/// Bytes a pixel of a strip G-buffer takes with the shading pass's own buffers: twice the 56
+/// of a `relief_shade::GBufferPixel`.
 const STRIP_GBUFFER_BYTES_PER_PIXEL: u64 = 112;
 
 /// The memory an image of `width x height` takes while `holding` draws it with `threads`
 /// threads (the terrain and the tracer's structures are counted apart).
 ///
 /// The strip renderer's model against the peak resident set of `relief render g.npy` (a
-/// 1201 x 1201 terrain, mipmap tracer, 15 MB for the terrain and the program), 2 threads:
-/// 4000x2250 takes 37 MB (measured 40 MB over the terrain), 8000x4500 146 MB (measured
-/// 139 MB), 16000x9000 578 MB (measured 548 MB).
+/// 1201 x 1201 fBm terrain, mipmap tracer, 2 threads), less the 15.7 MB that a 16x9 render of
+/// the same terrain peaks at (the program, the terrain and its pyramid): 4000x2250, model
+/// 45.8 MB, measured 40.7 MB; 8000x4500, model 154.7 MB, measured 137.7 MB; 16000x9000, model
+/// 561 MB, measured 497.5 MB. A 32768x32768 render, refused at 72704 MiB by the former flat
+/// 71 bytes a pixel, takes about 3.6 GiB.
 pub fn image_bytes(width: u32, height: u32, holding: ImageHolding, threads: usize) -> u64 {
     let (w, pixels) = (u64::from(width), u64::from(width) * u64::from(height));
     match holding {
         ImageHolding::WholeGBuffer => pixels * GBUFFER_BYTES_PER_PIXEL,
+        ImageHolding::Mlhm => pixels * MLHM_BYTES_PER_PIXEL,
         ImageHolding::Strips { depth, normals } => {
-            let kept = STRIP_BYTES_PER_PIXEL + 4 * u64::from(depth) + 12 * u64::from(normals);
+            let picture = pixels * STRIP_HALF_BYTES_PER_PIXEL / 2;
+            let kept = pixels * (4 * u64::from(depth) + 12 * u64::from(normals));
             let strip_rows = (relief_shade::TILE_SIZE as u64).min(u64::from(height));
-            pixels * kept + threads as u64 * strip_rows * w * STRIP_GBUFFER_BYTES_PER_PIXEL
+            let strips = threads as u64 * strip_rows * w * STRIP_GBUFFER_BYTES_PER_PIXEL;
+            picture + kept + strips
         }
     }
 }
@@ -121,7 +133,7 @@ mod tests {
     fn strips_take_a_few_bytes_a_pixel_and_g_buffers_many() {
         let strips = ImageHolding::Strips { depth: false, normals: false };
         let big = image_bytes(32768, 32768, strips, 2);
-        assert!(big < 5 << 30, "{big}");
+        assert!(big < 4 << 30, "{big}");
         let both = ImageHolding::Strips { depth: true, normals: true };
         assert!(image_bytes(100, 100, both, 1) > image_bytes(100, 100, strips, 1));
         assert_eq!(image_bytes(10, 10, ImageHolding::WholeGBuffer, 8), 7100);

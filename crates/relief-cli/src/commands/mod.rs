@@ -53,10 +53,23 @@ pub fn run(cli: Cli) -> Result<()> {
 /// quotes).
 const BYTES_PER_PIXEL: u64 = crate::memory::GBUFFER_BYTES_PER_PIXEL;
 
-/// Refuses an image of `width x height` pixels that a whole-image G-buffer renderer (the
-/// viewer's, flythrough's and bench's frames) could not hold within the memory `budget`.
+/// Refuses an image of `width x height` pixels that a whole-image G-buffer renderer (bench's
+/// frames) could not hold within the memory `budget`.
 fn check_image(width: u32, height: u32, budget: &Budget) -> Result<()> {
     check_image_held(width, height, ImageHolding::WholeGBuffer, budget)
+}
+
+/// Refuses a frame of the scene `scene` names (at its `--size`) that the viewer's and
+/// flythrough's renderers could not hold within the memory `budget`: an MLHM scene's, or a
+/// whole-image G-buffer.
+fn check_frame(scene: &crate::args::SceneArgs, budget: &Budget) -> Result<()> {
+    let input = scene.input.input.as_deref();
+    let mesh = scene.mode == Some(crate::args::MlhmRenderMode::Mesh);
+    let holding = match input.is_some_and(crate::input::is_mlhm_scene) && !mesh {
+        true => ImageHolding::Mlhm,
+        false => ImageHolding::WholeGBuffer,
+    };
+    check_image_held(scene.size.0, scene.size.1, holding, budget)
 }
 
 /// Refuses an image of `width x height` pixels that would not fit the memory `budget` held

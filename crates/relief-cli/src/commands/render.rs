@@ -129,13 +129,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 }
 
 /// How the renderer `args` choose holds its picture: strip by strip for a height field drawn
-/// by the naive, mipmap and safety tracers, a whole-image G-buffer for any other.
+/// by the naive, mipmap and safety tracers, as the MLHM renderer does for an MLHM scene, a
+/// whole-image G-buffer for any other.
 fn image_holding(args: &RenderArgs) -> ImageHolding {
     let scene = &args.scene;
     let input = scene.input.input.as_deref();
-    let whole = input
-        .is_some_and(|p| input::is_tile_store(p) || is_stacks_file(p) || input::is_mlhm_scene(p))
-        || scene.mode == Some(MlhmRenderMode::Mesh)
+    let mesh = scene.mode == Some(MlhmRenderMode::Mesh) || input.is_some_and(is_stacks_file);
+    if input.is_some_and(input::is_mlhm_scene) && !mesh {
+        return ImageHolding::Mlhm;
+    }
+    let whole = mesh
+        || input.is_some_and(input::is_tile_store)
         || matches!(scene.tracer, Some(TracerChoice::Hybrid | TracerChoice::Clipmap));
     match whole {
         true => ImageHolding::WholeGBuffer,

@@ -2,7 +2,7 @@
 //! takes (a tile store too), drawn by the live scenes of [`crate::live`] (an MLHM scene's
 //! erosion simulation run, paused and stepped from the viewer).
 
-use super::check_image;
+use super::check_frame;
 use super::StoreScene;
 use crate::args::{SceneArgs, ViewArgs};
 use crate::live::{LiveHeightField, LiveMlhm, LiveTiles};
@@ -39,7 +39,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     }
     let scene_args = &args.scene;
     let budget = memory::budget(scene_args.input.read.max_memory);
-    check_image(scene_args.size.0, scene_args.size.1, &budget)?;
+    check_frame(scene_args, &budget)?;
     let (renderer, camera, settings) = open(args, budget.bytes)?;
     match headless {
         true => eprintln!(
