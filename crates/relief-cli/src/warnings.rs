@@ -1,7 +1,7 @@
 //! Warnings of scenes that render without an error but not as the user meant: a camera
 //! inside the terrain, a DEM whose heights dwarf its grid at the default spacing.
 
-use relief_core::{Camera, DVec3, HeightField, Mlhm, Projection, Surface};
+use relief_core::{Camera, DVec3, HeightField, MaterialStacks, Mlhm, Projection, Surface};
 
 /// A terrain whose relief (highest minus lowest height, after `--z-scale`) is more than this
 /// many times its grid's larger side, at a spacing that no one gave, is taken as a DEM read
@@ -86,6 +86,28 @@ pub fn eye_in_mlhm(map: &Mlhm, camera: &Camera) -> Option<String> {
         floor = column.ceiling;
     }
     None
+}
+
+/// The warning for a pinhole `camera` whose eye is inside a solid layer of a material-stack
+/// terrain (a stack's cell covers `[origin + x s, origin + (x + 1) s)` along each axis).
+pub fn eye_in_stacks(stacks: &MaterialStacks, camera: &Camera) -> Option<String> {
+    if !matches!(camera.projection(), Projection::Perspective { .. }) {
+        return None;
+    }
+    let eye = camera.eye();
+    let (o, s) = (stacks.origin(), stacks.spacing());
+    let (x, y) = (((eye.x - o.x) / s.x).floor(), ((eye.y - o.y) / s.y).floor());
+    if !(x >= 0.0 && y >= 0.0 && x < stacks.width() as f64 && y < stacks.height() as f64) {
+        return None;
+    }
+    let z = eye.z as f32;
+    let materials = stacks.materials();
+    let solid = |material: u8| materials.get(material as usize).is_none_or(|m| !m.is_liquid());
+    let layer = stacks
+        .stack(x as usize, y as usize)
+        .iter()
+        .find(|l| l.start <= z && z < l.end && solid(l.material))?;
+    Some(eye_inside(eye, f64::from(layer.end)))
 }
 
 /// The message for an eye under the surface whose top is at `top` over it.

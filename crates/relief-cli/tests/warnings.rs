@@ -1,5 +1,5 @@
 //! The warnings of scenes that render without an error but not as meant (issue 35): a camera
-//! inside the terrain, and a DEM read at the default spacing whose heights dwarf its grid.
+//! inside the terrain (a height field, an MLHM, material stacks), and a DEM read at the default spacing whose heights dwarf its grid.
 //! Each is printed where it applies and nowhere else.
 
 use std::path::{Path, PathBuf};
@@ -43,22 +43,25 @@ fn an_eye_under_the_surface_is_warned_of_with_the_height_there() {
     // A 32 x 32 plateau at height 20 (relief under the grid's width: no spacing warning).
     let dem = npy(&dir, "plateau.npy", 32, 32, |c, _| if c < 16 { 20.0 } else { 10.0 });
     let small = ["--size", "32x18", "-o", "out.png"];
-    for surface in ["triangles", "boxes"] {
+    for how in [["--surface", "triangles"], ["--surface", "boxes"], ["--mode", "mesh"]] {
         let mut args = vec!["render", &dem, "--eye", "8,16,15", "--target", "30,16,5"];
-        args.extend(["--surface", surface]);
+        args.extend(how);
         args.extend(small);
         let stderr = stderr_of(&dir, &args);
-        assert!(stderr.contains(INSIDE), "{surface}: {stderr}");
+        assert!(stderr.contains(INSIDE), "{how:?}: {stderr}");
         assert!(stderr.contains("(8, 16, 15)") && stderr.contains("height 20"), "{stderr}");
         assert!(stderr.contains("--eye"), "{stderr}");
         assert!(!stderr.contains(NEEDLE), "{stderr}");
     }
     // Above the surface, over the lower half, off the grid, the default view: no warning.
     for eye in ["8,16,25", "24,16,15", "-10,16,5"] {
-        let mut args = vec!["render", &dem, "--eye", eye, "--target", "16,16,0"];
-        args.extend(small);
-        let stderr = stderr_of(&dir, &args);
-        assert!(!stderr.contains(INSIDE), "{eye}: {stderr}");
+        for mode in [&[][..], &["--mode", "mesh"][..]] {
+            let mut args = vec!["render", &dem, "--eye", eye, "--target", "16,16,0"];
+            args.extend(mode);
+            args.extend(small);
+            let stderr = stderr_of(&dir, &args);
+            assert!(!stderr.contains(INSIDE), "{eye} {mode:?}: {stderr}");
+        }
     }
     let mut args = vec!["render", &dem];
     args.extend(small);
