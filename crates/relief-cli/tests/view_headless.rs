@@ -51,6 +51,28 @@ fn frames_are_drawn_headless_without_a_display() {
     assert!(stats.matches("render_ms").count() >= 3, "{stats}");
 }
 
+/// The RGB bytes of the PNG at `path`.
+fn png_pixels(path: &Path) -> Vec<u8> {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    pixels.truncate(info.buffer_size());
+    pixels
+}
+
+#[test]
+fn a_headless_view_at_rest_is_relief_render_of_the_same_camera() {
+    let dir = folder("equals-render");
+    let dem = dem(&dir);
+    let args = ["view", dem, "--size", "64x36", "--frames", "2", "--screenshot", "v.png"];
+    let (code, stderr) = relief(&dir, &args);
+    assert_eq!(code, Some(0), "{stderr}");
+    let (code, stderr) = relief(&dir, &["render", dem, "--size", "64x36", "-o", "r.png"]);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(png_pixels(&dir.join("v.png")) == png_pixels(&dir.join("r.png")));
+}
+
 #[test]
 fn an_interactive_view_still_needs_a_display() {
     let dir = folder("interactive");
@@ -71,6 +93,11 @@ fn a_tile_store_is_viewed() {
     assert_eq!(code, Some(0), "{stderr}");
     assert!(stderr.contains("32x32 tile store"), "{stderr}");
     assert_eq!(png_size(&dir.join("s.png")), (40, 24));
+    // At rest, the store's frame is relief render's picture of it.
+    let render = ["render", "dem.store", "--size", "40x24", "--cache-mb", "16", "-o", "r.png"];
+    let (code, stderr) = relief(&dir, &render);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(png_pixels(&dir.join("s.png")) == png_pixels(&dir.join("r.png")));
     // The tile-store options do nothing for other inputs.
     let (code, stderr) = relief(&dir, &["view", dem, "--frames", "1", "--cache-mb", "16"]);
     assert_eq!(code, Some(2));
