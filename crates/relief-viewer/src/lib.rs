@@ -15,6 +15,7 @@
 mod camera_controller;
 mod camera_path;
 mod frame;
+mod headless;
 mod hud;
 mod input_map;
 mod overlay;
@@ -29,13 +30,14 @@ mod winit_keys;
 pub use camera_controller::{CameraController, Motion, Navigation, DEFAULT_FOV_DEG};
 pub use camera_path::{CameraKey, CameraPath, CAMERA_PATH_FORMAT, CAMERA_PATH_VERSION};
 pub use frame::{blit, Cancel, Frame, FrameStats, SceneRenderer};
+pub use headless::run_headless;
 pub use input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 pub use progressive::{FrameRequest, ProgressiveScheduler};
 pub use script::{Script, ScriptFrame, SCRIPT_FRAME_S};
 pub use simulation::{SimulationControl, SimulationReport, SimulationRequest};
 pub use summary::{FrameRecord, ViewerSummary};
 pub use view_settings::{SceneChoices, ViewSettings};
-pub use window::{check_display, run, run_headless, ViewerConfig};
+pub use window::{check_display, run, ViewerConfig};
 
 use std::path::PathBuf;
 

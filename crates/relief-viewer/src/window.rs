@@ -85,39 +85,9 @@ pub fn run(
     app.finish()
 }
 
-/// Draws the frames of a `--frames` run (`config.frames` must be set) without a window or a
-/// display: the scripted run's loop, the same frames, the same screenshot and stats, with the
-/// render thread's frames taken as they come instead of through the window's event loop.
-pub fn run_headless(
-    renderer: Arc<dyn SceneRenderer>,
-    config: ViewerConfig,
-) -> Result<ViewerSummary, ViewerError> {
-    if config.frames.is_none() {
-        return Err(ViewerError::NoDisplay(
-            "a viewer without a window draws a --frames run only".into(),
-        ));
-    }
-    let (send, receive) = mpsc::channel::<Rendered>();
-    let (jobs, worker) =
-        spawn_render_thread(renderer.clone(), move |rendered| send.send(rendered).is_ok());
-    let mut app = App::new(renderer, config, jobs);
-    let control = Headless::default();
-    app.play_script_frame(&control, 0);
-    app.drive_script(&control);
-    while !control.exiting() && app.busy {
-        match receive.recv() {
-            Ok(rendered) => app.on_rendered(&control, rendered),
-            Err(_) => break,
-        }
-    }
-    drop(app.jobs.take());
-    let _ = worker.join();
-    app.finish()
-}
-
 /// What the viewer's loop asks of the loop it runs in: to stop, and whether it is stopping
-/// (winit's event loop with a window, or [`Headless`] without).
-trait LoopControl {
+/// (winit's event loop with a window, or `Headless` without).
+pub(crate) trait LoopControl {
     /// Stops the loop once the current event is handled.
     fn exit(&self);
     /// Whether the loop was asked to stop.
@@ -134,22 +104,8 @@ impl LoopControl for ActiveEventLoop {
     }
 }
 
-/// The loop of a run without a window: it stops when asked.
-#[derive(Default)]
-struct Headless(std::cell::Cell<bool>);
-
-impl LoopControl for Headless {
-    fn exit(&self) {
-        self.0.set(true);
-    }
-
-    fn exiting(&self) -> bool {
-        self.0.get()
-    }
-}
-
 /// A frame to render.
-struct Job {
+pub(crate) struct Job {
     request: FrameRequest,
     camera: Camera,
     settings: ViewSettings,
@@ -160,7 +116,7 @@ struct Job {
 }
 
 /// What the render thread sends back.
-enum Rendered {
+pub(crate) enum Rendered {
     Frame {
         request: FrameRequest,
         frame: Frame,
@@ -175,7 +131,7 @@ enum Rendered {
 
 /// The render thread: it renders the jobs sent to it and hands each result to `deliver`,
 /// stopping when `deliver` says no one listens any more.
-fn spawn_render_thread(
+pub(crate) fn spawn_render_thread(
     renderer: Arc<dyn SceneRenderer>,
     deliver: impl Fn(Rendered) -> bool + Send + 'static,
 ) -> (mpsc::Sender<Job>, std::thread::JoinHandle<()>) {
@@ -211,13 +167,13 @@ fn spawn_render_thread(
 }
 
 /// The window's state.
-struct App {
+pub(crate) struct App {
     renderer: Arc<dyn SceneRenderer>,
     config: ViewerConfig,
-    jobs: Option<mpsc::Sender<Job>>,
+    pub(crate) jobs: Option<mpsc::Sender<Job>>,
     window: Option<Rc<Window>>,
     surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
-    busy: bool,
+    pub(crate) busy: bool,
     /// The frame being rendered: its view's version, whether the camera was moving, and
     /// its cancel token.
     in_flight: Option<(u64, bool, Cancel)>,
@@ -247,7 +203,7 @@ struct App {
 }
 
 impl App {
-    fn new(
+    pub(crate) fn new(
         renderer: Arc<dyn SceneRenderer>,
         config: ViewerConfig,
         jobs: mpsc::Sender<Job>,
@@ -291,7 +247,7 @@ impl App {
     }
 
     /// Ends the run: the camera path being recorded and the stats are written.
-    fn finish(mut self) -> Result<ViewerSummary, ViewerError> {
+    pub(crate) fn finish(mut self) -> Result<ViewerSummary, ViewerError> {
         if let Some(error) = self.error.take() {
             return Err(error);
         }
@@ -448,7 +404,7 @@ impl App {
     }
 
     /// Applies the script's frame `k`: its presses, then its held keys for one frame's time.
-    fn play_script_frame(&mut self, event_loop: &dyn LoopControl, k: usize) {
+    pub(crate) fn play_script_frame(&mut self, event_loop: &dyn LoopControl, k: usize) {
         let frame = self.config.script.frame(k);
         for key in frame.pressed {
             if let Some(action) = action_for(key) {
@@ -470,7 +426,7 @@ impl App {
     }
 
     /// A frame came back from the render thread.
-    fn on_rendered(&mut self, event_loop: &dyn LoopControl, rendered: Rendered) {
+    pub(crate) fn on_rendered(&mut self, event_loop: &dyn LoopControl, rendered: Rendered) {
         self.busy = false;
         self.in_flight = None;
         let (request, frame, elapsed, moving) = match rendered {
@@ -554,7 +510,7 @@ impl App {
     /// full view again until `frames` were shown, or saves the screenshot and ends the run.
     /// Once the run is ending it does nothing: the loop calls it again (`about_to_wait`)
     /// before it stops, and the screenshot is saved once.
-    fn drive_script(&mut self, event_loop: &dyn LoopControl) {
+    pub(crate) fn drive_script(&mut self, event_loop: &dyn LoopControl) {
         let Some(frames) = self.config.frames else { return };
         while !self.busy && self.error.is_none() && !event_loop.exiting() {
             if self.scheduler.next().is_some() {
