@@ -602,13 +602,18 @@ pub struct CompareArgs {
     pub max_memory: Option<u64>,
 }
 
-/// `relief view`.
+/// `relief view`. The viewer flies pinhole cameras: `--ortho` and `--ortho-height` are
+/// hidden and refused.
 #[derive(Debug, Args)]
+#[command(mut_arg("ortho", |a| a.hide(true)), mut_arg("ortho_height", |a| a.hide(true)))]
 pub struct ViewArgs {
     /// The scene, tracer, starting camera and light (--size is the window's size when it
     /// opens; the full frame then follows the window, except in a --frames run).
     #[command(flatten)]
     pub scene: SceneArgs,
+    /// How a tile store is drawn.
+    #[command(flatten)]
+    pub tiles: TileRenderArgs,
     /// Render this many frames through the viewer's loop (playing --script, if given), then
     /// wait for the view to be complete at full size, save it to --screenshot and close: for
     /// tests and scripts (1 to 100000).

@@ -1,7 +1,7 @@
 //! Loading the height field a command works on: a file, or the seeded fBm terrain.
 
 use crate::args::{InputArgs, PngHeights, ReadArgs, Voids};
-use crate::{applies, memory};
+use crate::{applies, memory, warnings};
 use anyhow::{Context, Result};
 use relief_core::{GridGeometry, HeightField};
 use relief_io::{PngEncoding, Raster, ReadOptions, VoidPolicy};
@@ -10,19 +10,31 @@ use std::path::Path;
 use std::sync::Arc;
 
 /// Reads `args.input` (or generates the default terrain) and applies spacing and z scale.
-/// Options that do nothing for that input are refused.
+/// Options that do nothing for that input are refused; a DEM read at the default spacing
+/// whose heights dwarf its grid is warned of.
 pub fn load(args: &InputArgs) -> Result<Arc<HeightField>> {
     check_input_args(args)?;
-    let field = match &args.input {
-        Some(path) => read(path, &args.read, Voids::Fill)?.1,
-        None => fbm(
-            args.fbm_size.unwrap_or(DEFAULT_FBM_SIZE),
-            args.seed.unwrap_or(1),
-            &memory::budget(args.read.max_memory),
-        )?,
+    let (field, defaulted_spacing) = match &args.input {
+        Some(path) => {
+            let (info, field, _) = read(path, &args.read, Voids::Fill)?;
+            (field, args.spacing.is_none() && !info.georeferenced)
+        }
+        None => (
+            fbm(
+                args.fbm_size.unwrap_or(DEFAULT_FBM_SIZE),
+                args.seed.unwrap_or(1),
+                &memory::budget(args.read.max_memory),
+            )?,
+            false,
+        ),
     };
     let field = if args.north_up { field.flip_rows() } else { field };
-    Ok(Arc::new(place(field, args.spacing, args.z_scale)?))
+    let field = place(field, args.spacing, args.z_scale)?;
+    if let Some(warning) = defaulted_spacing.then(|| warnings::defaulted_spacing(&field)).flatten()
+    {
+        eprintln!("{warning}");
+    }
+    Ok(Arc::new(field))
 }
 
 /// Applies `--spacing` (where given; else the file's) and `--z-scale` to `field`.
@@ -89,9 +101,9 @@ pub fn fbm(size: usize, seed: u64, budget: &memory::Budget) -> Result<HeightFiel
     let needed = (size as u64).pow(2) * 16 / 3;
     if needed > budget.bytes {
         anyhow::bail!(
-            "a {size}x{size} terrain needs {} MiB, over the {} MiB memory limit ({})",
-            needed >> 20,
-            budget.bytes >> 20,
+            "a {size}x{size} terrain needs {}, over the {} memory limit ({})",
+            memory::format_bytes(needed),
+            memory::format_bytes(budget.bytes),
             budget.origin
         );
     }

@@ -12,6 +12,7 @@ mod parse;
 mod progress;
 mod scene;
 mod tracers;
+mod warnings;
 
 use clap::Parser;
 use std::process::ExitCode;

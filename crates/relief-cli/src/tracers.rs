@@ -120,12 +120,12 @@ pub fn build(
     let needed = SafetyShapes::memory_estimate(field.width(), field.height(), &options);
     if needed > max_memory {
         bail!(
-            "{options} shapes for a {}x{} terrain need about {} MiB, over the {} MiB memory limit \
+            "{options} shapes for a {}x{} terrain need about {}, over the {} memory limit \
              (raise it with --max-memory, or use --isotropic or the mipmap tracer)",
             field.width(),
             field.height(),
-            needed >> 20,
-            max_memory >> 20
+            crate::memory::format_bytes(needed),
+            crate::memory::format_bytes(max_memory)
         );
     }
     let bar = progress::bar((4 * field.width() * field.height()) as u64, "safety shapes");

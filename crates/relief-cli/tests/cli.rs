@@ -141,7 +141,7 @@ fn bad_input_is_refused_with_exit_code_2_and_no_output() {
     assert_refused(&relief(&["render", "--fov", "190", "--fbm-size", "16"]), "field of view");
     assert_refused(&relief(&["render", "--spacing", "0"]), "spacing");
     assert_refused(
-        &relief(&["render", "--fbm-size", "16", "--size", "4000x3000", "--max-memory", "100M"]),
+        &relief(&["render", "--fbm-size", "16", "--size", "4000x3000", "--max-memory", "20M"]),
         "memory limit",
     );
     assert_refused(&relief(&["render", "--surface", "spheres"]), "spheres");

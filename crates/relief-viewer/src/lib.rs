@@ -8,12 +8,14 @@
 //! ([`SimulationControl`]) and the render thread asks the scene for the steps before a frame.
 //!
 //! `relief view` (in relief-cli) is its front end; the same loop runs scripted for tests
-//! ([`Script`], `--frames N --screenshot S.png`).
+//! ([`Script`], `--frames N --screenshot S.png`), in a window or, without a display,
+//! headless ([`run_headless`]).
 #![deny(missing_docs)]
 
 mod camera_controller;
 mod camera_path;
 mod frame;
+mod headless;
 mod hud;
 mod input_map;
 mod overlay;
@@ -28,6 +30,7 @@ mod winit_keys;
 pub use camera_controller::{CameraController, Motion, Navigation, DEFAULT_FOV_DEG};
 pub use camera_path::{CameraKey, CameraPath, CAMERA_PATH_FORMAT, CAMERA_PATH_VERSION};
 pub use frame::{blit, Cancel, Frame, FrameStats, SceneRenderer};
+pub use headless::run_headless;
 pub use input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 pub use progressive::{FrameRequest, ProgressiveScheduler};
 pub use script::{Script, ScriptFrame, SCRIPT_FRAME_S};

@@ -21,7 +21,7 @@ use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, EventLoopProxy};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::PhysicalKey;
 use winit::window::{Window, WindowId};
 
@@ -74,7 +74,9 @@ pub fn run(
     let event_loop = EventLoop::<Rendered>::with_user_event()
         .build()
         .map_err(|e| ViewerError::NoDisplay(format!("cannot connect to the X server: {e}")))?;
-    let (jobs, worker) = spawn_render_thread(renderer.clone(), event_loop.create_proxy());
+    let proxy = event_loop.create_proxy();
+    let (jobs, worker) =
+        spawn_render_thread(renderer.clone(), move |rendered| proxy.send_event(rendered).is_ok());
     let mut app = App::new(renderer, config, jobs);
     let ran = event_loop.run_app(&mut app);
     drop(app.jobs.take());
@@ -83,8 +85,27 @@ pub fn run(
     app.finish()
 }
 
+/// What the viewer's loop asks of the loop it runs in: to stop, and whether it is stopping
+/// (winit's event loop with a window, or `Headless` without).
+pub(crate) trait LoopControl {
+    /// Stops the loop once the current event is handled.
+    fn exit(&self);
+    /// Whether the loop was asked to stop.
+    fn exiting(&self) -> bool;
+}
+
+impl LoopControl for ActiveEventLoop {
+    fn exit(&self) {
+        ActiveEventLoop::exit(self);
+    }
+
+    fn exiting(&self) -> bool {
+        ActiveEventLoop::exiting(self)
+    }
+}
+
 /// A frame to render.
-struct Job {
+pub(crate) struct Job {
     request: FrameRequest,
     camera: Camera,
     settings: ViewSettings,
@@ -95,7 +116,7 @@ struct Job {
 }
 
 /// What the render thread sends back.
-enum Rendered {
+pub(crate) enum Rendered {
     Frame {
         request: FrameRequest,
         frame: Frame,
@@ -108,9 +129,11 @@ enum Rendered {
     Failed(String),
 }
 
-fn spawn_render_thread(
+/// The render thread: it renders the jobs sent to it and hands each result to `deliver`,
+/// stopping when `deliver` says no one listens any more.
+pub(crate) fn spawn_render_thread(
     renderer: Arc<dyn SceneRenderer>,
-    proxy: EventLoopProxy<Rendered>,
+    deliver: impl Fn(Rendered) -> bool + Send + 'static,
 ) -> (mpsc::Sender<Job>, std::thread::JoinHandle<()>) {
     let (send, receive) = mpsc::channel::<Job>();
     let worker = std::thread::spawn(move || {
@@ -118,7 +141,7 @@ fn spawn_render_thread(
             let simulated = match job.simulate.map(|r| renderer.simulate(&r)).transpose() {
                 Ok(report) => report,
                 Err(e) => {
-                    let _ = proxy.send_event(Rendered::Failed(e));
+                    deliver(Rendered::Failed(e));
                     return;
                 }
             };
@@ -135,7 +158,7 @@ fn spawn_render_thread(
                 },
                 Err(e) => Rendered::Failed(e),
             };
-            if proxy.send_event(rendered).is_err() {
+            if !deliver(rendered) {
                 return;
             }
         }
@@ -144,13 +167,13 @@ fn spawn_render_thread(
 }
 
 /// The window's state.
-struct App {
+pub(crate) struct App {
     renderer: Arc<dyn SceneRenderer>,
     config: ViewerConfig,
-    jobs: Option<mpsc::Sender<Job>>,
+    pub(crate) jobs: Option<mpsc::Sender<Job>>,
     window: Option<Rc<Window>>,
     surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
-    busy: bool,
+    pub(crate) busy: bool,
     /// The frame being rendered: its view's version, whether the camera was moving, and
     /// its cancel token.
     in_flight: Option<(u64, bool, Cancel)>,
@@ -180,7 +203,7 @@ struct App {
 }
 
 impl App {
-    fn new(
+    pub(crate) fn new(
         renderer: Arc<dyn SceneRenderer>,
         config: ViewerConfig,
         jobs: mpsc::Sender<Job>,
@@ -224,7 +247,7 @@ impl App {
     }
 
     /// Ends the run: the camera path being recorded and the stats are written.
-    fn finish(mut self) -> Result<ViewerSummary, ViewerError> {
+    pub(crate) fn finish(mut self) -> Result<ViewerSummary, ViewerError> {
         if let Some(error) = self.error.take() {
             return Err(error);
         }
@@ -241,13 +264,13 @@ impl App {
     }
 
     /// Stops the event loop with `error`.
-    fn fail(&mut self, event_loop: &ActiveEventLoop, error: ViewerError) {
+    fn fail(&mut self, event_loop: &dyn LoopControl, error: ViewerError) {
         self.error.get_or_insert(error);
         event_loop.exit();
     }
 
     /// Sends the next frame to the render thread, if it is idle and there is one to render.
-    fn schedule(&mut self, event_loop: &ActiveEventLoop) {
+    fn schedule(&mut self, event_loop: &dyn LoopControl) {
         if self.busy {
             return;
         }
@@ -256,7 +279,7 @@ impl App {
     }
 
     /// Sends `request` to the render thread with the current camera and settings.
-    fn send(&mut self, event_loop: &ActiveEventLoop, request: FrameRequest) {
+    fn send(&mut self, event_loop: &dyn LoopControl, request: FrameRequest) {
         let camera = match self.controller.camera(request.width, request.height) {
             Ok(camera) => camera,
             Err(e) => return self.fail(event_loop, ViewerError::Render(e.to_string())),
@@ -298,7 +321,7 @@ impl App {
     }
 
     /// Carries out `action`.
-    fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) {
+    fn act(&mut self, event_loop: &dyn LoopControl, action: Action) {
         let result = match action {
             Action::Quit => {
                 event_loop.exit();
@@ -381,7 +404,7 @@ impl App {
     }
 
     /// Applies the script's frame `k`: its presses, then its held keys for one frame's time.
-    fn play_script_frame(&mut self, event_loop: &ActiveEventLoop, k: usize) {
+    pub(crate) fn play_script_frame(&mut self, event_loop: &dyn LoopControl, k: usize) {
         let frame = self.config.script.frame(k);
         for key in frame.pressed {
             if let Some(action) = action_for(key) {
@@ -403,7 +426,7 @@ impl App {
     }
 
     /// A frame came back from the render thread.
-    fn on_rendered(&mut self, event_loop: &ActiveEventLoop, rendered: Rendered) {
+    pub(crate) fn on_rendered(&mut self, event_loop: &dyn LoopControl, rendered: Rendered) {
         self.busy = false;
         self.in_flight = None;
         let (request, frame, elapsed, moving) = match rendered {
@@ -477,7 +500,7 @@ impl App {
     }
 
     /// Plays the script's next frame.
-    fn advance_script(&mut self, event_loop: &ActiveEventLoop) {
+    fn advance_script(&mut self, event_loop: &dyn LoopControl) {
         self.script_frame += 1;
         self.play_script_frame(event_loop, self.script_frame);
     }
@@ -487,7 +510,7 @@ impl App {
     /// full view again until `frames` were shown, or saves the screenshot and ends the run.
     /// Once the run is ending it does nothing: the loop calls it again (`about_to_wait`)
     /// before it stops, and the screenshot is saved once.
-    fn drive_script(&mut self, event_loop: &ActiveEventLoop) {
+    pub(crate) fn drive_script(&mut self, event_loop: &dyn LoopControl) {
         let Some(frames) = self.config.frames else { return };
         while !self.busy && self.error.is_none() && !event_loop.exiting() {
             if self.scheduler.next().is_some() {

@@ -4,7 +4,7 @@
 //! takes is opened once as `relief view` opens it, and each frame traced and shaded as
 //! `relief render` draws that camera.
 
-use super::check_image;
+use super::check_frame;
 use super::flythrough_log::{FlightFrame, FlightLog};
 use super::render_tiles::StoreScene;
 use super::view::open_live_scene;
@@ -23,11 +23,14 @@ use std::time::Instant;
 pub fn run(args: &FlythroughArgs) -> Result<()> {
     let started = Instant::now();
     refuse_camera_options(args)?;
+    if let Some(path) = &args.scene.input.input {
+        crate::scene::check_input(path, "relief flythrough")?;
+    }
     check_outputs(args)?;
     let flight = plan(args)?;
     let scene_args = &args.scene;
     let budget = memory::budget(scene_args.input.read.max_memory);
-    check_image(scene_args.size.0, scene_args.size.1, &budget)?;
+    check_frame(scene_args, &budget)?;
     let drawer = FrameDrawer::open(args, budget.bytes)?;
     let load_ms = outputs::ms_since(started);
     let build_started = Instant::now();

@@ -24,10 +24,11 @@ mod simulate_frames;
 mod tile;
 mod view;
 
+pub(crate) use render_tiles::StoreScene;
 pub(crate) use simulate::{scene_params, start_state};
 
 use crate::args::{Cli, Command};
-use crate::memory::Budget;
+use crate::memory::{format_bytes, Budget, ImageHolding};
 use anyhow::{bail, Result};
 
 /// Runs the parsed command line.
@@ -48,18 +49,39 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
-/// Bytes an image takes per pixel while it is rendered: the G-buffer (56), the linear radiance
-/// (12) and the 8-bit output (3).
-const BYTES_PER_PIXEL: u64 = 71;
+/// Bytes a pixel takes while a whole-image G-buffer renderer draws it (what `relief info`
+/// quotes).
+const BYTES_PER_PIXEL: u64 = crate::memory::GBUFFER_BYTES_PER_PIXEL;
 
-/// Refuses an image of `width x height` pixels that would not fit the memory `budget`.
+/// Refuses an image of `width x height` pixels that a whole-image G-buffer renderer (bench's
+/// frames) could not hold within the memory `budget`.
 fn check_image(width: u32, height: u32, budget: &Budget) -> Result<()> {
-    let needed = width as u64 * height as u64 * BYTES_PER_PIXEL;
+    check_image_held(width, height, ImageHolding::WholeGBuffer, budget)
+}
+
+/// Refuses a frame of the scene `scene` names (at its `--size`) that the viewer's and
+/// flythrough's renderers could not hold within the memory `budget`: an MLHM scene's, or a
+/// whole-image G-buffer.
+fn check_frame(scene: &crate::args::SceneArgs, budget: &Budget) -> Result<()> {
+    let input = scene.input.input.as_deref();
+    let mesh = scene.mode == Some(crate::args::MlhmRenderMode::Mesh);
+    let holding = match input.is_some_and(crate::input::is_mlhm_scene) && !mesh {
+        true => ImageHolding::Mlhm,
+        false => ImageHolding::WholeGBuffer,
+    };
+    check_image_held(scene.size.0, scene.size.1, holding, budget)
+}
+
+/// Refuses an image of `width x height` pixels that would not fit the memory `budget` held
+/// as `holding` says.
+fn check_image_held(width: u32, height: u32, holding: ImageHolding, budget: &Budget) -> Result<()> {
+    let threads = rayon::current_num_threads();
+    let needed = crate::memory::image_bytes(width, height, holding, threads);
     if needed > budget.bytes {
         bail!(
-            "a {width}x{height} image needs {} MiB, over the {} MiB memory limit ({})",
-            needed >> 20,
-            budget.bytes >> 20,
+            "a {width}x{height} image needs {}, over the {} memory limit ({})",
+            format_bytes(needed),
+            format_bytes(budget.bytes),
             budget.origin
         );
     }

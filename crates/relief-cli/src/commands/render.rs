@@ -1,9 +1,12 @@
 //! `relief render`: trace, shade and write a picture (and optionally depth and normals, and
 //! the stage timings with `--stats`).
 
-use super::{check_image, render_clipmap, render_hybrid, render_mesh, render_mlhm, render_tiles};
+use super::{
+    check_image_held, render_clipmap, render_hybrid, render_mesh, render_mlhm, render_tiles,
+};
 use crate::args::MlhmRenderMode;
 use crate::args::RenderArgs;
+use crate::memory::ImageHolding;
 use crate::scene::height_field::{check_safety_view, HeightFieldScene};
 use crate::scene::stacks::is_stacks_file;
 use crate::tracers::{self, TracerChoice};
@@ -20,10 +23,14 @@ use std::time::Instant;
 /// height-field path.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let started = Instant::now();
+    if let Some(path) = &args.scene.input.input {
+        crate::scene::check_input(path, "relief render")?;
+    }
     check_outputs(args)?;
     let scene_args = &args.scene;
     let budget = memory::budget(scene_args.input.read.max_memory);
-    check_image(scene_args.size.0, scene_args.size.1, &budget)?;
+    let (w, h) = scene_args.size;
+    check_image_held(w, h, image_holding(args), &budget)?;
     if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_tile_store(p)) {
         return render_tiles::run(args, path, started);
     }
@@ -119,6 +126,27 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let extra = json!({ "mean_steps": stats.primary.mean_steps() });
     write_and_report(args, &scene, &choice.to_string(), rendered, started, &summary, extra)
+}
+
+/// How the renderer `args` choose holds its picture: strip by strip for a height field drawn
+/// by the naive, mipmap and safety tracers, as the MLHM renderer does for an MLHM scene, a
+/// whole-image G-buffer for any other.
+fn image_holding(args: &RenderArgs) -> ImageHolding {
+    let scene = &args.scene;
+    let input = scene.input.input.as_deref();
+    let mesh = scene.mode == Some(MlhmRenderMode::Mesh) || input.is_some_and(is_stacks_file);
+    if input.is_some_and(input::is_mlhm_scene) && !mesh {
+        return ImageHolding::Mlhm;
+    }
+    let whole = mesh
+        || input.is_some_and(input::is_tile_store)
+        || matches!(scene.tracer, Some(TracerChoice::Hybrid | TracerChoice::Clipmap));
+    match whole {
+        true => ImageHolding::WholeGBuffer,
+        false => {
+            ImageHolding::Strips { depth: args.depth.is_some(), normals: args.normals.is_some() }
+        }
+    }
 }
 
 /// A height field's G-buffer as a renderer drew it, with what shading and `--stats` need.

@@ -37,11 +37,11 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
     let needed = samples * (4 + 1 + 2 + 4 * params.layers.len() as u64);
     if needed > budget.bytes {
         bail!(
-            "shading {} x {} samples needs {} MiB, over the {} MiB memory limit ({})",
+            "shading {} x {} samples needs {}, over the {} memory limit ({})",
             raster.width,
             raster.height,
-            needed >> 20,
-            budget.bytes >> 20,
+            crate::memory::format_bytes(needed),
+            crate::memory::format_bytes(budget.bytes),
             budget.origin
         );
     }

@@ -53,6 +53,18 @@ pub fn run(args: &TileArgs) -> Result<()> {
         },
     )?;
     bar.finish_and_clear();
+    if report.built == 0 && report.texture_built == 0 && report.resumed > 0 {
+        eprintln!(
+            "{} is complete ({} x {} samples, {} tiles of {}^2 {}): nothing to do",
+            args.output.display(),
+            rows.width(),
+            rows.height(),
+            report.tiles,
+            args.tile,
+            precision_name(options.precision),
+        );
+        return Ok(());
+    }
     let mb = report.samples_read as f64 * 4.0 / 1e6;
     let resumed = match report.resumed {
         0 => String::new(),

@@ -1,10 +1,11 @@
 //! `relief view`: the interactive viewer (relief-viewer) over any scene `relief render`
-//! takes, drawn by the live scenes of [`crate::live`] (an MLHM scene's erosion simulation
-//! run, paused and stepped from the viewer).
+//! takes (a tile store too), drawn by the live scenes of [`crate::live`] (an MLHM scene's
+//! erosion simulation run, paused and stepped from the viewer).
 
-use super::check_image;
+use super::check_frame;
+use super::StoreScene;
 use crate::args::{SceneArgs, ViewArgs};
-use crate::live::{LiveHeightField, LiveMlhm};
+use crate::live::{LiveHeightField, LiveMlhm, LiveTiles};
 use crate::scene::height_field::HeightFieldScene;
 use crate::scene::mlhm::LayeredScene;
 use crate::{applies, input, memory, outputs};
@@ -17,19 +18,39 @@ use std::time::Duration;
 
 /// Runs `relief view`: checks the outputs and the display, opens the scene, and runs the
 /// window until it is closed (or `--frames` are done), then prints what the frames took.
+/// Without a display, a `--frames` run draws the same frames headless, with no window.
 /// The viewer flies pinhole cameras only: `--ortho` is refused.
 pub fn run(args: &ViewArgs) -> Result<()> {
-    if args.scene.ortho {
-        return Err(applies::refuse("--ortho", "relief render", "relief view"));
+    for (given, option) in
+        [(args.scene.ortho, "--ortho"), (args.scene.ortho_height.is_some(), "--ortho-height")]
+    {
+        if given {
+            return Err(applies::refuse(option, "relief render", "relief view"));
+        }
+    }
+    if let Some(path) = &args.scene.input.input {
+        crate::scene::check_input(path, "relief view")?;
     }
     let script = args.script.as_deref().map(Script::parse).transpose()?.unwrap_or_default();
     let output_dir = check_outputs(args)?;
-    relief_viewer::check_display()?;
+    let headless = args.frames.is_some() && relief_viewer::check_display().is_err();
+    if !headless {
+        relief_viewer::check_display()?;
+    }
     let scene_args = &args.scene;
     let budget = memory::budget(scene_args.input.read.max_memory);
-    check_image(scene_args.size.0, scene_args.size.1, &budget)?;
+    check_frame(scene_args, &budget)?;
     let (renderer, camera, settings) = open(args, budget.bytes)?;
-    eprintln!("viewing the {}; F1 in the window lists the keys", renderer.describe());
+    match headless {
+        true => eprintln!(
+            "viewing the {} headless (no display): {} frames, no window",
+            renderer.describe(),
+            args.frames.unwrap_or_default()
+        ),
+        false => eprintln!("viewing the {}; F1 in the window lists the keys", renderer.describe()),
+    }
+    std::fs::create_dir_all(&output_dir)
+        .map_err(|e| anyhow::anyhow!("--output-dir {}: {e}", output_dir.display()))?;
     let config = ViewerConfig {
         size: scene_args.size,
         camera,
@@ -41,7 +62,10 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         stats: args.stats.clone(),
         frame_budget: Duration::from_millis(args.frame_budget),
     };
-    let summary = relief_viewer::run(renderer, config)?;
+    let summary = match headless {
+        true => relief_viewer::run_headless(renderer, config)?,
+        false => relief_viewer::run(renderer, config)?,
+    };
     for line in summary.report() {
         eprintln!("{line}");
     }
@@ -51,12 +75,25 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     Ok(())
 }
 
-/// The scene's renderer, its starting camera and settings.
+/// The scene's renderer, its starting camera and settings: a tile store's (its options
+/// checked), or any other input's ([`open_live_scene`], refusing the tile-store options).
 fn open(
     args: &ViewArgs,
     max_memory: u64,
 ) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
-    open_live_scene(&args.scene, max_memory, "relief view")
+    let scene_args = &args.scene;
+    if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_tile_store(p)) {
+        let scene = StoreScene::open(scene_args, &args.tiles, path)?;
+        let camera = crate::scene::camera(scene_args, &scene.bounds)?;
+        let live = LiveTiles::new(scene, camera);
+        let (camera, settings) = (live.camera(), live.settings());
+        return Ok((Arc::new(live), camera, settings));
+    }
+    if let Some(option) = args.tiles.given() {
+        let here = applies::input_kind(scene_args.input.input.as_deref());
+        return Err(applies::refuse(option, "tile stores (made by relief tile)", &here));
+    }
+    open_live_scene(scene_args, max_memory, "relief view")
 }
 
 /// The renderer of the scene `scene_args` name (anything `relief render` takes but a tile
@@ -108,7 +145,8 @@ pub(super) fn open_live_scene(
 }
 
 /// Refuses, before any work, a screenshot that is not a PNG, outputs in folders that do not
-/// exist or that overwrite the input; the folder screenshots (P) and paths (R) go to.
+/// exist or that overwrite the input; the folder screenshots (P) and paths (R) go to
+/// (made when the scene opens, if it does not exist).
 fn check_outputs(args: &ViewArgs) -> Result<PathBuf> {
     let mut all = Vec::new();
     if let Some(path) = &args.screenshot {
@@ -130,8 +168,8 @@ fn check_outputs(args: &ViewArgs) -> Result<PathBuf> {
         [scene.input.input.as_deref(), scene.texture.as_deref()].into_iter().flatten().collect();
     outputs::check_distinct(&all, &inputs)?;
     let dir = args.output_dir.clone().unwrap_or_else(|| PathBuf::from("."));
-    if !dir.is_dir() {
-        bail!("--output-dir {} is not a folder", dir.display());
+    if dir.exists() && !dir.is_dir() {
+        bail!("--output-dir {} is not a folder (a file is there)", dir.display());
     }
     Ok(dir)
 }

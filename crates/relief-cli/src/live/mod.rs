@@ -1,6 +1,6 @@
 //! The scenes `relief view` draws frame after frame: [`SceneRenderer`]s over the scenes the
 //! command line opens, rendering with relief's tracers and shading exactly as `relief
-//! render` does, with the settings the viewer switches at run time, and an MLHM scene's
+//! render` does (a tile store's tiles streamed for each frame), with the settings the viewer switches at run time, and an MLHM scene's
 //! erosion simulation, run as `relief simulate` runs it.
 //!
 //! [`SceneRenderer`]: relief_viewer::SceneRenderer
@@ -10,10 +10,12 @@ mod interruptible;
 mod mlhm;
 mod simulation;
 mod stacks;
+mod tiles;
 
 pub use height_field::LiveHeightField;
 pub use mlhm::LiveMlhm;
 pub use stacks::LiveStacks;
+pub use tiles::LiveTiles;
 
 /// The index of `name` in `names`, or 0.
 fn position(names: &[String], name: &str) -> usize {

@@ -43,6 +43,9 @@ impl HeightFieldScene {
         }
         let field = input::load(&args.input)?;
         let camera = super::camera(args, &field.world_bounds(surface))?;
+        if let Some(warning) = crate::warnings::eye_in_height_field(&field, surface, &camera) {
+            eprintln!("{warning}");
+        }
         let params = shading(args, &field.world_bounds(Surface::Boxes))?;
         Ok(HeightFieldScene { field, surface, choice, params, camera })
     }

@@ -79,6 +79,9 @@ impl LayeredScene {
         let naive = MlhmNaiveTracer::new(map.clone(), ORIGIN);
         let bounds = finite_bounds(&naive.world_bounds(MlhmMode::SolidsWater), &map)?;
         let camera = super::camera(args, &bounds)?;
+        if let Some(warning) = crate::warnings::eye_in_mlhm(&map, &camera) {
+            eprintln!("{warning}");
+        }
         Ok(LayeredScene { map, mode, choice, sigma: args.sigma, preset, shading, camera, bounds })
     }
 

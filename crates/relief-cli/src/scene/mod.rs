@@ -1,5 +1,5 @@
 //! What `relief render` and `relief view` draw, opened from the command line's
-//! [`SceneArgs`]: a height field or an MLHM scene with its tracer choice, its shading and the
+//! [`SceneArgs`] (any input they take: [`check_input`]): a height field or an MLHM scene with its tracer choice, its shading and the
 //! starting camera. Both commands open scenes here, so that a view's frame at rest is the
 //! picture `relief render` makes of the same camera.
 
@@ -11,6 +11,31 @@ use crate::applies;
 use crate::args::SceneArgs;
 use anyhow::Result;
 use relief_core::{Aabb, Camera, DVec3, Framing, Lens, Projection};
+
+/// Every input `relief render`, `relief view` and `relief flythrough` take, for messages.
+pub const SCENE_INPUTS: &str = "a height file (.tif, .tiff, .hgt, .asc, .png, .npy or .npz), \
+    an MLHM scene (.json with its .dat, or .mlhm), a material-stacks terrain (.stacks), or a \
+    tile store (the folder relief tile makes)";
+
+/// Refuses an input `command` cannot draw, naming every input it takes: a folder that is not
+/// a tile store, or a file whose extension names no format it reads.
+pub fn check_input(path: &std::path::Path, command: &str) -> Result<()> {
+    let shown = path.display();
+    if path.is_dir() {
+        if crate::input::is_tile_store(path) {
+            return Ok(());
+        }
+        anyhow::bail!(
+            "{shown} is a folder without an index.json, so not a tile store made by relief \
+             tile; {command} takes {SCENE_INPUTS}"
+        );
+    }
+    let known = ["tif", "tiff", "hgt", "asc", "png", "npy", "npz", "json", "mlhm", "stacks"];
+    match applies::extension(path) {
+        Some(e) if known.contains(&e.as_str()) => Ok(()),
+        _ => anyhow::bail!("{shown}: unsupported file type; {command} takes {SCENE_INPUTS}"),
+    }
+}
 
 /// The vertical field of view when `--fov` is not given, in degrees.
 pub const DEFAULT_FOV_DEG: f64 = 45.0;

@@ -41,8 +41,11 @@ impl StacksScene {
         let bounds = stacks_bounds(&stacks);
         let params =
             StacksMeshParams { smoothing, voxel_height: args.voxel_height, ..Default::default() };
-        let mesher = StacksMesher::new(StacksMipmap::new(stacks), params)?;
         let camera = super::camera(args, &bounds)?;
+        if let Some(warning) = crate::warnings::eye_in_stacks(&stacks, &camera) {
+            eprintln!("{warning}");
+        }
+        let mesher = StacksMesher::new(StacksMipmap::new(stacks), params)?;
         Ok(StacksScene { mesher, bounds, camera })
     }
 }
