@@ -1083,6 +1083,20 @@ pub struct SimulateArgs {
     /// framing, 45,30], fixed over the run.
     #[arg(long, value_name = "AZ,EL[,DISTANCE]", value_parser = parse::view, allow_hyphen_values = true)]
     pub view: Option<parse::ViewAngles>,
+    /// Every K steps, write the state so far as OUTPUT.step-N.json (or .mlhm) beside the
+    /// output, atomically, removing the previous one (1 to 10000000): a killed run keeps its
+    /// work. The final output replaces the last.
+    #[arg(long, value_name = "K", value_parser = checkpoint_every, allow_hyphen_values = true)]
+    pub checkpoint: Option<u64>,
+    /// Diagnostic: check the terrain's invariants after every stage of every step (not only
+    /// after every step), so an error names the stage that broke them; a few times slower.
+    #[arg(long)]
+    pub check_stages: bool,
+}
+
+/// `--checkpoint`: 1 to 10^7 steps.
+fn checkpoint_every(s: &str) -> Result<u64, String> {
+    parse::whole_in(s, 1..=10_000_000, "--checkpoint")
 }
 
 /// `--render-every`: 1 to 10^7 steps.

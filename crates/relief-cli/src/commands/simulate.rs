@@ -38,7 +38,12 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let mut volumes = StepVolumes::default();
     for _ in 0..args.steps {
         let start = Instant::now();
-        volumes.add(&state.step(&params, args.seed)?);
+        let volumes_of_step = if args.check_stages {
+            state.step_checking_stages(&params, args.seed)?
+        } else {
+            state.step(&params, args.seed)?
+        };
+        volumes.add(&volumes_of_step);
         let ms = start.elapsed().as_secs_f64() * 1e3;
         times.push(ms);
         if let Some(frames) = &mut frames {
