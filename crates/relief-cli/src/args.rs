@@ -1067,8 +1067,9 @@ pub struct SimulateArgs {
     /// 10000000).
     #[arg(long, value_name = "K", value_parser = render_every, allow_hyphen_values = true)]
     pub render_every: Option<u64>,
-    /// With --render-every: the folder the frames are written to as frame-00001.png, ...
-    /// (created if missing), each stage's time printed per frame.
+    /// With --render-every: the folder the frames are written to as frame-00000.png,
+    /// frame-00001.png, ... as flythrough numbers them (created if missing), each stage's
+    /// time printed per frame.
     #[arg(long, value_name = "DIR")]
     pub frames: Option<PathBuf>,
     /// With --frames: the frames' quality preset, as in render: low, mid, high or max
@@ -1092,6 +1093,10 @@ pub struct SimulateArgs {
     /// after every step), so an error names the stage that broke them; a few times slower.
     #[arg(long)]
     pub check_stages: bool,
+    /// For the tests of the error path: step N (counted as the scene counts its steps)
+    /// reports a broken terrain.
+    #[arg(long, value_name = "N", hide = true)]
+    pub test_fail_at_step: Option<u64>,
 }
 
 /// `--checkpoint`: 1 to 10^7 steps.

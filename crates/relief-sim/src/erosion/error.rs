@@ -48,7 +48,7 @@ pub enum ErosionError {
     /// the simulation, which the state's last valid copy survives.
     ///
     /// [`ErosionState::validate`]: super::ErosionState::validate
-    #[error("simulation step {step} broke the terrain {}: {source}", after_stage(.stage))]
+    #[error("simulation step {step} broke the terrain {}: {error}", after_stage(.stage))]
     Invariant {
         /// The step (its number before it ran, as [`super::ErosionState::step_count`]).
         step: u64,
@@ -56,6 +56,6 @@ pub enum ErosionError {
         /// ([`super::ErosionState::step_checking_stages`]); `None` for the check after the step.
         stage: Option<Stage>,
         /// What is wrong, naming the cell and the column.
-        source: Box<ErosionError>,
+        error: Box<ErosionError>,
     },
 }

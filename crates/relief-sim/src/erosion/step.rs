@@ -63,7 +63,7 @@ impl ErosionState {
             state.validate().map_err(|e| ErosionError::Invariant {
                 step,
                 stage,
-                source: Box::new(e),
+                error: Box::new(e),
             })
         };
         let after = |state: &ErosionState, stage: Stage| {
