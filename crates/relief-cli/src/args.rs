@@ -1072,8 +1072,9 @@ pub struct SimulateArgs {
     /// 10000000).
     #[arg(long, value_name = "K", value_parser = render_every, allow_hyphen_values = true)]
     pub render_every: Option<u64>,
-    /// With --render-every: the folder the frames are written to as frame-00001.png, ...
-    /// (created if missing), each stage's time printed per frame.
+    /// With --render-every: the folder the frames are written to as frame-00000.png,
+    /// frame-00001.png, ... as flythrough numbers them (created if missing), each stage's
+    /// time printed per frame.
     #[arg(long, value_name = "DIR")]
     pub frames: Option<PathBuf>,
     /// With --frames: the frames' quality preset, as in render: low, mid, high or max
@@ -1088,6 +1089,24 @@ pub struct SimulateArgs {
     /// framing, 45,30], fixed over the run.
     #[arg(long, value_name = "AZ,EL[,DISTANCE]", value_parser = parse::view, allow_hyphen_values = true)]
     pub view: Option<parse::ViewAngles>,
+    /// Every K steps, write the state so far as OUTPUT.step-N.json (or .mlhm) beside the
+    /// output, atomically, removing the previous one (1 to 10000000): a killed run keeps its
+    /// work. The final output replaces the last.
+    #[arg(long, value_name = "K", value_parser = checkpoint_every, allow_hyphen_values = true)]
+    pub checkpoint: Option<u64>,
+    /// Diagnostic: check the terrain's invariants after every stage of every step (not only
+    /// after every step), so an error names the stage that broke them; a few times slower.
+    #[arg(long)]
+    pub check_stages: bool,
+    /// For the tests of the error path: step N (counted as the scene counts its steps)
+    /// reports a broken terrain.
+    #[arg(long, value_name = "N", hide = true)]
+    pub test_fail_at_step: Option<u64>,
+}
+
+/// `--checkpoint`: 1 to 10^7 steps.
+fn checkpoint_every(s: &str) -> Result<u64, String> {
+    parse::whole_in(s, 1..=10_000_000, "--checkpoint")
 }
 
 /// `--render-every`: 1 to 10^7 steps.

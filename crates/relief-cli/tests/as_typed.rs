@@ -417,6 +417,8 @@ const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("simulate {in}/s.mlhm --steps 2 --render-every 1 --frames {in}/s.mlhm/frames -o {out}/a.mlhm", Expect::Refused("cannot create the folder")),
             ("simulate {in}/s.mlhm --steps 2 --preset low -o {out}/a.mlhm", Expect::Refused("--preset applies to --frames only")),
             ("simulate {in}/s.mlhm --steps 2 --view 45,30 -o {out}/a.mlhm", Expect::Refused("--view applies to --frames only")),
+            ("simulate {in}/s.mlhm --steps 3 --checkpoint 2 --check-stages -o {out}/a.mlhm", Expect::Ok),
+            ("simulate {in}/s.mlhm --steps 2 --checkpoint 0 -o {out}/a.mlhm", Expect::Refused("between 1 and 10000000")),
         ],
     ),
     (

@@ -1,7 +1,8 @@
 //! Times erosion steps on the RiversRain scene: `cargo run --release -p relief-sim --example
 //! erosion_bench -- SIZE STEPS` prints the median milliseconds per step and the volumes, and
 //! checks the final terrain's invariants, with a hash of the final state's bytes (layer counts,
-//! columns, fluxes, stability, sediment, damage) to compare runs.
+//! columns, fluxes, stability, sediment, damage) to compare runs. It also times the check of the
+//! invariants each step runs (`ErosionState::validate`) once more after every step.
 
 use relief_sim::erosion::{ErosionParams, ErosionState, StepVolumes};
 use std::time::Instant;
@@ -14,18 +15,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut state = ErosionState::from_mlhm(&map, None, 8, 0)?;
     let params = ErosionParams::default();
     let mut times = Vec::with_capacity(steps);
+    let mut checks = Vec::with_capacity(steps);
     let mut volumes = StepVolumes::default();
     for _ in 0..steps {
         let t = Instant::now();
         volumes.add(&state.step(&params, 1)?);
         times.push(t.elapsed().as_secs_f64() * 1e3);
+        let t = Instant::now();
+        state.validate()?;
+        checks.push(t.elapsed().as_secs_f64() * 1e3);
     }
     times.sort_by(f64::total_cmp);
+    checks.sort_by(f64::total_cmp);
     let layered = state.layer_counts().iter().filter(|&&n| n > 1).count();
     println!(
-        "{size}^2, {steps} steps on {} threads: median {:.2} ms/step; cells with overhangs {layered}",
+        "{size}^2, {steps} steps on {} threads: median {:.2} ms/step (of which the invariants' \
+         check {:.3} ms); cells with overhangs {layered}",
         rayon::current_num_threads(),
-        times[times.len() / 2]
+        times[times.len() / 2],
+        checks[checks.len() / 2]
     );
     println!("{volumes:?}");
     state.to_mlhm()?.validate()?;

@@ -7,15 +7,18 @@ use super::simulate_frames::{self, Frames};
 use crate::args::{ReadArgs, SimulateArgs};
 use crate::{input, memory, outputs, progress};
 use anyhow::{bail, Context, Result};
-use relief_io::{MlhmScene, SimulationState};
-use relief_sim::erosion::{ErosionParams, ErosionState, SimulationPlanes, StepVolumes};
+use keep::{Keeper, SNAPSHOT_BYTES_PER_SLOT, STEP_KEY};
+use relief_io::MlhmScene;
+use relief_sim::erosion::{
+    ErosionError, ErosionParams, ErosionState, SimulationPlanes, StepVolumes,
+};
 use serde_json::{Map, Value};
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
-/// The scene key holding the steps simulated so far (the reference simulator's).
-const STEP_KEY: &str = "Simulation/CurrentSimulationStep";
+#[path = "simulate_keep.rs"]
+mod keep;
 
 /// Bytes the simulation holds per column slot: the terrain, the saved planes and the
 /// per-step scratch planes.
@@ -29,43 +32,45 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         ReadArgs { voids: None, max_memory: args.max_memory, png_encoding: None, array: None };
     let scene = input::load_mlhm(&args.input, &read)?;
     let params = params(args, &scene.settings)?;
-    let mut state = start_state(&scene, &args.input, args.max_memory)?;
+    let held = BYTES_PER_SLOT + SNAPSHOT_BYTES_PER_SLOT;
+    let mut state = start_state_holding(&scene, &args.input, args.max_memory, held)?;
     let first_step = state.step_count();
     let mut frames = Frames::new(args, &Arc::new(scene.mlhm.clone()))?;
+    let mut keeper = Keeper::new(args, &scene, &state)?;
     let bar = progress::bar(args.steps, "simulating");
     let log = |line: &str| bar.suspend(|| eprintln!("{line}"));
-    let mut times = Vec::with_capacity(args.steps as usize);
+    let mut times = Vec::with_capacity(args.steps.min(1 << 16) as usize);
     let mut volumes = StepVolumes::default();
-    for _ in 0..args.steps {
+    for done in 1..=args.steps {
         let start = Instant::now();
-        volumes.add(&state.step(&params, args.seed)?);
+        let step = state.step_count();
+        let stepped = match step_once(&mut state, &params, args) {
+            Ok(v) => v,
+            Err(e) => {
+                bar.finish_and_clear();
+                return Err(keeper.fail_with_broken(e.into(), step, &params, args.seed));
+            }
+        };
+        volumes.add(&stepped);
         let ms = start.elapsed().as_secs_f64() * 1e3;
         times.push(ms);
-        if let Some(frames) = &mut frames {
-            frames.after_step(&state, ms, &log)?;
+        let kept = match &mut frames {
+            Some(frames) => frames.after_step(&state, ms, &log),
+            None => Ok(()),
+        }
+        .and_then(|()| keeper.after_step(&state, done, done == args.steps));
+        if let Err(e) = kept {
+            bar.finish_and_clear();
+            return Err(keeper.fail_with_valid(e, &state));
         }
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let layers = state.used_layers().max(scene.mlhm.max_layers());
-    let map = state.to_mlhm_with_layers(layers)?;
-    let planes = state.planes_with_layers(layers);
-    let mut settings = scene.settings.clone();
-    settings.insert(STEP_KEY.into(), Value::from(state.step_count()));
-    let out = MlhmScene {
-        mlhm: map,
-        max_layer_count: scene.max_layer_count.max(layers),
-        precision: scene.precision,
-        simulation: Some(SimulationState {
-            fluxes: planes.fluxes,
-            stability: planes.stability,
-            sediment: planes.sediment,
-            damage: planes.damage,
-        }),
-        settings,
-        repaired: 0,
-    };
-    write_mlhm(&args.output, &out)?;
+    let written = keeper.scene(&state).and_then(|out| write_mlhm(&args.output, &out));
+    if let Err(e) = written {
+        return Err(keeper.fail_with_valid(e, &state));
+    }
+    keeper.finish();
     let median = simulate_frames::median(times);
     eprintln!(
         "wrote {} after {} steps (now at step {}): median {median:.2} ms per step; {} splits, \
@@ -107,6 +112,32 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     Ok(())
 }
 
+/// One step of `state`, its invariants checked after every stage with `--check-stages`;
+/// with the tests' `--test-fail-at-step N`, step N reports a broken terrain.
+fn step_once(
+    state: &mut ErosionState,
+    params: &ErosionParams,
+    args: &SimulateArgs,
+) -> Result<StepVolumes, ErosionError> {
+    let step = state.step_count();
+    let volumes = if args.check_stages {
+        state.step_checking_stages(params, args.seed)?
+    } else {
+        state.step(params, args.seed)?
+    };
+    if args.test_fail_at_step == Some(step) {
+        return Err(ErosionError::Invariant {
+            step,
+            stage: None,
+            error: Box::new(ErosionError::Parameter {
+                name: "--test-fail-at-step",
+                reason: "a failure injected by the tests".into(),
+            }),
+        });
+    }
+    Ok(volumes)
+}
+
 /// Refuses an input or output that is not an MLHM file, unwritable outputs, and outputs that
 /// would overwrite the input or each other, before any work.
 fn check_files(args: &SimulateArgs) -> Result<()> {
@@ -140,11 +171,21 @@ pub(crate) fn start_state(
     path: &Path,
     max_memory: Option<u64>,
 ) -> Result<ErosionState> {
+    start_state_holding(scene, path, max_memory, BYTES_PER_SLOT)
+}
+
+/// [`start_state`] for a run that holds `bytes_per_slot` bytes per column slot.
+fn start_state_holding(
+    scene: &MlhmScene,
+    path: &Path,
+    max_memory: Option<u64>,
+    bytes_per_slot: u64,
+) -> Result<ErosionState> {
     let map = &scene.mlhm;
     let capacity = scene.max_layer_count.clamp(map.max_layers(), 255);
     let memory::Budget { bytes: limit, origin } = memory::budget(max_memory);
     let needed =
-        (map.width() * map.height()) as u128 * capacity as u128 * u128::from(BYTES_PER_SLOT);
+        (map.width() * map.height()) as u128 * capacity as u128 * u128::from(bytes_per_slot);
     if needed > u128::from(limit) {
         bail!(
             "simulating {} x {} cells of {capacity} layers needs {} MiB, over the {} MiB memory \

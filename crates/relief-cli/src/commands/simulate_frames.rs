@@ -66,6 +66,8 @@ pub struct Frames {
     pending_steps_ms: f64,
     pending_steps: u64,
     times: Vec<FrameTimes>,
+    /// Digits of the frame numbers: 5, more when the run's frames need them.
+    digits: usize,
 }
 
 /// One frame's stages, milliseconds.
@@ -117,6 +119,7 @@ impl Frames {
             pending_steps_ms: 0.0,
             pending_steps: 0,
             times: Vec::new(),
+            digits: (args.steps / every).saturating_sub(1).to_string().len().max(5),
         }))
     }
 
@@ -148,8 +151,10 @@ impl Frames {
         let render = ms_since(started);
 
         let started = Instant::now();
-        let frame = self.times.len() + 1;
-        let path = self.dir.join(format!("frame-{frame:05}.png"));
+        // Numbered from 0, as `relief flythrough` numbers its frames.
+        let frame = self.times.len();
+        let digits = self.digits;
+        let path = self.dir.join(format!("frame-{frame:0digits$}.png"));
         let rgb = tonemap_reinhard_to_rgb8(&image.radiance, self.shading.exposure)?;
         let (w, h) = (self.camera.width(), self.camera.height());
         outputs::write_picture(&path, w, h, &rgb, relief_io::PngCompression::Fast)

@@ -27,6 +27,20 @@ impl Mlhm {
         }
         Ok(())
     }
+
+    /// Checks the invariants of [`Mlhm::validate`] on the columns of one cell `(x, y)`
+    /// (bottom to top) of a map with room for `max_layers` columns per cell; the error names
+    /// the cell and the column. For code that keeps a map's columns in its own layout (as the
+    /// erosion simulation does) and checks them without building an [`Mlhm`].
+    pub fn validate_cell(
+        x: usize,
+        y: usize,
+        columns: &[MlhmColumn],
+        max_layers: usize,
+    ) -> Result<(), CoreError> {
+        check_layer_count(x, y, columns.len(), max_layers)?;
+        check_cell(x, y, columns)
+    }
 }
 
 /// Refuses a layer count outside `1..=max`.

@@ -1,5 +1,6 @@
 //! The errors of the erosion simulation, arranged by cause.
 
+use super::invariants::{after_stage, Stage};
 use relief_core::CoreError;
 use thiserror::Error;
 
@@ -43,4 +44,18 @@ pub enum ErosionError {
     /// The terrain breaks an MLHM invariant, or its shape is invalid.
     #[error(transparent)]
     Terrain(#[from] CoreError),
+    /// A simulation step broke the state's invariants ([`ErosionState::validate`]): a bug of
+    /// the simulation, which the state's last valid copy survives.
+    ///
+    /// [`ErosionState::validate`]: super::ErosionState::validate
+    #[error("simulation step {step} broke the terrain {}: {error}", after_stage(.stage))]
+    Invariant {
+        /// The step (its number before it ran, as [`super::ErosionState::step_count`]).
+        step: u64,
+        /// The stage after which the check failed, when each stage was checked
+        /// ([`super::ErosionState::step_checking_stages`]); `None` for the check after the step.
+        stage: Option<Stage>,
+        /// What is wrong, naming the cell and the column.
+        error: Box<ErosionError>,
+    },
 }

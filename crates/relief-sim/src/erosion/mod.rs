@@ -23,6 +23,7 @@
 mod column_split;
 mod error;
 mod horizontal_erosion;
+mod invariants;
 mod lanes;
 mod one_column;
 mod params;
@@ -38,6 +39,7 @@ mod vertical_erosion;
 mod volumes;
 
 pub use error::ErosionError;
+pub use invariants::Stage;
 pub use params::ErosionParams;
 pub use random::uniform;
 pub use state::{ErosionState, SimulationPlanes, GROUND_STABILITY};
