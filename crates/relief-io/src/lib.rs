@@ -54,6 +54,8 @@
 
 mod asc;
 mod atomic_write;
+mod crs;
+mod epsg_feet;
 mod error;
 mod gdal_metadata;
 mod geodesy;
@@ -64,6 +66,7 @@ mod geotiff_read;
 mod geotiff_rows;
 mod geotiff_strip_writer;
 mod geotiff_write;
+mod height_unit;
 mod hgt;
 mod hgt_rows;
 mod input_file;
@@ -108,7 +111,8 @@ pub use geodesy::metres_per_degree;
 pub use georeference::{GeoTiffTags, Georeference, EPSG_WGS84};
 pub use geotiff_read::read_geotiff;
 pub use geotiff_strip_writer::GeoTiffStripWriter;
-pub use geotiff_write::write_geotiff;
+pub use geotiff_write::{write_geotiff, write_geotiff_placed};
+pub use height_unit::{HeightUnit, LengthUnit};
 pub use hgt::{hgt_tile_corner, read_hgt, write_hgt, HGT_VOID};
 pub use jpeg_write::{write_jpeg_rgb8, JPEG_QUALITY};
 pub use layer_png_write::{world_file_path, write_layer_png};
@@ -130,7 +134,10 @@ pub use npy_write::{write_height_field_npy, write_npy_f32};
 pub use npz::read_npz;
 pub use open_rows::open_rows;
 pub use ortho_read::{open_ortho, OrthoInfo, OrthoRows};
-pub use png_height::{read_png_height, write_png16_height};
+pub use png_height::{
+    read_png_height, write_png16_height, write_png16_height_in, PngHeightScale, PNG_HEIGHT_OFFSET,
+    PNG_HEIGHT_SCALE, PNG_HEIGHT_UNIT,
+};
 pub use png_read::{read_png_rgb, RgbImage};
 pub use png_write::{write_png_gray16, write_png_rgb8, write_png_rgb8_compressed, PngCompression};
 pub use raster::{
@@ -145,4 +152,6 @@ pub use stacks_native::{
     write_stacks, STACKS_EXTENSION, STACKS_MAGIC, STACKS_VERSION,
 };
 pub use void_fill::fill_voids;
-pub use write::write_height_field;
+pub use write::{
+    aux_xml_path, prj_path, write_height_field, write_height_field_georeferenced, WriteNotes,
+};
