@@ -86,16 +86,7 @@ pub fn write_height_field_georeferenced(
                 };
                 write_text(&world, &north_up.world_file())?;
                 notes.push(format!("wrote {} (the placement)", world.display()));
-                write_prj(path, georeference, &mut notes)?;
-                if let Ok(wkt) = georeference.esri_wkt() {
-                    // GDAL reads a PNG's CRS from its .aux.xml, not from a .prj.
-                    let aux = aux_xml_path(path);
-                    write_text(
-                        &aux,
-                        &format!("<PAMDataset>\n  <SRS>{}</SRS>\n</PAMDataset>\n", xml_text(&wkt)),
-                    )?;
-                    notes.push(format!("wrote {} (the CRS, for GDAL)", aux.display()));
-                }
+                write_image_crs(path, georeference, &mut notes)?;
             }
         }
         Some("npy") => {
@@ -204,6 +195,24 @@ fn write_prj(
             "no {} written: {why}; the file is placed but names no CRS",
             prj.display()
         )),
+    }
+    Ok(())
+}
+
+/// Writes the CRS of an image placed by a world file: a `.prj` and, as GDAL reads an image's
+/// CRS from its `.aux.xml` rather than a `.prj`, a `.aux.xml` with the same WKT; or notes why
+/// it cannot.
+pub(crate) fn write_image_crs(
+    path: &Path,
+    georeference: &Georeference,
+    notes: &mut WriteNotes,
+) -> Result<(), IoError> {
+    write_prj(path, georeference, notes)?;
+    if let Ok(wkt) = georeference.esri_wkt() {
+        let aux = aux_xml_path(path);
+        let xml = format!("<PAMDataset>\n  <SRS>{}</SRS>\n</PAMDataset>\n", xml_text(&wkt));
+        write_text(&aux, &xml)?;
+        notes.push(format!("wrote {} (the CRS, for GDAL)", aux.display()));
     }
     Ok(())
 }

@@ -68,9 +68,9 @@ pub fn geometry(
             corner = DVec2::from(item("origin")?);
             // Heights in feet: the dict's z scale turns them into metres.
             if let Some(unit) = georeference.get_item("z_scale")? {
-                file_z = unit.extract().map_err(|_| {
-                    invalid("georeference['z_scale'] must be a number")
-                })?;
+                file_z = unit
+                    .extract()
+                    .map_err(|_| invalid("georeference['z_scale'] must be a number"))?;
             }
         } else if let Ok(d) = spacing.extract::<f64>() {
             (dx, dy) = (d, d);

@@ -12,9 +12,8 @@ use std::path::PathBuf;
 /// file cannot be written.
 #[pyfunction]
 pub fn write_png(path: PathBuf, rgb: &Bound<'_, PyAny>) -> PyResult<()> {
-    let wrong = || {
-        invalid("rgb must be a uint8 array of shape (height, width, 3), as render returns")
-    };
+    let wrong =
+        || invalid("rgb must be a uint8 array of shape (height, width, 3), as render returns");
     let array: PyReadonlyArray3<'_, u8> = rgb.extract().map_err(|_| wrong())?;
     let shape = array.shape();
     let (height, width) = (shape[0], shape[1]);
