@@ -2,7 +2,7 @@
 //! and the transform of geographic (EPSG:4326), UTM and US-survey-feet (EPSG:2274) GeoTIFFs
 //! and of an SRTM tile, in a GeoTIFF, an ESRI grid with its `.prj`, and a PNG with its world
 //! file and `.prj`; the heights as stored (a PNG's within its step, in the unit its tEXt
-//! names).
+//! names). Read back by relief and written as GeoTIFFs, those outputs are the source again.
 
 mod common;
 
@@ -24,7 +24,7 @@ def png_scale(path):
     text = Image.open(path).text
     return float(text["height_scale"]), float(text["height_offset"]), text["height_unit"]
 
-def check(src_path, out_path):
+def check(src_path, out_path, png=None):
     with rasterio.open(src_path) as src, rasterio.open(out_path) as out:
         assert out.crs is not None, f"{out_path}: no CRS"
         assert epsg(out.crs) == epsg(src.crs), f"{out_path}: {out.crs} is not {src.crs}"
@@ -37,12 +37,13 @@ def check(src_path, out_path):
         assert (out.width, out.height) == (src.width, src.height), out_path
         want = src.read(1).astype(np.float64)
         got = out.read(1).astype(np.float64)
+        tolerance = 0.0
         if out_path.endswith(".png"):
             scale, offset, unit = png_scale(out_path)
             got = got * scale + offset
+        if out_path.endswith(".png") or png:
+            scale = png_scale(png or out_path)[0]
             tolerance = scale / 2 + 1e-6 * np.abs(want).max()
-        else:
-            tolerance = 0.0
         worst = np.abs(got - want).max()
         assert worst <= tolerance, f"{out_path}: heights differ by {worst} (tolerance {tolerance})"
 "#;
@@ -95,6 +96,16 @@ fn convert_keeps_crs_transform_and_heights_for_gdal() {
                 assert!(said.contains(".prj ("), "{source} -> {out}: {said}");
             }
             checks.push_str(&format!("check({source:?}, {out:?})\n"));
+            if ext != "tif" {
+                // Read back by relief (the .prj, the world file, the tEXt scale) and written
+                // as a GeoTIFF, it is the source again.
+                let back = format!("{d}/out{i}-{ext}-back.tif");
+                let run = relief(&["convert", &out, &back]);
+                let said = String::from_utf8_lossy(&run.stderr).to_string();
+                assert!(run.status.success(), "{out} -> {back}: {said}");
+                let png = if ext == "png" { format!("{out:?}") } else { "None".into() };
+                checks.push_str(&format!("check({source:?}, {back:?}, {png})\n"));
+            }
         }
     }
     let script = format!("{CHECK}\n{checks}print('ok')");

@@ -18,11 +18,9 @@
 //! linear unit.
 
 use crate::atomic_write::write_atomically;
-use crate::crs::prj_crs;
-use crate::geokeys::ModelGrid;
 use crate::input_file::open_input;
 use crate::raster::{mark_voids, Format, Raster, RasterInfo, ReadOptions};
-use crate::{Georeference, HeightUnit, IoError, LengthUnit};
+use crate::{Georeference, IoError};
 use relief_core::{DVec2, GridGeometry, HeightField};
 use std::fmt::Write as _;
 use std::io::{BufRead, BufReader, Read, Write};
@@ -53,55 +51,7 @@ const WRITTEN_NODATA: f64 = -9999.0;
 pub fn read_asc(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     let (file, len) = open_input(path)?;
     let raster = read_asc_from(BufReader::new(file), len, path, options)?;
-    with_prj(path, raster)
-}
-
-/// The largest `.prj` read: far more than any CRS's WKT needs.
-const MAX_PRJ_BYTES: u64 = 1 << 20;
-
-/// `raster` placed in the CRS of the `.prj` beside `path`, when there is one: a geographic
-/// CRS's degrees converted to metres at the grid's central latitude (as for a GeoTIFF), a
-/// projected CRS's units scaled to metres, the heights taken in the projected CRS's linear
-/// unit (metres, assumed, for a geographic one). A `.prj` that is not ESRI WKT is refused
-/// (its grid's coordinates could be degrees or feet): fix or remove it.
-fn with_prj(path: &Path, mut raster: Raster) -> Result<Raster, IoError> {
-    let prj = crate::prj_path(path);
-    let bytes = match std::fs::read(&prj) {
-        Ok(bytes) => bytes,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(raster),
-        Err(e) => return Err(IoError::io(&prj, e)),
-    };
-    if bytes.len() as u64 > MAX_PRJ_BYTES {
-        return Err(IoError::format(&prj, format!("{} bytes, too long for a .prj", bytes.len())));
-    }
-    let Some(grid) = &raster.info.georeference else { return Ok(raster) };
-    let [west, dx, _, north, _, minus_dy] = grid.geotransform;
-    let text = String::from_utf8_lossy(&bytes);
-    let crs = prj_crs(&text, (west, north, dx, -minus_dy)).map_err(|why| {
-        IoError::unsupported(
-            &prj,
-            format!("CRS: {why}; fix or remove it to read {}", path.display()),
-        )
-    })?;
-    let south = north + minus_dy * raster.height as f64;
-    let model = ModelGrid { west, south, dx, dy: -minus_dy, metres_per_unit: crs.metres_per_unit };
-    let (geometry, from_degrees) = model.geometry(path, (raster.width, raster.height))?;
-    let height_unit = match crs.metres_per_unit {
-        None => {
-            HeightUnit::assumed_metres("the .prj's CRS is geographic and names no vertical unit")
-        }
-        Some(factor) => match LengthUnit::from_metres(factor) {
-            Some(unit) => HeightUnit::new(unit, "the linear unit of the .prj's CRS"),
-            None => HeightUnit::assumed_metres(&format!(
-                "the .prj's linear unit of {factor} m is not a height unit relief knows"
-            )),
-        },
-    };
-    raster.geometry = GridGeometry { z_scale: height_unit.unit.metres(), ..geometry };
-    raster.info.from_degrees = from_degrees;
-    raster.info.georeference = Some(crs.georeference);
-    raster.info.height_unit = height_unit;
-    Ok(raster)
+    crate::sidecars::with_prj(path, raster)
 }
 
 /// [`read_asc`] from `reader` holding the `len` bytes of a grid; `path` names the file in

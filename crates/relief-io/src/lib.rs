@@ -17,7 +17,15 @@
 //!   each, and [`read_layers_geotiff`] reads them back; [`write_layer_png`] writes one layer
 //!   as a 16-bit PNG with a world file;
 //! - [`write_height_field`]: a height field by extension, through [`write_geotiff`],
-//!   [`write_hgt`], [`write_asc`], [`write_png16_height`] or [`write_height_field_npy`];
+//!   [`write_hgt`], [`write_asc`], [`write_png16_height`] (16 bits over the heights' range,
+//!   [`PngHeightScale`] in tEXt chunks) or [`write_height_field_npy`];
+//!   [`write_height_field_georeferenced`] keeps an input's CRS and placement in every format
+//!   that can hold them (GeoTIFF keys, `.asc` and `.png` with `.prj` and world file) and says
+//!   what it could not keep;
+//! - [`HeightUnit`], [`LengthUnit`]: the unit of a raster's heights (VerticalUnitsGeoKey, the
+//!   CRS's linear unit, [`ReadOptions::z_unit`]) and why; readers give the raster's geometry
+//!   the z scale to metres; [`Georeference::epsg`], [`Georeference::esri_wkt`] and
+//!   [`Georeference::height_unit`] describe a georeference's CRS;
 //! - [`read_mlhm_scene`], [`write_mlhm_scene`]: multi-layered height map scenes of the
 //!   reference simulator (JSON settings and a zlib `.dat`, f32 or f16) as an [`MlhmScene`];
 //!   [`read_mlhm_scene_header`] for the JSON alone (a procedural scene has no `.dat`);
@@ -95,6 +103,7 @@ mod read;
 mod rgb_geotiff_write;
 mod row_source;
 mod sample_type;
+mod sidecars;
 mod stacks_native;
 mod stored_chunk;
 #[cfg(test)]

@@ -2,7 +2,7 @@
 //!
 //! | encoding | pixels | height |
 //! |---|---|---|
-//! | grey | 8- or 16-bit greyscale | the grey value |
+//! | grey | 8- or 16-bit greyscale | the grey value, or grey * `height_scale` + `height_offset` when its tEXt chunks say so |
 //! | terrain-RGB | 8-bit RGB or RGBA | -10000 + (R * 65536 + G * 256 + B) * 0.1 |
 //! | Terrarium | 8-bit RGB or RGBA | R * 256 + G + B / 256 - 32768 |
 //!
@@ -37,8 +37,12 @@ struct Layout {
 ///
 /// Grey heights need an 8- or 16-bit greyscale image (with or without alpha); terrain-RGB and
 /// Terrarium heights need an 8-bit RGB or RGBA image. A pixel with alpha 0 is a void (NaN).
-/// The raster has no georeference: spacing 1, origin 0. Rows are decoded one at a time
-/// (interlaced images, rare for heights, are decoded whole).
+/// A grey PNG whose tEXt chunks hold `height_scale` and `height_offset` (as
+/// [`write_png16_height_in`] writes them) has heights `grey * height_scale + height_offset`,
+/// in the unit its `height_unit` names (the raster's z scale its metres). A world file beside
+/// the image (`.pgw`) places it, in the CRS of a `.prj` beside it (ESRI WKT); without one the
+/// raster has spacing 1, origin 0. Rows are decoded one at a time (interlaced images, rare for
+/// heights, are decoded whole).
 ///
 /// Errors: [`IoError::Io`] when the file cannot be read (or is a directory),
 /// [`IoError::Format`] for a malformed or truncated PNG or one whose header claims more pixels
@@ -47,7 +51,8 @@ struct Layout {
 /// memory budget.
 pub fn read_png_height(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     let (file, len) = open_input(path)?;
-    read_png_height_from(BufReader::new(file), len, path, options)
+    let raster = read_png_height_from(BufReader::new(file), len, path, options)?;
+    crate::sidecars::with_world_file(path, raster)
 }
 
 /// [`read_png_height`] from `reader` holding the `len` bytes of a PNG; `path` names the file

@@ -88,8 +88,9 @@ pub struct RasterInfo {
     pub nodata: Option<f64>,
     /// The file's placement and CRS as stored, for writing outputs aligned with it: a
     /// GeoTIFF's own georeferencing tags, an SRTM tile's WGS 84 placement from its name, an
-    /// ESRI grid's corner and cell size (in no stated CRS: a `.prj` sidecar is not read);
-    /// `None` for a file without one (`.npy`, `.npz`, PNG, a TIFF without model tags).
+    /// ESRI grid's corner and cell size or a PNG's world file, in the CRS of the `.prj`
+    /// beside it (in no stated CRS without one); `None` for a file without one (`.npy`,
+    /// `.npz`, a PNG without a world file, a TIFF without model tags).
     pub georeference: Option<Georeference>,
     /// The unit of the stored heights and why relief took it; the raster's geometry's
     /// `z_scale` is its length in metres.
