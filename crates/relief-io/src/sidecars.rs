@@ -30,7 +30,8 @@ pub(crate) fn with_world_file(path: &Path, mut raster: Raster) -> Result<Raster,
     if *rotation_x != 0.0 || *rotation_y != 0.0 {
         return Err(IoError::unsupported(&world, "a rotated image (world file rotation terms)"));
     }
-    if !(dx > 0.0 && dy > 0.0) || ![*centre_x, *centre_y].iter().all(|v| v.is_finite()) {
+    let finite = centre_x.is_finite() && centre_y.is_finite();
+    if !(dx > 0.0 && dy > 0.0 && finite) {
         return Err(IoError::unsupported(
             &world,
             format!("pixel size {dx} x {} (relief reads north-up, east-right images)", -dy),
