@@ -203,3 +203,20 @@ fn convert_keeps_a_feet_dem_in_feet_and_says_so() {
         }
     }
 }
+
+#[test]
+fn convert_records_the_unit_z_unit_gives() {
+    let (dem, out) = (feet_dem(), scratch("conv-told-m.tif"));
+    let run = relief(&["convert", dem.to_str().unwrap(), out.to_str().unwrap(), "--z-unit", "m"]);
+    let said = String::from_utf8_lossy(&run.stderr).to_string();
+    assert!(run.status.success(), "{said}");
+    assert!(said.contains("VerticalUnitsGeoKey says the heights are in metre"), "{said}");
+    let back = relief_io::read_raster(&out, &Default::default()).unwrap();
+    assert_eq!(back.info.height_unit.unit, LengthUnit::Metre);
+    assert_eq!(back.info.height_unit.reason, "VerticalUnitsGeoKey");
+    assert_eq!(back.geometry.z_scale, 1.0);
+    // The CRS and its feet stay: only the heights' unit is declared.
+    let georeference = back.info.georeference.unwrap();
+    assert_eq!(georeference.epsg(), Some(2274));
+    assert_eq!(georeference.linear_unit().unwrap().0, LengthUnit::UsSurveyFoot);
+}
