@@ -29,7 +29,8 @@ pub fn extension(path: &Path) -> Option<String> {
 
 /// Refuses the reading options that do nothing for the input at `path` (`None`: the
 /// default fBm terrain): `--png-encoding` for anything but a PNG, `--array` for anything but
-/// an .npz archive, and `--voids` for the generated terrain (which has none).
+/// an .npz archive, `--voids` for the generated terrain (which has none), and `--z-unit` for
+/// anything but a height file.
 pub fn check_read_args(read: &ReadArgs, path: Option<&Path>) -> anyhow::Result<()> {
     let ext = path.and_then(extension);
     let here = || input_kind(path);
@@ -41,6 +42,10 @@ pub fn check_read_args(read: &ReadArgs, path: Option<&Path>) -> anyhow::Result<(
     }
     if path.is_none() && read.voids.is_some() {
         return Err(refuse("--voids", "input files", &here()));
+    }
+    let height_file = !matches!(ext.as_deref(), None | Some("json" | "mlhm" | "stacks"));
+    if read.z_unit.is_some() && (path.is_none() || !height_file) {
+        return Err(refuse("--z-unit", "height files", &here()));
     }
     Ok(())
 }

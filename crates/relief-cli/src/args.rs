@@ -84,6 +84,16 @@ pub struct ReadArgs {
     /// The array to read from an .npz archive (.npz input only) [default: the first].
     #[arg(long)]
     pub array: Option<String>,
+    /// The unit of the file's heights: m, ft (international foot) or us-ft (US survey foot)
+    /// [default: the file's VerticalUnitsGeoKey, else its projected CRS's linear unit, else
+    /// metres; `relief info` says which and why]. Heights are converted to metres.
+    #[arg(long, value_name = "UNIT", value_parser = z_unit)]
+    pub z_unit: Option<relief_io::LengthUnit>,
+}
+
+/// `--z-unit`: m, ft or us-ft.
+fn z_unit(s: &str) -> Result<relief_io::LengthUnit, String> {
+    s.parse()
 }
 
 /// `--voids`.
@@ -123,7 +133,8 @@ pub struct InputArgs {
     /// The array's row 0 is its north edge (as in most north-up rasters): flip the rows.
     #[arg(long)]
     pub north_up: bool,
-    /// Multiply sample values by this to get world heights (1e-6 to 1e7).
+    /// Multiply heights by this (1e-6 to 1e7), after their unit is turned into metres (see
+    /// --z-unit).
     #[arg(long, default_value = "1", value_parser = parse::z_scale, allow_hyphen_values = true)]
     pub z_scale: f64,
     /// Terrain samples per side of the default fBm terrain, when no INPUT is given (1 to
@@ -823,7 +834,8 @@ pub struct ShadeArgs {
     /// Texel spacing `DX[,DY]` in metres (default: from the file's georeference, else 1).
     #[arg(long, value_parser = parse::spacing, allow_hyphen_values = true)]
     pub spacing: Option<(f64, f64)>,
-    /// Multiply sample values by this to get heights in metres (1e-6 to 1e7).
+    /// Multiply heights by this (1e-6 to 1e7), after their unit is turned into metres (see
+    /// --z-unit).
     #[arg(long, default_value = "1", value_parser = parse::z_scale, allow_hyphen_values = true)]
     pub z_scale: f64,
     /// Write the stage timings and ray counts to this .json file.

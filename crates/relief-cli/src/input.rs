@@ -37,9 +37,12 @@ pub fn load(args: &InputArgs) -> Result<Arc<HeightField>> {
     Ok(Arc::new(field))
 }
 
-/// Applies `--spacing` (where given; else the file's) and `--z-scale` to `field`.
+/// Applies `--spacing` (where given; else the file's) and `--z-scale` to `field`. The z scale
+/// multiplies the field's own, which turns the file's height unit into metres (0.3048 for a
+/// DEM in feet).
 pub fn place(field: HeightField, spacing: Option<(f64, f64)>, z_scale: f64) -> Result<HeightField> {
     let (dx, dy) = spacing.unwrap_or((field.geometry().dx, field.geometry().dy));
+    let z_scale = z_scale * field.geometry().z_scale;
     let geometry = GridGeometry { dx, dy, z_scale, ..*field.geometry() };
     field.with_geometry(geometry).context("invalid placement")
 }
@@ -89,6 +92,7 @@ pub fn read_options(args: &ReadArgs) -> ReadOptions {
             PngHeights::TerrainRgb => PngEncoding::TerrainRgb,
             PngHeights::Terrarium => PngEncoding::Terrarium,
         },
+        z_unit: args.z_unit,
     }
 }
 

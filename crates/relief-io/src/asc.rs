@@ -13,7 +13,9 @@
 //!
 //! Keys are case-insensitive: `ncols`, `nrows`, `xllcorner` or `xllcenter`, `yllcorner` or
 //! `yllcenter`, `cellsize` or both `dx` and `dy`, and optionally `NODATA_value`. relief
-//! reads the coordinates as metres.
+//! reads the coordinates as metres, unless a `.prj` beside the grid names its CRS (ESRI WKT):
+//! then degrees are converted to metres, feet too, and the heights are taken in the CRS's
+//! linear unit.
 
 use crate::atomic_write::write_atomically;
 use crate::input_file::open_input;
@@ -35,7 +37,9 @@ const WRITTEN_NODATA: f64 = -9999.0;
 /// The header's keys are case-insensitive; `xllcenter`/`yllcenter` give the centre of the
 /// lower-left cell, `xllcorner`/`yllcorner` its lower-left corner; `cellsize` sets both
 /// spacings, or `dx` and `dy` each one. The coordinates are taken as metres
-/// (`info.georeferenced`, no degree conversion). Every row must be on a line of its own with
+/// (`info.georeferenced`, no degree conversion), unless a `.prj` beside the file (ESRI WKT)
+/// names a geographic CRS (degrees, converted at the central latitude as for a GeoTIFF) or a
+/// projected one in feet (converted, the heights too); its CRS is then the georeference's. Every row must be on a line of its own with
 /// exactly `ncols` numbers. Samples equal to `NODATA_value` become NaN. The file is parsed as
 /// a stream, word by word.
 ///
@@ -46,7 +50,8 @@ const WRITTEN_NODATA: f64 = -9999.0;
 /// the memory budget; [`IoError::InvalidData`] for a NaN or infinite sample.
 pub fn read_asc(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     let (file, len) = open_input(path)?;
-    read_asc_from(BufReader::new(file), len, path, options)
+    let raster = read_asc_from(BufReader::new(file), len, path, options)?;
+    crate::sidecars::with_prj(path, raster)
 }
 
 /// [`read_asc`] from `reader` holding the `len` bytes of a grid; `path` names the file in
@@ -87,6 +92,7 @@ pub(crate) fn read_asc_from<R: Read>(
             format: Format::Asc,
             sample_type: "text".into(),
             georeferenced: true,
+            height_unit: crate::HeightUnit::default(),
             from_degrees: None,
             nodata: header.nodata,
             georeference: Some(georeference),

@@ -2,6 +2,7 @@
 //! GeoKeys (tag 34735) that place it (model type, raster type, units), and the minimal GeoKey
 //! directory relief's writer emits.
 
+use crate::crs::projected_unit;
 use crate::geodesy::metres_per_degree;
 use crate::{DegreeSpacing, IoError};
 use relief_core::{DVec2, GridGeometry};
@@ -51,6 +52,8 @@ pub(crate) enum RasterType {
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub(crate) struct GeoKeys {
     keys: Vec<(u16, u16)>,
+    /// The GeoAsciiParams text (the citations), which may name the CRS's unit.
+    citation: String,
 }
 
 impl GeoKeys {
@@ -76,7 +79,14 @@ impl GeoKeys {
             .filter(|key| key[1] == 0 && key[2] == 1)
             .map(|key| (key[0], key[3]))
             .collect();
-        Ok(GeoKeys { keys })
+        Ok(GeoKeys { keys, citation: String::new() })
+    }
+
+    /// These keys with the GeoAsciiParams text `ascii` (the citations), which may name the
+    /// CRS's unit when no key does.
+    pub(crate) fn with_citation(self, ascii: Option<&[u8]>) -> GeoKeys {
+        let citation = String::from_utf8_lossy(ascii.unwrap_or(&[])).into_owned();
+        GeoKeys { citation, ..self }
     }
 
     /// The value of the short-valued key `id`.
@@ -114,17 +124,15 @@ impl GeoKeys {
         }
     }
 
-    /// Metres per projected unit (ProjLinearUnitsGeoKey): metre when absent or user-defined,
-    /// the international and the US survey foot; other units are refused.
-    ///
-    /// A projected CRS given only by its EPSG code carries its unit in that code, which relief
-    /// cannot look up: its coordinates are taken as metres.
+    /// Metres per projected unit: ProjLinearUnitsGeoKey (metre when user-defined), else the
+    /// unit of the projected CRS's EPSG code (the EPSG codes in feet are known), else a
+    /// citation naming `(ftUS)` or `(ft)`, else the metre. A unit key other than the metre,
+    /// the foot and the US survey foot is refused.
     pub(crate) fn metres_per_linear_unit(&self, path: &Path) -> Result<f64, IoError> {
-        match self.get(PROJ_LINEAR_UNITS) {
-            None | Some(9001 | USER_DEFINED) => Ok(1.0),
-            Some(9002) => Ok(0.3048),
-            Some(9003) => Ok(1200.0 / 3937.0),
-            Some(code) => Err(IoError::unsupported(
+        let (key, pcs) = (self.get(PROJ_LINEAR_UNITS), self.get(PROJECTED_CS_TYPE));
+        match projected_unit(key, pcs, &self.citation) {
+            Ok((unit, _)) => Ok(unit.metres()),
+            Err(code) => Err(IoError::unsupported(
                 path,
                 format!("linear unit EPSG:{code} (ProjLinearUnits)"),
             )),

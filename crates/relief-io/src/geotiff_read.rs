@@ -204,13 +204,18 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         } else {
             None
         };
+        let georeference = Georeference::from_geotiff_tags(tags);
+        let height_unit = georeference.as_ref().map(Georeference::height_unit).unwrap_or_default();
+        let mut placement = placement;
+        placement.geometry.z_scale = height_unit.unit.metres();
         let info = RasterInfo {
             format: Format::GeoTiff,
             sample_type: sample_type.name().to_string(),
             georeferenced: placement.georeferenced,
             from_degrees: placement.from_degrees,
             nodata,
-            georeference: Georeference::from_geotiff_tags(tags),
+            georeference,
+            height_unit,
         };
         let scratch = ChunkScratch {
             buffer: Vec::new(),
@@ -663,15 +668,16 @@ pub(crate) fn read_placement<R: Read + Seek>(
         Some(value) => Some(value.into_u16_vec().map_err(keys_error)?),
         None => None,
     };
+    let geo_ascii_params = ascii_bytes(decoder, path, Tag::GeoAsciiParamsTag, "GeoAsciiParamsTag")?;
     let keys = match &directory {
         Some(directory) => GeoKeys::parse(path, directory)?,
         None => GeoKeys::default(),
-    };
+    }
+    .with_citation(geo_ascii_params.as_deref());
     let tags = ModelTags { scale, ties, transform };
     let placement = model_placement(path, &tags, &keys, (width, height))?;
     let geo_double_params =
         f64_values(decoder, path, Tag::GeoDoubleParamsTag, "GeoDoubleParamsTag")?;
-    let geo_ascii_params = ascii_bytes(decoder, path, Tag::GeoAsciiParamsTag, "GeoAsciiParamsTag")?;
     let tags = GeoTiffTags {
         model_pixel_scale: tags.scale,
         model_tiepoint: tags.ties,

@@ -3,7 +3,8 @@
 
 use crate::atomic_write::write_atomically;
 use crate::geokeys::PROJECTED_METRES;
-use crate::IoError;
+use crate::layers_geotiff_write::write_georeference;
+use crate::{Georeference, IoError};
 use rayon::prelude::*;
 use relief_core::{GridGeometry, HeightField};
 use std::io::{Seek, Write};
@@ -35,9 +36,22 @@ pub(crate) const BIG_TIFF_FROM: u64 = 3 << 30;
 ///
 /// [`read_geotiff`]: crate::read_geotiff
 pub fn write_geotiff(path: &Path, field: &HeightField) -> Result<(), IoError> {
+    write_geotiff_placed(path, field, None)
+}
+
+/// Writes `field` to `path` as [`write_geotiff`] does, but placed by `georeference` when
+/// given: its tags written back unchanged (the input's CRS, EPSG-coded or user-defined, and
+/// its placement, which must be that of a grid of the field's size), its rows in the input's
+/// order (north-up, or south-up as the input was). The heights are `value * z_scale`, in the
+/// unit the caller declares in the tags (a VerticalUnitsGeoKey, or the CRS's linear unit).
+pub fn write_geotiff_placed(
+    path: &Path,
+    field: &HeightField,
+    georeference: Option<&Georeference>,
+) -> Result<(), IoError> {
     let samples_bytes = field.width() as u64 * field.height() as u64 * 4;
     let big = samples_bytes >= BIG_TIFF_FROM;
-    write_atomically(path, |out| write_geotiff_to(out, path, field, big))
+    write_atomically(path, |out| write_geotiff_to(out, path, field, big, georeference))
 }
 
 /// Writes `field` as a GeoTIFF (a BigTIFF when `big`) to `out`; `path` names it in errors.
@@ -46,12 +60,15 @@ fn write_geotiff_to<W: Write + Seek>(
     path: &Path,
     field: &HeightField,
     big: bool,
+    georeference: Option<&Georeference>,
 ) -> Result<(), IoError> {
     let error = |e| encoding_error(path, e);
     if big {
-        encode(TiffEncoder::<W, TiffKindBig>::new_big(out).map_err(error)?, path, field)
+        let tiff = TiffEncoder::<W, TiffKindBig>::new_big(out).map_err(error)?;
+        encode(tiff, path, field, georeference)
     } else {
-        encode(TiffEncoder::<W, TiffKindStandard>::new(out).map_err(error)?, path, field)
+        let tiff = TiffEncoder::<W, TiffKindStandard>::new(out).map_err(error)?;
+        encode(tiff, path, field, georeference)
     }
 }
 
@@ -68,15 +85,17 @@ fn encode<W: Write + Seek, K: TiffKind>(
     mut tiff: TiffEncoder<W, K>,
     path: &Path,
     field: &HeightField,
+    georeference: Option<&Georeference>,
 ) -> Result<(), IoError> {
     let error = |e| encoding_error(path, e);
     let (width, height) = (field.width(), field.height());
+    let south_up = georeference.is_some_and(Georeference::is_south_up);
     let geometry = field.geometry();
     let mut strips = FloatStrips::new(path, width, height)?;
     let mut directory = tiff.image_directory().map_err(error)?;
     let mut values = vec![0f32; width];
     for file_row in 0..height {
-        let row = height - 1 - file_row;
+        let row = if south_up { file_row } else { height - 1 - file_row };
         for (col, value) in values.iter_mut().enumerate() {
             *value = if field.is_hole(col, row) {
                 f32::NAN
@@ -96,7 +115,13 @@ fn encode<W: Write + Seek, K: TiffKind>(
         strips.push_row(&mut directory, &values)?;
     }
     strips.write_layout_tags(&mut directory, 1)?;
-    write_geometry_tags(&mut directory, path, geometry, height)?;
+    match georeference {
+        Some(georeference) => {
+            write_georeference(&mut directory, path, &georeference.geotiff)?;
+            directory.write_tag(Tag::GdalNodata, "nan").map_err(error)?;
+        }
+        None => write_geometry_tags(&mut directory, path, geometry, height)?,
+    }
     directory.finish().map_err(error)
 }
 
@@ -355,7 +380,7 @@ mod tests {
         let path = Path::new("memory.tif");
         for big in [false, true] {
             let mut bytes = Cursor::new(Vec::new());
-            write_geotiff_to(&mut bytes, path, &field, big).unwrap();
+            write_geotiff_to(&mut bytes, path, &field, big, None).unwrap();
             let bytes = bytes.into_inner();
             assert_eq!(&bytes[..4], if big { b"II+\0" } else { b"II*\0" });
             let raster =
@@ -383,8 +408,9 @@ mod tests {
     fn overflowing_z_scale_is_invalid_data() {
         let geometry = GridGeometry { z_scale: 1e300, ..GridGeometry::unit() };
         let field = HeightField::new(2, 1, vec![0.0, 1.0], geometry).unwrap();
-        let err = write_geotiff_to(Cursor::new(Vec::new()), Path::new("x.tif"), &field, false)
-            .unwrap_err();
+        let err =
+            write_geotiff_to(Cursor::new(Vec::new()), Path::new("x.tif"), &field, false, None)
+                .unwrap_err();
         assert!(matches!(err, IoError::InvalidData { .. }), "{err}");
         assert!(err.to_string().contains("column 1, row 0"), "{err}");
     }

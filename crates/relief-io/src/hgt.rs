@@ -9,7 +9,7 @@ use crate::atomic_write::write_atomically;
 use crate::geodesy::metres_per_degree;
 use crate::input_file::open_input;
 use crate::raster::{mark_voids, DegreeSpacing, Format, Raster, RasterInfo, ReadOptions};
-use crate::{Georeference, IoError};
+use crate::{Georeference, HeightUnit, IoError, LengthUnit};
 use relief_core::{DVec2, GridGeometry, HeightField};
 use std::io::{BufReader, ErrorKind, Read, Write};
 use std::path::Path;
@@ -132,6 +132,7 @@ fn hgt_info(georeference: Option<Georeference>, from_degrees: Option<DegreeSpaci
         from_degrees,
         nodata: Some(f64::from(HGT_VOID)),
         georeference,
+        height_unit: HeightUnit::new(LengthUnit::Metre, "SRTM tiles hold metres"),
     }
 }
 

@@ -16,8 +16,9 @@ use std::path::{Path, PathBuf};
 ///   south-up.
 /// - World file: the six-line ESRI world file of the georeference (see
 ///   [`Georeference::world_file`]) at [`world_file_path`]`(path)` (`shade.png` →
-///   `shade.pgw`), written atomically after the image. It places the image but names no CRS:
-///   the georeference's CRS is not written (no `.aux.xml` or `.prj`).
+///   `shade.pgw`), written atomically after the image; with the CRS's ESRI WKT, where relief
+///   can write it ([`Georeference::esri_wkt`]), in a `.prj` and a `.png.aux.xml` (where GDAL
+///   reads a PNG's CRS).
 ///
 /// Errors: [`IoError::InvalidData`] for an empty image or `samples` of the wrong length,
 /// [`IoError::Unsupported`] for a side longer than 2^32 - 1, [`IoError::Io`] when writing
@@ -57,6 +58,7 @@ pub fn write_layer_png(
         write_atomically(&world, |out| {
             out.write_all(georeference.world_file().as_bytes()).map_err(|e| IoError::io(&world, e))
         })?;
+        crate::write::write_image_crs(path, georeference, &mut Vec::new())?;
     }
     Ok(())
 }

@@ -17,7 +17,15 @@
 //!   each, and [`read_layers_geotiff`] reads them back; [`write_layer_png`] writes one layer
 //!   as a 16-bit PNG with a world file;
 //! - [`write_height_field`]: a height field by extension, through [`write_geotiff`],
-//!   [`write_hgt`], [`write_asc`], [`write_png16_height`] or [`write_height_field_npy`];
+//!   [`write_hgt`], [`write_asc`], [`write_png16_height`] (16 bits over the heights' range,
+//!   [`PngHeightScale`] in tEXt chunks) or [`write_height_field_npy`];
+//!   [`write_height_field_georeferenced`] keeps an input's CRS and placement in every format
+//!   that can hold them (GeoTIFF keys, `.asc` and `.png` with `.prj` and world file) and says
+//!   what it could not keep;
+//! - [`HeightUnit`], [`LengthUnit`]: the unit of a raster's heights (VerticalUnitsGeoKey, the
+//!   CRS's linear unit, [`ReadOptions::z_unit`]) and why; readers give the raster's geometry
+//!   the z scale to metres; [`Georeference::epsg`], [`Georeference::esri_wkt`] and
+//!   [`Georeference::height_unit`] describe a georeference's CRS;
 //! - [`read_mlhm_scene`], [`write_mlhm_scene`]: multi-layered height map scenes of the
 //!   reference simulator (JSON settings and a zlib `.dat`, f32 or f16) as an [`MlhmScene`];
 //!   [`read_mlhm_scene_header`] for the JSON alone (a procedural scene has no `.dat`);
@@ -54,6 +62,8 @@
 
 mod asc;
 mod atomic_write;
+mod crs;
+mod epsg_feet;
 mod error;
 mod gdal_metadata;
 mod geodesy;
@@ -64,6 +74,7 @@ mod geotiff_read;
 mod geotiff_rows;
 mod geotiff_strip_writer;
 mod geotiff_write;
+mod height_unit;
 mod hgt;
 mod hgt_rows;
 mod input_file;
@@ -92,6 +103,7 @@ mod read;
 mod rgb_geotiff_write;
 mod row_source;
 mod sample_type;
+mod sidecars;
 mod stacks_native;
 mod stored_chunk;
 #[cfg(test)]
@@ -108,7 +120,8 @@ pub use geodesy::metres_per_degree;
 pub use georeference::{GeoTiffTags, Georeference, EPSG_WGS84};
 pub use geotiff_read::read_geotiff;
 pub use geotiff_strip_writer::GeoTiffStripWriter;
-pub use geotiff_write::write_geotiff;
+pub use geotiff_write::{write_geotiff, write_geotiff_placed};
+pub use height_unit::{HeightUnit, LengthUnit};
 pub use hgt::{hgt_tile_corner, read_hgt, write_hgt, HGT_VOID};
 pub use jpeg_write::{write_jpeg_rgb8, JPEG_QUALITY};
 pub use layer_png_write::{world_file_path, write_layer_png};
@@ -130,7 +143,10 @@ pub use npy_write::{write_height_field_npy, write_npy_f32};
 pub use npz::read_npz;
 pub use open_rows::open_rows;
 pub use ortho_read::{open_ortho, OrthoInfo, OrthoRows};
-pub use png_height::{read_png_height, write_png16_height};
+pub use png_height::{
+    read_png_height, write_png16_height, write_png16_height_in, PngHeightScale, PNG_HEIGHT_OFFSET,
+    PNG_HEIGHT_SCALE, PNG_HEIGHT_UNIT,
+};
 pub use png_read::{read_png_rgb, RgbImage};
 pub use png_write::{write_png_gray16, write_png_rgb8, write_png_rgb8_compressed, PngCompression};
 pub use raster::{
@@ -145,4 +161,6 @@ pub use stacks_native::{
     write_stacks, STACKS_EXTENSION, STACKS_MAGIC, STACKS_VERSION,
 };
 pub use void_fill::fill_voids;
-pub use write::write_height_field;
+pub use write::{
+    aux_xml_path, prj_path, write_height_field, write_height_field_georeferenced, WriteNotes,
+};

@@ -318,6 +318,8 @@ fn geotiff_mosaic(paths: &[PathBuf], options: &ReadOptions) -> Result<Mosaic, Io
     let model =
         ModelGrid { west: west.unwrap_or(base.west), south: south.unwrap_or(base.south), ..base };
     let (geometry, from_degrees) = model.geometry(first.path(), (width, height))?;
+    // Every input is in the same CRS, so its heights are in the same unit as the first's.
+    let geometry = GridGeometry { z_scale: first.geometry().z_scale, ..geometry };
     let mut info = first.info().clone();
     if files.len() > 1 {
         info.from_degrees = from_degrees;

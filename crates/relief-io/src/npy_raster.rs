@@ -55,6 +55,7 @@ pub(crate) fn npy_raster(path: &Path, array: NpyArray, format: Format) -> Result
             format,
             sample_type: dtype.kind.name().to_owned(),
             georeferenced: false,
+            height_unit: crate::HeightUnit::default(),
             from_degrees: None,
             georeference: None,
             nodata: None,

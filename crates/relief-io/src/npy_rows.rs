@@ -84,6 +84,7 @@ impl NpyRows {
             format: Format::Npy,
             sample_type: header.dtype.kind.name().to_owned(),
             georeferenced: false,
+            height_unit: crate::HeightUnit::default(),
             from_degrees: None,
             georeference: None,
             nodata: None,

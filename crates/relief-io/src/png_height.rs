@@ -2,15 +2,16 @@
 //!
 //! | encoding | pixels | height |
 //! |---|---|---|
-//! | grey | 8- or 16-bit greyscale | the grey value |
+//! | grey | 8- or 16-bit greyscale | the grey value, or grey * `height_scale` + `height_offset` when its tEXt chunks say so |
 //! | terrain-RGB | 8-bit RGB or RGBA | -10000 + (R * 65536 + G * 256 + B) * 0.1 |
 //! | Terrarium | 8-bit RGB or RGBA | R * 256 + G + B / 256 - 32768 |
 //!
 //! A fully transparent pixel (alpha 0, in an image with an alpha channel) is a void.
 
+use crate::atomic_write::write_atomically;
 use crate::input_file::open_input;
 use crate::raster::{mark_voids, Format, PngEncoding, Raster, RasterInfo, ReadOptions};
-use crate::{write_png_gray16, IoError};
+use crate::{HeightUnit, IoError, LengthUnit};
 use png::{BitDepth, ColorType, DecodingError, Transformations};
 use relief_core::{GridGeometry, HeightField};
 use std::io::{BufRead, BufReader, ErrorKind, Seek};
@@ -36,8 +37,12 @@ struct Layout {
 ///
 /// Grey heights need an 8- or 16-bit greyscale image (with or without alpha); terrain-RGB and
 /// Terrarium heights need an 8-bit RGB or RGBA image. A pixel with alpha 0 is a void (NaN).
-/// The raster has no georeference: spacing 1, origin 0. Rows are decoded one at a time
-/// (interlaced images, rare for heights, are decoded whole).
+/// A grey PNG whose tEXt chunks hold `height_scale` and `height_offset` (as
+/// [`write_png16_height_in`] writes them) has heights `grey * height_scale + height_offset`,
+/// in the unit its `height_unit` names (the raster's z scale its metres). A world file beside
+/// the image (`.pgw`) places it, in the CRS of a `.prj` beside it (ESRI WKT); without one the
+/// raster has spacing 1, origin 0. Rows are decoded one at a time (interlaced images, rare for
+/// heights, are decoded whole).
 ///
 /// Errors: [`IoError::Io`] when the file cannot be read (or is a directory),
 /// [`IoError::Format`] for a malformed or truncated PNG or one whose header claims more pixels
@@ -46,7 +51,8 @@ struct Layout {
 /// memory budget.
 pub fn read_png_height(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     let (file, len) = open_input(path)?;
-    read_png_height_from(BufReader::new(file), len, path, options)
+    let raster = read_png_height_from(BufReader::new(file), len, path, options)?;
+    crate::sidecars::with_world_file(path, raster)
 }
 
 /// [`read_png_height`] from `reader` holding the `len` bytes of a PNG; `path` names the file
@@ -64,13 +70,17 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
         DecodingError::IoError(e) => IoError::io(path, e),
         other => IoError::format(path, other.to_string()),
     };
-    let mut decoder = png::Decoder::new(reader);
+    // A damaged tEXt chunk must not be skipped: its scale and offset are the heights'.
+    let mut checks = png::DecodeOptions::default();
+    checks.set_skip_ancillary_crc_failures(false);
+    let mut decoder = png::Decoder::new_with_options(reader, checks);
     decoder.set_transformations(Transformations::IDENTITY);
     let mut reader = decoder.read_info().map_err(map)?;
     let info = reader.info();
     let (width, height) = info.size();
     let (color, depth, interlaced) = (info.color_type, info.bit_depth, info.interlaced);
     let encoding = options.png_encoding;
+    let declared = if encoding == PngEncoding::Grey { declared_scale(path, info)? } else { None };
     let layout = layout(path, encoding, color, depth)?;
     options.check_size(path, u64::from(width), u64::from(height))?;
     let pixel_bytes = (layout.channels * layout.channel_bytes) as u64;
@@ -106,6 +116,11 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
         }
     }
     reader.finish().map_err(map)?;
+    if let Some((scale, _)) = &declared {
+        for v in samples.iter_mut().filter(|v| !v.is_nan()) {
+            *v = scale.height(*v as u16) as f32;
+        }
+    }
     // Decoded heights are finite; transparent pixels are already NaN, the only voids.
     mark_voids(path, &mut samples, w, layout.alpha.then_some(f64::NAN), true)?;
     let (format, sample_type) = match encoding {
@@ -117,15 +132,17 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
         }
         PngEncoding::Terrarium => (Format::Terrarium, if layout.alpha { "rgba8" } else { "rgb8" }),
     };
+    let height_unit = declared.map(|(_, unit)| unit).unwrap_or_default();
     Ok(Raster {
         width: w,
         height: h,
         samples,
-        geometry: GridGeometry::unit(),
+        geometry: GridGeometry { z_scale: height_unit.unit.metres(), ..GridGeometry::unit() },
         info: RasterInfo {
             format,
             sample_type: sample_type.into(),
             georeferenced: false,
+            height_unit,
             from_degrees: None,
             georeference: None,
             nodata: None,
@@ -210,16 +227,93 @@ fn decode_row(line: &[u8], layout: Layout, encoding: PngEncoding, out: &mut [f32
     }
 }
 
-/// Writes `field` as a 16-bit greyscale PNG, north (the last grid row) at the top: each
-/// sample rounded to the nearest integer is the grey value, holes are 0.
+/// The tEXt keyword of a height PNG's scale: height = grey * scale + offset.
+pub const PNG_HEIGHT_SCALE: &str = "height_scale";
+/// The tEXt keyword of a height PNG's offset: height = grey * scale + offset.
+pub const PNG_HEIGHT_OFFSET: &str = "height_offset";
+/// The tEXt keyword of a height PNG's unit: `metre`, `foot` or `US survey foot`.
+pub const PNG_HEIGHT_UNIT: &str = "height_unit";
+
+/// How a 16-bit height PNG maps grey values to heights: `height = grey * scale + offset`,
+/// stored in the PNG's tEXt chunks `height_scale`, `height_offset` (and `height_unit`), which
+/// [`read_png_height`] applies.
 ///
-/// The samples are written as they are, without `z_scale`, to keep all 16 bits of precision;
-/// the PNG stores no geometry, so give the scale and spacing again when reading it back.
-/// The file is written atomically.
+/// ```
+/// use relief_core::{GridGeometry, HeightField};
+/// use relief_io::PngHeightScale;
+/// // Whole heights within 0..=65535 are stored as they are.
+/// let whole = HeightField::new(2, 1, vec![3.0, 900.0], GridGeometry::unit())?;
+/// assert_eq!(PngHeightScale::of(&whole), PngHeightScale { scale: 1.0, offset: 0.0 });
+/// // Others use all 16 bits over their range.
+/// let fbm = HeightField::new(2, 1, vec![-1.5, 188.7], GridGeometry::unit())?;
+/// let s = PngHeightScale::of(&fbm);
+/// assert_eq!(s.offset, -1.5f32 as f64);
+/// assert!((s.scale - (188.7f32 as f64 + 1.5) / 65535.0).abs() < 1e-12);
+/// # Ok::<(), relief_core::CoreError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PngHeightScale {
+    /// Height units per grey level: the step of the stored heights.
+    pub scale: f64,
+    /// The height of grey 0.
+    pub offset: f64,
+}
+
+impl PngHeightScale {
+    /// The scale [`write_png16_height`] uses for `field`'s world heights (`sample * z_scale`,
+    /// holes left out): 1 and 0 when they are whole numbers within 0..=65535 (stored exactly),
+    /// else the lowest height at grey 0 and the highest at 65535.
+    pub fn of(field: &HeightField) -> PngHeightScale {
+        let z = field.geometry().z_scale;
+        let mut range: Option<(f64, f64)> = None;
+        let mut whole = true;
+        for row in 0..field.height() {
+            for col in 0..field.width() {
+                if field.is_hole(col, row) {
+                    continue;
+                }
+                let v = f64::from(field.sample(col, row)) * z;
+                whole &= v.fract() == 0.0 && (0.0..=65535.0).contains(&v);
+                range = Some(range.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
+            }
+        }
+        match range {
+            _ if whole => PngHeightScale { scale: 1.0, offset: 0.0 },
+            Some((lo, hi)) if hi > lo => PngHeightScale { scale: (hi - lo) / 65535.0, offset: lo },
+            Some((lo, _)) => PngHeightScale { scale: 1.0, offset: lo },
+            None => PngHeightScale { scale: 1.0, offset: 0.0 },
+        }
+    }
+
+    /// The grey level of `height`, rounded, clamped to 0..=65535.
+    fn grey(&self, height: f64) -> u16 {
+        ((height - self.offset) / self.scale).round().clamp(0.0, 65535.0) as u16
+    }
+
+    /// The height of grey level `grey`.
+    pub fn height(&self, grey: u16) -> f64 {
+        f64::from(grey) * self.scale + self.offset
+    }
+}
+
+/// Writes `field` as a 16-bit greyscale PNG of its heights in `unit`, north (the last grid
+/// row) at the top, using all 16 bits.
 ///
-/// Errors: [`IoError::InvalidData`] naming the first sample that rounds outside 0..=65535 (or
-/// a field too large for a PNG), [`IoError::Io`] when the file cannot be written.
-pub fn write_png16_height(path: &Path, field: &HeightField) -> Result<(), IoError> {
+/// - Heights: the world heights `sample * z_scale` (in `unit`, the metre for
+///   [`write_png16_height`]), stored as grey levels of [`PngHeightScale::of`]: `height = grey
+///   * height_scale + height_offset`, the scale and offset in tEXt chunks with the unit, so
+///   that [`read_png_height`] (and any reader told of them) gets the heights back within half
+///   a step (`height_scale / 2`); whole heights in 0..=65535 are stored exactly, scale 1.
+/// - Voids: with holes the image is grey + alpha, a hole transparent (alpha 0), which
+///   [`read_png_height`] reads as a void; without, plain grey.
+///
+/// The file is written atomically. Errors: [`IoError::InvalidData`] for a field too large for
+/// a PNG, [`IoError::Io`] when the file cannot be written.
+pub fn write_png16_height_in(
+    path: &Path,
+    field: &HeightField,
+    unit: LengthUnit,
+) -> Result<PngHeightScale, IoError> {
     let (w, h) = (field.width(), field.height());
     let (Ok(width), Ok(height)) = (u32::try_from(w), u32::try_from(h)) else {
         return Err(IoError::invalid_data(
@@ -227,26 +321,104 @@ pub fn write_png16_height(path: &Path, field: &HeightField) -> Result<(), IoErro
             format!("{w} x {h} samples is too large for a PNG"),
         ));
     };
-    let mut grey = Vec::with_capacity(w * h);
+    let scale = PngHeightScale::of(field);
+    let z = field.geometry().z_scale;
+    let alpha = field.hole_count() > 0;
+    let mut bytes = Vec::with_capacity(w * h * if alpha { 4 } else { 2 });
     for row in (0..h).rev() {
         for col in 0..w {
-            if field.is_hole(col, row) {
-                grey.push(0);
-                continue;
+            let hole = field.is_hole(col, row);
+            let grey = if hole { 0 } else { scale.grey(f64::from(field.sample(col, row)) * z) };
+            bytes.extend(grey.to_be_bytes());
+            if alpha {
+                bytes.extend(if hole { [0, 0] } else { [255, 255] });
             }
-            let v = field.sample(col, row).round();
-            if !(0.0..=65535.0).contains(&v) {
-                return Err(IoError::invalid_data(
-                    path,
-                    format!(
-                        "sample {} at column {col}, row {row} is outside the 0..=65535 range of \
-                         a 16-bit PNG",
-                        field.sample(col, row)
-                    ),
-                ));
-            }
-            grey.push(v as u16);
         }
     }
-    write_png_gray16(path, width, height, &grey)
+    let text = [
+        (PNG_HEIGHT_SCALE, scale.scale.to_string()),
+        (PNG_HEIGHT_OFFSET, scale.offset.to_string()),
+        (PNG_HEIGHT_UNIT, unit.name().to_string()),
+    ];
+    let color = if alpha { ColorType::GrayscaleAlpha } else { ColorType::Grayscale };
+    write_png_with_text(path, width, height, color, &bytes, &text)?;
+    Ok(scale)
+}
+
+/// Writes `field` as a 16-bit greyscale PNG of its heights in metres: see
+/// [`write_png16_height_in`].
+pub fn write_png16_height(path: &Path, field: &HeightField) -> Result<(), IoError> {
+    write_png16_height_in(path, field, LengthUnit::Metre).map(|_| ())
+}
+
+/// Encodes 16-bit `data` (rows from the top, big-endian) as a PNG of `color` at `path`, with
+/// the tEXt chunks `text` before the image data.
+fn write_png_with_text(
+    path: &Path,
+    width: u32,
+    height: u32,
+    color: ColorType,
+    data: &[u8],
+    text: &[(&str, String)],
+) -> Result<(), IoError> {
+    let map = |e: png::EncodingError| match e {
+        png::EncodingError::IoError(e) => IoError::io(path, e),
+        other => IoError::invalid_data(path, other.to_string()),
+    };
+    write_atomically(path, |out| {
+        let mut encoder = png::Encoder::new(out, width, height);
+        encoder.set_color(color);
+        encoder.set_depth(BitDepth::Sixteen);
+        encoder.set_compression(png::Compression::Balanced);
+        for (keyword, value) in text {
+            encoder.add_text_chunk((*keyword).to_string(), value.clone()).map_err(map)?;
+        }
+        let mut writer = encoder.write_header().map_err(map)?;
+        writer.write_image_data(data).map_err(map)?;
+        writer.finish().map_err(map)
+    })
+}
+
+/// The scale, offset and unit a grey height PNG's tEXt chunks declare (see
+/// [`write_png16_height_in`]); `None` when it declares none. A scale or offset that is not a
+/// finite number (or a zero scale), or an unknown unit, is a format error.
+fn declared_scale(
+    path: &Path,
+    info: &png::Info<'_>,
+) -> Result<Option<(PngHeightScale, HeightUnit)>, IoError> {
+    let find = |keyword: &str| {
+        info.uncompressed_latin1_text.iter().find(|t| t.keyword == keyword).map(|t| t.text.trim())
+    };
+    let (scale, offset) = match (find(PNG_HEIGHT_SCALE), find(PNG_HEIGHT_OFFSET)) {
+        (None, None) => return Ok(None),
+        (scale, offset) => (scale.unwrap_or("1"), offset.unwrap_or("0")),
+    };
+    let number = |keyword: &str, text: &str| {
+        text.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
+            IoError::format(path, format!("tEXt {keyword} '{text}' is not a finite number"))
+        })
+    };
+    let scale = PngHeightScale {
+        scale: number(PNG_HEIGHT_SCALE, scale)?,
+        offset: number(PNG_HEIGHT_OFFSET, offset)?,
+    };
+    if scale.scale == 0.0 {
+        return Err(IoError::format(path, "tEXt height_scale is 0"));
+    }
+    let unit = match find(PNG_HEIGHT_UNIT) {
+        None => HeightUnit::new(
+            LengthUnit::Metre,
+            "the PNG's height_scale, which names no unit: metres",
+        ),
+        Some(name) => {
+            let unit = LengthUnit::ALL.into_iter().find(|u| u.name() == name).ok_or_else(|| {
+                IoError::format(
+                    path,
+                    format!("tEXt height_unit '{name}' (expected metre, foot or US survey foot)"),
+                )
+            })?;
+            HeightUnit::new(unit, "the PNG's tEXt height_unit")
+        }
+    };
+    Ok(Some((scale, unit)))
 }

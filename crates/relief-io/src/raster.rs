@@ -2,7 +2,7 @@
 
 use crate::memory_budget::default_memory_limit;
 use crate::void_fill::fill_voids;
-use crate::{Georeference, IoError};
+use crate::{Georeference, HeightUnit, IoError, LengthUnit};
 use relief_core::{GridGeometry, HeightField};
 use std::fmt;
 use std::path::Path;
@@ -88,9 +88,13 @@ pub struct RasterInfo {
     pub nodata: Option<f64>,
     /// The file's placement and CRS as stored, for writing outputs aligned with it: a
     /// GeoTIFF's own georeferencing tags, an SRTM tile's WGS 84 placement from its name, an
-    /// ESRI grid's corner and cell size (in no stated CRS: a `.prj` sidecar is not read);
-    /// `None` for a file without one (`.npy`, `.npz`, PNG, a TIFF without model tags).
+    /// ESRI grid's corner and cell size or a PNG's world file, in the CRS of the `.prj`
+    /// beside it (in no stated CRS without one); `None` for a file without one (`.npy`,
+    /// `.npz`, a PNG without a world file, a TIFF without model tags).
     pub georeference: Option<Georeference>,
+    /// The unit of the stored heights and why relief took it; the raster's geometry's
+    /// `z_scale` is its length in metres.
+    pub height_unit: HeightUnit,
 }
 
 /// A grid of samples as a reader found it: row 0 southernmost (north-up files are flipped),
@@ -103,7 +107,8 @@ pub struct Raster {
     pub height: usize,
     /// `width * height` samples, row-major, row 0 south, NaN for a void.
     pub samples: Vec<f32>,
-    /// Spacing and origin (metres when georeferenced), z scale 1.
+    /// Spacing and origin (metres when georeferenced); z scale the metres in one unit of the
+    /// stored heights ([`RasterInfo::height_unit`]): 1 for metres, 0.3048 for feet.
     pub geometry: GridGeometry,
     /// What the file said about itself.
     pub info: RasterInfo,
@@ -129,6 +134,9 @@ pub struct ReadOptions {
     pub array: Option<String>,
     /// How PNG pixels encode heights.
     pub png_encoding: PngEncoding,
+    /// The unit of the stored heights, when the caller knows it better than the file (the
+    /// command line's `--z-unit`): it replaces the unit the file names or implies.
+    pub z_unit: Option<LengthUnit>,
 }
 
 impl Default for ReadOptions {
@@ -139,6 +147,7 @@ impl Default for ReadOptions {
             max_memory: default_memory_limit(),
             array: None,
             png_encoding: PngEncoding::Grey,
+            z_unit: None,
         }
     }
 }
@@ -148,6 +157,18 @@ impl Default for ReadOptions {
 pub const BYTES_PER_SAMPLE: u64 = 5;
 
 impl ReadOptions {
+    /// The unit of a raster's heights: [`ReadOptions::z_unit`] when given, else `found`, the
+    /// unit the file names or implies.
+    pub fn height_unit(&self, found: HeightUnit) -> HeightUnit {
+        match self.z_unit {
+            Some(unit) => HeightUnit::new(
+                unit,
+                format!("given by the caller (--z-unit); the file says {found}"),
+            ),
+            None => found,
+        }
+    }
+
     /// Refuses a `width x height` raster whose samples would exceed the memory budget, and a
     /// raster with no samples.
     pub fn check_size(&self, path: &Path, width: u64, height: u64) -> Result<(), IoError> {
@@ -172,6 +193,16 @@ impl ReadOptions {
 }
 
 impl Raster {
+    /// Applies [`ReadOptions::z_unit`]: the heights' unit becomes the caller's, and the z scale
+    /// its length in metres. Every reader of [`read_raster`](crate::read_raster) does this.
+    pub fn apply_z_unit(&mut self, options: &ReadOptions) {
+        if options.z_unit.is_some() {
+            let found = std::mem::take(&mut self.info.height_unit);
+            self.info.height_unit = options.height_unit(found);
+            self.geometry.z_scale = self.info.height_unit.unit.metres();
+        }
+    }
+
     /// Number of voids.
     pub fn void_count(&self) -> usize {
         self.samples.iter().filter(|v| v.is_nan()).count()

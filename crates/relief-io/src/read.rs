@@ -28,7 +28,18 @@ pub fn format_of(path: &Path, options: &ReadOptions) -> Result<Format, IoError> 
 }
 
 /// Reads the height raster at `path`, in the format its extension names.
+///
+/// The raster's heights are as stored; its geometry's z scale turns them into metres, from
+/// the unit the file names ([`RasterInfo::height_unit`](crate::RasterInfo::height_unit)) or
+/// the one [`ReadOptions::z_unit`] gives.
 pub fn read_raster(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
+    let mut raster = read_raster_as_stored(path, options)?;
+    raster.apply_z_unit(options);
+    Ok(raster)
+}
+
+/// [`read_raster`] before [`ReadOptions::z_unit`] is applied.
+fn read_raster_as_stored(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     match format_of(path, options)? {
         Format::Npy => crate::npy_raster::read_npy(path, options),
         Format::Npz => crate::npz::read_npz(path, options),
@@ -44,6 +55,18 @@ pub fn read_raster(path: &Path, options: &ReadOptions) -> Result<Raster, IoError
 /// Reads a raster of `format` from bytes in memory; `path` names it in errors (the `.hgt`
 /// reader takes its georeference from the name). Used by the fuzz targets.
 pub fn read_raster_from_bytes(
+    bytes: &[u8],
+    format: Format,
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<Raster, IoError> {
+    let mut raster = read_from_bytes(bytes, format, path, options)?;
+    raster.apply_z_unit(options);
+    Ok(raster)
+}
+
+/// [`read_raster_from_bytes`] before [`ReadOptions::z_unit`] is applied.
+fn read_from_bytes(
     bytes: &[u8],
     format: Format,
     path: &Path,

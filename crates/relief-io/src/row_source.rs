@@ -120,6 +120,7 @@ mod tests {
                 format: Format::Npy,
                 sample_type: "float32".into(),
                 georeferenced: false,
+                height_unit: crate::HeightUnit::default(),
                 from_degrees: None,
                 nodata: None,
                 georeference: None,

@@ -517,9 +517,10 @@ fn png16_round_trips_with_the_top_row_north() {
         .unwrap();
     write_png16_height(&path, &field).unwrap();
     let raster = read_png_height(&path, &options()).unwrap();
+    // Whole heights in 0..=65535 are stored as they are; the hole is transparent, a void.
     let mut expected = samples;
-    expected[7] = 0.0;
-    assert_eq!(raster.samples, expected);
+    expected[7] = f32::NAN;
+    assert!(same_samples(&raster, &Raster { samples: expected.clone(), ..raster.clone() }));
     assert_eq!(raster.info.format, Format::Png16);
     assert_eq!(raster.info.sample_type, "uint16");
     assert!(!raster.info.georeferenced);
@@ -527,17 +528,37 @@ fn png16_round_trips_with_the_top_row_north() {
     let image = relief_io::read_png_rgb(&path).unwrap();
     let top_left = (expected[(h - 1) * w] as u32 >> 8) as u8;
     assert_eq!(image.pixels[0], [top_left; 3]);
+}
 
-    // Fractions round; out-of-range samples are refused.
-    let field = HeightField::new(2, 1, vec![1.4, 65534.6], GridGeometry::unit()).unwrap();
-    write_png16_height(&path, &field).unwrap();
-    assert_eq!(read_png_height(&path, &options()).unwrap().samples, [1.0, 65535.0]);
-    for bad in [-0.6, 65535.5, 1e9] {
-        let field = HeightField::new(2, 1, vec![0.0, bad], GridGeometry::unit()).unwrap();
-        let err = write_png16_height(&path, &field).unwrap_err();
-        assert!(matches!(err, IoError::InvalidData { .. }), "{err}");
-        assert!(err.to_string().contains("0..=65535"), "{err}");
+#[test]
+fn png16_heights_use_their_16_bits_and_round_trip_within_their_step() {
+    let dir = TestDir::new("png16-step");
+    let path = dir.join("heights.png");
+    // Fractional heights, negative ones, past 65535: each read back within half a step.
+    for (low, high) in [(0.0f32, 188.7), (-12.25, 3.5), (-400.0, 90_000.0), (1.4, 65534.6)] {
+        let (w, h) = (7, 5);
+        let samples: Vec<f32> =
+            (0..w * h).map(|i| low + (high - low) * ((i * 17 % 35) as f32 / 34.0)).collect();
+        let field = HeightField::new(w, h, samples.clone(), GridGeometry::unit()).unwrap();
+        let scale = relief_io::PngHeightScale::of(&field);
+        write_png16_height(&path, &field).unwrap();
+        let raster = read_png_height(&path, &options()).unwrap();
+        let step = (f64::from(high) - f64::from(low)) / 65535.0;
+        assert!((scale.scale - step).abs() < 1e-9 * step.max(1.0), "{scale:?}");
+        for (got, want) in raster.samples.iter().zip(&samples) {
+            let error = (f64::from(*got) - f64::from(*want)).abs();
+            let rounding = f64::from(want.abs()) * 1e-7;
+            assert!(error <= 0.5 * step + rounding, "{got} vs {want}, step {step}");
+        }
+        assert_eq!(raster.info.height_unit.unit, relief_io::LengthUnit::Metre);
+        assert!(!raster.info.height_unit.is_assumed());
     }
+    // The unit written is the unit read: heights in feet come back with a z scale to metres.
+    let field = HeightField::new(2, 1, vec![10.5, 20.25], GridGeometry::unit()).unwrap();
+    relief_io::write_png16_height_in(&path, &field, relief_io::LengthUnit::Foot).unwrap();
+    let raster = read_png_height(&path, &options()).unwrap();
+    assert_eq!(raster.info.height_unit.unit, relief_io::LengthUnit::Foot);
+    assert_eq!(raster.geometry.z_scale, 0.3048);
 }
 
 #[test]

@@ -1,4 +1,5 @@
-//! The native part of relief's Python package: `render`, `shade`, `intersect` and `read` over
+//! The native part of relief's Python package: `render`, `shade`, `intersect`, `read` and
+//! `write_png` over
 //! NumPy arrays, with relief's errors raised as Python exceptions. The package `relief` (python/relief)
 //! re-exports them; its `_relief.pyi` holds their type stubs.
 //!
@@ -18,6 +19,7 @@ mod render;
 mod shade;
 mod terrain;
 mod tracer;
+mod write_png;
 
 use pyo3::prelude::*;
 
@@ -29,6 +31,7 @@ fn _relief(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(intersect::intersect, m)?)?;
     m.add_function(wrap_pyfunction!(read::read, m)?)?;
     m.add_function(wrap_pyfunction!(shade::shade, m)?)?;
+    m.add_function(wrap_pyfunction!(write_png::write_png, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -43,14 +43,16 @@ fn range_text(range: &RangeInclusive<f64>) -> String {
 }
 
 /// The grid geometry of `spacing` (a number, `(dx, dy)`, or the georeference dict `read`
-/// returns, whose spacing and origin are taken), `origin` (the south-west corner `(x, y)`,
-/// overriding the dict's) and `z_scale`.
+/// returns, whose spacing, origin and `z_scale` (the metres in one unit of the file's
+/// heights) are taken), `origin` (the south-west corner `(x, y)`, overriding the dict's) and
+/// `z_scale` (multiplying the dict's).
 pub fn geometry(
     spacing: Option<&Bound<'_, PyAny>>,
     origin: Option<(f64, f64)>,
     z_scale: f64,
 ) -> PyResult<GridGeometry> {
     let (mut dx, mut dy, mut corner) = (1.0, 1.0, DVec2::ZERO);
+    let mut file_z = 1.0;
     if let Some(spacing) = spacing {
         if let Ok(georeference) = spacing.cast::<PyDict>() {
             let item = |key: &str| -> PyResult<(f64, f64)> {
@@ -64,6 +66,12 @@ pub fn geometry(
             };
             (dx, dy) = item("spacing")?;
             corner = DVec2::from(item("origin")?);
+            // Heights in feet: the dict's z scale turns them into metres.
+            if let Some(unit) = georeference.get_item("z_scale")? {
+                file_z = unit
+                    .extract()
+                    .map_err(|_| invalid("georeference['z_scale'] must be a number"))?;
+            }
         } else if let Ok(d) = spacing.extract::<f64>() {
             (dx, dy) = (d, d);
         } else {
@@ -95,6 +103,14 @@ pub fn geometry(
     if !SCALE_RANGE.contains(&z_scale) {
         return Err(invalid(format!(
             "z scale {} is outside {}",
+            readable(z_scale),
+            range_text(&SCALE_RANGE)
+        )));
+    }
+    let z_scale = z_scale * file_z;
+    if !SCALE_RANGE.contains(&z_scale) {
+        return Err(invalid(format!(
+            "z scale {} (z_scale times the georeference's) is outside {}",
             readable(z_scale),
             range_text(&SCALE_RANGE)
         )));

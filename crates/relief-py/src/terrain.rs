@@ -34,6 +34,7 @@ pub fn height_field(
             from_degrees: None,
             nodata: None,
             georeference: None,
+            height_unit: relief_io::HeightUnit::default(),
         },
     };
     let field = raster.into_height_field(Path::new("heights"), voids).map_err(|e| e.to_string())?;

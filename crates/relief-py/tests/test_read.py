@@ -78,3 +78,52 @@ def test_npz_arrays_by_name(tmp_path, terrain):
     first, _ = relief.read(tmp_path / "h.npz")
     second, _ = relief.read(tmp_path / "h.npz", array="second")
     assert np.array_equal(first * 2, second)
+
+
+@pytest.mark.parametrize(
+    "crs, west, north, dx",
+    [
+        ("EPSG:4326", -84.5, 36.75, 1 / 1200),
+        ("EPSG:32617", 500000.0, 4000000.0, 30.0),
+        ("EPSG:2274", 1700010.0, 600000.0, 30.0),
+    ],
+)
+def test_the_georeference_is_the_files_own_as_rasterio_reads_it(tmp_path, terrain, crs, west, north, dx):
+    path = tmp_path / "dem.tif"
+    write_geotiff(path, terrain, west, north, dx, dx, crs=crs)
+    heights, georeference = relief.read(path)
+    with rasterio.open(path) as dataset:
+        assert georeference["geotransform"] == pytest.approx(dataset.transform.to_gdal(), rel=1e-12)
+        assert georeference["transform"] == pytest.approx(tuple(dataset.transform)[:6], rel=1e-12)
+        assert georeference["epsg"] == dataset.crs.to_epsg()
+        assert georeference["crs"] == crs
+        assert CRS.from_wkt(georeference["crs_wkt"]).to_epsg(confidence_threshold=20) == dataset.crs.to_epsg()
+        assert np.array_equal(heights, dataset.read(1))
+    feet = crs == "EPSG:2274"
+    assert georeference["height_unit"] == ("US survey foot" if feet else "metre")
+    assert georeference["z_scale"] == pytest.approx(1200 / 3937 if feet else 1.0)
+    assert "EPSG:2274" in georeference["height_unit_reason"] if feet else True
+    # relief's own world stays in metres.
+    west_m, _, _, north_m, _, _ = georeference["world_geotransform"]
+    assert georeference["origin"][0] == west_m
+    if feet:
+        assert west_m == pytest.approx(west * 1200 / 3937)
+
+
+def test_a_dem_in_feet_renders_as_the_same_dem_in_metres(tmp_path, terrain):
+    feet = 1200 / 3937
+    in_feet = (terrain * 50 / feet).astype(np.float32)
+    write_geotiff(tmp_path / "ft.tif", in_feet, 1700010.0, 600000.0, 30.0, 30.0, crs="EPSG:2274")
+    _, ft = relief.read(tmp_path / "ft.tif")
+    metres = (in_feet.astype(np.float64) * feet).astype(np.float32)
+    camera = {"eye": (ft["origin"][0] - 200, ft["origin"][1] - 200, 2000.0),
+              "target": (ft["origin"][0] + 200, ft["origin"][1] + 200, 200.0)}
+    _, depth_ft = relief.render(*relief.read(tmp_path / "ft.tif"), camera=camera, size=(64, 48))
+    _, depth_m = relief.render(metres, (30 * feet, 30 * feet), origin=ft["origin"], camera=camera, size=(64, 48))
+    finite = np.isfinite(depth_m)
+    assert finite.any() and np.array_equal(finite, np.isfinite(depth_ft))
+    assert np.allclose(depth_ft[finite], depth_m[finite], rtol=1e-4)
+    with pytest.raises(relief.ReliefError):
+        relief.read(tmp_path / "ft.tif", z_unit="yards")
+    heights, told = relief.read(tmp_path / "ft.tif", z_unit="m")
+    assert told["z_scale"] == 1.0 and told["height_unit"] == "metre"

@@ -60,6 +60,7 @@ fn terrain(width: usize, height: usize, seed: u64, voids: bool) -> Raster {
             from_degrees: None,
             nodata: None,
             georeference: None,
+            height_unit: relief_io::HeightUnit::default(),
         },
     }
 }

@@ -36,6 +36,7 @@ fn raster() -> Raster {
             from_degrees: None,
             nodata: None,
             georeference: None,
+            height_unit: relief_io::HeightUnit::default(),
         },
     }
 }

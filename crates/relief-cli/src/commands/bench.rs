@@ -67,6 +67,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 max_memory: None,
                 png_encoding: None,
                 array: None,
+                z_unit: None,
             };
             (input::read(path, &read, crate::args::Voids::Fill)?.1, path.display().to_string())
         }

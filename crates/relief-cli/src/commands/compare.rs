@@ -108,8 +108,13 @@ fn read_depth(path: &Path, options: &ReadOptions) -> Result<DepthFile> {
 
 /// The bounding-box diagonal of the solid of the terrain at `path` and its grid spacing.
 fn terrain_scale(path: &Path, args: &CompareArgs) -> Result<(f64, f64)> {
-    let read =
-        ReadArgs { voids: None, max_memory: args.max_memory, png_encoding: None, array: None };
+    let read = ReadArgs {
+        voids: None,
+        max_memory: args.max_memory,
+        png_encoding: None,
+        array: None,
+        z_unit: None,
+    };
     if input::is_mlhm_scene(path) {
         let here = applies::input_kind(Some(path));
         if args.spacing.is_some() {

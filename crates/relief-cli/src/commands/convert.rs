@@ -1,10 +1,16 @@
 //! `relief convert`: read a height file and write it in another format, or an MLHM in the
 //! other MLHM file (`.json` scene <-> `.mlhm`).
+//!
+//! A height file keeps its CRS, its placement (in the CRS's own units) and its heights as
+//! stored, in their own unit, in every format that can hold them (see
+//! [`relief_io::write_height_field_georeferenced`]); what could not be kept is said.
 
 use super::generate::write_mlhm;
 use crate::args::{ConvertArgs, Voids};
 use crate::{applies, input, outputs};
 use anyhow::{bail, Result};
+use relief_core::GridGeometry;
+use relief_io::VoidPolicy;
 
 /// Runs `relief convert`.
 pub fn run(args: &ConvertArgs) -> Result<()> {
@@ -22,15 +28,35 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     }
     outputs::check_height_file(&args.output, None)?;
     applies::check_read_args(&args.read, Some(&args.input))?;
-    let (_, field, voids) = input::read(&args.input, &args.read, Voids::Hole)?;
+    let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
+    let (info, voids) = (raster.info.clone(), raster.void_count());
+    let policy = match args.read.voids.unwrap_or(Voids::Hole) {
+        Voids::Fill => VoidPolicy::Fill,
+        Voids::Hole => VoidPolicy::Hole,
+    };
+    let field = raster.into_height_field(&args.input, policy)?;
     outputs::check_height_file(&args.output, Some((field.width(), field.height())))?;
-    relief_io::write_height_field(&args.output, &field)?;
+    // The heights as stored, in their own unit: the writer records the unit where the format
+    // can, and converts them to metres where it cannot.
+    let stored = GridGeometry { z_scale: 1.0, ..*field.geometry() };
+    let field = field.with_geometry(stored)?;
+    let unit = &info.height_unit;
+    let notes = relief_io::write_height_field_georeferenced(
+        &args.output,
+        &field,
+        info.georeference.as_ref(),
+        unit.unit,
+    )?;
+    let crs = info.georeference.as_ref().map_or("no georeference".into(), |g| g.crs_name());
     eprintln!(
-        "wrote {} ({} x {}, {voids} voids)",
+        "wrote {} ({} x {}, {voids} voids; {crs}; heights in {unit})",
         args.output.display(),
         field.width(),
         field.height()
     );
+    for note in notes {
+        eprintln!("  {note}");
+    }
     Ok(())
 }
 

@@ -30,7 +30,12 @@ fn run_fbm(args: &FbmArgs) -> Result<()> {
         return stream_fbm_geotiff(args);
     }
     let field = input::fbm(args.size, args.seed, &memory::budget(None))?;
-    relief_io::write_height_field(&args.output, &field)?;
+    let notes = relief_io::write_height_field_georeferenced(
+        &args.output,
+        &field,
+        None,
+        relief_io::LengthUnit::Metre,
+    )?;
     eprintln!(
         "wrote {} ({} x {}, heights {:.1}..{:.1})",
         args.output.display(),
@@ -39,6 +44,9 @@ fn run_fbm(args: &FbmArgs) -> Result<()> {
         field.min_sample(),
         field.max_sample()
     );
+    for note in notes {
+        eprintln!("  {note}");
+    }
     Ok(())
 }
 

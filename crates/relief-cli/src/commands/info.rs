@@ -50,7 +50,25 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         None => writeln!(out, "spacing:     {} x {} ({unit})", g.dx, g.dy),
     }?;
     writeln!(out, "origin:      {}, {} (south-west corner, {unit})", g.origin.x, g.origin.y)?;
+    let crs = match &info.georeference {
+        Some(g) => {
+            let [x0, a, _, y0, _, e] = g.geotransform;
+            format!("{} (corner {x0}, {y0}; pixel {a} x {})", g.crs_name(), -e)
+        }
+        None => "none (no georeference)".into(),
+    };
+    writeln!(out, "crs:         {crs}")?;
+    let height_unit = &info.height_unit;
+    writeln!(out, "heights:     in {height_unit}")?;
+    let metres = |v: f32| f64::from(v) * g.z_scale;
     match raster.value_range() {
+        Some((lo, hi)) if g.z_scale != 1.0 => writeln!(
+            out,
+            "values:      {lo} .. {hi} (in {}: {:.3} .. {:.3} m)",
+            height_unit.unit,
+            metres(lo),
+            metres(hi)
+        ),
         Some((lo, hi)) => writeln!(out, "values:      {lo} .. {hi}"),
         None => writeln!(out, "values:      none (every sample is a void)"),
     }?;

@@ -34,7 +34,8 @@ pub struct MlhmSimulation {
 impl MlhmSimulation {
     /// The simulation of the scene at `path`, as `relief simulate` starts it.
     pub fn open(path: &Path, max_memory: Option<u64>) -> Result<Self> {
-        let read = ReadArgs { voids: None, max_memory, png_encoding: None, array: None };
+        let read =
+            ReadArgs { voids: None, max_memory, png_encoding: None, array: None, z_unit: None };
         let scene = input::load_mlhm(path, &read)?;
         let params = params(&scene.settings)
             .with_context(|| format!("the simulation settings of {}", path.display()))?;

@@ -20,11 +20,28 @@ class DegreeSpacing(TypedDict):
     latitude: float
 
 class Georeference(TypedDict):
-    """Where a grid read from a file sits in relief's world, and what the file said."""
+    """Where a grid read from a file sits in relief's world and in its own CRS, and what the
+    file said.
+
+    ``spacing`` and ``origin`` are in relief's world (metres); ``geotransform`` (GDAL's
+    order) and ``transform`` (rasterio's ``Affine`` order) place the north-up array in the
+    file's own CRS and units, as GDAL reads it; ``world_geotransform`` in relief's world.
+    ``crs`` is ``"EPSG:<code>"`` (or the CRS's name, or ``None``), ``crs_wkt`` its ESRI WKT
+    where relief can write it. ``height_unit`` is ``"metre"``, ``"foot"`` or
+    ``"US survey foot"``, ``z_scale`` the metres in one unit.
+    """
 
     spacing: Tuple[float, float]
     origin: Tuple[float, float]
     geotransform: Tuple[float, float, float, float, float, float]
+    transform: Tuple[float, float, float, float, float, float]
+    world_geotransform: Tuple[float, float, float, float, float, float]
+    crs: Optional[str]
+    epsg: Optional[int]
+    crs_wkt: Optional[str]
+    height_unit: Literal["metre", "foot", "US survey foot"]
+    height_unit_reason: str
+    z_scale: float
     nodata: Optional[float]
     format: str
     sample_type: str
@@ -50,11 +67,13 @@ def read(
     array: Optional[str] = None,
     png_encoding: Literal["grey", "terrain-rgb", "terrarium"] = "grey",
     max_memory: Optional[int] = None,
+    z_unit: Optional[Literal["m", "ft", "us-ft"]] = None,
 ) -> Tuple[npt.NDArray[np.float32], Georeference]:
     """Read a height file as ``(heights, georeference)``.
 
     ``heights`` is float32 of shape (rows, columns) with row 0 the north edge and NaN for
-    voids; ``relief.render(*relief.read(path))`` draws what ``relief render PATH`` draws. A
+    voids, in the file's height unit (``georeference["height_unit"]``; ``z_unit`` overrides
+    it); ``relief.render(*relief.read(path))`` draws what ``relief render PATH`` draws. A
     .npy/.npz grid's row 0 is relief's south edge, so its heights are
     ``numpy.flipud(numpy.load(path))``. Raises ``OSError`` (``FileNotFoundError``, ...)
     with relief's message.
@@ -123,4 +142,11 @@ def intersect(
 
     ``origins`` and ``directions`` have shape (N, 3) in world coordinates; directions need
     not be unit: the hit is at ``origins + t[:, None] * directions``.
+    """
+
+def write_png(path: Union[str, PathLike[str]], rgb: npt.NDArray[np.uint8]) -> None:
+    """Write a uint8 (height, width, 3) picture, as ``render`` returns it, as an RGB PNG.
+
+    Raises ``ReliefError`` for another dtype or shape, ``OSError`` when the file cannot be
+    written.
     """
