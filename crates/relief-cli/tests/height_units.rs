@@ -171,6 +171,20 @@ fn generated_png_heights_round_trip_within_their_step() {
 }
 
 #[test]
+fn an_hgt_output_names_the_rounding_to_whole_metres() {
+    let (hgt, again) = (scratch("gen.hgt"), scratch("gen-again.hgt"));
+    let run = relief(&["generate", "fbm", "--size", "1201", "-o", hgt.to_str().unwrap()]);
+    let said = String::from_utf8_lossy(&run.stderr).to_string();
+    assert!(run.status.success(), "{said}");
+    assert!(said.contains("a .hgt stores whole metres: heights rounded, by up to"), "{said}");
+    // Whole metres already: nothing is rounded, nothing said.
+    let run = relief(&["convert", hgt.to_str().unwrap(), again.to_str().unwrap()]);
+    let said = String::from_utf8_lossy(&run.stderr).to_string();
+    assert!(run.status.success(), "{said}");
+    assert!(!said.contains("rounded"), "{said}");
+}
+
+#[test]
 fn convert_keeps_a_feet_dem_in_feet_and_says_so() {
     let (tif, asc, npy) = (scratch("conv-ft.tif"), scratch("conv-ft.asc"), scratch("conv-ft.npy"));
     let dem = feet_dem();

@@ -68,6 +68,13 @@ pub fn write_height_field_georeferenced(
         },
         Some("hgt") => {
             let field = in_unit(field, height_unit, LengthUnit::Metre, path, &mut notes)?;
+            let rounding = largest_rounding(&field);
+            if rounding > 0.0 {
+                notes.push(format!(
+                    "a .hgt stores whole metres: heights rounded, by up to {rounding:.3} m (write \
+                     .tif, .asc or .png to keep them)"
+                ));
+            }
             crate::hgt::write_hgt(path, &field)?;
         }
         Some("asc") => write_asc_georeferenced(path, field, georeference, height_unit, &mut notes)?,
@@ -124,6 +131,23 @@ pub fn write_height_field_georeferenced(
         }
     }
     Ok(notes)
+}
+
+/// The largest change rounding `field`'s world heights to whole metres makes (0 when they
+/// are whole already), voids left out.
+fn largest_rounding(field: &HeightField) -> f64 {
+    let z_scale = field.geometry().z_scale;
+    let mut largest = 0.0f64;
+    for row in 0..field.height() {
+        for col in 0..field.width() {
+            if field.is_hole(col, row) {
+                continue;
+            }
+            let world = f64::from(field.sample(col, row)) * z_scale;
+            largest = largest.max((world - world.round()).abs());
+        }
+    }
+    largest
 }
 
 /// `field` with its world heights in `to` rather than `from` (its z scale changed), and a

@@ -79,8 +79,8 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     let render_mib = samples * per_sample / 1048576.0;
     writeln!(
         out,
-        "to render:   about {render_mib:.1} MiB for the terrain, plus about {BYTES_PER_PIXEL} \
-         bytes a pixel"
+        "to render:   about {render_mib:.1} MiB for the terrain, plus about 3.5 bytes a pixel and \
+         a strip G-buffer a thread ({BYTES_PER_PIXEL} bytes a pixel in the hybrid, clipmap and mesh modes)"
     )?;
     Ok(())
 }

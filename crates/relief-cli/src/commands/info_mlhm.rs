@@ -1,8 +1,8 @@
 //! `relief info scene.json|scene.mlhm`: what a multi-layered height map holds and what
 //! rendering it costs.
 
-use super::BYTES_PER_PIXEL;
 use crate::args::InfoArgs;
+use crate::memory::MLHM_BYTES_PER_PIXEL;
 use crate::{applies, input};
 use anyhow::Result;
 use relief_core::{Mlhm, Precision};
@@ -137,7 +137,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     let map_bytes = map.raw_columns().len() * 16 + map.layer_counts().len();
     writeln!(
         out,
-        "to render:   about {:.1} MiB for the map and its hierarchy, plus about {BYTES_PER_PIXEL} \
+        "to render:   about {:.1} MiB for the map and its hierarchy, plus about {MLHM_BYTES_PER_PIXEL} \
          bytes a pixel",
         (map_bytes + hierarchy) as f64 / 1048576.0
     )?;
