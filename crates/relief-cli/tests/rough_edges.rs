@@ -90,6 +90,9 @@ fn a_folder_that_is_not_a_tile_store_or_an_unknown_file_is_refused_naming_every_
         }
         let (_, stderr) = relief(&dir, &[command, "somedir"]);
         assert!(stderr.contains("not a tile store"), "{stderr}");
+        let (code, stderr) = relief(&dir, &[command, "nosuch"]);
+        assert_eq!(code, Some(2), "{stderr}");
+        assert!(stderr.contains("nosuch: no such file or folder"), "{stderr}");
     }
 }
 

@@ -18,7 +18,8 @@ pub const SCENE_INPUTS: &str = "a height file (.tif, .tiff, .hgt, .asc, .png, .n
     tile store (the folder relief tile makes)";
 
 /// Refuses an input `command` cannot draw, naming every input it takes: a folder that is not
-/// a tile store, or a file whose extension names no format it reads.
+/// a tile store, a path that does not exist and names no format, or a file whose extension
+/// names no format it reads.
 pub fn check_input(path: &std::path::Path, command: &str) -> Result<()> {
     let shown = path.display();
     if path.is_dir() {
@@ -33,6 +34,9 @@ pub fn check_input(path: &std::path::Path, command: &str) -> Result<()> {
     let known = ["tif", "tiff", "hgt", "asc", "png", "npy", "npz", "json", "mlhm", "stacks"];
     match applies::extension(path) {
         Some(e) if known.contains(&e.as_str()) => Ok(()),
+        _ if !path.exists() => {
+            anyhow::bail!("{shown}: no such file or folder; {command} takes {SCENE_INPUTS}")
+        }
         _ => anyhow::bail!("{shown}: unsupported file type; {command} takes {SCENE_INPUTS}"),
     }
 }
