@@ -69,7 +69,7 @@ pub enum Command {
 }
 
 /// How height files are read.
-#[derive(Debug, Args)]
+#[derive(Debug, Default, Args)]
 pub struct ReadArgs {
     /// Voids (nodata): fill them from their surroundings, or keep them as holes [default: fill;
     /// for convert, hole, so that they stay the output's nodata].

@@ -14,8 +14,8 @@ fn folder(name: &str) -> PathBuf {
     dir
 }
 
-/// Runs `relief` with `args` in `dir`: its exit code and stderr. Two render threads, so that the strip G-buffers' share of the image memory is the same on
-/// any machine.
+/// Runs `relief` with `args` in `dir`: its exit code and stderr. Two render threads, so that
+/// the strip G-buffers' share of the image memory is the same on any machine.
 fn relief(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
     let mut command = Command::new(env!("CARGO_BIN_EXE_relief"));
     command.current_dir(dir).args(args).env("RAYON_NUM_THREADS", "2");

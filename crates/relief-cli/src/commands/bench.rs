@@ -62,13 +62,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let started = Instant::now();
     let (field, source) = match &args.input {
         Some(path) => {
-            let read = crate::args::ReadArgs {
-                voids: None,
-                max_memory: None,
-                png_encoding: None,
-                array: None,
-                z_unit: None,
-            };
+            let read = crate::args::ReadArgs::default();
             (input::read(path, &read, crate::args::Voids::Fill)?.1, path.display().to_string())
         }
         None => {

@@ -108,13 +108,7 @@ fn read_depth(path: &Path, options: &ReadOptions) -> Result<DepthFile> {
 
 /// The bounding-box diagonal of the solid of the terrain at `path` and its grid spacing.
 fn terrain_scale(path: &Path, args: &CompareArgs) -> Result<(f64, f64)> {
-    let read = ReadArgs {
-        voids: None,
-        max_memory: args.max_memory,
-        png_encoding: None,
-        array: None,
-        z_unit: None,
-    };
+    let read = ReadArgs { max_memory: args.max_memory, ..ReadArgs::default() };
     if input::is_mlhm_scene(path) {
         let here = applies::input_kind(Some(path));
         if args.spacing.is_some() {

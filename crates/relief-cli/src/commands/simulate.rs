@@ -28,13 +28,7 @@ const BYTES_PER_SLOT: u64 = 16 + 16 + 12 + 64;
 pub fn run(args: &SimulateArgs) -> Result<()> {
     check_files(args)?;
     simulate_frames::check(args)?;
-    let read = ReadArgs {
-        voids: None,
-        max_memory: args.max_memory,
-        png_encoding: None,
-        array: None,
-        z_unit: None,
-    };
+    let read = ReadArgs { max_memory: args.max_memory, ..ReadArgs::default() };
     let scene = input::load_mlhm(&args.input, &read)?;
     let params = params(args, &scene.settings)?;
     let held = BYTES_PER_SLOT + SNAPSHOT_BYTES_PER_SLOT;

@@ -34,8 +34,7 @@ pub struct MlhmSimulation {
 impl MlhmSimulation {
     /// The simulation of the scene at `path`, as `relief simulate` starts it.
     pub fn open(path: &Path, max_memory: Option<u64>) -> Result<Self> {
-        let read =
-            ReadArgs { voids: None, max_memory, png_encoding: None, array: None, z_unit: None };
+        let read = ReadArgs { max_memory, ..ReadArgs::default() };
         let scene = input::load_mlhm(path, &read)?;
         let params = params(&scene.settings)
             .with_context(|| format!("the simulation settings of {}", path.display()))?;
