@@ -1,6 +1,6 @@
-//! The warnings of scenes that render without an error but not as meant (issue 35): a camera
-//! inside the terrain (a height field, an MLHM, material stacks), and a DEM read at the default spacing whose heights dwarf its grid.
-//! Each is printed where it applies and nowhere else.
+//! The warnings of scenes that render without an error but not as meant (issue 35): a camera inside
+//! the terrain (a height field, an MLHM, material stacks), and a DEM read at the default spacing
+//! whose heights dwarf its grid. Each is printed where it applies and nowhere else.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -35,13 +35,13 @@ const WRITTEN_NODATA: f64 = -9999.0;
 /// Reads the ESRI ASCII grid at `path` as a raster, row 0 south.
 ///
 /// The header's keys are case-insensitive; `xllcenter`/`yllcenter` give the centre of the
-/// lower-left cell, `xllcorner`/`yllcorner` its lower-left corner; `cellsize` sets both
-/// spacings, or `dx` and `dy` each one. The coordinates are taken as metres
-/// (`info.georeferenced`, no degree conversion), unless a `.prj` beside the file (ESRI WKT)
-/// names a geographic CRS (degrees, converted at the central latitude as for a GeoTIFF) or a
-/// projected one in feet (converted, the heights too); its CRS is then the georeference's. Every row must be on a line of its own with
-/// exactly `ncols` numbers. Samples equal to `NODATA_value` become NaN. The file is parsed as
-/// a stream, word by word.
+/// lower-left cell, `xllcorner`/`yllcorner` its lower-left corner; `cellsize` sets both spacings,
+/// or `dx` and `dy` each one. The coordinates are taken as metres (`info.georeferenced`, no degree
+/// conversion), unless a `.prj` beside the file (ESRI WKT) names a geographic CRS (degrees,
+/// converted at the central latitude as for a GeoTIFF) or a projected one in feet (converted, the
+/// heights too); its CRS is then the georeference's. Every row must be on a line of its own with
+/// exactly `ncols` numbers. Samples equal to `NODATA_value` become NaN. The file is parsed as a
+/// stream, word by word.
 ///
 /// Errors: [`IoError::Io`] when the file cannot be read (or is a directory),
 /// [`IoError::Format`] naming the line for a missing, repeated or unknown key, a value that

@@ -1,7 +1,6 @@
 //! The native part of relief's Python package: `render`, `shade`, `intersect`, `read` and
-//! `write_png` over
-//! NumPy arrays, with relief's errors raised as Python exceptions. The package `relief` (python/relief)
-//! re-exports them; its `_relief.pyi` holds their type stubs.
+//! `write_png` over NumPy arrays, with relief's errors raised as Python exceptions. The package
+//! `relief` (python/relief) re-exports them; its `_relief.pyi` holds their type stubs.
 //!
 //! Every function validates its arguments before any work (no panic crosses into Python),
 //! builds its tracer once per call and releases the GIL while it traces.

@@ -1,7 +1,7 @@
-//! The scenes `relief view` draws frame after frame: [`SceneRenderer`]s over the scenes the
-//! command line opens, rendering with relief's tracers and shading exactly as `relief
-//! render` does (a tile store's tiles streamed for each frame), with the settings the viewer switches at run time, and an MLHM scene's
-//! erosion simulation, run as `relief simulate` runs it.
+//! The scenes `relief view` draws frame after frame: [`SceneRenderer`]s over the scenes the command
+//! line opens, rendering with relief's tracers and shading exactly as `relief render` does (a tile
+//! store's tiles streamed for each frame), with the settings the viewer switches at run time, and
+//! an MLHM scene's erosion simulation, run as `relief simulate` runs it.
 //!
 //! [`SceneRenderer`]: relief_viewer::SceneRenderer
 

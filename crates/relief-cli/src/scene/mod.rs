@@ -1,7 +1,7 @@
-//! What `relief render` and `relief view` draw, opened from the command line's
-//! [`SceneArgs`] (any input they take: [`check_input`]): a height field or an MLHM scene with its tracer choice, its shading and the
-//! starting camera. Both commands open scenes here, so that a view's frame at rest is the
-//! picture `relief render` makes of the same camera.
+//! What `relief render` and `relief view` draw, opened from the command line's [`SceneArgs`] (any
+//! input they take: [`check_input`]): a height field or an MLHM scene with its tracer choice, its
+//! shading and the starting camera. Both commands open scenes here, so that a view's frame at rest
+//! is the picture `relief render` makes of the same camera.
 
 pub mod height_field;
 pub mod mlhm;

@@ -201,7 +201,8 @@ pub fn trial_reading_shared_data(name: &str, relative: &'static str, test: fn())
     })
 }
 
-/// `trial_reading!(test_fn, "data/FILE")`: the [`trial_reading_shared_data`] named after the function.
+/// `trial_reading!(test_fn, "data/FILE")`: the [`trial_reading_shared_data`] named after the
+/// function.
 #[allow(unused_macros)]
 macro_rules! trial_reading {
     ($test:ident, $relative:expr $(,)?) => {
