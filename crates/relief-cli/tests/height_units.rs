@@ -185,6 +185,34 @@ fn an_hgt_output_names_the_rounding_to_whole_metres() {
 }
 
 #[test]
+fn an_output_without_a_georeference_leaves_no_sidecar_of_an_earlier_file() {
+    let jacksboro = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../relief-io/tests/fixtures/jacksboro_fault_dem.tif");
+    let npy = scratch("plain.npy");
+    relief_io::write_npy_f32(&npy, &[SIZE.1, SIZE.0], &metres()).unwrap();
+    for extension in ["png", "asc"] {
+        let out = scratch(&format!("replaced.{extension}"));
+        let run = relief(&["convert", jacksboro.to_str().unwrap(), out.to_str().unwrap()]);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        assert!(out.with_extension("prj").is_file());
+        // The same name again, from a DEM with no georeference: nothing may place it as the
+        // earlier file was placed.
+        let run = relief(&["convert", npy.to_str().unwrap(), out.to_str().unwrap()]);
+        let said = String::from_utf8_lossy(&run.stderr).to_string();
+        assert!(run.status.success(), "{said}");
+        assert!(said.contains("left by an earlier file"), "{said}");
+        for sidecar in ["prj", "pgw", "png.aux.xml"] {
+            assert!(!out.with_extension(sidecar).exists(), "{extension}: {sidecar} stayed");
+        }
+        let info = stdout_of(&relief(&["info", out.to_str().unwrap()]));
+        assert!(!info.contains("EPSG") && !info.contains("WGS"), "{info}");
+        // Written once more: nothing stale is left, nothing is said.
+        let run = relief(&["convert", npy.to_str().unwrap(), out.to_str().unwrap()]);
+        assert!(!String::from_utf8_lossy(&run.stderr).contains("earlier file"));
+    }
+}
+
+#[test]
 fn convert_keeps_a_feet_dem_in_feet_and_says_so() {
     let (tif, asc, npy) = (scratch("conv-ft.tif"), scratch("conv-ft.asc"), scratch("conv-ft.npy"));
     let dem = feet_dem();

@@ -35,8 +35,11 @@ pub type WriteNotes = Vec<String>;
 ///   `.prj` and, for GDAL (which reads a PNG's CRS there), a `.png.aux.xml` with the same WKT;
 /// - `.hgt`, `.npy`: no georeference beyond an SRTM tile's name; heights in metres.
 ///
-/// Each sidecar written, each conversion of the heights and each piece of georeference that
-/// could not be written is said in the notes returned. Errors: as the format's writer.
+/// A sidecar an earlier file of the same name left beside an `.asc` or `.png` that this write
+/// does not replace (a world file, `.prj` or `.png.aux.xml` that would place the new file
+/// wrongly) is removed. Each sidecar written or removed, each conversion of the heights and
+/// each piece of georeference that could not be written is said in the notes returned.
+/// Errors: as the format's writer.
 pub fn write_height_field_georeferenced(
     path: &Path,
     field: &HeightField,
@@ -130,7 +133,55 @@ pub fn write_height_field_georeferenced(
             ))
         }
     }
+    for stale in stale_sidecars(path, extension.as_deref(), georeference) {
+        remove_stale_sidecar(&stale, path, &mut notes)?;
+    }
     Ok(notes)
+}
+
+/// The files beside `path` that GDAL and relief would read as its placement or CRS but that
+/// this write does not make (no georeference, or a CRS no `.prj` can name): left there by an
+/// earlier file of the same name, they would place this one wrongly.
+fn stale_sidecars(
+    path: &Path,
+    extension: Option<&str>,
+    georeference: Option<&Georeference>,
+) -> Vec<PathBuf> {
+    let crs_written = georeference.is_some_and(|g| g.esri_wkt().is_ok());
+    let mut stale = Vec::new();
+    match extension {
+        Some("asc") if !crs_written => stale.push(prj_path(path)),
+        Some("png") => {
+            if georeference.is_none() {
+                stale.push(world_file_path(path));
+            }
+            if !crs_written {
+                stale.extend([prj_path(path), aux_xml_path(path)]);
+            }
+        }
+        _ => {}
+    }
+    stale
+}
+
+/// Removes `sidecar`, left beside `path` by an earlier file, and says so.
+fn remove_stale_sidecar(
+    sidecar: &Path,
+    path: &Path,
+    notes: &mut WriteNotes,
+) -> Result<(), IoError> {
+    match std::fs::remove_file(sidecar) {
+        Ok(()) => {
+            notes.push(format!(
+                "removed {}: left by an earlier file, it would have placed {} wrongly",
+                sidecar.display(),
+                path.display()
+            ));
+            Ok(())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(IoError::io(sidecar, e)),
+    }
 }
 
 /// The largest change rounding `field`'s world heights to whole metres makes (0 when they
