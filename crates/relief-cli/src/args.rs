@@ -491,6 +491,11 @@ pub struct TileArgs {
     /// georeference, which must be in the DEM's CRS and cover the DEM).
     #[arg(long, value_name = "ORTHO")]
     pub texture: Option<PathBuf>,
+    /// The unit of the inputs' heights: m, ft (international foot) or us-ft (US survey foot)
+    /// [default: the file's VerticalUnitsGeoKey, else its projected CRS's linear unit, else
+    /// metres]. The store records it; renders take its heights in metres.
+    #[arg(long, value_name = "UNIT", value_parser = z_unit)]
+    pub z_unit: Option<relief_io::LengthUnit>,
 }
 
 fn tile_samples(s: &str) -> Result<u32, String> {

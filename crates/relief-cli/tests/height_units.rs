@@ -102,6 +102,34 @@ fn a_dem_in_us_survey_feet_renders_as_the_same_dem_in_metres() {
 }
 
 #[test]
+fn a_tile_store_of_a_dem_in_feet_renders_as_the_same_dem_in_metres() {
+    let in_metres = depth(&metre_dem("tiled-m.tif", metres()), "tiled-m", &[]);
+    let store = |dem: &Path, name: &str, extra: &[&str]| {
+        let store = scratch(name);
+        let _ = std::fs::remove_dir_all(&store);
+        let mut args = vec!["tile", dem.to_str().unwrap(), "-o", store.to_str().unwrap()];
+        args.extend(["--tile", "16"]);
+        args.extend(extra);
+        let out = relief(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        store
+    };
+    // The unit follows the CRS (streamed GeoTIFF rows), or --z-unit.
+    let feet = store(&feet_dem(), "tiled-ft.store", &[]);
+    let tiled = depth(&feet, "tiled-ft", &["--max-error-px", "0"]);
+    assert!(same_depths(&tiled, &in_metres, 1e-4), "the tiled DEM in feet renders differently");
+    let misread = store(&feet_dem(), "tiled-ft-as-m.store", &["--z-unit", "m"]);
+    let misread = depth(&misread, "tiled-ft-as-m", &["--max-error-px", "0"]);
+    assert!(!same_depths(&misread, &in_metres, 1e-2));
+    let feet_up = LengthUnit::UsSurveyFoot.metres();
+    let heights_in_feet = metres().iter().map(|&m| (f64::from(m) / feet_up) as f32).collect();
+    let told = metre_dem("tiled-m-heights-ft.tif", heights_in_feet);
+    let told = store(&told, "tiled-told.store", &["--z-unit", "us-ft"]);
+    let told = depth(&told, "tiled-told", &["--max-error-px", "0"]);
+    assert!(same_depths(&told, &in_metres, 1e-4));
+}
+
+#[test]
 fn a_dem_in_feet_shades_as_the_same_dem_in_metres() {
     let (feet, metre) = (feet_dem(), metre_dem("dem-shade-m.tif", metres()));
     let layers = |dem: &Path, name: &str| {

@@ -5,6 +5,7 @@ use crate::geokeys::ModelGrid;
 use crate::geotiff_rows::GeoTiffRows;
 use crate::hgt::hgt_mosaic_placement;
 use crate::hgt_rows::HgtRows;
+use crate::open_rows::in_unit;
 use crate::row_source::check_request;
 use crate::{
     format_of, open_rows, Format, GeoTiffTags, Georeference, IoError, RasterInfo, ReadOptions,
@@ -67,8 +68,8 @@ pub fn open_mosaic(
         }
     }
     match first_format {
-        Format::Hgt => Ok(Box::new(hgt_mosaic(paths)?)),
-        Format::GeoTiff => Ok(Box::new(geotiff_mosaic(paths, options)?)),
+        Format::Hgt => Ok(in_unit(Box::new(hgt_mosaic(paths)?), options)),
+        Format::GeoTiff => Ok(in_unit(Box::new(geotiff_mosaic(paths, options)?), options)),
         _ if paths.len() == 1 => open_rows(first, options),
         other => Err(IoError::mosaic(
             &[first],

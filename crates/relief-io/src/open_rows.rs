@@ -3,7 +3,8 @@
 use crate::geotiff_rows::GeoTiffRows;
 use crate::hgt_rows::HgtRows;
 use crate::npy_rows::{NpyOpened, NpyRows};
-use crate::{format_of, Format, InMemoryRows, IoError, ReadOptions, RowSource};
+use crate::{format_of, Format, InMemoryRows, IoError, RasterInfo, ReadOptions, RowSource};
+use relief_core::GridGeometry;
 use std::path::Path;
 
 /// Opens the height file at `path` as rows read on request, in the format its extension
@@ -40,15 +41,61 @@ use std::path::Path;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn open_rows(path: &Path, options: &ReadOptions) -> Result<Box<dyn RowSource>, IoError> {
-    Ok(match format_of(path, options)? {
+    let streamed: Box<dyn RowSource> = match format_of(path, options)? {
         Format::GeoTiff => Box::new(GeoTiffRows::open(path, options)?),
         Format::Hgt => Box::new(HgtRows::open(path)?),
         Format::Npy => match NpyRows::open(path)? {
             NpyOpened::Rows(rows) => rows,
-            NpyOpened::FortranOrder => Box::new(InMemoryRows::from_file(path, options)?),
+            NpyOpened::FortranOrder => {
+                return Ok(Box::new(InMemoryRows::from_file(path, options)?))
+            }
         },
+        // Read whole by read_raster, which applies the height unit itself.
         Format::Npz | Format::Asc | Format::Png16 | Format::TerrainRgb | Format::Terrarium => {
-            Box::new(InMemoryRows::from_file(path, options)?)
+            return Ok(Box::new(InMemoryRows::from_file(path, options)?))
         }
-    })
+    };
+    Ok(in_unit(streamed, options))
+}
+
+/// `rows` with its heights in [`ReadOptions::z_unit`] when the caller gave one (its z scale
+/// that unit's length in metres, its info naming the unit and why), as
+/// [`read_raster`](crate::read_raster) applies it; `rows` itself otherwise.
+pub(crate) fn in_unit(rows: Box<dyn RowSource>, options: &ReadOptions) -> Box<dyn RowSource> {
+    if options.z_unit.is_none() {
+        return rows;
+    }
+    let mut info = rows.info().clone();
+    info.height_unit = options.height_unit(std::mem::take(&mut info.height_unit));
+    let geometry = GridGeometry { z_scale: info.height_unit.unit.metres(), ..rows.geometry() };
+    Box::new(RowsInUnit { rows, geometry, info })
+}
+
+/// A row source whose heights the caller said are in another unit: the same rows, another z
+/// scale and height unit.
+struct RowsInUnit {
+    rows: Box<dyn RowSource>,
+    geometry: GridGeometry,
+    info: RasterInfo,
+}
+
+impl RowSource for RowsInUnit {
+    fn width(&self) -> usize {
+        self.rows.width()
+    }
+    fn height(&self) -> usize {
+        self.rows.height()
+    }
+    fn geometry(&self) -> GridGeometry {
+        self.geometry
+    }
+    fn info(&self) -> &RasterInfo {
+        &self.info
+    }
+    fn read_rows(&mut self, first_row: usize, out: &mut [f32]) -> Result<(), IoError> {
+        self.rows.read_rows(first_row, out)
+    }
+    fn release_cache(&mut self) {
+        self.rows.release_cache();
+    }
 }

@@ -18,7 +18,7 @@ pub fn run(args: &TileArgs) -> Result<()> {
     check_output(args)?;
     let max_memory = args.max_memory.unwrap_or(DEFAULT_MAX_MEMORY);
     let sources = args.inputs.iter().map(|p| source_file(p)).collect::<Result<Vec<_>>>()?;
-    let mut rows = open_rows(&args.inputs, max_memory)?;
+    let mut rows = open_rows(&args.inputs, max_memory, args.z_unit)?;
     let options = BuildOptions {
         tile: args.tile,
         precision: args.precision.unwrap_or_default(),
@@ -100,9 +100,14 @@ fn check_output(args: &TileArgs) -> Result<()> {
 }
 
 /// The input as rows read on request: one raster (streamed for GeoTIFF, .hgt and .npy), or
-/// a mosaic of several (.hgt tiles by their names, GeoTIFFs by their georeference).
-fn open_rows(paths: &[PathBuf], max_memory: u64) -> Result<Box<dyn RowSource>> {
-    let options = ReadOptions { max_memory, ..ReadOptions::default() };
+/// a mosaic of several (.hgt tiles by their names, GeoTIFFs by their georeference), its
+/// heights in `z_unit` when given.
+fn open_rows(
+    paths: &[PathBuf],
+    max_memory: u64,
+    z_unit: Option<relief_io::LengthUnit>,
+) -> Result<Box<dyn RowSource>> {
+    let options = ReadOptions { max_memory, z_unit, ..ReadOptions::default() };
     match paths {
         [one] => Ok(relief_io::open_rows(one, &options)?),
         _ => Ok(relief_io::open_mosaic(paths, &options)?),
