@@ -21,6 +21,7 @@ mod render_tiles;
 mod shade;
 mod simulate;
 mod simulate_frames;
+mod simulate_keep;
 mod tile;
 mod view;
 

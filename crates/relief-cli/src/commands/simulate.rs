@@ -4,10 +4,10 @@
 
 use super::generate::write_mlhm;
 use super::simulate_frames::{self, Frames};
+use super::simulate_keep::{Keeper, SNAPSHOT_BYTES_PER_SLOT, STEP_KEY};
 use crate::args::{ReadArgs, SimulateArgs};
 use crate::{input, memory, outputs, progress};
 use anyhow::{bail, Context, Result};
-use keep::{Keeper, SNAPSHOT_BYTES_PER_SLOT, STEP_KEY};
 use relief_io::MlhmScene;
 use relief_sim::erosion::{
     ErosionError, ErosionParams, ErosionState, SimulationPlanes, StepVolumes,
@@ -16,9 +16,6 @@ use serde_json::{Map, Value};
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
-
-#[path = "simulate_keep.rs"]
-mod keep;
 
 /// Bytes the simulation holds per column slot: the terrain, the saved planes and the
 /// per-step scratch planes.
