@@ -7,7 +7,7 @@ use crate::scene::height_field::{check_safety_view, HeightFieldScene};
 use crate::tracers::{self, TracerChoice};
 use anyhow::{bail, Result};
 use relief_core::{Camera, Surface};
-use relief_shade::{render_to_srgb8, sun_shadow_sweep, KeptHits, ShadingParams, Sun};
+use relief_shade::{render_to_srgb8, sun_shadow_sweep, KeptHits, ShadingParams};
 use relief_trace::safety::SafetyTracer;
 use relief_trace::{Simd, SunShadows, Tracer, TracerKind};
 use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
@@ -148,13 +148,7 @@ impl LiveHeightField {
         let surface = SURFACES[settings.surface.min(SURFACES.len() - 1)];
         let mut index = settings.tracer.min(self.choices.len() - 1);
         let mut params = self.params.lock().expect("no render panicked");
-        params.sun = Sun {
-            azimuth_deg: settings.sun_azimuth_deg,
-            elevation_deg: settings.sun_elevation_deg,
-            ..params.sun
-        };
-        params.shadows = settings.shadows;
-        params.exposure = settings.exposure;
+        super::apply_view_settings(&mut params, settings);
         let mut note = None;
         if let (TracerChoice::Safety(_), Some(safety)) = (&self.choices[index], &self.safety) {
             let refused = if surface != Surface::Triangles {

@@ -11,7 +11,7 @@ use crate::scene::mlhm::{LayeredScene, MlhmTracerChoice};
 use anyhow::Result;
 use relief_core::Camera;
 use relief_shade::mlhm::{render_mlhm, MlhmPreset, MlhmShading};
-use relief_shade::{tonemap_reinhard_to_rgb8, Sun};
+use relief_shade::tonemap_reinhard_to_rgb8;
 use relief_trace::MlhmTracer;
 use relief_viewer::{
     Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, SimulationReport, SimulationRequest,
@@ -136,11 +136,7 @@ impl LiveMlhm {
     fn shading(&self, settings: &ViewSettings) -> MlhmShading {
         let preset = MlhmPreset::ALL[settings.preset.min(MlhmPreset::ALL.len() - 1)];
         let mut shading = MlhmShading::new(preset);
-        shading.sun = Sun {
-            azimuth_deg: settings.sun_azimuth_deg,
-            elevation_deg: settings.sun_elevation_deg,
-            ..shading.sun
-        };
+        shading.sun = super::viewer_sun(shading.sun, settings);
         shading.quality.shadows &= settings.shadows;
         if self.no_ao {
             shading.quality.ao_radius = None;

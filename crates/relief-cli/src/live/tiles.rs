@@ -5,7 +5,7 @@
 use crate::commands::StoreScene;
 use anyhow::Result;
 use relief_core::Camera;
-use relief_shade::{render_gbuffer, shade_to_srgb8, Sun};
+use relief_shade::{render_gbuffer, shade_to_srgb8};
 use relief_tiles::FrameRequest;
 use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
 use std::sync::Arc;
@@ -42,13 +42,7 @@ impl LiveTiles {
     fn render_frame(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame> {
         let scene = &self.scene;
         let mut params = scene.params.clone();
-        params.sun = Sun {
-            azimuth_deg: settings.sun_azimuth_deg,
-            elevation_deg: settings.sun_elevation_deg,
-            ..params.sun
-        };
-        params.shadows = settings.shadows;
-        params.exposure = settings.exposure;
+        super::apply_view_settings(&mut params, settings);
         // Every frame waits for its tiles, so that a view at rest is drawn from the tiles its
         // error bound asks for (shadow rays reach tiles outside the view: no culling then).
         let request =
