@@ -53,16 +53,16 @@ pub fn run(args: &TileArgs) -> Result<()> {
         },
     )?;
     bar.finish_and_clear();
+    let (out, precision) = (args.output.display(), precision_name(options.precision));
+    let store = format!(
+        "{} x {} samples, {} tiles of {}^2 {precision}",
+        rows.width(),
+        rows.height(),
+        report.tiles,
+        args.tile
+    );
     if report.built == 0 && report.texture_built == 0 && report.resumed > 0 {
-        eprintln!(
-            "{} is complete ({} x {} samples, {} tiles of {}^2 {}): nothing to do",
-            args.output.display(),
-            rows.width(),
-            rows.height(),
-            report.tiles,
-            args.tile,
-            precision_name(options.precision),
-        );
+        eprintln!("{out} is complete ({store}): nothing to do");
         return Ok(());
     }
     let mb = report.samples_read as f64 * 4.0 / 1e6;
@@ -75,13 +75,7 @@ pub fn run(args: &TileArgs) -> Result<()> {
         n => format!(", {n} of them the texture's, built in {:.1} s", report.texture_seconds),
     };
     eprintln!(
-        "wrote {} ({} x {} samples, {} tiles of {}^2 {}{texture}{resumed}) in {:.1} s, {:.0} MB/s of input samples",
-        args.output.display(),
-        rows.width(),
-        rows.height(),
-        report.tiles,
-        args.tile,
-        precision_name(options.precision),
+        "wrote {out} ({store}{texture}{resumed}) in {:.1} s, {:.0} MB/s of input samples",
         report.seconds,
         mb / (report.seconds - report.texture_seconds).max(1e-9),
     );
