@@ -1,7 +1,9 @@
 //! Warnings of scenes that render without an error but not as the user meant: a camera
 //! inside the terrain, a DEM whose heights dwarf its grid at the default spacing.
 
-use relief_core::{Camera, DVec3, HeightField, MaterialStacks, Mlhm, Projection, Surface};
+use relief_core::{
+    splits_along_ad, Camera, DVec3, HeightField, MaterialStacks, Mlhm, Projection, Surface,
+};
 
 /// A terrain whose relief (highest minus lowest height, after `--z-scale`) is more than this
 /// many times its grid's larger side, at a spacing that no one gave, is taken as a DEM read
@@ -143,7 +145,7 @@ fn surface_height(field: &HeightField, surface: Surface, x: f64, y: f64) -> Opti
             if field.is_hole(c, r) {
                 return None;
             }
-            field.sample(c, r)
+            f64::from(field.sample(c, r))
         }
         Surface::Triangles => {
             // Vertices at the samples (texel centres); the footprint ends at the border ones.
@@ -154,24 +156,24 @@ fn surface_height(field: &HeightField, surface: Surface, x: f64, y: f64) -> Opti
             let (c, r) =
                 ((u as usize).min(w.saturating_sub(2)), (v as usize).min(h.saturating_sub(2)));
             if w < 2 || h < 2 {
-                return Some(field.sample(0, 0) as f64 * g.z_scale);
+                return Some(f64::from(field.sample(0, 0)) * g.z_scale);
             }
             let corners = [(c, r), (c + 1, r), (c, r + 1), (c + 1, r + 1)];
             if corners.iter().any(|&(c, r)| field.is_hole(c, r)) {
                 return None;
             }
-            let [h00, h10, h01, h11] = corners.map(|(c, r)| field.sample(c, r));
-            let (fu, fv) = ((u - c as f64) as f32, (v - r as f64) as f32);
-            triangle_height([h00, h10, h01, h11], fu, fv)
+            let [h00, h10, h01, h11] = corners.map(|(c, r)| f64::from(field.sample(c, r)));
+            triangle_height([h00, h10, h01, h11], u - c as f64, v - r as f64)
         }
     };
-    Some(value as f64 * g.z_scale)
+    Some(value * g.z_scale)
 }
 
 /// The height at `(fu, fv)` in [0, 1]^2 of the two triangles over four samples `[h00, h10,
-/// h01, h11]`, split along the diagonal whose end heights have the smaller sum (DESIGN.md).
-fn triangle_height([h00, h10, h01, h11]: [f32; 4], fu: f32, fv: f32) -> f32 {
-    if h00 + h11 <= h10 + h01 {
+/// h01, h11]`, split along the diagonal every tracer of the surface takes
+/// ([`splits_along_ad`]).
+fn triangle_height([h00, h10, h01, h11]: [f64; 4], fu: f64, fv: f64) -> f64 {
+    if splits_along_ad(h00, h10, h01, h11) {
         // Diagonal (0,0)-(1,1).
         if fu >= fv {
             h00 + fu * (h10 - h00) + fv * (h11 - h10)
