@@ -8,8 +8,8 @@
 //!
 //! A fully transparent pixel (alpha 0, in an image with an alpha channel) is a void.
 
-use crate::atomic_write::write_atomically;
 use crate::input_file::open_input;
+use crate::png_write::{write_png, PngCompression};
 use crate::raster::{mark_voids, Format, PngEncoding, Raster, RasterInfo, ReadOptions};
 use crate::{HeightUnit, IoError, LengthUnit};
 use png::{BitDepth, ColorType, DecodingError, Transformations};
@@ -341,7 +341,8 @@ pub fn write_png16_height_in(
         (PNG_HEIGHT_UNIT, unit.name().to_string()),
     ];
     let color = if alpha { ColorType::GrayscaleAlpha } else { ColorType::Grayscale };
-    write_png_with_text(path, width, height, color, &bytes, &text)?;
+    let image = (color, BitDepth::Sixteen, PngCompression::Balanced);
+    write_png(path, width, height, image, &bytes, &text)?;
     Ok(scale)
 }
 
@@ -349,34 +350,6 @@ pub fn write_png16_height_in(
 /// [`write_png16_height_in`].
 pub fn write_png16_height(path: &Path, field: &HeightField) -> Result<(), IoError> {
     write_png16_height_in(path, field, LengthUnit::Metre).map(|_| ())
-}
-
-/// Encodes 16-bit `data` (rows from the top, big-endian) as a PNG of `color` at `path`, with
-/// the tEXt chunks `text` before the image data.
-fn write_png_with_text(
-    path: &Path,
-    width: u32,
-    height: u32,
-    color: ColorType,
-    data: &[u8],
-    text: &[(&str, String)],
-) -> Result<(), IoError> {
-    let map = |e: png::EncodingError| match e {
-        png::EncodingError::IoError(e) => IoError::io(path, e),
-        other => IoError::invalid_data(path, other.to_string()),
-    };
-    write_atomically(path, |out| {
-        let mut encoder = png::Encoder::new(out, width, height);
-        encoder.set_color(color);
-        encoder.set_depth(BitDepth::Sixteen);
-        encoder.set_compression(png::Compression::Balanced);
-        for (keyword, value) in text {
-            encoder.add_text_chunk((*keyword).to_string(), value.clone()).map_err(map)?;
-        }
-        let mut writer = encoder.write_header().map_err(map)?;
-        writer.write_image_data(data).map_err(map)?;
-        writer.finish().map_err(map)
-    })
 }
 
 /// The scale, offset and unit a grey height PNG's tEXt chunks declare (see

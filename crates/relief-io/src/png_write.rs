@@ -85,7 +85,8 @@ pub fn write_png_rgb8_compressed(
     compression: PngCompression,
 ) -> Result<(), IoError> {
     check_size(path, width, height, 3, rgb.len(), "bytes")?;
-    write_png(path, width, height, ColorType::Rgb, BitDepth::Eight, compression, rgb)
+    let image = (ColorType::Rgb, BitDepth::Eight, compression);
+    write_png(path, width, height, image, rgb, &[])
 }
 
 /// Writes a `width x height` 16-bit greyscale PNG from `gray`, one value per pixel, rows from
@@ -97,7 +98,8 @@ pub fn write_png_gray16(path: &Path, width: u32, height: u32, gray: &[u16]) -> R
     check_size(path, width, height, 1, gray.len(), "values")?;
     let bytes: Vec<u8> = gray.iter().flat_map(|v| v.to_be_bytes()).collect();
     let compression = PngCompression::Balanced;
-    write_png(path, width, height, ColorType::Grayscale, BitDepth::Sixteen, compression, &bytes)
+    let image = (ColorType::Grayscale, BitDepth::Sixteen, compression);
+    write_png(path, width, height, image, &bytes, &[])
 }
 
 /// Checks that the image has pixels and that `len` is `width * height * per_pixel`.
@@ -125,15 +127,15 @@ fn check_size(
     Ok(())
 }
 
-/// Encodes `data` (rows from the top, big-endian samples) as a PNG at `path`.
-fn write_png(
+/// Encodes `data` (rows from the top, big-endian samples) as a PNG of `(colour, depth,
+/// compression)` at `path`, with the tEXt chunks `text` (keyword, value) before the image data.
+pub(crate) fn write_png(
     path: &Path,
     width: u32,
     height: u32,
-    color: ColorType,
-    depth: BitDepth,
-    compression: PngCompression,
+    (color, depth, compression): (ColorType, BitDepth, PngCompression),
     data: &[u8],
+    text: &[(&str, String)],
 ) -> Result<(), IoError> {
     let map = |e: EncodingError| match e {
         EncodingError::IoError(e) => IoError::io(path, e),
@@ -144,6 +146,9 @@ fn write_png(
         encoder.set_color(color);
         encoder.set_depth(depth);
         encoder.set_compression(compression.to_png());
+        for (keyword, value) in text {
+            encoder.add_text_chunk((*keyword).to_string(), value.clone()).map_err(map)?;
+        }
         let mut writer = encoder.write_header().map_err(map)?;
         writer.write_image_data(data).map_err(map)?;
         writer.finish().map_err(map)
