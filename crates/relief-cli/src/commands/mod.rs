@@ -66,9 +66,10 @@ fn check_image(width: u32, height: u32, budget: &Budget) -> Result<()> {
 fn check_frame(scene: &crate::args::SceneArgs, budget: &Budget) -> Result<()> {
     let input = scene.input.input.as_deref();
     let mesh = scene.mode == Some(crate::args::MlhmRenderMode::Mesh);
-    let holding = match input.is_some_and(crate::input::is_mlhm_scene) && !mesh {
-        true => ImageHolding::Mlhm,
-        false => ImageHolding::WholeGBuffer,
+    let holding = if input.is_some_and(crate::input::is_mlhm_scene) && !mesh {
+        ImageHolding::Mlhm
+    } else {
+        ImageHolding::WholeGBuffer
     };
     check_image_held(scene.size.0, scene.size.1, holding, budget)
 }

@@ -141,11 +141,10 @@ fn image_holding(args: &RenderArgs) -> ImageHolding {
     let whole = mesh
         || input.is_some_and(input::is_tile_store)
         || matches!(scene.tracer, Some(TracerChoice::Hybrid | TracerChoice::Clipmap));
-    match whole {
-        true => ImageHolding::WholeGBuffer,
-        false => {
-            ImageHolding::Strips { depth: args.depth.is_some(), normals: args.normals.is_some() }
-        }
+    if whole {
+        ImageHolding::WholeGBuffer
+    } else {
+        ImageHolding::Strips { depth: args.depth.is_some(), normals: args.normals.is_some() }
     }
 }
 
