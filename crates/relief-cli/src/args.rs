@@ -1,9 +1,9 @@
 //! Command-line arguments of every subcommand.
 
 use crate::parse;
-use crate::tracers::TracerChoice;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use relief_core::{DVec3, Precision, Surface};
+use relief_render::TracerChoice;
 use relief_shade::mlhm::MlhmPreset;
 use relief_shade::ShadeLayer;
 use relief_trace::{MlhmBacktrack, SafetyOptions, Simd};
@@ -658,18 +658,8 @@ pub struct ViewArgs {
     pub frame_budget: u64,
 }
 
-/// `--mode`: how an MLHM scene's columns are rendered.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MlhmRenderMode {
-    /// Every column as a box over its cell (Nilles & Müller 2025, 4.1).
-    Boxes,
-    /// The smooth implicit surface of the boxes: where a cube of half-size `--sigma` around a
-    /// point is half full of terrain (Nilles & Müller 2025, 3.3 and 4.3-4.6).
-    Smooth,
-    /// The terrain as material stacks meshed by dual contouring at the camera's levels of
-    /// detail (Löffler et al. 2011) and rasterized; any input.
-    Mesh,
-}
+/// `--mode`: how an MLHM scene's columns (or any input's material stacks) are rendered.
+pub use relief_render::RenderMode as MlhmRenderMode;
 
 fn parse_mlhm_render_mode(s: &str) -> Result<MlhmRenderMode, String> {
     match s {

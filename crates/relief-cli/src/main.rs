@@ -6,13 +6,14 @@ mod args;
 mod commands;
 mod input;
 mod live;
-mod memory;
+mod opening;
 mod outputs;
 mod parse;
 mod progress;
-mod scene;
-mod tracers;
-mod warnings;
+mod scene_checks;
+mod scene_options;
+
+use relief_render::memory;
 
 use clap::Parser;
 use std::process::ExitCode;

@@ -93,15 +93,7 @@ pub fn sun(s: &str) -> Result<(f64, f64), String> {
 
 /// `--view AZ,EL[,DISTANCE]`: the compass direction a framed camera looks towards, its
 /// elevation above the horizon, and its distance from the target, if given.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ViewAngles {
-    /// Degrees clockwise from north (+y), -360..360.
-    pub azimuth_deg: f64,
-    /// Degrees above the horizon, more than 0 and at most 90.
-    pub elevation_deg: f64,
-    /// Metres from the target, positive, at most [`MAX_COORDINATE`].
-    pub distance: Option<f64>,
-}
+pub use relief_render::ViewAngles;
 
 /// `AZ,EL[,DISTANCE]`: azimuth -360..360 degrees, elevation more than 0 and at most 90,
 /// distance positive and at most [`MAX_COORDINATE`] metres.

@@ -39,6 +39,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod adapters;
 mod cell_grid;
 mod error;
 pub mod hybrid;

@@ -51,6 +51,12 @@ impl Cancel {
     pub fn is_set(&self) -> bool {
         self.0.load(Ordering::Relaxed)
     }
+
+    /// The flag itself, set when the frame is no longer wanted: what a tracer stopped by it
+    /// (`relief_trace::adapters::Interruptible`) watches.
+    pub fn flag(&self) -> &AtomicBool {
+        &self.0
+    }
 }
 
 /// Renders frames of one scene: the viewer's only way to draw, so that it has no rendering

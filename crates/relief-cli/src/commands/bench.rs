@@ -9,16 +9,17 @@
 //! Measurements, not assertions: run it on an otherwise idle machine.
 
 use crate::args::BenchArgs;
-use crate::tracers::{self, TracerChoice};
 use crate::{applies, input, memory, progress};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, DVec3, HeightField, Surface, BENCHMARK_VIEWS};
+use relief_render::{BuiltTracer, TracerChoice, TracerSpec};
 use relief_shade::{
     render_gbuffer_into, sun_direction, ClipmapRenderer, GBuffer, HybridRenderer, RayBatch, Tile,
     TraceStats, TILE_SIZE,
 };
-use relief_trace::{Hit, Simd, SunShadows, Tracer, TracerKind};
+use relief_trace::adapters::OneRayAtATime;
+use relief_trace::{Simd, SunShadows, Tracer, TracerKind};
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
@@ -220,7 +221,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 /// What `relief bench` measures: a tracer through the ray-casting render pass, or a renderer
 /// that rasterizes (the hybrid renderer, geometry clipmaps).
 enum Drawn {
-    Tracer(Box<tracers::Built>),
+    Tracer(Box<BuiltTracer>),
     Hybrid(Box<HybridRenderer>),
     Clipmap(Box<ClipmapRenderer>),
 }
@@ -249,8 +250,15 @@ impl Drawn {
                 relief_mesh::ClipmapParams::default(),
             )?)),
             _ => {
-                let built =
-                    tracers::build(field, surface, tracer, &args.safety, false, limit, simd)?;
+                let spec = TracerSpec {
+                    choice: tracer.clone(),
+                    surface,
+                    safety: crate::scene_options::safety_settings(&args.safety),
+                    use_cache: false,
+                    max_memory: limit,
+                    simd,
+                };
+                let built = spec.build_reporting(field, &progress::Bars::default())?;
                 Drawn::Tracer(Box::new(built))
             }
         })
@@ -340,27 +348,6 @@ fn refuse_unused_options(args: &BenchArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// A tracer seen one ray at a time: its batch methods are the trait's loops over single rays.
-struct OneRayAtATime<'a>(&'a dyn Tracer);
-
-impl Tracer for OneRayAtATime<'_> {
-    fn name(&self) -> &'static str {
-        self.0.name()
-    }
-
-    fn surface(&self) -> Surface {
-        self.0.surface()
-    }
-
-    fn intersect_counted(&self, ray: &relief_core::Ray, steps: &mut u32) -> Option<Hit> {
-        self.0.intersect_counted(ray, steps)
-    }
-
-    fn occluded_counted(&self, ray: &relief_core::Ray, steps: &mut u32) -> bool {
-        self.0.occluded_counted(ray, steps)
-    }
 }
 
 impl Measurement<'_> {

@@ -6,13 +6,14 @@
 
 use super::check_frame;
 use super::flythrough_log::{FlightFrame, FlightLog};
-use super::render_tiles::StoreScene;
 use super::view::open_live_scene;
 use crate::args::FlythroughArgs;
-use crate::{applies, input, memory, outputs, progress};
+use crate::opening::open_scene;
+use crate::scene_checks::{check_input, drawn, Drawn};
+use crate::{applies, memory, outputs, progress};
 use anyhow::{anyhow, bail, Context, Result};
 use relief_core::{Camera, DVec3};
-use relief_shade::{render_gbuffer, shade_to_srgb8};
+use relief_render::{Scene, StoreScene};
 use relief_viewer::{CameraPath, Cancel, SceneRenderer, ViewSettings};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -24,14 +25,14 @@ pub fn run(args: &FlythroughArgs) -> Result<()> {
     let started = Instant::now();
     refuse_camera_options(args)?;
     if let Some(path) = &args.scene.input.input {
-        crate::scene::check_input(path, "relief flythrough")?;
+        check_input(path, "relief flythrough")?;
     }
     check_outputs(args)?;
     let flight = plan(args)?;
     let scene_args = &args.scene;
     let budget = memory::budget(scene_args.input.read.max_memory);
     check_frame(scene_args, &budget)?;
-    let drawer = FrameDrawer::open(args, budget.bytes)?;
+    let drawer = FrameDrawer::open(args)?;
     let load_ms = outputs::ms_since(started);
     let build_started = Instant::now();
     drawer.prepare(&flight.cameras[0])?;
@@ -205,21 +206,19 @@ struct DrawnFrame {
 impl FrameDrawer {
     /// Opens the input of `args`: a tile store (its options checked), or any other input
     /// (refusing `--wait` and the tile-store options, which do nothing for it).
-    fn open(args: &FlythroughArgs, max_memory: u64) -> Result<Self> {
+    fn open(args: &FlythroughArgs) -> Result<Self> {
         let scene_args = &args.scene;
-        if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_tile_store(p)) {
-            return Ok(FrameDrawer::Store(Box::new(StoreScene::open(
-                scene_args,
-                &args.tiles,
-                path,
-            )?)));
+        if drawn(scene_args) == Drawn::Store {
+            let opened = open_scene(scene_args, Some(&args.tiles), None)?;
+            let Scene::Store(store) = opened.scene else { bail!("a tile store opens as a store") };
+            return Ok(FrameDrawer::Store(Box::new(store)));
         }
         let here = applies::input_kind(scene_args.input.input.as_deref());
         let given = args.tiles.given().or(args.wait.then_some("--wait"));
         if let Some(option) = given {
             return Err(applies::refuse(option, "tile stores (made by relief tile)", &here));
         }
-        let (renderer, _, settings) = open_live_scene(scene_args, max_memory, "relief flythrough")?;
+        let (renderer, _, settings) = open_live_scene(scene_args, "relief flythrough")?;
         Ok(FrameDrawer::Scene { renderer, settings })
     }
 
@@ -231,10 +230,7 @@ impl FrameDrawer {
     /// The input in a few words.
     fn describe(&self) -> String {
         match self {
-            FrameDrawer::Store(scene) => {
-                let header = scene.streamer.store().header();
-                format!("{}x{} tile store", header.width, header.height)
-            }
+            FrameDrawer::Store(scene) => scene.describe(),
             FrameDrawer::Scene { renderer, .. } => renderer.describe(),
         }
     }
@@ -255,13 +251,9 @@ impl FrameDrawer {
     fn draw(&self, camera: &Camera, first: bool, wait: bool) -> Result<DrawnFrame> {
         match self {
             FrameDrawer::Store(scene) => {
-                let request = scene.request(first || wait);
-                let (terrain, tiles) = scene.streamer.frame(camera, request)?;
-                let terrain = std::sync::Arc::new(terrain);
-                let (gbuffer, _) = render_gbuffer(&*terrain, camera, &scene.bounds, &|_| {})?;
-                let (params, _) = scene.frame_params(&gbuffer, camera, &terrain, request.wait)?;
-                let (rgb, _) = shade_to_srgb8(&gbuffer, &*terrain, camera, &params)?;
-                Ok(DrawnFrame { rgb, tiles: Some(tiles), note: None })
+                let frame =
+                    relief_render::draw::store::frame(scene, camera, &scene.params, first || wait)?;
+                Ok(DrawnFrame { rgb: frame.rgb, tiles: Some(frame.tiles), note: None })
             }
             FrameDrawer::Scene { renderer, settings } => {
                 let frame =

@@ -12,7 +12,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     if input::is_mlhm_scene(&args.input) {
         return info_mlhm::run(args);
     }
-    if crate::scene::stacks::is_stacks_file(&args.input) {
+    if crate::input::is_stacks_file(&args.input) {
         return info_stacks::run(args);
     }
     if args.input.is_dir() {

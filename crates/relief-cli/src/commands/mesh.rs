@@ -2,7 +2,7 @@
 //! camera's levels, written as glTF binary, OBJ or PLY.
 
 use crate::args::{LodChoice, MeshArgs, MlhmRenderMode};
-use crate::scene::stacks::StacksScene;
+use crate::opening::open_stacks;
 use crate::{outputs, progress};
 use anyhow::{bail, Result};
 use relief_mesh::{MeshStats, TerrainMesh};
@@ -10,7 +10,7 @@ use serde_json::json;
 use std::time::Instant;
 
 /// The screen-space error of `--lod auto` when `--tau` is not given, pixels (the paper's).
-pub const DEFAULT_TAU_PX: f64 = 10.0;
+use relief_render::options::DEFAULT_TAU_PX;
 
 /// Runs `relief mesh`.
 pub fn run(args: &MeshArgs) -> Result<()> {
@@ -40,7 +40,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         bail!("--tau applies to --lod auto, not to a fixed level");
     }
     let load_started = Instant::now();
-    let mut scene = StacksScene::open(&args.scene, "relief mesh")?;
+    let (mut scene, camera) = open_stacks(&args.scene, "relief mesh")?;
     let load_ms = outputs::ms_since(load_started);
     let levels = scene.mesher.level_count();
     let bar = progress::spinner("meshing");
@@ -57,7 +57,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         }
         LodChoice::Auto => {
             let tau = args.scene.tau.unwrap_or(DEFAULT_TAU_PX);
-            scene.mesher.mesh_for_camera(&scene.camera, tau)
+            scene.mesher.mesh_for_camera(&camera, tau)
         }
     };
     let nodes = mesh_stats.nodes;

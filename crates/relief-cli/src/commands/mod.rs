@@ -13,11 +13,6 @@ mod info_stacks;
 mod info_tiles;
 mod mesh;
 mod render;
-mod render_clipmap;
-mod render_hybrid;
-mod render_mesh;
-mod render_mlhm;
-mod render_tiles;
 mod shade;
 mod simulate;
 mod simulate_frames;
@@ -25,7 +20,6 @@ mod simulate_keep;
 mod tile;
 mod view;
 
-pub(crate) use render_tiles::StoreScene;
 pub(crate) use simulate::{scene_params, start_state};
 
 use crate::args::{Cli, Command};

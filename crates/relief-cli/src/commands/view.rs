@@ -3,14 +3,14 @@
 //! erosion simulation run, paused and stepped from the viewer).
 
 use super::check_frame;
-use super::StoreScene;
 use crate::args::{SceneArgs, ViewArgs};
-use crate::live::{LiveHeightField, LiveMlhm, LiveTiles};
-use crate::scene::height_field::HeightFieldScene;
-use crate::scene::mlhm::LayeredScene;
-use crate::{applies, input, memory, outputs};
+use crate::live::{LiveHeightField, LiveMlhm, LiveStacks, LiveTiles};
+use crate::opening::open_scene;
+use crate::scene_checks::{check_input, drawn, Drawn};
+use crate::{applies, memory, outputs};
 use anyhow::{bail, Result};
 use relief_core::Camera;
+use relief_render::{Scene, TracerChoice};
 use relief_viewer::{SceneRenderer, Script, ViewSettings, ViewerConfig};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -29,7 +29,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         }
     }
     if let Some(path) = &args.scene.input.input {
-        crate::scene::check_input(path, "relief view")?;
+        check_input(path, "relief view")?;
     }
     let script = args.script.as_deref().map(Script::parse).transpose()?.unwrap_or_default();
     let output_dir = check_outputs(args)?;
@@ -40,7 +40,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let scene_args = &args.scene;
     let budget = memory::budget(scene_args.input.read.max_memory);
     check_frame(scene_args, &budget)?;
-    let (renderer, camera, settings) = open(args, budget.bytes)?;
+    let (renderer, camera, settings) = open(args)?;
     match headless {
         true => eprintln!(
             "viewing the {} headless (no display): {} frames, no window",
@@ -77,15 +77,12 @@ pub fn run(args: &ViewArgs) -> Result<()> {
 
 /// The scene's renderer, its starting camera and settings: a tile store's (its options
 /// checked), or any other input's ([`open_live_scene`], refusing the tile-store options).
-fn open(
-    args: &ViewArgs,
-    max_memory: u64,
-) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
+fn open(args: &ViewArgs) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
     let scene_args = &args.scene;
-    if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_tile_store(p)) {
-        let scene = StoreScene::open(scene_args, &args.tiles, path)?;
-        let camera = crate::scene::camera(scene_args, &scene.bounds)?;
-        let live = LiveTiles::new(scene, camera);
+    if drawn(scene_args) == Drawn::Store {
+        let opened = open_scene(scene_args, Some(&args.tiles), None)?;
+        let Scene::Store(store) = opened.scene else { bail!("a tile store opens as a store") };
+        let live = LiveTiles::new(store, opened.camera);
         let (camera, settings) = (live.camera(), live.settings());
         return Ok((Arc::new(live), camera, settings));
     }
@@ -93,7 +90,7 @@ fn open(
         let here = applies::input_kind(scene_args.input.input.as_deref());
         return Err(applies::refuse(option, "tile stores (made by relief tile)", &here));
     }
-    open_live_scene(scene_args, max_memory, "relief view")
+    open_live_scene(scene_args, "relief view")
 }
 
 /// The renderer of the scene `scene_args` name (anything `relief render` takes but a tile
@@ -102,46 +99,39 @@ fn open(
 /// clipmap renderers, which draw with `relief render` only.
 pub(super) fn open_live_scene(
     scene_args: &SceneArgs,
-    max_memory: u64,
     command: &str,
 ) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
-    let stacks_file =
-        scene_args.input.input.as_deref().is_some_and(crate::scene::stacks::is_stacks_file);
-    if scene_args.mode == Some(crate::args::MlhmRenderMode::Mesh) || stacks_file {
-        let scene = crate::scene::stacks::StacksScene::open(scene_args, "--mode mesh")?;
-        let tau = scene_args.tau.unwrap_or(super::mesh::DEFAULT_TAU_PX);
-        let live = crate::live::LiveStacks::new(scene, tau, scene_args.sun, scene_args.exposure)?;
-        let (camera, settings) = (live.camera(), live.settings());
-        return Ok((Arc::new(live), camera, settings));
-    }
-    for (given, option) in
-        [(scene_args.tau.is_some(), "--tau"), (scene_args.voxel_height.is_some(), "--voxel-height")]
-    {
-        if given {
-            return Err(applies::refuse(option, "--mode mesh", "the ray-cast renderers"));
+    if drawn(scene_args) == Drawn::HeightField {
+        if let Some(choice @ (TracerChoice::Hybrid | TracerChoice::Clipmap)) = &scene_args.tracer {
+            bail!(
+                "{command} draws with the naive, mipmap and safety tracers; the {choice} \
+                 renderer draws with relief render and relief bench"
+            );
         }
     }
-    if let Some(path) = scene_args.input.input.as_deref().filter(|p| input::is_mlhm_scene(p)) {
-        let live = LiveMlhm::new(
-            LayeredScene::open(scene_args, path)?,
-            scene_args.no_shadows,
-            scene_args.no_ao,
-        )
-        .with_simulation(path.to_path_buf(), scene_args.input.read.max_memory);
-        let (camera, settings) = (live.camera(), live.settings());
-        return Ok((Arc::new(live), camera, settings));
-    }
-    use crate::tracers::TracerChoice;
-    if let Some(choice @ (TracerChoice::Hybrid | TracerChoice::Clipmap)) = &scene_args.tracer {
-        anyhow::bail!(
-            "{command} draws with the naive, mipmap and safety tracers; the {choice} renderer \
-             draws with relief render and relief bench"
-        );
-    }
-    let scene = HeightFieldScene::open(scene_args)?;
-    let live = LiveHeightField::new(scene, &scene_args.safety, max_memory)?;
-    let (camera, settings) = (live.camera(), live.settings());
-    Ok((Arc::new(live), camera, settings))
+    let opened = open_scene(scene_args, None, None)?;
+    let camera = opened.camera;
+    let (live, settings): (Arc<dyn SceneRenderer>, ViewSettings) = match opened.scene {
+        Scene::Stacks(drawing) => {
+            let live = LiveStacks::new(drawing);
+            let settings = live.settings();
+            (Arc::new(live), settings)
+        }
+        Scene::Mlhm(layered) => {
+            let path = scene_args.input.input.clone().unwrap_or_default();
+            let live = LiveMlhm::new(layered, scene_args.no_shadows, scene_args.no_ao)
+                .with_simulation(path, scene_args.input.read.max_memory);
+            let settings = live.settings();
+            (Arc::new(live), settings)
+        }
+        Scene::HeightField(field) => {
+            let live = LiveHeightField::new(field)?;
+            let settings = live.settings();
+            (Arc::new(live), settings)
+        }
+        Scene::Store(_) => bail!("a tile store is drawn by its own renderer"),
+    };
+    Ok((live, camera, settings))
 }
 
 /// Refuses, before any work, a screenshot that is not a PNG, outputs in folders that do not

@@ -1,13 +1,13 @@
 //! A height field drawn live: the tracers (built when first asked for, then kept), the
 //! deferred shading with the viewer's sun, exposure and shadows.
 
-use super::interruptible::Interruptible;
-use crate::args::SafetyArgs;
-use crate::scene::height_field::{check_safety_view, HeightFieldScene};
-use crate::tracers::{self, TracerChoice};
 use anyhow::{bail, Result};
 use relief_core::{Camera, Surface};
+use relief_render::scenes::height_field::check_safety_view;
+use relief_render::tracer_spec::build_plain;
+use relief_render::{HeightFieldScene, TracerChoice};
 use relief_shade::{render_to_srgb8, sun_shadow_sweep, KeptHits, ShadingParams};
+use relief_trace::adapters::Interruptible;
 use relief_trace::safety::SafetyTracer;
 use relief_trace::{Simd, SunShadows, Tracer, TracerKind};
 use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
@@ -42,22 +42,15 @@ struct KeptSweep {
 
 impl LiveHeightField {
     /// Draws `scene`: the mipmap and naive tracers, and the safety tracer too when the scene
-    /// names it (its shapes are built, or read from the cache, now, as `safety` says).
-    pub fn new(scene: HeightFieldScene, safety: &SafetyArgs, max_memory: u64) -> Result<Self> {
+    /// names it (its shapes are built, or read from the cache, now).
+    pub fn new(scene: HeightFieldScene) -> Result<Self> {
         let mut choices =
             vec![TracerChoice::Plain(TracerKind::Mipmap), TracerChoice::Plain(TracerKind::Naive)];
         let mut built = HashMap::new();
         let mut safety_tracer = None;
         if matches!(scene.choice, TracerChoice::Safety(_)) {
-            let made = tracers::build(
-                &scene.field,
-                Surface::Triangles,
-                &scene.choice,
-                safety,
-                true,
-                max_memory,
-                Simd::detect(),
-            )?;
+            let spec = scene.tracer_spec(&scene.choice, Surface::Triangles);
+            let made = spec.build_reporting(&scene.field, &crate::progress::Bars::default())?;
             if !made.note.is_empty() {
                 eprintln!("{}", made.note);
             }
@@ -93,11 +86,6 @@ impl LiveHeightField {
         settings
     }
 
-    /// The starting camera.
-    pub fn camera(&self) -> Camera {
-        self.scene.camera
-    }
-
     /// The tracer of choice `index` for `surface`, built now if it was not yet.
     fn tracer(&self, index: usize, surface: Surface) -> Result<Arc<dyn Tracer>> {
         let mut built = self.built.lock().expect("no render panicked");
@@ -108,7 +96,7 @@ impl LiveHeightField {
             bail!("the safety tracer draws the triangles surface only");
         };
         let tracer: Arc<dyn Tracer> =
-            Arc::from(tracers::build_plain(&self.scene.field, surface, kind, Simd::detect()));
+            Arc::from(build_plain(&self.scene.field, surface, kind, Simd::detect()));
         built.insert((index, surface), tracer.clone());
         Ok(tracer)
     }
@@ -164,12 +152,12 @@ impl LiveHeightField {
         let built = self.tracer(index, surface)?;
         let pixels = camera.width() as usize * camera.height() as usize;
         let sweep = self.sweep(index, surface, &built, &params, pixels);
-        let tracer = Interruptible { inner: built.as_ref(), cancel };
+        let tracer = Interruptible { inner: built.as_ref(), stop: cancel.flag() };
         let shadow_tracer: &dyn Tracer = match &sweep {
             Some(sweep) => sweep.as_ref(),
             None => built.as_ref(),
         };
-        let shadow_tracer = Interruptible { inner: shadow_tracer, cancel };
+        let shadow_tracer = Interruptible { inner: shadow_tracer, stop: cancel.flag() };
         let bounds = self.scene.field.world_bounds(surface);
         let keep = KeptHits::default();
         let drawn =

@@ -4,14 +4,13 @@
 //! first asked for; after each request's steps the terrain is converted back to an MLHM and
 //! the tracers, hierarchy included, are built anew over it).
 
-use super::interruptible::Interruptible;
 use super::simulation::MlhmSimulation;
-use crate::args::MlhmRenderMode;
-use crate::scene::mlhm::{LayeredScene, MlhmTracerChoice};
 use anyhow::Result;
 use relief_core::Camera;
+use relief_render::{LayeredScene, MlhmTracerChoice, RenderMode as MlhmRenderMode};
 use relief_shade::mlhm::{render_mlhm, MlhmPreset, MlhmShading};
 use relief_shade::tonemap_reinhard_to_rgb8;
+use relief_trace::adapters::Interruptible;
 use relief_trace::MlhmTracer;
 use relief_viewer::{
     Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, SimulationReport, SimulationRequest,
@@ -127,11 +126,6 @@ impl LiveMlhm {
         settings
     }
 
-    /// The starting camera.
-    pub fn camera(&self) -> Camera {
-        self.scene().camera
-    }
-
     /// The shading of `settings`: its preset with the viewer's sun, exposure and shadows.
     fn shading(&self, settings: &ViewSettings) -> MlhmShading {
         let preset = MlhmPreset::ALL[settings.preset.min(MlhmPreset::ALL.len() - 1)];
@@ -172,7 +166,7 @@ impl LiveMlhm {
         let central =
             MODES[mode].0 == MlhmRenderMode::Smooth && shading.quality.central_differences;
         let built = self.tracer((mode, choice, central))?;
-        let tracer = Interruptible { inner: built.as_ref(), cancel };
+        let tracer = Interruptible { inner: built.as_ref(), stop: cancel.flag() };
         let image = render_mlhm(&tracer, camera, &shading, &|_| {})?;
         let rgb = tonemap_reinhard_to_rgb8(&image.radiance, shading.exposure)?;
         let stats = FrameStats {

@@ -6,7 +6,6 @@
 //! [`SceneRenderer`]: relief_viewer::SceneRenderer
 
 mod height_field;
-mod interruptible;
 mod mlhm;
 mod simulation;
 mod stacks;

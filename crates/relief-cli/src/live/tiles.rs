@@ -2,13 +2,11 @@
 //! streamer (cache and loader) for the whole session, each frame waiting for the tiles its
 //! error bound asks for and drawn as `relief render STORE` draws its picture.
 
-use crate::commands::StoreScene;
 use anyhow::Result;
 use relief_core::Camera;
-use relief_shade::{render_gbuffer, shade_to_srgb8};
-use relief_tiles::FrameRequest;
+use relief_render::draw::store::frame;
+use relief_render::StoreScene;
 use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
-use std::sync::Arc;
 
 /// A tile store with its streamer, shading and starting camera.
 pub struct LiveTiles {
@@ -20,8 +18,7 @@ pub struct LiveTiles {
 impl LiveTiles {
     /// The store of `scene`, seen first from `camera`.
     pub fn new(scene: StoreScene, camera: Camera) -> Self {
-        let header = scene.streamer.store().header();
-        let describe = format!("{}x{} tile store", header.width, header.height);
+        let describe = scene.describe();
         LiveTiles { scene, camera, describe }
     }
 
@@ -45,23 +42,14 @@ impl LiveTiles {
         super::apply_view_settings(&mut params, settings);
         // Every frame waits for its tiles, so that a view at rest is drawn from the tiles its
         // error bound asks for (shadow rays reach tiles outside the view: no culling then).
-        let request =
-            FrameRequest { max_error_px: scene.max_error_px, cull: !params.shadows, wait: true };
-        let (terrain, tiles) = scene.streamer.frame(camera, request)?;
-        let terrain = Arc::new(terrain);
-        let (gbuffer, primary) = render_gbuffer(&*terrain, camera, &scene.bounds, &|_| {})?;
-        let (textured, _) = scene.frame_params(&gbuffer, camera, &terrain, true)?;
-        let params = relief_shade::ShadingParams { albedo: textured.albedo, ..params };
-        let (rgb, shadow) = shade_to_srgb8(&gbuffer, &*terrain, camera, &params)?;
+        let drawn = frame(scene, camera, &params, true)?;
+        let tiles = drawn.tiles;
         let (w, h) = (camera.width(), camera.height());
         Ok(Frame {
             width: w,
             height: h,
-            rgb,
-            stats: FrameStats {
-                rays: u64::from(w) * u64::from(h) + shadow.rays,
-                steps_per_ray: Some(primary.mean_steps()),
-            },
+            rgb: drawn.rgb,
+            stats: FrameStats { rays: drawn.rays, steps_per_ray: Some(drawn.mean_steps) },
             note: Some(format!(
                 "{} tiles at <= {:.3} px error, {:.0} ms waiting for tiles",
                 tiles.tiles_drawn, tiles.max_error_px, tiles.io_wait_ms

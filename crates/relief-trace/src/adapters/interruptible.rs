@@ -1,19 +1,25 @@
-//! A tracer that stops when the viewer no longer needs its frame: once the frame's
-//! [`Cancel`] is set, every ray misses at once, so that an outdated full-size frame ends in
-//! moments and the viewer, which discards it, can render the new view. Until then it is the
+//! A tracer that stops when its frame is no longer needed: once its flag is set, every ray
+//! misses at once, so that an outdated full-size frame ends in moments. Until then it is the
 //! tracer it wraps, method for method, so the frames it finishes are exact.
 
+use crate::{Hit, Medium, MlhmHit, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{DVec2, DVec3, Mlhm, Ray, Surface};
-use relief_trace::{Hit, Medium, MlhmHit, MlhmMode, MlhmTracer, Tracer};
-use relief_viewer::Cancel;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-/// `inner`, stopped by `cancel`.
+/// `inner`, stopped once `stop` is set.
 pub struct Interruptible<'a, T: ?Sized> {
     /// The tracer.
     pub inner: &'a T,
     /// Set when the frame is no longer wanted.
-    pub cancel: &'a Cancel,
+    pub stop: &'a AtomicBool,
+}
+
+impl<T: ?Sized> Interruptible<'_, T> {
+    /// Whether the frame is no longer wanted.
+    fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
 }
 
 impl<T: Tracer + ?Sized> Tracer for Interruptible<'_, T> {
@@ -26,25 +32,25 @@ impl<T: Tracer + ?Sized> Tracer for Interruptible<'_, T> {
     }
 
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
-        if self.cancel.is_set() {
+        if self.stopped() {
             return None;
         }
         self.inner.intersect_counted(ray, steps)
     }
 
     fn occluded_counted(&self, ray: &Ray, steps: &mut u32) -> bool {
-        !self.cancel.is_set() && self.inner.occluded_counted(ray, steps)
+        !self.stopped() && self.inner.occluded_counted(ray, steps)
     }
 
     fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
-        if self.cancel.is_set() {
+        if self.stopped() {
             return hits.fill(None);
         }
         self.inner.intersect_batch(rays, hits, steps)
     }
 
     fn occluded_batch(&self, rays: &[Ray], occluded: &mut [bool], steps: &mut [u32]) {
-        if self.cancel.is_set() {
+        if self.stopped() {
             return occluded.fill(false);
         }
         self.inner.occluded_batch(rays, occluded, steps)
@@ -66,14 +72,14 @@ impl<T: MlhmTracer + ?Sized> MlhmTracer for Interruptible<'_, T> {
         mode: MlhmMode,
         steps: &mut u32,
     ) -> Option<MlhmHit> {
-        if self.cancel.is_set() {
+        if self.stopped() {
             return None;
         }
         self.inner.intersect_mode_counted(ray, mode, steps)
     }
 
     fn occluded_mode(&self, ray: &Ray, mode: MlhmMode) -> bool {
-        !self.cancel.is_set() && self.inner.occluded_mode(ray, mode)
+        !self.stopped() && self.inner.occluded_mode(ray, mode)
     }
 
     fn medium(&self, p: DVec3) -> Medium {
@@ -85,7 +91,7 @@ impl<T: MlhmTracer + ?Sized> MlhmTracer for Interruptible<'_, T> {
     }
 
     fn light_visibility(&self, ray: &Ray, steps: &mut u32) -> f64 {
-        if self.cancel.is_set() {
+        if self.stopped() {
             return 1.0;
         }
         self.inner.light_visibility(ray, steps)
@@ -95,16 +101,16 @@ impl<T: MlhmTracer + ?Sized> MlhmTracer for Interruptible<'_, T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{build_tracer, TracerKind};
     use relief_core::{GridGeometry, HeightField};
-    use relief_trace::{build_tracer, TracerKind};
 
     #[test]
-    fn it_is_its_tracer_until_cancelled_and_then_every_ray_misses() {
+    fn it_is_its_tracer_until_stopped_and_then_every_ray_misses() {
         let samples = (0..16 * 16).map(|k| (k % 7) as f32).collect();
         let field = Arc::new(HeightField::new(16, 16, samples, GridGeometry::unit()).unwrap());
         let inner = build_tracer(field, Surface::Triangles, TracerKind::Mipmap);
-        let cancel = Cancel::new();
-        let tracer = Interruptible { inner: inner.as_ref(), cancel: &cancel };
+        let stop = AtomicBool::new(false);
+        let tracer = Interruptible { inner: inner.as_ref(), stop: &stop };
         let rays: Vec<Ray> = (0..16)
             .map(|k| Ray::new(DVec3::new(k as f64, -5.0, 20.0), DVec3::new(0.1, 1.0, -1.0)))
             .collect();
@@ -113,7 +119,7 @@ mod tests {
         let expected: Vec<Option<Hit>> = rays.iter().map(|r| inner.intersect(r)).collect();
         assert_eq!(hits, expected);
         assert!(hits.iter().any(Option::is_some));
-        cancel.set();
+        stop.store(true, Ordering::Relaxed);
         tracer.intersect_batch(&rays, &mut hits, &mut steps);
         assert!(hits.iter().all(Option::is_none));
         assert!(rays.iter().all(|r| tracer.intersect(r).is_none() && !tracer.occluded(r)));

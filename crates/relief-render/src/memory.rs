@@ -1,5 +1,5 @@
-//! The process's memory: its peak as the operating system reports it, and where a budget
-//! comes from.
+//! The process's memory: its peak as the operating system reports it, where a budget
+//! comes from, and what an image takes while a renderer draws it.
 
 /// Peak resident set size in bytes (`VmHWM` of /proc/self/status), if the system reports it.
 pub fn peak_resident_bytes() -> Option<u64> {

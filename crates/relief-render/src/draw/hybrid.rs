@@ -1,36 +1,35 @@
-//! `relief render --tracer hybrid`: a height field drawn by the hybrid renderer (Ammann et al.
-//! 2010), the near field rasterized and the far field ray cast, then shaded as every renderer
-//! is (shadow rays by the exact tracer).
+//! A height field drawn by the hybrid renderer (Ammann et al. 2010), the near field
+//! rasterized and the far field ray cast, then shaded as every renderer is (shadow rays by
+//! the exact tracer).
 
-use super::render::{shade_and_write, Drawn};
-use crate::args::RenderArgs;
-use crate::outputs;
-use crate::scene::height_field::HeightFieldScene;
-use anyhow::Result;
-use relief_shade::{GBuffer, HybridRenderer, PixelSource};
+use super::field_picture::{shade_drawn, DrawnGBuffer};
+use super::picture::{ms_since, Picture};
+use crate::error::RenderError;
+use crate::scenes::height_field::HeightFieldScene;
+use relief_core::Camera;
+use relief_shade::{GBuffer, HybridRenderer, KeptHits, PixelSource};
 use serde_json::json;
 use std::time::Instant;
 
-/// Renders `scene` with the hybrid renderer and writes the outputs `args` ask for (and the
-/// stage timings with `--stats`, `started` when the command began).
-pub fn run(
-    args: &RenderArgs,
+/// Draws `scene` from `camera` with the hybrid renderer (its options the scene's), keeping
+/// the depth and normals `keep` asks for.
+pub fn draw(
     scene: &HeightFieldScene,
-    started: Instant,
-    load_ms: f64,
-) -> Result<()> {
-    let hybrid = &args.hybrid;
+    camera: &Camera,
+    keep: KeptHits,
+) -> Result<Picture, RenderError> {
+    let hybrid = &scene.hybrid;
     let far = hybrid.far.unwrap_or_default();
-    let (camera, surface) = (&scene.camera, scene.surface);
+    let surface = scene.surface;
     let build_started = Instant::now();
-    let mut renderer = HybridRenderer::new(scene.field.clone(), surface, hybrid.params(), far)?;
-    let build_ms = outputs::ms_since(build_started);
+    let mut renderer = HybridRenderer::new(scene.field.clone(), surface, hybrid.params, far)?;
+    let build_ms = ms_since(build_started);
 
     let trace_started = Instant::now();
     let mut gbuffer = GBuffer::new(camera.width() as usize, camera.height() as usize)?;
     let mut sources = Vec::new();
     let frame = renderer.render_into(camera, &scene.bounds(), &mut gbuffer, Some(&mut sources))?;
-    let trace_ms = outputs::ms_since(trace_started);
+    let trace_ms = ms_since(trace_started);
 
     let levels = renderer.heuristic().steps().len();
     let recolour = |rgb: &mut [[u8; 3]]| {
@@ -40,15 +39,13 @@ pub fn run(
             }
         }
     };
-    let drawn =
-        Drawn { gbuffer: &gbuffer, shadow_tracer: renderer.tracer(), load_ms, build_ms, trace_ms };
     let summary = format!(
         "{surface} hybrid renderer, far field {far}: {} cells meshed, {} ray cast, {} culled",
         frame.mesh_cells,
         frame.ray_cast_cells.iter().sum::<usize>(),
         frame.culled_cells
     );
-    let params = hybrid.params();
+    let params = hybrid.params;
     let extra = json!({
         "far": far.name(),
         "cell": params.cell,
@@ -66,7 +63,14 @@ pub fn run(
         "far_ms": frame.far_ms,
         "resolve_ms": frame.resolve_ms,
     });
-    shade_and_write(args, scene, "hybrid", drawn, started, recolour, &summary, extra)
+    let drawn = DrawnGBuffer {
+        gbuffer,
+        shadow_tracer: renderer.tracer(),
+        tracer: "hybrid",
+        build_ms,
+        trace_ms,
+    };
+    shade_drawn(scene, camera, drawn, keep, recolour, summary, extra)
 }
 
 /// `pixel` half blended with the colour of what drew it (the paper's Figure 1): mesh white,

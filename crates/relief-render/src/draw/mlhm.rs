@@ -1,0 +1,95 @@
+//! An MLHM scene drawn by box ray tracing or smooth-surface ray marching, shaded as the MLHM
+//! paper does (Nilles & Müller 2025, sections 4.6 and 5) at a quality preset.
+
+use super::picture::{kept_arrays, ms_since, object, Picture};
+use crate::error::RenderError;
+use crate::options::RenderMode;
+use crate::progress::Progress;
+use crate::scenes::mlhm::{LayeredScene, MlhmTracerChoice};
+use relief_core::{Camera, Precision};
+use relief_shade::mlhm::render_mlhm;
+use relief_shade::{tonemap_reinhard_to_rgb8, KeptHits};
+use serde_json::json;
+use std::time::Instant;
+
+/// Draws `scene` from `camera`, keeping the depth and normals `keep` asks for.
+///
+/// The renderer traces and shades each pixel in one pass: the statistics put that pass in
+/// `trace_ms` and the tone mapping in `shade_ms`.
+pub fn draw(
+    scene: &LayeredScene,
+    camera: &Camera,
+    keep: KeptHits,
+    progress: &dyn Progress,
+) -> Result<Picture, RenderError> {
+    let (mode, choice, shading) = (scene.mode, scene.choice, &scene.shading);
+    let build_started = Instant::now();
+    let tracer = scene.tracer(mode, choice, shading.quality.central_differences)?;
+    let build_ms = ms_since(build_started);
+
+    let (w, h) = (camera.width(), camera.height());
+    progress.begin("rendering", Some(w as u64 * h as u64));
+    let render_started = Instant::now();
+    let image = render_mlhm(tracer.as_ref(), camera, shading, &|n| progress.advance(n));
+    let render_ms = ms_since(render_started);
+    progress.end();
+    let mut image = image?;
+    let tonemap_started = Instant::now();
+    let rgb = tonemap_reinhard_to_rgb8(&image.radiance, shading.exposure)?;
+    let shade_ms = ms_since(tonemap_started);
+    let how = match choice {
+        MlhmTracerChoice::Naive if mode == RenderMode::Smooth => {
+            "marching without the hierarchy".to_string()
+        }
+        MlhmTracerChoice::Naive => "naive tracer".to_string(),
+        MlhmTracerChoice::Hierarchy(b, bounds) => {
+            let bounds = match bounds {
+                Precision::F32 => "f32",
+                Precision::F16 => "f16",
+            };
+            format!(
+                "hierarchy tracer, {b} backtracking, {bounds} bounds, built in {build_ms:.1} ms"
+            )
+        }
+    };
+    let rays_per_pixel = image.counts.rays() as f64 / (w as f64 * h as f64);
+    let steps = image.counts.primary.mean_steps();
+    let surface = match mode {
+        RenderMode::Boxes => "boxes".to_string(),
+        RenderMode::Smooth => format!("a smooth surface (sigma {} m)", scene.sigma_or_cell()),
+        RenderMode::Mesh => "a mesh".to_string(),
+    };
+    let summary = format!(
+        "{}x{} MLHM scene as {surface}, preset {}, {how}; rendered in {render_ms:.0} ms, \
+         {rays_per_pixel:.2} rays per pixel, {steps:.1} steps per camera ray",
+        scene.map.width(),
+        scene.map.height(),
+        scene.preset
+    );
+    let primary = &image.counts.primary;
+    let stats = object(json!({
+        "kind": "mlhm",
+        "terrain": [scene.map.width(), scene.map.height()],
+        "surface": match mode {
+            RenderMode::Boxes => "boxes",
+            RenderMode::Smooth => "smooth",
+            RenderMode::Mesh => "mesh",
+        },
+        "tracer": how,
+        "preset": scene.preset.to_string(),
+        "width": w,
+        "height": h,
+        "threads": rayon::current_num_threads(),
+        "rays": image.counts.rays(),
+        "primary_rays": primary.rays,
+        "hits": primary.hits,
+        "mean_steps": steps,
+        "build_ms": build_ms,
+        "trace_ms": render_ms,
+        "shade_ms": shade_ms,
+        "shading_in_trace": true,
+    }));
+    let (depth, normals) = kept_arrays(&mut image.gbuffer, keep);
+    let rgb = rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    Ok(Picture { width: w, height: h, rgb, depth, normals, summary, notes: vec![], stats })
+}

@@ -1,0 +1,38 @@
+//! relief's scene layer: any input relief takes (a height file, an MLHM scene, a
+//! material-stacks file, a tile store, or the default fBm terrain) opened as a [`Scene`] with
+//! its tracer or renderer ([`TracerSpec`], [`TracerChoice`]) and its shading, rendered from a
+//! [`Camera`](relief_core::Camera) into a [`Picture`]. The command line, the viewer and the
+//! Python module all draw through it, so that one camera gives one picture in each.
+#![deny(missing_docs)]
+
+pub mod camera;
+pub mod draw;
+pub mod error;
+pub mod input;
+pub mod memory;
+pub mod options;
+pub mod progress;
+pub mod scene;
+pub mod scenes;
+pub mod simulation;
+pub mod tracer_spec;
+pub mod warnings;
+
+pub use camera::{place_camera, CameraOptions, PlacedCamera, ViewAngles, DEFAULT_FOV_DEG};
+pub use draw::mesh::StacksDrawing;
+pub use draw::picture::Picture;
+pub use error::RenderError;
+pub use input::InputKind;
+pub use memory::{Budget, ImageHolding};
+pub use options::{
+    HybridSettings, LightSettings, MeshSettings, MlhmSettings, ReadSettings, RenderMode,
+    SceneOptions, StoreSettings, TerrainSettings,
+};
+pub use progress::{Progress, Silent};
+pub use relief_shade::KeptHits;
+pub use scene::Scene;
+pub use scenes::height_field::HeightFieldScene;
+pub use scenes::mlhm::{LayeredScene, MlhmTracerChoice};
+pub use scenes::stacks::StacksScene;
+pub use scenes::store::StoreScene;
+pub use tracer_spec::{BuiltTracer, SafetySettings, TracerChoice, TracerSpec};

@@ -1,0 +1,91 @@
+//! A tile store (made by `relief tile`) opened for frames: its streamer (cache and loader),
+//! the surface drawn, the shading, the frames' error bound and the store's photo, if any.
+
+use super::height_field::shading;
+use crate::error::RenderError;
+use crate::options::SceneOptions;
+use relief_core::{Aabb, Camera, Surface};
+use relief_shade::{Albedo, FilteredAlbedo, GBuffer, ShadingParams, TextureFilter};
+use relief_tiles::{
+    FrameRequest, TextureFrameStats, TextureStore, TextureStreamer, TileStore, TileStreamer,
+    TiledTerrain,
+};
+use std::path::Path;
+use std::sync::Arc;
+
+/// A tile store opened for frames.
+pub struct StoreScene {
+    /// The store's frames.
+    pub streamer: TileStreamer,
+    /// The surface drawn (default: triangles).
+    pub surface: Surface,
+    /// The box the surface fills.
+    pub bounds: Aabb,
+    /// Lights and materials, fitted to the terrain.
+    pub params: ShadingParams,
+    /// The screen-space error bound asked for, pixels.
+    pub max_error_px: f64,
+    /// The store's photo with its own cache, and how it is filtered; `None` for a store
+    /// without one, or when the options drape another picture.
+    pub texture: Option<(TextureStreamer, TextureFilter)>,
+}
+
+impl StoreScene {
+    /// Opens the store at `path` as `options` say.
+    pub fn open(path: &Path, options: &SceneOptions) -> Result<Self, RenderError> {
+        let store = TileStore::open(path)?;
+        let settings = &options.store;
+        let texture = match TextureStore::open(path, store.header())? {
+            Some(texture) if options.light.texture.is_none() => Some((
+                TextureStreamer::new(texture, settings.texture_cache_bytes)?,
+                settings.texture_filter,
+            )),
+            _ => None,
+        };
+        let surface = options.surface.unwrap_or(Surface::Triangles);
+        let bounds = store.world_bounds(surface);
+        let params = shading(&options.light, &store.world_bounds(Surface::Boxes))?;
+        let streamer = TileStreamer::new(store, surface, settings.cache_bytes)?;
+        let max_error_px = settings.max_error_px;
+        Ok(StoreScene { streamer, surface, bounds, params, max_error_px, texture })
+    }
+
+    /// Whether the store at `path` has a photo (made by `relief tile --texture`).
+    pub fn has_texture(path: &Path) -> Result<bool, RenderError> {
+        let store = TileStore::open(path)?;
+        Ok(TextureStore::open(path, store.header())?.is_some())
+    }
+
+    /// The scene in a few words.
+    pub fn describe(&self) -> String {
+        let header = self.streamer.store().header();
+        format!("{}x{} tile store", header.width, header.height)
+    }
+
+    /// The shading of the frame `camera` saw into `gbuffer` over `terrain`: the store's photo,
+    /// when it has one, filtered over each pixel's footprint (its tiles loaded for the frame
+    /// when it `wait`s, else coarser ones standing in), else the scene's own.
+    pub fn frame_params(
+        &self,
+        gbuffer: &GBuffer,
+        camera: &Camera,
+        terrain: &Arc<TiledTerrain>,
+        wait: bool,
+    ) -> Result<(ShadingParams, Option<TextureFrameStats>), RenderError> {
+        let Some((textures, filter)) = &self.texture else {
+            return Ok((self.params.clone(), None));
+        };
+        let (frame, stats) = textures.frame(gbuffer, camera, terrain.clone(), *filter, wait)?;
+        let params = ShadingParams {
+            albedo: Albedo::Filtered(FilteredAlbedo(Arc::new(frame))),
+            ..self.params.clone()
+        };
+        Ok((params, Some(stats)))
+    }
+
+    /// What a frame asks of the streamer: the error bound, culling only when no shadow rays
+    /// are cast (they reach tiles outside the view), and whether to `wait` for the tiles.
+    pub fn request(&self, wait: bool) -> FrameRequest {
+        FrameRequest { max_error_px: self.max_error_px, cull: !self.params.shadows, wait }
+    }
+}
