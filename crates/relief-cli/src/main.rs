@@ -5,7 +5,6 @@ mod applies;
 mod args;
 mod commands;
 mod input;
-mod live;
 mod opening;
 mod outputs;
 mod parse;

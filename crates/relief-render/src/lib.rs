@@ -36,3 +36,8 @@ pub use scenes::mlhm::{LayeredScene, MlhmTracerChoice};
 pub use scenes::stacks::StacksScene;
 pub use scenes::store::StoreScene;
 pub use tracer_spec::{BuiltTracer, SafetySettings, TracerChoice, TracerSpec};
+
+/// The README's library examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeDoctests;

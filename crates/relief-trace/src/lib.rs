@@ -67,8 +67,3 @@ pub use packet::Simd;
 pub use safety::{SafetyOptions, SafetyShapes, SafetyTracer};
 pub use shadow_sweep::{SunShadows, DEFAULT_SHADOW_BLOCK, WALK_CELLS};
 pub use tracer::{build_tracer, Hit, Tracer, TracerKind};
-
-/// The README's library example, compiled and run as a doctest.
-#[cfg(doctest)]
-#[doc = include_str!("../../../README.md")]
-struct ReadmeDoctests;

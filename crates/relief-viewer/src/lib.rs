@@ -7,6 +7,7 @@
 //! run, paused and stepped the same way: the viewer keeps its controls
 //! ([`SimulationControl`]) and the render thread asks the scene for the steps before a frame.
 //!
+//! [`live`] draws relief-render's scenes as [`SceneRenderer`]s ([`live::live_scene`]).
 //! `relief view` (in relief-cli) is its front end; the same loop runs scripted for tests
 //! ([`Script`], `--frames N --screenshot S.png`), in a window or, without a display,
 //! headless ([`run_headless`]).
@@ -18,6 +19,7 @@ mod frame;
 mod headless;
 mod hud;
 mod input_map;
+pub mod live;
 mod overlay;
 mod progressive;
 mod script;

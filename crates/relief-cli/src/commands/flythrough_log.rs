@@ -1,7 +1,7 @@
 //! What `relief flythrough` reports of its frames: one line a frame, a closing line of
 //! medians, and the JSON of `--stats` (every frame's figures and a summary).
 
-use super::flythrough::FlightPlan;
+use super::flight_plan::FlightPlan;
 use super::simulate_frames::median;
 use crate::args::FlythroughArgs;
 use crate::memory;

@@ -4,6 +4,7 @@ mod bench;
 mod bench_dynamic;
 mod compare;
 mod convert;
+mod flight_plan;
 mod flythrough;
 mod flythrough_log;
 mod generate;
@@ -19,8 +20,6 @@ mod simulate_frames;
 mod simulate_keep;
 mod tile;
 mod view;
-
-pub(crate) use simulate::{scene_params, start_state};
 
 use crate::args::{Cli, Command};
 use crate::memory::{format_bytes, Budget, ImageHolding};

@@ -4,22 +4,16 @@
 
 use super::generate::write_mlhm;
 use super::simulate_frames::{self, Frames};
-use super::simulate_keep::{Keeper, SNAPSHOT_BYTES_PER_SLOT, STEP_KEY};
+use super::simulate_keep::{Keeper, SNAPSHOT_BYTES_PER_SLOT};
 use crate::args::{ReadArgs, SimulateArgs};
-use crate::{input, memory, outputs, progress};
+use crate::{input, outputs, progress};
 use anyhow::{bail, Context, Result};
-use relief_io::MlhmScene;
-use relief_sim::erosion::{
-    ErosionError, ErosionParams, ErosionState, SimulationPlanes, StepVolumes,
-};
+use relief_sim::erosion::{ErosionError, ErosionParams, ErosionState, StepVolumes};
 use serde_json::{Map, Value};
-use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
-/// Bytes the simulation holds per column slot: the terrain, the saved planes and the
-/// per-step scratch planes.
-const BYTES_PER_SLOT: u64 = 16 + 16 + 12 + 64;
+use relief_render::simulation::{scene_params, start_state, BYTES_PER_SLOT};
 
 /// Runs `relief simulate`.
 pub fn run(args: &SimulateArgs) -> Result<()> {
@@ -29,7 +23,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let scene = input::load_mlhm(&args.input, &read)?;
     let params = params(args, &scene.settings)?;
     let held = BYTES_PER_SLOT + SNAPSHOT_BYTES_PER_SLOT;
-    let mut state = start_state_holding(&scene, &args.input, args.max_memory, held)?;
+    let mut state = start_state(&scene, &args.input, args.max_memory, held)?;
     let first_step = state.step_count();
     let mut frames = Frames::new(args, &Arc::new(scene.mlhm.clone()))?;
     let mut keeper = Keeper::new(args, &scene, &state)?;
@@ -159,50 +153,6 @@ fn check_files(args: &SimulateArgs) -> Result<()> {
     outputs::check_distinct(&all, &[&args.input])
 }
 
-/// The simulation state of `scene` (read from `path`) as `relief simulate` and `relief view`
-/// start it: its columns, its saved planes and step count, at the scene's layer capacity.
-/// Refuses a scene whose simulation would not fit the memory budget.
-pub(crate) fn start_state(
-    scene: &MlhmScene,
-    path: &Path,
-    max_memory: Option<u64>,
-) -> Result<ErosionState> {
-    start_state_holding(scene, path, max_memory, BYTES_PER_SLOT)
-}
-
-/// [`start_state`] for a run that holds `bytes_per_slot` bytes per column slot.
-fn start_state_holding(
-    scene: &MlhmScene,
-    path: &Path,
-    max_memory: Option<u64>,
-    bytes_per_slot: u64,
-) -> Result<ErosionState> {
-    let map = &scene.mlhm;
-    let capacity = scene.max_layer_count.clamp(map.max_layers(), 255);
-    let memory::Budget { bytes: limit, origin } = memory::budget(max_memory);
-    let needed =
-        (map.width() * map.height()) as u128 * capacity as u128 * u128::from(bytes_per_slot);
-    if needed > u128::from(limit) {
-        bail!(
-            "simulating {} x {} cells of {capacity} layers needs {} MiB, over the {} MiB memory \
-             limit ({origin})",
-            map.width(),
-            map.height(),
-            needed >> 20,
-            limit >> 20
-        );
-    }
-    let first_step = scene.settings.get(STEP_KEY).and_then(Value::as_u64).unwrap_or(0);
-    let planes = scene.simulation.as_ref().map(|s| SimulationPlanes {
-        fluxes: s.fluxes.clone(),
-        stability: s.stability.clone(),
-        sediment: s.sediment.clone(),
-        damage: s.damage.clone(),
-    });
-    ErosionState::from_mlhm(map, planes.as_ref(), capacity, first_step)
-        .with_context(|| format!("{}", path.display()))
-}
-
 /// The parameters: the reference defaults, the scene's `Simulation/*` settings over them,
 /// and the command line's over those.
 fn params(args: &SimulateArgs, settings: &Map<String, Value>) -> Result<ErosionParams> {
@@ -218,51 +168,4 @@ fn params(args: &SimulateArgs, settings: &Map<String, Value>) -> Result<ErosionP
     }
     p.validate().with_context(|| format!("the simulation settings of {}", args.input.display()))?;
     Ok(p)
-}
-
-/// The reference defaults with a scene's `Simulation/*` settings over them (not validated).
-pub(crate) fn scene_params(settings: &Map<String, Value>) -> ErosionParams {
-    let number = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_f64);
-    let flag = |key: &str| settings.get(&format!("Simulation/{key}")).and_then(Value::as_bool);
-    let mut p = ErosionParams::default();
-    let numbers: [(&str, &mut f32); 13] = [
-        ("DeltaTime", &mut p.dt),
-        ("Rain", &mut p.rain),
-        ("Evaporation", &mut p.evaporation),
-        ("Petrification", &mut p.petrification),
-        ("SlippageInterpolationRange", &mut p.slippage_interpolation_range),
-        ("SedimentCapacityConstant", &mut p.sediment_capacity),
-        ("BedrockDissolvingConstant", &mut p.bedrock_dissolving),
-        ("SandDissolvingConstant", &mut p.sand_dissolving),
-        ("SedimentDepositionConstant", &mut p.deposition),
-        ("MinSlopeErosionScale", &mut p.min_slope_erosion_scale),
-        ("MaxSlopeErosionScale", &mut p.max_slope_erosion_scale),
-        ("HorizontalErosionStrength", &mut p.horizontal_erosion_strength),
-        ("Gravity", &mut p.gravity),
-    ];
-    for (key, field) in numbers {
-        if let Some(v) = number(key) {
-            *field = v as f32;
-        }
-    }
-    // The reference stores gravity as a negative acceleration and talus angles in radians.
-    p.gravity = p.gravity.abs();
-    if let Some(v) = number("DryTalusAngle") {
-        p.dry_talus_angle = v.to_degrees() as f32;
-    }
-    if let Some(v) = number("WetTalusAngle") {
-        p.wet_talus_angle = v.to_degrees() as f32;
-    }
-    let flags: [(&str, &mut bool); 4] = [
-        ("EnableSlippage", &mut p.slippage),
-        ("EnableVerticalErosion", &mut p.vertical_erosion),
-        ("EnableHorizontalErosion", &mut p.horizontal_erosion),
-        ("EnableSupportCheck", &mut p.support_check),
-    ];
-    for (key, field) in flags {
-        if let Some(v) = flag(key) {
-            *field = v;
-        }
-    }
-    p
 }

@@ -15,7 +15,7 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// The scene key holding the steps simulated so far (the reference simulator's).
-pub const STEP_KEY: &str = "Simulation/CurrentSimulationStep";
+pub use relief_render::simulation::STEP_KEY;
 
 /// Steps between the in-memory copies a failed step is replayed from (at most this many
 /// steps are replayed).

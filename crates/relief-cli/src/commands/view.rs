@@ -3,14 +3,14 @@
 //! erosion simulation run, paused and stepped from the viewer).
 
 use super::check_frame;
-use crate::args::{SceneArgs, ViewArgs};
-use crate::live::{LiveHeightField, LiveMlhm, LiveStacks, LiveTiles};
+use crate::args::{SceneArgs, TileRenderArgs, ViewArgs};
 use crate::opening::open_scene;
 use crate::scene_checks::{check_input, drawn, Drawn};
-use crate::{applies, memory, outputs};
+use crate::{applies, memory, outputs, progress};
 use anyhow::{bail, Result};
 use relief_core::Camera;
-use relief_render::{Scene, TracerChoice};
+use relief_render::TracerChoice;
+use relief_viewer::live::live_scene;
 use relief_viewer::{SceneRenderer, Script, ViewSettings, ViewerConfig};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -75,30 +75,26 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     Ok(())
 }
 
-/// The scene's renderer, its starting camera and settings: a tile store's (its options
-/// checked), or any other input's ([`open_live_scene`], refusing the tile-store options).
+/// The scene's renderer, its starting camera and settings (the tile-store options refused
+/// for any other input).
 fn open(args: &ViewArgs) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
     let scene_args = &args.scene;
-    if drawn(scene_args) == Drawn::Store {
-        let opened = open_scene(scene_args, Some(&args.tiles), None)?;
-        let Scene::Store(store) = opened.scene else { bail!("a tile store opens as a store") };
-        let live = LiveTiles::new(store, opened.camera);
-        let (camera, settings) = (live.camera(), live.settings());
-        return Ok((Arc::new(live), camera, settings));
+    if drawn(scene_args) != Drawn::Store {
+        if let Some(option) = args.tiles.given() {
+            let here = applies::input_kind(scene_args.input.input.as_deref());
+            return Err(applies::refuse(option, "tile stores (made by relief tile)", &here));
+        }
     }
-    if let Some(option) = args.tiles.given() {
-        let here = applies::input_kind(scene_args.input.input.as_deref());
-        return Err(applies::refuse(option, "tile stores (made by relief tile)", &here));
-    }
-    open_live_scene(scene_args, "relief view")
+    open_live_scene(scene_args, Some(&args.tiles), "relief view")
 }
 
-/// The renderer of the scene `scene_args` name (anything `relief render` takes but a tile
-/// store), drawn as `relief render` draws it, with its starting camera and settings; an MLHM
-/// scene's simulation may run. `command` names the command for the refusal of the hybrid and
+/// The renderer of the scene `scene_args` name (a tile store's options from `tiles`), drawn
+/// as `relief render` draws it, with its starting camera and settings; an MLHM scene's
+/// simulation may run. `command` names the command for the refusal of the hybrid and
 /// clipmap renderers, which draw with `relief render` only.
 pub(super) fn open_live_scene(
     scene_args: &SceneArgs,
+    tiles: Option<&TileRenderArgs>,
     command: &str,
 ) -> Result<(Arc<dyn SceneRenderer>, Camera, ViewSettings)> {
     if drawn(scene_args) == Drawn::HeightField {
@@ -109,29 +105,12 @@ pub(super) fn open_live_scene(
             );
         }
     }
-    let opened = open_scene(scene_args, None, None)?;
-    let camera = opened.camera;
-    let (live, settings): (Arc<dyn SceneRenderer>, ViewSettings) = match opened.scene {
-        Scene::Stacks(drawing) => {
-            let live = LiveStacks::new(drawing);
-            let settings = live.settings();
-            (Arc::new(live), settings)
-        }
-        Scene::Mlhm(layered) => {
-            let path = scene_args.input.input.clone().unwrap_or_default();
-            let live = LiveMlhm::new(layered, scene_args.no_shadows, scene_args.no_ao)
-                .with_simulation(path, scene_args.input.read.max_memory);
-            let settings = live.settings();
-            (Arc::new(live), settings)
-        }
-        Scene::HeightField(field) => {
-            let live = LiveHeightField::new(field)?;
-            let settings = live.settings();
-            (Arc::new(live), settings)
-        }
-        Scene::Store(_) => bail!("a tile store is drawn by its own renderer"),
-    };
-    Ok((live, camera, settings))
+    let opened = open_scene(scene_args, tiles, None)?;
+    let live = live_scene(opened.scene, &progress::Bars::default())?;
+    for note in &live.notes {
+        eprintln!("{note}");
+    }
+    Ok((live.renderer, opened.camera, live.settings))
 }
 
 /// Refuses, before any work, a screenshot that is not a PNG, outputs in folders that do not

@@ -30,6 +30,11 @@ impl Picture {
     pub fn rgb_bytes(&self) -> &[u8] {
         self.rgb.as_flattened()
     }
+
+    /// Writes the picture to `path` as an 8-bit RGB PNG.
+    pub fn write_png(&self, path: &std::path::Path) -> Result<(), crate::RenderError> {
+        Ok(relief_io::write_png_rgb8(path, self.width, self.height, self.rgb_bytes())?)
+    }
 }
 
 /// The depth and normals of `gbuffer` that `keep` asks for, taken out of it.

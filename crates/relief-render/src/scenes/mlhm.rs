@@ -13,7 +13,7 @@ use relief_trace::{
     MlhmBacktrack, MlhmHierarchyTracer, MlhmMode, MlhmNaiveTracer, MlhmNormalScheme,
     MlhmSmoothOptions, MlhmSmoothTracer, MlhmTracer, TracerKind,
 };
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// The MLHM tracers a scene may be drawn with.
@@ -41,6 +41,14 @@ pub struct LayeredScene {
     pub shading: MlhmShading,
     /// A finite box holding every visible surface.
     pub bounds: Aabb,
+    /// The scene's file, which its simulation starts from.
+    pub path: PathBuf,
+    /// The memory the scene (and its simulation) may take, bytes [default: the budget's].
+    pub max_memory: Option<u64>,
+    /// Whether the options left every preset's shadows out.
+    pub no_shadows: bool,
+    /// Whether the options left every preset's ambient occlusion out.
+    pub no_ao: bool,
 }
 
 /// The scene has no georeference: cell (x, y) covers [x s, (x + 1) s) x [y s, (y + 1) s).
@@ -74,7 +82,19 @@ impl LayeredScene {
         }
         let naive = MlhmNaiveTracer::new(map.clone(), ORIGIN);
         let bounds = finite_bounds(&naive.world_bounds(MlhmMode::SolidsWater), &map)?;
-        Ok(LayeredScene { map, mode, choice, sigma: options.sigma, preset, shading, bounds })
+        Ok(LayeredScene {
+            map,
+            mode,
+            choice,
+            sigma: options.sigma,
+            preset,
+            shading,
+            bounds,
+            path: path.to_path_buf(),
+            max_memory: options.terrain.read.max_memory,
+            no_shadows: light.no_shadows,
+            no_ao: options.mlhm.no_ao,
+        })
     }
 
     /// The scene in a few words.

@@ -3,10 +3,10 @@
 //! Löffler et al. 2011 (section 3.3) keep them, rasterized and shaded as `relief render
 //! --mode mesh` does.
 
-use anyhow::Result;
+use super::drawing::Drawing;
+use crate::{Cancel, Frame, FrameStats, SceneChoices, ViewSettings};
 use relief_core::Camera;
-use relief_render::StacksDrawing;
-use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
+use relief_render::{RenderError, StacksDrawing};
 
 /// A stacks terrain with its renderer (mesher, cache and rasterizer).
 pub struct LiveStacks {
@@ -24,8 +24,23 @@ impl LiveStacks {
         let names = SceneChoices { tracers: vec!["mesh".to_string()], ..SceneChoices::default() };
         ViewSettings::new(names, self.drawing.sun, self.drawing.exposure, false)
     }
+}
 
-    fn render_frame(&self, camera: &Camera, settings: &ViewSettings) -> Result<Frame> {
+impl Drawing for LiveStacks {
+    fn describe(&self) -> String {
+        self.drawing.describe()
+    }
+
+    fn scene_size(&self) -> f64 {
+        (self.drawing.bounds.max - self.drawing.bounds.min).length()
+    }
+
+    fn draw(
+        &self,
+        camera: &Camera,
+        settings: &ViewSettings,
+        _cancel: &Cancel,
+    ) -> Result<Frame, RenderError> {
         let (w, h) = (camera.width(), camera.height());
         let frame = self.drawing.frame(camera)?;
         let stats = frame.stats;
@@ -49,24 +64,5 @@ impl LiveStacks {
                 stats.resolve_ms
             )),
         })
-    }
-}
-
-impl SceneRenderer for LiveStacks {
-    fn describe(&self) -> String {
-        self.drawing.describe()
-    }
-
-    fn scene_size(&self) -> f64 {
-        (self.drawing.bounds.max - self.drawing.bounds.min).length()
-    }
-
-    fn render(
-        &self,
-        camera: &Camera,
-        settings: &ViewSettings,
-        _cancel: &Cancel,
-    ) -> Result<Frame, String> {
-        self.render_frame(camera, settings).map_err(|e| format!("{e:#}"))
     }
 }

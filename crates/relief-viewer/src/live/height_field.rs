@@ -1,16 +1,18 @@
 //! A height field drawn live: the tracers (built when first asked for, then kept), the
 //! deferred shading with the viewer's sun, exposure and shadows.
 
-use anyhow::{bail, Result};
+use super::drawing::Drawing;
+use super::tracer_cache::TracerCache;
+use super::view_shading::{apply_view_settings, position};
+use crate::{Cancel, Frame, FrameStats, SceneChoices, ViewSettings};
 use relief_core::{Camera, Surface};
 use relief_render::scenes::height_field::check_safety_view;
 use relief_render::tracer_spec::build_plain;
-use relief_render::{HeightFieldScene, TracerChoice};
+use relief_render::{HeightFieldScene, Progress, RenderError, TracerChoice};
 use relief_shade::{render_to_srgb8, sun_shadow_sweep, KeptHits, ShadingParams};
 use relief_trace::adapters::Interruptible;
 use relief_trace::safety::SafetyTracer;
 use relief_trace::{Simd, SunShadows, Tracer, TracerKind};
-use relief_viewer::{Cancel, Frame, FrameStats, SceneChoices, SceneRenderer, ViewSettings};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
@@ -25,7 +27,7 @@ pub struct LiveHeightField {
     /// The safety tracer, when one was asked for (built before the window opens).
     safety: Option<SafetyTracer>,
     /// The tracers built so far, by choice index and surface.
-    built: Mutex<HashMap<(usize, Surface), Arc<dyn Tracer>>>,
+    built: TracerCache<(usize, Surface), dyn Tracer>,
     /// The scene's shading, the viewer's settings applied frame by frame.
     params: Mutex<ShadingParams>,
     /// The sun's shadow sweep of the last frame that had one, kept for the frames after it
@@ -42,31 +44,34 @@ struct KeptSweep {
 
 impl LiveHeightField {
     /// Draws `scene`: the mipmap and naive tracers, and the safety tracer too when the scene
-    /// names it (its shapes are built, or read from the cache, now).
-    pub fn new(scene: HeightFieldScene) -> Result<Self> {
+    /// names it (its shapes built, or read from the cache, now, reported to `progress`). Also
+    /// returns where the shapes came from, if it built them.
+    pub fn new(
+        scene: HeightFieldScene,
+        progress: &dyn Progress,
+    ) -> Result<(Self, Option<String>), RenderError> {
         let mut choices =
             vec![TracerChoice::Plain(TracerKind::Mipmap), TracerChoice::Plain(TracerKind::Naive)];
         let mut built = HashMap::new();
-        let mut safety_tracer = None;
+        let (mut safety, mut note) = (None, None);
         if matches!(scene.choice, TracerChoice::Safety(_)) {
             let spec = scene.tracer_spec(&scene.choice, Surface::Triangles);
-            let made = spec.build_reporting(&scene.field, &crate::progress::Bars::default())?;
-            if !made.note.is_empty() {
-                eprintln!("{}", made.note);
-            }
+            let made = spec.build_reporting(&scene.field, progress)?;
+            note = Some(made.note).filter(|n| !n.is_empty());
             choices.push(scene.choice.clone());
             built.insert((choices.len() - 1, Surface::Triangles), Arc::from(made.tracer));
-            safety_tracer = made.safety;
+            safety = made.safety;
         }
         let params = Mutex::new(scene.params.clone());
-        Ok(LiveHeightField {
+        let live = LiveHeightField {
             scene,
             choices,
-            safety: safety_tracer,
-            built: Mutex::new(built),
+            safety,
+            built: TracerCache::new(built),
             params,
             sweep: Mutex::new(None),
-        })
+        };
+        Ok((live, note))
     }
 
     /// The viewer's starting settings: the scene's tracer, surface, sun, exposure and shadows.
@@ -79,26 +84,21 @@ impl LiveHeightField {
         let params = &self.scene.params;
         let sun = (params.sun.azimuth_deg, params.sun.elevation_deg);
         let mut settings = ViewSettings::new(names, sun, params.exposure, params.shadows);
-        settings.tracer =
-            super::position(&settings.choices.tracers, &self.scene.choice.to_string());
-        settings.surface =
-            super::position(&settings.choices.surfaces, &self.scene.surface.to_string());
+        settings.tracer = position(&settings.choices.tracers, &self.scene.choice.to_string());
+        settings.surface = position(&settings.choices.surfaces, &self.scene.surface.to_string());
         settings
     }
 
     /// The tracer of choice `index` for `surface`, built now if it was not yet.
-    fn tracer(&self, index: usize, surface: Surface) -> Result<Arc<dyn Tracer>> {
-        let mut built = self.built.lock().expect("no render panicked");
-        if let Some(tracer) = built.get(&(index, surface)) {
-            return Ok(tracer.clone());
-        }
-        let TracerChoice::Plain(kind) = self.choices[index] else {
-            bail!("the safety tracer draws the triangles surface only");
-        };
-        let tracer: Arc<dyn Tracer> =
-            Arc::from(build_plain(&self.scene.field, surface, kind, Simd::detect()));
-        built.insert((index, surface), tracer.clone());
-        Ok(tracer)
+    fn tracer(&self, index: usize, surface: Surface) -> Result<Arc<dyn Tracer>, RenderError> {
+        self.built.get_or_build((index, surface), || {
+            let TracerChoice::Plain(kind) = self.choices[index] else {
+                return Err(RenderError::Unsupported(
+                    "the safety tracer draws the triangles surface only".into(),
+                ));
+            };
+            Ok(Arc::from(build_plain(&self.scene.field, surface, kind, Simd::detect())))
+        })
     }
 
     /// The sun's shadow sweep for a frame of `pixels` pixels drawn by `tracer` (choice `index`)
@@ -125,18 +125,28 @@ impl LiveHeightField {
         *kept = Some(KeptSweep { built_for, sweep: sweep.clone() });
         Some(sweep)
     }
+}
 
-    /// The frame of `camera` with `settings`, its tracer stopped by `cancel`.
-    fn render_frame(
+impl Drawing for LiveHeightField {
+    fn describe(&self) -> String {
+        self.scene.describe()
+    }
+
+    fn scene_size(&self) -> f64 {
+        let bounds = self.scene.bounds();
+        (bounds.max - bounds.min).length()
+    }
+
+    fn draw(
         &self,
         camera: &Camera,
         settings: &ViewSettings,
         cancel: &Cancel,
-    ) -> Result<Frame> {
+    ) -> Result<Frame, RenderError> {
         let surface = SURFACES[settings.surface.min(SURFACES.len() - 1)];
         let mut index = settings.tracer.min(self.choices.len() - 1);
         let mut params = self.params.lock().expect("no render panicked");
-        super::apply_view_settings(&mut params, settings);
+        apply_view_settings(&mut params, settings);
         let mut note = None;
         if let (TracerChoice::Safety(_), Some(safety)) = (&self.choices[index], &self.safety) {
             let refused = if surface != Surface::Triangles {
@@ -168,26 +178,5 @@ impl LiveHeightField {
             steps_per_ray: Some(traced.mean_steps()),
         };
         Ok(Frame { width: camera.width(), height: camera.height(), rgb: drawn.rgb, stats, note })
-    }
-}
-
-impl SceneRenderer for LiveHeightField {
-    fn describe(&self) -> String {
-        let field = &self.scene.field;
-        format!("{}x{} height field", field.width(), field.height())
-    }
-
-    fn scene_size(&self) -> f64 {
-        let bounds = self.scene.bounds();
-        (bounds.max - bounds.min).length()
-    }
-
-    fn render(
-        &self,
-        camera: &Camera,
-        settings: &ViewSettings,
-        cancel: &Cancel,
-    ) -> Result<Frame, String> {
-        self.render_frame(camera, settings, cancel).map_err(|e| format!("{e:#}"))
     }
 }
