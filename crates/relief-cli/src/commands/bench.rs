@@ -8,16 +8,14 @@
 //! is not built). Every view is traced `--repeat` times and the fastest run is reported.
 //! Measurements, not assertions: run it on an otherwise idle machine.
 
+use super::bench_drawn::Drawn;
 use crate::args::BenchArgs;
 use crate::{applies, input, memory, progress};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
-use relief_core::{benchmark_views, Camera, DVec3, HeightField, Surface, BENCHMARK_VIEWS};
-use relief_render::{BuiltTracer, TracerChoice, TracerSpec};
-use relief_shade::{
-    render_gbuffer_into, sun_direction, ClipmapRenderer, GBuffer, HybridRenderer, RayBatch, Tile,
-    TraceStats, TILE_SIZE,
-};
+use relief_core::{benchmark_views, Camera, DVec3, Surface, BENCHMARK_VIEWS};
+use relief_render::TracerChoice;
+use relief_shade::{sun_direction, GBuffer, RayBatch, Tile, TraceStats, TILE_SIZE};
 use relief_trace::adapters::OneRayAtATime;
 use relief_trace::{Simd, SunShadows, Tracer, TracerKind};
 use std::io::Write;
@@ -216,92 +214,6 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// What `relief bench` measures: a tracer through the ray-casting render pass, or a renderer
-/// that rasterizes (the hybrid renderer, geometry clipmaps).
-enum Drawn {
-    Tracer(Box<BuiltTracer>),
-    Hybrid(Box<HybridRenderer>),
-    Clipmap(Box<ClipmapRenderer>),
-}
-
-impl Drawn {
-    fn build(
-        args: &BenchArgs,
-        field: &Arc<HeightField>,
-        surface: Surface,
-        tracer: &TracerChoice,
-        limit: u64,
-        simd: Simd,
-    ) -> Result<Self> {
-        Ok(match tracer {
-            TracerChoice::Hybrid => {
-                let (params, far) = (args.hybrid.params(), args.hybrid.far.unwrap_or_default());
-                Drawn::Hybrid(Box::new(HybridRenderer::new(field.clone(), surface, params, far)?))
-            }
-            TracerChoice::Clipmap if surface == Surface::Boxes => {
-                bail!(
-                    "geometry clipmaps draw the triangles surface only (use --surfaces triangles)"
-                )
-            }
-            TracerChoice::Clipmap => Drawn::Clipmap(Box::new(ClipmapRenderer::new(
-                field.clone(),
-                relief_mesh::ClipmapParams::default(),
-            )?)),
-            _ => {
-                let spec = TracerSpec {
-                    choice: tracer.clone(),
-                    surface,
-                    safety: crate::scene_options::safety_settings(&args.safety),
-                    use_cache: false,
-                    max_memory: limit,
-                    simd,
-                };
-                let built = spec.build_reporting(field, &progress::Bars::default())?;
-                Drawn::Tracer(Box::new(built))
-            }
-        })
-    }
-
-    /// Draws the view into `gbuffer`; the primary rays' statistics (for the rasterizing
-    /// renderers, the pixels and hits only).
-    fn render(
-        &mut self,
-        single_rays: bool,
-        camera: &Camera,
-        bounds: &relief_core::Aabb,
-        gbuffer: &mut GBuffer,
-        bar: &indicatif::ProgressBar,
-    ) -> Result<TraceStats> {
-        let pixels = camera.width() as u64 * camera.height() as u64;
-        match self {
-            Drawn::Tracer(built) => {
-                let one_at_a_time = OneRayAtATime(built.tracer.as_ref());
-                let traced: &dyn Tracer =
-                    if single_rays { &one_at_a_time } else { built.tracer.as_ref() };
-                return Ok(render_gbuffer_into(traced, camera, bounds, gbuffer, &|n| bar.inc(n))?);
-            }
-            Drawn::Hybrid(hybrid) => {
-                hybrid.render_into(camera, bounds, gbuffer, None)?;
-            }
-            Drawn::Clipmap(clipmap) => {
-                clipmap.render_into(camera, bounds, gbuffer)?;
-            }
-        }
-        bar.inc(pixels);
-        let hits = gbuffer.distance.iter().filter(|d| d.is_finite()).count() as u64;
-        Ok(TraceStats { rays: pixels, hits, ..TraceStats::default() })
-    }
-
-    /// The exact tracer that traces the shadow rays.
-    fn tracer(&self) -> &dyn Tracer {
-        match self {
-            Drawn::Tracer(built) => built.tracer.as_ref(),
-            Drawn::Hybrid(hybrid) => hybrid.tracer(),
-            Drawn::Clipmap(clipmap) => clipmap.tracer(),
-        }
-    }
 }
 
 /// Refuses the options that would do nothing: the fBm terrain's with `--input`, the safety

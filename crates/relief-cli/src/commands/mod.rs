@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 mod bench;
+mod bench_drawn;
 mod bench_dynamic;
 mod compare;
 mod convert;

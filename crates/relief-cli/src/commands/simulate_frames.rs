@@ -5,11 +5,14 @@
 use crate::args::SimulateArgs;
 use crate::{applies, outputs};
 use anyhow::{bail, Context, Result};
-use relief_core::{Aabb, Camera, DVec2, DVec3, Framing, Lens, Mlhm};
-use relief_shade::mlhm::{render_mlhm, MlhmPreset, MlhmShading};
-use relief_shade::{tonemap_reinhard_to_rgb8, Sun};
+use relief_core::{Camera, DVec2, Mlhm};
+use relief_render::draw::mlhm::mlhm_frame;
+use relief_render::scenes::mlhm::mlhm_bounds;
+use relief_render::{place_camera, CameraOptions};
+use relief_shade::mlhm::{MlhmPreset, MlhmShading};
+use relief_shade::Sun;
 use relief_sim::erosion::ErosionState;
-use relief_trace::{MlhmHierarchy, MlhmHierarchyTracer, MlhmMode, MlhmNaiveTracer};
+use relief_trace::{MlhmHierarchy, MlhmHierarchyTracer};
 use serde_json::{json, Value};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -20,9 +23,6 @@ const ORIGIN: DVec2 = DVec2::ZERO;
 
 /// The frame size without `--size`, as `relief render`'s.
 const DEFAULT_SIZE: (u32, u32) = (1280, 720);
-
-/// The vertical field of view, degrees, as `relief render`'s default.
-const FOV_DEG: f64 = 45.0;
 
 /// Refuses the frame options given without the others they need, and a frame folder that
 /// cannot be created; creates it.
@@ -92,22 +92,9 @@ impl Frames {
         shading.sun = Sun { azimuth_deg: 315.0, elevation_deg: 35.0, ..shading.sun };
         shading.validate()?;
         let (w, h) = args.size.unwrap_or(DEFAULT_SIZE);
-        let bounds = finite_bounds(map)?;
-        let camera = match args.view {
-            Some(view) => {
-                let framing = Framing {
-                    target: None,
-                    distance: view.distance,
-                    ..Framing::heading(
-                        view.azimuth_deg,
-                        view.elevation_deg,
-                        Lens::Perspective { fov_deg: FOV_DEG },
-                    )
-                };
-                Camera::framed(&bounds, &framing, w, h)?
-            }
-            None => Camera::frame_from(&bounds, 225.0, 30.0, FOV_DEG, w, h)?,
-        };
+        let bounds = mlhm_bounds(map)?;
+        let options = CameraOptions { view: args.view, ..CameraOptions::framing(w, h) };
+        let camera = place_camera(&options, &bounds)?.camera;
         Ok(Some(Frames {
             every,
             dir: dir.clone(),
@@ -147,7 +134,7 @@ impl Frames {
         // The tracer owns its hierarchy: it gets a copy, the rebuilt storage stays here.
         let hierarchy = self.hierarchy.clone().context("the hierarchy")?;
         let tracer = MlhmHierarchyTracer::with_hierarchy(map, hierarchy, ORIGIN);
-        let image = render_mlhm(&tracer, &self.camera, &self.shading, &|_| {})?;
+        let frame_rgb = mlhm_frame(&tracer, &self.camera, &self.shading)?;
         let render = ms_since(started);
 
         let started = Instant::now();
@@ -155,9 +142,9 @@ impl Frames {
         let frame = self.times.len();
         let digits = self.digits;
         let path = self.dir.join(format!("frame-{frame:0digits$}.png"));
-        let rgb = tonemap_reinhard_to_rgb8(&image.radiance, self.shading.exposure)?;
         let (w, h) = (self.camera.width(), self.camera.height());
-        outputs::write_picture(&path, w, h, &rgb, relief_io::PngCompression::Fast)
+        let rgb = frame_rgb.rgb.as_flattened();
+        outputs::write_picture(&path, w, h, rgb, relief_io::PngCompression::Fast)
             .with_context(|| format!("writing {}", path.display()))?;
         let write = ms_since(started);
 
@@ -232,16 +219,4 @@ fn ms_since(start: Instant) -> f64 {
 pub fn median(mut values: Vec<f64>) -> f64 {
     values.sort_by(f64::total_cmp);
     values.get(values.len() / 2).copied().unwrap_or(0.0)
-}
-
-/// The box `relief render` frames an MLHM scene by: its solids and water, from the lowest
-/// bedrock top up.
-fn finite_bounds(map: &Arc<Mlhm>) -> Result<Aabb> {
-    let bounds = MlhmNaiveTracer::new(map.clone(), ORIGIN).world_bounds(MlhmMode::SolidsWater);
-    let lowest = map.heights().bedrock_min;
-    let finite = Aabb::new(DVec3::new(bounds.min.x, bounds.min.y, lowest), bounds.max);
-    if !(finite.min.is_finite() && finite.max.is_finite() && lowest <= finite.max.z) {
-        bail!("the scene has no finite bounds ({finite:?})");
-    }
-    Ok(finite)
 }

@@ -7,8 +7,9 @@ use crate::options::RenderMode;
 use crate::progress::Progress;
 use crate::scenes::mlhm::{LayeredScene, MlhmTracerChoice};
 use relief_core::{Camera, Precision};
-use relief_shade::mlhm::render_mlhm;
+use relief_shade::mlhm::{render_mlhm, MlhmRayCounts, MlhmShading};
 use relief_shade::{tonemap_reinhard_to_rgb8, KeptHits};
+use relief_trace::MlhmTracer;
 use serde_json::json;
 use std::time::Instant;
 
@@ -92,4 +93,25 @@ pub fn draw(
     let (depth, normals) = kept_arrays(&mut image.gbuffer, keep);
     let rgb = rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
     Ok(Picture { width: w, height: h, rgb, depth, normals, summary, notes: vec![], stats })
+}
+
+/// A frame of an MLHM scene: its pixels and the rays it took.
+pub struct MlhmFrame {
+    /// 8-bit sRGB pixels, rows from the top.
+    pub rgb: Vec<[u8; 3]>,
+    /// The rays traced, primary and secondary.
+    pub counts: MlhmRayCounts,
+}
+
+/// The frame `tracer` draws of `camera`'s view, shaded with `shading` and tone mapped (what
+/// the viewer shows and `relief simulate --frames` writes).
+pub fn mlhm_frame(
+    tracer: &dyn MlhmTracer,
+    camera: &Camera,
+    shading: &MlhmShading,
+) -> Result<MlhmFrame, RenderError> {
+    let image = render_mlhm(tracer, camera, shading, &|_| {})?;
+    let rgb = tonemap_reinhard_to_rgb8(&image.radiance, shading.exposure)?;
+    let rgb = rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    Ok(MlhmFrame { rgb, counts: image.counts })
 }

@@ -80,8 +80,7 @@ impl LayeredScene {
         if let Some(sigma) = options.sigma {
             check_sigma(sigma, map.cell_size())?;
         }
-        let naive = MlhmNaiveTracer::new(map.clone(), ORIGIN);
-        let bounds = finite_bounds(&naive.world_bounds(MlhmMode::SolidsWater), &map)?;
+        let bounds = mlhm_bounds(&map)?;
         Ok(LayeredScene {
             map,
             mode,
@@ -193,9 +192,11 @@ fn check_sigma(sigma: f64, cell_size: f64) -> Result<(), RenderError> {
     Ok(())
 }
 
-/// `bounds` with its bottom, minus infinity for a scene's lowest columns, raised to the lowest
-/// bedrock top: a finite box that holds every visible surface, for framing and colouring.
-fn finite_bounds(bounds: &Aabb, map: &Mlhm) -> Result<Aabb, RenderError> {
+/// The box an MLHM scene is framed and coloured by: its solids and water, its bottom (minus
+/// infinity for a scene's lowest columns) raised to the lowest bedrock top, so that it is
+/// finite and holds every visible surface.
+pub fn mlhm_bounds(map: &Arc<Mlhm>) -> Result<Aabb, RenderError> {
+    let bounds = MlhmNaiveTracer::new(map.clone(), ORIGIN).world_bounds(MlhmMode::SolidsWater);
     let lowest = map.heights().bedrock_min;
     let finite = Aabb::new(DVec3::new(bounds.min.x, bounds.min.y, lowest), bounds.max);
     if !(finite.min.is_finite() && finite.max.is_finite() && lowest <= finite.max.z) {

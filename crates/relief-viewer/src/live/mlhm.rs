@@ -11,10 +11,10 @@ use crate::{
     Cancel, Frame, FrameStats, SceneChoices, SimulationReport, SimulationRequest, ViewSettings,
 };
 use relief_core::Camera;
+use relief_render::draw::mlhm::mlhm_frame;
 use relief_render::simulation::MlhmSimulation;
 use relief_render::{LayeredScene, MlhmTracerChoice, RenderError, RenderMode};
-use relief_shade::mlhm::{render_mlhm, MlhmPreset, MlhmShading};
-use relief_shade::tonemap_reinhard_to_rgb8;
+use relief_shade::mlhm::{MlhmPreset, MlhmShading};
 use relief_trace::adapters::Interruptible;
 use relief_trace::MlhmTracer;
 use std::collections::HashMap;
@@ -132,14 +132,13 @@ impl Drawing for LiveMlhm {
             Ok(Arc::from(tracer))
         })?;
         let tracer = Interruptible { inner: built.as_ref(), stop: cancel.flag() };
-        let image = render_mlhm(&tracer, camera, &shading, &|_| {})?;
-        let rgb = tonemap_reinhard_to_rgb8(&image.radiance, shading.exposure)?;
+        let frame = mlhm_frame(&tracer, camera, &shading)?;
         let stats = FrameStats {
-            rays: image.counts.rays(),
-            steps_per_ray: Some(image.counts.primary.mean_steps()),
+            rays: frame.counts.rays(),
+            steps_per_ray: Some(frame.counts.primary.mean_steps()),
         };
-        let rgb = rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
-        Ok(Frame { width: camera.width(), height: camera.height(), rgb, stats, note: None })
+        let (width, height) = (camera.width(), camera.height());
+        Ok(Frame { width, height, rgb: frame.rgb, stats, note: None })
     }
 
     fn has_simulation(&self) -> bool {
