@@ -22,12 +22,13 @@ pub fn arrays(py: Python<'_>, picture: Picture) -> PyResult<Rendered<'_>> {
 
 /// Refuses an image of `width x height` pixels that `holding` would draw over the memory
 /// budget `max_memory` gives (default: half the machine's memory), with the command line's
-/// message.
+/// message; `raise_with` names the option that raises the budget, if the caller has one.
 pub fn check_image(
     width: u32,
     height: u32,
     holding: ImageHolding,
     max_memory: Option<u64>,
+    raise_with: Option<&str>,
 ) -> PyResult<()> {
     let budget = memory::budget(max_memory);
     let threads = rayon::current_num_threads();
@@ -37,7 +38,10 @@ pub fn check_image(
             "a {width}x{height} image needs {}, over the {} memory limit ({})",
             format_bytes(needed),
             format_bytes(budget.bytes),
-            budget.origin.replace("--max-memory", "max_memory")
+            match raise_with {
+                Some(option) => budget.origin.replace("--max-memory", option),
+                None => budget.origin.replace("; raise it with --max-memory", ""),
+            }
         )));
     }
     Ok(())

@@ -59,7 +59,8 @@ pub fn render<'py>(
     voids: &str,
 ) -> PyResult<Rendered<'py>> {
     let (width, height) = options::image_size(size)?;
-    check_image(width, height, ImageHolding::Strips { depth: true, normals: false }, None)?;
+    let holding = ImageHolding::Strips { depth: true, normals: false };
+    check_image(width, height, holding, None, None)?;
     let geometry = options::geometry(spacing, origin, z_scale)?;
     let (surface, kind) = (options::surface(surface)?, options::tracer(tracer)?);
     let light = LightSettings {

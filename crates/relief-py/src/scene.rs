@@ -100,7 +100,8 @@ impl PyScene {
 fn simulation_of(opened: &mut Opened) -> Result<&mut Simulation, RenderError> {
     let (Scene::Mlhm(_), Some(path)) = (&opened.scene, &opened.path) else {
         return Err(RenderError::Unsupported(format!(
-            "relief.simulate steps MLHM scenes (.json, .mlhm); this is a {}",
+            "relief.simulate, Scene.state and Scene.write take MLHM scenes (.json, .mlhm); this \
+             is a {}",
             opened.scene.describe()
         )));
     };
@@ -179,7 +180,7 @@ impl PyScene {
             let opened = self.locked();
             (holding(&opened.scene), opened.max_memory)
         });
-        check_image(width, height, holding, max_memory)?;
+        check_image(width, height, holding, max_memory, Some("relief.open(..., max_memory=N)"))?;
         let drawn = py.detach(|| {
             let opened = self.locked();
             let scene = &opened.scene;

@@ -206,5 +206,9 @@ def test_bad_cameras_and_inputs_raise(tmp_path, terrain):
         assert message in str(caught.value), camera
     with pytest.raises(relief.ReliefError, match="is not an image dimension"):
         scene.render(size=(0, 8))
+    small = relief.open(tmp_path / "h.npy", max_memory=1_000_000)
+    with pytest.raises(relief.ReliefError, match=r"a 2000x2000 image needs .* over the 976.6 KiB"
+                       r" memory limit \(relief.open\(..., max_memory=N\)\)"):
+        small.render(size=(2000, 2000))
     with pytest.warns(UserWarning, match="is parallel to the view"):
         scene.render({"eye": (24, 20, 80), "target": (24, 20, 0)}, size=(8, 8))

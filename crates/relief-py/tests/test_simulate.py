@@ -127,7 +127,7 @@ def test_simulations_of_two_scenes_run_side_by_side(rivers):
 def test_bad_simulations_raise_relief_errors(tmp_path, relief_bin, run_relief, rivers, terrain):
     np.save(tmp_path / "h.npy", terrain)
     field = relief.open(tmp_path / "h.npy")
-    with pytest.raises(relief.ReliefError, match="steps MLHM scenes .* this is a 48x40 height field"):
+    with pytest.raises(relief.ReliefError, match="take MLHM scenes .* this is a 48x40 height field"):
         relief.simulate(field, 1)
     with pytest.raises(relief.ReliefError, match="MLHM scenes"):
         field.state()
