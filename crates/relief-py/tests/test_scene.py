@@ -212,3 +212,23 @@ def test_bad_cameras_and_inputs_raise(tmp_path, terrain):
         small.render(size=(2000, 2000))
     with pytest.warns(UserWarning, match="is parallel to the view"):
         scene.render({"eye": (24, 20, 80), "target": (24, 20, 0)}, size=(8, 8))
+
+
+def test_renders_of_one_scene_from_several_threads_give_the_picture_of_one(tmp_path, terrain):
+    import threading
+
+    np.save(tmp_path / "h.npy", terrain)
+    scene = relief.open(tmp_path / "h.npy")
+    alone = scene.render(size=(48, 32))
+    results = [None] * 4
+
+    def run(k):
+        results[k] = scene.render(size=(48, 32))
+
+    threads = [threading.Thread(target=run, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for rgb, depth in results:
+        assert np.array_equal(rgb, alone[0]) and np.array_equal(depth, alone[1])
