@@ -8,6 +8,7 @@ use pyo3::exceptions::{
 };
 use pyo3::PyErr;
 use relief_io::IoError;
+use relief_render::RenderError;
 use std::io::ErrorKind;
 
 create_exception!(
@@ -41,5 +42,15 @@ pub fn file(error: IoError) -> PyErr {
             _ => PyOSError::new_err(message),
         },
         _ => PyOSError::new_err(message),
+    }
+}
+
+/// An error of the scene layer: a file that cannot be read as [`file`] raises it, anything
+/// else (an option that does not apply, a scene over the memory limit, ...) as a
+/// [`ReliefError`].
+pub fn scene(error: RenderError) -> PyErr {
+    match error {
+        RenderError::Io(error) => file(error),
+        other => argument(other),
     }
 }

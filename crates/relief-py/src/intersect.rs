@@ -4,11 +4,11 @@ use crate::arrays::{check_finite_rows, heights as heights_array, vector_f64, vec
 use crate::errors::invalid;
 use crate::options;
 use crate::terrain::height_field;
-use crate::tracer::tracer as build;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use relief_core::{DVec3, Ray};
+use relief_render::{TracerChoice, TracerSpec};
 
 /// Rays traced together as one batch (neighbouring rays gain from the mipmap tracer's
 /// packets).
@@ -66,7 +66,8 @@ pub fn intersect<'py>(
             return Err(format!("directions: row {k} is zero, not a direction"));
         }
         let field = height_field(&grid, geometry, voids)?;
-        let tracer = build(&field, surface, kind);
+        let spec = TracerSpec::new(TracerChoice::Plain(kind), surface);
+        let tracer = spec.build(&field).map_err(|e| e.to_string())?;
         let mut t = vec![f64::INFINITY; starts.len() / 3];
         let (starts, dirs) = (starts.par_chunks(3 * BATCH), dirs.par_chunks(3 * BATCH));
         starts.zip(dirs).zip(t.par_chunks_mut(BATCH)).for_each(|((starts, dirs), t)| {

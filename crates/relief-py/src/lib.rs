@@ -1,9 +1,11 @@
-//! The native part of relief's Python package: `render`, `shade`, `intersect`, `read` and
-//! `write_png` over NumPy arrays, with relief's errors raised as Python exceptions. The package
-//! `relief` (python/relief) re-exports them; its `_relief.pyi` holds their type stubs.
+//! The native part of relief's Python package: `open` (any input as a `Scene`, drawn by the
+//! scene layer, relief_render, as `relief render` draws it), `simulate` (an MLHM scene's
+//! erosion), and `render`, `shade`, `intersect`, `read` and `write_png` over NumPy arrays,
+//! with relief's errors raised as Python exceptions. The package `relief` (python/relief)
+//! re-exports them; its `_relief.pyi` holds their type stubs.
 //!
-//! Every function validates its arguments before any work (no panic crosses into Python),
-//! builds its tracer once per call and releases the GIL while it traces.
+//! Every function validates its arguments before any work (no panic crosses into Python)
+//! and releases the GIL while it reads, traces or simulates.
 
 #![deny(missing_docs)]
 
@@ -11,13 +13,19 @@ mod arrays;
 mod camera;
 mod errors;
 mod georeference;
+mod info;
 mod intersect;
+mod open;
 mod options;
+mod picture;
 mod read;
 mod render;
+mod scene;
 mod shade;
+mod simulate;
+mod simulation;
+mod state_arrays;
 mod terrain;
-mod tracer;
 mod write_png;
 
 use pyo3::prelude::*;
@@ -26,6 +34,9 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _relief(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ReliefError", m.py().get_type::<errors::ReliefError>())?;
+    m.add_class::<scene::PyScene>()?;
+    m.add_function(wrap_pyfunction!(open::open, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(intersect::intersect, m)?)?;
     m.add_function(wrap_pyfunction!(read::read, m)?)?;

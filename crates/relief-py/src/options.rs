@@ -6,7 +6,8 @@ use crate::errors::invalid;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::{DVec2, GridGeometry, Surface};
-use relief_io::VoidPolicy;
+use relief_io::{PngEncoding, VoidPolicy};
+use relief_render::TracerChoice;
 use relief_trace::TracerKind;
 use std::ops::RangeInclusive;
 
@@ -123,15 +124,17 @@ pub fn surface(name: &str) -> PyResult<Surface> {
     name.parse().map_err(invalid)
 }
 
-/// The tracer named `name`: `mipmap` or `naive` (the safety tracer's precomputed shapes are
-/// the command line's, with their cache).
+/// The tracer named `name` for the array functions (`render`, `intersect`): `mipmap` or
+/// `naive`, parsed as the scene layer names tracers; the safety tracer (precomputed shapes
+/// with their cache), the hybrid and clipmap renderers are `relief.open`'s.
 pub fn tracer(name: &str) -> PyResult<TracerKind> {
-    if name == "safety" || name.starts_with("cyl_") {
-        return Err(invalid(format!(
-            "the {name} tracer is not offered by the Python module (expected naive or mipmap)"
-        )));
+    match name.parse::<TracerChoice>().map_err(invalid)? {
+        TracerChoice::Plain(kind) => Ok(kind),
+        _ => Err(invalid(format!(
+            "the {name} tracer is not offered by the Python module's array functions \
+             (expected naive or mipmap; relief.open takes every tracer relief render does)"
+        ))),
     }
-    name.parse().map_err(invalid)
 }
 
 /// The void policy named `name`: `fill` (nearest valid sample, then smoothed, as the command
@@ -197,4 +200,16 @@ pub fn fov(fov: f64) -> PyResult<f64> {
         )));
     }
     Ok(fov)
+}
+
+/// How a PNG encodes heights, by name: `grey`, `terrain-rgb` or `terrarium`.
+pub fn png_encoding(name: &str) -> PyResult<PngEncoding> {
+    match name {
+        "grey" => Ok(PngEncoding::Grey),
+        "terrain-rgb" => Ok(PngEncoding::TerrainRgb),
+        "terrarium" => Ok(PngEncoding::Terrarium),
+        other => Err(invalid(format!(
+            "unknown png_encoding '{other}' (expected grey, terrain-rgb or terrarium)"
+        ))),
+    }
 }

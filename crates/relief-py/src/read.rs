@@ -3,11 +3,12 @@
 use crate::arrays::image_f32;
 use crate::errors::{file, invalid};
 use crate::georeference::georeference;
+use crate::options;
 use crate::terrain::flip_rows;
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use relief_io::{LengthUnit, PngEncoding, ReadOptions};
+use relief_io::{LengthUnit, ReadOptions};
 use std::path::PathBuf;
 
 /// Reads a height file, in the format its extension names (.tif/.tiff GeoTIFF, .hgt, .asc,
@@ -47,16 +48,7 @@ pub fn read<'py>(
     z_unit: Option<&str>,
 ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyDict>)> {
     let z_unit = z_unit.map(|u| u.parse::<LengthUnit>().map_err(invalid)).transpose()?;
-    let png_encoding = match png_encoding {
-        "grey" => PngEncoding::Grey,
-        "terrain-rgb" => PngEncoding::TerrainRgb,
-        "terrarium" => PngEncoding::Terrarium,
-        other => {
-            return Err(invalid(format!(
-                "unknown png_encoding '{other}' (expected grey, terrain-rgb or terrarium)"
-            )))
-        }
-    };
+    let png_encoding = options::png_encoding(png_encoding)?;
     if max_memory == Some(0) {
         return Err(invalid("max_memory must be at least 1 byte"));
     }

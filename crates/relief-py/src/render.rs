@@ -1,25 +1,20 @@
-//! `relief.render`: a heights array traced, shaded and tone-mapped as `relief render` does,
-//! returned as an RGB image and its depth.
+//! `relief.render`: a heights array opened as a height-field scene of the scene layer and
+//! drawn as `relief render` draws it, returned as an RGB image and its depth.
 
-use crate::arrays::{heights as heights_array, image_f32, image_rgb8};
-use crate::camera::CameraSpec;
+use crate::arrays::heights as heights_array;
+use crate::camera::{CameraSpec, ARRAY_KEYS};
 use crate::errors::{argument, invalid};
 use crate::options;
+use crate::picture::{arrays, check_image, Rendered};
 use crate::terrain::height_field;
-use crate::tracer::tracer as build;
-use numpy::{PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::Surface;
-use relief_shade::{render_to_srgb8, sun_shadow_sweep, KeptHits, ShadingParams, Sun};
-use relief_trace::Tracer;
-
-/// What `render` returns: the RGB image and its depth.
-type Rendered<'py> = (Bound<'py, PyArray3<u8>>, Bound<'py, PyArray2<f32>>);
-
-/// Bytes an image takes per pixel while it is rendered (as the command line counts them): the
-/// G-buffer (56), the linear radiance (12) and the 8-bit output (3).
-const BYTES_PER_PIXEL: u64 = 71;
+use relief_render::scenes::height_field::shading;
+use relief_render::{
+    memory, HeightFieldScene, HybridSettings, ImageHolding, KeptHits, LightSettings,
+    SafetySettings, Scene, Silent, TracerChoice,
+};
 
 /// Renders a height field as ``relief render`` does, with the same defaults.
 ///
@@ -64,64 +59,35 @@ pub fn render<'py>(
     voids: &str,
 ) -> PyResult<Rendered<'py>> {
     let (width, height) = options::image_size(size)?;
-    check_image(width, height)?;
+    let holding = ImageHolding::Strips { depth: true, normals: false };
+    check_image(width, height, holding, None, None)?;
     let geometry = options::geometry(spacing, origin, z_scale)?;
     let (surface, kind) = (options::surface(surface)?, options::tracer(tracer)?);
-    let ((azimuth_deg, elevation_deg), exposure) =
-        (options::sun(sun)?, options::exposure(exposure)?);
+    let light = LightSettings {
+        sun: options::sun(sun)?,
+        no_shadows: !shadows,
+        exposure: options::exposure(exposure)?,
+        texture: None,
+    };
     let voids = options::voids(voids)?;
-    let spec = CameraSpec::from_dict(camera)?;
+    let spec = CameraSpec::from_dict(camera, ARRAY_KEYS)?;
     let grid = heights_array(heights)?;
 
     let field = py.detach(|| height_field(&grid, geometry, voids)).map_err(invalid)?;
     drop(grid);
-    let camera = spec.camera(py, &field.world_bounds(surface), width, height)?;
-    let mut params =
-        ShadingParams::for_terrain(&field.world_bounds(Surface::Boxes)).map_err(argument)?;
-    params.sun = Sun { azimuth_deg, elevation_deg, ..params.sun };
-    params.shadows = shadows;
-    params.exposure = exposure;
-    params.validate().map_err(argument)?;
-
-    let traced = py.detach(|| {
-        let tracer = build(&field, surface, kind);
-        let bounds = field.world_bounds(surface);
-        let keep = KeptHits { depth: true, normals: false };
-        let pixels = camera.width() as usize * camera.height() as usize;
-        let sweep = sun_shadow_sweep(tracer.as_ref(), &field, surface, &params, pixels);
-        let shadow_tracer: &dyn Tracer = match &sweep {
-            Some(sweep) => sweep,
-            None => tracer.as_ref(),
-        };
-        let drawn = render_to_srgb8(
-            tracer.as_ref(),
-            shadow_tracer,
-            &camera,
-            &bounds,
-            &params,
-            keep,
-            &|_| {},
-        )?;
-        let depth = drawn.depth.unwrap_or_default();
-        Ok::<_, relief_shade::ShadeError>((drawn.rgb.into_flattened(), depth))
+    let params = shading(&light, &field.world_bounds(Surface::Boxes)).map_err(argument)?;
+    let scene = Scene::HeightField(HeightFieldScene {
+        field,
+        surface,
+        choice: TracerChoice::Plain(kind),
+        safety: SafetySettings::default(),
+        hybrid: HybridSettings::default(),
+        max_memory: memory::budget(None).bytes,
+        params,
+        warnings: Vec::new(),
     });
-    let (rgb, depth) = traced.map_err(argument)?;
-    let (w, h) = (width as usize, height as usize);
-    Ok((image_rgb8(py, h, w, rgb)?, image_f32(py, h, w, depth)?))
-}
-
-/// Refuses an image of `width x height` pixels that would not fit the default memory budget
-/// (half the machine's memory), with the command line's message.
-fn check_image(width: u32, height: u32) -> PyResult<()> {
-    let budget = relief_io::default_memory_budget();
-    let needed = width as u64 * height as u64 * BYTES_PER_PIXEL;
-    if needed > budget.bytes {
-        return Err(invalid(format!(
-            "a {width}x{height} image needs {} MiB, over the {} MiB memory limit ({})",
-            needed >> 20,
-            budget.bytes >> 20,
-            budget.source
-        )));
-    }
-    Ok(())
+    let camera = spec.camera(py, &scene.bounds(), width, height)?;
+    let keep = KeptHits { depth: true, normals: false };
+    let picture = py.detach(|| scene.render(&camera, keep, &Silent)).map_err(argument)?;
+    arrays(py, picture)
 }

@@ -7,8 +7,10 @@ use crate::options;
 use crate::terrain::{flip_rows, height_field};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use relief_shade::shade_map::{shade_map, ShadeLayer, ShadeMapParams, SunPosition};
+use relief_core::{HeightField, Surface};
+use relief_shade::shade_map::{shade_map, ShadeLayer, ShadeMap, ShadeMapParams, SunPosition};
 use relief_trace::{build_tracer, TracerKind};
+use std::sync::Arc;
 
 /// The shade layers of a height field, each a float32 array shaped like ``heights``.
 ///
@@ -49,6 +51,29 @@ pub fn shade<'py>(
     let geometry = options::geometry(spacing, origin, z_scale)?;
     let surface = options::surface(surface)?;
     let voids = options::voids(voids)?;
+    let params = map_params(layers, suns, sun_radius, sun_rays, sky_rays)?;
+    let grid = heights_array(heights)?;
+
+    let map = py.detach(|| {
+        let void: Vec<bool> =
+            flip_rows(&grid.samples, grid.width).iter().map(|v| v.is_nan()).collect();
+        let field = height_field(&grid, geometry, voids)?;
+        let mask = void.contains(&true).then_some(void.as_slice());
+        shade_field(&field, surface, mask, &params)
+    });
+    layer_arrays(py, map.map_err(invalid)?)
+}
+
+/// The shade map's parameters: the `layers` by name, the `suns` as (azimuth, elevation) in
+/// degrees, each of `sun_radius` degrees sampled by `sun_rays` rays, the sky by `sky_rays`;
+/// checked as `relief shade` checks them.
+pub fn map_params(
+    layers: Vec<String>,
+    suns: Vec<(f64, f64)>,
+    sun_radius: f64,
+    sun_rays: u32,
+    sky_rays: u32,
+) -> PyResult<ShadeMapParams> {
     let layers = layers
         .iter()
         .map(|name| name.parse::<ShadeLayer>().map_err(invalid))
@@ -59,17 +84,23 @@ pub fn shade<'py>(
         .collect();
     let params = ShadeMapParams { layers, suns, sun_radius_deg: sun_radius, sun_rays, sky_rays };
     params.validate().map_err(argument)?;
-    let grid = heights_array(heights)?;
+    Ok(params)
+}
 
-    let map = py.detach(|| {
-        let void: Vec<bool> =
-            flip_rows(&grid.samples, grid.width).iter().map(|v| v.is_nan()).collect();
-        let field = height_field(&grid, geometry, voids)?;
-        let tracer = build_tracer(field.clone(), surface, TracerKind::Mipmap);
-        let mask = void.contains(&true).then_some(void.as_slice());
-        shade_map(&field, &*tracer, mask, &params, &|_| {}).map_err(|e| e.to_string())
-    });
-    let map = map.map_err(invalid)?;
+/// The shade map of `surface` of `field` (NaN where `mask` marks a void), traced by the
+/// mipmap tracer as `relief shade` traces it.
+pub fn shade_field(
+    field: &Arc<HeightField>,
+    surface: Surface,
+    mask: Option<&[bool]>,
+    params: &ShadeMapParams,
+) -> Result<ShadeMap, String> {
+    let tracer = build_tracer(field.clone(), surface, TracerKind::Mipmap);
+    shade_map(field, &*tracer, mask, params, &|_| {}).map_err(|e| e.to_string())
+}
+
+/// The layers of `map` as a dict from layer name to a north-up float32 array.
+pub fn layer_arrays(py: Python<'_>, map: ShadeMap) -> PyResult<Bound<'_, PyDict>> {
     let result = PyDict::new(py);
     for (layer, values) in map.layers {
         // relief's rows run south to north; the caller's array runs north to south.

@@ -150,3 +150,126 @@ def write_png(path: Union[str, PathLike[str]], rgb: npt.NDArray[np.uint8]) -> No
     Raises ``ReliefError`` for another dtype or shape, ``OSError`` when the file cannot be
     written.
     """
+
+class SceneCamera(TypedDict, total=False):
+    """A scene's camera, as ``relief render``'s options: ``eye`` and ``target`` together (or
+    ``target`` with ``view``), ``up``, ``fov``; ``view`` frames the scene from ``(azimuth,
+    elevation)`` or ``(azimuth, elevation, distance)``; ``ortho`` and ``ortho_height`` make
+    it orthographic."""
+
+    eye: Sequence[float]
+    target: Sequence[float]
+    up: Sequence[float]
+    fov: float
+    view: Sequence[float]
+    ortho: bool
+    ortho_height: float
+
+class SceneInfo(TypedDict, total=False):
+    """What a scene is. ``size`` and ``spacing`` are ``None`` for a stacks terrain, ``crs``
+    and ``epsg`` where the input names none; ``surface`` and ``tracer`` are a height field's,
+    ``layers`` and ``step`` an MLHM scene's."""
+
+    kind: Literal["height_field", "mlhm", "stacks", "tile_store"]
+    description: str
+    path: Optional[str]
+    size: Optional[Tuple[int, int]]
+    spacing: Optional[Tuple[float, float]]
+    bounds: Tuple[Tuple[float, float, float], Tuple[float, float, float]]
+    crs: Optional[str]
+    epsg: Optional[int]
+    warnings: list[str]
+    surface: str
+    tracer: str
+    layers: int
+    step: int
+
+class SceneState(TypedDict):
+    """An MLHM scene's erosion state. Planes are float32 ``(L, H, W)`` indexed
+    ``[layer, y, x]`` with row 0 the south edge (as the scene file stores them); ``fluxes``
+    is ``(L, H, W, 4)`` (right, up, left, down); ``layer_counts`` uint8 ``(H, W)``."""
+
+    bedrock: npt.NDArray[np.float32]
+    sand: npt.NDArray[np.float32]
+    water: npt.NDArray[np.float32]
+    ceiling: npt.NDArray[np.float32]
+    sediment: npt.NDArray[np.float32]
+    damage: npt.NDArray[np.float32]
+    stability: npt.NDArray[np.float32]
+    fluxes: npt.NDArray[np.float32]
+    layer_counts: npt.NDArray[np.uint8]
+    step: int
+    cell_size: float
+
+class Scene:
+    """An input opened by ``relief.open``: a height field, an MLHM scene, a stacks terrain
+    or a tile store."""
+
+    def render(
+        self, camera: Optional[SceneCamera] = None, size: Tuple[int, int] = (1280, 720)
+    ) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
+        """``(rgb, depth)`` as ``relief render`` draws the scene: uint8 (height, width, 3) and
+        float32 (height, width), +inf for a miss, pixel for pixel the command line's."""
+    def shade(
+        self,
+        layers: Sequence[ShadeLayer] = ("combined",),
+        suns: Sequence[Tuple[float, float]] = ((315.0, 45.0),),
+        sun_radius: float = 0.0,
+        sun_rays: int = 16,
+        sky_rays: int = 64,
+    ) -> dict[str, npt.NDArray[np.float32]]:
+        """A height field's shade layers, north-up; ``ReliefError`` for any other scene."""
+    @property
+    def info(self) -> SceneInfo:
+        """What the scene is: kind, size, spacing, bounds, CRS, ..."""
+    def state(self) -> SceneState:
+        """An MLHM scene's erosion state as arrays (``ReliefError`` for any other scene)."""
+    def write(self, path: Union[str, PathLike[str]]) -> None:
+        """Write an MLHM scene's state as ``relief simulate -o path`` does (.json or .mlhm)."""
+
+def open(
+    path: Union[str, PathLike[str], None] = None,
+    *,
+    spacing: Union[float, Tuple[float, float], None] = None,
+    north_up: bool = False,
+    z_scale: float = 1.0,
+    voids: Optional[Voids] = None,
+    max_memory: Optional[int] = None,
+    png_encoding: Literal["grey", "terrain-rgb", "terrarium"] = "grey",
+    array: Optional[str] = None,
+    z_unit: Optional[Literal["m", "ft", "us-ft"]] = None,
+    fbm_size: Optional[int] = None,
+    seed: Optional[int] = None,
+    surface: Optional[Surface] = None,
+    tracer: Optional[str] = None,
+    mode: Optional[Literal["boxes", "smooth", "mesh"]] = None,
+    sigma: Optional[float] = None,
+    preset: Optional[Literal["low", "mid", "high", "max"]] = None,
+    ao: bool = True,
+    tau: Optional[float] = None,
+    voxel_height: Optional[float] = None,
+    max_error_px: Optional[float] = None,
+    cache_mb: Optional[int] = None,
+    sun: Tuple[float, float] = (315.0, 35.0),
+    shadows: bool = True,
+    exposure: float = 1.0,
+    texture: Union[str, PathLike[str], None] = None,
+    cache_dir: Union[str, PathLike[str], None] = None,
+    no_cache: bool = False,
+) -> Scene:
+    """Open any input ``relief render`` takes (``None``: the default fBm terrain) as a scene,
+    with ``relief render``'s options and defaults. Raises ``ReliefError`` for options relief
+    cannot use, ``OSError`` for an input that cannot be read."""
+
+def simulate(
+    scene: Scene,
+    steps: int,
+    *,
+    seed: int = 1,
+    rain: Optional[float] = None,
+    evaporation: Optional[float] = None,
+    dt: Optional[float] = None,
+) -> int:
+    """Step an MLHM scene's erosion as ``relief simulate`` does (the GIL released); returns
+    the steps simulated in all. ``scene.write`` then writes the bytes ``relief simulate``
+    writes after as many steps with the same seed."""
