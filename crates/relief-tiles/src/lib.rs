@@ -23,6 +23,7 @@ mod error;
 mod format;
 mod layout;
 mod lod;
+mod sized_file;
 mod store;
 mod streamer;
 mod texture_builder;
