@@ -24,6 +24,7 @@ mod error;
 mod format;
 mod layout;
 mod lod;
+mod record_table;
 mod sized_file;
 mod store;
 mod streamer;

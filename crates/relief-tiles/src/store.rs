@@ -3,10 +3,10 @@
 //! [`TileTracerFactory`]: by default a max-mipmap tracer).
 
 use crate::format::{
-    decode_samples, sample_bytes, slot_offset, StoreHeader, TileRecord, DATA_FILE, RECORD_BYTES,
-    TABLE_FILE,
+    decode_samples, sample_bytes, slot_offset, StoreHeader, TileRecord, DATA_FILE, TABLE_FILE,
 };
 use crate::layout::Rect;
+use crate::record_table::read_record_table;
 use crate::tile_tracer::{TileTracerFactory, TracedHeights};
 use crate::{PyramidLayout, TileError, TileId};
 use relief_core::{Aabb, DVec3, GridGeometry, HeightField, Precision, Surface};
@@ -199,22 +199,7 @@ pub(crate) fn read_table(
     path: &Path,
     layout: &PyramidLayout,
 ) -> Result<Vec<Option<TileRecord>>, TileError> {
-    let bytes = std::fs::read(path).map_err(|e| TileError::io(path, e))?;
-    let count = layout.tile_count() as usize;
-    (0..count)
-        .map(|k| {
-            let corrupt = |reason: String| TileError::Corrupt {
-                path: path.to_path_buf(),
-                tile: layout.id_at(k as u64),
-                reason,
-            };
-            let b: &[u8; RECORD_BYTES] = bytes
-                .get(k * RECORD_BYTES..(k + 1) * RECORD_BYTES)
-                .and_then(|b| b.try_into().ok())
-                .ok_or_else(|| corrupt(format!("{TABLE_FILE} is truncated")))?;
-            TileRecord::from_bytes(b).map_err(corrupt)
-        })
-        .collect()
+    read_record_table(path, layout, TileRecord::from_bytes)
 }
 
 /// Reads and decodes the slot of tile `id`, checked against its record's checksum.
