@@ -1,24 +1,14 @@
-//! The tone curve to 8-bit sRGB without a power function.
+//! The tone curve to 8-bit sRGB without a power function, checked against the formula.
 //!
 //! [`crate::tonemap_to_srgb8`]'s byte of a channel is `round(255 * srgb(aces(x)))`, which never
-//! decreases as `x` grows: relief-core's [`ByteSteps`] (the 255 inputs at which the byte steps
-//! up, found once, and a coarse index into them) answers with two lookups and one comparison
-//! the byte that the curve (a `powf` in `f64` per channel) gives, bit for bit.
-
-use std::sync::OnceLock;
-
-use relief_core::colour::ByteSteps;
-
-/// The steps of [`crate::tonemap_to_srgb8`]'s curve, built on first use.
-pub(crate) fn srgb8_steps() -> &'static ByteSteps {
-    static STEPS: OnceLock<ByteSteps> = OnceLock::new();
-    STEPS.get_or_init(|| ByteSteps::new(crate::tonemap::srgb8_byte_by_formula))
-}
+//! decreases as `x` grows: relief-core's `ByteSteps` (the 255 inputs at which the byte steps
+//! up, found once, and a coarse index into them), built over the curve in `tonemap.rs`,
+//! answers with two lookups and one comparison the byte that the curve (a `powf` in `f64` per
+//! channel) gives, bit for bit. This file holds the tests that show it.
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-    use crate::tonemap::srgb8_byte_by_formula;
+    use crate::tonemap::{srgb8_byte_by_formula, srgb8_steps};
 
     #[test]
     fn the_table_gives_the_formulas_byte_around_every_step_and_across_the_range() {

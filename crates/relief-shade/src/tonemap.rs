@@ -1,9 +1,11 @@
 //! From linear radiance to 8-bit sRGB: exposure, a filmic curve and the sRGB transfer function.
 
+use std::sync::OnceLock;
+
 use rayon::prelude::*;
+use relief_core::colour::ByteSteps;
 
 use crate::error::non_negative;
-use crate::srgb8_table::srgb8_steps;
 use crate::ShadeError;
 // The sRGB transfer function lives in relief-core (relief-tiles encodes texels with it too);
 // colour_ramp.rs takes it from here.
@@ -42,6 +44,13 @@ pub fn tonemap_to_srgb8(radiance: &[[f32; 3]], exposure: f64) -> Result<Vec<u8>,
 /// the formula: what the table of steps reproduces.
 pub(crate) fn srgb8_byte_by_formula(x: f32) -> u8 {
     to_byte(linear_to_srgb(aces_filmic(x)))
+}
+
+/// The steps of [`tonemap_to_srgb8`]'s curve, built on first use (`srgb8_table.rs` checks
+/// that they give the formula's bytes).
+pub(crate) fn srgb8_steps() -> &'static ByteSteps {
+    static STEPS: OnceLock<ByteSteps> = OnceLock::new();
+    STEPS.get_or_init(|| ByteSteps::new(srgb8_byte_by_formula))
 }
 
 /// One pixel of [`tonemap_to_srgb8`] (the exposure already checked).
