@@ -10,7 +10,9 @@
 //! - [`Ray`], [`Aabb`]: geometry used by the tracers;
 //! - [`Camera`]: the camera of relief's conventions, pinhole or orthographic ([`Projection`]),
 //!   with automatic [`Framing`], and the fixed [`benchmark_views`] every performance
-//!   measurement traces.
+//!   measurement traces;
+//! - [`colour`]: the sRGB encoding and its 8-bit tables; [`texture`]: a pixel's footprint on
+//!   the terrain and the texture filter over it (shared by relief-shade and relief-tiles).
 //!
 //! ```
 //! use relief_core::{HeightField, GridGeometry, Surface};
@@ -24,6 +26,7 @@
 mod aabb;
 mod benchmark_views;
 mod camera;
+pub mod colour;
 mod error;
 mod framing;
 mod height_field;
@@ -32,6 +35,7 @@ mod ray;
 mod sample_region;
 mod stacks;
 mod surface;
+pub mod texture;
 
 pub use aabb::{Aabb, BoxFace, Clip};
 pub use benchmark_views::{benchmark_views, BENCHMARK_VIEWS};

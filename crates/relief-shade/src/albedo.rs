@@ -3,10 +3,10 @@
 
 use std::sync::Arc;
 
-use relief_core::{DVec2, DVec3};
+use relief_core::DVec3;
 
 use crate::error::non_negative_colour;
-use crate::{GroundFootprint, HypsometricRamp, RgbTexture, ShadeError};
+use crate::{FootprintAlbedo, GroundFootprint, HypsometricRamp, RgbTexture, ShadeError};
 
 /// The source of the diffuse albedo (linear RGB reflectance) of the terrain.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,17 +28,6 @@ pub enum Albedo {
         /// The albedo used without a G-buffer pixel.
         fallback: [f32; 3],
     },
-}
-
-/// A colour source that filters its texture over each pixel's footprint: an ortho photo's mip
-/// pyramid, filtered anisotropically (Dick et al. 2009, section 3.3).
-pub trait FootprintAlbedo: Send + Sync + std::fmt::Debug {
-    /// The slope (`dz/dx`, `dz/dy`) of the terrain's tangent plane at world `position`, from
-    /// the heights around it; `None` to take the plane of the hit's normal instead.
-    fn tangent_slope(&self, position: DVec3) -> Option<DVec2>;
-
-    /// The linear RGB albedo averaged over `footprint`.
-    fn albedo(&self, footprint: &GroundFootprint) -> DVec3;
 }
 
 /// A shared [`FootprintAlbedo`]; two are equal when they are the same source.

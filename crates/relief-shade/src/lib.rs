@@ -60,19 +60,23 @@ mod stats;
 mod strip_render;
 mod sun;
 mod texture;
-mod texture_filter;
 mod tonemap;
 
-pub use albedo::{Albedo, FilteredAlbedo, FootprintAlbedo};
+pub use albedo::{Albedo, FilteredAlbedo};
 pub use clipmap_renderer::{ClipmapRenderer, ClipmapStats};
 pub use colour_ramp::{hypsometric_colour, HypsometricRamp};
 pub use deferred::{shade, shade_to_srgb8, ShadingParams};
 pub use depth_metrics::{depth_errors, depth_metrics, DepthImage, DepthMetrics, DepthScale};
 pub use error::ShadeError;
-pub use footprint::{ground_footprint, pixel_ground_footprint, slope_from_normal, GroundFootprint};
 pub use gbuffer::{GBuffer, GBufferPixel};
 pub use hybrid::{FarField, HybridRenderer, HybridStats, PixelSource};
 pub use ray_batch::RayBatch;
+pub use relief_core::colour::{linear_to_srgb, srgb_to_linear};
+pub use relief_core::texture::{
+    filter_texture, ground_footprint, pixel_ground_footprint, slope_from_normal, FootprintAlbedo,
+    FootprintAxes, GroundFootprint, MipTexture, PixelHits, TexelFootprint, TextureFilter,
+    DEFAULT_MAX_ANISOTROPY,
+};
 pub use render::{render_gbuffer, render_gbuffer_into, Tile, TILE_SIZE};
 pub use shade_map::{shade_map, ShadeLayer, ShadeMap, ShadeMapParams, SunPosition};
 pub use shading::{ambient_lighting, direct_lighting, GgxSpecular, DIELECTRIC_F0};
@@ -85,10 +89,4 @@ pub use sun::{
     SHADOW_BIAS,
 };
 pub use texture::RgbTexture;
-pub use texture_filter::{
-    filter_texture, FootprintAxes, MipTexture, TexelFootprint, TextureFilter,
-    DEFAULT_MAX_ANISOTROPY,
-};
-pub use tonemap::{
-    aces_filmic, linear_to_srgb, srgb_to_linear, tonemap_reinhard_to_rgb8, tonemap_to_srgb8,
-};
+pub use tonemap::{aces_filmic, tonemap_reinhard_to_rgb8, tonemap_to_srgb8};

@@ -1,107 +1,20 @@
-//! The tone curve to 8-bit sRGB without a power function: the 255 inputs at which the byte
-//! steps up, found once, and a coarse index into them.
+//! The tone curve to 8-bit sRGB without a power function, checked against the formula.
 //!
 //! [`crate::tonemap_to_srgb8`]'s byte of a channel is `round(255 * srgb(aces(x)))`, which never
-//! decreases as `x` grows. So it is the number of steps at or below `x`: the table keeps, for
-//! every byte `b` in 1..=255, the smallest `f32` at which the curve reaches `b`, found by
-//! bisection over the `f32` values with the curve itself, and a coarse index by the input's
-//! bit pattern (buckets a fixed fraction of an octave wide), and answers with two lookups and
-//! one comparison the byte that the curve (a `powf` in `f64` per channel) gives, bit for bit.
-
-use std::sync::OnceLock;
-
-/// Buckets of the coarse index per octave of input, as a number of mantissa bits: bucket `k`
-/// holds the `f32` values whose bit patterns lie `k << (23 - BUCKET_BITS)` and more above the
-/// lowest bucket's start, so a bucket is 1/256 of its octave wide (at most one step falls in a
-/// bucket, checked when the table is built) and the index is small enough (about 3,600
-/// entries) to stay in the first-level cache.
-const BUCKET_BITS: u32 = 8;
-
-/// The shift from an `f32`'s bit pattern to its bucket.
-const BUCKET_SHIFT: u32 = 23 - BUCKET_BITS;
-
-/// The steps of a non-decreasing curve from `[0, inf)` onto the bytes 0..=255.
-#[derive(Debug)]
-pub(crate) struct ByteSteps {
-    /// `first[b]`: the smallest input whose byte is at least `b` (`first[0]` is 0).
-    first: [f32; 256],
-    /// The bit pattern of the power of two at or below `first[1]`, where bucket 0 starts
-    /// (every smaller input has byte 0).
-    lowest: u32,
-    /// `at_start[k]`: the byte of the first input of bucket `k`.
-    at_start: Vec<u8>,
-}
-
-impl ByteSteps {
-    /// The steps of `byte`, which must map 0 to 0, never decrease, reach 255 and step at most
-    /// once a bucket.
-    fn new(byte: impl Fn(f32) -> u8) -> Self {
-        let mut first = [0.0f32; 256];
-        for (b, step) in first.iter_mut().enumerate().skip(1) {
-            *step = smallest_reaching(&byte, b as u8);
-        }
-        let lowest = first[1].to_bits() >> 23 << 23;
-        let bucket_start = |k: u32| f32::from_bits(lowest + (k << BUCKET_SHIFT));
-        let buckets = ((first[255].to_bits() - lowest) >> BUCKET_SHIFT) + 1;
-        let steps_to = |x: f32| first.iter().skip(1).take_while(|&&t| t <= x).count();
-        let at_start: Vec<u8> = (0..buckets).map(|k| steps_to(bucket_start(k)) as u8).collect();
-        let most_in_a_bucket = (0..buckets)
-            .map(|k| steps_to(bucket_start(k + 1).next_down()) - at_start[k as usize] as usize)
-            .max();
-        assert!(most_in_a_bucket <= Some(1), "the curve steps more than once in a bucket");
-        ByteSteps { first, lowest, at_start }
-    }
-
-    /// The byte of `x`: 0 for negative or NaN input, 255 from the last step on.
-    #[inline]
-    pub(crate) fn byte(&self, x: f32) -> u8 {
-        if x.is_nan() || x <= 0.0 {
-            return 0;
-        }
-        if x >= self.first[255] {
-            return 255;
-        }
-        let Some(above) = x.to_bits().checked_sub(self.lowest) else {
-            return 0;
-        };
-        // x lies below first[255], so its bucket exists and its byte is below 255.
-        let b = self.at_start[(above >> BUCKET_SHIFT) as usize];
-        b + u8::from(x >= self.first[b as usize + 1])
-    }
-}
-
-/// The smallest non-negative `f32` whose byte is at least `target`, by bisection over the
-/// ordered bit patterns of the positive floats (`byte` reaches 255 below `f32::MAX`).
-fn smallest_reaching(byte: &impl Fn(f32) -> u8, target: u8) -> f32 {
-    let (mut lo, mut hi) = (0u32, f32::MAX.to_bits());
-    // Invariant: byte(lo) < target <= byte(hi).
-    while hi - lo > 1 {
-        let mid = lo + (hi - lo) / 2;
-        if byte(f32::from_bits(mid)) >= target {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    f32::from_bits(hi)
-}
-
-/// The steps of [`crate::tonemap_to_srgb8`]'s curve, built on first use.
-pub(crate) fn srgb8_steps() -> &'static ByteSteps {
-    static STEPS: OnceLock<ByteSteps> = OnceLock::new();
-    STEPS.get_or_init(|| ByteSteps::new(crate::tonemap::srgb8_byte_by_formula))
-}
+//! decreases as `x` grows: relief-core's `ByteSteps` (the 255 inputs at which the byte steps
+//! up, found once, and a coarse index into them), built over the curve in `tonemap.rs`,
+//! answers with two lookups and one comparison the byte that the curve (a `powf` in `f64` per
+//! channel) gives, bit for bit. This file holds the tests that show it.
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-    use crate::tonemap::srgb8_byte_by_formula;
+    use crate::tonemap::{srgb8_byte_by_formula, srgb8_steps};
 
     #[test]
     fn the_table_gives_the_formulas_byte_around_every_step_and_across_the_range() {
         let steps = srgb8_steps();
         // Every input within 3000 ulps of a step, where a table could err.
-        for &t in &steps.first[1..] {
+        for t in (1..=255u8).map(|b| steps.first_reaching(b)) {
             let bits = t.to_bits();
             for x in (bits.saturating_sub(3000)..bits + 3000).map(f32::from_bits) {
                 assert_eq!(steps.byte(x), srgb8_byte_by_formula(x), "x = {x:e}");
@@ -120,9 +33,9 @@ mod tests {
     #[test]
     fn every_byte_has_a_step() {
         let steps = srgb8_steps();
-        assert!(steps.first.windows(2).all(|w| w[0] < w[1]));
+        assert!((0..255u8).all(|b| steps.first_reaching(b) < steps.first_reaching(b + 1)));
         for b in 1..=255u8 {
-            let t = steps.first[b as usize];
+            let t = steps.first_reaching(b);
             assert_eq!(srgb8_byte_by_formula(t), b);
             assert_eq!(srgb8_byte_by_formula(f32::from_bits(t.to_bits() - 1)), b - 1);
         }

@@ -1,8 +1,8 @@
 //! Colour textures draped over the terrain's footprint, sampled bilinearly.
 
+use relief_core::colour::srgb_to_linear;
 use relief_core::DVec3;
 
-use crate::tonemap::srgb_to_linear;
 use crate::ShadeError;
 
 /// A linear-RGB image draped over the terrain: row 0 is the top (north) row, so texture

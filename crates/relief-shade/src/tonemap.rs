@@ -1,26 +1,15 @@
 //! From linear radiance to 8-bit sRGB: exposure, a filmic curve and the sRGB transfer function.
 
+use std::sync::OnceLock;
+
 use rayon::prelude::*;
+use relief_core::colour::ByteSteps;
 
 use crate::error::non_negative;
-use crate::srgb8_table::srgb8_steps;
 use crate::ShadeError;
-
-/// The sRGB encoding of a linear value in `[0, 1]` (IEC 61966-2-1; values outside are clamped,
-/// NaN gives 0).
-pub fn linear_to_srgb(linear: f32) -> f32 {
-    // Evaluated in f64 so that the f32 result is the correctly rounded curve (1 maps to 1).
-    let x = clamp_unit(linear) as f64;
-    let encoded = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
-    encoded as f32
-}
-
-/// The linear value of an sRGB-encoded value in `[0, 1]` (clamped, NaN gives 0).
-pub fn srgb_to_linear(encoded: f32) -> f32 {
-    let x = clamp_unit(encoded) as f64;
-    let linear = if x <= 0.040_45 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) };
-    linear as f32
-}
+// The sRGB transfer function lives in relief-core (relief-tiles encodes texels with it too);
+// colour_ramp.rs takes it from here.
+pub(crate) use relief_core::colour::{linear_to_srgb, srgb_to_linear};
 
 /// The ACES filmic curve as fitted by Narkowicz (2015): maps `[0, inf)` monotonically onto
 /// `[0, 1]`, with 0 to 0, a gentle toe and a soft shoulder reaching white at about 7.2.
@@ -55,6 +44,13 @@ pub fn tonemap_to_srgb8(radiance: &[[f32; 3]], exposure: f64) -> Result<Vec<u8>,
 /// the formula: what the table of steps reproduces.
 pub(crate) fn srgb8_byte_by_formula(x: f32) -> u8 {
     to_byte(linear_to_srgb(aces_filmic(x)))
+}
+
+/// The steps of [`tonemap_to_srgb8`]'s curve, built on first use (`srgb8_table.rs` checks
+/// that they give the formula's bytes).
+pub(crate) fn srgb8_steps() -> &'static ByteSteps {
+    static STEPS: OnceLock<ByteSteps> = OnceLock::new();
+    STEPS.get_or_init(|| ByteSteps::new(srgb8_byte_by_formula))
 }
 
 /// One pixel of [`tonemap_to_srgb8`] (the exposure already checked).
@@ -114,25 +110,6 @@ fn clamp_unit(x: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn srgb_round_trips() {
-        for k in 0..=1000 {
-            let x = k as f32 / 1000.0;
-            assert!((srgb_to_linear(linear_to_srgb(x)) - x).abs() < 1e-6, "{x}");
-            assert!((linear_to_srgb(srgb_to_linear(x)) - x).abs() < 1e-6, "{x}");
-        }
-        // Known points of the standard curve.
-        assert!((srgb_to_linear(0.5) - 0.214_041).abs() < 1e-6);
-        assert!((linear_to_srgb(0.0031308) - 0.040_45).abs() < 1e-5);
-        assert_eq!(linear_to_srgb(1.0), 1.0);
-        assert_eq!(linear_to_srgb(f32::NAN), 0.0);
-        // Every 8-bit code survives decoding and re-encoding.
-        for code in 0..=255u8 {
-            let back = (linear_to_srgb(srgb_to_linear(code as f32 / 255.0)) * 255.0).round();
-            assert_eq!(back as u8, code);
-        }
-    }
 
     #[test]
     fn tonemap_is_monotonic_and_maps_black_to_black() {

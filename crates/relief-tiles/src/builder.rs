@@ -13,12 +13,13 @@ use crate::format::{
     slot_offset, SourceFile, StoreHeader, TileRecord, DATA_FILE, FORMAT_NAME, FORMAT_VERSION,
     INDEX_FILE, RECORD_BYTES, TABLE_FILE,
 };
+use crate::sized_file::open_sized;
 use crate::texture_builder::{texture_working_set_bytes, TextureInput};
 use crate::{PyramidLayout, TileError, TileId};
 use rayon::prelude::*;
 use relief_core::Precision;
 use relief_io::RowSource;
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::os::unix::fs::FileExt;
 use std::path::Path;
 use std::time::Instant;
@@ -279,23 +280,6 @@ impl StoreWriter {
         self.header.complete = true;
         self.header.write(&self.dir)
     }
-}
-
-/// Opens (or creates) the store file at `path` for reading and writing, `len` bytes long: a
-/// new file is zeros, an interrupted build's keeps what it holds.
-pub(crate) fn open_sized(path: &Path, len: u64) -> Result<File, TileError> {
-    let file = OpenOptions::new()
-        .read(true)
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(path)
-        .map_err(|e| TileError::io(path, e))?;
-    let size = file.metadata().map_err(|e| TileError::io(path, e))?.len();
-    if size != len {
-        file.set_len(len).map_err(|e| TileError::io(path, e))?;
-    }
-    Ok(file)
 }
 
 /// Says how an existing store differs from the one asked for.

@@ -154,7 +154,7 @@ mod tests {
             id: TileId { level: 0, col, row: 0 },
             rect: Rect { min: [0.0; 2], max: [1.0; 2] },
             record: TileRecord { min: 0.0, max: 1.0, error: 0.0, has_voids: false, checksum: 0 },
-            tracer: None,
+            heights: None,
             bytes,
         })
     }

@@ -6,10 +6,11 @@
 //!   [`PyramidLayout`] says which tile holds which samples;
 //! - the store's format ([`StoreHeader`], [`TileRecord`], docs/tile-store.md) and
 //!   [`TileStore`], which opens one and loads tiles as [`LoadedTile`]s, each with its own
-//!   max-mipmap tracer;
+//!   tracer from a [`TileTracerFactory`] the caller may give (a max-mipmap tracer by default);
 //! - [`select_tiles`]: view-frustum culling and the screen-space error bound;
 //! - [`TileStreamer`]: a frame's tiles from a [`TileCache`] and a loader thread, as a
-//!   [`TiledTerrain`], which implements relief-trace's `Tracer` like a single height field;
+//!   [`TiledTerrain`], which implements relief-trace's `Tracer` like a single height field
+//!   and nests any tracer per tile, as pbrt's aggregates nest;
 //! - an ortho photo's pyramid beside the heights ([`build_textured_store`],
 //!   [`place_ortho`], [`TextureHeader`], [`TextureStore`]) and [`TextureStreamer`], whose
 //!   [`TexturedFrame`] colours a frame from the tiles its pixels' footprints need, filtered
@@ -23,6 +24,8 @@ mod error;
 mod format;
 mod layout;
 mod lod;
+mod record_table;
+mod sized_file;
 mod store;
 mod streamer;
 mod texture_builder;
@@ -30,6 +33,7 @@ mod texture_format;
 mod texture_frame;
 mod texture_placement;
 mod texture_store;
+mod tile_tracer;
 mod tiled_terrain;
 
 pub use builder::{
@@ -48,4 +52,5 @@ pub use texture_format::{TextureHeader, TextureRecord};
 pub use texture_frame::{TextureFrameStats, TextureStreamer, TexturedFrame};
 pub use texture_placement::{place_ortho, DemPlacement, TexturePlacement};
 pub use texture_store::{TextureStore, TextureTile};
+pub use tile_tracer::{TileTracerFactory, TracedHeights};
 pub use tiled_terrain::{TiledTerrain, TreeNode};

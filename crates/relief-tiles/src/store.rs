@@ -1,14 +1,15 @@
 //! Reading a tile store: its index and table at open, tiles on request (checked against their
-//! checksums), each loaded tile made a height field with its own max-mipmap tracer.
+//! checksums), each loaded tile made a height field with its own tracer (the store's
+//! [`TileTracerFactory`]: by default a max-mipmap tracer).
 
 use crate::format::{
-    decode_samples, sample_bytes, slot_offset, StoreHeader, TileRecord, DATA_FILE, RECORD_BYTES,
-    TABLE_FILE,
+    decode_samples, sample_bytes, slot_offset, StoreHeader, TileRecord, DATA_FILE, TABLE_FILE,
 };
 use crate::layout::Rect;
+use crate::record_table::read_record_table;
+use crate::tile_tracer::{TileTracerFactory, TracedHeights};
 use crate::{PyramidLayout, TileError, TileId};
 use relief_core::{Aabb, DVec3, GridGeometry, HeightField, Precision, Surface};
-use relief_trace::MipmapTracer;
 use std::fs::File;
 use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
@@ -26,6 +27,8 @@ pub struct TileStore {
     subtree_max: Vec<f32>,
     floor: f32,
     top: f32,
+    /// Makes each loaded tile's tracer.
+    tile_tracers: TileTracerFactory,
 }
 
 impl TileStore {
@@ -67,7 +70,20 @@ impl TileStore {
             subtree_max,
             floor,
             top,
+            tile_tracers: TileTracerFactory::default(),
         })
+    }
+
+    /// The store whose loaded tiles are traced by tracers `tile_tracers` makes (max-mipmap
+    /// tracers unless this is called): any tracer nests in the frames' [`crate::TiledTerrain`].
+    pub fn with_tile_tracers(mut self, tile_tracers: TileTracerFactory) -> Self {
+        self.tile_tracers = tile_tracers;
+        self
+    }
+
+    /// What makes each loaded tile's tracer.
+    pub fn tile_tracers(&self) -> &TileTracerFactory {
+        &self.tile_tracers
     }
 
     /// The store's directory.
@@ -125,7 +141,8 @@ impl TileStore {
         )
     }
 
-    /// Reads tile `id`, checks it and builds its tracer for `surface`.
+    /// Reads tile `id`, checks it and builds its tracer for `surface` (with
+    /// [`TileStore::tile_tracers`]).
     pub fn load(&self, id: TileId, surface: Surface) -> Result<LoadedTile, TileError> {
         let record = self.record(id).ok_or_else(|| TileError::Corrupt {
             path: self.dir.join(TABLE_FILE),
@@ -134,7 +151,7 @@ impl TileStore {
         })?;
         let rect = self.layout.rect(id, &self.geometry(), surface);
         if record.is_void() {
-            return Ok(LoadedTile { id, rect, record, tracer: None, bytes: 0 });
+            return Ok(LoadedTile { id, rect, record, heights: None, bytes: 0 });
         }
         let data_path = self.dir.join(DATA_FILE);
         let samples =
@@ -156,8 +173,9 @@ impl TileStore {
         }
         let field = field.with_floor(self.floor).map_err(invalid)?;
         let bytes = (side * side) as u64 * (4 + 2) + record.has_voids as u64 * (side * side) as u64;
-        let tracer = MipmapTracer::new(Arc::new(field), surface);
-        Ok(LoadedTile { id, rect, record, tracer: Some(tracer), bytes })
+        let field = Arc::new(field);
+        let tracer = self.tile_tracers.make(field.clone(), surface);
+        Ok(LoadedTile { id, rect, record, heights: Some(TracedHeights { field, tracer }), bytes })
     }
 }
 
@@ -170,9 +188,9 @@ pub struct LoadedTile {
     pub rect: Rect,
     /// Its table record.
     pub record: TileRecord,
-    /// Its tracer; `None` when every sample is a void.
-    pub tracer: Option<MipmapTracer>,
-    /// Bytes it holds: samples, holes and max mipmap.
+    /// Its heights and their tracer; `None` when every sample is a void.
+    pub heights: Option<TracedHeights>,
+    /// Bytes it holds: samples, holes and (for the default tracer) max mipmap.
     pub bytes: u64,
 }
 
@@ -181,22 +199,7 @@ pub(crate) fn read_table(
     path: &Path,
     layout: &PyramidLayout,
 ) -> Result<Vec<Option<TileRecord>>, TileError> {
-    let bytes = std::fs::read(path).map_err(|e| TileError::io(path, e))?;
-    let count = layout.tile_count() as usize;
-    (0..count)
-        .map(|k| {
-            let corrupt = |reason: String| TileError::Corrupt {
-                path: path.to_path_buf(),
-                tile: layout.id_at(k as u64),
-                reason,
-            };
-            let b: &[u8; RECORD_BYTES] = bytes
-                .get(k * RECORD_BYTES..(k + 1) * RECORD_BYTES)
-                .and_then(|b| b.try_into().ok())
-                .ok_or_else(|| corrupt(format!("{TABLE_FILE} is truncated")))?;
-            TileRecord::from_bytes(b).map_err(corrupt)
-        })
-        .collect()
+    read_record_table(path, layout, TileRecord::from_bytes)
 }
 
 /// Reads and decodes the slot of tile `id`, checked against its record's checksum.

@@ -10,15 +10,16 @@
 //! slot is written and synced before its record, so a build that stops resumes where it was.
 
 use crate::format::{slot_checksum, SourceFile};
+use crate::sized_file::open_sized;
 use crate::texture_format::{
-    linear_to_srgb8, srgb8_to_linear_table, texture_slot_bytes, texture_slot_offset, TextureHeader,
-    TextureRecord, TEXEL_BYTES, TEXTURE_DATA_FILE, TEXTURE_ENCODING, TEXTURE_RECORD_BYTES,
-    TEXTURE_TABLE_FILE,
+    texture_slot_bytes, texture_slot_offset, TextureHeader, TextureRecord, TEXEL_BYTES,
+    TEXTURE_DATA_FILE, TEXTURE_ENCODING, TEXTURE_RECORD_BYTES, TEXTURE_TABLE_FILE,
 };
 use crate::texture_placement::TexturePlacement;
 use crate::texture_store::{read_texture_slot, read_texture_table};
 use crate::{PyramidLayout, TileError, TileId};
 use rayon::prelude::*;
+use relief_core::colour::{linear_to_srgb8, srgb8_to_linear_table};
 use relief_io::OrthoRows;
 use std::collections::HashMap;
 use std::fs::File;
@@ -114,7 +115,7 @@ pub(crate) fn build_texture(
 
 impl TextureWriter {
     fn open(dir: &Path, layout: &PyramidLayout) -> Result<Self, TileError> {
-        let open = |name: &str, len: u64| crate::builder::open_sized(&dir.join(name), len);
+        let open = |name: &str, len: u64| open_sized(&dir.join(name), len);
         let count = layout.tile_count();
         let table = open(TEXTURE_TABLE_FILE, count * TEXTURE_RECORD_BYTES as u64)?;
         let data = open(TEXTURE_DATA_FILE, count * texture_slot_bytes(layout))?;
@@ -460,7 +461,7 @@ mod tests {
                     }
                     let got = coarse[(c + r * cw) as usize];
                     for k in 0..3 {
-                        let want = relief_shade::linear_to_srgb((sum[k] / n) as f32) * 255.0;
+                        let want = relief_core::colour::linear_to_srgb((sum[k] / n) as f32) * 255.0;
                         assert!(
                             (got[k] as f32 - want).abs() <= 0.5 + 1e-3,
                             "level {l} ({c}, {r}): {got:?}"

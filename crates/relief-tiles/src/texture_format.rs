@@ -128,17 +128,6 @@ pub fn texture_slot_offset(layout: &PyramidLayout, id: TileId) -> u64 {
     layout.index_of(id) * texture_slot_bytes(layout)
 }
 
-/// The sRGB byte of a linear value in `[0, 1]`, rounded to the nearest.
-pub fn linear_to_srgb8(linear: f32) -> u8 {
-    (relief_shade::linear_to_srgb(linear.clamp(0.0, 1.0)) * 255.0).round() as u8
-}
-
-/// The linear value of each sRGB byte.
-pub fn srgb8_to_linear_table() -> &'static [f32; 256] {
-    static TABLE: std::sync::OnceLock<[f32; 256]> = std::sync::OnceLock::new();
-    TABLE.get_or_init(|| std::array::from_fn(|b| relief_shade::srgb_to_linear(b as f32 / 255.0)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -151,13 +140,5 @@ mod tests {
         assert_eq!(TextureRecord::from_bytes(&[0; TEXTURE_RECORD_BYTES]), Ok(None));
         b[3] ^= 4;
         assert!(TextureRecord::from_bytes(&b).is_err());
-    }
-
-    #[test]
-    fn srgb_bytes_round_trip_through_linear() {
-        let table = srgb8_to_linear_table();
-        for b in 0..=255u8 {
-            assert_eq!(linear_to_srgb8(table[b as usize]), b);
-        }
     }
 }

@@ -2,7 +2,7 @@
 //! cache of their own, and the albedo the deferred pass filters from them.
 //!
 //! After the G-buffer is traced, every hit pixel's footprint is computed exactly as the
-//! deferred pass will compute it ([`relief_shade::pixel_ground_footprint`], on the tangent
+//! deferred pass will compute it ([`pixel_ground_footprint`], on the tangent
 //! plane of [`TiledTerrain::surface_slope`]), and the filter is run once without colour to
 //! record the texture tiles its samples touch. A still frame loads those tiles (in parallel,
 //! checked against their checksums); a frame of a fly-through does not wait for them: they are
@@ -12,15 +12,16 @@
 //! allowed is raised one level at a time until they do.
 
 use crate::cache::TileCache;
-use crate::texture_format::{srgb8_to_linear_table, TEXEL_BYTES};
+use crate::texture_format::TEXEL_BYTES;
 use crate::texture_store::{TextureStore, TextureTile};
 use crate::{PyramidLayout, TileError, TileId, TiledTerrain};
 use rayon::prelude::*;
-use relief_core::{Camera, DVec2, DVec3};
-use relief_shade::{
-    filter_texture, pixel_ground_footprint, FootprintAlbedo, GBuffer, GroundFootprint, MipTexture,
-    TexelFootprint, TextureFilter,
+use relief_core::colour::srgb8_to_linear_table;
+use relief_core::texture::{
+    filter_texture, pixel_ground_footprint, FootprintAlbedo, GroundFootprint, MipTexture,
+    PixelHits, TexelFootprint, TextureFilter,
 };
+use relief_core::{Camera, DVec2, DVec3};
 use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Mutex};
@@ -68,14 +69,14 @@ impl TextureStreamer {
         &self.store
     }
 
-    /// The albedo of the frame `camera` saw into `gbuffer` over `terrain`, filtered with
-    /// `filter`. With `wait`, loads the texture tiles the frame's footprints need; without,
+    /// The albedo of the frame `camera` saw into `hits` (a G-buffer) over `terrain`, filtered
+    /// with `filter`. With `wait`, loads the texture tiles the frame's footprints need; without,
     /// starts loading them in the background (unless an earlier load still runs) and lets
     /// coarser tiles in memory stand in. Fails when a tile cannot be read or is damaged (a
     /// background load's failure is reported by the next frame).
-    pub fn frame(
+    pub fn frame<H: PixelHits + Sync + ?Sized>(
         &self,
-        gbuffer: &GBuffer,
+        hits: &H,
         camera: &Camera,
         terrain: Arc<TiledTerrain>,
         filter: TextureFilter,
@@ -88,7 +89,7 @@ impl TextureStreamer {
         let per_tile = self.store.tile_bytes();
         let mut min_level = 0;
         let needed = loop {
-            let needed = needed_tiles(&pyramid, gbuffer, camera, &terrain, filter, min_level);
+            let needed = needed_tiles(&pyramid, hits, camera, &terrain, filter, min_level);
             let fits = needed.len() as u64 * per_tile <= self.cache.budget();
             if fits || min_level + 1 >= layout.level_count() {
                 break needed;
@@ -146,22 +147,23 @@ impl TextureStreamer {
     }
 }
 
-/// The tiles the filter samples for every hit pixel of `gbuffer`.
-fn needed_tiles(
+/// The tiles the filter samples for every hit pixel of `hits`.
+fn needed_tiles<H: PixelHits + Sync + ?Sized>(
     pyramid: &TexturePyramid,
-    gbuffer: &GBuffer,
+    hits: &H,
     camera: &Camera,
     terrain: &TiledTerrain,
     filter: TextureFilter,
     min_level: u32,
 ) -> HashSet<TileId> {
     let slope = |p: DVec3| terrain.surface_slope(p.x, p.y);
-    (0..gbuffer.height)
+    let (width, height) = hits.size();
+    (0..height)
         .into_par_iter()
         .fold(HashSet::new, |mut set, j| {
             let recorder = TileRecorder { pyramid, tiles: RefCell::new(std::mem::take(&mut set)) };
-            for i in 0..gbuffer.width {
-                let footprint = pixel_ground_footprint(gbuffer, camera, i as u32, j as u32, &slope);
+            for i in 0..width {
+                let footprint = pixel_ground_footprint(hits, camera, i as u32, j as u32, &slope);
                 if let Some(footprint) = footprint {
                     let texels = pyramid.texel_footprint(&footprint);
                     filter_texture(&recorder, &texels, filter, min_level);

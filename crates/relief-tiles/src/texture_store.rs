@@ -1,9 +1,10 @@
 //! Reading a store's texture pyramid: its table at open, tiles on request, each checked
 //! against its checksum.
 
+use crate::record_table::read_record_table;
 use crate::texture_format::{
     texture_slot_bytes, texture_slot_offset, TextureHeader, TextureRecord, TEXTURE_DATA_FILE,
-    TEXTURE_RECORD_BYTES, TEXTURE_TABLE_FILE,
+    TEXTURE_TABLE_FILE,
 };
 use crate::{PyramidLayout, StoreHeader, TileError, TileId};
 use std::fs::File;
@@ -94,21 +95,7 @@ pub(crate) fn read_texture_table(
     path: &Path,
     layout: &PyramidLayout,
 ) -> Result<Vec<Option<TextureRecord>>, TileError> {
-    let bytes = std::fs::read(path).map_err(|e| TileError::io(path, e))?;
-    (0..layout.tile_count() as usize)
-        .map(|k| {
-            let corrupt = |reason: String| TileError::Corrupt {
-                path: path.to_path_buf(),
-                tile: layout.id_at(k as u64),
-                reason,
-            };
-            let b: &[u8; TEXTURE_RECORD_BYTES] = bytes
-                .get(k * TEXTURE_RECORD_BYTES..(k + 1) * TEXTURE_RECORD_BYTES)
-                .and_then(|b| b.try_into().ok())
-                .ok_or_else(|| corrupt(format!("{TEXTURE_TABLE_FILE} is truncated")))?;
-            TextureRecord::from_bytes(b).map_err(corrupt)
-        })
-        .collect()
+    read_record_table(path, layout, TextureRecord::from_bytes)
 }
 
 /// Reads the slot of texture tile `id`, checked against its record's checksum.

@@ -7,6 +7,11 @@
 //! visited in the order it enters them, and the first tile that reports a hit ends the walk
 //! (per-pixel early exit, as section 3.4 of Dick et al. 2009 does for whole tiles).
 //!
+//! A leaf's tile is traced by whatever tracer the store's [`crate::TileTracerFactory`] made for
+//! it (a max-mipmap tracer by default): the terrain is an aggregate of tracers and a tracer
+//! itself, so it nests as pbrt's aggregates do. Rays reach a leaf's tracer one at a time or
+//! in batches (the rays of a batch that cross the tile), so a tracer with packets keeps them.
+//!
 //! Each tile is a height field of its own standing on the whole raster's floor, and a ray is
 //! handed to a tile only over the stretch where it crosses the tile's rectangle. The tiles'
 //! solids are therefore columns that together make the untiled raster's solid when every tile
@@ -108,7 +113,7 @@ impl TiledTerrain {
         let at = self.nodes.len() as u32;
         match node {
             TreeNode::Tile(tile) => {
-                tile.tracer.as_ref()?;
+                tile.heights.as_ref()?;
                 let top = tile.record.max as f64 * z_scale;
                 let bounds = Aabb::new(
                     DVec3::new(tile.rect.min[0], tile.rect.min[1], floor),
@@ -155,7 +160,7 @@ impl TiledTerrain {
         *steps += 1;
         match node {
             Node::Leaf { tile, .. } => {
-                let tracer = tile.tracer.as_ref().expect("leaves have samples");
+                let tracer = leaf_tracer(tile);
                 let part = Ray { t_min: clip.t_enter, t_max: clip.t_exit, ..*ray };
                 if any {
                     let blocked = tracer.occluded_counted(&part, steps);
@@ -192,8 +197,7 @@ impl TiledTerrain {
         if !entering.is_empty() {
             match node {
                 Node::Leaf { tile, .. } => {
-                    let tracer = tile.tracer.as_ref().expect("leaves have samples");
-                    batch.trace_leaf(tracer, &entering);
+                    batch.trace_leaf(leaf_tracer(tile), &entering);
                 }
                 Node::Inner { orders, .. } => {
                     let mut alive = batch.scratch.take_ids();
@@ -221,9 +225,15 @@ impl TiledTerrain {
     }
 }
 
+/// The tracer of a leaf (leaves are tiles with samples).
+#[inline]
+fn leaf_tracer(tile: &LoadedTile) -> &dyn Tracer {
+    &*tile.heights.as_ref().expect("leaves have samples").tracer
+}
+
 /// The slope of `tile`'s heights at world `(x, y)` (see [`TiledTerrain::surface_slope`]).
 fn tile_slope(tile: &LoadedTile, x: f64, y: f64) -> Option<DVec2> {
-    let field = tile.tracer.as_ref()?.field();
+    let field = &tile.heights.as_ref()?.field;
     let g = field.geometry();
     let (w, h) = (field.width(), field.height());
     if w < 2 || h < 2 {
@@ -299,7 +309,7 @@ impl<'a> Batch<'a> {
     }
 
     /// Traces the `entering` rays, each over the stretch where it crosses the tile's box.
-    fn trace_leaf(&mut self, tracer: &relief_trace::MipmapTracer, entering: &[(u32, Clip)]) {
+    fn trace_leaf(&mut self, tracer: &dyn Tracer, entering: &[(u32, Clip)]) {
         let s = &mut self.scratch;
         s.parts.clear();
         s.parts.extend(entering.iter().map(|&(k, clip)| Ray {
@@ -373,7 +383,7 @@ impl Tracer for TiledTerrain {
     }
 
     /// Traces the rays together: each tile traces the rays that cross it as one batch (with
-    /// the max-mipmap tracer's packets).
+    /// its tracer's batches: the max-mipmap tracer's packets by default).
     fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], steps: &mut [u32]) {
         assert!(rays.len() == hits.len() && rays.len() == steps.len(), "batch slices differ");
         hits.fill(None);

@@ -3,9 +3,12 @@
 //! filtering averages a fine pattern seen at a grazing angle; damaged texture tiles are named;
 //! a store without a texture opens as before.
 
+use relief_core::texture::{
+    pixel_ground_footprint, FootprintAlbedo, GroundFootprint, TextureFilter,
+};
 use relief_core::{Camera, DVec2, DVec3, GridGeometry, Projection, Surface};
 use relief_io::{Format, InMemoryRows, IoError, OrthoInfo, OrthoRows, Raster, RasterInfo};
-use relief_shade::{render_gbuffer, FootprintAlbedo, GroundFootprint, RgbTexture, TextureFilter};
+use relief_shade::{render_gbuffer, RgbTexture};
 use relief_tiles::{
     build_store, build_textured_store, BuildOptions, FrameRequest, SourceFile, TextureInput,
     TexturePlacement, TextureStore, TextureStreamer, TileStore, TileStreamer,
@@ -194,9 +197,7 @@ fn anisotropic_filtering_averages_the_checks_far_away() {
                     continue;
                 }
                 let footprint =
-                    relief_shade::pixel_ground_footprint(&gbuffer, &camera, i, j, &|p| {
-                        frame.tangent_slope(p)
-                    });
+                    pixel_ground_footprint(&gbuffer, &camera, i, j, &|p| frame.tangent_slope(p));
                 if let Some(footprint) = footprint {
                     reds.push(frame.albedo(&footprint).x);
                 }

@@ -10,8 +10,8 @@
 //! uses a coarser level, whose texels are the major axis divided by `max_anisotropy` wide, so
 //! that it never aliases.
 
-use relief_core::DVec2;
-use relief_core::DVec3;
+use crate::DVec2;
+use crate::DVec3;
 
 /// A texture with mip levels, sampled bilinearly on one level at a time.
 pub trait MipTexture {
