@@ -9,8 +9,7 @@
 //!   between them) and their LOD [`StacksMipmap`];
 //! - [`Ray`], [`Aabb`]: geometry used by the tracers;
 //! - [`Camera`]: the camera of relief's conventions, pinhole or orthographic ([`Projection`]),
-//!   with automatic [`Framing`], and the fixed [`benchmark_views`] every performance
-//!   measurement traces.
+//!   with automatic [`Framing`].
 //!
 //! ```
 //! use relief_core::{HeightField, GridGeometry, Surface};
@@ -22,7 +21,6 @@
 #![deny(missing_docs)]
 
 mod aabb;
-mod benchmark_views;
 mod camera;
 mod error;
 mod framing;
@@ -34,7 +32,6 @@ mod stacks;
 mod surface;
 
 pub use aabb::{Aabb, BoxFace, Clip};
-pub use benchmark_views::{benchmark_views, BENCHMARK_VIEWS};
 pub use camera::{Camera, Projection};
 pub use error::CoreError;
 pub use framing::{Framing, Lens};

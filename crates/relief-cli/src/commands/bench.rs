@@ -13,7 +13,8 @@ use crate::tracers::{self, TracerChoice};
 use crate::{applies, input, memory, progress};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
-use relief_core::{benchmark_views, Camera, DVec3, HeightField, Surface, BENCHMARK_VIEWS};
+use relief_bench::{benchmark_views, BENCHMARK_VIEWS};
+use relief_core::{Camera, DVec3, HeightField, Surface};
 use relief_shade::{
     render_gbuffer_into, sun_direction, ClipmapRenderer, GBuffer, HybridRenderer, RayBatch, Tile,
     TraceStats, TILE_SIZE,
