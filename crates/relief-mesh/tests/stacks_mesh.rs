@@ -204,10 +204,20 @@ fn the_finest_mesh_encloses_the_stacks_volume_within_a_few_percent() {
     }
     let mesh_solid = enclosed_volume(mesh.part("solid").unwrap());
     let mesh_water = enclosed_volume(mesh.part("water").unwrap());
-    println!("solid {mesh_solid:.0} of {solid:.0} m3, water {mesh_water:.0} of {water:.0} m3");
-    assert!((mesh_solid - solid).abs() < 0.03 * solid, "solid {mesh_solid} against {solid}");
-    // The pond is three voxels deep: the rounding of its edges costs a fifth of it.
-    assert!((mesh_water - water).abs() < 0.25 * water, "water {mesh_water} against {water}");
+    println!(
+        "solid {mesh_solid:.3} of {solid:.3} m3 ({:+.4} %), water {mesh_water:.3} of {water:.3} m3 \
+         ({:+.4} %)",
+        100.0 * (mesh_solid / solid - 1.0),
+        100.0 * (mesh_water / water - 1.0)
+    );
+    // Measured: solid 48394.977 of 49335.988 m3, 1.91 % short (the Gaussian's rounding of the
+    // edges and the bridge's thin ends; 0.64 % without smoothing, from dual contouring's
+    // chamfered edges).
+    assert!((mesh_solid - solid).abs() < 0.02 * solid, "solid {mesh_solid} against {solid}");
+    // Measured: water 625.136 of 768 m3, 18.60 % short. The pond is a sheet three voxels
+    // thick: the filter (sigma one voxel) rounds its 64 m rim away (5.1 % without smoothing,
+    // 7.2 % with sigma 0.5, 81 % with sigma 2, where the sheet all but vanishes).
+    assert!((mesh_water - water).abs() < 0.19 * water, "water {mesh_water} against {water}");
 }
 
 #[test]
@@ -232,8 +242,14 @@ fn a_camera_mesh_encloses_about_the_finest_mesh_volume() {
     assert!(stats.per_level.iter().filter(|&&n| n > 0).count() >= 2, "{:?}", stats.per_level);
     closed_and_manifold(mesh.part("solid").unwrap()).unwrap();
     let volume = enclosed_volume(mesh.part("solid").unwrap());
-    println!("camera mesh {volume:.0} of {solid:.0} m3, nodes {:?}", &stats.per_level[..4]);
-    assert!((volume - solid).abs() < 0.1 * solid, "{volume} against {solid}");
+    println!(
+        "camera mesh {volume:.3} of {solid:.3} m3 ({:+.4} %), nodes {:?}",
+        100.0 * (volume / solid - 1.0),
+        &stats.per_level[..4]
+    );
+    // Measured: 46625.659 of 49335.988 m3, 5.49 % short (the 47 nodes of level 1, far from
+    // the camera, smooth over two metres).
+    assert!((volume - solid).abs() < 0.056 * solid, "{volume} against {solid}");
 }
 
 proptest! {
