@@ -87,7 +87,7 @@ fn a_slab_meshes_closed_with_its_volume() {
     )
     .unwrap();
     let mesher = StacksMesher::new(
-        StacksMipmap::new(stacks),
+        StacksMipmap::new(stacks).unwrap(),
         StacksMeshParams { node_cells: 4, ..Default::default() },
     )
     .unwrap();
@@ -120,7 +120,7 @@ fn random_terrains_with_overhangs_mesh_closed_at_the_finest_level() {
         let stacks = random_stacks(14, 11, seed);
         let solid_volume = stacks.volume(|m| !m.is_liquid());
         let mesher = StacksMesher::new(
-            StacksMipmap::new(stacks),
+            StacksMipmap::new(stacks).unwrap(),
             StacksMeshParams { node_cells: 5, ..Default::default() },
         )
         .unwrap();
@@ -140,7 +140,7 @@ fn meshes_for_a_camera_join_across_levels_without_cracks() {
     for seed in 0..8 {
         let stacks = random_stacks(40, 33, seed);
         let mut mesher = StacksMesher::new(
-            StacksMipmap::new(stacks),
+            StacksMipmap::new(stacks).unwrap(),
             StacksMeshParams { node_cells: 4, ..Default::default() },
         )
         .unwrap();
@@ -197,7 +197,8 @@ fn the_finest_mesh_encloses_the_stacks_volume_within_a_few_percent() {
     let stacks = bridge_terrain();
     let solid = stacks.volume(|m| !m.is_liquid());
     let water = stacks.volume(|m| m.is_liquid());
-    let mesher = StacksMesher::new(StacksMipmap::new(stacks), StacksMeshParams::default()).unwrap();
+    let mesher =
+        StacksMesher::new(StacksMipmap::new(stacks).unwrap(), StacksMeshParams::default()).unwrap();
     let (mesh, _) = mesher.mesh_level(0).unwrap();
     for part in &mesh.parts {
         closed_and_manifold(part).unwrap();
@@ -225,7 +226,7 @@ fn a_camera_mesh_encloses_about_the_finest_mesh_volume() {
     let stacks = bridge_terrain();
     let solid = stacks.volume(|m| !m.is_liquid());
     let mut mesher = StacksMesher::new(
-        StacksMipmap::new(stacks),
+        StacksMipmap::new(stacks).unwrap(),
         StacksMeshParams { node_cells: 8, ..Default::default() },
     )
     .unwrap();
@@ -271,7 +272,7 @@ proptest! {
         let smoothing =
             if box_filter { Smoothing::Box { radius: 1 } } else { Smoothing::Gaussian { sigma: 1.0 } };
         let mut mesher = StacksMesher::new(
-            StacksMipmap::new(random_stacks(40, 33, seed)),
+            StacksMipmap::new(random_stacks(40, 33, seed)).unwrap(),
             StacksMeshParams { node_cells: 4, smoothing, ..Default::default() },
         )
         .unwrap();
@@ -329,7 +330,7 @@ fn random_mlhms_with_overhangs_mesh_closed_at_one_level_and_across_levels() {
     for seed in 0..4 {
         let stacks = MaterialStacks::from_mlhm(&random_mlhm(36, 30, seed)).unwrap();
         let mut mesher = StacksMesher::new(
-            StacksMipmap::new(stacks),
+            StacksMipmap::new(stacks).unwrap(),
             StacksMeshParams { node_cells: 4, ..Default::default() },
         )
         .unwrap();
@@ -364,7 +365,7 @@ fn meshes_are_the_same_whatever_the_thread_count() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
             let mut mesher = StacksMesher::new(
-                StacksMipmap::new(random_stacks(40, 33, 7)),
+                StacksMipmap::new(random_stacks(40, 33, 7)).unwrap(),
                 StacksMeshParams { node_cells: 4, ..Default::default() },
             )
             .unwrap();

@@ -45,7 +45,7 @@ impl StacksScene {
         if let Some(warning) = crate::warnings::eye_in_stacks(&stacks, &camera) {
             eprintln!("{warning}");
         }
-        let mesher = StacksMesher::new(StacksMipmap::new(stacks), params)?;
+        let mesher = StacksMesher::new(StacksMipmap::new(stacks)?, params)?;
         Ok(StacksScene { mesher, bounds, camera })
     }
 }

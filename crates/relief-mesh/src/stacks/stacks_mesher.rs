@@ -64,7 +64,8 @@ pub struct MeshStats {
 /// // A 6 x 6 slab of bedrock, 3 m thick.
 /// let stacks = MaterialStacks::from_stacks(6, 6, DVec2::ONE, DVec2::ZERO,
 ///     StackMaterial::defaults(), &vec![vec![StackLayer::new(0.0, 3.0, 0)]; 36]).unwrap();
-/// let mesher = StacksMesher::new(StacksMipmap::new(stacks), StacksMeshParams::default()).unwrap();
+/// let mipmap = StacksMipmap::new(stacks).unwrap();
+/// let mesher = StacksMesher::new(mipmap, StacksMeshParams::default()).unwrap();
 /// let (mesh, _) = mesher.mesh_level(0).unwrap();
 /// assert!(mesh.part("solid").unwrap().quads.len() > 0);
 /// ```
@@ -458,7 +459,7 @@ mod tests {
     #[test]
     fn vertices_lie_on_the_smoothed_density_iso_surface() {
         let mesher = StacksMesher::new(
-            StacksMipmap::new(terrain()),
+            StacksMipmap::new(terrain()).unwrap(),
             StacksMeshParams { node_cells: 6, ..Default::default() },
         )
         .unwrap();
