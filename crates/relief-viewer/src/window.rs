@@ -1,6 +1,11 @@
 //! The window and its event loop: input goes to the camera and the settings, frames are
 //! rendered on a separate thread (the loop never waits for one), and the newest frame is
 //! shown scaled to the window with the overlay.
+//!
+//! This file holds the viewer's state ([`App`]: what it shows, schedules and records, and
+//! how it acts on a key or a rendered frame) and [`run`]; beside it, in `window/`: the
+//! render thread, the loop control the state asks of its loop (winit's or the headless
+//! one), the configuration, camera recording, the files it saves, and winit's events.
 
 use crate::frame::{Cancel, Frame, SceneRenderer};
 use crate::input_map::{action_for, motion_from, Action, Key};
