@@ -9,8 +9,7 @@
 //!   between them) and their LOD [`StacksMipmap`];
 //! - [`Ray`], [`Aabb`]: geometry used by the tracers;
 //! - [`Camera`]: the camera of relief's conventions, pinhole or orthographic ([`Projection`]),
-//!   with automatic [`Framing`], and the fixed [`benchmark_views`] every performance
-//!   measurement traces;
+//!   with automatic [`Framing`];
 //! - [`colour`]: the sRGB encoding and its 8-bit tables; [`texture`]: a pixel's footprint on
 //!   the terrain and the texture filter over it (shared by relief-shade and relief-tiles).
 //!
@@ -24,7 +23,6 @@
 #![deny(missing_docs)]
 
 mod aabb;
-mod benchmark_views;
 mod camera;
 pub mod colour;
 mod error;
@@ -38,7 +36,6 @@ mod surface;
 pub mod texture;
 
 pub use aabb::{Aabb, BoxFace, Clip};
-pub use benchmark_views::{benchmark_views, BENCHMARK_VIEWS};
 pub use camera::{Camera, Projection};
 pub use error::CoreError;
 pub use framing::{Framing, Lens};

@@ -2,7 +2,7 @@
 //! texels of different heights, the walls and the bottom, split where faces meet so that every
 //! edge is shared whole (no T-junction, hence no crack).
 
-use crate::height_field_mesh::MeshBuilder;
+use crate::mesh_builder::MeshBuilder;
 use crate::IndexedMesh;
 use relief_core::{DVec3, HeightField, SampleRegion};
 use std::collections::HashMap;

@@ -4,7 +4,7 @@
 //! the comparison renderer of the hybrid paper's section 5.2, triangulated per frame into an
 //! [`IndexedMesh`] the rasterizer draws.
 
-use crate::height_field_mesh::MeshBuilder;
+use crate::mesh_builder::MeshBuilder;
 use crate::{HeightPyramid, IndexedMesh, MeshError};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec3, GridGeometry, HeightField, SampleRegion};

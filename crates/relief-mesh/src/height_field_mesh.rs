@@ -9,6 +9,7 @@
 //! and cover no pixel twice (the rasterizer's fill rule).
 
 use crate::box_mesh::box_mesh;
+use crate::mesh_builder::MeshBuilder;
 use crate::{IndexedMesh, MeshError};
 use relief_core::{DVec3, HeightField, SampleRegion, Surface};
 
@@ -62,38 +63,6 @@ pub fn height_field_mesh(
     match surface {
         Surface::Triangles => Ok(triangle_mesh(field, region)),
         Surface::Boxes => Ok(box_mesh(field, region)),
-    }
-}
-
-/// Grows a mesh: vertices and triangles, skipping triangles with a repeated vertex (a wall of
-/// zero height).
-#[derive(Debug, Default)]
-pub(crate) struct MeshBuilder {
-    pub(crate) positions: Vec<DVec3>,
-    pub(crate) triangles: Vec<[u32; 3]>,
-}
-
-impl MeshBuilder {
-    pub(crate) fn vertex(&mut self, p: DVec3) -> u32 {
-        self.positions.push(p);
-        (self.positions.len() - 1) as u32
-    }
-
-    pub(crate) fn triangle(&mut self, a: u32, b: u32, c: u32) {
-        if a != b && b != c && a != c {
-            self.triangles.push([a, b, c]);
-        }
-    }
-
-    /// The quad a-b-c-d (in order around it) as two triangles split along a-c.
-    pub(crate) fn quad(&mut self, a: u32, b: u32, c: u32, d: u32) {
-        self.triangle(a, b, c);
-        self.triangle(a, c, d);
-    }
-
-    pub(crate) fn finish(self) -> IndexedMesh {
-        // Indices are in range and positions finite by construction.
-        IndexedMesh::new(self.positions, self.triangles).unwrap_or_default()
     }
 }
 

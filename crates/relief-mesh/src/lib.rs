@@ -53,6 +53,7 @@ pub mod export;
 mod height_field_mesh;
 mod height_pyramid;
 mod indexed_mesh;
+mod mesh_builder;
 mod raster_target;
 mod rasterizer;
 mod stacks;

@@ -87,7 +87,7 @@ fn a_slab_meshes_closed_with_its_volume() {
     )
     .unwrap();
     let mesher = StacksMesher::new(
-        StacksMipmap::new(stacks),
+        StacksMipmap::new(stacks).unwrap(),
         StacksMeshParams { node_cells: 4, ..Default::default() },
     )
     .unwrap();
@@ -120,7 +120,7 @@ fn random_terrains_with_overhangs_mesh_closed_at_the_finest_level() {
         let stacks = random_stacks(14, 11, seed);
         let solid_volume = stacks.volume(|m| !m.is_liquid());
         let mesher = StacksMesher::new(
-            StacksMipmap::new(stacks),
+            StacksMipmap::new(stacks).unwrap(),
             StacksMeshParams { node_cells: 5, ..Default::default() },
         )
         .unwrap();
@@ -140,7 +140,7 @@ fn meshes_for_a_camera_join_across_levels_without_cracks() {
     for seed in 0..8 {
         let stacks = random_stacks(40, 33, seed);
         let mut mesher = StacksMesher::new(
-            StacksMipmap::new(stacks),
+            StacksMipmap::new(stacks).unwrap(),
             StacksMeshParams { node_cells: 4, ..Default::default() },
         )
         .unwrap();
@@ -197,17 +197,28 @@ fn the_finest_mesh_encloses_the_stacks_volume_within_a_few_percent() {
     let stacks = bridge_terrain();
     let solid = stacks.volume(|m| !m.is_liquid());
     let water = stacks.volume(|m| m.is_liquid());
-    let mesher = StacksMesher::new(StacksMipmap::new(stacks), StacksMeshParams::default()).unwrap();
+    let mesher =
+        StacksMesher::new(StacksMipmap::new(stacks).unwrap(), StacksMeshParams::default()).unwrap();
     let (mesh, _) = mesher.mesh_level(0).unwrap();
     for part in &mesh.parts {
         closed_and_manifold(part).unwrap();
     }
     let mesh_solid = enclosed_volume(mesh.part("solid").unwrap());
     let mesh_water = enclosed_volume(mesh.part("water").unwrap());
-    println!("solid {mesh_solid:.0} of {solid:.0} m3, water {mesh_water:.0} of {water:.0} m3");
-    assert!((mesh_solid - solid).abs() < 0.03 * solid, "solid {mesh_solid} against {solid}");
-    // The pond is three voxels deep: the rounding of its edges costs a fifth of it.
-    assert!((mesh_water - water).abs() < 0.25 * water, "water {mesh_water} against {water}");
+    println!(
+        "solid {mesh_solid:.3} of {solid:.3} m3 ({:+.4} %), water {mesh_water:.3} of {water:.3} m3 \
+         ({:+.4} %)",
+        100.0 * (mesh_solid / solid - 1.0),
+        100.0 * (mesh_water / water - 1.0)
+    );
+    // Measured: solid 48394.977 of 49335.988 m3, 1.91 % short (the Gaussian's rounding of the
+    // edges and the bridge's thin ends; 0.64 % without smoothing, from dual contouring's
+    // chamfered edges).
+    assert!((mesh_solid - solid).abs() < 0.02 * solid, "solid {mesh_solid} against {solid}");
+    // Measured: water 625.136 of 768 m3, 18.60 % short. The pond is a sheet three voxels
+    // thick: the filter (sigma one voxel) rounds its 64 m rim away (5.1 % without smoothing,
+    // 7.2 % with sigma 0.5, 81 % with sigma 2, where the sheet all but vanishes).
+    assert!((mesh_water - water).abs() < 0.19 * water, "water {mesh_water} against {water}");
 }
 
 #[test]
@@ -215,7 +226,7 @@ fn a_camera_mesh_encloses_about_the_finest_mesh_volume() {
     let stacks = bridge_terrain();
     let solid = stacks.volume(|m| !m.is_liquid());
     let mut mesher = StacksMesher::new(
-        StacksMipmap::new(stacks),
+        StacksMipmap::new(stacks).unwrap(),
         StacksMeshParams { node_cells: 8, ..Default::default() },
     )
     .unwrap();
@@ -232,8 +243,14 @@ fn a_camera_mesh_encloses_about_the_finest_mesh_volume() {
     assert!(stats.per_level.iter().filter(|&&n| n > 0).count() >= 2, "{:?}", stats.per_level);
     closed_and_manifold(mesh.part("solid").unwrap()).unwrap();
     let volume = enclosed_volume(mesh.part("solid").unwrap());
-    println!("camera mesh {volume:.0} of {solid:.0} m3, nodes {:?}", &stats.per_level[..4]);
-    assert!((volume - solid).abs() < 0.1 * solid, "{volume} against {solid}");
+    println!(
+        "camera mesh {volume:.3} of {solid:.3} m3 ({:+.4} %), nodes {:?}",
+        100.0 * (volume / solid - 1.0),
+        &stats.per_level[..4]
+    );
+    // Measured: 46625.659 of 49335.988 m3, 5.49 % short (the 47 nodes of level 1, far from
+    // the camera, smooth over two metres).
+    assert!((volume - solid).abs() < 0.056 * solid, "{volume} against {solid}");
 }
 
 proptest! {
@@ -255,7 +272,7 @@ proptest! {
         let smoothing =
             if box_filter { Smoothing::Box { radius: 1 } } else { Smoothing::Gaussian { sigma: 1.0 } };
         let mut mesher = StacksMesher::new(
-            StacksMipmap::new(random_stacks(40, 33, seed)),
+            StacksMipmap::new(random_stacks(40, 33, seed)).unwrap(),
             StacksMeshParams { node_cells: 4, smoothing, ..Default::default() },
         )
         .unwrap();
@@ -313,7 +330,7 @@ fn random_mlhms_with_overhangs_mesh_closed_at_one_level_and_across_levels() {
     for seed in 0..4 {
         let stacks = MaterialStacks::from_mlhm(&random_mlhm(36, 30, seed)).unwrap();
         let mut mesher = StacksMesher::new(
-            StacksMipmap::new(stacks),
+            StacksMipmap::new(stacks).unwrap(),
             StacksMeshParams { node_cells: 4, ..Default::default() },
         )
         .unwrap();
@@ -348,7 +365,7 @@ fn meshes_are_the_same_whatever_the_thread_count() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
             let mut mesher = StacksMesher::new(
-                StacksMipmap::new(random_stacks(40, 33, 7)),
+                StacksMipmap::new(random_stacks(40, 33, 7)).unwrap(),
                 StacksMeshParams { node_cells: 4, ..Default::default() },
             )
             .unwrap();

@@ -5,8 +5,9 @@
 //! empty: what each kind costs the mipmap tracer.
 
 use rayon::prelude::*;
+use relief_bench::benchmark_views;
 use relief_core::Camera;
-use relief_core::{benchmark_views, Surface};
+use relief_core::Surface;
 use relief_shade::{
     render_gbuffer_into, FarField, GBuffer, HybridRenderer, PixelSource, Tile, TILE_SIZE,
 };

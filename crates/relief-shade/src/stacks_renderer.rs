@@ -163,7 +163,7 @@ mod tests {
         )
         .unwrap();
         StacksMesher::new(
-            StacksMipmap::new(stacks),
+            StacksMipmap::new(stacks).unwrap(),
             StacksMeshParams { node_cells: 4, ..Default::default() },
         )
         .unwrap()

@@ -153,13 +153,30 @@ fn holes_stay_holes() {
     let mut holes = vec![false; 25];
     holes[12] = true;
     let mut f = field(5, 5, 3, g).with_holes(holes).unwrap();
+    // The lowest sample that is not a hole, found here rather than asked of the field.
+    let lowest_valid = |f: &HeightField| {
+        let valid = (0..25).filter(|&i| !f.is_hole(i % 5, i / 5));
+        valid.map(|i| f.sample(i % 5, i / 5)).fold(f32::INFINITY, f32::min)
+    };
+    // A hole holds the field's lowest sample, as HeightField says.
     let hole_value = f.sample(2, 2);
+    assert_eq!(hole_value, lowest_valid(&f));
     for kind in [BrushKind::Raise, BrushKind::Smooth, BrushKind::Flatten] {
+        let before = f.clone();
         let brush = Brush { kind, centre: DVec2::new(2.5, 2.5), radius: 3.0, strength: 1.0 };
         stamp(&mut f, &brush).unwrap();
-        assert!(f.is_hole(2, 2));
+        assert!(f.is_hole(2, 2), "{kind:?}");
+        // The brush changed the samples around the hole...
+        let changed = (0..25).filter(|&i| f.samples()[i] != before.samples()[i]).count();
+        assert!(changed > 1, "{kind:?} changed {changed} samples");
+        // ...but not the hole: it still holds the lowest valid sample, whatever that is now.
+        assert_eq!(f.sample(2, 2), lowest_valid(&f), "{kind:?}");
+        assert_eq!(f.sample(2, 2), f.min_sample(), "{kind:?}");
+        if kind == BrushKind::Raise {
+            // Every sample lies within the radius: the lowest valid sample rose, and the hole
+            // followed it up, not by the brush's whole metre (its weight is 1 at the hole).
+            let now = f.sample(2, 2);
+            assert!(now > hole_value && now != hole_value + 1.0, "{hole_value} -> {now}");
+        }
     }
-    // The hole keeps the field's lowest sample, as HeightField says.
-    assert_eq!(f.sample(2, 2), f.min_sample());
-    let _ = hole_value;
 }

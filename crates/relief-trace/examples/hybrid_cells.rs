@@ -15,7 +15,8 @@
 //! casts every ray-cast cell with L linear and B binary steps instead of its level's.
 
 use rayon::prelude::*;
-use relief_core::{benchmark_views, Camera, HeightField, SampleRegion, Surface};
+use relief_bench::benchmark_views;
+use relief_core::{Camera, HeightField, SampleRegion, Surface};
 use relief_sim::{fbm_terrain, FbmParams};
 use relief_trace::hybrid::{
     box_entry, exact_far_hit, exact_far_hits, lop_cast, project_box, CellChoice, HybridCells,

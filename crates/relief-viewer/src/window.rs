@@ -1,56 +1,43 @@
 //! The window and its event loop: input goes to the camera and the settings, frames are
 //! rendered on a separate thread (the loop never waits for one), and the newest frame is
 //! shown scaled to the window with the overlay.
+//!
+//! This file holds the viewer's state ([`App`]: what it shows, schedules and records, and
+//! how it acts on a key or a rendered frame) and [`run`]; beside it, in `window/`: the
+//! render thread, the loop control the state asks of its loop (winit's or the headless
+//! one), the configuration, camera recording, the files it saves, and winit's events.
 
-use crate::camera_path::{CameraKey, CameraPath};
-use crate::frame::{blit, Cancel, Frame, SceneRenderer};
-use crate::hud::{hud_lines, HudState};
-use crate::input_map::{action_for, motion_from, Action, Key, KEY_HELP};
+use crate::frame::{Cancel, Frame, SceneRenderer};
+use crate::input_map::{action_for, motion_from, Action, Key};
 use crate::progressive::{FrameRequest, ProgressiveScheduler};
-use crate::script::{Script, SCRIPT_FRAME_S};
+use crate::script::SCRIPT_FRAME_S;
 use crate::summary::{FrameRecord, ViewerSummary};
-use crate::winit_keys::key_of;
-use crate::{overlay, CameraController, ViewSettings, ViewerError};
-use crate::{SimulationControl, SimulationReport, SimulationRequest};
-use relief_core::Camera;
+use crate::{CameraController, ViewSettings, ViewerError};
+use crate::{SimulationControl, SimulationReport};
 use std::collections::BTreeSet;
-use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
-use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::keyboard::PhysicalKey;
-use winit::window::{Window, WindowId};
+use winit::event_loop::EventLoop;
+use winit::window::Window;
+
+mod camera_recording;
+mod loop_control;
+mod output_files;
+mod render_thread;
+mod viewer_config;
+mod winit_events;
+
+use camera_recording::CameraRecording;
+use output_files::save_screenshot;
+// The names the crate reaches through this file (lib.rs, headless.rs), defined beside it.
+pub(crate) use loop_control::LoopControl;
+pub(crate) use render_thread::{spawn_render_thread, Job, Rendered};
+pub use viewer_config::ViewerConfig;
 
 /// How long after the last mouse movement a drag still counts as moving.
 const DRAG_SETTLE: Duration = Duration::from_millis(150);
-
-/// What the viewer opens with.
-#[derive(Debug, Clone)]
-pub struct ViewerConfig {
-    /// The full image size (and the window's first inner size), pixels.
-    pub size: (u32, u32),
-    /// The starting camera.
-    pub camera: Camera,
-    /// The starting settings.
-    pub settings: ViewSettings,
-    /// Stop after this many frames shown (and once the view is at full resolution), saving
-    /// the last one to `screenshot`.
-    pub frames: Option<u32>,
-    /// Input played frame by frame instead of the keyboard (with `frames`).
-    pub script: Script,
-    /// Where the last frame goes when `frames` ends the run.
-    pub screenshot: Option<PathBuf>,
-    /// Where screenshots (P) and camera paths (R) are written.
-    pub output_dir: PathBuf,
-    /// Where to write every frame's timing as JSON when the viewer closes.
-    pub stats: Option<PathBuf>,
-    /// The time a frame may take while the camera moves.
-    pub frame_budget: Duration,
-}
 
 /// Refuses, before any scene is loaded, to run where there is no X display to open a window
 /// on (`DISPLAY` unset or empty).
@@ -85,87 +72,6 @@ pub fn run(
     app.finish()
 }
 
-/// What the viewer's loop asks of the loop it runs in: to stop, and whether it is stopping
-/// (winit's event loop with a window, or `Headless` without).
-pub(crate) trait LoopControl {
-    /// Stops the loop once the current event is handled.
-    fn exit(&self);
-    /// Whether the loop was asked to stop.
-    fn exiting(&self) -> bool;
-}
-
-impl LoopControl for ActiveEventLoop {
-    fn exit(&self) {
-        ActiveEventLoop::exit(self);
-    }
-
-    fn exiting(&self) -> bool {
-        ActiveEventLoop::exiting(self)
-    }
-}
-
-/// A frame to render.
-pub(crate) struct Job {
-    request: FrameRequest,
-    camera: Camera,
-    settings: ViewSettings,
-    moving: bool,
-    cancel: Cancel,
-    /// The simulation's steps to take before the frame.
-    simulate: Option<SimulationRequest>,
-}
-
-/// What the render thread sends back.
-pub(crate) enum Rendered {
-    Frame {
-        request: FrameRequest,
-        frame: Frame,
-        elapsed: Duration,
-        moving: bool,
-        simulated: Option<SimulationReport>,
-    },
-    /// A frame the viewer cancelled (the simulation's steps before it were taken).
-    Cancelled(Option<SimulationReport>),
-    Failed(String),
-}
-
-/// The render thread: it renders the jobs sent to it and hands each result to `deliver`,
-/// stopping when `deliver` says no one listens any more.
-pub(crate) fn spawn_render_thread(
-    renderer: Arc<dyn SceneRenderer>,
-    deliver: impl Fn(Rendered) -> bool + Send + 'static,
-) -> (mpsc::Sender<Job>, std::thread::JoinHandle<()>) {
-    let (send, receive) = mpsc::channel::<Job>();
-    let worker = std::thread::spawn(move || {
-        for job in receive {
-            let simulated = match job.simulate.map(|r| renderer.simulate(&r)).transpose() {
-                Ok(report) => report,
-                Err(e) => {
-                    deliver(Rendered::Failed(e));
-                    return;
-                }
-            };
-            // The frame's time is the rendering's (the scheduler sizes frames by it).
-            let started = Instant::now();
-            let rendered = match renderer.render(&job.camera, &job.settings, &job.cancel) {
-                Ok(_) if job.cancel.is_set() => Rendered::Cancelled(simulated),
-                Ok(frame) => Rendered::Frame {
-                    request: job.request,
-                    frame,
-                    elapsed: started.elapsed(),
-                    moving: job.moving,
-                    simulated,
-                },
-                Err(e) => Rendered::Failed(e),
-            };
-            if !deliver(rendered) {
-                return;
-            }
-        }
-    });
-    (send, worker)
-}
-
 /// The window's state.
 pub(crate) struct App {
     renderer: Arc<dyn SceneRenderer>,
@@ -189,8 +95,8 @@ pub(crate) struct App {
     shown: Option<(Frame, Duration)>,
     show_help: bool,
     show_hud: bool,
-    /// The camera path being recorded, and when (and at which script frame) it started.
-    recording: Option<(Instant, usize, CameraPath)>,
+    /// The camera path being recorded.
+    recording: Option<CameraRecording>,
     script_frame: usize,
     /// Whether the script's current frame holds keys that move the camera.
     script_moving: bool,
@@ -378,27 +284,14 @@ impl App {
     /// free `relief-view-NNN.png` of the output folder.
     fn save_screenshot(&mut self, path: Option<&Path>) -> Result<Option<PathBuf>, ViewerError> {
         let Some((frame, _)) = &self.shown else { return Ok(None) };
-        let path = match path {
-            Some(p) => p.to_path_buf(),
-            None => next_free(&self.config.output_dir, "relief-view", "png"),
-        };
-        let rgb: Vec<u8> = frame.rgb.iter().flatten().copied().collect();
-        relief_io::write_png_rgb8(&path, frame.width, frame.height, &rgb)?;
-        eprintln!("saved {} ({}x{})", path.display(), frame.width, frame.height);
-        Ok(Some(path))
+        save_screenshot(frame, path, &self.config.output_dir).map(Some)
     }
 
     /// Starts recording, or stops and writes the next free `relief-path-NNN.json`.
     fn toggle_recording(&mut self) -> Result<(), ViewerError> {
         match self.recording.take() {
-            None => {
-                self.recording = Some((Instant::now(), self.script_frame, CameraPath::default()))
-            }
-            Some((_, _, path)) => {
-                let file = next_free(&self.config.output_dir, "relief-path", "json");
-                path.write(&file)?;
-                eprintln!("saved {} ({} cameras)", file.display(), path.keys.len());
-            }
+            None => self.recording = Some(CameraRecording::start(self.script_frame)),
+            Some(recording) => recording.write(&self.config.output_dir)?,
         }
         Ok(())
     }
@@ -457,22 +350,8 @@ impl App {
         });
         self.shown = Some((frame, elapsed));
         let (scripted, script_frame) = (self.scripted(), self.script_frame);
-        if let Some((started, start_frame, path)) = &mut self.recording {
-            // A scripted run's clock is its frames, so that its recordings are the same every
-            // run.
-            let time_s = if scripted {
-                (script_frame - *start_frame) as f64 * SCRIPT_FRAME_S
-            } else {
-                started.elapsed().as_secs_f64()
-            };
-            let c = &self.controller;
-            path.push(CameraKey {
-                time_s,
-                eye: c.eye().to_array(),
-                target: c.target().to_array(),
-                up: c.up().to_array(),
-                fov_deg: c.fov_deg(),
-            });
+        if let Some(recording) = &mut self.recording {
+            recording.push(&self.controller, scripted.then_some(script_frame));
         }
         if let Some(window) = &self.window {
             window.request_redraw();
@@ -532,170 +411,4 @@ impl App {
             return event_loop.exit();
         }
     }
-
-    /// Draws the newest frame, scaled to the window, and the overlay.
-    fn present(&mut self) -> Result<(), ViewerError> {
-        let (Some(window), Some(surface)) = (&self.window, &mut self.surface) else {
-            return Ok(());
-        };
-        let size = window.inner_size();
-        let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
-            return Ok(());
-        };
-        let err = |e: softbuffer::SoftBufferError| ViewerError::Window(e.to_string());
-        surface.resize(w, h).map_err(err)?;
-        let mut buffer = surface.buffer_mut().map_err(err)?;
-        buffer.fill(0);
-        let mut lines = Vec::new();
-        if let Some((frame, elapsed)) = &self.shown {
-            blit(frame, &mut buffer, w.get(), h.get());
-            if self.show_hud {
-                lines = hud_lines(&HudState {
-                    scene: &self.renderer.describe(),
-                    navigation: self.controller.navigation(),
-                    frame,
-                    elapsed: *elapsed,
-                    settings: &self.settings,
-                    recording: self.recording.is_some(),
-                    simulation: self.simulation.as_ref(),
-                });
-            }
-        }
-        if self.show_help {
-            lines.extend(KEY_HELP.iter().map(|(keys, what)| format!("{keys:<11} {what}")));
-        }
-        overlay::draw_panel(&mut buffer, w.get() as usize, h.get() as usize, &lines);
-        buffer.present().map_err(err)
-    }
-}
-
-impl ApplicationHandler<Rendered> for App {
-    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.window.is_some() {
-            return;
-        }
-        let (w, h) = self.config.size;
-        let attributes = Window::default_attributes()
-            .with_title(format!("relief view: {}", self.renderer.describe()))
-            .with_inner_size(winit::dpi::PhysicalSize::new(w, h));
-        let made =
-            event_loop.create_window(attributes).map_err(|e| e.to_string()).and_then(|window| {
-                let window = Rc::new(window);
-                let context =
-                    softbuffer::Context::new(window.clone()).map_err(|e| e.to_string())?;
-                let surface = softbuffer::Surface::new(&context, window.clone())
-                    .map_err(|e| e.to_string())?;
-                Ok((window, surface))
-            });
-        match made {
-            Ok((window, surface)) => {
-                self.window = Some(window);
-                self.surface = Some(surface);
-            }
-            Err(e) => return self.fail(event_loop, ViewerError::Window(e)),
-        }
-        self.last_tick = Instant::now();
-        if self.scripted() {
-            self.play_script_frame(event_loop, 0);
-            return self.drive_script(event_loop);
-        }
-        self.schedule(event_loop);
-    }
-
-    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
-        match event {
-            WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::RedrawRequested => {
-                if let Err(e) = self.present() {
-                    self.fail(event_loop, e);
-                }
-            }
-            WindowEvent::KeyboardInput { event, .. } => {
-                let PhysicalKey::Code(code) = event.physical_key else { return };
-                let Some(key) = key_of(code) else { return };
-                // A scripted run takes only Esc from the keyboard.
-                if self.scripted() && key != Key::Escape {
-                    return;
-                }
-                match event.state {
-                    ElementState::Pressed => {
-                        if !event.repeat {
-                            if let Some(action) = action_for(key) {
-                                self.act(event_loop, action);
-                            }
-                        }
-                        self.held.insert(key);
-                    }
-                    ElementState::Released => {
-                        self.held.remove(&key);
-                    }
-                }
-            }
-            WindowEvent::MouseInput { state, button: MouseButton::Left, .. } => {
-                self.dragging = state == ElementState::Pressed && !self.scripted();
-            }
-            WindowEvent::CursorMoved { position, .. } => {
-                let now = (position.x, position.y);
-                if let (true, Some((x, y))) = (self.dragging, self.cursor) {
-                    self.controller.drag(now.0 - x, now.1 - y);
-                    self.last_drag = Some(Instant::now());
-                    self.scheduler.changed();
-                }
-                self.cursor = Some(now);
-            }
-            WindowEvent::MouseWheel { delta, .. } if !self.scripted() => {
-                let steps = match delta {
-                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
-                    MouseScrollDelta::PixelDelta(p) => p.y / 50.0,
-                };
-                self.controller.wheel(steps);
-                self.scheduler.changed();
-            }
-            WindowEvent::Resized(size) => {
-                // The full frame follows the window, but a scripted run keeps --size, so that
-                // it renders the same frames whatever a window manager does to its window.
-                if !self.scripted() {
-                    self.scheduler.resize((size.width, size.height));
-                }
-                if let Some(window) = &self.window {
-                    window.request_redraw();
-                }
-            }
-            _ => {}
-        }
-    }
-
-    fn user_event(&mut self, event_loop: &ActiveEventLoop, rendered: Rendered) {
-        self.on_rendered(event_loop, rendered);
-    }
-
-    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
-        let now = Instant::now();
-        let dt = now.duration_since(self.last_tick).as_secs_f64().min(0.25);
-        self.last_tick = now;
-        if !self.scripted() {
-            if self.controller.apply(motion_from(&self.held), dt) {
-                self.scheduler.changed();
-            }
-            self.scheduler.set_moving(self.moving());
-            self.cancel_outdated();
-            self.schedule(event_loop);
-        } else {
-            self.drive_script(event_loop);
-        }
-        event_loop.set_control_flow(if self.moving() {
-            ControlFlow::WaitUntil(now + Duration::from_millis(10))
-        } else {
-            ControlFlow::Wait
-        });
-    }
-}
-
-/// `dir/PREFIX-NNN.EXT` with the smallest number from 001 that names no file yet, so that
-/// a new run does not overwrite the screenshots and paths of an earlier one.
-fn next_free(dir: &Path, prefix: &str, extension: &str) -> PathBuf {
-    (1u32..)
-        .map(|n| dir.join(format!("{prefix}-{n:03}.{extension}")))
-        .find(|path| !path.exists())
-        .expect("a free number")
 }

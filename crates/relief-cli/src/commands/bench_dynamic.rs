@@ -6,7 +6,8 @@
 
 use crate::args::{BenchArgs, DynamicKind};
 use anyhow::{Context, Result};
-use relief_core::{benchmark_views, DVec2, HeightField, SampleRegion, Surface};
+use relief_bench::benchmark_views;
+use relief_core::{DVec2, HeightField, SampleRegion, Surface};
 use relief_shade::{shade_to_srgb8, GBuffer, HybridRenderer, ShadingParams};
 use relief_sim::{
     stamp, Brush, BrushKind, ErosionParams, HeightFieldErosion, SimError, WaveParams,

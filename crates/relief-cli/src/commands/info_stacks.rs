@@ -44,7 +44,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
             m.name, m.color[0], m.color[1], m.color[2]
         )?;
     }
-    let mipmap = StacksMipmap::new(stacks);
+    let mipmap = StacksMipmap::new(stacks)?;
     let voxels = (high as f64 - low as f64) / s.x;
     // A voxel grid of the same resolution holds at least a float density a voxel.
     let voxel_bytes = 4.0 * w as f64 * h as f64 * voxels.ceil().max(1.0);

@@ -21,7 +21,7 @@ use rayon::prelude::*;
 /// let stacks = MaterialStacks::from_stacks(
 ///     5, 3, DVec2::ONE, DVec2::ZERO, StackMaterial::defaults(), &slab,
 /// )?;
-/// let mipmap = StacksMipmap::new(stacks);
+/// let mipmap = StacksMipmap::new(stacks)?;
 /// let sizes: Vec<_> = mipmap.levels().iter().map(|l| (l.width(), l.height())).collect();
 /// assert_eq!(sizes, [(5, 3), (3, 2), (2, 1), (1, 1)]);
 /// assert_eq!(mipmap.level(3).unwrap().stack(0, 0), &[StackLayer::new(0.0, 2.0, 0)]);
@@ -34,21 +34,27 @@ pub struct StacksMipmap {
 
 impl StacksMipmap {
     /// The mipmap of `stacks`: `stacks` as level 0, then [`aggregate`] until a level is
-    /// 1 x 1. A level whose layers would overflow the `u32` offsets (over 4 G layers, which no
-    /// real terrain nears) cannot be built; the mipmap then ends at the level before it.
-    pub fn new(stacks: MaterialStacks) -> StacksMipmap {
+    /// 1 x 1.
+    ///
+    /// Errors: [`CoreError::Grid`] when a level's layers would overflow the `u32` offsets
+    /// (over 4 G layers, which no real terrain nears, but a coarse stack may hold more layers
+    /// than any of its children, so a level is not bounded by the one below it).
+    pub fn new(stacks: MaterialStacks) -> Result<StacksMipmap, CoreError> {
+        StacksMipmap::within(stacks, u32::MAX as usize)
+    }
+
+    /// As [`StacksMipmap::new`], with levels of at most `max_layers` layers.
+    fn within(stacks: MaterialStacks, max_layers: usize) -> Result<StacksMipmap, CoreError> {
         let mut levels = vec![stacks];
         loop {
             let finer = &levels[levels.len() - 1];
             if finer.width == 1 && finer.height == 1 {
                 break;
             }
-            match aggregate(finer) {
-                Ok(coarser) => levels.push(coarser),
-                Err(_) => break,
-            }
+            let coarser = aggregate_within(finer, max_layers)?;
+            levels.push(coarser);
         }
-        StacksMipmap { levels }
+        Ok(StacksMipmap { levels })
     }
 
     /// The levels, finest first.
@@ -100,6 +106,16 @@ impl StacksMipmap {
 ///
 /// Errors: [`CoreError::Grid`] when the coarse level would have more than `u32::MAX` layers.
 pub fn aggregate(finer: &MaterialStacks) -> Result<MaterialStacks, CoreError> {
+    aggregate_within(finer, u32::MAX as usize)
+}
+
+/// As [`aggregate`], failing when the coarse level would have more than `max_layers` layers
+/// (at most `u32::MAX`, what the offsets hold).
+fn aggregate_within(
+    finer: &MaterialStacks,
+    max_layers: usize,
+) -> Result<MaterialStacks, CoreError> {
+    debug_assert!(max_layers <= u32::MAX as usize);
     let (fw, fh) = (finer.width, finer.height);
     let (width, height) = ((fw - 1) / 2 + 1, (fh - 1) / 2 + 1);
     let rows: Vec<(Vec<u32>, Vec<StackLayer>)> = (0..height)
@@ -133,9 +149,10 @@ pub fn aggregate(finer: &MaterialStacks) -> Result<MaterialStacks, CoreError> {
         .collect();
 
     let total: usize = rows.iter().map(|(_, layers)| layers.len()).sum();
-    if total > u32::MAX as usize {
+    if total > max_layers {
         return Err(CoreError::Grid(format!(
-            "the {width}x{height} level would have {total} layers, more than u32 offsets hold"
+            "the {width}x{height} level would have {total} layers, more than {max_layers} \
+             (what its u32 offsets hold)"
         )));
     }
     let mut offsets = Vec::with_capacity(width * height + 1);
@@ -186,21 +203,21 @@ mod tests {
 
     #[test]
     fn level_sizes_halve_rounding_up_down_to_one_by_one() {
-        let mipmap = StacksMipmap::new(stacks(5, 3, &vec![vec![]; 15]));
+        let mipmap = StacksMipmap::new(stacks(5, 3, &vec![vec![]; 15])).unwrap();
         let sizes: Vec<_> = mipmap.levels().iter().map(|l| (l.width(), l.height())).collect();
         assert_eq!(sizes, [(5, 3), (3, 2), (2, 1), (1, 1)]);
         assert_eq!(mipmap.level_count(), 4);
         assert!(mipmap.level(4).is_none());
-        let one = StacksMipmap::new(stacks(1, 1, &[vec![]]));
+        let one = StacksMipmap::new(stacks(1, 1, &[vec![]])).unwrap();
         assert_eq!(one.level_count(), 1);
-        let tall = StacksMipmap::new(stacks(1, 4, &vec![vec![]; 4]));
+        let tall = StacksMipmap::new(stacks(1, 4, &vec![vec![]; 4])).unwrap();
         let sizes: Vec<_> = tall.levels().iter().map(|l| (l.width(), l.height())).collect();
         assert_eq!(sizes, [(1, 4), (1, 2), (1, 1)]);
     }
 
     #[test]
     fn a_coarse_stack_is_centred_on_the_finer_stack_at_twice_its_index() {
-        let mipmap = StacksMipmap::new(stacks(9, 6, &vec![vec![]; 54]));
+        let mipmap = StacksMipmap::new(stacks(9, 6, &vec![vec![]; 54])).unwrap();
         for pair in mipmap.levels().windows(2) {
             let (fine, coarse) = (&pair[0], &pair[1]);
             assert_eq!(coarse.spacing(), fine.spacing() * 2.0);
@@ -214,9 +231,23 @@ mod tests {
     }
 
     #[test]
+    fn a_level_with_more_layers_than_its_offsets_hold_is_an_error_not_the_end() {
+        // Levels of 35, 12, 4 and 1 layers: the second one is the largest coarse level.
+        let slab = vec![vec![StackLayer::new(0.0, 2.0, BEDROCK)]; 7 * 5];
+        let whole = StacksMipmap::within(stacks(7, 5, &slab), 12).unwrap();
+        assert_eq!(whole.level_count(), 4);
+        match StacksMipmap::within(stacks(7, 5, &slab), 11) {
+            Err(CoreError::Grid(message)) => {
+                assert!(message.contains("4x3 level would have 12 layers"), "{message}")
+            }
+            other => panic!("a mipmap ended early or built: {other:?}"),
+        }
+    }
+
+    #[test]
     fn a_flat_slab_stays_the_same_at_every_level() {
         let slab = vec![vec![StackLayer::new(0.0, 2.0, BEDROCK)]; 7 * 5];
-        let mipmap = StacksMipmap::new(stacks(7, 5, &slab));
+        let mipmap = StacksMipmap::new(stacks(7, 5, &slab)).unwrap();
         for level in mipmap.levels() {
             assert!(level.layers().iter().all(|&l| l == StackLayer::new(0.0, 2.0, BEDROCK)));
             assert_eq!(level.layers().len(), level.width() * level.height());
@@ -275,8 +306,8 @@ mod tests {
             .collect();
         let fine = stacks(40, 30, &columns);
         let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-        let serial = one.install(|| StacksMipmap::new(fine.clone()));
-        let parallel = StacksMipmap::new(fine);
+        let serial = one.install(|| StacksMipmap::new(fine.clone()).unwrap());
+        let parallel = StacksMipmap::new(fine).unwrap();
         assert_eq!(serial.levels(), parallel.levels());
     }
 
@@ -302,7 +333,7 @@ mod tests {
                 (Just(w), Just(h), prop::collection::vec(random_stack(), w * h))
             })
         ) {
-            let mipmap = StacksMipmap::new(stacks(width, height, &columns));
+            let mipmap = StacksMipmap::new(stacks(width, height, &columns)).unwrap();
             let last = &mipmap.levels()[mipmap.level_count() - 1];
             prop_assert_eq!((last.width(), last.height()), (1, 1));
             for level in mipmap.levels() {

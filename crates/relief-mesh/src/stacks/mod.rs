@@ -5,16 +5,28 @@
 //! - [`lattice`]: where a level's density points lie, boxes of points;
 //! - [`density`]: stacks to density and the [`Smoothing`] filter;
 //! - [`cell_patches`]: one cell's surface patches (a vertex each, edge-manifold meshes);
+//! - [`node_mesh`]: what meshing one node takes (its level's field, the job) and makes;
+//! - [`fitted_field`]: a node's density fitted to its coarser neighbours;
+//! - [`vertex_table`]: a node's vertices, made on first use and named by key;
 //! - [`node_mesher`]: one node's mesh with topology fitting and T-junction removal;
 //! - [`octree`]: the nodes, their selection by screen-space extent, balancing ([`NodeKey`]);
+//! - [`node_columns`]: where the layers within each node's reach lie (empty nodes skipped);
+//! - [`view_culling`]: the nodes a camera cannot see;
+//! - [`node_joins`]: node meshes joined for export or appended for drawing;
 //! - [`stacks_mesher`]: the whole terrain at one level or for a camera ([`StacksMesher`]).
 
 mod cell_patches;
 mod density;
+mod fitted_field;
 mod lattice;
+mod node_columns;
+mod node_joins;
+mod node_mesh;
 mod node_mesher;
 mod octree;
 mod stacks_mesher;
+mod vertex_table;
+mod view_culling;
 
 pub use density::Smoothing;
 pub use octree::NodeKey;

@@ -4,9 +4,12 @@
 
 use super::density::{Channels, Density, Smoothing};
 use super::lattice::{Block, Lattice};
-use super::node_mesher::{coarse_block, fine_block, mesh_node, LevelField, NodeJob, NodeMesh};
+use super::node_columns::{node_columns, node_reach, ColumnRange};
+use super::node_joins::{append_for_drawing, join_part};
+use super::node_mesh::{coarse_block, fine_block, LevelField, NodeJob, NodeMesh};
+use super::node_mesher::mesh_node;
 use super::octree::{Leaves, NodeKey};
-use crate::terrain_mesh::split_quad;
+use super::view_culling::outside_view;
 use crate::{IndexedMesh, MeshError, MeshPart, TerrainMesh};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec3, MaterialKind, StacksMipmap};
@@ -61,7 +64,8 @@ pub struct MeshStats {
 /// // A 6 x 6 slab of bedrock, 3 m thick.
 /// let stacks = MaterialStacks::from_stacks(6, 6, DVec2::ONE, DVec2::ZERO,
 ///     StackMaterial::defaults(), &vec![vec![StackLayer::new(0.0, 3.0, 0)]; 36]).unwrap();
-/// let mesher = StacksMesher::new(StacksMipmap::new(stacks), StacksMeshParams::default()).unwrap();
+/// let mipmap = StacksMipmap::new(stacks).unwrap();
+/// let mesher = StacksMesher::new(mipmap, StacksMeshParams::default()).unwrap();
 /// let (mesh, _) = mesher.mesh_level(0).unwrap();
 /// assert!(mesh.part("solid").unwrap().quads.len() > 0);
 /// ```
@@ -406,221 +410,6 @@ impl StacksMesher {
     }
 }
 
-/// Part `p` of the nodes' meshes joined into `part`, each vertex once (by key; a vertex only
-/// one node makes needs no lookup).
-fn join_part(meshes: &[&NodeMesh], p: usize, mut part: MeshPart) -> MeshPart {
-    let vertices: usize = meshes.iter().map(|m| m.parts[p].keys.len()).sum();
-    let quads: usize = meshes.iter().map(|m| m.parts[p].quads.len()).sum();
-    let mut index = rustc_hash::FxHashMap::<u128, u32>::default();
-    index.reserve(vertices / 2);
-    part.positions.reserve(vertices);
-    part.normals.reserve(vertices);
-    part.colors.reserve(vertices);
-    part.quads.reserve(quads);
-    for mesh in meshes {
-        let node_part = &mesh.parts[p];
-        let map: Vec<u32> = node_part
-            .keys
-            .iter()
-            .enumerate()
-            .map(|(v, key)| {
-                let mut push = || {
-                    part.positions.push(node_part.positions[v]);
-                    part.normals.push(node_part.normals[v]);
-                    part.colors.push(node_part.colors[v]);
-                    (part.positions.len() - 1) as u32
-                };
-                if node_part.shared[v] {
-                    *index.entry(*key).or_insert_with(push)
-                } else {
-                    push()
-                }
-            })
-            .collect();
-        part.quads.extend(node_part.quads.iter().map(|q| q.map(|v| map[v as usize])));
-        part.triangles.extend(node_part.triangles.iter().map(|t| t.map(|v| map[v as usize])));
-    }
-    part
-}
-
-/// How far beyond its points a node's density reaches with filter `kernel`: its cells' ring,
-/// the Sobel neighbours and the filter's half-width.
-fn node_reach(kernel: &[f32]) -> i32 {
-    3 + (kernel.len() / 2) as i32
-}
-
-/// The node columns of one level (nodes `-1 ..= size / n` along x and y, x fastest), each
-/// the union of the ranges of the stacks within `reach` of its points; a node column reaching
-/// beyond the grid is never solid throughout.
-fn node_columns(
-    stacks: &relief_core::MaterialStacks,
-    lattice: &Lattice,
-    n: i32,
-    reach: i32,
-) -> (usize, Vec<ColumnRange>) {
-    let (w, h) = (stacks.width() as i32, stacks.height() as i32);
-    let columns: Vec<ColumnRange> = (0..stacks.height())
-        .flat_map(|y| (0..stacks.width()).map(move |x| (x, y)))
-        .map(|(x, y)| ColumnRange::of(stacks.stack(x, y), stacks.materials(), lattice))
-        .collect();
-    let nodes_x = (w.div_euclid(n) + 2) as usize;
-    let nodes_y = (h.div_euclid(n) + 2) as usize;
-    let mut out = Vec::with_capacity(nodes_x * nodes_y);
-    for ny in 0..nodes_y as i32 {
-        for nx in 0..nodes_x as i32 {
-            let (ox, oy) = ((nx - 1) * n, (ny - 1) * n);
-            let (lo_x, hi_x) = (ox - reach, ox + n + reach);
-            let (lo_y, hi_y) = (oy - reach, oy + n + reach);
-            let inside = lo_x >= 0 && lo_y >= 0 && hi_x <= w && hi_y <= h;
-            let mut union = ColumnRange::EMPTY;
-            union.solid_start = f32::NEG_INFINITY;
-            union.solid_end = f32::INFINITY;
-            for y in lo_y.max(0)..hi_y.min(h) {
-                for x in lo_x.max(0)..hi_x.min(w) {
-                    let c = &columns[(x + y * w) as usize];
-                    union.start = union.start.min(c.start);
-                    union.end = union.end.max(c.end);
-                    union.solid_start = union.solid_start.max(c.solid_start);
-                    union.solid_end = union.solid_end.min(c.solid_end);
-                }
-            }
-            if !inside {
-                union.solid_start = f32::INFINITY;
-            }
-            out.push(union);
-        }
-    }
-    (nodes_x, out)
-}
-
-/// Where a column's layers lie, lattice k of its level: all of them, and the solid run from
-/// its lowest layer up to the first gap or liquid.
-#[derive(Debug, Clone, Copy)]
-struct ColumnRange {
-    start: f32,
-    end: f32,
-    solid_start: f32,
-    solid_end: f32,
-}
-
-impl ColumnRange {
-    /// A column with no layer.
-    const EMPTY: ColumnRange = ColumnRange {
-        start: f32::INFINITY,
-        end: f32::NEG_INFINITY,
-        solid_start: f32::INFINITY,
-        solid_end: f32::NEG_INFINITY,
-    };
-
-    fn of(
-        stack: &[relief_core::StackLayer],
-        materials: &[relief_core::StackMaterial],
-        lattice: &Lattice,
-    ) -> Self {
-        let (Some(first), Some(last)) = (stack.first(), stack.last()) else {
-            return ColumnRange::EMPTY;
-        };
-        let mut solid_end = f32::NEG_INFINITY;
-        let mut solid_start = f32::INFINITY;
-        for layer in stack {
-            let solid = !materials[layer.material as usize].is_liquid();
-            if !solid || (solid_end.is_finite() && layer.start > solid_end) {
-                break;
-            }
-            if solid_start.is_infinite() {
-                solid_start = layer.start;
-            }
-            solid_end = layer.end;
-        }
-        let k = |z: f32| lattice.to_k(z) as f32;
-        ColumnRange {
-            start: k(first.start),
-            end: k(last.end),
-            solid_start: if solid_start.is_finite() { k(solid_start) } else { f32::INFINITY },
-            solid_end: if solid_end.is_finite() { k(solid_end) } else { f32::NEG_INFINITY },
-        }
-    }
-}
-
-/// Part `part` of every node's mesh appended into one triangle mesh with colour and normal
-/// attributes, the nodes filled in parallel at offsets from prefix sums.
-fn append_for_drawing(meshes: &[Arc<NodeMesh>], part: usize) -> Result<IndexedMesh, MeshError> {
-    let mut vertex_at = Vec::with_capacity(meshes.len() + 1);
-    let (mut v, mut t) = (0usize, 0usize);
-    for m in meshes {
-        vertex_at.push(v);
-        let p = &m.parts[part];
-        v += p.positions.len();
-        t += 2 * p.quads.len() + p.triangles.len();
-    }
-    let mut positions = vec![DVec3::ZERO; v];
-    let mut triangles = vec![[0u32; 3]; t];
-    let mut attributes = vec![0f32; 6 * v];
-    // Split the outputs into each node's share, then fill the shares in parallel.
-    let mut shares = Vec::with_capacity(meshes.len());
-    let (mut pos_rest, mut tri_rest, mut att_rest) =
-        (positions.as_mut_slice(), triangles.as_mut_slice(), attributes.as_mut_slice());
-    for (k, m) in meshes.iter().enumerate() {
-        let p = &m.parts[part];
-        let (pos, r1) = std::mem::take(&mut pos_rest).split_at_mut(p.positions.len());
-        let (tri, r2) =
-            std::mem::take(&mut tri_rest).split_at_mut(2 * p.quads.len() + p.triangles.len());
-        let (att, r3) = std::mem::take(&mut att_rest).split_at_mut(6 * p.positions.len());
-        (pos_rest, tri_rest, att_rest) = (r1, r2, r3);
-        shares.push((p, vertex_at[k] as u32, pos, tri, att));
-    }
-    shares.into_par_iter().for_each(|(p, base, pos, tri, att)| {
-        pos.copy_from_slice(&p.positions);
-        for (k, (c, n)) in p.colors.iter().zip(&p.normals).enumerate() {
-            att[6 * k..6 * k + 3].copy_from_slice(c);
-            att[6 * k + 3..6 * k + 6].copy_from_slice(n);
-        }
-        let mut out = 0;
-        for q in &p.quads {
-            // Split as the exported mesh is.
-            let [first, second] = split_quad(*q, |v| p.positions[v as usize]);
-            tri[out] = first.map(|i| i + base);
-            tri[out + 1] = second.map(|i| i + base);
-            out += 2;
-        }
-        for tr in &p.triangles {
-            tri[out] = tr.map(|i| i + base);
-            out += 1;
-        }
-    });
-    IndexedMesh::new(positions, triangles)?.with_attributes(6, attributes)
-}
-
-/// Whether the box `lo`..`hi` lies wholly outside the camera's view: all its corners behind
-/// the eye, or beyond one side of the image.
-fn outside_view(camera: &Camera, lo: DVec3, hi: DVec3) -> bool {
-    let half_h = camera.half_height();
-    let half_w = half_h * camera.width() as f64 / camera.height() as f64;
-    let perspective = camera.fov_deg().is_some();
-    let mut outside = [true; 5];
-    for c in 0..8 {
-        let p = DVec3::new(
-            if c & 1 == 0 { lo.x } else { hi.x },
-            if c & 2 == 0 { lo.y } else { hi.y },
-            if c & 4 == 0 { lo.z } else { hi.z },
-        );
-        let d = p - camera.eye();
-        let (x, y, z) = (d.dot(camera.right()), d.dot(camera.image_up()), d.dot(camera.forward()));
-        let scale = if perspective { z.max(0.0) } else { 1.0 };
-        let checks = [
-            z < 0.0,
-            x > scale * half_w,
-            x < -scale * half_w,
-            y > scale * half_h,
-            y < -scale * half_h,
-        ];
-        for (o, check) in outside.iter_mut().zip(checks) {
-            *o &= check;
-        }
-    }
-    outside.iter().any(|&o| o)
-}
-
 fn ms(start: Instant) -> f64 {
     start.elapsed().as_secs_f64() * 1e3
 }
@@ -670,7 +459,7 @@ mod tests {
     #[test]
     fn vertices_lie_on_the_smoothed_density_iso_surface() {
         let mesher = StacksMesher::new(
-            StacksMipmap::new(terrain()),
+            StacksMipmap::new(terrain()).unwrap(),
             StacksMeshParams { node_cells: 6, ..Default::default() },
         )
         .unwrap();

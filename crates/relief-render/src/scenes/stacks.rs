@@ -37,7 +37,7 @@ impl StacksScene {
             voxel_height: options.mesh.voxel_height,
             ..Default::default()
         };
-        let mesher = StacksMesher::new(StacksMipmap::new(stacks), params)?;
+        let mesher = StacksMesher::new(StacksMipmap::new(stacks)?, params)?;
         Ok(StacksScene { mesher, bounds, warnings })
     }
 

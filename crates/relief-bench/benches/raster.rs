@@ -2,9 +2,10 @@
 //! `triangles` solid, drawn at W x H (default 1920 x 1080) from relief's benchmark views;
 //! prints mesh time, draw time, triangles/s and pixels (fragments)/s.
 //!
-//! `cargo run --release -p relief-mesh --example raster_bench -- [N] [W] [H]`
+//! `cargo bench -p relief-bench --bench raster -- [N] [W] [H]`
 
-use relief_core::{benchmark_views, SampleRegion, Surface};
+use relief_bench::benchmark_views;
+use relief_core::{SampleRegion, Surface};
 use relief_mesh::{height_field_mesh, Culling, IndexedMesh, RasterTarget, Rasterizer};
 use std::time::Instant;
 

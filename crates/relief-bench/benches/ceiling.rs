@@ -29,12 +29,13 @@
 //!
 //! ```sh
 //! relief generate fbm --size 4096 -o fbm-4096.npy
-//! cargo run --release -p relief-cli --example ceiling -- fbm-4096.npy
+//! cargo bench -p relief-bench --bench ceiling -- fbm-4096.npy
 //! ```
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use relief_core::{benchmark_views, Camera, DVec3, HeightField, Ray, Surface};
+use relief_bench::benchmark_views;
+use relief_core::{Camera, DVec3, HeightField, Ray, Surface};
 use relief_shade::{
     render_gbuffer_into, render_to_srgb8, sun_direction, GBuffer, KeptHits, ShadingParams, Tile,
     TILE_SIZE,
@@ -42,6 +43,9 @@ use relief_shade::{
 use relief_trace::{Hit, MipmapTracer, NaiveTracer, SunShadows, Tracer};
 use std::sync::Arc;
 use std::time::Instant;
+
+#[path = "common/args.rs"]
+mod args;
 
 /// Finds nothing, at no cost.
 struct Nothing;
@@ -266,7 +270,7 @@ fn fastest(mut f: impl FnMut()) -> f64 {
 }
 
 fn main() -> Result<()> {
-    let path = std::env::args().nth(1).context("usage: ceiling TERRAIN.npy")?;
+    let path = args::program_args().into_iter().next().context("usage: ceiling TERRAIN.npy")?;
     let field = Arc::new(relief_io::read_npy_height_field(path.as_ref())?);
     let tracer = MipmapTracer::new(field.clone(), Surface::Triangles);
     let naive = NaiveTracer::new(field.clone(), Surface::Triangles);

@@ -1,5 +1,5 @@
-//! Times erosion steps on the RiversRain scene: `cargo run --release -p relief-sim --example
-//! erosion_bench -- SIZE STEPS` prints the median milliseconds per step and the volumes, and
+//! Times erosion steps on the RiversRain scene: `cargo bench -p relief-bench --bench erosion --
+//! SIZE STEPS` prints the median milliseconds per step and the volumes, and
 //! checks the final terrain's invariants, with a hash of the final state's bytes (layer counts,
 //! columns, fluxes, stability, sediment, damage) to compare runs. It also times the check of the
 //! invariants each step runs (`ErosionState::validate`) once more after every step.
@@ -7,8 +7,11 @@
 use relief_sim::erosion::{ErosionParams, ErosionState, StepVolumes};
 use std::time::Instant;
 
+#[path = "common/args.rs"]
+mod args;
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
+    let mut args = args::program_args().into_iter();
     let size: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(256);
     let steps: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(50);
     let map = relief_sim::rivers_rain(size, 8, relief_sim::RIVERS_RAIN_SEED)?;

@@ -2,7 +2,7 @@
 //! GeoTIFF in strips, a `.npy` array and a Deflate-compressed tiled GeoTIFF, each N x N,
 //! read in bands of 513 rows from the south as the tile builder reads them.
 //!
-//! `cargo run --release -p relief-io --example rows_throughput -- [N] [DIR] [FILE.tif ...]`
+//! `cargo bench -p relief-bench --bench rows_throughput -- [N] [DIR] [FILE.tif ...]`
 //! (N 8192, DIR the system's temporary folder); files given after DIR are timed too. The
 //! files are written first and stay in the page cache: the figures are those of a warm cache.
 
@@ -15,11 +15,14 @@ use tiff::encoder::compression::{CompressionAlgorithm, Deflate, DeflateLevel};
 use tiff::encoder::TiffEncoder;
 use tiff::tags::Tag;
 
+#[path = "common/args.rs"]
+mod args;
+
 /// Rows per request: a tile of 512 and its border, as relief-tiles reads.
 const BAND: usize = 513;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args = args::program_args();
     let n: usize = args.first().map_or(Ok(8192), |a| a.parse())?;
     let dir = args.get(1).map_or_else(std::env::temp_dir, PathBuf::from);
     let samples: Vec<f32> =

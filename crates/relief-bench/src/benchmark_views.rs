@@ -1,7 +1,7 @@
 //! The fixed views of a height field that `relief bench` and the performance measurements
 //! trace, so that every measurement of relief (and of Embree beside it) sees the same rays.
 
-use crate::{Camera, CoreError, DVec3, HeightField, Surface};
+use relief_core::{Camera, CoreError, DVec3, HeightField, Surface};
 
 /// The names of [`benchmark_views`], in its order.
 pub const BENCHMARK_VIEWS: [&str; 4] = ["three-quarter", "flight", "top-down", "cover"];
@@ -11,7 +11,8 @@ pub const BENCHMARK_VIEWS: [&str; 4] = ["three-quarter", "flight", "top-down", "
 /// the terrain covering the whole image.
 ///
 /// ```
-/// use relief_core::{benchmark_views, GridGeometry, HeightField, BENCHMARK_VIEWS};
+/// use relief_bench::{benchmark_views, BENCHMARK_VIEWS};
+/// use relief_core::{GridGeometry, HeightField};
 /// let field = HeightField::new(8, 8, vec![1.0; 64], GridGeometry::unit()).unwrap();
 /// let views = benchmark_views(&field, 64, 36).unwrap();
 /// assert_eq!(views.iter().map(|(name, _)| *name).collect::<Vec<_>>(), BENCHMARK_VIEWS);

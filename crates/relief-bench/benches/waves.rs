@@ -1,5 +1,5 @@
-//! Times the ocean wave simulation on the seeded fBm terrain: `cargo run --release -p
-//! relief-sim --example waves_bench -- SIZE STEPS [SEA]` prints the median milliseconds per
+//! Times the ocean wave simulation on the seeded fBm terrain: `cargo bench -p relief-bench
+//! --bench waves -- SIZE STEPS [SEA]` prints the median milliseconds per
 //! step (integration and the field's `replace_samples` together) on the current thread count
 //! (`RAYON_NUM_THREADS`), with the sea level at SEA of the height range (default 0.35; 1
 //! floods everything, the worst case), and a hash of the final field's bytes to compare runs.
@@ -7,8 +7,11 @@
 use relief_sim::{fbm_terrain, FbmParams, WaveParams, WaveSimulation};
 use std::time::Instant;
 
+#[path = "common/args.rs"]
+mod args;
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
+    let mut args = args::program_args().into_iter();
     let size: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(4096);
     let steps: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(50);
     let level: f64 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(0.35);

@@ -3,9 +3,10 @@
 //! of a flight along the benchmark's flight view the mesh and its draw at W x H (default
 //! 1920 x 1080), with back faces culled (the camera is above the terrain).
 //!
-//! `cargo run --release -p relief-mesh --example clipmap_bench -- [N] [W] [H]`
+//! `cargo bench -p relief-bench --bench clipmap -- [N] [W] [H]`
 
-use relief_core::{benchmark_views, Camera, DVec3};
+use relief_bench::benchmark_views;
+use relief_core::{Camera, DVec3};
 use relief_mesh::{Clipmap, ClipmapParams, Culling, RasterTarget, Rasterizer};
 use std::time::Instant;
 
