@@ -41,13 +41,13 @@ pub fn read_raster(path: &Path, options: &ReadOptions) -> Result<Raster, IoError
 /// [`read_raster`] before [`ReadOptions::z_unit`] is applied.
 fn read_raster_as_stored(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     match format_of(path, options)? {
-        Format::Npy => crate::npy_raster::read_npy(path, options),
-        Format::Npz => crate::npz::read_npz(path, options),
-        Format::GeoTiff => crate::geotiff_read::read_geotiff(path, options),
-        Format::Hgt => crate::hgt::read_hgt(path, options),
-        Format::Asc => crate::asc::read_asc(path, options),
+        Format::Npy => crate::npy::raster::read_npy(path, options),
+        Format::Npz => crate::npy::npz::read_npz(path, options),
+        Format::GeoTiff => crate::geotiff::read::read_geotiff(path, options),
+        Format::Hgt => crate::hgt::tile::read_hgt(path, options),
+        Format::Asc => crate::asc::grid::read_asc(path, options),
         Format::Png16 | Format::TerrainRgb | Format::Terrarium => {
-            crate::png_height::read_png_height(path, options)
+            crate::png::height::read_png_height(path, options)
         }
     }
 }
@@ -75,11 +75,11 @@ fn read_from_bytes(
     let len = bytes.len() as u64;
     let reader = Cursor::new(bytes);
     match format {
-        Format::Npy => crate::npy_raster::read_npy_from(reader, len, path, options),
-        Format::Npz => crate::npz::read_npz_from(reader, len, path, options),
-        Format::GeoTiff => crate::geotiff_read::read_geotiff_from(reader, path, options),
-        Format::Hgt => crate::hgt::read_hgt_from(reader, len, path, options),
-        Format::Asc => crate::asc::read_asc_from(reader, len, path, options),
+        Format::Npy => crate::npy::raster::read_npy_from(reader, len, path, options),
+        Format::Npz => crate::npy::npz::read_npz_from(reader, len, path, options),
+        Format::GeoTiff => crate::geotiff::read::read_geotiff_from(reader, path, options),
+        Format::Hgt => crate::hgt::tile::read_hgt_from(reader, len, path, options),
+        Format::Asc => crate::asc::grid::read_asc_from(reader, len, path, options),
         Format::Png16 | Format::TerrainRgb | Format::Terrarium => {
             let options = ReadOptions {
                 png_encoding: match format {
@@ -89,7 +89,7 @@ fn read_from_bytes(
                 },
                 ..options.clone()
             };
-            crate::png_height::read_png_height_from(reader, len, path, &options)
+            crate::png::height::read_png_height_from(reader, len, path, &options)
         }
     }
 }

@@ -6,11 +6,11 @@ mod common;
 use common::TestDir;
 
 use relief_core::{GridGeometry, HeightField};
-use relief_io::{
-    hgt_tile_corner, metres_per_degree, read_asc, read_hgt, read_npy, read_npz, read_png_height,
-    write_asc, write_hgt, write_npy_f32, write_png16_height, Format, IoError, PngEncoding, Raster,
-    ReadOptions, VoidPolicy,
-};
+use relief_io::asc::{read_asc, write_asc};
+use relief_io::hgt::{hgt_tile_corner, read_hgt, write_hgt};
+use relief_io::npy::{read_npy, read_npz, write_npy_f32};
+use relief_io::png::{read_png_height, write_png16_height};
+use relief_io::{metres_per_degree, Format, IoError, PngEncoding, Raster, ReadOptions, VoidPolicy};
 use std::io::{Cursor, ErrorKind, Write};
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -525,7 +525,7 @@ fn png16_round_trips_with_the_top_row_north() {
     assert_eq!(raster.info.sample_type, "uint16");
     assert!(!raster.info.georeferenced);
     // The image's top row is the field's last (north) row.
-    let image = relief_io::read_png_rgb(&path).unwrap();
+    let image = relief_io::png::read_png_rgb(&path).unwrap();
     let top_left = (expected[(h - 1) * w] as u32 >> 8) as u8;
     assert_eq!(image.pixels[0], [top_left; 3]);
 }
@@ -540,7 +540,7 @@ fn png16_heights_use_their_16_bits_and_round_trip_within_their_step() {
         let samples: Vec<f32> =
             (0..w * h).map(|i| low + (high - low) * ((i * 17 % 35) as f32 / 34.0)).collect();
         let field = HeightField::new(w, h, samples.clone(), GridGeometry::unit()).unwrap();
-        let scale = relief_io::PngHeightScale::of(&field);
+        let scale = relief_io::png::PngHeightScale::of(&field);
         write_png16_height(&path, &field).unwrap();
         let raster = read_png_height(&path, &options()).unwrap();
         let step = (f64::from(high) - f64::from(low)) / 65535.0;
@@ -555,7 +555,7 @@ fn png16_heights_use_their_16_bits_and_round_trip_within_their_step() {
     }
     // The unit written is the unit read: heights in feet come back with a z scale to metres.
     let field = HeightField::new(2, 1, vec![10.5, 20.25], GridGeometry::unit()).unwrap();
-    relief_io::write_png16_height_in(&path, &field, relief_io::LengthUnit::Foot).unwrap();
+    relief_io::png::write_png16_height_in(&path, &field, relief_io::LengthUnit::Foot).unwrap();
     let raster = read_png_height(&path, &options()).unwrap();
     assert_eq!(raster.info.height_unit.unit, relief_io::LengthUnit::Foot);
     assert_eq!(raster.geometry.z_scale, 0.3048);

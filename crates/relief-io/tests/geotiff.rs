@@ -8,10 +8,9 @@ mod common;
 use common::{clients, shared_data, TestDir};
 
 use relief_core::{DVec2, GridGeometry, HeightField};
-use relief_io::{
-    metres_per_degree, read_geotiff, read_npy_height_field, write_geotiff, IoError, Raster,
-    ReadOptions, VoidPolicy,
-};
+use relief_io::geotiff::{read_geotiff, write_geotiff};
+use relief_io::npy::read_npy_height_field;
+use relief_io::{metres_per_degree, IoError, Raster, ReadOptions, VoidPolicy};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::io::{Cursor, ErrorKind};

@@ -1,0 +1,14 @@
+//! Multi-layered height maps: the reference simulator's scenes (JSON settings and a zlib
+//! `.dat`; [`read_mlhm_scene`], [`write_mlhm_scene`]) and relief's own `.mlhm` files (a NumPy
+//! `.npz` archive; [`read_mlhm_native`], [`write_mlhm_native`]).
+
+pub(crate) mod native;
+pub(crate) mod scene;
+
+pub use native::{
+    read_mlhm_native, read_mlhm_native_from_bytes, write_mlhm_native, MLHM_NATIVE_VERSION,
+};
+pub use scene::{
+    parse_mlhm_scene_header, read_mlhm_scene, read_mlhm_scene_from_bytes, read_mlhm_scene_header,
+    write_mlhm_scene, MlhmScene, MlhmSceneHeader, SimulationState, F16_SLACK, F32_SLACK,
+};
