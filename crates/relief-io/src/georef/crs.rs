@@ -2,18 +2,12 @@
 //! tools use: its EPSG code, whether it is geographic, the unit of its coordinates and of its
 //! heights, and its ESRI WKT (what a `.prj` beside an `.asc` or a `.png` holds).
 
-use crate::georef::epsg_feet::feet_unit_of_projected_code;
-use crate::georef::geokeys::{GEOGRAPHIC_TYPE, GT_MODEL_TYPE, MODEL_GEOGRAPHIC};
+use crate::georef::geokey_ids::{
+    GEOGRAPHIC_TYPE, GT_MODEL_TYPE, GT_RASTER_TYPE, MODEL_GEOGRAPHIC, PIXEL_IS_AREA,
+    PROJECTED_CS_TYPE, PROJ_LINEAR_UNITS, USER_DEFINED, VERTICAL_UNITS,
+};
+use crate::georef::projected_unit::projected_unit;
 use crate::{GeoTiffTags, Georeference, HeightUnit, LengthUnit};
-
-/// ProjectedCSTypeGeoKey: the projected CRS (EPSG code).
-const PROJECTED_CS_TYPE: u16 = 3072;
-/// ProjLinearUnitsGeoKey: the unit of projected coordinates (EPSG unit code).
-const PROJ_LINEAR_UNITS: u16 = 3076;
-/// VerticalUnitsGeoKey: the unit of the heights (EPSG unit code).
-pub(crate) const VERTICAL_UNITS: u16 = 4099;
-/// The GeoKey value meaning "user-defined".
-const USER_DEFINED: u16 = 32767;
 
 /// ESRI's WKT of the WGS 84 geographic CRS (EPSG:4326).
 const GCS_WGS84: &str = "GEOGCS[\"GCS_WGS_1984\",DATUM[\"D_WGS_1984\",SPHEROID[\"WGS_1984\",\
@@ -22,42 +16,6 @@ const GCS_WGS84: &str = "GEOGCS[\"GCS_WGS_1984\",DATUM[\"D_WGS_1984\",SPHEROID[\
 const GCS_NAD83: &str = "GEOGCS[\"GCS_North_American_1983\",DATUM[\"D_North_American_1983\",\
     SPHEROID[\"GRS_1980\",6378137.0,298.257222101]],PRIMEM[\"Greenwich\",0.0],\
     UNIT[\"Degree\",0.0174532925199433]]";
-
-/// The unit of a projected CRS's coordinates from its keys and citation text, and why:
-/// ProjLinearUnitsGeoKey, else the unit of the EPSG code (`pcs`), else a citation naming
-/// `(ftUS)` or `(ft)` as EPSG's names do, else the metre. `Err(code)` for a unit key relief
-/// does not know.
-pub(crate) fn projected_unit(
-    linear_key: Option<u16>,
-    pcs: Option<u16>,
-    citation: &str,
-) -> Result<(LengthUnit, &'static str), u16> {
-    match linear_key {
-        Some(USER_DEFINED) | None => {}
-        Some(code) => {
-            return LengthUnit::from_epsg(code).map(|u| (u, "ProjLinearUnitsGeoKey")).ok_or(code)
-        }
-    }
-    if let Some(unit) = pcs.and_then(feet_unit_of_projected_code) {
-        return Ok((unit, "the unit of its EPSG code"));
-    }
-    if let Some(unit) = citation_unit(citation) {
-        return Ok((unit, "its citation"));
-    }
-    Ok((LengthUnit::Metre, "the metre, as no key, code or citation names another"))
-}
-
-/// The foot a CRS's name names: `(ftUS)` or `Foot_US`, `(ft)` or `"Foot"`, as EPSG's and
-/// ESRI's names do.
-fn citation_unit(citation: &str) -> Option<LengthUnit> {
-    if citation.contains("(ftUS)") || citation.contains("\"Foot_US\"") {
-        Some(LengthUnit::UsSurveyFoot)
-    } else if citation.contains("(ft)") || citation.contains("UNIT[\"Foot\"") {
-        Some(LengthUnit::Foot)
-    } else {
-        None
-    }
-}
 
 impl Georeference {
     /// The value of the short-valued GeoKey `id`, if the directory holds it.
@@ -298,7 +256,7 @@ pub(crate) fn prj_crs(
     #[rustfmt::skip]
     let mut keys = vec![
         GT_MODEL_TYPE, 0, 1, if geographic { MODEL_GEOGRAPHIC } else { 1 },
-        crate::georef::geokeys::GT_RASTER_TYPE, 0, 1, crate::georef::geokeys::PIXEL_IS_AREA,
+        GT_RASTER_TYPE, 0, 1, PIXEL_IS_AREA,
     ];
     let mut ascii = None;
     if code.is_none() {

@@ -2,32 +2,15 @@
 //! GeoKeys (tag 34735) that place it (model type, raster type, units), and the minimal GeoKey
 //! directory relief's writer emits.
 
-use crate::georef::crs::projected_unit;
 use crate::georef::geodesy::metres_per_degree;
+use crate::georef::geokey_ids::{
+    GEOGRAPHIC_TYPE, GEOG_ANGULAR_UNITS, GT_MODEL_TYPE, GT_RASTER_TYPE, PROJECTED_CS_TYPE,
+    PROJ_LINEAR_UNITS, USER_DEFINED,
+};
+use crate::georef::projected_unit::projected_unit;
 use crate::{DegreeSpacing, IoError};
 use relief_core::{DVec2, GridGeometry};
 use std::path::Path;
-
-/// GTModelTypeGeoKey: 1 projected, 2 geographic (degrees), 3 geocentric.
-pub(crate) const GT_MODEL_TYPE: u16 = 1024;
-/// GTModelTypeGeoKey's value for a geographic model (longitude and latitude).
-pub(crate) const MODEL_GEOGRAPHIC: u16 = 2;
-/// GTRasterTypeGeoKey: 1 PixelIsArea, 2 PixelIsPoint.
-pub(crate) const GT_RASTER_TYPE: u16 = 1025;
-/// GTRasterTypeGeoKey's value for PixelIsArea.
-pub(crate) const PIXEL_IS_AREA: u16 = 1;
-/// GTRasterTypeGeoKey's value for PixelIsPoint.
-pub(crate) const PIXEL_IS_POINT: u16 = 2;
-/// GeographicTypeGeoKey: the geographic CRS (EPSG code).
-pub(crate) const GEOGRAPHIC_TYPE: u16 = 2048;
-/// GeogAngularUnitsGeoKey: the unit of longitudes and latitudes (EPSG unit code).
-const GEOG_ANGULAR_UNITS: u16 = 2054;
-/// ProjectedCSTypeGeoKey: the projected CRS (EPSG code).
-const PROJECTED_CS_TYPE: u16 = 3072;
-/// ProjLinearUnitsGeoKey: the unit of projected coordinates (EPSG unit code).
-const PROJ_LINEAR_UNITS: u16 = 3076;
-/// The GeoKey value meaning "user-defined".
-const USER_DEFINED: u16 = 32767;
 
 /// How model coordinates relate to the earth.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

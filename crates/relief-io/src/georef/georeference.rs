@@ -2,7 +2,7 @@
 //! output exactly where its input lay, in the same CRS: the GeoTIFF tags that say so, and the
 //! GDAL geotransform they amount to.
 
-use crate::georef::geokeys::{
+use crate::georef::geokey_ids::{
     GEOGRAPHIC_TYPE, GT_MODEL_TYPE, GT_RASTER_TYPE, MODEL_GEOGRAPHIC, PIXEL_IS_AREA, PIXEL_IS_POINT,
 };
 use std::fmt::Write as _;

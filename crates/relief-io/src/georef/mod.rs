@@ -7,7 +7,9 @@
 pub(crate) mod crs;
 pub(crate) mod epsg_feet;
 pub(crate) mod geodesy;
+pub(crate) mod geokey_ids;
 pub(crate) mod geokeys;
 pub(crate) mod georeference;
 pub(crate) mod height_unit;
+pub(crate) mod projected_unit;
 pub(crate) mod sidecars;

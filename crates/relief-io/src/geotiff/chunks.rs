@@ -1,7 +1,7 @@
 //! The strips or tiles of a GeoTIFF image: where each lies in the file and in the raster,
 //! checked against the file before anything is decoded.
 
-use crate::geotiff::read::tag_error;
+use crate::geotiff::tags::tag_error;
 use crate::sample_type::SampleType;
 use crate::IoError;
 use std::io::{Read, Seek};

@@ -2,7 +2,8 @@
 //! [`write_layers_geotiff`](crate::write_layers_geotiff) writes) back as a [`LayerRaster`].
 
 use crate::geotiff::gdal_metadata::{band_descriptions, GDAL_METADATA_TAG};
-use crate::geotiff::read::{tag_error, GeoTiffImage};
+use crate::geotiff::read::GeoTiffImage;
+use crate::geotiff::tags::tag_error;
 use crate::input_file::open_input;
 use crate::{IoError, Layer, LayerRaster, ReadOptions};
 use std::io::BufReader;

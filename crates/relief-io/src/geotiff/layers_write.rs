@@ -2,14 +2,14 @@
 //! layer's name, placed and nodata-declared as the input it was computed from.
 
 use crate::atomic_write::write_atomically;
+use crate::geotiff::float_strips::{FloatStrips, BIG_TIFF_FROM};
 use crate::geotiff::gdal_metadata::{band_descriptions_xml, GDAL_METADATA_TAG};
-use crate::geotiff::write::{encoding_error, FloatStrips, BIG_TIFF_FROM};
-use crate::{GeoTiffTags, IoError, LayerRaster};
+use crate::geotiff::write_tags::{encoding_error, write_ascii, write_georeference};
+use crate::{IoError, LayerRaster};
 use std::io::{Seek, Write};
 use std::path::Path;
-use tiff::encoder::{DirectoryEncoder, TiffEncoder, TiffKind, TiffKindBig, TiffKindStandard};
-use tiff::tags::{Tag, Type};
-use tiff::Directory;
+use tiff::encoder::{TiffEncoder, TiffKind, TiffKindBig, TiffKindStandard};
+use tiff::tags::Tag;
 
 /// Writes `layers` to `path` as a GeoTIFF that GDAL, QGIS and rasterio read as the input the
 /// layers were computed from, one band per layer.
@@ -91,50 +91,4 @@ fn encode<W: Write + Seek, K: TiffKind>(
         d.write_tag(Tag::GdalNodata, text.as_str()).map_err(error)?;
     }
     directory.finish().map_err(error)
-}
-
-/// Writes the georeferencing tags present in `tags`, unchanged.
-pub(crate) fn write_georeference<W: Write + Seek, K: TiffKind>(
-    d: &mut DirectoryEncoder<'_, W, K>,
-    path: &Path,
-    tags: &GeoTiffTags,
-) -> Result<(), IoError> {
-    let error = |e| encoding_error(path, e);
-    let doubles = [
-        (Tag::ModelPixelScaleTag, &tags.model_pixel_scale),
-        (Tag::ModelTiepointTag, &tags.model_tiepoint),
-        (Tag::ModelTransformationTag, &tags.model_transformation),
-        (Tag::GeoDoubleParamsTag, &tags.geo_double_params),
-    ];
-    for (tag, values) in doubles {
-        if let Some(values) = values {
-            d.write_tag(tag, &values[..]).map_err(error)?;
-        }
-    }
-    if let Some(keys) = &tags.geo_key_directory {
-        d.write_tag(Tag::GeoKeyDirectoryTag, &keys[..]).map_err(error)?;
-    }
-    if let Some(text) = &tags.geo_ascii_params {
-        write_ascii(d, path, Tag::GeoAsciiParamsTag, text)?;
-    }
-    Ok(())
-}
-
-/// Writes an ASCII tag from its bytes (UTF-8 allowed, as GDAL writes it), adding the
-/// terminating NUL when they lack one.
-fn write_ascii<W: Write + Seek, K: TiffKind>(
-    d: &mut DirectoryEncoder<'_, W, K>,
-    path: &Path,
-    tag: Tag,
-    bytes: &[u8],
-) -> Result<(), IoError> {
-    let mut data = bytes.to_vec();
-    if data.last() != Some(&0) {
-        data.push(0);
-    }
-    let entry = d.write_entry_bytes(Type::ASCII, &data).map_err(|e| encoding_error(path, e))?;
-    let mut entries = Directory::empty();
-    entries.extend([(tag, entry)]);
-    d.extend_from(&entries);
-    Ok(())
 }

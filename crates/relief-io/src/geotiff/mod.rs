@@ -6,6 +6,7 @@
 //! ([`write_rgb_geotiff`]). Where a GeoTIFF lies (its GeoKeys) is in `georef/`.
 
 pub(crate) mod chunks;
+pub(crate) mod float_strips;
 pub(crate) mod gdal_metadata;
 pub(crate) mod layers_read;
 pub(crate) mod layers_write;
@@ -14,7 +15,9 @@ pub(crate) mod rgb_write;
 pub(crate) mod rows;
 pub(crate) mod stored_chunk;
 pub(crate) mod strip_writer;
+pub(crate) mod tags;
 pub(crate) mod write;
+pub(crate) mod write_tags;
 
 pub use layers_read::read_layers_geotiff;
 pub use layers_write::write_layers_geotiff;

@@ -2,7 +2,7 @@
 //! tests and benchmarks of textured tile stores.
 
 use crate::atomic_write::write_atomically;
-use crate::geotiff::write::encoding_error;
+use crate::geotiff::write_tags::encoding_error;
 use crate::{Georeference, IoError};
 use tiff::encoder::{colortype, Compression, DeflateLevel, TiffEncoder};
 use tiff::tags::Tag;

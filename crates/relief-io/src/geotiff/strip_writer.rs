@@ -3,10 +3,8 @@
 //! is renamed into place when the last row is in.
 
 use crate::atomic_write::temp_path;
-use crate::geotiff::layers_write::write_georeference;
-use crate::geotiff::write::{
-    encoding_error, pack_strip, rows_per_strip, write_geometry_tags, FloatStrips, BIG_TIFF_FROM,
-};
+use crate::geotiff::float_strips::{pack_strip, rows_per_strip, FloatStrips, BIG_TIFF_FROM};
+use crate::geotiff::write_tags::{encoding_error, write_geometry_tags, write_georeference};
 use crate::{Georeference, IoError};
 use rayon::prelude::*;
 use relief_core::GridGeometry;

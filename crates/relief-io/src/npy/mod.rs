@@ -9,6 +9,6 @@ pub(crate) mod rows;
 pub(crate) mod write;
 
 pub use npz::read_npz;
-pub use raster::read_npy;
-pub use read::{read_npy_f32_array, read_npy_height_field};
+pub use raster::{read_npy, read_npy_height_field};
+pub use read::read_npy_f32_array;
 pub use write::{write_height_field_npy, write_npy_f32};

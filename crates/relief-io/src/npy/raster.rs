@@ -2,9 +2,9 @@
 
 use crate::input_file::open_input;
 use crate::npy::read::{read_npy_array_from, NpyArray};
-use crate::raster::{mark_voids, Format, Raster, RasterInfo, ReadOptions};
+use crate::raster::{mark_voids, Format, Raster, RasterInfo, ReadOptions, VoidPolicy};
 use crate::IoError;
-use relief_core::GridGeometry;
+use relief_core::{GridGeometry, HeightField};
 use std::io::{BufReader, Read};
 use std::path::Path;
 
@@ -42,6 +42,24 @@ pub(crate) fn read_npy_from<R: Read>(
     npy_raster(path, array, Format::Npy)
 }
 
+/// Reads the 2D `.npy` array at `path` as a height field with [`GridGeometry::unit`].
+///
+/// Array row `r` becomes grid row `r` (no flip) and array column `c` grid column `c`.
+/// Elements may be int8, uint8, int16, uint16, int32, uint32, int64, uint64, float16, float32
+/// or float64, little- or big-endian, in C or Fortran order; they are converted to f32. The
+/// default [`ReadOptions`] apply (see [`read_npy`] for the raster with options).
+///
+/// Errors: [`IoError::Io`] when the file cannot be read, [`IoError::Format`] for a malformed or
+/// truncated file, an empty array, or a shape that disagrees with the data length,
+/// [`IoError::Unsupported`] for other dtypes or a number of dimensions other than 2,
+/// [`IoError::Limits`] for an array over the memory budget, and [`IoError::InvalidData`]
+/// naming the first NaN or infinite sample.
+///
+/// [`GridGeometry::unit`]: relief_core::GridGeometry::unit
+pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
+    read_npy(path, &ReadOptions::default())?.into_height_field(path, VoidPolicy::Fill)
+}
+
 /// The raster of a decoded array (read from a file of `format`): refuses non-finite samples.
 pub(crate) fn npy_raster(path: &Path, array: NpyArray, format: Format) -> Result<Raster, IoError> {
     let NpyArray { rows, cols, mut samples, dtype } = array;
@@ -66,8 +84,8 @@ pub(crate) fn npy_raster(path: &Path, array: NpyArray, format: Format) -> Result
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::npy::write_npy_f32;
     use crate::test_dir::TestDir;
-    use crate::write_npy_f32;
 
     #[test]
     fn rows_are_not_flipped_and_info_names_the_dtype() {

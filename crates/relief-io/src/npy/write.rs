@@ -46,7 +46,7 @@ pub fn write_height_field_npy(path: &Path, field: &HeightField) -> Result<(), Io
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::read_npy_height_field;
+    use crate::npy::read_npy_height_field;
     use crate::test_dir::TestDir;
     use relief_core::GridGeometry;
 

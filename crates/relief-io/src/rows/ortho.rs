@@ -2,7 +2,7 @@
 //! row on, with its georeference: the colour a tile store drapes over its DEM, read in bands so
 //! that a photo far larger than memory can be tiled.
 
-use crate::geotiff::read::{read_placement, tag_error, tiff_error};
+use crate::geotiff::tags::{read_placement, tag_error, tiff_error};
 use crate::input_file::open_input;
 use crate::{Georeference, IoError};
 use png::{ColorType as PngColour, DecodingError, Transformations};
