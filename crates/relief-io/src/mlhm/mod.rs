@@ -4,11 +4,13 @@
 
 pub(crate) mod native;
 pub(crate) mod scene;
+pub(crate) mod scene_header;
 
 pub use native::{
     read_mlhm_native, read_mlhm_native_from_bytes, write_mlhm_native, MLHM_NATIVE_VERSION,
 };
 pub use scene::{
-    parse_mlhm_scene_header, read_mlhm_scene, read_mlhm_scene_from_bytes, read_mlhm_scene_header,
-    write_mlhm_scene, MlhmScene, MlhmSceneHeader, SimulationState, F16_SLACK, F32_SLACK,
+    read_mlhm_scene, read_mlhm_scene_from_bytes, write_mlhm_scene, MlhmScene, SimulationState,
+    F16_SLACK, F32_SLACK,
 };
+pub use scene_header::{parse_mlhm_scene_header, read_mlhm_scene_header, MlhmSceneHeader};
