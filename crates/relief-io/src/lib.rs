@@ -64,6 +64,7 @@ pub mod stacks;
 
 mod atomic_write;
 mod error;
+mod format_error;
 mod georef;
 mod input_file;
 mod layer_raster;

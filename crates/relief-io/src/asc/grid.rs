@@ -18,6 +18,7 @@
 //! linear unit.
 
 use crate::atomic_write::write_atomically;
+use crate::format_error::FormatError;
 use crate::input_file::open_input;
 use crate::raster::{mark_voids, Format, Raster, RasterInfo, ReadOptions};
 use crate::{Georeference, IoError};
@@ -50,36 +51,32 @@ const WRITTEN_NODATA: f64 = -9999.0;
 /// the memory budget; [`IoError::InvalidData`] for a NaN or infinite sample.
 pub fn read_asc(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     let (file, len) = open_input(path)?;
-    let raster = read_asc_from(BufReader::new(file), len, path, options)?;
+    let raster = read_asc_from(BufReader::new(file), len, options).map_err(|e| e.at(path))?;
     crate::georef::sidecars::with_prj(path, raster)
 }
 
-/// [`read_asc`] from `reader` holding the `len` bytes of a grid; `path` names the file in
-/// errors.
+/// [`read_asc`] from `reader` holding the `len` bytes of a grid, before the file is named and
+/// without the CRS of a `.prj` beside it.
 pub(crate) fn read_asc_from<R: Read>(
     reader: R,
     len: u64,
-    path: &Path,
     options: &ReadOptions,
-) -> Result<Raster, IoError> {
-    let mut words = Words { reader: BufReader::new(reader), path, line: 1, word: Vec::new() };
+) -> Result<Raster, FormatError> {
+    let mut words = Words { reader: BufReader::new(reader), line: 1, word: Vec::new() };
     let header = read_header(&mut words)?;
     let (ncols, nrows) = (header.ncols, header.nrows);
-    options.check_size(path, ncols, nrows)?;
+    options.check_samples(ncols, nrows)?;
     // Each sample needs at least a digit and a separator.
     if ncols.saturating_mul(nrows) > len / 2 + 1 {
-        return Err(IoError::format(
-            path,
-            format!(
-                "header declares {ncols} x {nrows} samples, more than the {len}-byte file can hold"
-            ),
-        ));
+        return Err(FormatError::Format(format!(
+            "header declares {ncols} x {nrows} samples, more than the {len}-byte file can hold"
+        )));
     }
     // Both fit in usize: check_size bounds their product.
     let (width, height) = (ncols as usize, nrows as usize);
     let mut samples = vec![0f32; width * height];
     read_rows(&mut words, width, height, &mut samples)?;
-    mark_voids(path, &mut samples, width, header.nodata, true)?;
+    mark_voids(&mut samples, width, header.nodata, true)?;
     let origin = DVec2::new(header.x.corner(header.dx), header.y.corner(header.dy));
     let north = origin.y + height as f64 * header.dy;
     let georeference = Georeference::north_up_grid(origin.x, north, header.dx, header.dy);
@@ -143,21 +140,20 @@ enum Item {
 
 /// Splits a stream into words and line ends, counting lines, without holding more than a
 /// word in memory.
-struct Words<'p, R> {
+struct Words<R> {
     reader: BufReader<R>,
-    path: &'p Path,
     /// The line (from 1) of the next byte.
     line: u64,
     /// The last word read.
     word: Vec<u8>,
 }
 
-impl<R: Read> Words<'_, R> {
+impl<R: Read> Words<R> {
     /// The next word, line end or end of file.
-    fn next(&mut self) -> Result<Item, IoError> {
+    fn next(&mut self) -> Result<Item, FormatError> {
         self.word.clear();
         loop {
-            let buf = self.reader.fill_buf().map_err(|e| IoError::io(self.path, e))?;
+            let buf = self.reader.fill_buf().map_err(FormatError::Io)?;
             if buf.is_empty() {
                 return Ok(if self.word.is_empty() { Item::End } else { Item::Word });
             }
@@ -206,13 +202,13 @@ impl<R: Read> Words<'_, R> {
     }
 
     /// A format error at the current line.
-    fn error(&self, what: String) -> IoError {
-        IoError::format(self.path, format!("line {}: {what}", self.line))
+    fn error(&self, what: String) -> FormatError {
+        FormatError::Format(format!("line {}: {what}", self.line))
     }
 }
 
 /// Reads the header, leaving the first sample in `words.word`.
-fn read_header<R: Read>(words: &mut Words<'_, R>) -> Result<Header, IoError> {
+fn read_header<R: Read>(words: &mut Words<R>) -> Result<Header, FormatError> {
     const KEYS: [&str; 10] = [
         "ncols",
         "nrows",
@@ -246,7 +242,7 @@ fn read_header<R: Read>(words: &mut Words<'_, R>) -> Result<Header, IoError> {
         let key_line = words.line;
         if words.next()? != Item::Word {
             let reason = format!("line {key_line}: header key '{key}' has no value");
-            return Err(IoError::format(words.path, reason));
+            return Err(FormatError::Format(reason));
         }
         let value = if k < 2 {
             let count = words.number::<u64>().ok_or_else(|| {
@@ -308,11 +304,11 @@ fn read_header<R: Read>(words: &mut Words<'_, R>) -> Result<Header, IoError> {
 /// Reads `height` rows of `width` samples, the first already in `words.word`, north row first,
 /// into `samples` (row 0 south). Then only blank lines may follow.
 fn read_rows<R: Read>(
-    words: &mut Words<'_, R>,
+    words: &mut Words<R>,
     width: usize,
     height: usize,
     samples: &mut [f32],
-) -> Result<(), IoError> {
+) -> Result<(), FormatError> {
     let mut item = Item::Word;
     let (mut row, mut col) = (0, 0);
     while row < height {
@@ -343,10 +339,10 @@ fn read_rows<R: Read>(
             Item::Newline | Item::End => {
                 // The line count has moved past the line end: name the row's own line.
                 let line = words.line - u64::from(item == Item::Newline);
-                return Err(IoError::format(
-                    words.path,
-                    format!("line {line}: row {} has {col} samples, ncols is {width}", row + 1),
-                ));
+                return Err(FormatError::Format(format!(
+                    "line {line}: row {} has {col} samples, ncols is {width}",
+                    row + 1
+                )));
             }
         }
         if row < height {
@@ -442,7 +438,8 @@ mod tests {
 
     fn read(text: &str) -> Result<Raster, IoError> {
         let path = Path::new("grid.asc");
-        read_asc_from(text.as_bytes(), text.len() as u64, path, &ReadOptions::default())
+        read_asc_from(text.as_bytes(), text.len() as u64, &ReadOptions::default())
+            .map_err(|e| e.at(path))
     }
 
     fn format_error(text: &str) -> String {

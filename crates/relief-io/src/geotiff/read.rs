@@ -256,7 +256,8 @@ impl<R: Read + Seek> GeoTiffImage<R> {
             flip_rows(&mut samples, width);
         }
         let north_up = self.placement.north_up;
-        mark_voids(&self.path, &mut samples, width, self.info.nodata, north_up)?;
+        mark_voids(&mut samples, width, self.info.nodata, north_up)
+            .map_err(|e| e.at(&self.path))?;
         Ok(samples)
     }
 

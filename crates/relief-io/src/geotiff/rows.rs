@@ -143,7 +143,8 @@ impl RowSource for GeoTiffRows {
             }
             let at = (file_row - chunk_row * chunk_height) * width;
             values.copy_from_slice(&self.decoded[at..at + width]);
-            mark_row_voids(self.image.path(), values, file_row, self.image.info.nodata)?;
+            mark_row_voids(values, file_row, self.image.info.nodata)
+                .map_err(|e| e.at(self.image.path()))?;
         }
         Ok(())
     }

@@ -6,6 +6,7 @@
 //! exactly on the whole degree, so the texel grid starts half a pixel south-west of it.
 
 use crate::atomic_write::write_atomically;
+use crate::format_error::FormatError;
 use crate::georef::geodesy::metres_per_degree;
 use crate::input_file::open_input;
 use crate::raster::{mark_voids, DegreeSpacing, Format, Raster, RasterInfo, ReadOptions};
@@ -70,47 +71,49 @@ pub fn hgt_tile_corner(path: &Path) -> Option<(i32, i32)> {
 /// memory budget.
 pub fn read_hgt(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     let (file, len) = open_input(path)?;
-    read_hgt_from(BufReader::new(file), len, path, options)
+    read_hgt_from(BufReader::new(file), len, path, options).map_err(|e| e.at(path))
 }
 
-/// [`read_hgt`] from `reader` holding the `len` bytes of a tile; `path` names the file in
-/// errors and gives the tile name.
+/// [`read_hgt`] from `reader` holding the `len` bytes of a tile, before the file is named;
+/// `name`, the file's, places the tile.
 pub(crate) fn read_hgt_from<R: Read>(
     mut reader: R,
     len: u64,
-    path: &Path,
+    name: &Path,
     options: &ReadOptions,
-) -> Result<Raster, IoError> {
-    let n = hgt_side(path, len)?;
-    options.check_size(path, n as u64, n as u64)?;
+) -> Result<Raster, FormatError> {
+    let n = tile_side(len)?;
+    options.check_samples(n as u64, n as u64)?;
     let mut samples = vec![0f32; n * n];
     let mut row_bytes = vec![0u8; 2 * n];
     // The file's first row is the northernmost: it becomes the raster's last row.
     for row in samples.chunks_exact_mut(n).rev() {
         reader.read_exact(&mut row_bytes).map_err(|e| match e.kind() {
-            ErrorKind::UnexpectedEof => IoError::format(path, "truncated"),
-            _ => IoError::io(path, e),
+            ErrorKind::UnexpectedEof => FormatError::Format("truncated".into()),
+            _ => FormatError::Io(e),
         })?;
         for (v, b) in row.iter_mut().zip(row_bytes.chunks_exact(2)) {
             *v = f32::from(i16::from_be_bytes([b[0], b[1]]));
         }
     }
-    mark_voids(path, &mut samples, n, Some(f64::from(HGT_VOID)), true)?;
-    let (geometry, info) = hgt_placement(hgt_tile_corner(path), n);
+    mark_voids(&mut samples, n, Some(f64::from(HGT_VOID)), true)?;
+    let (geometry, info) = hgt_placement(hgt_tile_corner(name), n);
     Ok(Raster { width: n, height: n, samples, geometry, info })
 }
 
 /// The side of the SRTM tile `path` of `len` bytes: 1201 or 3601 samples; any other length
 /// is an [`IoError::Format`].
 pub(crate) fn hgt_side(path: &Path, len: u64) -> Result<usize, IoError> {
+    tile_side(len).map_err(|e| e.at(path))
+}
+
+/// [`hgt_side`] before the file is named.
+fn tile_side(len: u64) -> Result<usize, FormatError> {
     SIDES.into_iter().find(|&n| (2 * n * n) as u64 == len).ok_or_else(|| {
-        IoError::format(
-            path,
-            format!(
-                "an SRTM tile has 2884802 bytes (1201 x 1201, 3\") or 25934402 bytes \
-                 (3601 x 3601, 1\"); this file has {len}"
-            ),
-        )
+        FormatError::Format(format!(
+            "an SRTM tile has 2884802 bytes (1201 x 1201, 3\") or 25934402 bytes \
+             (3601 x 3601, 1\"); this file has {len}"
+        ))
     })
 }
 
@@ -237,7 +240,8 @@ mod tests {
     fn a_wrong_length_is_refused_before_reading() {
         let path = Path::new("N36W085.hgt");
         for len in [0, 1, 2 * 1201 * 1201 - 2, 2 * 1201 * 1201 + 2, 2 * 3600 * 3600, u64::MAX] {
-            let err = read_hgt_from(&[][..], len, path, &ReadOptions::default()).unwrap_err();
+            let err =
+                read_hgt_from(&[][..], len, path, &ReadOptions::default()).unwrap_err().at(path);
             assert!(matches!(err, IoError::Format { .. }), "{err}");
             assert!(err.to_string().contains(&format!("this file has {len}")), "{err}");
         }

@@ -63,7 +63,7 @@ pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
 /// The raster of a decoded array (read from a file of `format`): refuses non-finite samples.
 pub(crate) fn npy_raster(path: &Path, array: NpyArray, format: Format) -> Result<Raster, IoError> {
     let NpyArray { rows, cols, mut samples, dtype } = array;
-    mark_voids(path, &mut samples, cols, None, false)?;
+    mark_voids(&mut samples, cols, None, false).map_err(|e| e.at(path))?;
     Ok(Raster {
         width: cols,
         height: rows,

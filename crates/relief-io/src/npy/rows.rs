@@ -131,7 +131,7 @@ impl RowSource for NpyRows {
             })?;
         convert(&self.bytes, self.dtype, out);
         for (row, values) in (first_row..).zip(out.chunks_exact_mut(cols)) {
-            mark_row_voids(path, values, row, None)?;
+            mark_row_voids(values, row, None).map_err(|e| e.at(path))?;
         }
         Ok(())
     }

@@ -8,6 +8,7 @@
 //!
 //! A fully transparent pixel (alpha 0, in an image with an alpha channel) is a void.
 
+use crate::format_error::FormatError;
 use crate::input_file::open_input;
 use crate::png::write::{write_png, PngCompression};
 use crate::raster::{mark_voids, Format, PngEncoding, Raster, RasterInfo, ReadOptions};
@@ -51,24 +52,24 @@ struct Layout {
 /// memory budget.
 pub fn read_png_height(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     let (file, len) = open_input(path)?;
-    let raster = read_png_height_from(BufReader::new(file), len, path, options)?;
+    let raster =
+        read_png_height_from(BufReader::new(file), len, options).map_err(|e| e.at(path))?;
     crate::georef::sidecars::with_world_file(path, raster)
 }
 
-/// [`read_png_height`] from `reader` holding the `len` bytes of a PNG; `path` names the file
-/// in errors.
+/// [`read_png_height`] from `reader` holding the `len` bytes of a PNG, before the file is
+/// named and without the placement of a world file beside it.
 pub(crate) fn read_png_height_from<R: BufRead + Seek>(
     reader: R,
     len: u64,
-    path: &Path,
     options: &ReadOptions,
-) -> Result<Raster, IoError> {
+) -> Result<Raster, FormatError> {
     let map = |e: DecodingError| match e {
         DecodingError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
-            IoError::format(path, "truncated")
+            FormatError::Format("truncated".into())
         }
-        DecodingError::IoError(e) => IoError::io(path, e),
-        other => IoError::format(path, other.to_string()),
+        DecodingError::IoError(e) => FormatError::Io(e),
+        other => FormatError::Format(other.to_string()),
     };
     // A damaged tEXt chunk must not be skipped: its scale and offset are the heights'.
     let mut checks = png::DecodeOptions::default();
@@ -80,16 +81,15 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
     let (width, height) = info.size();
     let (color, depth, interlaced) = (info.color_type, info.bit_depth, info.interlaced);
     let encoding = options.png_encoding;
-    let declared = if encoding == PngEncoding::Grey { declared_scale(path, info)? } else { None };
-    let layout = layout(path, encoding, color, depth)?;
-    options.check_size(path, u64::from(width), u64::from(height))?;
+    let declared = if encoding == PngEncoding::Grey { declared_scale(info)? } else { None };
+    let layout = layout(encoding, color, depth)?;
+    options.check_samples(u64::from(width), u64::from(height))?;
     let pixel_bytes = (layout.channels * layout.channel_bytes) as u64;
     let image_bytes = (u64::from(width) * u64::from(height)).saturating_mul(pixel_bytes);
     if image_bytes > len.saturating_mul(MAX_INFLATION) {
-        return Err(IoError::format(
-            path,
-            format!("{width} x {height} pixels cannot fit in a file of {len} bytes"),
-        ));
+        return Err(FormatError::Format(format!(
+            "{width} x {height} pixels cannot fit in a file of {len} bytes"
+        )));
     }
     // Both fit in usize: check_size bounds their product.
     let (w, h) = (width as usize, height as usize);
@@ -98,7 +98,7 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
     let mut rows = samples.chunks_exact_mut(w).rev();
     if interlaced {
         let size = reader.output_buffer_size().ok_or_else(|| {
-            IoError::format(path, format!("{width} x {height} pixels is too large"))
+            FormatError::Format(format!("{width} x {height} pixels is too large"))
         })?;
         let mut buf = vec![0u8; size];
         let frame = reader.next_frame(&mut buf).map_err(map)?;
@@ -108,11 +108,11 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
     } else {
         for out in rows.by_ref() {
             let row = reader.next_row().map_err(map)?;
-            let row = row.ok_or_else(|| IoError::format(path, "image data ends early"))?;
+            let row = row.ok_or_else(|| FormatError::Format("image data ends early".into()))?;
             decode_row(row.data(), layout, encoding, out);
         }
         if reader.next_row().map_err(map)?.is_some() {
-            return Err(IoError::format(path, "more rows than the header declares"));
+            return Err(FormatError::Format("more rows than the header declares".into()));
         }
     }
     reader.finish().map_err(map)?;
@@ -122,7 +122,7 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
         }
     }
     // Decoded heights are finite; transparent pixels are already NaN, the only voids.
-    mark_voids(path, &mut samples, w, layout.alpha.then_some(f64::NAN), true)?;
+    mark_voids(&mut samples, w, layout.alpha.then_some(f64::NAN), true)?;
     let (format, sample_type) = match encoding {
         PngEncoding::Grey => {
             (Format::Png16, if depth == BitDepth::Sixteen { "uint16" } else { "uint8" })
@@ -151,12 +151,7 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
 }
 
 /// The pixel layout of a `color`/`depth` image for `encoding`, or why it cannot be used.
-fn layout(
-    path: &Path,
-    encoding: PngEncoding,
-    color: ColorType,
-    depth: BitDepth,
-) -> Result<Layout, IoError> {
+fn layout(encoding: PngEncoding, color: ColorType, depth: BitDepth) -> Result<Layout, FormatError> {
     let channel_bytes = match depth {
         BitDepth::Eight => 1,
         BitDepth::Sixteen => 2,
@@ -193,14 +188,11 @@ fn layout(
         ColorType::Rgba => "RGBA",
         ColorType::Indexed => "palette (indexed-colour)",
     };
-    Err(IoError::unsupported(
-        path,
-        format!(
-            "{}-bit {colour} PNG: {need} (choose how the pixels encode heights with \
-             --png-encoding grey|terrain-rgb|terrarium)",
-            depth as u8
-        ),
-    ))
+    Err(FormatError::Unsupported(format!(
+        "{}-bit {colour} PNG: {need} (choose how the pixels encode heights with \
+         --png-encoding grey|terrain-rgb|terrarium)",
+        depth as u8
+    )))
 }
 
 /// Decodes one image row of `layout` pixels into heights, NaN for a transparent pixel.
@@ -356,9 +348,8 @@ pub fn write_png16_height(path: &Path, field: &HeightField) -> Result<(), IoErro
 /// [`write_png16_height_in`]); `None` when it declares none. A scale or offset that is not a
 /// finite number (or a zero scale), or an unknown unit, is a format error.
 fn declared_scale(
-    path: &Path,
     info: &png::Info<'_>,
-) -> Result<Option<(PngHeightScale, HeightUnit)>, IoError> {
+) -> Result<Option<(PngHeightScale, HeightUnit)>, FormatError> {
     let find = |keyword: &str| {
         info.uncompressed_latin1_text.iter().find(|t| t.keyword == keyword).map(|t| t.text.trim())
     };
@@ -368,7 +359,7 @@ fn declared_scale(
     };
     let number = |keyword: &str, text: &str| {
         text.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-            IoError::format(path, format!("tEXt {keyword} '{text}' is not a finite number"))
+            FormatError::Format(format!("tEXt {keyword} '{text}' is not a finite number"))
         })
     };
     let scale = PngHeightScale {
@@ -376,7 +367,7 @@ fn declared_scale(
         offset: number(PNG_HEIGHT_OFFSET, offset)?,
     };
     if scale.scale == 0.0 {
-        return Err(IoError::format(path, "tEXt height_scale is 0"));
+        return Err(FormatError::Format("tEXt height_scale is 0".into()));
     }
     let unit = match find(PNG_HEIGHT_UNIT) {
         None => HeightUnit::new(
@@ -385,10 +376,9 @@ fn declared_scale(
         ),
         Some(name) => {
             let unit = LengthUnit::ALL.into_iter().find(|u| u.name() == name).ok_or_else(|| {
-                IoError::format(
-                    path,
-                    format!("tEXt height_unit '{name}' (expected metre, foot or US survey foot)"),
-                )
+                FormatError::Format(format!(
+                    "tEXt height_unit '{name}' (expected metre, foot or US survey foot)"
+                ))
             })?;
             HeightUnit::new(unit, "the PNG's tEXt height_unit")
         }
