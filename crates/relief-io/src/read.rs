@@ -76,7 +76,9 @@ fn decode<R: BufRead + Seek>(
     options: &ReadOptions,
 ) -> Result<Raster, IoError> {
     match format {
-        Format::Npy => crate::npy::raster::read_npy_from(reader, len, path, options),
+        Format::Npy => {
+            crate::npy::raster::read_npy_from(reader, len, options).map_err(|e| e.at(path))
+        }
         Format::Npz => crate::npy::npz::read_npz_from(reader, len, path, options),
         Format::GeoTiff => crate::geotiff::read::read_geotiff_from(reader, path, options),
         Format::Hgt => {

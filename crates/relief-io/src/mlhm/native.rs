@@ -382,7 +382,7 @@ impl<R: Read + Seek> Archive<'_, R> {
         let tag = |e: IoError| in_member(e, &member_name);
         let mut member = self.zip.by_index(index).map_err(|e| tag(zip_error(path, e)))?;
         let size = checked_member_size(&member, path, self.len).map_err(tag)?;
-        let header = read_header(path, &mut member, size).map_err(tag)?;
+        let header = read_header(&mut member, size).map_err(|e| tag(e.at(path)))?;
         let head = ArrayHead {
             name: member_name.clone(),
             dtype: header.dtype,

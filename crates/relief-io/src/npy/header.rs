@@ -4,10 +4,9 @@
 //! for version 1, u32 LE for versions 2 and 3), then a Python dict literal with the keys
 //! `descr`, `fortran_order` and `shape`, padded with spaces and ended by a newline.
 
+use crate::format_error::FormatError;
 use crate::sample_type::SampleType;
-use crate::IoError;
 use std::io::{ErrorKind, Read};
-use std::path::Path;
 
 /// The bytes every `.npy` file starts with.
 pub(crate) const MAGIC: &[u8; 6] = b"\x93NUMPY";
@@ -117,23 +116,19 @@ fn malformed<T>(msg: impl Into<String>) -> Result<T, Problem> {
     Err(Problem::Malformed(msg.into()))
 }
 
-/// Reads the preamble and header of the `.npy` file `path` of `file_len` bytes from `reader`,
-/// leaving `reader` at the first data byte.
-pub(crate) fn read_header(
-    path: &Path,
-    reader: &mut impl Read,
-    file_len: u64,
-) -> Result<NpyHeader, IoError> {
+/// Reads the preamble and header of a `.npy` file of `file_len` bytes from `reader`, leaving
+/// `reader` at the first data byte.
+pub(crate) fn read_header(reader: &mut impl Read, file_len: u64) -> Result<NpyHeader, FormatError> {
     let read = |reader: &mut dyn Read, buf: &mut [u8], what: &str| {
         reader.read_exact(buf).map_err(|e| match e.kind() {
-            ErrorKind::UnexpectedEof => IoError::format(path, format!("truncated in the {what}")),
-            _ => IoError::io(path, e),
+            ErrorKind::UnexpectedEof => FormatError::Format(format!("truncated in the {what}")),
+            _ => FormatError::Io(e),
         })
     };
     let mut start = [0u8; 8];
     read(reader, &mut start, "preamble")?;
     if &start[..6] != MAGIC {
-        return Err(IoError::format(path, "not a .npy file (wrong magic bytes)"));
+        return Err(FormatError::Format("not a .npy file (wrong magic bytes)".into()));
     }
     let (header_len, preamble_len) = match start[6] {
         1 => {
@@ -147,30 +142,28 @@ pub(crate) fn read_header(
             (u64::from(u32::from_le_bytes(len)), 12)
         }
         major => {
-            return Err(IoError::unsupported(
-                path,
-                format!(".npy format version {major}.{}", start[7]),
-            ))
+            return Err(FormatError::Unsupported(format!(
+                ".npy format version {major}.{}",
+                start[7]
+            )))
         }
     };
     if header_len > file_len.saturating_sub(preamble_len) {
-        return Err(IoError::format(
-            path,
-            format!("header length {header_len} runs past the end of the {file_len}-byte file"),
-        ));
+        return Err(FormatError::Format(format!(
+            "header length {header_len} runs past the end of the {file_len}-byte file"
+        )));
     }
     if header_len > MAX_HEADER_LEN {
-        return Err(IoError::unsupported(
-            path,
-            format!("header of {header_len} bytes (at most {MAX_HEADER_LEN})"),
-        ));
+        return Err(FormatError::Unsupported(format!(
+            "header of {header_len} bytes (at most {MAX_HEADER_LEN})"
+        )));
     }
     // Bounded by the checks above.
     let mut text = vec![0u8; header_len as usize];
     read(reader, &mut text, "header")?;
     let (dtype, fortran_order, shape) = parse_dict(&text).map_err(|p| match p {
-        Problem::Malformed(reason) => IoError::format(path, format!("header: {reason}")),
-        Problem::Unsupported(what) => IoError::unsupported(path, what),
+        Problem::Malformed(reason) => FormatError::Format(format!("header: {reason}")),
+        Problem::Unsupported(what) => FormatError::Unsupported(what),
     })?;
     Ok(NpyHeader { dtype, fortran_order, shape, data_offset: preamble_len + header_len })
 }
@@ -387,6 +380,8 @@ fn parse_descr(descr: &str) -> Option<Dtype> {
 mod tests {
     use super::*;
     use crate::sample_type::SampleType::*;
+    use crate::IoError;
+    use std::path::Path;
     use ScalarKind::Sample;
 
     fn header(dict: &str) -> Result<NpyHeader, IoError> {
@@ -394,7 +389,7 @@ mod tests {
         bytes.extend_from_slice(&[1, 0]);
         bytes.extend_from_slice(&(dict.len() as u16).to_le_bytes());
         bytes.extend_from_slice(dict.as_bytes());
-        read_header(Path::new("t.npy"), &mut &bytes[..], bytes.len() as u64)
+        read_header(&mut &bytes[..], bytes.len() as u64).map_err(|e| e.at(Path::new("t.npy")))
     }
 
     #[test]
@@ -442,7 +437,8 @@ mod tests {
     fn header_length_past_the_file_is_refused_before_reading() {
         let mut bytes = MAGIC.to_vec();
         bytes.extend_from_slice(&[2, 0, 0xff, 0xff, 0xff, 0xff]);
-        let err = read_header(Path::new("t.npy"), &mut &bytes[..], bytes.len() as u64);
+        let err =
+            read_header(&mut &bytes[..], bytes.len() as u64).map_err(|e| e.at(Path::new("t.npy")));
         assert!(matches!(err, Err(IoError::Format { .. })));
     }
 
@@ -453,7 +449,9 @@ mod tests {
             let bytes = header_bytes(f32, shape).unwrap();
             assert_eq!(bytes.len() % 64, 0);
             assert_eq!(bytes.last(), Some(&b'\n'));
-            let h = read_header(Path::new("t.npy"), &mut &bytes[..], bytes.len() as u64).unwrap();
+            let h = read_header(&mut &bytes[..], bytes.len() as u64)
+                .map_err(|e| e.at(Path::new("t.npy")))
+                .unwrap();
             assert_eq!(h.shape, shape.iter().map(|&d| d as u64).collect::<Vec<_>>());
             assert_eq!(h.dtype, f32);
             assert!(!h.fortran_order);
@@ -473,8 +471,9 @@ mod tests {
                 let text = String::from_utf8_lossy(&bytes);
                 assert!(text.contains(&format!("'descr': '{}'", dtype.descr())), "{text}");
                 assert_eq!(bytes.len() % 64, 0);
-                let h =
-                    read_header(Path::new("t.npy"), &mut &bytes[..], bytes.len() as u64).unwrap();
+                let h = read_header(&mut &bytes[..], bytes.len() as u64)
+                    .map_err(|e| e.at(Path::new("t.npy")))
+                    .unwrap();
                 assert_eq!(h.dtype.kind, kind);
                 // Single bytes are written without a byte order (`|`).
                 if kind.size() > 1 {

@@ -50,9 +50,9 @@ pub(crate) fn read_npz_from<R: Read + Seek>(
     let tag = |e: IoError| in_member(e, &name);
     let mut member = archive.by_index(index).map_err(|e| tag(zip_error(path, e)))?;
     let size = checked_member_size(&member, path, len).map_err(tag)?;
-    let array = read_npy_array_from(&mut member, size, path, options).map_err(tag)?;
+    let array = read_npy_array_from(&mut member, size, options).map_err(|e| tag(e.at(path)))?;
     check_member_end(&mut member, path).map_err(tag)?;
-    npy_raster(path, array, Format::Npz).map_err(tag)
+    npy_raster(array, Format::Npz).map_err(|e| tag(e.at(path)))
 }
 
 /// The size `member` of an archive of `len` bytes declares, once checked against its

@@ -1,5 +1,6 @@
 //! A 2D NumPy `.npy` array as a [`Raster`]: no georeference, no flip, no nodata.
 
+use crate::format_error::FormatError;
 use crate::input_file::open_input;
 use crate::npy::read::{read_npy_array_from, NpyArray};
 use crate::raster::{mark_voids, Format, Raster, RasterInfo, ReadOptions, VoidPolicy};
@@ -27,19 +28,18 @@ use std::path::Path;
 /// beyond f32's range).
 pub fn read_npy(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     let (file, len) = open_input(path)?;
-    read_npy_from(BufReader::new(file), len, path, options)
+    read_npy_from(BufReader::new(file), len, options).map_err(|e| e.at(path))
 }
 
-/// [`read_npy`] from `reader` holding the `len` bytes of a `.npy` file; `path` names it in
-/// errors.
+/// [`read_npy`] from `reader` holding the `len` bytes of a `.npy` file, before the file is
+/// named.
 pub(crate) fn read_npy_from<R: Read>(
     reader: R,
     len: u64,
-    path: &Path,
     options: &ReadOptions,
-) -> Result<Raster, IoError> {
-    let array = read_npy_array_from(reader, len, path, options)?;
-    npy_raster(path, array, Format::Npy)
+) -> Result<Raster, FormatError> {
+    let array = read_npy_array_from(reader, len, options)?;
+    npy_raster(array, Format::Npy)
 }
 
 /// Reads the 2D `.npy` array at `path` as a height field with [`GridGeometry::unit`].
@@ -61,9 +61,9 @@ pub fn read_npy_height_field(path: &Path) -> Result<HeightField, IoError> {
 }
 
 /// The raster of a decoded array (read from a file of `format`): refuses non-finite samples.
-pub(crate) fn npy_raster(path: &Path, array: NpyArray, format: Format) -> Result<Raster, IoError> {
+pub(crate) fn npy_raster(array: NpyArray, format: Format) -> Result<Raster, FormatError> {
     let NpyArray { rows, cols, mut samples, dtype } = array;
-    mark_voids(&mut samples, cols, None, false).map_err(|e| e.at(path))?;
+    mark_voids(&mut samples, cols, None, false)?;
     Ok(Raster {
         width: cols,
         height: rows,
@@ -132,7 +132,7 @@ mod tests {
         write_npy_f32(&path, &[1, 2], &[7.0, 8.0]).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         let raster =
-            read_npy_from(&bytes[..], bytes.len() as u64, &path, &ReadOptions::default()).unwrap();
+            read_npy_from(&bytes[..], bytes.len() as u64, &ReadOptions::default()).unwrap();
         assert_eq!(raster.samples, [7.0, 8.0]);
     }
 }

@@ -1,5 +1,6 @@
 //! Reading a 2D NumPy `.npy` array: the streaming decoder shared by `.npy` and `.npz` readers.
 
+use crate::format_error::FormatError;
 use crate::npy::header::{read_header, Dtype, ScalarKind};
 use crate::raster::ReadOptions;
 use crate::sample_type::SampleType;
@@ -20,7 +21,8 @@ pub fn read_npy_f32_array(
     options: &ReadOptions,
 ) -> Result<(usize, usize, Vec<f32>), IoError> {
     let (file, len) = crate::input_file::open_input(path)?;
-    let array = read_npy_array_from(std::io::BufReader::new(file), len, path, options)?;
+    let array =
+        read_npy_array_from(std::io::BufReader::new(file), len, options).map_err(|e| e.at(path))?;
     Ok((array.rows, array.cols, array.samples))
 }
 
@@ -39,43 +41,40 @@ pub(crate) struct NpyArray {
 
 /// Reads a 2D `.npy` array of `len` bytes from `reader`, streaming: the header's shape must
 /// agree with `len` and pass [`ReadOptions::check_size`] before the samples are allocated,
-/// and exactly the data bytes are read (nothing past them). `path` names the file in errors.
+/// and exactly the data bytes are read (nothing past them); errors do not name the file.
 pub(crate) fn read_npy_array_from<R: Read>(
     mut reader: R,
     len: u64,
-    path: &Path,
     options: &ReadOptions,
-) -> Result<NpyArray, IoError> {
-    let header = read_header(path, &mut reader, len)?;
+) -> Result<NpyArray, FormatError> {
+    let header = read_header(&mut reader, len)?;
     let (rows, cols) = match header.shape[..] {
         [rows, cols] => (rows, cols),
         ref shape => {
-            return Err(IoError::unsupported(
-                path,
-                format!("{}-dimensional array of shape {shape:?}; need 2 dimensions", shape.len()),
-            ))
+            return Err(FormatError::Unsupported(format!(
+                "{}-dimensional array of shape {shape:?}; need 2 dimensions",
+                shape.len()
+            )))
         }
     };
     if rows == 0 || cols == 0 {
-        return Err(IoError::format(path, format!("array of shape ({rows}, {cols}) is empty")));
+        return Err(FormatError::Format(format!("array of shape ({rows}, {cols}) is empty")));
     }
     let size = header.dtype.size();
     let data_len = len.saturating_sub(header.data_offset);
     let needed = rows.checked_mul(cols).and_then(|n| n.checked_mul(size as u64));
     if needed != Some(data_len) {
-        return Err(IoError::format(
-            path,
-            format!(
+        return Err(FormatError::Format(format!(
                 "shape ({rows}, {cols}) of {size}-byte elements needs {} data bytes, the file has {data_len}",
                 needed.map_or("more than 2^64".into(), |n| n.to_string())
             ),
         ));
     }
-    options.check_size(path, cols, rows)?;
+    options.check_samples(cols, rows)?;
     let (Ok(rows), Ok(cols)) = (usize::try_from(rows), usize::try_from(cols)) else {
-        return Err(IoError::unsupported(path, format!("shape ({rows}, {cols}) on this machine")));
+        return Err(FormatError::Unsupported(format!("shape ({rows}, {cols}) on this machine")));
     };
-    let samples = decode(path, &mut reader, header.dtype, rows, cols, header.fortran_order)?;
+    let samples = decode(&mut reader, header.dtype, rows, cols, header.fortran_order)?;
     Ok(NpyArray { rows, cols, samples, dtype: header.dtype })
 }
 
@@ -83,21 +82,20 @@ pub(crate) fn read_npy_array_from<R: Read>(
 /// When `fortran` says the file stores the array column by column, each chunk is scattered to
 /// its row-major places, so no second copy of the array is made.
 fn decode(
-    path: &Path,
     reader: &mut impl Read,
     dtype: Dtype,
     rows: usize,
     cols: usize,
     fortran: bool,
-) -> Result<Vec<f32>, IoError> {
+) -> Result<Vec<f32>, FormatError> {
     let size = dtype.size();
     let count = rows * cols;
     let mut samples = vec![0f32; count];
     let mut bytes = vec![0u8; CHUNK];
     let mut read_chunk = |chunk: &mut [u8]| {
         reader.read_exact(chunk).map_err(|e| match e.kind() {
-            ErrorKind::UnexpectedEof => IoError::format(path, "truncated in the data"),
-            _ => IoError::io(path, e),
+            ErrorKind::UnexpectedEof => FormatError::Format("truncated in the data".into()),
+            _ => FormatError::Io(e),
         })
     };
     if !fortran {

@@ -42,7 +42,7 @@ impl NpyRows {
     pub(crate) fn open(path: &Path) -> Result<NpyOpened, IoError> {
         let (file, len) = open_input(path)?;
         let mut reader = BufReader::new(file);
-        let header = read_header(path, &mut reader, len)?;
+        let header = read_header(&mut reader, len).map_err(|e| e.at(path))?;
         let (rows, cols) = match header.shape[..] {
             [rows, cols] => (rows, cols),
             ref shape => {
