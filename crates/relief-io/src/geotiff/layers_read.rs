@@ -14,12 +14,12 @@ use tiff::tags::Tag;
 /// voids (GDAL_NODATA) as NaN, each layer named by its band's description (GDAL_METADATA),
 /// `band N` (from 1) where there is none, with the file's georeference and nodata value.
 ///
-/// Bands are read as [`read_geotiff`](crate::read_geotiff) reads its one band (every sample
+/// Bands are read as [`read_geotiff`](crate::geotiff::read_geotiff) reads its one band (every sample
 /// type, compression and chunk layout it reads); several bands must be stored in separate
 /// planes (PlanarConfiguration 2), as relief and GDAL write them. The memory budget must hold
 /// every band.
 ///
-/// Errors: those of [`read_geotiff`](crate::read_geotiff), and [`IoError::Unsupported`] for
+/// Errors: those of [`read_geotiff`](crate::geotiff::read_geotiff), and [`IoError::Unsupported`] for
 /// several bands interleaved pixel by pixel.
 pub fn read_layers_geotiff(path: &Path, options: &ReadOptions) -> Result<LayerRaster, IoError> {
     let (file, _) = open_input(path)?;

@@ -25,7 +25,7 @@ use tiff::tags::Tag;
 /// file. Errors: [`IoError::Io`] when writing fails, [`IoError::Unsupported`] for a side
 /// longer than 2^32 - 1 samples, [`IoError::InvalidData`] when `value * z_scale` overflows f32.
 ///
-/// [`read_geotiff`]: crate::read_geotiff
+/// [`read_geotiff`]: crate::geotiff::read_geotiff
 pub fn write_geotiff(path: &Path, field: &HeightField) -> Result<(), IoError> {
     write_geotiff_placed(path, field, None)
 }

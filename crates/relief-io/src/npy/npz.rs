@@ -21,7 +21,7 @@ const LISTED_NAMES: usize = 20;
 ///
 /// `options.array` names the member, as `NAME` or `NAME.npy` (the names `numpy.savez` gives
 /// its keyword arguments); without it the first member in archive order is read. The member
-/// is decoded as by [`read_npy`](crate::read_npy): no georeference, array row `r` is grid
+/// is decoded as by [`read_npy`](crate::npy::read_npy): no georeference, array row `r` is grid
 /// row `r`, NaN and infinities refused. Members may be stored or deflated; they are
 /// decompressed as a stream, and never past their declared size, whose consistency with the
 /// member's compressed size and its `.npy` header is checked before anything is allocated.

@@ -18,15 +18,15 @@ use std::path::PathBuf;
 /// request (see [`open_rows`] for how each input is read).
 ///
 /// - `.hgt` tiles are placed by their names (`N37W119.hgt`, see
-///   [`hgt_tile_corner`](crate::hgt_tile_corner)) and must all be of one size (1201 or 3601
+///   [`hgt_tile_corner`](crate::hgt::hgt_tile_corner)) and must all be of one size (1201 or 3601
 ///   samples a side). Neighbouring tiles share their edge rows and columns, so `a x b` tiles
 ///   of 3601 samples make `3600 a + 1` columns by `3600 b + 1` rows. The geometry is that
-///   [`read_hgt`](crate::read_hgt) gives a tile, over the whole mosaic: degrees converted to
+///   [`read_hgt`](crate::hgt::read_hgt) gives a tile, over the whole mosaic: degrees converted to
 ///   metres at the mosaic's central latitude, so that a mosaic of one tile is that tile.
 /// - GeoTIFFs are placed by their georeference. They must share the pixel size (to a
 ///   relative 1e-9), the model (projected or geographic) and the coordinate reference system
 ///   (the GeoKeys, apart from citations and the raster type), and their samples must lie on
-///   one grid (to 1e-3 pixel). The geometry is that [`read_geotiff`](crate::read_geotiff)
+///   one grid (to 1e-3 pixel). The geometry is that [`read_geotiff`](crate::geotiff::read_geotiff)
 ///   would give one file covering the mosaic (geographic rasters converted at the mosaic's
 ///   central latitude).
 ///

@@ -13,7 +13,7 @@ use std::path::Path;
 ///
 /// Streamed, whatever the file's size:
 /// - GeoTIFF: only the strips or tiles covering the rows asked for are decoded (any
-///   compression [`read_geotiff`](crate::read_geotiff) reads), one row of strips or tiles
+///   compression [`read_geotiff`](crate::geotiff::read_geotiff) reads), one row of strips or tiles
 ///   at a time; the last decoded row of them is kept for the next request. Memory: one row
 ///   of strips or tiles as f32 plus one stored strip or tile, which must fit in
 ///   `options.max_memory` ([`IoError::Limits`] otherwise, for a file of a single huge strip);
