@@ -9,6 +9,7 @@
 //!   topmost column's ceiling `+inf`; the slots above a cell's layer count are zeros.
 
 use crate::atomic_write::write_atomically;
+use crate::format_error::FormatError;
 use crate::input_file::open_input;
 use crate::npy::header::{header_bytes, read_header, Dtype, ScalarKind};
 use crate::npy::npz::{check_member_end, checked_member_size, in_member, zip_error};
@@ -66,7 +67,7 @@ const WRITE_CHUNK_SLOTS: usize = 1 << 12;
 /// other broken invariant of [`Mlhm::validate`].
 pub fn read_mlhm_native(path: &Path, options: &ReadOptions) -> Result<Mlhm, IoError> {
     let (file, len) = open_input(path)?;
-    read_from(BufReader::new(file), len, path, options)
+    read_from(BufReader::new(file), len, options).map_err(|e| e.at(path))
 }
 
 /// [`read_mlhm_native`] of the archive held in `bytes`; `path` names it in errors. Used by
@@ -76,7 +77,7 @@ pub fn read_mlhm_native_from_bytes(
     path: &Path,
     options: &ReadOptions,
 ) -> Result<Mlhm, IoError> {
-    read_from(Cursor::new(bytes), bytes.len() as u64, path, options)
+    read_from(Cursor::new(bytes), bytes.len() as u64, options).map_err(|e| e.at(path))
 }
 
 /// Writes `map` as a `.mlhm` file at `path`, atomically: columns in float16 when the map is
@@ -170,73 +171,67 @@ fn write_columns(w: &mut impl Write, map: &Mlhm, half: bool) -> std::io::Result<
 fn read_from<R: Read + Seek>(
     reader: R,
     len: u64,
-    path: &Path,
     options: &ReadOptions,
-) -> Result<Mlhm, IoError> {
-    let zip = ZipArchive::new(reader).map_err(|e| zip_error(path, e))?;
-    let mut archive = Archive { zip, len, path };
+) -> Result<Mlhm, FormatError> {
+    let zip = ZipArchive::new(reader).map_err(zip_error)?;
+    let mut archive = Archive { zip, len };
 
     let version = archive.read_array(VERSION_ARRAY, |head| {
-        check_scalar(head, path, "an integer", ScalarKind::is_integer)?;
+        check_scalar(head, "an integer", ScalarKind::is_integer)?;
         Ok(SCALAR_MEMBER_BYTES)
     })?;
     let version = version.value(0);
     if version != f64::from(MLHM_NATIVE_VERSION) {
-        return Err(IoError::unsupported(
-            path,
-            format!(
-                ".mlhm format version {version} (this relief reads version {MLHM_NATIVE_VERSION})"
-            ),
-        ));
+        return Err(FormatError::Unsupported(format!(
+            ".mlhm format version {version} (this relief reads version {MLHM_NATIVE_VERSION})"
+        )));
     }
 
     let cell_size = archive.read_array(CELL_SIZE_ARRAY, |head| {
-        check_scalar(head, path, "float64 or float32", ScalarKind::is_float)?;
+        check_scalar(head, "float64 or float32", ScalarKind::is_float)?;
         Ok(SCALAR_MEMBER_BYTES)
     })?;
     let cell_size = cell_size.value(0);
     if !(cell_size.is_finite() && cell_size > 0.0) {
-        return Err(IoError::invalid_data(
-            path,
-            format!("cell_size is {cell_size}, not a finite number of metres > 0"),
-        ));
+        return Err(FormatError::InvalidData(format!(
+            "cell_size is {cell_size}, not a finite number of metres > 0"
+        )));
     }
 
     let counts = archive.read_array(LAYER_COUNTS_ARRAY, |head| {
-        check_dtype(head, path, "uint8", |kind| kind == ScalarKind::Sample(SampleType::U8))?;
+        check_dtype(head, "uint8", |kind| kind == ScalarKind::Sample(SampleType::U8))?;
         let &[height, width] = &head.shape[..] else {
-            return Err(wrong_shape(path, head, "2 dimensions (H, W)"));
+            return Err(wrong_shape(head, "2 dimensions (H, W)"));
         };
-        check_not_empty(head, path)?;
-        budget(path, width, height, width.saturating_mul(height), options)
+        check_not_empty(head)?;
+        budget(width, height, width.saturating_mul(height), options)
     })?;
     let (height, width) = (counts.shape[0], counts.shape[1]);
 
     let columns = archive.read_array(COLUMNS_ARRAY, |head| {
-        check_dtype(head, path, "float32 or float16", |kind| {
+        check_dtype(head, "float32 or float16", |kind| {
             kind == ScalarKind::Sample(SampleType::F32) || kind == ScalarKind::F16
         })?;
         let &[layers, h, w, 4] = &head.shape[..] else {
-            return Err(wrong_shape(path, head, "4 dimensions (L, H, W, 4)"));
+            return Err(wrong_shape(head, "4 dimensions (L, H, W, 4)"));
         };
-        check_not_empty(head, path)?;
+        check_not_empty(head)?;
         if (h, w) != (height, width) {
             let expected =
                 format!("(L, {height}, {width}, 4) as layer_counts is ({height}, {width})");
-            return Err(wrong_shape(path, head, &expected));
+            return Err(wrong_shape(head, &expected));
         }
         if layers > MAX_LAYERS {
-            return Err(IoError::unsupported(
-                path,
-                format!("{layers} layers in '{COLUMNS_ARRAY}' (at most {MAX_LAYERS})"),
-            ));
+            return Err(FormatError::Unsupported(format!(
+                "{layers} layers in '{COLUMNS_ARRAY}' (at most {MAX_LAYERS})"
+            )));
         }
         let slots = layers.saturating_mul(width).saturating_mul(height);
         let raw = slots.saturating_mul(4 * head.dtype.size() as u64);
         let needed = raw
             .saturating_add(slots.saturating_mul(DECODED_SLOT_BYTES))
             .saturating_add(counts.len());
-        budget(path, width, height, needed, options)
+        budget(width, height, needed, options)
     })?;
     let layers = columns.shape[0];
     let half = columns.dtype.kind == ScalarKind::F16;
@@ -249,7 +244,7 @@ fn read_from<R: Read + Seek>(
     drop(counts);
     let slots = decode_columns(&columns, &layer_counts, layers);
     drop(columns);
-    let invalid = |e: relief_core::CoreError| IoError::invalid_data(path, e.to_string());
+    let invalid = |e: relief_core::CoreError| FormatError::InvalidData(e.to_string());
     let map =
         Mlhm::from_parts(width, height, layers, cell_size, layer_counts, slots).map_err(invalid)?;
     match precision {
@@ -277,11 +272,10 @@ fn decode_columns(columns: &Array, layer_counts: &[u8], layers: usize) -> Vec<Ml
     slots
 }
 
-/// An open archive: its reader, its length in bytes and its path for errors.
-struct Archive<'a, R> {
+/// An open archive: its reader and its length in bytes.
+struct Archive<R> {
     zip: ZipArchive<R>,
     len: u64,
-    path: &'a Path,
 }
 
 /// What a member's `.npy` header declares.
@@ -362,7 +356,7 @@ impl Array {
     }
 }
 
-impl<R: Read + Seek> Archive<'_, R> {
+impl<R: Read + Seek> Archive<R> {
     /// Reads the array `name` (the member `name.npy`, or `name`). Once its header is known to
     /// agree with the member's size, `check` sees the header and refuses a wrong type or shape,
     /// or returns the bytes reading it may take, which the data must not exceed. Every error
@@ -370,19 +364,18 @@ impl<R: Read + Seek> Archive<'_, R> {
     fn read_array(
         &mut self,
         name: &str,
-        check: impl FnOnce(&ArrayHead) -> Result<u64, IoError>,
-    ) -> Result<Array, IoError> {
-        let path = self.path;
+        check: impl FnOnce(&ArrayHead) -> Result<u64, FormatError>,
+    ) -> Result<Array, FormatError> {
         let member_name = format!("{name}.npy");
         let Some(index) =
             self.zip.index_for_name(&member_name).or_else(|| self.zip.index_for_name(name))
         else {
             return Err(self.missing(name));
         };
-        let tag = |e: IoError| in_member(e, &member_name);
-        let mut member = self.zip.by_index(index).map_err(|e| tag(zip_error(path, e)))?;
-        let size = checked_member_size(&member, path, self.len).map_err(tag)?;
-        let header = read_header(&mut member, size).map_err(|e| tag(e.at(path)))?;
+        let tag = |e: FormatError| in_member(e, &member_name);
+        let mut member = self.zip.by_index(index).map_err(|e| tag(zip_error(e)))?;
+        let size = checked_member_size(&member, self.len).map_err(tag)?;
+        let header = read_header(&mut member, size).map_err(tag)?;
         let head = ArrayHead {
             name: member_name.clone(),
             dtype: header.dtype,
@@ -393,27 +386,23 @@ impl<R: Read + Seek> Archive<'_, R> {
         let data_len = elements.and_then(|n| n.checked_mul(head.dtype.size() as u64));
         let available = size.saturating_sub(header.data_offset);
         if data_len != Some(available) {
-            return Err(tag(IoError::format(
-                path,
-                format!(
-                    "shape {:?} of {} needs {} data bytes, the member holds {available}",
-                    head.shape,
-                    head.dtype.kind.name(),
-                    data_len.map_or("more than 2^64".into(), |n| n.to_string())
-                ),
-            )));
+            return Err(tag(FormatError::Format(format!(
+                "shape {:?} of {} needs {} data bytes, the member holds {available}",
+                head.shape,
+                head.dtype.kind.name(),
+                data_len.map_or("more than 2^64".into(), |n| n.to_string())
+            ))));
         }
         let allowed = check(&head).map_err(tag)?;
         if available > allowed || usize::try_from(available).is_err() {
-            return Err(tag(IoError::format(
-                path,
-                format!("{available} data bytes where at most {allowed} are expected"),
-            )));
+            return Err(tag(FormatError::Format(format!(
+                "{available} data bytes where at most {allowed} are expected"
+            ))));
         }
         // Bounded by the budget `check` gave.
         let mut data = vec![0u8; available as usize];
-        member.read_exact(&mut data).map_err(|e| tag(IoError::io(path, e)))?;
-        check_member_end(&mut member, path).map_err(tag)?;
+        member.read_exact(&mut data).map_err(|e| tag(FormatError::Io(e)))?;
+        check_member_end(&mut member).map_err(tag)?;
         let fortran_strides = if head.fortran_order && head.shape.len() > 1 {
             // Elements fit in memory, so these products do not overflow.
             let mut stride = 1;
@@ -432,7 +421,7 @@ impl<R: Read + Seek> Archive<'_, R> {
     }
 
     /// The error for the missing array `name`.
-    fn missing(&self, name: &str) -> IoError {
+    fn missing(&self, name: &str) -> FormatError {
         let reason = if name == VERSION_ARRAY {
             format!("not a relief .mlhm archive: it holds no '{VERSION_ARRAY}' array")
         } else {
@@ -441,73 +430,57 @@ impl<R: Read + Seek> Archive<'_, R> {
                  {CELL_SIZE_ARRAY}, {LAYER_COUNTS_ARRAY} and {COLUMNS_ARRAY}"
             )
         };
-        IoError::format(self.path, reason)
+        FormatError::Format(reason)
     }
 }
 
 /// Refuses a member whose element type `accept` refuses, naming the type `expected`.
 fn check_dtype(
     head: &ArrayHead,
-    path: &Path,
     expected: &str,
     accept: impl Fn(ScalarKind) -> bool,
-) -> Result<(), IoError> {
+) -> Result<(), FormatError> {
     if accept(head.dtype.kind) {
         return Ok(());
     }
-    Err(IoError::unsupported(
-        path,
-        format!("dtype {} for '{}' (expected {expected})", head.dtype.kind.name(), head.name),
-    ))
+    Err(FormatError::Unsupported(format!(
+        "dtype {} for '{}' (expected {expected})",
+        head.dtype.kind.name(),
+        head.name
+    )))
 }
 
 /// Refuses a scalar member (shape `()` or `(1,)`) of the wrong type or shape.
 fn check_scalar(
     head: &ArrayHead,
-    path: &Path,
     expected: &str,
     accept: impl Fn(ScalarKind) -> bool,
-) -> Result<(), IoError> {
-    check_dtype(head, path, expected, accept)?;
+) -> Result<(), FormatError> {
+    check_dtype(head, expected, accept)?;
     match head.shape[..] {
         [] | [1] => Ok(()),
-        _ => Err(wrong_shape(path, head, "one value, shape () or (1,)")),
+        _ => Err(wrong_shape(head, "one value, shape () or (1,)")),
     }
 }
 
 /// Refuses an array with a dimension of 0.
-fn check_not_empty(head: &ArrayHead, path: &Path) -> Result<(), IoError> {
+fn check_not_empty(head: &ArrayHead) -> Result<(), FormatError> {
     if head.shape.contains(&0) {
-        return Err(wrong_shape(path, head, "no dimension of 0"));
+        return Err(wrong_shape(head, "no dimension of 0"));
     }
     Ok(())
 }
 
 /// The error for a member whose shape is not `expected`.
-fn wrong_shape(path: &Path, head: &ArrayHead, expected: &str) -> IoError {
-    IoError::format(
-        path,
-        format!("'{}' has shape {:?}, expected {expected}", head.name, head.shape),
-    )
+fn wrong_shape(head: &ArrayHead, expected: &str) -> FormatError {
+    FormatError::Format(format!("'{}' has shape {:?}, expected {expected}", head.name, head.shape))
 }
 
 /// Refuses `needed` bytes for a `width x height` map over the memory budget; else returns
 /// them as the bytes a member may take.
-fn budget(
-    path: &Path,
-    width: u64,
-    height: u64,
-    needed: u64,
-    options: &ReadOptions,
-) -> Result<u64, IoError> {
+fn budget(width: u64, height: u64, needed: u64, options: &ReadOptions) -> Result<u64, FormatError> {
     if needed > options.max_memory || usize::try_from(needed).is_err() {
-        return Err(IoError::Limits {
-            path: path.to_path_buf(),
-            width,
-            height,
-            needed,
-            limit: options.max_memory,
-        });
+        return Err(FormatError::Limits { width, height, needed, limit: options.max_memory });
     }
     Ok(needed)
 }
