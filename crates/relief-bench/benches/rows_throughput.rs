@@ -6,7 +6,8 @@
 //! (N 8192, DIR the system's temporary folder); files given after DIR are timed too. The
 //! files are written first and stay in the page cache: the figures are those of a warm cache.
 
-use relief_io::{open_rows, write_npy_f32, ReadOptions};
+use relief_io::npy::write_npy_f32;
+use relief_io::{open_rows, ReadOptions};
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

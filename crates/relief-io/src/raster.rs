@@ -1,5 +1,6 @@
 //! A raster as read from a file, before its voids are resolved, and the options of reading.
 
+use crate::format_error::FormatError;
 use crate::memory_budget::default_memory_limit;
 use crate::void_fill::fill_voids;
 use crate::{Georeference, HeightUnit, IoError, LengthUnit};
@@ -172,21 +173,19 @@ impl ReadOptions {
     /// Refuses a `width x height` raster whose samples would exceed the memory budget, and a
     /// raster with no samples.
     pub fn check_size(&self, path: &Path, width: u64, height: u64) -> Result<(), IoError> {
+        self.check_samples(width, height).map_err(|e| e.at(path))
+    }
+
+    /// [`ReadOptions::check_size`] before the file is named.
+    pub(crate) fn check_samples(&self, width: u64, height: u64) -> Result<(), FormatError> {
         if width == 0 || height == 0 {
-            return Err(IoError::format(
-                path,
-                format!("raster of {width} x {height} samples is empty"),
-            ));
+            return Err(FormatError::Format(format!(
+                "raster of {width} x {height} samples is empty"
+            )));
         }
         let needed = width.saturating_mul(height).saturating_mul(BYTES_PER_SAMPLE);
         if needed > self.max_memory || usize::try_from(width.saturating_mul(height)).is_err() {
-            return Err(IoError::Limits {
-                path: path.to_path_buf(),
-                width,
-                height,
-                needed,
-                limit: self.max_memory,
-            });
+            return Err(FormatError::Limits { width, height, needed, limit: self.max_memory });
         }
         Ok(())
     }
@@ -248,27 +247,25 @@ impl Raster {
 /// Marks samples equal to `nodata` as voids (NaN) and refuses any other non-finite sample,
 /// naming its column and row in the file's own order (`row_from_top` tells that order).
 pub(crate) fn mark_voids(
-    path: &Path,
     samples: &mut [f32],
     width: usize,
     nodata: Option<f64>,
     row_from_top: bool,
-) -> Result<(), IoError> {
+) -> Result<(), FormatError> {
     let height = samples.len() / width.max(1);
     for (row, values) in samples.chunks_mut(width.max(1)).enumerate() {
         let file_row = if row_from_top { height - 1 - row } else { row };
-        mark_row_voids(path, values, file_row, nodata)?;
+        mark_row_voids(values, file_row, nodata)?;
     }
     Ok(())
 }
 
 /// [`mark_voids`] of one row, `file_row` its row in the file's own order (named in errors).
 pub(crate) fn mark_row_voids(
-    path: &Path,
     values: &mut [f32],
     file_row: usize,
     nodata: Option<f64>,
-) -> Result<(), IoError> {
+) -> Result<(), FormatError> {
     let nodata_f32 = nodata.map(|v| v as f32);
     for (col, v) in values.iter_mut().enumerate() {
         let is_void = match nodata_f32 {
@@ -279,13 +276,10 @@ pub(crate) fn mark_row_voids(
         if is_void {
             *v = f32::NAN;
         } else if !v.is_finite() {
-            return Err(IoError::invalid_data(
-                path,
-                format!(
-                    "sample at column {col}, row {file_row} is {v}{}",
-                    if nodata.is_none() { " and the file declares no nodata value" } else { "" }
-                ),
-            ));
+            return Err(FormatError::InvalidData(format!(
+                "sample at column {col}, row {file_row} is {v}{}",
+                if nodata.is_none() { " and the file declares no nodata value" } else { "" }
+            )));
         }
     }
     Ok(())

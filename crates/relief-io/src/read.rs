@@ -1,7 +1,9 @@
 //! Reading any supported height file: the format follows the file name's extension.
 
+use crate::georef::sidecars::{with_prj, with_world_file};
+use crate::input_file::open_input;
 use crate::{Format, IoError, PngEncoding, Raster, ReadOptions};
-use std::io::Cursor;
+use std::io::{BufRead, BufReader, Cursor, Seek};
 use std::path::Path;
 
 /// The format a path's extension names, with the PNG encoding from `options`.
@@ -38,17 +40,16 @@ pub fn read_raster(path: &Path, options: &ReadOptions) -> Result<Raster, IoError
     Ok(raster)
 }
 
-/// [`read_raster`] before [`ReadOptions::z_unit`] is applied.
+/// [`read_raster`] before [`ReadOptions::z_unit`] is applied: the file opened once, its bytes
+/// decoded, and its error named once.
 fn read_raster_as_stored(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
-    match format_of(path, options)? {
-        Format::Npy => crate::npy_raster::read_npy(path, options),
-        Format::Npz => crate::npz::read_npz(path, options),
-        Format::GeoTiff => crate::geotiff_read::read_geotiff(path, options),
-        Format::Hgt => crate::hgt::read_hgt(path, options),
-        Format::Asc => crate::asc::read_asc(path, options),
-        Format::Png16 | Format::TerrainRgb | Format::Terrarium => {
-            crate::png_height::read_png_height(path, options)
-        }
+    let format = format_of(path, options)?;
+    let (file, len) = open_input(path)?;
+    let raster = decode(BufReader::new(file), len, format, path, options)?;
+    match format {
+        Format::Asc => with_prj(path, raster),
+        Format::Png16 | Format::TerrainRgb | Format::Terrarium => with_world_file(path, raster),
+        Format::Npy | Format::Npz | Format::GeoTiff | Format::Hgt => Ok(raster),
     }
 }
 
@@ -60,26 +61,32 @@ pub fn read_raster_from_bytes(
     path: &Path,
     options: &ReadOptions,
 ) -> Result<Raster, IoError> {
-    let mut raster = read_from_bytes(bytes, format, path, options)?;
+    let mut raster = decode(Cursor::new(bytes), bytes.len() as u64, format, path, options)?;
     raster.apply_z_unit(options);
     Ok(raster)
 }
 
-/// [`read_raster_from_bytes`] before [`ReadOptions::z_unit`] is applied.
-fn read_from_bytes(
-    bytes: &[u8],
+/// The raster of `format` in the `len` bytes of `reader`, without the files beside it; errors
+/// name `path` (whose name also places an SRTM tile).
+fn decode<R: BufRead + Seek>(
+    reader: R,
+    len: u64,
     format: Format,
     path: &Path,
     options: &ReadOptions,
 ) -> Result<Raster, IoError> {
-    let len = bytes.len() as u64;
-    let reader = Cursor::new(bytes);
     match format {
-        Format::Npy => crate::npy_raster::read_npy_from(reader, len, path, options),
-        Format::Npz => crate::npz::read_npz_from(reader, len, path, options),
-        Format::GeoTiff => crate::geotiff_read::read_geotiff_from(reader, path, options),
-        Format::Hgt => crate::hgt::read_hgt_from(reader, len, path, options),
-        Format::Asc => crate::asc::read_asc_from(reader, len, path, options),
+        Format::Npy => {
+            crate::npy::raster::read_npy_from(reader, len, options).map_err(|e| e.at(path))
+        }
+        Format::Npz => crate::npy::npz::read_npz_from(reader, len, options).map_err(|e| e.at(path)),
+        Format::GeoTiff => crate::geotiff::read::read_geotiff_from(reader, path, options),
+        Format::Hgt => {
+            crate::hgt::tile::read_hgt_from(reader, len, path, options).map_err(|e| e.at(path))
+        }
+        Format::Asc => {
+            crate::asc::grid::read_asc_from(reader, len, options).map_err(|e| e.at(path))
+        }
         Format::Png16 | Format::TerrainRgb | Format::Terrarium => {
             let options = ReadOptions {
                 png_encoding: match format {
@@ -89,7 +96,7 @@ fn read_from_bytes(
                 },
                 ..options.clone()
             };
-            crate::png_height::read_png_height_from(reader, len, path, &options)
+            crate::png::height::read_png_height_from(reader, len, &options).map_err(|e| e.at(path))
         }
     }
 }

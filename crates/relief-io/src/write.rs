@@ -1,7 +1,7 @@
 //! Writing a height field in the format its file name's extension names, placed in its
 //! input's CRS where the format can say so.
 
-use crate::layer_png_write::world_file_path;
+use crate::{aux_xml_path, prj_path, world_file_path};
 use crate::{Georeference, IoError, LengthUnit};
 use relief_core::{DVec2, GridGeometry, HeightField};
 use std::path::{Path, PathBuf};
@@ -62,11 +62,11 @@ pub fn write_height_field_georeferenced(
                     ));
                     georeference.with_vertical_unit(height_unit)
                 };
-                crate::geotiff_write::write_geotiff_placed(path, field, Some(&placed))?;
+                crate::geotiff::write::write_geotiff_placed(path, field, Some(&placed))?;
             }
             None => {
                 let field = in_unit(field, height_unit, LengthUnit::Metre, path, &mut notes)?;
-                crate::geotiff_write::write_geotiff(path, &field)?;
+                crate::geotiff::write::write_geotiff(path, &field)?;
             }
         },
         Some("hgt") => {
@@ -78,11 +78,11 @@ pub fn write_height_field_georeferenced(
                      .tif, .asc or .png to keep them)"
                 ));
             }
-            crate::hgt::write_hgt(path, &field)?;
+            crate::hgt::tile::write_hgt(path, &field)?;
         }
         Some("asc") => write_asc_georeferenced(path, field, georeference, height_unit, &mut notes)?,
         Some("png") => {
-            let scale = crate::png_height::write_png16_height_in(path, field, height_unit)?;
+            let scale = crate::png::height::write_png16_height_in(path, field, height_unit)?;
             notes.push(format!(
                 "heights stored in steps of {} {height_unit} (grey * {} + {}, in the PNG's \
                  tEXt height_scale and height_offset)",
@@ -234,7 +234,7 @@ fn write_asc_georeferenced(
 ) -> Result<(), IoError> {
     let Some(georeference) = georeference else {
         let field = in_unit(field, height_unit, LengthUnit::Metre, path, notes)?;
-        return crate::asc::write_asc(path, &field);
+        return crate::asc::grid::write_asc(path, &field);
     };
     let [west, dx, rotation_x, north, rotation_y, minus_dy] =
         georeference.north_up_geotransform(field.height());
@@ -249,7 +249,7 @@ fn write_asc_georeferenced(
     let geometry = GridGeometry { dx, dy, origin: DVec2::new(west, south), ..*field.geometry() };
     let field =
         field.with_geometry(geometry).map_err(|e| IoError::invalid_data(path, e.to_string()))?;
-    crate::asc::write_asc(path, &field)?;
+    crate::asc::grid::write_asc(path, &field)?;
     write_prj(path, georeference, notes)
 }
 
@@ -290,18 +290,6 @@ pub(crate) fn write_image_crs(
         notes.push(format!("wrote {} (the CRS, for GDAL)", aux.display()));
     }
     Ok(())
-}
-
-/// The `.prj` beside a file: its extension replaced.
-pub fn prj_path(path: &Path) -> PathBuf {
-    path.with_extension("prj")
-}
-
-/// GDAL's auxiliary file beside a file: `c.png` → `c.png.aux.xml`.
-pub fn aux_xml_path(path: &Path) -> PathBuf {
-    let mut name = path.as_os_str().to_owned();
-    name.push(".aux.xml");
-    PathBuf::from(name)
 }
 
 /// `text` with the characters XML reserves escaped.

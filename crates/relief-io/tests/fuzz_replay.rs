@@ -3,10 +3,9 @@
 //! input is refused but those named `ok-*`, which read; the seeds, valid files but those named
 //! `short*`, read.
 
-use relief_io::{
-    read_mlhm_native_from_bytes, read_mlhm_scene_from_bytes, read_raster_from_bytes,
-    stacks_from_bytes, Format, ReadOptions, VoidPolicy,
-};
+use relief_io::mlhm::{read_mlhm_native_from_bytes, read_mlhm_scene_from_bytes};
+use relief_io::stacks::stacks_from_bytes;
+use relief_io::{read_raster_from_bytes, Format, ReadOptions, VoidPolicy};
 use std::path::{Path, PathBuf};
 
 const TARGETS: [&str; 9] =

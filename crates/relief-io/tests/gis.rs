@@ -5,10 +5,9 @@
 mod common;
 
 use common::{clients, python, TestDir};
-use relief_io::{
-    read_geotiff, read_layers_geotiff, read_npy, read_raster, write_layers_geotiff, write_npy_f32,
-    IoError, Layer, LayerRaster, ReadOptions,
-};
+use relief_io::geotiff::{read_geotiff, read_layers_geotiff, write_layers_geotiff};
+use relief_io::npy::{read_npy, write_npy_f32};
+use relief_io::{read_raster, IoError, Layer, LayerRaster, ReadOptions};
 use std::path::Path;
 
 fn main() {
@@ -329,7 +328,7 @@ fn geotiffs_written_strip_by_strip_read_in_gdal_with_their_placement() {
     let geometry =
         GridGeometry { dx: 2.5, dy: 4.0, z_scale: 1.0, origin: DVec2::new(1000.0, 20.0) };
     let path = dir.join("strips.tif");
-    let mut out = relief_io::GeoTiffStripWriter::create(&path, w, h, &geometry).unwrap();
+    let mut out = relief_io::geotiff::GeoTiffStripWriter::create(&path, w, h, &geometry).unwrap();
     // North first: file row r holds r * 0.5 + column, with a void.
     let rows: Vec<f32> = (0..w * h)
         .map(|i| if i == 7 { f32::NAN } else { (i / w) as f32 * 0.5 + (i % w) as f32 })

@@ -8,10 +8,10 @@ mod common;
 use common::{clients, shared_data, TestDir};
 use proptest::prelude::*;
 use relief_core::{Mlhm, MlhmColumn, Precision};
-use relief_io::{
-    read_mlhm_native, read_mlhm_native_from_bytes, read_mlhm_scene, write_mlhm_native, IoError,
-    ReadOptions,
+use relief_io::mlhm::{
+    read_mlhm_native, read_mlhm_native_from_bytes, read_mlhm_scene, write_mlhm_native,
 };
+use relief_io::{IoError, ReadOptions};
 use std::io::{Read, Write};
 use std::path::Path;
 use zip::write::SimpleFileOptions;

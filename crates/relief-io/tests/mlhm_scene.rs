@@ -8,10 +8,11 @@ mod common;
 use common::{clients, shared_data, TestDir};
 
 use relief_core::{Mlhm, MlhmColumn, Precision};
-use relief_io::{
-    read_mlhm_scene, read_mlhm_scene_from_bytes, read_mlhm_scene_header, write_mlhm_scene, IoError,
-    MlhmScene, ReadOptions,
+use relief_io::mlhm::{
+    read_mlhm_scene, read_mlhm_scene_from_bytes, read_mlhm_scene_header, write_mlhm_scene,
+    MlhmScene,
 };
+use relief_io::{IoError, ReadOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -273,7 +274,7 @@ fn half_precision_merges_gaps_it_cannot_resolve_and_resets_their_state() {
         &[MlhmColumn::new(1.0, 0.5, 0.0, 2.0), MlhmColumn::new(3.0, 0.0, 0.0, f32::INFINITY)],
     )
     .unwrap();
-    let mut state = relief_io::SimulationState::zeros(4);
+    let mut state = relief_io::mlhm::SimulationState::zeros(4);
     state.sediment = vec![0.25, 0.5, 0.75, 1.0];
     let scene =
         MlhmScene { precision: Precision::F16, simulation: Some(state), ..MlhmScene::new(map) };

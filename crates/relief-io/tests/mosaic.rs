@@ -70,7 +70,7 @@ fn two_by_two_srtm_tiles_share_their_edges_and_equal_the_stitched_tiles() {
     let names = ["N36W085.hgt", "N36W084.hgt", "N37W085.hgt", "N37W084.hgt"];
     let paths: Vec<PathBuf> = names.iter().map(|n| dir.join(n)).collect();
     for (k, path) in paths.iter().enumerate() {
-        relief_io::write_hgt(path, &srtm_field(k)).unwrap();
+        relief_io::hgt::write_hgt(path, &srtm_field(k)).unwrap();
     }
     let rasters: Vec<Raster> = paths.iter().map(|p| read_raster(p, &options()).unwrap()).collect();
     let mut mosaic = open_mosaic(&paths, &options()).unwrap();
@@ -228,15 +228,15 @@ fn inputs_that_do_not_fit_together_are_refused_naming_them() {
     assert_refused(&[a.clone(), bare], &["bare.tif"], "no georeference");
 
     let hgt = dir.join("N10E010.hgt");
-    relief_io::write_hgt(&hgt, &srtm_field(1)).unwrap();
+    relief_io::hgt::write_hgt(&hgt, &srtm_field(1)).unwrap();
     assert_refused(&[hgt.clone(), a.clone()], &["N10E010.hgt", "a.tif"], "one kind");
     let unnamed = dir.join("tile.hgt");
-    relief_io::write_hgt(&unnamed, &srtm_field(2)).unwrap();
+    relief_io::hgt::write_hgt(&unnamed, &srtm_field(2)).unwrap();
     assert_refused(&[hgt.clone(), unnamed], &["tile.hgt"], "N36W085.hgt");
     let fine = dir.join("N10E011.hgt");
     let n = 3601;
     let field = HeightField::new(n, n, vec![0.0; n * n], GridGeometry::unit()).unwrap();
-    relief_io::write_hgt(&fine, &field).unwrap();
+    relief_io::hgt::write_hgt(&fine, &field).unwrap();
     assert_refused(&[hgt, fine], &["N10E010.hgt", "N10E011.hgt"], "one spacing");
     let asc = dir.join("grid.asc");
     relief_io::write_height_field(

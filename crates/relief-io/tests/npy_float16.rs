@@ -5,7 +5,8 @@ mod common;
 
 use common::TestDir;
 use half::f16;
-use relief_io::{read_npy, read_npy_height_field, read_npz, read_raster, IoError, ReadOptions};
+use relief_io::npy::{read_npy, read_npy_height_field, read_npz};
+use relief_io::{read_raster, IoError, ReadOptions};
 use std::io::Write;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipWriter};

@@ -119,7 +119,7 @@ fn deflate_strips_with_predictors_and_big_endian_equal_read_raster() {
     let samples: Vec<f32> = values(w, h, 1.0, 1000);
     let field = HeightField::new(w, h, samples, GridGeometry::unit()).unwrap();
     let own = dir.join("own.tif");
-    relief_io::write_geotiff(&own, &field).unwrap();
+    relief_io::geotiff::write_geotiff(&own, &field).unwrap();
     assert_rows_equal_raster(&own);
     // A big-endian file ("MM") of 3 x 2 int16 samples in one Deflate strip, horizontal
     // predictor: differences of big-endian samples.
@@ -260,7 +260,7 @@ fn srtm_tiles_equal_read_raster_named_or_not() {
     let field = srtm_field();
     for name in ["N36W085.hgt", "s12e045.hgt", "tile.hgt"] {
         let path = dir.join(name);
-        relief_io::write_hgt(&path, &field).unwrap();
+        relief_io::hgt::write_hgt(&path, &field).unwrap();
         let raster = assert_rows_equal_raster(&path);
         assert_eq!(raster.void_count(), field.samples().len().div_ceil(997));
     }
@@ -349,9 +349,9 @@ fn every_kind(dir: &TestDir) -> Vec<PathBuf> {
     let tiles =
         dir.file("tiles.tif", &encode_f32_tiles(&floats, (w, h), 16, TileCodec::Zstd, &[], &[]));
     let npy = dir.join("grid.npy");
-    relief_io::write_height_field_npy(&npy, &field).unwrap();
+    relief_io::npy::write_height_field_npy(&npy, &field).unwrap();
     let hgt = dir.join("N01E002.hgt");
-    relief_io::write_hgt(&hgt, &srtm_field()).unwrap();
+    relief_io::hgt::write_hgt(&hgt, &srtm_field()).unwrap();
     let asc = dir.join("grid.asc");
     relief_io::write_height_field(&asc, &field).unwrap();
     vec![strips, tiles, npy, hgt, asc]

@@ -321,7 +321,7 @@ impl PyScene {
 fn first_step(opened: &Opened) -> u64 {
     let Some(path) = &opened.path else { return 0 };
     let header = match relief_render::input::is_reference_scene(path) {
-        true => relief_io::read_mlhm_scene_header(path).ok(),
+        true => relief_io::mlhm::read_mlhm_scene_header(path).ok(),
         false => None,
     };
     header

@@ -1,0 +1,259 @@
+//! The tags of a GeoTIFF image, read through the `tiff` crate: how its samples are laid out
+//! (bands, sample type, compression), its GDAL_NODATA, its georeferencing tags as stored, and
+//! the `tiff` crate's errors by cause.
+
+use crate::georef::geokeys::{model_placement, GeoKeys, ModelTags, Placement};
+use crate::sample_type::SampleType;
+use crate::{GeoTiffTags, IoError};
+use std::fmt::Display;
+use std::io::{ErrorKind, Read, Seek};
+use std::path::Path;
+use tiff::decoder::Decoder;
+use tiff::tags::{CompressionMethod, Tag, Type};
+use tiff::TiffError;
+
+/// Maps errors of the `tiff` crate reading `context` (a tag name, "strip 3") to [`IoError`]s.
+pub(crate) fn tag_error<'a>(
+    path: &'a Path,
+    context: &'a str,
+) -> impl Fn(TiffError) -> IoError + Copy + 'a {
+    move |e| tiff_error(path, context, e)
+}
+
+/// An error of the `tiff` crate as an [`IoError`]; `context` (e.g. "strip 3") leads the reason.
+pub(crate) fn tiff_error(path: &Path, context: &str, error: TiffError) -> IoError {
+    let reason = |what: &dyn Display| {
+        if context.is_empty() {
+            what.to_string()
+        } else {
+            format!("{context}: {what}")
+        }
+    };
+    match error {
+        TiffError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
+            IoError::format(path, reason(&format_args!("truncated ({e})")))
+        }
+        TiffError::IoError(e) if e.kind() == ErrorKind::InvalidData => {
+            IoError::format(path, reason(&format_args!("corrupt data ({e})")))
+        }
+        TiffError::IoError(e) => IoError::io(path, e),
+        TiffError::UnsupportedError(e) => IoError::unsupported(path, reason(&e)),
+        TiffError::LimitsExceeded => {
+            IoError::format(path, reason(&"a value is larger than the memory limit allows"))
+        }
+        other => IoError::format(path, reason(&other)),
+    }
+}
+
+/// The sample type of SampleFormat (1 unsigned, 2 signed, 3 float) and BitsPerSample.
+pub(crate) fn sample_type_of(format: u16, bits: u16) -> Option<SampleType> {
+    Some(match (format, bits) {
+        (1, 8) => SampleType::U8,
+        (1, 16) => SampleType::U16,
+        (1, 32) => SampleType::U32,
+        (1, 64) => SampleType::U64,
+        (2, 8) => SampleType::I8,
+        (2, 16) => SampleType::I16,
+        (2, 32) => SampleType::I32,
+        (2, 64) => SampleType::I64,
+        (3, 32) => SampleType::F32,
+        (3, 64) => SampleType::F64,
+        _ => return None,
+    })
+}
+
+/// Refuses several bands, unread sample types, photometric interpretations that would alter
+/// values, and compressions the build does not decode; returns the sample type and the
+/// compression's TIFF code.
+pub(crate) fn check_layout<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+    several_bands: bool,
+) -> Result<(SampleType, u16, usize), IoError> {
+    let tag_error = |name| tag_error(path, name);
+    let bands = decoder
+        .find_tag_unsigned::<u16>(Tag::SamplesPerPixel)
+        .map_err(tag_error("SamplesPerPixel"))?
+        .unwrap_or(1);
+    if bands != 1 && !several_bands {
+        return Err(IoError::unsupported(
+            path,
+            format!("image of {bands} bands (samples per pixel); relief reads single-band rasters"),
+        ));
+    }
+    let planar = decoder
+        .find_tag_unsigned::<u16>(Tag::PlanarConfiguration)
+        .map_err(tag_error("PlanarConfiguration"))?
+        .unwrap_or(1);
+    if bands == 0 || (bands > 1 && planar != 2) {
+        return Err(IoError::unsupported(
+            path,
+            format!(
+                "image of {bands} bands in planar configuration {planar}; relief reads several \
+                 bands stored in separate planes (2)"
+            ),
+        ));
+    }
+    let first = |values: Option<Vec<u16>>, default: u16| {
+        values.and_then(|v| v.first().copied()).unwrap_or(default)
+    };
+    let format = first(
+        decoder.find_tag_unsigned_vec(Tag::SampleFormat).map_err(tag_error("SampleFormat"))?,
+        1,
+    );
+    let bits = first(
+        decoder.find_tag_unsigned_vec(Tag::BitsPerSample).map_err(tag_error("BitsPerSample"))?,
+        1,
+    );
+    let sample_type = sample_type_of(format, bits).ok_or_else(|| {
+        let kind = match format {
+            1 => "unsigned integer",
+            2 => "signed integer",
+            3 => "floating-point",
+            4 => "untyped (SampleFormat 4)",
+            5 => "complex integer",
+            6 => "complex floating-point",
+            _ => "unknown-format",
+        };
+        IoError::unsupported(path, format!("{bits}-bit {kind} samples"))
+    })?;
+    let photometric = decoder
+        .find_tag_unsigned::<u16>(Tag::PhotometricInterpretation)
+        .map_err(tag_error("PhotometricInterpretation"))?;
+    if photometric != Some(1) {
+        // The decoder would invert WhiteIsZero samples; other interpretations are colour.
+        return Err(IoError::unsupported(
+            path,
+            format!("photometric interpretation {photometric:?}; relief reads BlackIsZero (1)"),
+        ));
+    }
+    let compression = decoder
+        .find_tag_unsigned::<u16>(Tag::Compression)
+        .map_err(tag_error("Compression"))?
+        .unwrap_or(1);
+    match CompressionMethod::from_u16_exhaustive(compression) {
+        CompressionMethod::None
+        | CompressionMethod::LZW
+        | CompressionMethod::Deflate
+        | CompressionMethod::OldDeflate
+        | CompressionMethod::PackBits
+        | CompressionMethod::ZSTD => Ok((sample_type, compression, usize::from(bands))),
+        other => Err(IoError::unsupported(
+            path,
+            format!(
+                "compression {other:?} (TIFF code {compression}); relief reads uncompressed, \
+                 LZW, Deflate, ZSTD and PackBits"
+            ),
+        )),
+    }
+}
+
+/// GDAL_NODATA: ASCII text such as "-32768" or "nan", maybe padded with NULs or spaces.
+pub(crate) fn read_nodata<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+) -> Result<Option<f64>, IoError> {
+    let tag_error = tag_error(path, "GDAL_NODATA");
+    let Some(value) = decoder.find_tag(Tag::GdalNodata).map_err(tag_error)? else {
+        return Ok(None);
+    };
+    let text = value.into_string().map_err(tag_error)?;
+    let text = text.trim_matches(|c: char| c == '\0' || c.is_whitespace());
+    if text.is_empty() {
+        return Ok(None);
+    }
+    text.parse::<f64>()
+        .map(Some)
+        .map_err(|_| IoError::format(path, format!("GDAL_NODATA {text:?} is not a number")))
+}
+
+/// The `f64` values of `tag`, if present.
+fn f64_values<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+    tag: Tag,
+    name: &str,
+) -> Result<Option<Vec<f64>>, IoError> {
+    let Some(value) = decoder.find_tag(tag).map_err(tag_error(path, name))? else {
+        return Ok(None);
+    };
+    value.into_f64_vec().map(Some).map_err(tag_error(path, name))
+}
+
+/// Reads the georeference of a `width x height` raster: its placement, and its tags as stored.
+pub(crate) fn read_placement<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+    width: usize,
+    height: usize,
+) -> Result<(Placement, GeoTiffTags), IoError> {
+    let scale = f64_values(decoder, path, Tag::ModelPixelScaleTag, "ModelPixelScaleTag")?;
+    let ties = f64_values(decoder, path, Tag::ModelTiepointTag, "ModelTiepointTag")?;
+    let transform =
+        f64_values(decoder, path, Tag::ModelTransformationTag, "ModelTransformationTag")?;
+    let keys_error = tag_error(path, "GeoKeyDirectoryTag");
+    let directory = match decoder.find_tag(Tag::GeoKeyDirectoryTag).map_err(keys_error)? {
+        Some(value) => Some(value.into_u16_vec().map_err(keys_error)?),
+        None => None,
+    };
+    let geo_ascii_params = ascii_bytes(decoder, path, Tag::GeoAsciiParamsTag, "GeoAsciiParamsTag")?;
+    let keys = match &directory {
+        Some(directory) => GeoKeys::parse(path, directory)?,
+        None => GeoKeys::default(),
+    }
+    .with_citation(geo_ascii_params.as_deref());
+    let tags = ModelTags { scale, ties, transform };
+    let placement = model_placement(path, &tags, &keys, (width, height))?;
+    let geo_double_params =
+        f64_values(decoder, path, Tag::GeoDoubleParamsTag, "GeoDoubleParamsTag")?;
+    let tags = GeoTiffTags {
+        model_pixel_scale: tags.scale,
+        model_tiepoint: tags.ties,
+        model_transformation: tags.transform,
+        geo_key_directory: directory,
+        geo_double_params,
+        geo_ascii_params,
+    };
+    Ok((placement, tags))
+}
+
+/// The bytes of the ASCII tag `tag` as stored, terminating NUL included, if present.
+fn ascii_bytes<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    path: &Path,
+    tag: Tag,
+    name: &str,
+) -> Result<Option<Vec<u8>>, IoError> {
+    let mut ifd = decoder.image_ifd();
+    let Some(entry) = ifd.find_entry(tag) else {
+        return Ok(None);
+    };
+    if entry.field_type() != Type::ASCII {
+        return Err(IoError::format(path, format!("{name} is not ASCII text")));
+    }
+    // The limits bound the count before anything is allocated.
+    let len = usize::try_from(entry.count())
+        .ok()
+        .filter(|&n| n <= MAX_ASCII_TAG)
+        .ok_or_else(|| IoError::format(path, format!("{name} of {} bytes", entry.count())))?;
+    let mut bytes = vec![0u8; len];
+    ifd.find_tag_bytes(tag, &mut bytes, 0).map_err(tag_error(path, name))?;
+    Ok(Some(bytes))
+}
+
+/// The longest GeoAsciiParams accepted: far more than any CRS's citations need.
+const MAX_ASCII_TAG: usize = 1 << 20;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sample_types_from_tags() {
+        assert_eq!(sample_type_of(2, 16), Some(SampleType::I16));
+        assert_eq!(sample_type_of(3, 64), Some(SampleType::F64));
+        assert_eq!(sample_type_of(3, 16), None);
+        assert_eq!(sample_type_of(1, 12), None);
+        assert_eq!(sample_type_of(6, 32), None);
+    }
+}
