@@ -7,10 +7,10 @@
 use rayon::prelude::*;
 use relief_core::Camera;
 use relief_core::{benchmark_views, Surface};
+use relief_shade::hybrid::HybridParams;
 use relief_shade::{
     render_gbuffer_into, FarField, GBuffer, HybridRenderer, PixelSource, Tile, TILE_SIZE,
 };
-use relief_trace::hybrid::HybridParams;
 use relief_trace::MipmapTracer;
 use relief_trace::Tracer;
 use std::sync::Arc;

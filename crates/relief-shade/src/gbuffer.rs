@@ -3,6 +3,7 @@
 use rayon::prelude::*;
 
 use crate::ShadeError;
+use relief_trace::Hit;
 
 /// One pixel of a [`GBuffer`]: the first surface seen through it, or a miss.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,6 +64,11 @@ pub struct GBuffer {
     pub uv: Vec<[f32; 2]>,
     /// World width of the pixel at the hit.
     pub footprint: Vec<f32>,
+    /// Each pixel's hit in full precision (`None` for a miss), for shading that continues
+    /// rays from it and must not move their origins (the MLHM renderer's water and shadow
+    /// rays); `None` unless a renderer that keeps it fills it
+    /// ([`GBuffer::keep_exact_hits`]).
+    pub exact_hits: Option<Vec<Option<Hit>>>,
 }
 
 impl GBuffer {
@@ -89,7 +95,18 @@ impl GBuffer {
             material: filled(n, m.material)?,
             uv: filled(n, m.uv)?,
             footprint: filled(n, m.footprint)?,
+            exact_hits: None,
         })
+    }
+
+    /// Gives the buffer a plane of full-precision hits (all misses), unless it has one.
+    ///
+    /// Fails when the plane cannot be allocated.
+    pub fn keep_exact_hits(&mut self) -> Result<(), ShadeError> {
+        if self.exact_hits.is_none() {
+            self.exact_hits = Some(image_plane(self.len(), None, "G-buffer's exact hits")?);
+        }
+        Ok(())
     }
 
     /// Number of pixels, `width * height`.
@@ -115,6 +132,7 @@ impl GBuffer {
             ("material", self.material.len()),
             ("uv", self.uv.len()),
             ("footprint", self.footprint.len()),
+            ("exact hits", self.exact_hits.as_ref().map_or(n, Vec::len)),
         ];
         for (name, len) in lengths {
             if len != n {
@@ -295,6 +313,11 @@ mod tests {
         assert!(GBuffer::new(0, 4).is_err());
         let mut g = GBuffer::new(2, 2).unwrap();
         g.uv.pop();
+        assert!(matches!(g.validate(), Err(ShadeError::Mismatch(_))));
+        let mut g = GBuffer::new(2, 2).unwrap();
+        g.keep_exact_hits().unwrap();
+        assert_eq!(g.exact_hits.as_ref().map(Vec::len), Some(4));
+        g.exact_hits.as_mut().unwrap().pop();
         assert!(matches!(g.validate(), Err(ShadeError::Mismatch(_))));
     }
 }

@@ -3,7 +3,7 @@
 //! and to update every cell's min/max (a simulation rewriting the whole field), and the
 //! dynamic updates of the exact tracer's pyramid (a 64 x 64 brush against a rebuild).
 //!
-//! `cargo run --release -p relief-trace --example hybrid_cells -- [N] [CELL] [WIDTH] [HEIGHT]
+//! `cargo run --release -p relief-shade --example hybrid_cells -- [N] [CELL] [WIDTH] [HEIGHT]
 //! [T] [--image]` (defaults 4096, 64, 1920, 1080, 70). Timings are medians of 9 runs.
 //!
 //! With `--image`, it also renders the view's depth the hybrid way with this module's parts,
@@ -16,10 +16,10 @@
 
 use rayon::prelude::*;
 use relief_core::{benchmark_views, Camera, HeightField, SampleRegion, Surface};
+use relief_shade::hybrid::{project_box, CellChoice, HybridHeuristic, HybridParams, PixelRect};
 use relief_sim::{fbm_terrain, FbmParams};
 use relief_trace::hybrid::{
-    box_entry, exact_far_hit, exact_far_hits, lop_cast, project_box, CellChoice, HybridCells,
-    HybridHeuristic, HybridParams, LopSteps, PixelRect,
+    box_entry, exact_far_hit, exact_far_hits, lop_cast, HybridCells, LopSteps,
 };
 use relief_trace::{MipmapTracer, Tracer};
 use std::sync::Arc;
