@@ -44,9 +44,11 @@ pub fn shade_mlhm(
 ) -> Result<(Vec<[f32; 3]>, MlhmRayCounts), ShadeError> {
     shading.validate()?;
     gbuffer.validate_for(camera)?;
-    let exact = gbuffer.exact_hits.as_ref().ok_or_else(|| {
-        ShadeError::Mismatch("the G-buffer keeps no exact hits (draw it with MlhmRenderer)".into())
-    })?;
+    if gbuffer.exact_hits.is_none() {
+        return Err(ShadeError::Mismatch(
+            "the G-buffer keeps no exact hits (draw it with MlhmRenderer)".into(),
+        ));
+    }
     let width = gbuffer.width;
     let mut radiance = image_plane(gbuffer.len(), [0.0f32; 3], "MLHM radiance")?;
     let pass = Pass {
@@ -70,7 +72,7 @@ pub fn shade_mlhm(
                     for i in tile_x..(tile_x + TILE_SIZE).min(width) {
                         let j = s * TILE_SIZE + r;
                         let k = i + j * width;
-                        let seen = exact[k].map(|hit| SurfaceHit {
+                        let seen = gbuffer.exact_hit(k).map(|hit| SurfaceHit {
                             hit,
                             material: material_of(gbuffer.material[k]),
                         });

@@ -65,7 +65,7 @@ impl<'a> MlhmRenderer<'a> {
                                 matches!(self.tracer.medium(ray.origin), Medium::Water { .. });
                             let hit = trace_visible(self.tracer, &ray, in_water, &mut stats);
                             strip.set(i + r * width, &encoder.pixel(hit.as_ref()));
-                            exact[i + r * width] = hit.map(|h| h.hit);
+                            exact[i + r * width] = hit.map_or(GBuffer::EXACT_MISS, |h| h.hit);
                         }
                     }
                     progress((cols.len() * rows) as u64);
