@@ -1,115 +1,240 @@
-//! Small golden images of the default pipeline, of an MLHM scene with water at the mid preset
-//! as boxes and as a smooth surface, and of the real MLHM scene smoothed (its side walls show
-//! no box edges), compared with a tolerance.
+//! Golden images: every `tests/golden/<name>.args` is a case, compared with the reference
+//! picture `tests/golden/<name>.png` beside it, with a tolerance.
 //!
-//! Regenerate after an intended change of the pictures with:
-//! `RELIEF_BLESS=1 cargo test -p relief-cli --test golden`
-//! In a bare clone (no ../shared) a test that reads the shared data is reported ignored.
+//! A case file holds `relief` commands, one a line (`#` starts a comment line; arguments are
+//! separated by white space). The lines before the last make the inputs (say
+//! `generate mlhm ...`); the last renders, and gets `-o <picture>` appended. In the arguments,
+//! `{scratch}` is a folder of the case's own, and `{shared}` the project's shared folder
+//! (../shared beside the repository): a case that names it is reported ignored in a bare
+//! clone, as relief-io's `tests/common/clients.rs` reports tests reading the shared data.
+//!
+//! To add a case, write its `.args` file and run the test: a case without a reference picture
+//! writes it and fails, saying so, so that the new picture is looked at before it is
+//! committed. After an intended change of the pictures, rewrite them all with
+//! `RELIEF_BLESS=1 cargo test -p relief-cli --test golden`.
 
 mod common;
 
 use common::{clients, shared_data};
-use std::path::Path;
+use libtest_mimic::{Completion, Failed, Trial};
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn main() {
-    clients::run(vec![
-        clients::trial!(default_pipeline_matches_the_golden_image),
-        clients::trial!(mlhm_scene_with_water_at_the_mid_preset_matches_the_golden_image),
-        clients::trial!(mlhm_scene_smooth_at_the_mid_preset_matches_the_golden_image),
-        clients::trial_reading!(
-            the_real_scene_smoothed_matches_the_golden_image,
-            "data/ngwm24-scene/scene.json"
-        ),
-    ]);
+    let folder = golden_folder();
+    let mut trials: Vec<Trial> = cases(&folder).into_iter().map(case_trial).collect();
+    trials.push(Trial::test("every_reference_picture_has_its_case", || {
+        every_reference_picture_has_its_case(&golden_folder())
+    }));
+    trials.push(Trial::test("a_case_without_a_reference_writes_it_and_fails", || {
+        a_case_without_a_reference_writes_it_and_fails()
+    }));
+    clients::run(trials);
 }
 
-fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
-    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
-    let mut reader = decoder.read_info().unwrap();
-    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut buf).unwrap();
-    buf.truncate(info.buffer_size());
-    (info.width, info.height, buf)
+/// `tests/golden` of this crate.
+fn golden_folder() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden")
 }
 
-/// Runs `relief` with `args` plus an output PNG and compares the picture with `golden` (a path
-/// under the crate), or replaces `golden` with it when `RELIEF_BLESS` is set.
-fn assert_matches_golden(args: &[&str], golden: &str) {
-    let name = Path::new(golden).file_stem().unwrap().to_str().unwrap();
-    let out_path =
-        std::env::temp_dir().join(format!("relief-golden-{name}-{}.png", std::process::id()));
-    let out = Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args(args)
-        .arg("-o")
-        .arg(&out_path)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let golden_path = Path::new(env!("CARGO_MANIFEST_DIR")).join(golden);
-    if std::env::var_os("RELIEF_BLESS").is_some() {
-        std::fs::copy(&out_path, &golden_path).unwrap();
-        eprintln!("blessed {}", golden_path.display());
-        return;
+/// One golden case: its name, its commands (each a list of arguments) and the folder of its
+/// case file and reference picture.
+#[derive(Debug, Clone)]
+struct Case {
+    name: String,
+    commands: Vec<Vec<String>>,
+    folder: PathBuf,
+}
+
+/// Every `*.args` case in `folder`, by name.
+fn cases(folder: &Path) -> Vec<Case> {
+    let mut cases: Vec<Case> = std::fs::read_dir(folder)
+        .unwrap_or_else(|e| panic!("cannot list {}: {e}", folder.display()))
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|e| e == "args"))
+        .map(|path| read_case(&path))
+        .collect();
+    cases.sort_by(|a, b| a.name.cmp(&b.name));
+    cases
+}
+
+/// The case in the file at `path`.
+fn read_case(path: &Path) -> Case {
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let commands = text
+        .lines()
+        .map(str::trim)
+        .filter(|line| !line.is_empty() && !line.starts_with('#'))
+        .map(|line| line.split_whitespace().map(String::from).collect())
+        .collect();
+    Case {
+        name: path.file_stem().unwrap().to_string_lossy().into_owned(),
+        commands,
+        folder: path.parent().unwrap().to_path_buf(),
     }
-    let (w, h, got) = decode(&out_path);
-    let (gw, gh, want) = decode(&golden_path);
-    assert_eq!((w, h), (gw, gh));
+}
+
+impl Case {
+    /// The reference picture.
+    fn reference(&self) -> PathBuf {
+        self.folder.join(format!("{}.png", self.name))
+    }
+
+    /// The files of the shared folder the case reads (`{shared}/...`), relative to it.
+    fn shared_files(&self) -> Vec<String> {
+        let arguments = self.commands.iter().flatten();
+        arguments.filter_map(|a| a.strip_prefix("{shared}/").map(String::from)).collect()
+    }
+
+    /// Runs the commands and compares the picture with the reference (writes the reference
+    /// when it is missing, or every time with `RELIEF_BLESS` set); `Err` says why it failed.
+    fn run(&self) -> Result<(), String> {
+        let (last, setup) = self.commands.split_last().ok_or("the case has no command")?;
+        let scratch = std::env::temp_dir()
+            .join(format!("relief-golden-{}", std::process::id()))
+            .join(&self.name);
+        std::fs::create_dir_all(&scratch).map_err(|e| e.to_string())?;
+        let picture = scratch.join("picture.png");
+        for command in setup {
+            self.relief(command, &scratch, None)?;
+        }
+        self.relief(last, &scratch, Some(&picture))?;
+        let reference = self.reference();
+        let bless = std::env::var_os("RELIEF_BLESS").is_some();
+        if bless || !reference.is_file() {
+            std::fs::copy(&picture, &reference).map_err(|e| e.to_string())?;
+            if bless {
+                eprintln!("blessed {}", reference.display());
+                return Ok(());
+            }
+            return Err(format!(
+                "no reference picture: wrote {}; look at it, and commit it if it is right",
+                reference.display()
+            ));
+        }
+        compare(&picture, &reference)
+    }
+
+    /// Runs `relief` with `arguments` (placeholders replaced) and `-o output` when given.
+    fn relief(
+        &self,
+        arguments: &[String],
+        scratch: &Path,
+        output: Option<&Path>,
+    ) -> Result<(), String> {
+        let mut args: Vec<String> = Vec::new();
+        for a in arguments {
+            args.push(match a.strip_prefix("{shared}/") {
+                Some(relative) => match shared_data(relative) {
+                    Some(path) => path.to_string_lossy().into_owned(),
+                    None => return Err(format!("{relative} is not in the shared folder")),
+                },
+                None => a.replace("{scratch}", &scratch.to_string_lossy()),
+            });
+        }
+        let mut command = Command::new(env!("CARGO_BIN_EXE_relief"));
+        command.args(&args);
+        if let Some(output) = output {
+            command.arg("-o").arg(output);
+        }
+        let out = command.output().map_err(|e| e.to_string())?;
+        if !out.status.success() {
+            return Err(format!(
+                "relief {} failed: {}",
+                args.join(" "),
+                String::from_utf8_lossy(&out.stderr)
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The trial of `case`: ignored, with the reason, where it reads the shared folder and that is
+/// absent (a bare clone) and `RELIEF_REQUIRE_SHARED_DATA` is not 1.
+fn case_trial(case: Case) -> Trial {
+    Trial::ignorable_test(case.name.clone(), move || {
+        let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared");
+        let required = std::env::var("RELIEF_REQUIRE_SHARED_DATA").as_deref() == Ok("1");
+        if let Some(relative) = case.shared_files().first() {
+            if !shared.join(relative).is_file() && !shared.is_dir() && !required {
+                return Ok(Completion::ignored_with(format!(
+                    "{}: ../shared, which holds {relative}, is not beside the repository",
+                    clients::SHARED_MISSING
+                )));
+            }
+        }
+        case.run().map(|()| Completion::Completed).map_err(Failed::from)
+    })
+}
+
+fn decode(path: &Path) -> Result<(u32, u32, Vec<u8>), String> {
+    let file = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let decoder = png::Decoder::new(std::io::BufReader::new(file));
+    let mut reader = decoder.read_info().map_err(|e| e.to_string())?;
+    let mut buf = vec![0; reader.output_buffer_size().ok_or("PNG too large")?];
+    let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+    buf.truncate(info.buffer_size());
+    Ok((info.width, info.height, buf))
+}
+
+/// Compares `picture` with `reference`: the same size, a mean difference of at most half a
+/// level and none above 16 levels.
+fn compare(picture: &Path, reference: &Path) -> Result<(), String> {
+    let (w, h, got) = decode(picture)?;
+    let (gw, gh, want) = decode(reference)?;
+    if (w, h) != (gw, gh) {
+        return Err(format!("the picture is {w} x {h}, {} is {gw} x {gh}", reference.display()));
+    }
     let diffs: Vec<u32> = got.iter().zip(&want).map(|(a, b)| a.abs_diff(*b) as u32).collect();
     let mean = diffs.iter().sum::<u32>() as f64 / diffs.len() as f64;
     let max = diffs.iter().copied().max().unwrap_or(0);
-    assert!(
-        mean <= 0.5 && max <= 16,
-        "image differs from {golden}: mean {mean:.2}, max {max} levels (RELIEF_BLESS=1 to regenerate)"
-    );
+    if mean <= 0.5 && max <= 16 {
+        return Ok(());
+    }
+    Err(format!(
+        "image differs from {}: mean {mean:.2}, max {max} levels (RELIEF_BLESS=1 to regenerate)",
+        reference.display()
+    ))
 }
 
-fn default_pipeline_matches_the_golden_image() {
-    let args = ["render", "--fbm-size", "64", "--seed", "7", "--size", "96x64"];
-    assert_matches_golden(&args, "tests/golden/fbm-96x64.png");
+/// Every reference picture in `folder` is some case's: none is left behind by a renamed or
+/// deleted case.
+fn every_reference_picture_has_its_case(folder: &Path) -> Result<(), Failed> {
+    let names: Vec<String> = cases(folder).into_iter().map(|c| c.name).collect();
+    let mut orphans = Vec::new();
+    for entry in std::fs::read_dir(folder).map_err(|e| e.to_string())? {
+        let path = entry.map_err(|e| e.to_string())?.path();
+        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+        if path.extension().is_some_and(|e| e == "png") && !names.contains(&stem) {
+            orphans.push(path.display().to_string());
+        }
+    }
+    if names.is_empty() || !orphans.is_empty() {
+        return Err(format!("{} cases; pictures without a case: {orphans:?}", names.len()).into());
+    }
+    Ok(())
 }
 
-fn mlhm_scene_with_water_at_the_mid_preset_matches_the_golden_image() {
-    let scene = combined_scene("boxes");
-    let args = ["render", &scene, "--preset", "mid", "--size", "96x64"];
-    assert_matches_golden(&args, "tests/golden/mlhm-combined-mid-96x64.png");
-}
-
-/// The `combined` scene at 64 x 64 cells, written once per test.
-fn combined_scene(name: &str) -> String {
-    let scene =
-        std::env::temp_dir().join(format!("relief-golden-{name}-{}.json", std::process::id()));
-    let scene = scene.to_str().unwrap().to_string();
-    let out = Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args(["generate", "mlhm", "--scene", "combined", "--size", "64", "-o", &scene])
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    scene
-}
-
-fn mlhm_scene_smooth_at_the_mid_preset_matches_the_golden_image() {
-    let scene = combined_scene("smooth");
-    let args = ["render", &scene, "--mode", "smooth", "--preset", "mid", "--size", "96x64"];
-    assert_matches_golden(&args, "tests/golden/mlhm-combined-smooth-mid-96x64.png");
-}
-
-fn the_real_scene_smoothed_matches_the_golden_image() {
-    let Some(json) = shared_data("data/ngwm24-scene/scene.json") else { return };
-    // Low over the scene's north-east corner, looking at the side walls of its terraces.
-    let args = [
-        "render",
-        json.to_str().unwrap(),
-        "--mode",
-        "smooth",
-        "--preset",
-        "high",
-        "--eye",
-        "230,250,70",
-        "--target",
-        "120,120,20",
-        "--size",
-        "128x72",
-    ];
-    assert_matches_golden(&args, "tests/golden/ngwm24-smooth-high-128x72.png");
+/// A new case (the default pipeline's, in a folder of its own) writes its reference picture
+/// and fails saying so; run again, it passes against it.
+fn a_case_without_a_reference_writes_it_and_fails() -> Result<(), Failed> {
+    if std::env::var_os("RELIEF_BLESS").is_some() {
+        return Ok(()); // blessing passes every case, a new one too
+    }
+    let folder = std::env::temp_dir().join(format!("relief-golden-new-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).map_err(|e| e.to_string())?;
+    let args = "# a new case\nrender --fbm-size 32 --seed 3 --size 24x16\n";
+    std::fs::write(folder.join("new-case.args"), args).map_err(|e| e.to_string())?;
+    let [case] = <[Case; 1]>::try_from(cases(&folder)).map_err(|c| format!("{c:?}"))?;
+    let first = case.run();
+    let written = case.reference().is_file();
+    let second = case.run();
+    let _ = std::fs::remove_dir_all(&folder);
+    match first {
+        Err(e) if e.contains("wrote") && written && second.is_ok() => Ok(()),
+        other => {
+            Err(format!("first run {other:?}, written {written}, second run {second:?}").into())
+        }
+    }
 }

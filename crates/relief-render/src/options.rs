@@ -7,7 +7,7 @@ use relief_core::{Precision, Surface};
 use relief_io::{LengthUnit, PngEncoding, ReadOptions, VoidPolicy};
 use relief_shade::mlhm::MlhmPreset;
 use relief_shade::{FarField, TextureFilter};
-use relief_trace::hybrid::HybridParams;
+use relief_shade::hybrid::HybridParams;
 use relief_trace::MlhmBacktrack;
 use std::path::PathBuf;
 

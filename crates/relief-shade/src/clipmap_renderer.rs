@@ -5,7 +5,7 @@
 
 use crate::hybrid::mesh_hit;
 use crate::render::fill_gbuffer;
-use crate::{GBuffer, ShadeError};
+use crate::{GBuffer, Renderer, ShadeError, StageTimings};
 use relief_core::{Aabb, Camera, HeightField, SampleRegion, Surface};
 use relief_mesh::{Clipmap, ClipmapParams, RasterTarget, Rasterizer};
 use relief_trace::{MipmapTracer, Tracer};
@@ -23,6 +23,17 @@ pub struct ClipmapStats {
     pub raster_ms: f64,
     /// Milliseconds writing the G-buffer.
     pub resolve_ms: f64,
+}
+
+impl ClipmapStats {
+    /// The frame's stages: `mesh`, `raster`, `resolve`.
+    pub fn timings(&self) -> StageTimings {
+        let mut timings = StageTimings::new();
+        timings.push("mesh", self.mesh_ms);
+        timings.push("raster", self.raster_ms);
+        timings.push("resolve", self.resolve_ms);
+        timings
+    }
 }
 
 /// The clipmap renderer of one height field: its height pyramid, and the exact tracer of the
@@ -100,6 +111,19 @@ impl ClipmapRenderer {
         });
         stats.resolve_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(stats)
+    }
+}
+
+impl Renderer for ClipmapRenderer {
+    /// [`ClipmapRenderer::render_into`], texture coordinates spanning the field's world
+    /// bounds.
+    fn render_frame(
+        &mut self,
+        camera: &Camera,
+        gbuffer: &mut GBuffer,
+    ) -> Result<StageTimings, ShadeError> {
+        let bounds = self.exact.field().world_bounds(Surface::Triangles);
+        Ok(self.render_into(camera, &bounds, gbuffer)?.timings())
     }
 }
 

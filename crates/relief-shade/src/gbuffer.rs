@@ -3,6 +3,8 @@
 use rayon::prelude::*;
 
 use crate::ShadeError;
+use relief_core::DVec3;
+use relief_trace::Hit;
 
 /// One pixel of a [`GBuffer`]: the first surface seen through it, or a miss.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,6 +65,11 @@ pub struct GBuffer {
     pub uv: Vec<[f32; 2]>,
     /// World width of the pixel at the hit.
     pub footprint: Vec<f32>,
+    /// Each pixel's hit in full precision ([`GBuffer::EXACT_MISS`], `t = +inf`, for a miss),
+    /// for shading that continues rays from it and must not move their origins (the MLHM
+    /// renderer's water and shadow rays); `None` unless a renderer that keeps it fills it
+    /// ([`GBuffer::keep_exact_hits`]). Read it with [`GBuffer::exact_hit`].
+    pub exact_hits: Option<Vec<Hit>>,
 }
 
 impl GBuffer {
@@ -89,7 +96,30 @@ impl GBuffer {
             material: filled(n, m.material)?,
             uv: filled(n, m.uv)?,
             footprint: filled(n, m.footprint)?,
+            exact_hits: None,
         })
+    }
+
+    /// A miss in [`GBuffer::exact_hits`].
+    pub const EXACT_MISS: Hit =
+        Hit { t: f64::INFINITY, position: DVec3::ZERO, normal: DVec3::ZERO };
+
+    /// Gives the buffer a plane of full-precision hits (all misses), unless it has one.
+    ///
+    /// Fails when the plane cannot be allocated.
+    pub fn keep_exact_hits(&mut self) -> Result<(), ShadeError> {
+        if self.exact_hits.is_none() {
+            let plane = image_plane(self.len(), Self::EXACT_MISS, "G-buffer's exact hits")?;
+            self.exact_hits = Some(plane);
+        }
+        Ok(())
+    }
+
+    /// The full-precision hit of the pixel at `index`: `None` for a miss, past the end, or
+    /// when the buffer keeps no exact hits.
+    pub fn exact_hit(&self, index: usize) -> Option<Hit> {
+        let hit = *self.exact_hits.as_ref()?.get(index)?;
+        hit.t.is_finite().then_some(hit)
     }
 
     /// Number of pixels, `width * height`.
@@ -115,6 +145,7 @@ impl GBuffer {
             ("material", self.material.len()),
             ("uv", self.uv.len()),
             ("footprint", self.footprint.len()),
+            ("exact hits", self.exact_hits.as_ref().map_or(n, Vec::len)),
         ];
         for (name, len) in lengths {
             if len != n {
@@ -295,6 +326,15 @@ mod tests {
         assert!(GBuffer::new(0, 4).is_err());
         let mut g = GBuffer::new(2, 2).unwrap();
         g.uv.pop();
+        assert!(matches!(g.validate(), Err(ShadeError::Mismatch(_))));
+        let mut g = GBuffer::new(2, 2).unwrap();
+        g.keep_exact_hits().unwrap();
+        assert_eq!(g.exact_hits.as_ref().map(Vec::len), Some(4));
+        assert_eq!(g.exact_hit(1), None);
+        let hit = Hit { t: 2.0, position: DVec3::X, normal: DVec3::Z };
+        g.exact_hits.as_mut().unwrap()[1] = hit;
+        assert_eq!((g.exact_hit(1), g.exact_hit(4)), (Some(hit), None));
+        g.exact_hits.as_mut().unwrap().pop();
         assert!(matches!(g.validate(), Err(ShadeError::Mismatch(_))));
     }
 }

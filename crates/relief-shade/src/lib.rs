@@ -15,8 +15,12 @@
 //! [`depth_metrics()`] compares a depth image with a reference one as the hybrid-rendering paper
 //! does (PSNR, wrong pixels, relative error).
 //!
-//! Multi-layered height maps have their own renderer in [`mlhm`]: the reference shading of
-//! Nilles & Müller (2025) with water, shadows and ambient occlusion, at four quality presets.
+//! Every renderer has the one shape of [`Renderer`]: the ray caster ([`RayCaster`]), the
+//! hybrid renderer ([`HybridRenderer`], per-cell machinery in [`hybrid`]), geometry clipmaps
+//! ([`ClipmapRenderer`]), the stacks mesh ([`StacksRenderer`]) and multi-layered height maps
+//! ([`mlhm::MlhmRenderer`]), whose deferred lighting ([`mlhm::shade_mlhm`]) is the reference
+//! shading of Nilles & Müller (2025) with water, shadows and ambient occlusion, at four
+//! quality presets.
 //!
 //! Every step gives the same result whatever the number of threads.
 //!
@@ -47,10 +51,11 @@ mod depth_metrics;
 mod error;
 mod footprint;
 mod gbuffer;
-mod hybrid;
+pub mod hybrid;
 pub mod mlhm;
 mod ray_batch;
 mod render;
+mod renderer;
 pub mod shade_map;
 mod shading;
 mod sky;
@@ -69,7 +74,7 @@ pub use deferred::{shade, shade_to_srgb8, ShadingParams};
 pub use depth_metrics::{depth_errors, depth_metrics, DepthImage, DepthMetrics, DepthScale};
 pub use error::ShadeError;
 pub use gbuffer::{GBuffer, GBufferPixel};
-pub use hybrid::{FarField, HybridRenderer, HybridStats, PixelSource};
+pub use hybrid::{FarField, HybridParams, HybridRenderer, HybridStats, PixelSource};
 pub use ray_batch::RayBatch;
 pub use relief_core::colour::{linear_to_srgb, srgb_to_linear};
 pub use relief_core::texture::{
@@ -78,6 +83,7 @@ pub use relief_core::texture::{
     DEFAULT_MAX_ANISOTROPY,
 };
 pub use render::{render_gbuffer, render_gbuffer_into, Tile, TILE_SIZE};
+pub use renderer::{RayCaster, Renderer, StageTimings};
 pub use shade_map::{shade_map, ShadeLayer, ShadeMap, ShadeMapParams, SunPosition};
 pub use shading::{ambient_lighting, direct_lighting, GgxSpecular, DIELECTRIC_F0};
 pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGONAL};

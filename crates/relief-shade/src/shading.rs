@@ -1,5 +1,6 @@
-//! The terrain's reflectance: a Lambertian diffuse term plus an optional GGX specular lobe,
-//! and the light they reflect from the sun and from the sky.
+//! The terrain's reflectance: a Lambertian diffuse term plus an optional GGX specular lobe
+//! (one lobe for every renderer, with the masking term of the height-field shading or that of
+//! the MLHM reference renderer), and the light they reflect from the sun and from the sky.
 
 use std::f64::consts::{FRAC_1_PI, PI};
 
@@ -10,8 +11,12 @@ use crate::ShadeError;
 /// Reflectance at normal incidence of common dielectrics (rock, soil, vegetation, water).
 pub const DIELECTRIC_F0: f64 = 0.04;
 
-/// A GGX (Trowbridge-Reitz) microfacet specular lobe with the height-correlated Smith
-/// visibility term and Schlick's Fresnel approximation.
+/// A GGX (Trowbridge-Reitz) microfacet specular lobe with Schlick's Fresnel approximation.
+///
+/// Two masking-shadowing terms: the height-correlated Smith term ([`GgxSpecular::brdf`], the
+/// deferred shading of height fields) and the separable Smith-Schlick term with
+/// `k = (roughness + 1)² / 8` of the MLHM reference renderer (Nilles & Müller 2025, section
+/// 4.6; [`GgxSpecular::brdf_smith_schlick`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GgxSpecular {
     /// Perceptual roughness in `[0, 1]`; the GGX `alpha` is its square.
@@ -70,9 +75,38 @@ impl GgxSpecular {
         // D = a2 / (π d_denom^2) and V = 1 / (2 (n.l Λv + n.v Λl)), in one division.
         let smith =
             n_l * (n_v * n_v * (1.0 - a2) + a2).sqrt() + n_v * (n_l * n_l * (1.0 - a2) + a2).sqrt();
-        let fresnel = self.f0 + (1.0 - self.f0) * (1.0 - v_h).powi(5);
+        let fresnel = schlick(v_h, self.f0);
         a2 * fresnel / (2.0 * PI * d_denom * d_denom * smith)
     }
+
+    /// The BRDF value `D G F / (4 (n.l) (n.v))` with the separable Smith-Schlick masking
+    /// `G = G1(n.l) G1(n.v)`, `G1(c) = c / (c (1 - k) + k)`, `k = (roughness + 1)² / 8`, as
+    /// the MLHM reference renderer has it, for unit `normal`, `to_eye` and `to_light`; 0 when
+    /// either direction is below the surface.
+    pub fn brdf_smith_schlick(&self, normal: DVec3, to_eye: DVec3, to_light: DVec3) -> f64 {
+        let n_l = normal.dot(to_light);
+        let n_v = normal.dot(to_eye);
+        if n_l <= 0.0 || n_v <= 0.0 {
+            return 0.0;
+        }
+        let (n_l, n_v) = (n_l.max(MIN_COS_VIEW), n_v.max(MIN_COS_VIEW));
+        let half = (to_eye + to_light).normalize_or_zero();
+        let n_h = normal.dot(half).max(0.0);
+        let alpha = (self.roughness * self.roughness).max(MIN_ALPHA);
+        let a2 = alpha * alpha;
+        let denom = n_h * n_h * (a2 - 1.0) + 1.0;
+        let distribution = a2 / (PI * denom * denom);
+        let k = (self.roughness + 1.0).powi(2) / 8.0;
+        let g1 = |c: f64| c / (c * (1.0 - k) + k);
+        let fresnel = schlick(to_eye.dot(half).clamp(0.0, 1.0), self.f0);
+        distribution * g1(n_l) * g1(n_v) * fresnel / (4.0 * n_l * n_v)
+    }
+}
+
+/// Schlick's approximation of Fresnel reflectance, `F0 + (1 - F0) (1 - cos)^5`, with `cos`
+/// clamped to `[0, 1]`.
+pub fn schlick(cos: f64, f0: f64) -> f64 {
+    f0 + (1.0 - f0) * (1.0 - cos.clamp(0.0, 1.0)).powi(5)
 }
 
 /// Radiance reflected towards the eye from a distant light of irradiance `irradiance` in the
@@ -180,30 +214,67 @@ mod tests {
         }
     }
 
+    /// A BRDF of the lobe: normal, to the eye, to the light.
+    type Brdf = fn(&GgxSpecular, DVec3, DVec3, DVec3) -> f64;
+
+    /// Both masking terms of the lobe, by name.
+    fn both_terms() -> [(&'static str, Brdf); 2] {
+        [
+            ("height-correlated", GgxSpecular::brdf),
+            ("Smith-Schlick", GgxSpecular::brdf_smith_schlick),
+        ]
+    }
+
+    #[test]
+    fn both_masking_terms_are_reciprocal_and_dark_below_the_surface() {
+        for (name, brdf) in both_terms() {
+            for roughness in [0.05, 0.5, 0.7, 1.0] {
+                let s = GgxSpecular { roughness, f0: 1.0 };
+                let (v, l) =
+                    (DVec3::new(0.5, 0.1, 0.8).normalize(), DVec3::new(-0.2, 0.7, 0.4).normalize());
+                let (a, b) = (brdf(&s, DVec3::Z, v, l), brdf(&s, DVec3::Z, l, v));
+                assert!((a - b).abs() <= 1e-12 * a.max(1.0), "{name} {roughness}: {a} {b}");
+                assert_eq!(brdf(&s, DVec3::Z, v, -DVec3::Z), 0.0, "{name}");
+            }
+        }
+        // The reference's masking is also dark seen from below.
+        let s = GgxSpecular::default();
+        assert_eq!(s.brdf_smith_schlick(DVec3::Z, -DVec3::Z, DVec3::Z), 0.0);
+        assert!((schlick(1.0, 0.02) - 0.02).abs() < 1e-15 && schlick(-3.0, 0.02) == 1.0);
+    }
+
+    /// Directional albedo `∫ f cos dω` of `brdf` seen from `view_deg` off the normal, by
+    /// midpoint quadrature.
+    fn directional_albedo(brdf: Brdf, s: &GgxSpecular, view_deg: f64, steps: usize) -> f64 {
+        let v = DVec3::new(view_deg.to_radians().sin(), 0.0, view_deg.to_radians().cos());
+        let mut sum = 0.0;
+        for a in 0..steps {
+            let th = (a as f64 + 0.5) / steps as f64 * PI / 2.0;
+            for b in 0..steps {
+                let ph = (b as f64 + 0.5) / steps as f64 * 2.0 * PI;
+                let l = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
+                sum += brdf(s, DVec3::Z, v, l) * th.cos() * th.sin();
+            }
+        }
+        sum * (PI / 2.0 / steps as f64) * (2.0 * PI / steps as f64)
+    }
+
     #[test]
     fn ggx_reflects_less_than_it_receives() {
-        // Directional albedo ∫ f cos dω by midpoint quadrature, for several view angles.
         for roughness in [0.3, 0.7, 1.0] {
             let s = GgxSpecular { roughness, f0: 1.0 };
             for view_deg in [0.0_f64, 45.0, 80.0] {
-                let v = DVec3::new(view_deg.to_radians().sin(), 0.0, view_deg.to_radians().cos());
-                let (nt, np) = (400, 400);
-                let mut sum = 0.0;
-                for a in 0..nt {
-                    let th = (a as f64 + 0.5) / nt as f64 * PI / 2.0;
-                    for b in 0..np {
-                        let ph = (b as f64 + 0.5) / np as f64 * 2.0 * PI;
-                        let l = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
-                        sum += s.brdf(DVec3::Z, v, l) * th.cos() * th.sin();
-                    }
-                }
-                let albedo = sum * (PI / 2.0 / nt as f64) * (2.0 * PI / np as f64);
+                let albedo = directional_albedo(GgxSpecular::brdf, &s, view_deg, 400);
                 assert!(
                     albedo > 0.3 && albedo <= 1.01,
                     "roughness {roughness}, view {view_deg}: {albedo}"
                 );
             }
         }
+        // The reference renderer's rough terrain lobe, seen 30 degrees off the normal.
+        let s = GgxSpecular { roughness: 1.0, f0: 1.0 };
+        let albedo = directional_albedo(GgxSpecular::brdf_smith_schlick, &s, 30.0, 200);
+        assert!(albedo > 0.2 && albedo <= 1.0, "{albedo}");
     }
 
     #[test]

@@ -3,9 +3,9 @@
 //! the meshes' smooth normals and vertex colours, for the one deferred shading pass.
 
 use crate::render::fill_gbuffer;
-use crate::{GBuffer, ShadeError};
+use crate::{GBuffer, Renderer, ShadeError, StageTimings};
 use rayon::prelude::*;
-use relief_core::{Aabb, Camera, DVec3};
+use relief_core::{Aabb, Camera, DVec3, MaterialStacks};
 use relief_mesh::{MeshStats, RasterTarget, Rasterizer, StacksMesher};
 use relief_trace::Hit;
 use std::time::Instant;
@@ -25,6 +25,17 @@ pub struct StacksFrameStats {
     pub resolve_ms: f64,
 }
 
+impl StacksFrameStats {
+    /// The frame's stages: `mesh`, `raster`, `resolve`.
+    pub fn timings(&self) -> StageTimings {
+        let mut timings = StageTimings::new();
+        timings.push("mesh", self.mesh_ms);
+        timings.push("raster", self.raster_ms);
+        timings.push("resolve", self.resolve_ms);
+        timings
+    }
+}
+
 /// Draws a stacks terrain's LOD mesh for a camera into a G-buffer.
 #[derive(Debug)]
 pub struct StacksRenderer {
@@ -32,6 +43,7 @@ pub struct StacksRenderer {
     tau_px: f64,
     rasterizer: Rasterizer,
     target: RasterTarget,
+    texture_bounds: Aabb,
 }
 
 impl StacksRenderer {
@@ -41,12 +53,23 @@ impl StacksRenderer {
         if !(tau_px.is_finite() && tau_px > 0.0) {
             return Err(ShadeError::parameter("tau", format!("{tau_px}: must be positive")));
         }
+        let texture_bounds =
+            mesher.mipmap().level(0).map_or(Aabb::new(DVec3::ZERO, DVec3::ONE), stacks_bounds);
         Ok(StacksRenderer {
             mesher,
             tau_px,
             rasterizer: Rasterizer::new(),
             target: RasterTarget::new(0, 0),
+            texture_bounds,
         })
+    }
+
+    /// The renderer with texture coordinates spanning `bounds` in [`Renderer::render_frame`]
+    /// (by default the stacks' footprint and height range).
+    #[must_use]
+    pub fn with_texture_bounds(mut self, bounds: Aabb) -> Self {
+        self.texture_bounds = bounds;
+        self
     }
 
     /// The mesher (its mipmap and cache).
@@ -125,6 +148,33 @@ impl StacksRenderer {
         stats.resolve_ms = ms(start);
         Ok(stats)
     }
+}
+
+impl Renderer for StacksRenderer {
+    /// [`StacksRenderer::render_into`] with the renderer's texture bounds.
+    fn render_frame(
+        &mut self,
+        camera: &Camera,
+        gbuffer: &mut GBuffer,
+    ) -> Result<StageTimings, ShadeError> {
+        let bounds = self.texture_bounds;
+        Ok(self.render_into(camera, &bounds, gbuffer)?.timings())
+    }
+}
+
+/// The box over the footprint and height range of `stacks` (a unit of height for a flat or
+/// empty one).
+fn stacks_bounds(stacks: &MaterialStacks) -> Aabb {
+    let (low, high) = stacks.height_range().unwrap_or((0.0, 1.0));
+    let (o, s) = (stacks.origin(), stacks.spacing());
+    Aabb::new(
+        DVec3::new(o.x, o.y, low as f64),
+        DVec3::new(
+            o.x + s.x * stacks.width() as f64,
+            o.y + s.y * stacks.height() as f64,
+            (high as f64).max(low as f64 + 1e-3),
+        ),
+    )
 }
 
 fn ms(start: Instant) -> f64 {

@@ -4,8 +4,8 @@
 
 use proptest::prelude::*;
 use relief_core::{Camera, DVec3, GridGeometry, HeightField, Surface};
+use relief_shade::hybrid::HybridParams;
 use relief_shade::{render_gbuffer, FarField, GBuffer, HybridRenderer, PixelSource};
-use relief_trace::hybrid::HybridParams;
 use relief_trace::{MipmapTracer, NaiveTracer};
 use std::sync::Arc;
 

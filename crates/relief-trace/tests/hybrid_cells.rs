@@ -1,14 +1,13 @@
-//! Property tests of the hybrid renderer's cells and heuristic: an edit then an update equals
-//! a rebuild, bit for bit; every point of the solid an exact tracer hits lies in some proxy
-//! box; and the heuristic never culls, nor projects away from its pixel, a box holding a
-//! pixel's exact hit.
+//! Property tests of the hybrid renderer's cells: an edit then an update equals a rebuild,
+//! bit for bit; every point of the solid an exact tracer hits lies in some proxy box.
+//! (relief-shade's tests/hybrid_heuristic.rs checks the heuristic and the box projection.)
 
 mod common;
 
 use common::scenes::{ray_for, terrain, ALL_KINDS};
 use proptest::prelude::*;
-use relief_core::{Camera, DVec3, HeightField, SampleRegion, Surface};
-use relief_trace::hybrid::{project_box, CellChoice, HybridCells, HybridHeuristic, HybridParams};
+use relief_core::{DVec3, HeightField, SampleRegion, Surface};
+use relief_trace::hybrid::HybridCells;
 use relief_trace::{NaiveTracer, Tracer};
 use std::sync::Arc;
 
@@ -82,49 +81,6 @@ proptest! {
                 if let Some(hit) = naive.intersect(&ray).filter(|h| h.t > ray.t_min) {
                     prop_assert!(!cells_holding(&cells, &field, hit.position).is_empty(),
                         "{surface} n {n}: {hit:?} of {ray:?} lies in no box");
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn the_heuristic_keeps_and_projects_onto_its_pixel_every_box_holding_a_hit(
-        field in terrain(),
-        n in 2usize..=9,
-        u in prop::array::uniform8(0.0f64..1.0),
-        threshold in 0.01f64..200.0,
-    ) {
-        let field = Arc::new(field);
-        let b = field.world_bounds(Surface::Boxes);
-        let size = (b.max - b.min).max_element().max(1.0);
-        let eye = b.center()
-            + DVec3::new(u[0] - 0.5, u[1] - 0.5, 0.1 + u[2]) * 2.0 * size;
-        let target = DVec3::new(
-            b.min.x + u[3] * (b.max.x - b.min.x),
-            b.min.y + u[4] * (b.max.y - b.min.y),
-            b.min.z,
-        );
-        let Ok(camera) = Camera::look_at(eye, target, DVec3::Z, 20.0 + 80.0 * u[5], 24, 16) else {
-            return Ok(());
-        };
-        let params = HybridParams { cell: n, threshold, ..HybridParams::default() };
-        let heuristic = HybridHeuristic::new(params).unwrap();
-        for surface in Surface::ALL {
-            let mut cells = HybridCells::new(&field, surface, n).unwrap();
-            cells.set_floor_everywhere(cells.bottom_visible(&camera));
-            let choices = heuristic.choose(&cells, &camera);
-            let naive = NaiveTracer::new(field.clone(), surface);
-            for j in 0..camera.height() {
-                for i in 0..camera.width() {
-                    let Some(hit) = naive.intersect(&camera.ray(i, j)) else { continue };
-                    let holding = cells_holding(&cells, &field, hit.position);
-                    let seen = holding.iter().any(|&k| {
-                        choices[k] != CellChoice::Culled
-                            && project_box(&camera, &cells.proxy_box(k).unwrap())
-                                .pixels(camera.width(), camera.height())
-                                .is_some_and(|p| (p.i0..=p.i1).contains(&i) && (p.j0..=p.j1).contains(&j))
-                    });
-                    prop_assert!(seen, "{surface} n {n}: pixel ({i}, {j}) hit {hit:?} in cells {holding:?}");
                 }
             }
         }

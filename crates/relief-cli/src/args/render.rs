@@ -143,9 +143,9 @@ impl HybridArgs {
     }
 
     /// The heuristic's parameters these options give (the paper's defaults otherwise).
-    pub fn params(&self) -> relief_trace::hybrid::HybridParams {
-        let d = relief_trace::hybrid::HybridParams::default();
-        relief_trace::hybrid::HybridParams {
+    pub fn params(&self) -> relief_shade::hybrid::HybridParams {
+        let d = relief_shade::hybrid::HybridParams::default();
+        relief_shade::hybrid::HybridParams {
             cell: self.cell.unwrap_or(d.cell),
             threshold: self.threshold.unwrap_or(d.threshold),
             k: self.k.unwrap_or(d.k),

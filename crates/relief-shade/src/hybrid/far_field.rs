@@ -2,15 +2,69 @@
 //! precision inside their proxy boxes (the paper's section 3), or exactly from the nearest
 //! proxy-box entry (relief's `--far exact`).
 
-use super::PixelSource;
+use super::heuristic::{CellChoice, HybridHeuristic};
+use super::projection::{project_box, PixelRect};
 use crate::{Tile, TILE_SIZE};
 use rayon::prelude::*;
 use relief_core::{Aabb, Camera, HeightField, Ray};
 use relief_mesh::RasterTarget;
-use relief_trace::hybrid::{
-    lop_cast, project_box, CellChoice, HybridCells, HybridHeuristic, LopSteps, PixelRect,
-};
+use relief_trace::hybrid::{lop_cast, HybridCells, LopSteps};
 use relief_trace::{Hit, Tracer};
+use std::fmt;
+use std::str::FromStr;
+
+/// How the hybrid renderer casts the cells it does not rasterize.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum FarField {
+    /// The paper's levels of precision: a linear then a binary search with the cell's level's
+    /// steps inside its proxy box. Approximate (see the metrics of `relief compare`), and on a
+    /// CPU slower than the exact far field (docs/hybrid.md).
+    Lop,
+    /// The exact tracer between the nearest proxy-box entry and the rasterized depth: the
+    /// whole image then equals the exact tracer's. The default.
+    #[default]
+    Exact,
+}
+
+impl FarField {
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            FarField::Lop => "lop",
+            FarField::Exact => "exact",
+        }
+    }
+}
+
+impl fmt::Display for FarField {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+impl FromStr for FarField {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "lop" => Ok(FarField::Lop),
+            "exact" => Ok(FarField::Exact),
+            other => Err(format!("unknown far field '{other}' (expected lop or exact)")),
+        }
+    }
+}
+
+/// What drew a pixel, for `--show-lop` (the paper's Figure 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PixelSource {
+    /// Nothing: the sky.
+    Nothing,
+    /// A rasterized mesh cell.
+    Mesh,
+    /// A ray-cast cell at a level of precision (0 the most precise).
+    RayCast(u8),
+    /// The exact far field.
+    Exact,
+}
 
 /// One ray-cast cell of a frame.
 #[derive(Debug, Clone, Copy)]

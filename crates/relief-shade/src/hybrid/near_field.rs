@@ -1,11 +1,14 @@
 //! The hybrid renderer's near field: the meshes of the cells it rasterizes, cached across
 //! frames and rebuilt where an edit changed their samples.
 
+use super::heuristic::CellChoice;
 use crate::ShadeError;
 use rayon::prelude::*;
+use relief_core::Ray;
 use relief_core::{HeightField, SampleRegion};
 use relief_mesh::{height_field_mesh, IndexedMesh};
-use relief_trace::hybrid::{CellChoice, HybridCells};
+use relief_trace::hybrid::HybridCells;
+use relief_trace::Hit;
 
 /// Per cell, its mesh once a frame has drawn it as a mesh (until an edit touches it).
 pub(super) struct NearField {
@@ -93,4 +96,9 @@ fn mesh_region(cells: &HybridCells, index: usize) -> SampleRegion {
     let (cells_x, _) = cells.cells();
     let s = cells.span(index % cells_x, index / cells_x);
     SampleRegion::new(s.col0, s.row0, s.col1 + 1, s.row1 + 1)
+}
+
+/// The hit of `ray` on triangle `triangle` of `mesh` (the rasterized pixel's), as a tracer's.
+pub(crate) fn mesh_hit(mesh: &IndexedMesh, triangle: u32, ray: &Ray) -> Option<Hit> {
+    mesh.hit(triangle, ray).map(|h| Hit { t: h.t, position: h.position, normal: h.normal })
 }

@@ -1,7 +1,7 @@
 //! How much light water absorbs on the way (Beer's law with the reference extinction
 //! coefficients), in the paper's cheap and expensive modes.
 
-use super::WaterAbsorption;
+use super::preset::WaterAbsorption;
 use relief_core::DVec3;
 
 /// Extinction coefficients of water per metre for red, green and blue.

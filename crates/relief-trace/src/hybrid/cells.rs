@@ -3,9 +3,7 @@
 
 use crate::TraceError;
 use rayon::prelude::*;
-use relief_core::{
-    Aabb, Camera, DVec3, GridGeometry, HeightField, Projection, SampleRegion, Surface,
-};
+use relief_core::{Aabb, DVec3, GridGeometry, HeightField, SampleRegion, Surface};
 
 /// The samples of one cell: columns `col0..=col1` and rows `row0..=row1` (inclusive).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,8 +63,8 @@ impl CellBounds {
 /// The boxes hold the solid's boundary, not its interior: a ray that starts inside the solid
 /// (an eye under the terrain) hits where it starts, in no box; a renderer tests the eye with
 /// an exact tracer. The solid's bottom face (at the lowest sample, facing down) is seen only
-/// from below that level: for such views ([`HybridCells::bottom_visible`]) let every box
-/// reach the floor with [`HybridCells::set_floor_everywhere`]. A cell whose samples are all
+/// from below that level (a renderer knows its views: relief-shade's `bottom_visible`): for
+/// such views let every box reach the floor with [`HybridCells::set_floor_everywhere`]. A cell whose samples are all
 /// holes has no surface ([`CellBounds::has_surface`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct HybridCells {
@@ -193,22 +191,6 @@ impl HybridCells {
     /// it, which see the solid's bottom face), or only those of cells with walls (the default).
     pub fn set_floor_everywhere(&mut self, on: bool) {
         self.floor_everywhere = on;
-    }
-
-    /// Whether some ray of `camera` starts below the field's lowest sample, and so may see the
-    /// solid's bottom face, which only boxes reaching the floor hold
-    /// ([`HybridCells::set_floor_everywhere`]).
-    pub fn bottom_visible(&self, camera: &Camera) -> bool {
-        let floor = self.field_min as f64 * self.geometry.z_scale;
-        let lowest_origin = match camera.projection() {
-            Projection::Perspective { .. } => camera.eye().z,
-            Projection::Orthographic { .. } => {
-                let s = camera.half_height();
-                let aspect = s * camera.width() as f64 / camera.height() as f64;
-                camera.eye().z - aspect * camera.right().z.abs() - s * camera.image_up().z.abs()
-            }
-        };
-        lowest_origin < floor
     }
 
     /// The surface the boxes are built for.
@@ -348,23 +330,13 @@ mod tests {
     }
 
     #[test]
-    fn views_from_below_the_floor_see_the_bottom_and_then_every_box_reaches_it() {
+    fn every_box_reaches_the_floor_when_asked() {
         let mut samples = vec![5.0f32; 100];
         samples[0] = 1.0;
         let f = HeightField::new(10, 10, samples, GridGeometry::unit()).unwrap();
         let mut cells = HybridCells::new(&f, Surface::Triangles, 4).unwrap();
         let inner = cells.index(1, 1);
         assert_eq!(cells.grid_box(inner).unwrap().min.z, 5.0);
-        let look = |eye: DVec3, projection| {
-            Camera::new(eye, DVec3::new(5.0, 5.0, 3.0), DVec3::Z, projection, 40, 30).unwrap()
-        };
-        let pinhole = Projection::Perspective { fov_deg: 60.0 };
-        assert!(!cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 1.0), pinhole)));
-        assert!(cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 0.99), pinhole)));
-        // An orthographic image 4 high, looking level: its lowest rays start 2 below the eye.
-        let parallel = Projection::Orthographic { height: 4.0 };
-        assert!(cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 2.9), parallel)));
-        assert!(!cells.bottom_visible(&look(DVec3::new(-5.0, 5.0, 3.0), parallel)));
         cells.set_floor_everywhere(true);
         assert_eq!(cells.grid_box(inner).unwrap().min.z, 1.0);
     }

@@ -9,7 +9,7 @@ use relief_core::Ray;
 ///
 /// `t0` is a lower bound on where the ray can first meet a ray-cast cell (the nearest entry
 /// into a ray-cast cell's proxy box, [`super::box_entry`]), `t1` the rasterized near field's
-/// depth at the pixel (or +inf where nothing was rasterized): the exact tracer then only
+/// depth along the ray (or +inf where nothing was rasterized): the exact tracer then only
 /// searches between them. `tracer` is any exact tracer (the [`crate::MipmapTracer`] in
 /// practice); its answer is [`Tracer::intersect`] of the ray restricted to that range, so a
 /// ray already inside the solid at `t0` hits at `t0`. An empty or NaN range gives `None`.
@@ -20,7 +20,7 @@ pub fn exact_far_hit(tracer: &dyn Tracer, ray: &Ray, t0: f64, t1: f64) -> Option
 
 /// [`exact_far_hit`] for many rays at once through [`Tracer::intersect_batch`] (the mipmap
 /// tracer's coherent packets): `hits[k]` is `exact_far_hit(tracer, &rays[k], t0[k], t1[k])`.
-/// Pass neighbouring pixels together. Panics when the slices differ in length.
+/// Pass neighbouring rays together. Panics when the slices differ in length.
 pub fn exact_far_hits(
     tracer: &dyn Tracer,
     rays: &[Ray],

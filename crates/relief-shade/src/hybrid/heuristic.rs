@@ -2,50 +2,14 @@
 //! culling, mesh rasterization where a cell's triangles cover many pixels, else ray casting
 //! at a level of precision from the cell's distance, relief and viewing angle.
 
-use super::HybridCells;
-use crate::TraceError;
+use super::projection::{project_box, BoxProjection};
+use crate::ShadeError;
 use rayon::prelude::*;
-use relief_core::{Aabb, Camera, DVec3, Projection};
-
-/// The linear and binary search steps of one level of precision of the ray casting.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct LopSteps {
-    /// Fixed number of steps of the linear search from the box's entry to its exit.
-    pub linear: u32,
-    /// Fixed number of halvings of the binary search that follows.
-    pub binary: u32,
-}
-
-/// The paper's four levels (section 5.1), most precise first.
-pub const PAPER_LEVELS: [LopSteps; 4] = [
-    LopSteps { linear: 55, binary: 25 },
-    LopSteps { linear: 32, binary: 15 },
-    LopSteps { linear: 16, binary: 10 },
-    LopSteps { linear: 8, binary: 5 },
-];
+use relief_core::{Aabb, Camera};
+use relief_trace::hybrid::{lop_steps, HybridCells, LopSteps};
 
 /// Fewest and most levels of precision [`HybridParams`] accept.
 pub const LEVEL_COUNTS: std::ops::RangeInclusive<usize> = 2..=10;
-
-/// The steps of `count` levels of precision, most precise first.
-///
-/// Four levels are the paper's (55/25, 32/15, 16/10, 8/5; section 5.1). Other counts
-/// interpolate geometrically between the ends of the paper's Table 2, 64/50 and 6/5: level
-/// `i` of `m` has `round(64 (6/64)^(i/(m-1)))` linear and `round(50 (5/50)^(i/(m-1)))` binary
-/// steps (two levels: 64/50 and 6/5; three: 64/50, 20/16, 6/5). An empty list for a count of
-/// 0; one level is the most precise, 64/50.
-pub fn lop_steps(count: usize) -> Vec<LopSteps> {
-    if count == PAPER_LEVELS.len() {
-        return PAPER_LEVELS.to_vec();
-    }
-    let ends = |hi: f64, lo: f64, i: usize| -> u32 {
-        let f = if count > 1 { i as f64 / (count - 1) as f64 } else { 0.0 };
-        (hi * (lo / hi).powf(f)).round() as u32
-    };
-    (0..count)
-        .map(|i| LopSteps { linear: ends(64.0, 6.0, i), binary: ends(50.0, 5.0, i) })
-        .collect()
-}
 
 /// The parameters of the hybrid renderer's heuristic.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,7 +21,8 @@ pub struct HybridParams {
     pub threshold: f64,
     /// Distance factor k: `d_max = k * d_BB` (positive; default 1.3).
     pub k: f64,
-    /// Number of levels of precision of the ray casting (2..=10; default 4, see [`lop_steps`]).
+    /// Number of levels of precision of the ray casting (2..=10; default 4, see
+    /// [`relief_trace::hybrid::lop_steps`]).
     pub levels: usize,
 }
 
@@ -70,8 +35,8 @@ impl Default for HybridParams {
 
 impl HybridParams {
     /// Checks every parameter, naming the first one out of range.
-    pub fn validate(&self) -> Result<(), TraceError> {
-        let bad = |msg: String| Err(TraceError::Options(msg));
+    pub fn validate(&self) -> Result<(), ShadeError> {
+        let bad = |msg: String| Err(ShadeError::parameter("hybrid parameters", msg));
         if self.cell < 2 {
             return bad(format!(
                 "hybrid cell of {} sample(s) per side: it needs at least 2",
@@ -119,125 +84,6 @@ pub enum CellChoice {
     },
 }
 
-/// Where a box lands on the screen.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum BoxProjection {
-    /// Wholly outside the view frustum.
-    Outside,
-    /// Crosses the eye's plane (or touches it): its projection is unbounded.
-    Unbounded,
-    /// The bounding rectangle of the 8 projected corners, in continuous pixel coordinates
-    /// (pixel (i, j)'s centre is at (i + 0.5, j + 0.5), y down), not clipped to the image.
-    Rect {
-        /// Left edge.
-        x0: f64,
-        /// Top edge.
-        y0: f64,
-        /// Right edge.
-        x1: f64,
-        /// Bottom edge.
-        y1: f64,
-    },
-}
-
-/// An inclusive range of pixels: columns `i0..=i1`, rows `j0..=j1`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct PixelRect {
-    /// First column.
-    pub i0: u32,
-    /// First row (from the top).
-    pub j0: u32,
-    /// Last column.
-    pub i1: u32,
-    /// Last row.
-    pub j1: u32,
-}
-
-impl BoxProjection {
-    /// Screen area of the bounding rectangle in pixels² (infinite when unbounded, 0 outside).
-    pub fn area(&self) -> f64 {
-        match *self {
-            BoxProjection::Outside => 0.0,
-            BoxProjection::Unbounded => f64::INFINITY,
-            BoxProjection::Rect { x0, y0, x1, y1 } => (x1 - x0) * (y1 - y0),
-        }
-    }
-
-    /// The pixels of a `width x height` image whose rays may pass through the box: every pixel
-    /// whose centre lies in the rectangle, with one pixel of margin against rounding; the
-    /// whole image when unbounded; `None` when outside or off the image.
-    pub fn pixels(&self, width: u32, height: u32) -> Option<PixelRect> {
-        let (w, h) = (width as f64, height as f64);
-        match *self {
-            BoxProjection::Outside => None,
-            BoxProjection::Unbounded => {
-                Some(PixelRect { i0: 0, j0: 0, i1: width - 1, j1: height - 1 })
-            }
-            BoxProjection::Rect { x0, y0, x1, y1 } => {
-                let (lo_x, hi_x) = ((x0 - 0.5).floor() - 1.0, (x1 - 0.5).ceil() + 1.0);
-                let (lo_y, hi_y) = ((y0 - 0.5).floor() - 1.0, (y1 - 0.5).ceil() + 1.0);
-                if hi_x < 0.0 || hi_y < 0.0 || lo_x > w - 1.0 || lo_y > h - 1.0 {
-                    return None;
-                }
-                Some(PixelRect {
-                    i0: lo_x.max(0.0) as u32,
-                    j0: lo_y.max(0.0) as u32,
-                    i1: hi_x.min(w - 1.0) as u32,
-                    j1: hi_y.min(h - 1.0) as u32,
-                })
-            }
-        }
-    }
-}
-
-/// Projects `b` with `camera`: [`BoxProjection::Outside`] when the box lies wholly on the
-/// outer side of one plane of the view frustum (behind the eye's plane or beyond an image
-/// edge), [`BoxProjection::Unbounded`] when a corner lies on or behind the eye's plane of a
-/// pinhole camera, else the bounding rectangle of its 8 projected corners.
-pub fn project_box(camera: &Camera, b: &Aabb) -> BoxProjection {
-    let (eye, fwd, right, up) = (camera.eye(), camera.forward(), camera.right(), camera.image_up());
-    let (w, h) = (camera.width() as f64, camera.height() as f64);
-    let s = camera.half_height();
-    let aspect = s * w / h;
-    let perspective = matches!(camera.projection(), Projection::Perspective { .. });
-    // Camera coordinates of the corners.
-    let corners: [DVec3; 8] = std::array::from_fn(|k| {
-        let p = DVec3::new(
-            if k & 1 == 0 { b.min.x } else { b.max.x },
-            if k & 2 == 0 { b.min.y } else { b.max.y },
-            if k & 4 == 0 { b.min.z } else { b.max.z },
-        ) - eye;
-        DVec3::new(p.dot(right), p.dot(up), p.dot(fwd))
-    });
-    // Frustum planes, each as "outside when f(corner) > 0".
-    let scale = |c: &DVec3| if perspective { c.z } else { 1.0 };
-    let outside = [
-        corners.iter().all(|c| c.z < 0.0),
-        corners.iter().all(|c| c.x > aspect * scale(c)),
-        corners.iter().all(|c| -c.x > aspect * scale(c)),
-        corners.iter().all(|c| c.y > s * scale(c)),
-        corners.iter().all(|c| -c.y > s * scale(c)),
-    ];
-    if outside.contains(&true) {
-        return BoxProjection::Outside;
-    }
-    if perspective && corners.iter().any(|c| c.z <= 0.0) {
-        return BoxProjection::Unbounded;
-    }
-    let (mut x0, mut y0, mut x1, mut y1) =
-        (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for c in &corners {
-        let (sx, sy) = if perspective { (c.x / c.z, c.y / c.z) } else { (c.x, c.y) };
-        let px = (sx / aspect + 1.0) * 0.5 * w;
-        let py = (1.0 - sy / s) * 0.5 * h;
-        x0 = x0.min(px);
-        x1 = x1.max(px);
-        y0 = y0.min(py);
-        y1 = y1.max(py);
-    }
-    BoxProjection::Rect { x0, y0, x1, y1 }
-}
-
 /// The heuristic of section 4.2 with validated parameters and its levels' steps.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HybridHeuristic {
@@ -247,7 +93,7 @@ pub struct HybridHeuristic {
 
 impl HybridHeuristic {
     /// The heuristic for `params`, checked ([`HybridParams::validate`]).
-    pub fn new(params: HybridParams) -> Result<Self, TraceError> {
+    pub fn new(params: HybridParams) -> Result<Self, ShadeError> {
         params.validate()?;
         Ok(HybridHeuristic { params, steps: lop_steps(params.levels) })
     }
@@ -363,7 +209,7 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use relief_core::{GridGeometry, HeightField, Surface};
+    use relief_core::{DVec3, GridGeometry, HeightField, Surface};
 
     /// 9 x 9 samples in cells of 5 (2 x 2 cells), all 0 but sample (6, 6) at 2: cell (1, 1)
     /// has the relief, [4.5, 8.5]² x [0, 2] for triangles; the others are flat at 0.
@@ -383,20 +229,6 @@ mod tests {
     fn top_down() -> Camera {
         let eye = DVec3::new(2.5, 2.5, 100.0);
         Camera::look_at(eye, DVec3::new(2.5, 2.5, 0.0), DVec3::Y, 90.0, 100, 100).unwrap()
-    }
-
-    #[test]
-    fn projected_areas_are_those_computed_by_hand() {
-        let (cells, camera) = (scene(), top_down());
-        // Cell (0, 0): x, y in [-2, 2] around the eye at depth 100: pixels 49..51 both ways.
-        let p = project_box(&camera, &cells.proxy_box(0).unwrap());
-        assert!((p.area() - 4.0).abs() < 1e-9, "{p:?}");
-        assert_eq!(p.pixels(100, 100), Some(PixelRect { i0: 47, j0: 47, i1: 52, j1: 52 }));
-        // Cell (1, 1): x, y in [2, 6], depth 100 (z = 0) to 98 (z = 2): 50 (1 + 2/100) to
-        // 50 (1 + 6/98) along each axis.
-        let side = 50.0 * (6.0 / 98.0 - 2.0 / 100.0);
-        let p = project_box(&camera, &cells.proxy_box(3).unwrap());
-        assert!((p.area() - side * side).abs() < 1e-9, "{p:?}");
     }
 
     #[test]
@@ -474,14 +306,7 @@ mod tests {
     }
 
     #[test]
-    fn levels_are_the_papers_or_interpolated_geometrically() {
-        assert_eq!(lop_steps(4), PAPER_LEVELS.to_vec());
-        let two = [LopSteps { linear: 64, binary: 50 }, LopSteps { linear: 6, binary: 5 }];
-        assert_eq!(lop_steps(2), two.to_vec());
-        assert_eq!(lop_steps(3)[1], LopSteps { linear: 20, binary: 16 });
-        let ten = lop_steps(10);
-        assert_eq!((ten[0], ten[9]), (two[0], two[1]));
-        assert!(ten.windows(2).all(|w| w[0].linear > w[1].linear && w[0].binary >= w[1].binary));
+    fn precision_values_fall_into_their_levels() {
         let h = heuristic(70.0, 1.3);
         assert_eq!(
             [h.level_of(-0.5), h.level_of(0.0), h.level_of(0.2499), h.level_of(0.25)],

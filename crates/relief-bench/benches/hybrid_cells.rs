@@ -3,7 +3,7 @@
 //! and to update every cell's min/max (a simulation rewriting the whole field), and the
 //! dynamic updates of the exact tracer's pyramid (a 64 x 64 brush against a rebuild).
 //!
-//! `cargo run --release -p relief-trace --example hybrid_cells -- [N] [CELL] [WIDTH] [HEIGHT]
+//! `cargo bench -p relief-bench --bench hybrid_cells -- [N] [CELL] [WIDTH] [HEIGHT]
 //! [T] [--image]` (defaults 4096, 64, 1920, 1080, 70). Timings are medians of 9 runs.
 //!
 //! With `--image`, it also renders the view's depth the hybrid way with this module's parts,
@@ -14,13 +14,16 @@
 //! scale, not the renderer (its times say nothing of one). `LOP_STEPS=L/B` in the environment
 //! casts every ray-cast cell with L linear and B binary steps instead of its level's.
 
+#[path = "common/args.rs"]
+mod args;
+
 use rayon::prelude::*;
 use relief_bench::benchmark_views;
 use relief_core::{Camera, HeightField, SampleRegion, Surface};
+use relief_shade::hybrid::{project_box, CellChoice, HybridHeuristic, HybridParams, PixelRect};
 use relief_sim::{fbm_terrain, FbmParams};
 use relief_trace::hybrid::{
-    box_entry, exact_far_hit, exact_far_hits, lop_cast, project_box, CellChoice, HybridCells,
-    HybridHeuristic, HybridParams, LopSteps, PixelRect,
+    box_entry, exact_far_hit, exact_far_hits, lop_cast, HybridCells, LopSteps,
 };
 use relief_trace::{MipmapTracer, Tracer};
 use std::sync::Arc;
@@ -47,8 +50,8 @@ fn brush(field: &HeightField, k: usize) -> SampleRegion {
 }
 
 fn main() {
-    let image = std::env::args().any(|a| a == "--image");
-    let mut args = std::env::args().skip(1).filter(|a| a != "--image");
+    let image = args::program_args().iter().any(|a| a == "--image");
+    let mut args = args::program_args().into_iter().filter(|a| a != "--image");
     let mut next = |default: usize| args.next().map_or(default, |s| s.parse().expect("a number"));
     let (size, cell, width, height) = (next(4096), next(64), next(1920), next(1080));
     let threshold = args.next().map_or(70.0, |s| s.parse().expect("T: a number"));

@@ -1,24 +1,27 @@
 //! Times the hybrid renderer against the mipmap tracer on the flight view of `relief bench`
-//! (seeded fBm terrain): `cargo run --release -p relief-shade --example hybrid_flight -- 4096
+//! (seeded fBm terrain): `cargo bench -p relief-bench --bench hybrid_flight -- 4096
 //! 1920x1080 [far] [T] [cell]`. Then times the mipmap tracer's packets on the pixels of each
 //! kind the hybrid drew (exact far field, mesh, sky) alone, the other rays of each tile left
 //! empty: what each kind costs the mipmap tracer.
+
+#[path = "common/args.rs"]
+mod args;
 
 use rayon::prelude::*;
 use relief_bench::benchmark_views;
 use relief_core::Camera;
 use relief_core::Surface;
+use relief_shade::hybrid::HybridParams;
 use relief_shade::{
     render_gbuffer_into, FarField, GBuffer, HybridRenderer, PixelSource, Tile, TILE_SIZE,
 };
-use relief_trace::hybrid::HybridParams;
 use relief_trace::MipmapTracer;
 use relief_trace::Tracer;
 use std::sync::Arc;
 use std::time::Instant;
 
 fn main() {
-    let mut args = std::env::args().skip(1);
+    let mut args = args::program_args().into_iter();
     let n: usize = args.next().map_or(4096, |s| s.parse().unwrap());
     let res = args.next().unwrap_or_else(|| "1920x1080".into());
     let (w, h) =
