@@ -40,6 +40,8 @@
 #![deny(missing_docs)]
 
 mod cell_grid;
+#[cfg(feature = "conformance")]
+pub mod conformance;
 mod error;
 pub mod hybrid;
 mod max_mipmap;

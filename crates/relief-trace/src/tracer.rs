@@ -1,6 +1,6 @@
 //! The tracer trait every acceleration scheme implements, and the hit it returns.
 
-use relief_core::{DVec3, HeightField, Ray, Surface};
+use relief_core::{Aabb, DVec3, HeightField, Ray, Surface};
 use std::fmt;
 use std::str::FromStr;
 use std::sync::Arc;
@@ -29,6 +29,12 @@ pub trait Tracer: Send + Sync {
 
     /// The surface this tracer intersects.
     fn surface(&self) -> Surface;
+
+    /// The world-space box holding the solid this tracer intersects: every hit lies in it (to
+    /// the rounding of `origin + t dir`), so a caller can clip rays to it or frame a camera
+    /// on it. A side the solid is unbounded on (the columns of an MLHM reach down forever) is
+    /// infinite.
+    fn bounds(&self) -> Aabb;
 
     /// The first hit, counting traversal steps (visited cells or nodes) into `steps`.
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit>;
@@ -91,6 +97,10 @@ macro_rules! forward_tracer {
 
             fn surface(&self) -> Surface {
                 (**self).surface()
+            }
+
+            fn bounds(&self) -> Aabb {
+                (**self).bounds()
             }
 
             fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {

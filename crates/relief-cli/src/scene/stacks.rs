@@ -135,6 +135,11 @@ impl Tracer for NoOccluders {
         Surface::Triangles
     }
 
+    /// An empty box (min above max): there is no solid.
+    fn bounds(&self) -> Aabb {
+        Aabb::new(DVec3::INFINITY, DVec3::NEG_INFINITY)
+    }
+
     fn intersect_counted(&self, _ray: &Ray, _steps: &mut u32) -> Option<Hit> {
         None
     }

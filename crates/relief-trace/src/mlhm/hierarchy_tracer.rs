@@ -1,7 +1,7 @@
 //! Hierarchical MLHM box ray tracing: a 2D DDA per level of an [`MlhmHierarchy`], descending
 //! into nodes whose bounds the ray meets, with two ways back up (Nilles & Müller 2025, 4.2).
 
-use super::cells::{first_hit_in_cell, ray_to_cells, segment};
+use super::cells::{first_hit_in_cell, ray_to_cells, segment, world_box};
 use super::walk::HierarchyWalk;
 use crate::{Hit, MlhmHierarchy, MlhmHit, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, Precision, Ray, Surface};
@@ -220,6 +220,11 @@ impl Tracer for MlhmHierarchyTracer {
     /// MLHM columns are flat-topped boxes.
     fn surface(&self) -> Surface {
         Surface::Boxes
+    }
+
+    /// The footprint, from minus infinity up to the hierarchy's top in the tracer's mode.
+    fn bounds(&self) -> Aabb {
+        world_box(&self.map, self.origin, self.hierarchy.top(self.mode))
     }
 
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {

@@ -1,7 +1,7 @@
 //! The baseline MLHM box ray tracer: a 2D DDA over every cell of level 0, testing each cell's
 //! column boxes exactly (Nilles & Müller 2025, section 4.1).
 
-use super::cells::{first_hit_in_cell, ray_to_cells, segment};
+use super::cells::{first_hit_in_cell, ray_to_cells, segment, world_box};
 use crate::cell_grid::axis_cell;
 use crate::{Hit, MlhmMaterial, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, MlhmHeights, Ray, Surface};
@@ -92,14 +92,12 @@ impl MlhmNaiveTracer {
     /// lowest columns reach down forever) up to the highest box top (`+inf` for
     /// [`MlhmMode::SolidsAir`]).
     pub fn world_bounds(&self, mode: MlhmMode) -> Aabb {
-        let s = self.map.cell_size();
-        let size = DVec2::new(self.map.width() as f64, self.map.height() as f64) * s;
         let top = match mode {
             MlhmMode::Solids => self.heights.solid_max,
             MlhmMode::SolidsWater => self.heights.water_max,
             MlhmMode::SolidsAir => f64::INFINITY,
         };
-        Aabb::new(self.origin.extend(f64::NEG_INFINITY), (self.origin + size).extend(top))
+        world_box(&self.map, self.origin, top)
     }
 
     /// The 2D DDA over every cell the ray crosses, counting them into `steps`.
@@ -171,6 +169,10 @@ impl Tracer for MlhmNaiveTracer {
     /// MLHM columns are flat-topped boxes.
     fn surface(&self) -> Surface {
         Surface::Boxes
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.world_bounds(self.mode)
     }
 
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {

@@ -97,7 +97,7 @@ use batch::avx2_available;
 use crate::cell_grid::{CellGrid, CellRay};
 use crate::{Hit, TraceError, Tracer};
 use rayon::prelude::*;
-use relief_core::{DVec3, HeightField, Ray, Surface};
+use relief_core::{Aabb, DVec3, HeightField, Ray, Surface};
 use std::sync::Arc;
 
 /// How many cells a shadow ray walks before it is handed to the wrapped tracer (`relief
@@ -360,6 +360,10 @@ impl<T: Tracer> Tracer for SunShadows<T> {
 
     fn surface(&self) -> Surface {
         self.inner.surface()
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.inner.bounds()
     }
 
     fn max_mipmap(&self) -> Option<&crate::MaxMipmap> {
