@@ -3,25 +3,9 @@
 
 use super::cells::{first_hit_in_cell, ray_to_cells, segment, world_box};
 use crate::cell_grid::axis_cell;
-use crate::{Hit, MlhmMaterial, MlhmMode, MlhmTracer, Tracer};
+use crate::{Hit, MlhmHit, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, MlhmHeights, Ray, Surface};
 use std::sync::Arc;
-
-/// The first hit of a ray with an MLHM's boxes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MlhmHit {
-    /// Parameter, world position and the unit normal of the face hit, facing against the ray
-    /// (top `+z`, bottom `-z`, or a side `+-x`, `+-y`); a ray that starts inside gets the
-    /// reversed, normalised ray direction and `t` = its `t_min`.
-    pub hit: Hit,
-    /// The material at the hit.
-    pub material: MlhmMaterial,
-    /// The cell `(x, y)` hit.
-    pub cell: (usize, usize),
-    /// The column of that cell the material belongs to (for air: the column whose air it is,
-    /// the one below the air).
-    pub column: usize,
-}
 
 /// Naive box ray tracing of an [`Mlhm`]: the ray is clipped to the scene's box, then walks the
 /// cells it crosses in order (Amanatides-Woo 2D DDA) and, in each, slab-tests the boxes of the
@@ -183,6 +167,7 @@ impl Tracer for MlhmNaiveTracer {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::MlhmMaterial;
     use relief_core::MlhmColumn;
 
     const INF: f32 = f32::INFINITY;

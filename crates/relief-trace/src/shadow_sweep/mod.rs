@@ -92,8 +92,6 @@ mod batch;
 mod bound;
 mod walk;
 
-use batch::avx2_available;
-
 use crate::cell_grid::{CellGrid, CellRay};
 use crate::{Hit, TraceError, Tracer};
 use rayon::prelude::*;
@@ -426,5 +424,17 @@ impl<T: Tracer> Tracer for SunShadows<T> {
             occluded[k] = b;
             steps[k] += s;
         }
+    }
+}
+
+/// Whether this processor runs AVX2 instructions.
+fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }
