@@ -57,6 +57,9 @@ impl Tracer for Nothing {
     fn surface(&self) -> Surface {
         Surface::Triangles
     }
+    fn bounds(&self) -> relief_core::Aabb {
+        relief_core::Aabb::new(DVec3::INFINITY, DVec3::NEG_INFINITY)
+    }
     fn intersect_counted(&self, _: &Ray, _: &mut u32) -> Option<Hit> {
         None
     }
@@ -128,6 +131,9 @@ impl Tracer for AnswerKnown {
     fn surface(&self) -> Surface {
         Surface::Triangles
     }
+    fn bounds(&self) -> relief_core::Aabb {
+        relief_core::Aabb::new(DVec3::NEG_INFINITY, DVec3::INFINITY)
+    }
     fn intersect_counted(&self, ray: &Ray, _: &mut u32) -> Option<Hit> {
         let (i, j) = self.pixel(ray);
         self.hits[i + j * self.camera.width() as usize]
@@ -156,6 +162,9 @@ impl Tracer for StartKnown<'_> {
     }
     fn surface(&self) -> Surface {
         Surface::Triangles
+    }
+    fn bounds(&self) -> relief_core::Aabb {
+        self.tracer.bounds()
     }
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
         self.tracer.intersect_counted(ray, steps)

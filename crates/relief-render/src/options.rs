@@ -5,9 +5,9 @@
 use crate::tracer_spec::{SafetySettings, TracerChoice};
 use relief_core::{Precision, Surface};
 use relief_io::{LengthUnit, PngEncoding, ReadOptions, VoidPolicy};
+use relief_shade::hybrid::HybridParams;
 use relief_shade::mlhm::MlhmPreset;
 use relief_shade::{FarField, TextureFilter};
-use relief_shade::hybrid::HybridParams;
 use relief_trace::MlhmBacktrack;
 use std::path::PathBuf;
 

@@ -371,6 +371,11 @@ impl Tracer for TiledTerrain {
         self.surface
     }
 
+    /// The root node's box (an empty box, min above max, when no tile holds samples).
+    fn bounds(&self) -> Aabb {
+        self.nodes.first().map_or(Aabb::new(DVec3::INFINITY, DVec3::NEG_INFINITY), |n| *n.bounds())
+    }
+
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;

@@ -73,6 +73,10 @@ impl Tracer for Counting {
         self.inner.surface()
     }
 
+    fn bounds(&self) -> relief_core::Aabb {
+        self.inner.bounds()
+    }
+
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
         self.rays.fetch_add(1, Ordering::Relaxed);
         self.inner.intersect_counted(ray, steps)

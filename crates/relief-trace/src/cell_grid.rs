@@ -157,6 +157,12 @@ impl CellGrid {
         &self.bounds
     }
 
+    /// The solid's bounds in world space: [`CellGrid::bounds`] carried out of cell space.
+    pub fn world_bounds(&self) -> Aabb {
+        let to_world = |p: DVec3| self.geometry.point_to_world(p + self.shift);
+        Aabb::new(to_world(self.bounds.min), to_world(self.bounds.max))
+    }
+
     /// Highest point of the surface over cell (cx, cy): the texel for boxes, the highest of the
     /// four corners for triangles; minus infinity over a hole.
     #[inline]

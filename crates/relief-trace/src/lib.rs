@@ -41,7 +41,10 @@
 
 pub mod adapters;
 mod cell_grid;
+#[cfg(feature = "conformance")]
+pub mod conformance;
 mod error;
+mod hit;
 pub mod hybrid;
 mod max_mipmap;
 mod mipmap_tracer;
@@ -51,9 +54,11 @@ mod packet;
 pub mod safety;
 mod shadow_sweep;
 mod tracer;
+mod tracer_kind;
 
 pub use cell_grid::{CellGrid, CellRay, Entry, Segment};
 pub use error::TraceError;
+pub use hit::Hit;
 pub use max_mipmap::MaxMipmap;
 pub use mipmap_tracer::MipmapTracer;
 pub use mlhm::{
@@ -66,4 +71,5 @@ pub use naive_tracer::NaiveTracer;
 pub use packet::Simd;
 pub use safety::{SafetyOptions, SafetyShapes, SafetyTracer};
 pub use shadow_sweep::{SunShadows, DEFAULT_SHADOW_BLOCK, WALK_CELLS};
-pub use tracer::{build_tracer, Hit, Tracer, TracerKind};
+pub use tracer::Tracer;
+pub use tracer_kind::{build_tracer, TracerKind};

@@ -3,7 +3,7 @@
 use crate::cell_grid::CellGrid;
 use crate::packet::PacketTracing;
 use crate::{Hit, MaxMipmap, Simd, Tracer};
-use relief_core::{CoreError, HeightField, Ray, SampleRegion, Surface};
+use relief_core::{Aabb, CoreError, HeightField, Ray, SampleRegion, Surface};
 use std::sync::Arc;
 
 /// Exact ray casting through a [`MaxMipmap`]: the ray skips every node whose maximum it passes
@@ -226,6 +226,10 @@ impl Tracer for MipmapTracer {
 
     fn surface(&self) -> Surface {
         self.grid.surface()
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.grid.world_bounds()
     }
 
     fn intersect_counted(&self, world_ray: &Ray, steps: &mut u32) -> Option<Hit> {

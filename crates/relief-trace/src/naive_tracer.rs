@@ -2,7 +2,7 @@
 
 use crate::cell_grid::CellGrid;
 use crate::{Hit, Tracer};
-use relief_core::{HeightField, Ray, Surface};
+use relief_core::{Aabb, HeightField, Ray, Surface};
 use std::sync::Arc;
 
 /// Cell-by-cell traversal of a height field: for `boxes` a texel DDA, for `triangles` the
@@ -30,6 +30,10 @@ impl Tracer for NaiveTracer {
 
     fn surface(&self) -> Surface {
         self.grid.surface()
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.grid.world_bounds()
     }
 
     fn intersect_counted(&self, world_ray: &Ray, steps: &mut u32) -> Option<Hit> {

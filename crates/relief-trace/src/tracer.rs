@@ -1,23 +1,8 @@
-//! The tracer trait every acceleration scheme implements, and the hit it returns.
+//! The tracer trait every acceleration scheme implements.
 
-use relief_core::{DVec3, HeightField, Ray, Surface};
-use std::fmt;
-use std::str::FromStr;
+use crate::{Hit, MaxMipmap};
+use relief_core::{Aabb, Ray, Surface};
 use std::sync::Arc;
-
-use crate::{MaxMipmap, MipmapTracer, NaiveTracer};
-
-/// The first point of a ray inside the terrain's solid.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Hit {
-    /// Ray parameter of the hit: the distance from the origin when the direction is unit.
-    pub t: f64,
-    /// World position of the hit.
-    pub position: DVec3,
-    /// Unit geometric normal of the face hit, in world space, facing against the ray. A ray that
-    /// starts inside the solid gets the reversed ray direction.
-    pub normal: DVec3,
-}
 
 /// Exact ray intersection with one surface of a terrain.
 ///
@@ -29,6 +14,12 @@ pub trait Tracer: Send + Sync {
 
     /// The surface this tracer intersects.
     fn surface(&self) -> Surface;
+
+    /// The world-space box holding the solid this tracer intersects: every hit lies in it (to
+    /// the rounding of `origin + t dir`), so a caller can clip rays to it or frame a camera
+    /// on it. A side the solid is unbounded on (the columns of an MLHM reach down forever) is
+    /// infinite.
+    fn bounds(&self) -> Aabb;
 
     /// The first hit, counting traversal steps (visited cells or nodes) into `steps`.
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit>;
@@ -93,6 +84,10 @@ macro_rules! forward_tracer {
                 (**self).surface()
             }
 
+            fn bounds(&self) -> Aabb {
+                (**self).bounds()
+            }
+
             fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
                 (**self).intersect_counted(ray, steps)
             }
@@ -125,55 +120,3 @@ macro_rules! forward_tracer {
 }
 
 forward_tracer!(&T, Arc<T>);
-
-/// The height-field tracers relief offers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum TracerKind {
-    /// Cell-by-cell traversal: simple and slow, the reference.
-    Naive,
-    /// Max-mipmap quadtree traversal.
-    #[default]
-    Mipmap,
-}
-
-impl TracerKind {
-    /// Every kind, in a fixed order.
-    pub const ALL: [TracerKind; 2] = [TracerKind::Naive, TracerKind::Mipmap];
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            TracerKind::Naive => "naive",
-            TracerKind::Mipmap => "mipmap",
-        }
-    }
-}
-
-impl fmt::Display for TracerKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.pad(self.name())
-    }
-}
-
-impl FromStr for TracerKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "naive" => Ok(TracerKind::Naive),
-            "mipmap" => Ok(TracerKind::Mipmap),
-            other => Err(format!("unknown tracer '{other}' (expected naive or mipmap)")),
-        }
-    }
-}
-
-/// Builds a tracer of `kind` for `surface` of `field` (for the mipmap, this builds the pyramid).
-pub fn build_tracer(
-    field: Arc<HeightField>,
-    surface: Surface,
-    kind: TracerKind,
-) -> Box<dyn Tracer> {
-    match kind {
-        TracerKind::Naive => Box::new(NaiveTracer::new(field, surface)),
-        TracerKind::Mipmap => Box::new(MipmapTracer::new(field, surface)),
-    }
-}

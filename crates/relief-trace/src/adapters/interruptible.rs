@@ -31,6 +31,10 @@ impl<T: Tracer + ?Sized> Tracer for Interruptible<'_, T> {
         self.inner.surface()
     }
 
+    fn bounds(&self) -> relief_core::Aabb {
+        self.inner.bounds()
+    }
+
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
         if self.stopped() {
             return None;

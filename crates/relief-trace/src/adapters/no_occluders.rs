@@ -17,6 +17,11 @@ impl Tracer for NoOccluders {
         Surface::Triangles
     }
 
+    /// An empty box: nothing to hit.
+    fn bounds(&self) -> relief_core::Aabb {
+        relief_core::Aabb::new(relief_core::DVec3::INFINITY, relief_core::DVec3::NEG_INFINITY)
+    }
+
     fn intersect_counted(&self, _ray: &Ray, _steps: &mut u32) -> Option<Hit> {
         None
     }

@@ -16,6 +16,10 @@ impl Tracer for OneRayAtATime<'_> {
         self.0.surface()
     }
 
+    fn bounds(&self) -> relief_core::Aabb {
+        self.0.bounds()
+    }
+
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
         self.0.intersect_counted(ray, steps)
     }

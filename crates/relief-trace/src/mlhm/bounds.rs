@@ -2,7 +2,7 @@
 //! as f16 rounded outward (maxima up, minima down), with the bulk f16 conversion, the merging
 //! of node layers in either type and the per-level storage and interval walk.
 
-use super::hierarchy::MlhmNodeLayer;
+use super::node_layer::MlhmNodeLayer;
 use crate::MlhmMode;
 use half::f16;
 use half::slice::HalfFloatSliceExt;

@@ -6,7 +6,7 @@
 use super::boxes::{for_each_box, BoxEntry, Layer};
 use crate::cell_grid::axis_span;
 use crate::{Hit, MlhmHit, MlhmMode};
-use relief_core::{BoxFace, Clip, DVec2, DVec3, Mlhm, Ray};
+use relief_core::{Aabb, BoxFace, Clip, DVec2, DVec3, Mlhm, Ray};
 
 /// A world ray in the cell space of `map` placed at `origin` (same parameter `t`), or `None`
 /// when it cannot be traced (non-finite, zero or subnormal direction, empty range).
@@ -22,6 +22,13 @@ pub(crate) fn ray_to_cells(map: &Mlhm, origin: DVec2, ray: &Ray) -> Option<Ray> 
         && ray.t_min <= ray.t_max
         && !ray.t_min.is_nan();
     ok.then_some(cell)
+}
+
+/// The world box over the footprint of `map` placed at `origin`, from minus infinity (the
+/// lowest columns reach down forever) up to `top`.
+pub(crate) fn world_box(map: &Mlhm, origin: DVec2, top: f64) -> Aabb {
+    let size = DVec2::new(map.width() as f64, map.height() as f64) * map.cell_size();
+    Aabb::new(origin.extend(f64::NEG_INFINITY), (origin + size).extend(top))
 }
 
 /// A cell's part of the clipped ray.

@@ -1,53 +1,11 @@
 //! Hierarchical MLHM box ray tracing: a 2D DDA per level of an [`MlhmHierarchy`], descending
 //! into nodes whose bounds the ray meets, with two ways back up (Nilles & Müller 2025, 4.2).
 
-use super::cells::{first_hit_in_cell, ray_to_cells, segment};
+use super::cells::{first_hit_in_cell, ray_to_cells, segment, world_box};
 use super::walk::HierarchyWalk;
-use crate::{Hit, MlhmHierarchy, MlhmHit, MlhmMode, MlhmTracer, Tracer};
+use crate::{Hit, MlhmBacktrack, MlhmHierarchy, MlhmHit, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, Precision, Ray, Surface};
-use std::fmt;
-use std::str::FromStr;
 use std::sync::Arc;
-
-/// How the hierarchical traversal climbs back to coarser levels.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum MlhmBacktrack {
-    /// A per-level array of the distances at which the ray leaves each node it descended
-    /// from: after a step, climb while the step reached the parent's exit.
-    #[default]
-    ExitStack,
-    /// A miss counter: climb one level after 8 missed nodes in a row (16 on level 0).
-    MissCounter,
-}
-
-impl MlhmBacktrack {
-    /// Both variants, in a fixed order.
-    pub const ALL: [MlhmBacktrack; 2] = [MlhmBacktrack::ExitStack, MlhmBacktrack::MissCounter];
-
-    /// The name used in reports and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            MlhmBacktrack::ExitStack => "stack",
-            MlhmBacktrack::MissCounter => "miss",
-        }
-    }
-}
-
-impl fmt::Display for MlhmBacktrack {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.pad(self.name())
-    }
-}
-
-impl FromStr for MlhmBacktrack {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        MlhmBacktrack::ALL
-            .into_iter()
-            .find(|b| b.name() == s)
-            .ok_or_else(|| format!("unknown backtracking '{s}' (expected stack or miss)"))
-    }
-}
 
 /// Box ray tracing of an [`Mlhm`] through its [`MlhmHierarchy`], exact: it returns the same
 /// hits as [`crate::MlhmNaiveTracer`], bit for bit.
@@ -220,6 +178,11 @@ impl Tracer for MlhmHierarchyTracer {
     /// MLHM columns are flat-topped boxes.
     fn surface(&self) -> Surface {
         Surface::Boxes
+    }
+
+    /// The footprint, from minus infinity up to the hierarchy's top in the tracer's mode.
+    fn bounds(&self) -> Aabb {
+        world_box(&self.map, self.origin, self.hierarchy.top(self.mode))
     }
 
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {

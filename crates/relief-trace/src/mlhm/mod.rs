@@ -16,6 +16,7 @@
 //! - [`medium`]: which medium a point lies in ([`Medium`]);
 //! - [`tracer`]: what every MLHM box tracer offers ([`MlhmTracer`]).
 
+mod backtrack;
 mod bounds;
 mod boxes;
 mod build;
@@ -25,16 +26,20 @@ mod hierarchy_tracer;
 mod implicit;
 mod medium;
 mod naive;
+mod node_layer;
+mod single_layer_merge;
 mod smooth_shading;
 mod smooth_tracer;
 mod tracer;
 mod walk;
 
+pub use backtrack::MlhmBacktrack;
 pub use boxes::{MlhmMaterial, MlhmMode};
-pub use hierarchy::{MlhmHierarchy, MlhmNodeLayer, MAX_HIERARCHY_LEVELS};
-pub use hierarchy_tracer::{MlhmBacktrack, MlhmHierarchyTracer};
+pub use hierarchy::{MlhmHierarchy, MAX_HIERARCHY_LEVELS};
+pub use hierarchy_tracer::MlhmHierarchyTracer;
 pub use implicit::{MlhmField, MlhmFieldSample, MlhmImplicit, MlhmNormalScheme, HIT_FRACTION};
 pub use medium::{medium_at, Medium};
-pub use naive::{MlhmHit, MlhmNaiveTracer};
+pub use naive::MlhmNaiveTracer;
+pub use node_layer::MlhmNodeLayer;
 pub use smooth_tracer::{MlhmSmoothOptions, MlhmSmoothTracer};
-pub use tracer::MlhmTracer;
+pub use tracer::{MlhmHit, MlhmTracer};

@@ -1,27 +1,11 @@
 //! The baseline MLHM box ray tracer: a 2D DDA over every cell of level 0, testing each cell's
 //! column boxes exactly (Nilles & Müller 2025, section 4.1).
 
-use super::cells::{first_hit_in_cell, ray_to_cells, segment};
+use super::cells::{first_hit_in_cell, ray_to_cells, segment, world_box};
 use crate::cell_grid::axis_cell;
-use crate::{Hit, MlhmMaterial, MlhmMode, MlhmTracer, Tracer};
+use crate::{Hit, MlhmHit, MlhmMode, MlhmTracer, Tracer};
 use relief_core::{Aabb, DVec2, DVec3, Mlhm, MlhmHeights, Ray, Surface};
 use std::sync::Arc;
-
-/// The first hit of a ray with an MLHM's boxes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MlhmHit {
-    /// Parameter, world position and the unit normal of the face hit, facing against the ray
-    /// (top `+z`, bottom `-z`, or a side `+-x`, `+-y`); a ray that starts inside gets the
-    /// reversed, normalised ray direction and `t` = its `t_min`.
-    pub hit: Hit,
-    /// The material at the hit.
-    pub material: MlhmMaterial,
-    /// The cell `(x, y)` hit.
-    pub cell: (usize, usize),
-    /// The column of that cell the material belongs to (for air: the column whose air it is,
-    /// the one below the air).
-    pub column: usize,
-}
 
 /// Naive box ray tracing of an [`Mlhm`]: the ray is clipped to the scene's box, then walks the
 /// cells it crosses in order (Amanatides-Woo 2D DDA) and, in each, slab-tests the boxes of the
@@ -92,14 +76,12 @@ impl MlhmNaiveTracer {
     /// lowest columns reach down forever) up to the highest box top (`+inf` for
     /// [`MlhmMode::SolidsAir`]).
     pub fn world_bounds(&self, mode: MlhmMode) -> Aabb {
-        let s = self.map.cell_size();
-        let size = DVec2::new(self.map.width() as f64, self.map.height() as f64) * s;
         let top = match mode {
             MlhmMode::Solids => self.heights.solid_max,
             MlhmMode::SolidsWater => self.heights.water_max,
             MlhmMode::SolidsAir => f64::INFINITY,
         };
-        Aabb::new(self.origin.extend(f64::NEG_INFINITY), (self.origin + size).extend(top))
+        world_box(&self.map, self.origin, top)
     }
 
     /// The 2D DDA over every cell the ray crosses, counting them into `steps`.
@@ -173,6 +155,10 @@ impl Tracer for MlhmNaiveTracer {
         Surface::Boxes
     }
 
+    fn bounds(&self) -> Aabb {
+        self.world_bounds(self.mode)
+    }
+
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {
         self.intersect_mode_counted(ray, self.mode, steps).map(|h| h.hit)
     }
@@ -181,6 +167,7 @@ impl Tracer for MlhmNaiveTracer {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::MlhmMaterial;
     use relief_core::MlhmColumn;
 
     const INF: f32 = f32::INFINITY;

@@ -3,7 +3,7 @@
 //! level-1 nodes the ray meets; the hit's normal, the medium and the soft shadows are in
 //! [`super::smooth_shading`].
 
-use super::cells::ray_to_cells;
+use super::cells::{ray_to_cells, world_box};
 use super::walk::HierarchyWalk;
 use crate::{
     Hit, MlhmBacktrack, MlhmFieldSample, MlhmHierarchy, MlhmImplicit, MlhmMode, MlhmNormalScheme,
@@ -458,6 +458,17 @@ impl Tracer for MlhmSmoothTracer {
     /// [`Surface`] names no smooth surface; this one smooths the MLHM's boxes.
     fn surface(&self) -> Surface {
         Surface::Boxes
+    }
+
+    /// The footprint, from minus infinity (below the slab the field is all bedrock) up to
+    /// the top of the slab where the field changes, or to infinity for
+    /// [`MlhmMode::SolidsAir`] (air above the slab is hit too).
+    fn bounds(&self) -> Aabb {
+        let top = match self.mode {
+            MlhmMode::SolidsAir => f64::INFINITY,
+            mode => self.heights(mode).1,
+        };
+        world_box(&self.map, self.origin, top)
     }
 
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {

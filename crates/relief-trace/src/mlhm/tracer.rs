@@ -1,9 +1,25 @@
 //! What every MLHM box tracer offers besides the [`Tracer`] interface: hits with their material
-//! and column, in any intersection mode.
+//! and column ([`MlhmHit`]), in any intersection mode.
 
-use crate::{medium_at, Medium, MlhmHit, MlhmMode, Tracer};
+use crate::{medium_at, Hit, Medium, MlhmMaterial, MlhmMode, Tracer};
 use relief_core::{DVec2, DVec3, Mlhm, Ray};
 use std::sync::Arc;
+
+/// The first hit of a ray with an MLHM's boxes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MlhmHit {
+    /// Parameter, world position and the unit normal of the face hit, facing against the ray
+    /// (top `+z`, bottom `-z`, or a side `+-x`, `+-y`); a ray that starts inside gets the
+    /// reversed, normalised ray direction and `t` = its `t_min`.
+    pub hit: Hit,
+    /// The material at the hit.
+    pub material: MlhmMaterial,
+    /// The cell `(x, y)` hit.
+    pub cell: (usize, usize),
+    /// The column of that cell the material belongs to (for air: the column whose air it is,
+    /// the one below the air).
+    pub column: usize,
+}
 
 /// An exact tracer of an [`Mlhm`]'s boxes, in every [`MlhmMode`]: the naive 2D DDA
 /// ([`MlhmNaiveTracer`](crate::MlhmNaiveTracer)) and the hierarchical traversal

@@ -1,8 +1,7 @@
 //! The kernel's tests on eight rays at once in AVX2 registers (x86-64 with AVX2 and FMA).
 
 use super::kernel::Kernel;
-use super::ray_packet::{CellBox, Lanes, Plane, Quad, RayPacket, LANES};
-use super::traversal::ORDER;
+use super::ray_packet::{CellBox, Lanes, Plane, Quad, RayPacket, LANES, ORDER};
 use std::arch::x86_64::*;
 
 /// The [`Kernel`] in AVX2 and FMA instructions.
@@ -13,12 +12,21 @@ use std::arch::x86_64::*;
 pub(crate) struct Avx2;
 
 /// Group `g` of `lanes` (the `Lanes` alignment makes every group 32-byte aligned).
+///
+/// # Safety
+/// The processor must support AVX2 and FMA (the caller runs under
+/// `#[target_feature(enable = "avx2,fma")]`, entered after detecting both), and `g` must be
+/// one of the groups of `lanes`: `(g + 1) * LANES <= lanes.0.len()`.
 #[inline(always)]
 unsafe fn load(lanes: &Lanes, g: usize) -> __m256 {
     _mm256_load_ps(lanes.0.as_ptr().add(g * LANES))
 }
 
 /// `boundary * inv + offset` for every lane.
+///
+/// # Safety
+/// The processor must support AVX2 and FMA (the caller runs under
+/// `#[target_feature(enable = "avx2,fma")]`, entered after detecting both).
 #[inline(always)]
 unsafe fn cross(boundary: f32, inv: __m256, offset: __m256) -> __m256 {
     _mm256_fmadd_ps(_mm256_set1_ps(boundary), inv, offset)
@@ -26,6 +34,11 @@ unsafe fn cross(boundary: f32, inv: __m256, offset: __m256) -> __m256 {
 
 /// The lanes whose ray is inside the footprint for a while (`t_in <= t_out`) and there may
 /// pass below `top`.
+///
+/// # Safety
+/// The processor must support AVX2 and FMA (the caller runs under
+/// `#[target_feature(enable = "avx2,fma")]`, entered after detecting both), and `g` must be
+/// one of the groups of the packet's lanes.
 #[inline(always)]
 unsafe fn meets(p: &RayPacket, g: usize, t_in: __m256, t_out: __m256, top: f32) -> __m256 {
     let (dz, z_low) = (load(&p.dz, g), load(&p.z_low, g));
@@ -38,6 +51,10 @@ unsafe fn meets(p: &RayPacket, g: usize, t_in: __m256, t_out: __m256, top: f32) 
 }
 
 /// The plane's height at local coordinates (u, v).
+///
+/// # Safety
+/// The processor must support AVX2 and FMA (the caller runs under
+/// `#[target_feature(enable = "avx2,fma")]`, entered after detecting both).
 #[inline(always)]
 unsafe fn plane_at(plane: &Plane, u: __m256, v: __m256) -> __m256 {
     let inner = _mm256_fmadd_ps(_mm256_set1_ps(plane.pv), v, _mm256_set1_ps(plane.p0));
@@ -45,6 +62,11 @@ unsafe fn plane_at(plane: &Plane, u: __m256, v: __m256) -> __m256 {
 }
 
 /// Adds one step to every active lane of group `g`.
+///
+/// # Safety
+/// The processor must support AVX2 and FMA (the caller runs under
+/// `#[target_feature(enable = "avx2,fma")]`, entered after detecting both), and `g` must be
+/// one of the groups of the packet's lanes.
 #[inline(always)]
 unsafe fn count_steps(p: &mut RayPacket, g: usize, active: u8) {
     let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);

@@ -2,8 +2,7 @@
 //! node or against one cell, in portable code; `avx2.rs` has the same tests in AVX2
 //! registers.
 
-use super::ray_packet::{CellBox, Plane, Quad, RayPacket, LANES};
-use super::traversal::ORDER;
+use super::ray_packet::{CellBox, Plane, Quad, RayPacket, LANES, ORDER};
 
 /// The tests the packet traversal asks of a group of [`LANES`] rays of a packet.
 ///

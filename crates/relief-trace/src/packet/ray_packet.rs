@@ -3,6 +3,11 @@
 use crate::cell_grid::CellRay;
 use relief_core::Clip;
 
+/// The children of a node, or the cells of a level-1 node, in the order rays running towards
+/// growing x and y meet them (a ray crosses at most one of the middle two); mirrored along the
+/// axes the packet runs down.
+pub(crate) const ORDER: [(usize, usize); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
+
 /// Rays traced together through the pyramid.
 pub(crate) const PACKET_RAYS: usize = 64;
 /// Rays per SIMD group (one AVX2 register of `f32`).
@@ -28,7 +33,7 @@ pub(crate) struct StepLanes(pub [i32; PACKET_RAYS]);
 /// The four children of a node (or the four cells of a level-1 node) as a packet's rays meet
 /// them: `x[0]` is the x boundary the rays enter the node through, `x[1]` its middle, `x[2]`
 /// the boundary they leave through, and likewise along y. Child `c` of
-/// [`super::traversal::ORDER`], `(i, j)`, spans `x[i]..x[i + 1]` and `y[j]..y[j + 1]`, below
+/// [`ORDER`], `(i, j)`, spans `x[i]..x[i + 1]` and `y[j]..y[j + 1]`, below
 /// `top[c]` (minus infinity for a child outside the grid or over a hole).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Quad {

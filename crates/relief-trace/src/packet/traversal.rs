@@ -8,7 +8,7 @@
 //! hits holds the ray's first hit, and the ray leaves the packet there.
 
 use super::kernel::Kernel;
-use super::ray_packet::{CellBox, Plane, Quad, RayPacket, LANES, PACKET_RAYS};
+use super::ray_packet::{CellBox, Plane, Quad, RayPacket, LANES, ORDER, PACKET_RAYS};
 use crate::cell_grid::CellGrid;
 use crate::MaxMipmap;
 use relief_core::{DVec3, Surface};
@@ -26,11 +26,6 @@ pub(crate) struct Terrain<'a> {
 /// A ray's first hit in cell space: the parameter and the grid-space normal, as
 /// [`CellGrid::intersect_cell`] gives them.
 pub(crate) type CellHit = Option<(f64, DVec3)>;
-
-/// The children of a node, or the cells of a level-1 node, in the order rays running towards
-/// growing x and y meet them (a ray crosses at most one of the middle two); mirrored along the
-/// axes the packet runs down.
-pub(crate) const ORDER: [(usize, usize); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
 
 /// The positions 0..4 of [`ORDER`].
 const ORDER_INDEX: [usize; 4] = [0, 1, 2, 3];

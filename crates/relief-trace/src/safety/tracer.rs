@@ -6,7 +6,7 @@ use super::options::RaySet;
 use super::shapes::SafetyShapes;
 use crate::cell_grid::{CellGrid, CellRay};
 use crate::{Hit, NaiveTracer, TraceError, Tracer};
-use relief_core::{BoxFace, Clip, DVec3, HeightField, Ray, Surface};
+use relief_core::{Aabb, BoxFace, Clip, DVec3, HeightField, Ray, Surface};
 use std::sync::Arc;
 
 /// How the ray is intersected inside the last inter-texel (section 7).
@@ -193,6 +193,10 @@ impl Tracer for SafetyTracer {
 
     fn surface(&self) -> Surface {
         Surface::Triangles
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.grid.world_bounds()
     }
 
     fn intersect_counted(&self, world_ray: &Ray, steps: &mut u32) -> Option<Hit> {

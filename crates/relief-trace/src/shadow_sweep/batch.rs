@@ -405,18 +405,6 @@ impl<T: Tracer> SunShadows<T> {
     }
 }
 
-/// Whether this processor runs AVX2 instructions.
-pub(super) fn avx2_available() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
 /// Groups of lanes the AVX2 walk advances in turn (`relief bench`'s shadow rays on the fBm
 /// views at 4096^2: 2 groups 4-5% faster than 1 on the three-quarter and top-down views, 4
 /// groups 5% slower than 2).

@@ -92,12 +92,10 @@ mod batch;
 mod bound;
 mod walk;
 
-use batch::avx2_available;
-
 use crate::cell_grid::{CellGrid, CellRay};
 use crate::{Hit, TraceError, Tracer};
 use rayon::prelude::*;
-use relief_core::{DVec3, HeightField, Ray, Surface};
+use relief_core::{Aabb, DVec3, HeightField, Ray, Surface};
 use std::sync::Arc;
 
 /// How many cells a shadow ray walks before it is handed to the wrapped tracer (`relief
@@ -362,6 +360,10 @@ impl<T: Tracer> Tracer for SunShadows<T> {
         self.inner.surface()
     }
 
+    fn bounds(&self) -> Aabb {
+        self.inner.bounds()
+    }
+
     fn max_mipmap(&self) -> Option<&crate::MaxMipmap> {
         self.inner.max_mipmap()
     }
@@ -422,5 +424,17 @@ impl<T: Tracer> Tracer for SunShadows<T> {
             occluded[k] = b;
             steps[k] += s;
         }
+    }
+}
+
+/// Whether this processor runs AVX2 instructions.
+fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }
