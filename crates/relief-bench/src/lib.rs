@@ -8,6 +8,7 @@
 //! `cargo bench -p relief-bench --no-run`; run one with
 //! `cargo bench -p relief-bench --bench NAME -- ARGS`.
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod benchmark_views;
 

@@ -1,5 +1,6 @@
 //! The `relief` command-line tool: argument parsing and wiring; the algorithms live in the
 //! library crates.
+#![forbid(unsafe_code)]
 
 mod applies;
 mod args;

@@ -21,6 +21,7 @@
 //! assert_eq!(bounds.max.z, 3.0);
 //! ```
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod aabb;
 mod camera;

@@ -45,6 +45,7 @@
 //! assert!((hit.t - distance as f64).abs() < 1e-5 * hit.t);
 //! ```
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod box_mesh;
 mod clipmap;

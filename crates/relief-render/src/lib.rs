@@ -4,6 +4,7 @@
 //! [`Camera`](relief_core::Camera) into a [`Picture`]. The command line, the viewer and the
 //! Python module all draw through it, so that one camera gives one picture in each.
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 pub mod camera;
 pub mod draw;

@@ -42,6 +42,7 @@
 //! assert_eq!(rgb.len(), 64 * 48 * 3);
 //! ```
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod albedo;
 mod clipmap_renderer;

@@ -17,6 +17,7 @@
 //!   anisotropically (section 3.3).
 
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod builder;
 mod cache;

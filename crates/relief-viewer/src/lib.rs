@@ -12,6 +12,7 @@
 //! ([`Script`], `--frames N --screenshot S.png`), in a window or, without a display,
 //! headless ([`run_headless`]).
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod camera_controller;
 mod camera_path;
