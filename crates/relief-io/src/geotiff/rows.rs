@@ -102,36 +102,7 @@ impl GeoTiffRows {
         }
         Ok(bands)
     }
-}
 
-impl RowSource for GeoTiffRows {
-    fn width(&self) -> usize {
-        self.image.width
-    }
-    fn height(&self) -> usize {
-        self.image.height
-    }
-    fn geometry(&self) -> GridGeometry {
-        self.image.placement.geometry
-    }
-    fn info(&self) -> &RasterInfo {
-        &self.image.info
-    }
-    fn read_rows(&mut self, first_row: usize, out: &mut [f32]) -> Result<(), IoError> {
-        let (width, height) = (self.image.width, self.image.height);
-        let rows = check_request(&self.path, (width, height), first_row, out.len())?;
-        if rows == 0 {
-            return Ok(());
-        }
-        self.decode_rows(first_row, rows, out).map_err(|e| e.at(&self.path))
-    }
-    fn release_cache(&mut self) {
-        self.cached = None;
-        self.decoded = Vec::new();
-    }
-}
-
-impl GeoTiffRows {
     /// [`RowSource::read_rows`] of the `rows` rows from `first_row` on, once checked, before
     /// the file is named.
     fn decode_rows(
@@ -168,5 +139,32 @@ impl GeoTiffRows {
             mark_row_voids(values, file_row, self.image.info.nodata)?;
         }
         Ok(())
+    }
+}
+
+impl RowSource for GeoTiffRows {
+    fn width(&self) -> usize {
+        self.image.width
+    }
+    fn height(&self) -> usize {
+        self.image.height
+    }
+    fn geometry(&self) -> GridGeometry {
+        self.image.placement.geometry
+    }
+    fn info(&self) -> &RasterInfo {
+        &self.image.info
+    }
+    fn read_rows(&mut self, first_row: usize, out: &mut [f32]) -> Result<(), IoError> {
+        let (width, height) = (self.image.width, self.image.height);
+        let rows = check_request(&self.path, (width, height), first_row, out.len())?;
+        if rows == 0 {
+            return Ok(());
+        }
+        self.decode_rows(first_row, rows, out).map_err(|e| e.at(&self.path))
+    }
+    fn release_cache(&mut self) {
+        self.cached = None;
+        self.decoded = Vec::new();
     }
 }

@@ -2,9 +2,10 @@
 
 use crate::format_error::FormatError;
 use crate::input_file::open_input;
+use crate::png::decoding_error::png_decoding_error;
 use crate::IoError;
-use png::{ColorType, DecodingError, Transformations};
-use std::io::{BufRead, BufReader, ErrorKind, Seek};
+use png::{ColorType, Transformations};
+use std::io::{BufRead, BufReader, Seek};
 use std::path::Path;
 
 /// The largest inflation deflate allows (about 1032:1) times the largest growth of a pixel
@@ -39,16 +40,9 @@ pub fn read_png_rgb(path: &Path) -> Result<RgbImage, IoError> {
 /// [`read_png_rgb`] from `reader` holding the `file_len` bytes of a PNG, before the file is
 /// named.
 fn read_png_rgb_from<R: BufRead + Seek>(reader: R, file_len: u64) -> Result<RgbImage, FormatError> {
-    let map = |e: DecodingError| match e {
-        DecodingError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
-            FormatError::Format("truncated".into())
-        }
-        DecodingError::IoError(e) => FormatError::Io(e),
-        other => FormatError::Format(other.to_string()),
-    };
     let mut decoder = png::Decoder::new(reader);
     decoder.set_transformations(Transformations::EXPAND | Transformations::STRIP_16);
-    let mut reader = decoder.read_info().map_err(map)?;
+    let mut reader = decoder.read_info().map_err(png_decoding_error)?;
     let (width, height) = reader.info().size();
     let size = reader
         .output_buffer_size()
@@ -59,7 +53,7 @@ fn read_png_rgb_from<R: BufRead + Seek>(reader: R, file_len: u64) -> Result<RgbI
         )));
     };
     let mut buf = vec![0u8; size];
-    let frame = reader.next_frame(&mut buf).map_err(map)?;
+    let frame = reader.next_frame(&mut buf).map_err(png_decoding_error)?;
     let (width, height) = (frame.width, frame.height);
     let channels = match frame.color_type {
         ColorType::Grayscale => 1,

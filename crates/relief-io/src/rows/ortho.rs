@@ -5,10 +5,11 @@
 use crate::format_error::FormatError;
 use crate::geotiff::tags::{read_placement, tag_error, tiff_error};
 use crate::input_file::open_input;
+use crate::png::decoding_error::png_decoding_error;
 use crate::{Georeference, IoError};
-use png::{ColorType as PngColour, DecodingError, Transformations};
+use png::{ColorType as PngColour, Transformations};
 use std::fs::File;
-use std::io::{BufReader, ErrorKind};
+use std::io::BufReader;
 use std::path::{Path, PathBuf};
 use tiff::decoder::{ChunkType, Decoder, DecodingResult};
 use tiff::tags::{CompressionMethod, Tag};
@@ -107,7 +108,7 @@ impl PngOrtho {
     fn start(file: File, file_len: u64, path: PathBuf) -> Result<Self, FormatError> {
         let mut decoder = png::Decoder::new(BufReader::new(file));
         decoder.set_transformations(Transformations::EXPAND | Transformations::STRIP_16);
-        let mut reader = decoder.read_info().map_err(png_error)?;
+        let mut reader = decoder.read_info().map_err(png_decoding_error)?;
         let (width, height) = reader.info().size();
         check_fits(width, height, file_len)?;
         let channels = match reader.output_color_type().0 {
@@ -126,7 +127,7 @@ impl PngOrtho {
                 FormatError::Format(format!("{width} x {height} pixels overflow"))
             })?;
             let mut buf = vec![0u8; size];
-            let frame = reader.next_frame(&mut buf).map_err(png_error)?;
+            let frame = reader.next_frame(&mut buf).map_err(png_decoding_error)?;
             Some((buf, frame.line_size, 0))
         } else {
             None
@@ -160,7 +161,7 @@ impl PngOrtho {
             to_rgb(bytes, self.channels, out);
             return Ok(());
         }
-        let row = self.reader.next_row().map_err(png_error)?;
+        let row = self.reader.next_row().map_err(png_decoding_error)?;
         let row = row.ok_or_else(|| FormatError::Format("truncated".into()))?;
         let data = row.data();
         if data.len() < width * self.channels {
@@ -168,17 +169,6 @@ impl PngOrtho {
         }
         to_rgb(data, self.channels, out);
         Ok(())
-    }
-}
-
-/// A PNG decoding error as a [`FormatError`].
-fn png_error(e: DecodingError) -> FormatError {
-    match e {
-        DecodingError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
-            FormatError::Format("truncated".into())
-        }
-        DecodingError::IoError(e) => FormatError::Io(e),
-        other => FormatError::Format(other.to_string()),
     }
 }
 
