@@ -80,7 +80,9 @@ fn decode<R: BufRead + Seek>(
             crate::npy::raster::read_npy_from(reader, len, options).map_err(|e| e.at(path))
         }
         Format::Npz => crate::npy::npz::read_npz_from(reader, len, options).map_err(|e| e.at(path)),
-        Format::GeoTiff => crate::geotiff::read::read_geotiff_from(reader, path, options),
+        Format::GeoTiff => {
+            crate::geotiff::read::read_geotiff_from(reader, options).map_err(|e| e.at(path))
+        }
         Format::Hgt => {
             crate::hgt::tile::read_hgt_from(reader, len, path, options).map_err(|e| e.at(path))
         }

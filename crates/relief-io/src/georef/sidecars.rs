@@ -84,7 +84,8 @@ pub(crate) fn with_prj(path: &Path, mut raster: Raster) -> Result<Raster, IoErro
     })?;
     let south = north + minus_dy * raster.height as f64;
     let model = ModelGrid { west, south, dx, dy: -minus_dy, metres_per_unit: crs.metres_per_unit };
-    let (geometry, from_degrees) = model.geometry(path, (raster.width, raster.height))?;
+    let (geometry, from_degrees) =
+        model.geometry((raster.width, raster.height)).map_err(|e| e.at(path))?;
     let height_unit = match crs.metres_per_unit {
         None => {
             HeightUnit::assumed_metres("the .prj's CRS is geographic and names no vertical unit")

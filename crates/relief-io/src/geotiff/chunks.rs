@@ -1,11 +1,10 @@
 //! The strips or tiles of a GeoTIFF image: where each lies in the file and in the raster,
 //! checked against the file before anything is decoded.
 
+use crate::format_error::FormatError;
 use crate::geotiff::tags::tag_error;
 use crate::sample_type::SampleType;
-use crate::IoError;
 use std::io::{Read, Seek};
-use std::path::Path;
 use tiff::decoder::{ChunkType, Decoder};
 use tiff::tags::Tag;
 
@@ -51,12 +50,11 @@ impl ChunkGrid {
     /// uncompressed chunks hold all their samples.
     pub(crate) fn read<R: Read + Seek>(
         decoder: &mut Decoder<R>,
-        path: &Path,
         file_len: u64,
         (sample_type, compression, planes): (SampleType, u16, usize),
         width: usize,
         height: usize,
-    ) -> Result<ChunkGrid, IoError> {
+    ) -> Result<ChunkGrid, FormatError> {
         let kind = decoder.get_chunk_type();
         let (chunk_width, chunk_height) = decoder.chunk_dimensions();
         let (chunk_width, chunk_height) = (chunk_width as usize, chunk_height as usize);
@@ -64,8 +62,8 @@ impl ChunkGrid {
             ChunkType::Strip => (Tag::StripOffsets, Tag::StripByteCounts, "strip"),
             ChunkType::Tile => (Tag::TileOffsets, Tag::TileByteCounts, "tile"),
         };
-        let mut u64_values = |tag: Tag, tag_name: &'static str| -> Result<Vec<u64>, IoError> {
-            let error = tag_error(path, tag_name);
+        let mut u64_values = |tag: Tag, tag_name: &'static str| -> Result<Vec<u64>, FormatError> {
+            let error = tag_error(tag_name);
             let value = decoder.find_tag(tag).map_err(error)?;
             value.map_or(Ok(Vec::new()), |v| v.into_u64_vec().map_err(error))
         };
@@ -108,15 +106,12 @@ impl ChunkGrid {
         };
         let all = grid.count.saturating_mul(planes);
         if offsets.len() != all || counts.len() != all {
-            return Err(IoError::format(
-                path,
-                format!(
-                    "{} offsets and {} byte counts for {} {name}s",
-                    offsets.len(),
-                    counts.len(),
-                    all
-                ),
-            ));
+            return Err(FormatError::Format(format!(
+                "{} offsets and {} byte counts for {} {name}s",
+                offsets.len(),
+                counts.len(),
+                all
+            )));
         }
         let mut sparse = Vec::with_capacity(grid.count);
         for (index, (&offset, &count)) in offsets.iter().zip(&counts).enumerate() {
@@ -125,28 +120,22 @@ impl ChunkGrid {
                 continue;
             }
             if offset.checked_add(count).is_none_or(|end| end > file_len) {
-                return Err(IoError::format(
-                    path,
-                    format!(
-                        "truncated: {name} {index} claims bytes {offset}..{} of a {file_len}-byte \
+                return Err(FormatError::Format(format!(
+                    "truncated: {name} {index} claims bytes {offset}..{} of a {file_len}-byte \
                          file",
-                        offset.saturating_add(count)
-                    ),
-                ));
+                    offset.saturating_add(count)
+                )));
             }
             // The decoder reads whole stored rows of an uncompressed chunk.
             let rows = grid.region(index % grid.count, width).height as u64;
             let needed = (rows * grid.chunk_width as u64).saturating_mul(size);
             if compression == 1 && count < needed {
-                return Err(IoError::format(
-                    path,
-                    format!(
-                        "uncompressed {name} {index} holds {count} bytes; its {} x {} samples \
+                return Err(FormatError::Format(format!(
+                    "uncompressed {name} {index} holds {count} bytes; its {} x {} samples \
                          need {needed}",
-                        grid.chunk_width.min(width),
-                        rows
-                    ),
-                ));
+                    grid.chunk_width.min(width),
+                    rows
+                )));
             }
         }
         Ok(ChunkGrid { sparse, offsets, byte_counts: counts, ..grid })

@@ -1,12 +1,13 @@
 //! Reading a layer file (a GeoTIFF of one float band per layer, as
 //! [`write_layers_geotiff`](crate::write_layers_geotiff) writes) back as a [`LayerRaster`].
 
+use crate::format_error::FormatError;
 use crate::geotiff::gdal_metadata::{band_descriptions, GDAL_METADATA_TAG};
 use crate::geotiff::read::GeoTiffImage;
 use crate::geotiff::tags::tag_error;
 use crate::input_file::open_input;
 use crate::{IoError, Layer, LayerRaster, ReadOptions};
-use std::io::BufReader;
+use std::io::{BufReader, Read, Seek};
 use std::path::Path;
 use tiff::tags::Tag;
 
@@ -23,14 +24,22 @@ use tiff::tags::Tag;
 /// several bands interleaved pixel by pixel.
 pub fn read_layers_geotiff(path: &Path, options: &ReadOptions) -> Result<LayerRaster, IoError> {
     let (file, _) = open_input(path)?;
-    let mut image = GeoTiffImage::open(BufReader::new(file), path, options, true)?;
+    read_layers_from(BufReader::new(file), options).map_err(|e| e.at(path))
+}
+
+/// [`read_layers_geotiff`] from a seekable reader, before the file is named.
+fn read_layers_from<R: Read + Seek>(
+    reader: R,
+    options: &ReadOptions,
+) -> Result<LayerRaster, FormatError> {
+    let mut image = GeoTiffImage::open(reader, options, true)?;
     let names = match image.decoder.find_tag(Tag::Unknown(GDAL_METADATA_TAG)) {
         Ok(Some(value)) => {
-            let xml = value.into_string().map_err(tag_error(path, "GDAL_METADATA"))?;
+            let xml = value.into_string().map_err(tag_error("GDAL_METADATA"))?;
             band_descriptions(&xml, image.bands)
         }
         Ok(None) => vec![None; image.bands],
-        Err(e) => return Err(tag_error(path, "GDAL_METADATA")(e)),
+        Err(e) => return Err(tag_error("GDAL_METADATA")(e)),
     };
     let mut layers = Vec::with_capacity(image.bands);
     for (band, name) in names.into_iter().enumerate() {

@@ -1,6 +1,7 @@
 //! Reading a single-band GeoTIFF as a [`Raster`]: the `tiff` crate decodes strips and tiles
 //! (compression, predictors, byte order); placement, nodata and row order are read here.
 
+use crate::format_error::FormatError;
 use crate::georef::geokeys::Placement;
 use crate::geotiff::chunks::ChunkGrid;
 use crate::geotiff::stored_chunk::{Predictor, StoredChunkDecoder, StoredCodec, COMPRESSION_ZSTD};
@@ -10,7 +11,7 @@ use crate::raster::mark_voids;
 use crate::sample_type::SampleType;
 use crate::{Format, Georeference, IoError, Raster, RasterInfo, ReadOptions};
 use std::io::{BufReader, Read, Seek, SeekFrom};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use tiff::decoder::{Decoder, DecodingResult, Limits};
 use tiff::tags::{ByteOrder, Tag};
 use tiff::TiffError;
@@ -53,17 +54,16 @@ use tiff::TiffError;
 /// nodata value, naming its column and row (row 0 = the file's first row).
 pub fn read_geotiff(path: &Path, options: &ReadOptions) -> Result<Raster, IoError> {
     let (file, _) = open_input(path)?;
-    read_geotiff_from(BufReader::new(file), path, options)
+    read_geotiff_from(BufReader::new(file), options).map_err(|e| e.at(path))
 }
 
-/// [`read_geotiff`] from any seekable reader (a file, or bytes in memory when fuzzing); `path`
-/// only names the source in errors.
+/// [`read_geotiff`] from any seekable reader (a file, or bytes in memory when fuzzing), before
+/// the file is named.
 pub(crate) fn read_geotiff_from<R: Read + Seek>(
     reader: R,
-    path: &Path,
     options: &ReadOptions,
-) -> Result<Raster, IoError> {
-    let mut image = GeoTiffImage::open(reader, path, options, false)?;
+) -> Result<Raster, FormatError> {
+    let mut image = GeoTiffImage::open(reader, options, false)?;
     let samples = image.decode_band(0)?;
     let GeoTiffImage { width, height, placement, info, .. } = image;
     Ok(Raster { width, height, samples, geometry: placement.geometry, info })
@@ -83,7 +83,6 @@ pub(crate) enum Decoding {
 /// not yet decoded.
 pub(crate) struct GeoTiffImage<R: Read + Seek> {
     pub(crate) decoder: Decoder<R>,
-    path: PathBuf,
     /// Columns.
     pub(crate) width: usize,
     /// Rows.
@@ -136,38 +135,36 @@ impl<R: Read + Seek> GeoTiffImage<R> {
     /// must hold every band's samples and one stored chunk.
     pub(crate) fn open(
         reader: R,
-        path: &Path,
         options: &ReadOptions,
         several_bands: bool,
-    ) -> Result<Self, IoError> {
-        Self::open_for(reader, path, options, several_bands, Decoding::Whole)
+    ) -> Result<Self, FormatError> {
+        Self::open_for(reader, options, several_bands, Decoding::Whole)
     }
 
     /// [`GeoTiffImage::open`] for `decoding`, which says what the memory budget must hold.
     pub(crate) fn open_for(
         mut reader: R,
-        path: &Path,
         options: &ReadOptions,
         several_bands: bool,
         decoding: Decoding,
-    ) -> Result<Self, IoError> {
-        let file_len = check_magic(&mut reader, path)?;
+    ) -> Result<Self, FormatError> {
+        let file_len = check_magic(&mut reader)?;
         let mut decoder =
-            Decoder::new(reader).map_err(|e| tiff_error(path, "", e))?.with_limits(limits(options));
-        let (width, height) = decoder.dimensions().map_err(|e| tiff_error(path, "", e))?;
+            Decoder::new(reader).map_err(|e| tiff_error("", e))?.with_limits(limits(options));
+        let (width, height) = decoder.dimensions().map_err(|e| tiff_error("", e))?;
         match decoding {
-            Decoding::Whole => options.check_size(path, width.into(), height.into())?,
+            Decoding::Whole => options.check_samples(width.into(), height.into())?,
             // Any size: only a row of chunks is held (checked below).
             Decoding::ChunkRows => ReadOptions { max_memory: u64::MAX, ..options.clone() }
-                .check_size(path, width.into(), height.into())?,
+                .check_samples(width.into(), height.into())?,
         }
         // check_size guarantees that width * height fits in usize.
         let (width, height) = (width as usize, height as usize);
-        let (sample_type, compression, bands) = check_layout(&mut decoder, path, several_bands)?;
-        let nodata = read_nodata(&mut decoder, path)?;
-        let (placement, tags) = read_placement(&mut decoder, path, width, height)?;
+        let (sample_type, compression, bands) = check_layout(&mut decoder, several_bands)?;
+        let nodata = read_nodata(&mut decoder)?;
+        let (placement, tags) = read_placement(&mut decoder, width, height)?;
         let layout = (sample_type, compression, bands);
-        let chunks = ChunkGrid::read(&mut decoder, path, file_len, layout, width, height)?;
+        let chunks = ChunkGrid::read(&mut decoder, file_len, layout, width, height)?;
         let held = match decoding {
             Decoding::Whole => (width as u64 * height as u64).saturating_mul(bands as u64),
             Decoding::ChunkRows => width as u64 * chunks.chunk_height.min(height) as u64,
@@ -178,8 +175,7 @@ impl<R: Read + Seek> GeoTiffImage<R> {
             needed = needed.saturating_add(chunks.byte_counts.iter().copied().max().unwrap_or(0));
         }
         if needed > options.max_memory {
-            return Err(IoError::Limits {
-                path: path.to_path_buf(),
+            return Err(FormatError::Limits {
                 width: width as u64,
                 height: height as u64,
                 needed,
@@ -188,9 +184,9 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         }
         let predictor = decoder
             .find_tag_unsigned::<u16>(Tag::Predictor)
-            .map_err(tag_error(path, "Predictor"))?
+            .map_err(tag_error("Predictor"))?
             .unwrap_or(1);
-        let unknown = || IoError::unsupported(path, format!("predictor {predictor}"));
+        let unknown = || FormatError::Unsupported(format!("predictor {predictor}"));
         let predictor = Predictor::from_tag(predictor);
         let big_endian = decoder.byte_order() == ByteOrder::BigEndian;
         let zstd = if compression == COMPRESSION_ZSTD {
@@ -225,7 +221,6 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         };
         Ok(GeoTiffImage {
             decoder,
-            path: path.to_path_buf(),
             width,
             height,
             bands,
@@ -240,13 +235,8 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         })
     }
 
-    /// The file's path.
-    pub(crate) fn path(&self) -> &Path {
-        &self.path
-    }
-
     /// The samples of band `band` (< bands): row 0 south, voids NaN.
-    pub(crate) fn decode_band(&mut self, band: usize) -> Result<Vec<f32>, IoError> {
+    pub(crate) fn decode_band(&mut self, band: usize) -> Result<Vec<f32>, FormatError> {
         let width = self.width;
         let mut samples = vec![0f32; width * self.height];
         for index in 0..self.chunks.count {
@@ -256,8 +246,7 @@ impl<R: Read + Seek> GeoTiffImage<R> {
             flip_rows(&mut samples, width);
         }
         let north_up = self.placement.north_up;
-        mark_voids(&mut samples, width, self.info.nodata, north_up)
-            .map_err(|e| e.at(&self.path))?;
+        mark_voids(&mut samples, width, self.info.nodata, north_up)?;
         Ok(samples)
     }
 
@@ -268,7 +257,7 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         &mut self,
         chunk_row: usize,
         out: &mut Vec<f32>,
-    ) -> Result<usize, IoError> {
+    ) -> Result<usize, FormatError> {
         let first_row = chunk_row * self.chunks.chunk_height;
         let rows = self.chunks.chunk_height.min(self.height - first_row);
         out.clear();
@@ -288,8 +277,8 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         index: usize,
         out: &mut [f32],
         first_row: usize,
-    ) -> Result<(), IoError> {
-        let (path, width, sample_type) = (&self.path, self.width, self.sample_type);
+    ) -> Result<(), FormatError> {
+        let (width, sample_type) = (self.width, self.sample_type);
         let chunks = &self.chunks;
         let region = chunks.region(index % chunks.count, width);
         let at = |row: usize| (region.y - first_row + row) * width + region.x;
@@ -318,9 +307,9 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         let scratch = &mut self.scratch;
         let padded_view;
         let index_u32 = u32::try_from(index).map_err(|_| {
-            IoError::unsupported(path, format!("{} {index} (index beyond u32)", chunks.name()))
+            FormatError::Unsupported(format!("{} {index} (index beyond u32)", chunks.name()))
         })?;
-        let chunk_error = |e| tiff_error(path, &format!("{} {index}", chunks.name()), e);
+        let chunk_error = |e| tiff_error(&format!("{} {index}", chunks.name()), e);
         let (bytes, stride): (&[u8], usize) = if region.width == chunks.chunk_width {
             scratch.buffer.resize(row_bytes * region.height, 0);
             let bytes = &mut scratch.buffer[..row_bytes * region.height];
@@ -339,7 +328,7 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         };
         for row in 0..region.height {
             let raw = bytes.get(row * stride..row * stride + row_bytes).ok_or_else(|| {
-                IoError::format(path, format!("{} {index} decoded short", chunks.name()))
+                FormatError::Format(format!("{} {index} decoded short", chunks.name()))
             })?;
             convert(raw, sample_type, &mut out[at(row)..][..region.width]);
         }
@@ -361,13 +350,16 @@ impl<R: Read + Seek> GeoTiffImage<R> {
     }
 
     /// Reads the stored bytes of chunk `index` into `out` (nothing for a sparse chunk).
-    pub(crate) fn read_stored(&mut self, index: usize, out: &mut Vec<u8>) -> Result<(), IoError> {
-        let path = &self.path;
+    pub(crate) fn read_stored(
+        &mut self,
+        index: usize,
+        out: &mut Vec<u8>,
+    ) -> Result<(), FormatError> {
         let chunk = || format!("{} {index}", self.chunks.name());
         // ChunkGrid::read checked that the bytes lie within the file.
         let (offset, count) = (self.chunks.offsets[index], self.chunks.byte_counts[index]);
         let count = usize::try_from(count)
-            .map_err(|_| IoError::format(path, format!("{}: {count} bytes", chunk())))?;
+            .map_err(|_| FormatError::Format(format!("{}: {count} bytes", chunk())))?;
         out.resize(count, 0);
         if count == 0 {
             return Ok(());
@@ -376,7 +368,7 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         reader
             .seek(SeekFrom::Start(offset))
             .and_then(|_| reader.read_exact(out))
-            .map_err(|e| tiff_error(path, &chunk(), TiffError::IoError(e)))
+            .map_err(|e| tiff_error(&chunk(), TiffError::IoError(e)))
     }
 
     /// The samples of chunk `index` (its region of the raster, row-major, file order, neither
@@ -389,8 +381,8 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         stored: &[u8],
         decoder: &mut StoredChunkDecoder,
         buffer: &mut Vec<u8>,
-    ) -> Result<Vec<f32>, IoError> {
-        let (path, chunks, sample_type) = (&self.path, &self.chunks, self.sample_type);
+    ) -> Result<Vec<f32>, FormatError> {
+        let (chunks, sample_type) = (&self.chunks, self.sample_type);
         let region = chunks.region(index % chunks.count, self.width);
         if chunks.sparse[index] {
             let fill = self.info.nodata.map_or(0.0, |v| v as f32);
@@ -402,20 +394,17 @@ impl<R: Read + Seek> GeoTiffImage<R> {
         buffer.resize(stride * chunks.chunk_height, 0);
         let decoded = decoder
             .decode(stored, buffer, stride)
-            .map_err(|reason| IoError::format(path, format!("{}: {reason}", chunk())))?;
+            .map_err(|reason| FormatError::Format(format!("{}: {reason}", chunk())))?;
         let row_bytes = region.width * sample_type.size();
         let needed = (region.height - 1) * stride + row_bytes;
         if decoded < needed {
-            return Err(IoError::format(
-                path,
-                format!(
-                    "{}: {} data decodes to {decoded} bytes; its {} x {} samples need {needed}",
-                    chunk(),
-                    decoder.codec_name(),
-                    region.width,
-                    region.height,
-                ),
-            ));
+            return Err(FormatError::Format(format!(
+                "{}: {} data decodes to {decoded} bytes; its {} x {} samples need {needed}",
+                chunk(),
+                decoder.codec_name(),
+                region.width,
+                region.height,
+            )));
         }
         let mut samples = vec![0f32; region.width * region.height];
         for (row, values) in samples.chunks_exact_mut(region.width).enumerate() {
@@ -427,25 +416,23 @@ impl<R: Read + Seek> GeoTiffImage<R> {
 
 /// Checks the byte-order mark and version of a TIFF or BigTIFF header; returns the length of
 /// the source and leaves it at its start.
-fn check_magic<R: Read + Seek>(reader: &mut R, path: &Path) -> Result<u64, IoError> {
-    let io = |e| IoError::io(path, e);
+fn check_magic<R: Read + Seek>(reader: &mut R) -> Result<u64, FormatError> {
+    let io = FormatError::Io;
     let len = reader.seek(SeekFrom::End(0)).map_err(io)?;
     reader.seek(SeekFrom::Start(0)).map_err(io)?;
     if len < 8 {
-        return Err(IoError::format(
-            path,
-            format!("{len} bytes is too short for a TIFF header (8 bytes)"),
-        ));
+        return Err(FormatError::Format(format!(
+            "{len} bytes is too short for a TIFF header (8 bytes)"
+        )));
     }
     let mut magic = [0u8; 4];
     reader.read_exact(&mut magic).map_err(io)?;
     reader.seek(SeekFrom::Start(0)).map_err(io)?;
     match magic {
         [b'I', b'I', 42 | 43, 0] | [b'M', b'M', 0, 42 | 43] => Ok(len),
-        _ => Err(IoError::format(
-            path,
-            format!("not a TIFF file: starts with {magic:02x?}, not \"II*\\0\" or \"MM\\0*\""),
-        )),
+        _ => Err(FormatError::Format(format!(
+            "not a TIFF file: starts with {magic:02x?}, not \"II*\\0\" or \"MM\\0*\""
+        ))),
     }
 }
 
@@ -501,8 +488,8 @@ mod tests {
 
     const JACKSBORO: &[u8] = include_bytes!("../../tests/fixtures/jacksboro_fault_dem.tif");
 
-    fn read(bytes: &[u8]) -> Result<Raster, IoError> {
-        read_geotiff_from(Cursor::new(bytes), Path::new("memory.tif"), &ReadOptions::default())
+    fn read(bytes: &[u8]) -> Result<Raster, FormatError> {
+        read_geotiff_from(Cursor::new(bytes), &ReadOptions::default())
     }
 
     #[test]
@@ -568,7 +555,7 @@ mod tests {
 
     impl Outcomes {
         /// Counts `result`; a raster read must hold as many samples as its size says.
-        fn count(&mut self, result: Result<Raster, IoError>) {
+        fn count(&mut self, result: Result<Raster, FormatError>) {
             let Ok(raster) = result else {
                 self.refused += 1;
                 return;

@@ -1,6 +1,7 @@
 //! A GeoTIFF read as rows: only the strips or tiles that cover the rows asked for are decoded,
 //! one row of them at a time, the last kept for the next request.
 
+use crate::format_error::FormatError;
 use crate::georef::geokeys::ModelGrid;
 use crate::geotiff::read::{Decoding, GeoTiffImage};
 use crate::input_file::open_input;
@@ -12,7 +13,7 @@ use relief_core::GridGeometry;
 use std::fs::File;
 use std::io::BufReader;
 use std::ops::RangeInclusive;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The rows of a single-band GeoTIFF, decoded a row of strips or tiles at a time.
 ///
@@ -23,6 +24,8 @@ use std::path::Path;
 /// voids are those [`read_geotiff`](crate::read_geotiff) gives.
 pub(crate) struct GeoTiffRows {
     image: GeoTiffImage<BufReader<File>>,
+    /// The file, which errors name.
+    path: PathBuf,
     /// Which row of chunks `decoded` holds.
     cached: Option<usize>,
     /// The decoded row of chunks, file rows in file order.
@@ -37,8 +40,9 @@ impl GeoTiffRows {
     pub(crate) fn open(path: &Path, options: &ReadOptions) -> Result<Self, IoError> {
         let (file, _) = open_input(path)?;
         let reader = BufReader::new(file);
-        let image = GeoTiffImage::open_for(reader, path, options, false, Decoding::ChunkRows)?;
-        Ok(GeoTiffRows { image, cached: None, decoded: Vec::new() })
+        let image = GeoTiffImage::open_for(reader, options, false, Decoding::ChunkRows)
+            .map_err(|e| e.at(path))?;
+        Ok(GeoTiffRows { image, path: path.to_path_buf(), cached: None, decoded: Vec::new() })
     }
 
     /// The grid in the file's model coordinates; `None` without a georeference.
@@ -48,7 +52,7 @@ impl GeoTiffRows {
 
     /// The file's path.
     pub(crate) fn path(&self) -> &Path {
-        self.image.path()
+        &self.path
     }
 }
 
@@ -59,7 +63,7 @@ impl GeoTiffRows {
     fn decode_in_parallel(
         &mut self,
         chunk_rows: RangeInclusive<usize>,
-    ) -> Result<Vec<(usize, Vec<f32>)>, IoError> {
+    ) -> Result<Vec<(usize, Vec<f32>)>, FormatError> {
         let across = self.image.chunks.across;
         let wanted: Vec<usize> = chunk_rows.filter(|&k| Some(k) != self.cached).collect();
         let mut stored = Vec::with_capacity(wanted.len() * across);
@@ -71,13 +75,13 @@ impl GeoTiffRows {
             }
         }
         let image = &self.image;
-        let chunks: Vec<Result<Vec<f32>, IoError>> = stored
+        let chunks: Vec<Result<Vec<f32>, FormatError>> = stored
             .par_iter()
             .map_init(
                 || (image.stored_decoder(), Vec::new()),
                 |(decoder, buffer), (index, bytes)| match decoder {
                     Some(decoder) => image.unpack_stored(*index, bytes, decoder, buffer),
-                    None => Err(IoError::unsupported(image.path(), "chunks decoded in parallel")),
+                    None => Err(FormatError::Unsupported("chunks decoded in parallel".into())),
                 },
             )
             .collect();
@@ -98,27 +102,16 @@ impl GeoTiffRows {
         }
         Ok(bands)
     }
-}
 
-impl RowSource for GeoTiffRows {
-    fn width(&self) -> usize {
-        self.image.width
-    }
-    fn height(&self) -> usize {
-        self.image.height
-    }
-    fn geometry(&self) -> GridGeometry {
-        self.image.placement.geometry
-    }
-    fn info(&self) -> &RasterInfo {
-        &self.image.info
-    }
-    fn read_rows(&mut self, first_row: usize, out: &mut [f32]) -> Result<(), IoError> {
+    /// [`RowSource::read_rows`] of the `rows` rows from `first_row` on, once checked, before
+    /// the file is named.
+    fn decode_rows(
+        &mut self,
+        first_row: usize,
+        rows: usize,
+        out: &mut [f32],
+    ) -> Result<(), FormatError> {
         let (width, height) = (self.image.width, self.image.height);
-        let rows = check_request(self.image.path(), (width, height), first_row, out.len())?;
-        if rows == 0 {
-            return Ok(());
-        }
         let chunk_height = self.image.chunks.chunk_height;
         let north_up = self.image.placement.north_up;
         let file_row = |row: usize| if north_up { height - 1 - row } else { row };
@@ -143,10 +136,32 @@ impl RowSource for GeoTiffRows {
             }
             let at = (file_row - chunk_row * chunk_height) * width;
             values.copy_from_slice(&self.decoded[at..at + width]);
-            mark_row_voids(values, file_row, self.image.info.nodata)
-                .map_err(|e| e.at(self.image.path()))?;
+            mark_row_voids(values, file_row, self.image.info.nodata)?;
         }
         Ok(())
+    }
+}
+
+impl RowSource for GeoTiffRows {
+    fn width(&self) -> usize {
+        self.image.width
+    }
+    fn height(&self) -> usize {
+        self.image.height
+    }
+    fn geometry(&self) -> GridGeometry {
+        self.image.placement.geometry
+    }
+    fn info(&self) -> &RasterInfo {
+        &self.image.info
+    }
+    fn read_rows(&mut self, first_row: usize, out: &mut [f32]) -> Result<(), IoError> {
+        let (width, height) = (self.image.width, self.image.height);
+        let rows = check_request(&self.path, (width, height), first_row, out.len())?;
+        if rows == 0 {
+            return Ok(());
+        }
+        self.decode_rows(first_row, rows, out).map_err(|e| e.at(&self.path))
     }
     fn release_cache(&mut self) {
         self.cached = None;

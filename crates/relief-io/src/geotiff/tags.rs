@@ -2,26 +2,25 @@
 //! (bands, sample type, compression), its GDAL_NODATA, its georeferencing tags as stored, and
 //! the `tiff` crate's errors by cause.
 
+use crate::format_error::FormatError;
 use crate::georef::geokeys::{model_placement, GeoKeys, ModelTags, Placement};
 use crate::sample_type::SampleType;
-use crate::{GeoTiffTags, IoError};
+use crate::GeoTiffTags;
 use std::fmt::Display;
 use std::io::{ErrorKind, Read, Seek};
-use std::path::Path;
 use tiff::decoder::Decoder;
 use tiff::tags::{CompressionMethod, Tag, Type};
 use tiff::TiffError;
 
-/// Maps errors of the `tiff` crate reading `context` (a tag name, "strip 3") to [`IoError`]s.
-pub(crate) fn tag_error<'a>(
-    path: &'a Path,
-    context: &'a str,
-) -> impl Fn(TiffError) -> IoError + Copy + 'a {
-    move |e| tiff_error(path, context, e)
+/// Maps errors of the `tiff` crate reading `context` (a tag name, "strip 3") to
+/// [`FormatError`]s.
+pub(crate) fn tag_error(context: &str) -> impl Fn(TiffError) -> FormatError + Copy + '_ {
+    move |e| tiff_error(context, e)
 }
 
-/// An error of the `tiff` crate as an [`IoError`]; `context` (e.g. "strip 3") leads the reason.
-pub(crate) fn tiff_error(path: &Path, context: &str, error: TiffError) -> IoError {
+/// An error of the `tiff` crate as a [`FormatError`]; `context` (e.g. "strip 3") leads the
+/// reason.
+pub(crate) fn tiff_error(context: &str, error: TiffError) -> FormatError {
     let reason = |what: &dyn Display| {
         if context.is_empty() {
             what.to_string()
@@ -31,17 +30,17 @@ pub(crate) fn tiff_error(path: &Path, context: &str, error: TiffError) -> IoErro
     };
     match error {
         TiffError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
-            IoError::format(path, reason(&format_args!("truncated ({e})")))
+            FormatError::Format(reason(&format_args!("truncated ({e})")))
         }
         TiffError::IoError(e) if e.kind() == ErrorKind::InvalidData => {
-            IoError::format(path, reason(&format_args!("corrupt data ({e})")))
+            FormatError::Format(reason(&format_args!("corrupt data ({e})")))
         }
-        TiffError::IoError(e) => IoError::io(path, e),
-        TiffError::UnsupportedError(e) => IoError::unsupported(path, reason(&e)),
+        TiffError::IoError(e) => FormatError::Io(e),
+        TiffError::UnsupportedError(e) => FormatError::Unsupported(reason(&e)),
         TiffError::LimitsExceeded => {
-            IoError::format(path, reason(&"a value is larger than the memory limit allows"))
+            FormatError::Format(reason(&"a value is larger than the memory limit allows"))
         }
-        other => IoError::format(path, reason(&other)),
+        other => FormatError::Format(reason(&other)),
     }
 }
 
@@ -67,32 +66,26 @@ pub(crate) fn sample_type_of(format: u16, bits: u16) -> Option<SampleType> {
 /// compression's TIFF code.
 pub(crate) fn check_layout<R: Read + Seek>(
     decoder: &mut Decoder<R>,
-    path: &Path,
     several_bands: bool,
-) -> Result<(SampleType, u16, usize), IoError> {
-    let tag_error = |name| tag_error(path, name);
+) -> Result<(SampleType, u16, usize), FormatError> {
     let bands = decoder
         .find_tag_unsigned::<u16>(Tag::SamplesPerPixel)
         .map_err(tag_error("SamplesPerPixel"))?
         .unwrap_or(1);
     if bands != 1 && !several_bands {
-        return Err(IoError::unsupported(
-            path,
-            format!("image of {bands} bands (samples per pixel); relief reads single-band rasters"),
-        ));
+        return Err(FormatError::Unsupported(format!(
+            "image of {bands} bands (samples per pixel); relief reads single-band rasters"
+        )));
     }
     let planar = decoder
         .find_tag_unsigned::<u16>(Tag::PlanarConfiguration)
         .map_err(tag_error("PlanarConfiguration"))?
         .unwrap_or(1);
     if bands == 0 || (bands > 1 && planar != 2) {
-        return Err(IoError::unsupported(
-            path,
-            format!(
-                "image of {bands} bands in planar configuration {planar}; relief reads several \
+        return Err(FormatError::Unsupported(format!(
+            "image of {bands} bands in planar configuration {planar}; relief reads several \
                  bands stored in separate planes (2)"
-            ),
-        ));
+        )));
     }
     let first = |values: Option<Vec<u16>>, default: u16| {
         values.and_then(|v| v.first().copied()).unwrap_or(default)
@@ -115,17 +108,16 @@ pub(crate) fn check_layout<R: Read + Seek>(
             6 => "complex floating-point",
             _ => "unknown-format",
         };
-        IoError::unsupported(path, format!("{bits}-bit {kind} samples"))
+        FormatError::Unsupported(format!("{bits}-bit {kind} samples"))
     })?;
     let photometric = decoder
         .find_tag_unsigned::<u16>(Tag::PhotometricInterpretation)
         .map_err(tag_error("PhotometricInterpretation"))?;
     if photometric != Some(1) {
         // The decoder would invert WhiteIsZero samples; other interpretations are colour.
-        return Err(IoError::unsupported(
-            path,
-            format!("photometric interpretation {photometric:?}; relief reads BlackIsZero (1)"),
-        ));
+        return Err(FormatError::Unsupported(format!(
+            "photometric interpretation {photometric:?}; relief reads BlackIsZero (1)"
+        )));
     }
     let compression = decoder
         .find_tag_unsigned::<u16>(Tag::Compression)
@@ -138,22 +130,18 @@ pub(crate) fn check_layout<R: Read + Seek>(
         | CompressionMethod::OldDeflate
         | CompressionMethod::PackBits
         | CompressionMethod::ZSTD => Ok((sample_type, compression, usize::from(bands))),
-        other => Err(IoError::unsupported(
-            path,
-            format!(
-                "compression {other:?} (TIFF code {compression}); relief reads uncompressed, \
+        other => Err(FormatError::Unsupported(format!(
+            "compression {other:?} (TIFF code {compression}); relief reads uncompressed, \
                  LZW, Deflate, ZSTD and PackBits"
-            ),
-        )),
+        ))),
     }
 }
 
 /// GDAL_NODATA: ASCII text such as "-32768" or "nan", maybe padded with NULs or spaces.
 pub(crate) fn read_nodata<R: Read + Seek>(
     decoder: &mut Decoder<R>,
-    path: &Path,
-) -> Result<Option<f64>, IoError> {
-    let tag_error = tag_error(path, "GDAL_NODATA");
+) -> Result<Option<f64>, FormatError> {
+    let tag_error = tag_error("GDAL_NODATA");
     let Some(value) = decoder.find_tag(Tag::GdalNodata).map_err(tag_error)? else {
         return Ok(None);
     };
@@ -164,48 +152,44 @@ pub(crate) fn read_nodata<R: Read + Seek>(
     }
     text.parse::<f64>()
         .map(Some)
-        .map_err(|_| IoError::format(path, format!("GDAL_NODATA {text:?} is not a number")))
+        .map_err(|_| FormatError::Format(format!("GDAL_NODATA {text:?} is not a number")))
 }
 
 /// The `f64` values of `tag`, if present.
 fn f64_values<R: Read + Seek>(
     decoder: &mut Decoder<R>,
-    path: &Path,
     tag: Tag,
     name: &str,
-) -> Result<Option<Vec<f64>>, IoError> {
-    let Some(value) = decoder.find_tag(tag).map_err(tag_error(path, name))? else {
+) -> Result<Option<Vec<f64>>, FormatError> {
+    let Some(value) = decoder.find_tag(tag).map_err(tag_error(name))? else {
         return Ok(None);
     };
-    value.into_f64_vec().map(Some).map_err(tag_error(path, name))
+    value.into_f64_vec().map(Some).map_err(tag_error(name))
 }
 
 /// Reads the georeference of a `width x height` raster: its placement, and its tags as stored.
 pub(crate) fn read_placement<R: Read + Seek>(
     decoder: &mut Decoder<R>,
-    path: &Path,
     width: usize,
     height: usize,
-) -> Result<(Placement, GeoTiffTags), IoError> {
-    let scale = f64_values(decoder, path, Tag::ModelPixelScaleTag, "ModelPixelScaleTag")?;
-    let ties = f64_values(decoder, path, Tag::ModelTiepointTag, "ModelTiepointTag")?;
-    let transform =
-        f64_values(decoder, path, Tag::ModelTransformationTag, "ModelTransformationTag")?;
-    let keys_error = tag_error(path, "GeoKeyDirectoryTag");
+) -> Result<(Placement, GeoTiffTags), FormatError> {
+    let scale = f64_values(decoder, Tag::ModelPixelScaleTag, "ModelPixelScaleTag")?;
+    let ties = f64_values(decoder, Tag::ModelTiepointTag, "ModelTiepointTag")?;
+    let transform = f64_values(decoder, Tag::ModelTransformationTag, "ModelTransformationTag")?;
+    let keys_error = tag_error("GeoKeyDirectoryTag");
     let directory = match decoder.find_tag(Tag::GeoKeyDirectoryTag).map_err(keys_error)? {
         Some(value) => Some(value.into_u16_vec().map_err(keys_error)?),
         None => None,
     };
-    let geo_ascii_params = ascii_bytes(decoder, path, Tag::GeoAsciiParamsTag, "GeoAsciiParamsTag")?;
+    let geo_ascii_params = ascii_bytes(decoder, Tag::GeoAsciiParamsTag, "GeoAsciiParamsTag")?;
     let keys = match &directory {
-        Some(directory) => GeoKeys::parse(path, directory)?,
+        Some(directory) => GeoKeys::parse(directory)?,
         None => GeoKeys::default(),
     }
     .with_citation(geo_ascii_params.as_deref());
     let tags = ModelTags { scale, ties, transform };
-    let placement = model_placement(path, &tags, &keys, (width, height))?;
-    let geo_double_params =
-        f64_values(decoder, path, Tag::GeoDoubleParamsTag, "GeoDoubleParamsTag")?;
+    let placement = model_placement(&tags, &keys, (width, height))?;
+    let geo_double_params = f64_values(decoder, Tag::GeoDoubleParamsTag, "GeoDoubleParamsTag")?;
     let tags = GeoTiffTags {
         model_pixel_scale: tags.scale,
         model_tiepoint: tags.ties,
@@ -220,24 +204,23 @@ pub(crate) fn read_placement<R: Read + Seek>(
 /// The bytes of the ASCII tag `tag` as stored, terminating NUL included, if present.
 fn ascii_bytes<R: Read + Seek>(
     decoder: &mut Decoder<R>,
-    path: &Path,
     tag: Tag,
     name: &str,
-) -> Result<Option<Vec<u8>>, IoError> {
+) -> Result<Option<Vec<u8>>, FormatError> {
     let mut ifd = decoder.image_ifd();
     let Some(entry) = ifd.find_entry(tag) else {
         return Ok(None);
     };
     if entry.field_type() != Type::ASCII {
-        return Err(IoError::format(path, format!("{name} is not ASCII text")));
+        return Err(FormatError::Format(format!("{name} is not ASCII text")));
     }
     // The limits bound the count before anything is allocated.
     let len = usize::try_from(entry.count())
         .ok()
         .filter(|&n| n <= MAX_ASCII_TAG)
-        .ok_or_else(|| IoError::format(path, format!("{name} of {} bytes", entry.count())))?;
+        .ok_or_else(|| FormatError::Format(format!("{name} of {} bytes", entry.count())))?;
     let mut bytes = vec![0u8; len];
-    ifd.find_tag_bytes(tag, &mut bytes, 0).map_err(tag_error(path, name))?;
+    ifd.find_tag_bytes(tag, &mut bytes, 0).map_err(tag_error(name))?;
     Ok(Some(bytes))
 }
 

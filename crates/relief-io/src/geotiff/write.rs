@@ -134,8 +134,7 @@ mod tests {
             write_geotiff_to(&mut bytes, path, &field, big, None).unwrap();
             let bytes = bytes.into_inner();
             assert_eq!(&bytes[..4], if big { b"II+\0" } else { b"II*\0" });
-            let raster =
-                read_geotiff_from(Cursor::new(bytes), path, &ReadOptions::default()).unwrap();
+            let raster = read_geotiff_from(Cursor::new(bytes), &ReadOptions::default()).unwrap();
             assert_eq!((raster.width, raster.height), (37, 23));
             let g = raster.geometry;
             assert_eq!((g.dx, g.dy, g.z_scale), (30.0, 20.0, 1.0));

@@ -13,10 +13,11 @@
 //! `stability[N]`, `sediment[N]`, `damage[N]`: 44 bytes per slot in f32, 22 in f16.
 
 use crate::atomic_write::write_atomically;
+use crate::format_error::FormatError;
 use crate::input_file::open_input;
 use crate::mlhm::scene_header::{
-    parse_header, read_mlhm_scene_header, MlhmSceneHeader, KEY_FILE, KEY_HALF, KEY_MAX_LAYERS,
-    KEY_SCALE, KEY_SIZE, KEY_USED_LAYERS, MAX_FILE_LAYERS,
+    parse_mlhm_scene_header, read_mlhm_scene_header, MlhmSceneHeader, KEY_FILE, KEY_HALF,
+    KEY_MAX_LAYERS, KEY_SCALE, KEY_SIZE, KEY_USED_LAYERS, MAX_FILE_LAYERS,
 };
 use crate::{IoError, ReadOptions};
 use flate2::read::ZlibDecoder;
@@ -110,11 +111,11 @@ impl MlhmScene {
 pub fn read_mlhm_scene(path: &Path, options: &ReadOptions) -> Result<MlhmScene, IoError> {
     let header = read_mlhm_scene_header(path)?;
     let Some(dat) = header.data_file.clone() else {
-        return Err(procedural(path));
+        return Err(procedural().at(path));
     };
-    check_memory(&header, &dat, options)?;
+    check_memory(&header, options).map_err(|e| e.at(&dat))?;
     let (file, _) = open_input(&dat)?;
-    decode_dat(BufReader::new(file), header, &dat)
+    decode_dat(BufReader::new(file), header).map_err(|e| e.at(&dat))
 }
 
 /// [`read_mlhm_scene`] from the JSON text `json` and the compressed `.dat` bytes `dat`;
@@ -126,12 +127,13 @@ pub fn read_mlhm_scene_from_bytes(
     path: &Path,
     options: &ReadOptions,
 ) -> Result<MlhmScene, IoError> {
-    let header = parse_header(json, path)?;
+    let header = parse_mlhm_scene_header(json, path)?;
     let Some(dat_path) = header.data_file.clone() else {
-        return Err(procedural(path));
+        return Err(procedural().at(path));
     };
-    check_memory(&header, &dat_path, options)?;
-    decode_dat(dat, header, &dat_path)
+    check_memory(&header, options)
+        .and_then(|()| decode_dat(dat, header))
+        .map_err(|e| e.at(&dat_path))
 }
 
 /// Writes `scene` as a JSON at `path` and a `.dat` beside it (the JSON's name with `.dat`,
@@ -204,12 +206,12 @@ pub fn write_mlhm_scene(path: &Path, scene: &MlhmScene) -> Result<(), IoError> {
     write_atomically(path, |w| w.write_all(&text).map_err(|e| IoError::io(path, e)))
 }
 
-/// The error for reading the terrain of the procedural scene at `path`.
-fn procedural(path: &Path) -> IoError {
-    IoError::unsupported(
-        path,
+/// The error for reading the terrain of a procedural scene.
+fn procedural() -> FormatError {
+    FormatError::Unsupported(
         "procedural scene (empty Terrain/File): there is no .dat to read; generate the terrain \
-         (RiversRain) instead",
+         (RiversRain) instead"
+            .into(),
     )
 }
 
@@ -230,18 +232,13 @@ fn dat_size(header: &MlhmSceneHeader) -> u64 {
 
 /// Refuses a scene whose decoding would exceed the memory budget: the decompressed `.dat`,
 /// the MLHM (16 bytes a slot, 1 a cell) and the f32 simulation state (28 bytes a slot).
-fn check_memory(
-    header: &MlhmSceneHeader,
-    dat: &Path,
-    options: &ReadOptions,
-) -> Result<(), IoError> {
+fn check_memory(header: &MlhmSceneHeader, options: &ReadOptions) -> Result<(), FormatError> {
     let cells = (header.width as u64).saturating_mul(header.height as u64);
     let slots = cells.saturating_mul(header.used_layer_count as u64);
     let needed =
         dat_size(header).saturating_add(cells).saturating_add(slots.saturating_mul(16 + 28));
     if needed > options.max_memory || usize::try_from(needed).is_err() {
-        return Err(IoError::Limits {
-            path: dat.to_path_buf(),
+        return Err(FormatError::Limits {
             width: header.width as u64,
             height: header.height as u64,
             needed,
@@ -251,12 +248,9 @@ fn check_memory(
     Ok(())
 }
 
-/// Decompresses the `.dat` from `reader` and builds the scene of `header`.
-fn decode_dat(
-    reader: impl Read,
-    header: MlhmSceneHeader,
-    dat: &Path,
-) -> Result<MlhmScene, IoError> {
+/// Decompresses the `.dat` from `reader` and builds the scene of `header`, before the `.dat`
+/// is named.
+fn decode_dat(reader: impl Read, header: MlhmSceneHeader) -> Result<MlhmScene, FormatError> {
     let expected = dat_size(&header);
     // check_memory bounded the size, so it fits in usize.
     let mut bytes = Vec::with_capacity(expected as usize + 1);
@@ -264,24 +258,21 @@ fn decode_dat(
     decoder.read_to_end(&mut bytes).map_err(|e| {
         use std::io::ErrorKind::{InvalidData, InvalidInput, UnexpectedEof};
         if matches!(e.kind(), InvalidData | InvalidInput | UnexpectedEof) {
-            IoError::format(dat, format!("corrupt zlib stream: {e}"))
+            FormatError::Format(format!("corrupt zlib stream: {e}"))
         } else {
-            IoError::io(dat, e)
+            FormatError::Io(e)
         }
     })?;
     if bytes.len() as u64 != expected {
         let got =
             if bytes.len() as u64 > expected { "more".to_owned() } else { bytes.len().to_string() };
-        return Err(IoError::format(
-            dat,
-            format!(
-                "decompresses to {got} bytes, but a {} x {} grid of {} layers in {} needs {expected}",
-                header.width,
-                header.height,
-                header.used_layer_count,
-                if header.precision == Precision::F16 { "f16" } else { "f32" }
-            ),
-        ));
+        return Err(FormatError::Format(format!(
+            "decompresses to {got} bytes, but a {} x {} grid of {} layers in {} needs {expected}",
+            header.width,
+            header.height,
+            header.used_layer_count,
+            if header.precision == Precision::F16 { "f16" } else { "f32" }
+        )));
     }
     let cells = header.width * header.height;
     let slots = cells * header.used_layer_count;
@@ -320,12 +311,12 @@ fn decode_dat(
         columns,
         slack,
     )
-    .map_err(|e| IoError::invalid_data(dat, e.to_string()))?;
+    .map_err(|e| FormatError::InvalidData(e.to_string()))?;
     if header.precision == Precision::F16 && repaired == 0 {
         // Exact f16 values of a valid map: the rounding changes nothing but the precision.
         mlhm = mlhm
             .to_precision(Precision::F16)
-            .map_err(|e| IoError::invalid_data(dat, e.to_string()))?;
+            .map_err(|e| FormatError::InvalidData(e.to_string()))?;
     }
     Ok(MlhmScene {
         mlhm,

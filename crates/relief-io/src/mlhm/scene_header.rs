@@ -3,6 +3,7 @@
 //! `Terrain/UsedLayerCount`, `Terrain/File`, `Terrain/IsHalfPrecision`) and keeps the others
 //! untouched in [`MlhmSceneHeader::settings`].
 
+use crate::format_error::FormatError;
 use crate::input_file::open_input;
 use crate::IoError;
 use relief_core::Precision;
@@ -57,35 +58,43 @@ pub struct MlhmSceneHeader {
 /// not an object or a missing or ill-typed terrain key (naming the key).
 pub fn read_mlhm_scene_header(path: &Path) -> Result<MlhmSceneHeader, IoError> {
     let (file, len) = open_input(path)?;
+    read_header_from(file, len, path).map_err(|e| e.at(path))
+}
+
+/// [`read_mlhm_scene_header`] from `file` holding the `len` bytes of the JSON at `path`,
+/// before the file is named; `path` only locates the `.dat`.
+fn read_header_from(
+    file: impl Read,
+    len: u64,
+    path: &Path,
+) -> Result<MlhmSceneHeader, FormatError> {
     if len > MAX_JSON_BYTES {
-        return Err(IoError::format(path, format!("{len} bytes is too large for a scene JSON")));
+        return Err(FormatError::Format(format!("{len} bytes is too large for a scene JSON")));
     }
     let mut bytes = Vec::with_capacity(len as usize);
-    file.take(MAX_JSON_BYTES).read_to_end(&mut bytes).map_err(|e| IoError::io(path, e))?;
-    parse_header(&bytes, path)
+    file.take(MAX_JSON_BYTES).read_to_end(&mut bytes).map_err(FormatError::Io)?;
+    decode_header(&bytes, path)
 }
 
 /// [`read_mlhm_scene_header`] of JSON text in `bytes`; `path` locates the `.dat` and names
 /// the file in errors.
 pub fn parse_mlhm_scene_header(bytes: &[u8], path: &Path) -> Result<MlhmSceneHeader, IoError> {
-    parse_header(bytes, path)
+    decode_header(bytes, path).map_err(|e| e.at(path))
 }
 
-/// The header of the JSON text `bytes` at `path`.
-pub(crate) fn parse_header(bytes: &[u8], path: &Path) -> Result<MlhmSceneHeader, IoError> {
+/// The header of the JSON text `bytes` at `path`, before the file is named; `path` only
+/// locates the `.dat`.
+fn decode_header(bytes: &[u8], path: &Path) -> Result<MlhmSceneHeader, FormatError> {
     let value: Value = serde_json::from_slice(bytes)
-        .map_err(|e| IoError::format(path, format!("not valid JSON: {e}")))?;
+        .map_err(|e| FormatError::Format(format!("not valid JSON: {e}")))?;
     let Value::Object(mut settings) = value else {
-        return Err(IoError::format(path, "the scene JSON is not an object of settings"));
+        return Err(FormatError::Format("the scene JSON is not an object of settings".into()));
     };
     let bad = |key: &str, want: &str, got: Option<&Value>| {
-        IoError::format(
-            path,
-            match got {
-                None => format!("missing key {key} ({want})"),
-                Some(v) => format!("key {key} is {v}, expected {want}"),
-            },
-        )
+        FormatError::Format(match got {
+            None => format!("missing key {key} ({want})"),
+            Some(v) => format!("key {key} is {v}, expected {want}"),
+        })
     };
     let count = |v: Option<&Value>| v.and_then(Value::as_u64).filter(|&n| n > 0);
     let size = settings.remove(KEY_SIZE);
@@ -150,14 +159,14 @@ mod tests {
     fn header_keys_are_parsed_and_the_rest_kept() {
         let json = br#"{"Terrain/GridSize": [4, 2], "Terrain/GridScale": 0.5,
             "Terrain/MaxLayerCount": 8, "Camera/FieldOfView": 1.0}"#;
-        let h = parse_header(json, Path::new("/a/b/scene.json")).unwrap();
+        let h = parse_mlhm_scene_header(json, Path::new("/a/b/scene.json")).unwrap();
         assert_eq!((h.width, h.height, h.cell_size), (4, 2, 0.5));
         assert_eq!((h.max_layer_count, h.used_layer_count), (8, 8));
         assert_eq!(h.data_file.as_deref(), Some(Path::new("/a/b/scene.dat")));
         assert_eq!(h.settings.len(), 1);
         let json = br#"{"Terrain/GridSize": [4, 2], "Terrain/GridScale": 1,
             "Terrain/MaxLayerCount": 8, "Terrain/File": "", "Terrain/IsHalfPrecision": true}"#;
-        let h = parse_header(json, Path::new("/a/scene.json")).unwrap();
+        let h = parse_mlhm_scene_header(json, Path::new("/a/scene.json")).unwrap();
         assert_eq!((h.data_file, h.precision), (None, Precision::F16));
     }
 
@@ -176,7 +185,9 @@ mod tests {
             ("[1, 2]".to_owned(), "not an object"),
             ("{".to_owned(), "not valid JSON"),
         ] {
-            let err = parse_header(json.as_bytes(), Path::new("s.json")).unwrap_err().to_string();
+            let err = parse_mlhm_scene_header(json.as_bytes(), Path::new("s.json"))
+                .unwrap_err()
+                .to_string();
             assert!(err.contains(key) && err.contains("s.json"), "{err}");
         }
     }

@@ -10,12 +10,13 @@
 
 use crate::format_error::FormatError;
 use crate::input_file::open_input;
+use crate::png::decoding_error::png_decoding_error;
 use crate::png::write::{write_png, PngCompression};
 use crate::raster::{mark_voids, Format, PngEncoding, Raster, RasterInfo, ReadOptions};
 use crate::{HeightUnit, IoError, LengthUnit};
-use png::{BitDepth, ColorType, DecodingError, Transformations};
+use png::{BitDepth, ColorType, Transformations};
 use relief_core::{GridGeometry, HeightField};
-use std::io::{BufRead, BufReader, ErrorKind, Seek};
+use std::io::{BufRead, BufReader, Seek};
 use std::path::Path;
 
 /// The largest inflation deflate allows (about 1032:1): a file of `n` bytes holds at most
@@ -64,19 +65,12 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
     len: u64,
     options: &ReadOptions,
 ) -> Result<Raster, FormatError> {
-    let map = |e: DecodingError| match e {
-        DecodingError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
-            FormatError::Format("truncated".into())
-        }
-        DecodingError::IoError(e) => FormatError::Io(e),
-        other => FormatError::Format(other.to_string()),
-    };
     // A damaged tEXt chunk must not be skipped: its scale and offset are the heights'.
     let mut checks = png::DecodeOptions::default();
     checks.set_skip_ancillary_crc_failures(false);
     let mut decoder = png::Decoder::new_with_options(reader, checks);
     decoder.set_transformations(Transformations::IDENTITY);
-    let mut reader = decoder.read_info().map_err(map)?;
+    let mut reader = decoder.read_info().map_err(png_decoding_error)?;
     let info = reader.info();
     let (width, height) = info.size();
     let (color, depth, interlaced) = (info.color_type, info.bit_depth, info.interlaced);
@@ -101,21 +95,21 @@ pub(crate) fn read_png_height_from<R: BufRead + Seek>(
             FormatError::Format(format!("{width} x {height} pixels is too large"))
         })?;
         let mut buf = vec![0u8; size];
-        let frame = reader.next_frame(&mut buf).map_err(map)?;
+        let frame = reader.next_frame(&mut buf).map_err(png_decoding_error)?;
         for (line, out) in buf.chunks_exact(frame.line_size.max(1)).zip(rows) {
             decode_row(line, layout, encoding, out);
         }
     } else {
         for out in rows.by_ref() {
-            let row = reader.next_row().map_err(map)?;
+            let row = reader.next_row().map_err(png_decoding_error)?;
             let row = row.ok_or_else(|| FormatError::Format("image data ends early".into()))?;
             decode_row(row.data(), layout, encoding, out);
         }
-        if reader.next_row().map_err(map)?.is_some() {
+        if reader.next_row().map_err(png_decoding_error)?.is_some() {
             return Err(FormatError::Format("more rows than the header declares".into()));
         }
     }
-    reader.finish().map_err(map)?;
+    reader.finish().map_err(png_decoding_error)?;
     if let Some((scale, _)) = &declared {
         for v in samples.iter_mut().filter(|v| !v.is_nan()) {
             *v = scale.height(*v as u16) as f32;

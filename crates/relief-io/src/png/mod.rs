@@ -3,6 +3,7 @@
 //! ([`write_layer_png`]), and 8-bit RGB and 16-bit grey pictures ([`read_png_rgb`],
 //! [`write_png_rgb8`], [`write_png_gray16`]).
 
+pub(crate) mod decoding_error;
 pub(crate) mod height;
 pub(crate) mod layer_write;
 pub(crate) mod read;

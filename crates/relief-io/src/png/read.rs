@@ -1,9 +1,11 @@
 //! Reading a PNG image as 8-bit RGB, e.g. a colour texture to drape over a terrain.
 
+use crate::format_error::FormatError;
 use crate::input_file::open_input;
+use crate::png::decoding_error::png_decoding_error;
 use crate::IoError;
-use png::{ColorType, DecodingError, Transformations};
-use std::io::{BufReader, ErrorKind};
+use png::{ColorType, Transformations};
+use std::io::{BufRead, BufReader, Seek};
 use std::path::Path;
 
 /// The largest inflation deflate allows (about 1032:1) times the largest growth of a pixel
@@ -32,28 +34,26 @@ pub struct RgbImage {
 /// not a valid PNG or is truncated.
 pub fn read_png_rgb(path: &Path) -> Result<RgbImage, IoError> {
     let (file, file_len) = open_input(path)?;
-    let map = |e: DecodingError| match e {
-        DecodingError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
-            IoError::format(path, "truncated")
-        }
-        DecodingError::IoError(e) => IoError::io(path, e),
-        other => IoError::format(path, other.to_string()),
-    };
-    let mut decoder = png::Decoder::new(BufReader::new(file));
+    read_png_rgb_from(BufReader::new(file), file_len).map_err(|e| e.at(path))
+}
+
+/// [`read_png_rgb`] from `reader` holding the `file_len` bytes of a PNG, before the file is
+/// named.
+fn read_png_rgb_from<R: BufRead + Seek>(reader: R, file_len: u64) -> Result<RgbImage, FormatError> {
+    let mut decoder = png::Decoder::new(reader);
     decoder.set_transformations(Transformations::EXPAND | Transformations::STRIP_16);
-    let mut reader = decoder.read_info().map_err(map)?;
+    let mut reader = decoder.read_info().map_err(png_decoding_error)?;
     let (width, height) = reader.info().size();
     let size = reader
         .output_buffer_size()
         .filter(|&n| n as u64 <= file_len.saturating_mul(MAX_BYTES_PER_FILE_BYTE));
     let Some(size) = size else {
-        return Err(IoError::format(
-            path,
-            format!("{width} x {height} pixels cannot fit in a file of {file_len} bytes"),
-        ));
+        return Err(FormatError::Format(format!(
+            "{width} x {height} pixels cannot fit in a file of {file_len} bytes"
+        )));
     };
     let mut buf = vec![0u8; size];
-    let frame = reader.next_frame(&mut buf).map_err(map)?;
+    let frame = reader.next_frame(&mut buf).map_err(png_decoding_error)?;
     let (width, height) = (frame.width, frame.height);
     let channels = match frame.color_type {
         ColorType::Grayscale => 1,
@@ -61,7 +61,7 @@ pub fn read_png_rgb(path: &Path) -> Result<RgbImage, IoError> {
         ColorType::Rgb => 3,
         ColorType::Rgba => 4,
         ColorType::Indexed => {
-            return Err(IoError::unsupported(path, "palette image that did not expand to RGB"))
+            return Err(FormatError::Unsupported("palette image that did not expand to RGB".into()))
         }
     };
     let line = frame.line_size;
@@ -74,7 +74,7 @@ pub fn read_png_rgb(path: &Path) -> Result<RgbImage, IoError> {
         }));
     }
     if pixels.len() != width as usize * height as usize {
-        return Err(IoError::format(path, "decoded frame is smaller than the image"));
+        return Err(FormatError::Format("decoded frame is smaller than the image".into()));
     }
     Ok(RgbImage { width, height, pixels })
 }

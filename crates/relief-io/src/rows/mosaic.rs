@@ -318,7 +318,8 @@ fn geotiff_mosaic(paths: &[PathBuf], options: &ReadOptions) -> Result<Mosaic, Io
     let south = offsets.iter().zip(&grids).find(|(o, _)| o.1 == min_row).map(|(_, g)| g.south);
     let model =
         ModelGrid { west: west.unwrap_or(base.west), south: south.unwrap_or(base.south), ..base };
-    let (geometry, from_degrees) = model.geometry(first.path(), (width, height))?;
+    let (geometry, from_degrees) =
+        model.geometry((width, height)).map_err(|e| e.at(first.path()))?;
     // Every input is in the same CRS, so its heights are in the same unit as the first's.
     let geometry = GridGeometry { z_scale: first.geometry().z_scale, ..geometry };
     let mut info = first.info().clone();

@@ -2,12 +2,14 @@
 //! row on, with its georeference: the colour a tile store drapes over its DEM, read in bands so
 //! that a photo far larger than memory can be tiled.
 
+use crate::format_error::FormatError;
 use crate::geotiff::tags::{read_placement, tag_error, tiff_error};
 use crate::input_file::open_input;
+use crate::png::decoding_error::png_decoding_error;
 use crate::{Georeference, IoError};
-use png::{ColorType as PngColour, DecodingError, Transformations};
+use png::{ColorType as PngColour, Transformations};
 use std::fs::File;
-use std::io::{BufReader, ErrorKind};
+use std::io::BufReader;
 use std::path::{Path, PathBuf};
 use tiff::decoder::{ChunkType, Decoder, DecodingResult};
 use tiff::tags::{CompressionMethod, Tag};
@@ -63,13 +65,12 @@ pub fn open_ortho(path: &Path) -> Result<Box<dyn OrthoRows>, IoError> {
 }
 
 /// Refuses a header whose pixels could not fit in a file of `file_len` bytes.
-fn check_fits(path: &Path, width: u32, height: u32, file_len: u64) -> Result<(), IoError> {
+fn check_fits(width: u32, height: u32, file_len: u64) -> Result<(), FormatError> {
     let pixels = width as u64 * height as u64;
     if width == 0 || height == 0 || pixels > file_len.saturating_mul(MAX_BYTES_PER_FILE_BYTE) {
-        return Err(IoError::format(
-            path,
-            format!("{width} x {height} pixels cannot fit in a file of {file_len} bytes"),
-        ));
+        return Err(FormatError::Format(format!(
+            "{width} x {height} pixels cannot fit in a file of {file_len} bytes"
+        )));
     }
     Ok(())
 }
@@ -96,33 +97,42 @@ struct PngOrtho {
 }
 
 impl PngOrtho {
+    /// Opens the PNG at `path` and reads its header.
     fn open(path: &Path) -> Result<Self, IoError> {
         let (file, file_len) = open_input(path)?;
+        Self::start(file, file_len, path.to_path_buf()).map_err(|e| e.at(path))
+    }
+
+    /// Reads the header of the PNG `file` of `file_len` bytes (an interlaced image whole),
+    /// before the file is named; `path`, the file's, is kept in its info.
+    fn start(file: File, file_len: u64, path: PathBuf) -> Result<Self, FormatError> {
         let mut decoder = png::Decoder::new(BufReader::new(file));
         decoder.set_transformations(Transformations::EXPAND | Transformations::STRIP_16);
-        let mut reader = decoder.read_info().map_err(|e| png_error(path, e))?;
+        let mut reader = decoder.read_info().map_err(png_decoding_error)?;
         let (width, height) = reader.info().size();
-        check_fits(path, width, height, file_len)?;
+        check_fits(width, height, file_len)?;
         let channels = match reader.output_color_type().0 {
             PngColour::Grayscale => 1,
             PngColour::GrayscaleAlpha => 2,
             PngColour::Rgb => 3,
             PngColour::Rgba => 4,
             PngColour::Indexed => {
-                return Err(IoError::unsupported(path, "palette image that did not expand to RGB"))
+                return Err(FormatError::Unsupported(
+                    "palette image that did not expand to RGB".into(),
+                ))
             }
         };
         let whole = if reader.info().interlaced {
             let size = reader.output_buffer_size().ok_or_else(|| {
-                IoError::format(path, format!("{width} x {height} pixels overflow"))
+                FormatError::Format(format!("{width} x {height} pixels overflow"))
             })?;
             let mut buf = vec![0u8; size];
-            let frame = reader.next_frame(&mut buf).map_err(|e| png_error(path, e))?;
+            let frame = reader.next_frame(&mut buf).map_err(png_decoding_error)?;
             Some((buf, frame.line_size, 0))
         } else {
             None
         };
-        let info = OrthoInfo { path: path.to_path_buf(), width, height, georeference: None };
+        let info = OrthoInfo { path, width, height, georeference: None };
         Ok(PngOrtho { info, reader, channels, whole, next: 0 })
     }
 }
@@ -133,9 +143,15 @@ impl OrthoRows for PngOrtho {
     }
 
     fn read_next_row(&mut self, out: &mut [[u8; 3]]) -> Result<(), IoError> {
-        let path = &self.info.path;
+        self.next_row(out).map_err(|e| e.at(&self.info.path))
+    }
+}
+
+impl PngOrtho {
+    /// [`OrthoRows::read_next_row`] before the file is named.
+    fn next_row(&mut self, out: &mut [[u8; 3]]) -> Result<(), FormatError> {
         if self.next >= self.info.height {
-            return Err(IoError::format(path, "read past the last row"));
+            return Err(FormatError::Format("read past the last row".into()));
         }
         self.next += 1;
         let width = self.info.width as usize;
@@ -145,25 +161,14 @@ impl OrthoRows for PngOrtho {
             to_rgb(bytes, self.channels, out);
             return Ok(());
         }
-        let row = self.reader.next_row().map_err(|e| png_error(path, e))?;
-        let row = row.ok_or_else(|| IoError::format(path, "truncated"))?;
+        let row = self.reader.next_row().map_err(png_decoding_error)?;
+        let row = row.ok_or_else(|| FormatError::Format("truncated".into()))?;
         let data = row.data();
         if data.len() < width * self.channels {
-            return Err(IoError::format(path, "a row decoded short"));
+            return Err(FormatError::Format("a row decoded short".into()));
         }
         to_rgb(data, self.channels, out);
         Ok(())
-    }
-}
-
-/// A PNG decoding error as an [`IoError`].
-fn png_error(path: &Path, e: DecodingError) -> IoError {
-    match e {
-        DecodingError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
-            IoError::format(path, "truncated")
-        }
-        DecodingError::IoError(e) => IoError::io(path, e),
-        other => IoError::format(path, other.to_string()),
     }
 }
 
@@ -184,37 +189,43 @@ struct TiffOrtho {
 }
 
 impl TiffOrtho {
+    /// Opens the GeoTIFF at `path` and reads its tags.
     fn open(path: &Path) -> Result<Self, IoError> {
         let (file, file_len) = open_input(path)?;
-        let tiff = |e| tiff_error(path, "", e);
+        Self::start(file, file_len, path.to_path_buf()).map_err(|e| e.at(path))
+    }
+
+    /// Reads and checks the tags of the GeoTIFF `file` of `file_len` bytes, before the file is
+    /// named; `path`, the file's, is kept in its info.
+    fn start(file: File, file_len: u64, path: PathBuf) -> Result<Self, FormatError> {
+        let tiff = |e| tiff_error("", e);
         let mut decoder = Decoder::new(BufReader::new(file)).map_err(tiff)?;
         let (width, height) = decoder.dimensions().map_err(tiff)?;
-        check_fits(path, width, height, file_len)?;
+        check_fits(width, height, file_len)?;
         let colour = decoder.colortype().map_err(tiff)?;
         let channels = match colour {
             TiffColour::RGB(8) => 3,
             TiffColour::RGBA(8) => 4,
             TiffColour::Gray(8) => 1,
             other => {
-                return Err(IoError::unsupported(
-                    path,
-                    format!("{other:?} ortho photo; relief reads 8-bit RGB, RGBA or grey"),
-                ))
+                return Err(FormatError::Unsupported(format!(
+                    "{other:?} ortho photo; relief reads 8-bit RGB, RGBA or grey"
+                )))
             }
         };
         let planar = decoder
             .find_tag_unsigned::<u16>(Tag::PlanarConfiguration)
-            .map_err(tag_error(path, "PlanarConfiguration"))?
+            .map_err(tag_error("PlanarConfiguration"))?
             .unwrap_or(1);
         if planar != 1 && channels > 1 {
-            return Err(IoError::unsupported(
-                path,
-                "colour in separate planes (PlanarConfiguration 2); relief reads interleaved RGB",
+            return Err(FormatError::Unsupported(
+                "colour in separate planes (PlanarConfiguration 2); relief reads interleaved RGB"
+                    .into(),
             ));
         }
         let compression = decoder
             .find_tag_unsigned::<u16>(Tag::Compression)
-            .map_err(tag_error(path, "Compression"))?
+            .map_err(tag_error("Compression"))?
             .unwrap_or(1);
         match CompressionMethod::from_u16_exhaustive(compression) {
             CompressionMethod::None
@@ -223,30 +234,26 @@ impl TiffOrtho {
             | CompressionMethod::OldDeflate
             | CompressionMethod::PackBits => {}
             other => {
-                return Err(IoError::unsupported(
-                    path,
-                    format!(
-                        "{other:?} compression (TIFF code {compression}) of an ortho photo; \
+                return Err(FormatError::Unsupported(format!(
+                    "{other:?} compression (TIFF code {compression}) of an ortho photo; \
                          relief reads uncompressed, LZW, Deflate and PackBits (convert with \
                          gdal_translate -co COMPRESS=DEFLATE)"
-                    ),
-                ))
+                )))
             }
         }
-        let (placement, tags) =
-            read_placement(&mut decoder, path, width as usize, height as usize)?;
+        let (placement, tags) = read_placement(&mut decoder, width as usize, height as usize)?;
         let georeference =
             if placement.georeferenced { Georeference::from_geotiff_tags(tags) } else { None };
         let (cw, ch) = decoder.chunk_dimensions();
         let chunk = (cw as usize, ch as usize);
         if chunk.0 == 0 || chunk.1 == 0 {
-            return Err(IoError::format(path, "chunks of no pixels"));
+            return Err(FormatError::Format("chunks of no pixels".into()));
         }
         let chunks_across = match decoder.get_chunk_type() {
             ChunkType::Strip => 1,
             ChunkType::Tile => (width as usize).div_ceil(chunk.0),
         };
-        let info = OrthoInfo { path: path.to_path_buf(), width, height, georeference };
+        let info = OrthoInfo { path, width, height, georeference };
         Ok(TiffOrtho {
             info,
             decoder,
@@ -261,8 +268,7 @@ impl TiffOrtho {
     }
 
     /// Decodes chunk row `index` into `band`.
-    fn decode_band(&mut self, index: usize) -> Result<(), IoError> {
-        let path = self.info.path.clone();
+    fn decode_band(&mut self, index: usize) -> Result<(), FormatError> {
         let width = self.info.width as usize;
         let row_bytes = width * self.channels;
         let rows = self.chunk.1.min(self.info.height as usize - index * self.chunk.1);
@@ -271,22 +277,22 @@ impl TiffOrtho {
             let chunk = index * self.chunks_across + across;
             let name = format!("chunk {chunk}");
             let chunk_u32 = u32::try_from(chunk)
-                .map_err(|_| IoError::unsupported(&path, format!("{name} (index beyond u32)")))?;
+                .map_err(|_| FormatError::Unsupported(format!("{name} (index beyond u32)")))?;
             // Whole stored rows, padding included (see geotiff_read: tiff 0.11.3 fails on some
             // LZW tiles cut by the east edge when asked for their data width only).
             let stride = self.chunk.0 * self.channels;
             self.decoder
                 .read_chunk_to_buffer(&mut self.scratch, chunk_u32, stride)
-                .map_err(|e| tiff_error(&path, &name, e))?;
+                .map_err(|e| tiff_error(&name, e))?;
             let DecodingResult::U8(bytes) = &self.scratch else {
-                return Err(IoError::format(&path, format!("{name} decoded to other samples")));
+                return Err(FormatError::Format(format!("{name} decoded to other samples")));
             };
             let x0 = across * self.chunk.0;
             let cols = self.chunk.0.min(width - x0);
             for r in 0..rows {
                 let src = bytes
                     .get(r * stride..r * stride + cols * self.channels)
-                    .ok_or_else(|| IoError::format(&path, format!("{name} decoded short")))?;
+                    .ok_or_else(|| FormatError::Format(format!("{name} decoded short")))?;
                 self.band[r * row_bytes + x0 * self.channels..][..cols * self.channels]
                     .copy_from_slice(src);
             }
@@ -302,8 +308,15 @@ impl OrthoRows for TiffOrtho {
     }
 
     fn read_next_row(&mut self, out: &mut [[u8; 3]]) -> Result<(), IoError> {
+        self.next_row(out).map_err(|e| e.at(&self.info.path))
+    }
+}
+
+impl TiffOrtho {
+    /// [`OrthoRows::read_next_row`] before the file is named.
+    fn next_row(&mut self, out: &mut [[u8; 3]]) -> Result<(), FormatError> {
         if self.next >= self.info.height {
-            return Err(IoError::format(&self.info.path, "read past the last row"));
+            return Err(FormatError::Format("read past the last row".into()));
         }
         let row = self.next as usize;
         self.next += 1;

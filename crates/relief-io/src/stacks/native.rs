@@ -14,6 +14,7 @@
 //! | `L` layers | f32 start, f32 end, u8 material |
 
 use crate::atomic_write::write_atomically;
+use crate::format_error::FormatError;
 use crate::input_file::open_input;
 use crate::IoError;
 use relief_core::{DVec2, MaterialKind, MaterialStacks, StackLayer, StackMaterial};
@@ -57,11 +58,17 @@ pub fn has_stacks_magic(bytes: &[u8]) -> bool {
 /// finite and positive, an empty palette or one of more than 256 materials).
 pub fn read_stacks(path: &Path) -> Result<MaterialStacks, IoError> {
     let (file, len) = open_input(path)?;
+    read_stacks_from(file, len).map_err(|e| e.at(path))
+}
+
+/// [`read_stacks`] from `file` holding the `len` bytes of a `.stacks` file, before the file
+/// is named.
+fn read_stacks_from(file: impl Read, len: u64) -> Result<MaterialStacks, FormatError> {
     let len = usize::try_from(len)
-        .map_err(|_| IoError::format(path, format!("{len} bytes do not fit in memory")))?;
+        .map_err(|_| FormatError::Format(format!("{len} bytes do not fit in memory")))?;
     let mut bytes = Vec::with_capacity(len);
-    file.take(len as u64).read_to_end(&mut bytes).map_err(|e| IoError::io(path, e))?;
-    stacks_from_bytes(&bytes, path)
+    file.take(len as u64).read_to_end(&mut bytes).map_err(FormatError::Io)?;
+    decode_stacks(&bytes)
 }
 
 /// Writes `stacks` as a `.stacks` file at `path`, atomically: into a temporary file beside it,
@@ -132,19 +139,21 @@ pub fn stacks_to_bytes(stacks: &MaterialStacks, path: &Path) -> Result<Vec<u8>, 
 /// Reads the `.stacks` file held in `bytes` as [`read_stacks`] does; `path` names it in
 /// errors. Used by tests and fuzzing.
 pub fn stacks_from_bytes(bytes: &[u8], path: &Path) -> Result<MaterialStacks, IoError> {
-    let mut r = ByteReader { bytes, at: 0, path };
+    decode_stacks(bytes).map_err(|e| e.at(path))
+}
+
+/// The stacks of the `.stacks` file held in `bytes`, before the file is named.
+fn decode_stacks(bytes: &[u8]) -> Result<MaterialStacks, FormatError> {
+    let mut r = ByteReader { bytes, at: 0 };
     if !has_stacks_magic(bytes) {
-        return Err(IoError::format(path, "not a relief .stacks file (wrong magic)"));
+        return Err(FormatError::Format("not a relief .stacks file (wrong magic)".into()));
     }
     r.take(STACKS_MAGIC.len(), "the magic")?;
     let version = r.u16("the version")?;
     if version != STACKS_VERSION {
-        return Err(IoError::unsupported(
-            path,
-            format!(
-                ".stacks format version {version} (this relief reads version {STACKS_VERSION})"
-            ),
-        ));
+        return Err(FormatError::Unsupported(format!(
+            ".stacks format version {version} (this relief reads version {STACKS_VERSION})"
+        )));
     }
     let width = r.u32("the width")?;
     let height = r.u32("the height")?;
@@ -157,10 +166,9 @@ pub fn stacks_from_bytes(bytes: &[u8], path: &Path) -> Result<MaterialStacks, Io
             0 => MaterialKind::Solid,
             1 => MaterialKind::Liquid,
             other => {
-                return Err(IoError::format(
-                    path,
-                    format!("material {index}: kind {other}, expected 0 (solid) or 1 (liquid)"),
-                ))
+                return Err(FormatError::Format(format!(
+                    "material {index}: kind {other}, expected 0 (solid) or 1 (liquid)"
+                )))
             }
         };
         let color = r.take(3, "a material's colour")?;
@@ -168,7 +176,7 @@ pub fn stacks_from_bytes(bytes: &[u8], path: &Path) -> Result<MaterialStacks, Io
         let name_len = r.u16("a material's name length")?;
         let name = r.take(usize::from(name_len), "a material's name")?;
         let name = std::str::from_utf8(name).map_err(|e| {
-            IoError::format(path, format!("material {index}: the name is not UTF-8 ({e})"))
+            FormatError::Format(format!("material {index}: the name is not UTF-8 ({e})"))
         })?;
         materials.push(StackMaterial::new(name, color, kind));
     }
@@ -183,19 +191,16 @@ pub fn stacks_from_bytes(bytes: &[u8], path: &Path) -> Result<MaterialStacks, Io
     match needed {
         Some(needed) if needed == left => {}
         Some(needed) if needed < left => {
-            return Err(IoError::format(
-                path,
-                format!("{} bytes after the layers of the {width}x{height} stacks", left - needed),
-            ))
+            return Err(FormatError::Format(format!(
+                "{} bytes after the layers of the {width}x{height} stacks",
+                left - needed
+            )))
         }
         _ => {
-            return Err(IoError::format(
-                path,
-                format!(
-                    "{width}x{height} stacks of {layer_count} layers need more than the {left} \
+            return Err(FormatError::Format(format!(
+                "{width}x{height} stacks of {layer_count} layers need more than the {left} \
                      bytes left (truncated, or a corrupt header)"
-                ),
-            ))
+            )))
         }
     }
     // Both fit in the bytes held, so in usize.
@@ -222,29 +227,25 @@ pub fn stacks_from_bytes(bytes: &[u8], path: &Path) -> Result<MaterialStacks, Io
         offsets,
         layers,
     )
-    .map_err(|e| IoError::invalid_data(path, e.to_string()))
+    .map_err(|e| FormatError::InvalidData(e.to_string()))
 }
 
 /// A little-endian reader over a byte slice whose every read checks the bytes left.
 struct ByteReader<'a> {
     bytes: &'a [u8],
     at: usize,
-    path: &'a Path,
 }
 
 impl<'a> ByteReader<'a> {
     /// The next `n` bytes, or a truncation error naming `what` was being read.
-    fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], IoError> {
+    fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], FormatError> {
         let end =
             self.at.checked_add(n).filter(|&end| end <= self.bytes.len()).ok_or_else(|| {
-                IoError::format(
-                    self.path,
-                    format!(
-                        "truncated in {what} ({n} bytes at offset {} of {})",
-                        self.at,
-                        self.bytes.len()
-                    ),
-                )
+                FormatError::Format(format!(
+                    "truncated in {what} ({n} bytes at offset {} of {})",
+                    self.at,
+                    self.bytes.len()
+                ))
             })?;
         let taken = &self.bytes[self.at..end];
         self.at = end;
@@ -252,29 +253,29 @@ impl<'a> ByteReader<'a> {
     }
 
     /// The next `N` bytes as an array.
-    fn array<const N: usize>(&mut self, what: &str) -> Result<[u8; N], IoError> {
+    fn array<const N: usize>(&mut self, what: &str) -> Result<[u8; N], FormatError> {
         let mut array = [0u8; N];
         array.copy_from_slice(self.take(N, what)?);
         Ok(array)
     }
 
-    fn u8(&mut self, what: &str) -> Result<u8, IoError> {
+    fn u8(&mut self, what: &str) -> Result<u8, FormatError> {
         Ok(self.array::<1>(what)?[0])
     }
 
-    fn u16(&mut self, what: &str) -> Result<u16, IoError> {
+    fn u16(&mut self, what: &str) -> Result<u16, FormatError> {
         Ok(u16::from_le_bytes(self.array(what)?))
     }
 
-    fn u32(&mut self, what: &str) -> Result<u32, IoError> {
+    fn u32(&mut self, what: &str) -> Result<u32, FormatError> {
         Ok(u32::from_le_bytes(self.array(what)?))
     }
 
-    fn u64(&mut self, what: &str) -> Result<u64, IoError> {
+    fn u64(&mut self, what: &str) -> Result<u64, FormatError> {
         Ok(u64::from_le_bytes(self.array(what)?))
     }
 
-    fn f64(&mut self, what: &str) -> Result<f64, IoError> {
+    fn f64(&mut self, what: &str) -> Result<f64, FormatError> {
         Ok(f64::from_le_bytes(self.array(what)?))
     }
 }
