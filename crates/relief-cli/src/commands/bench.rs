@@ -8,45 +8,20 @@
 //! is not built). Every view is traced `--repeat` times and the fastest run is reported.
 //! Measurements, not assertions: run it on an otherwise idle machine.
 
-use super::bench_drawn::Drawn;
 use crate::args::BenchArgs;
 use crate::{applies, input, memory, progress};
 use anyhow::{bail, Context, Result};
-use rayon::prelude::*;
-use relief_bench::{benchmark_views, BENCHMARK_VIEWS};
-use relief_core::{Camera, DVec3, Surface};
+use relief_bench::{
+    benchmark_views, measure, DrawnSettings, MeasureSettings, Measurement, BENCHMARK_SUN,
+    BENCHMARK_VIEWS,
+};
+use relief_core::DVec3;
 use relief_render::TracerChoice;
-use relief_shade::{sun_direction, GBuffer, RayBatch, Tile, TraceStats, TILE_SIZE};
-use relief_trace::adapters::OneRayAtATime;
-use relief_trace::{Simd, SunShadows, Tracer, TracerKind};
+use relief_shade::GBuffer;
+use relief_trace::{Simd, TracerKind};
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
-
-/// The benchmark's sun: azimuth 315° (north-west), 35° above the horizon.
-const SUN: (f64, f64) = (315.0, 35.0);
-
-/// One line of results.
-struct Measurement<'a> {
-    view: &'a str,
-    camera: &'a Camera,
-    surface: Surface,
-    tracer: &'a TracerChoice,
-    build_ms: f64,
-    primary: TraceStats,
-    primary_s: f64,
-    shadow: TraceStats,
-    /// `None`: the tracer does not admit the sun's shadow rays.
-    shadow_s: Option<f64>,
-    /// The shadow sweep's build time and the share of shadow rays it decided without
-    /// tracing; `None` without a sweep.
-    sweep: Option<(f64, f64)>,
-    peak_mib: f64,
-    /// What the mipmap tracer's packet tests ran on.
-    simd: Simd,
-    /// Whether rays were traced one at a time rather than in batches.
-    single_rays: bool,
-}
 
 /// Runs `relief bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
@@ -111,76 +86,35 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             "swept %"
         )?;
     }
-    let sun = sun_direction(SUN.0, SUN.1);
+    let settings = MeasureSettings {
+        drawn: DrawnSettings {
+            safety: crate::scene_options::safety_settings(&args.safety),
+            hybrid: args.hybrid.params(),
+            far: args.hybrid.far.unwrap_or_default(),
+            max_memory: limit,
+            simd,
+        },
+        single_rays: args.single_rays,
+        repeat: args.repeat,
+        shadow_sweep: !args.no_shadow_sweep,
+    };
     for (view, camera) in benchmark_views(&field, w, h)? {
         if !views.iter().any(|v| v == view) {
             continue;
         }
         for &surface in &surfaces {
             for tracer in &args.tracers {
-                let bounds = field.world_bounds(surface);
-                let repeat = args.repeat as u64;
-                let bar = progress::bar(repeat * w as u64 * h as u64, &format!("{view}/{tracer}"));
                 let mut gbuffer = GBuffer::new(w as usize, h as usize)?;
-                let (mut primary, mut primary_s) = (TraceStats::default(), f64::INFINITY);
-                let started = Instant::now();
-                let mut drawn = Drawn::build(args, &field, surface, tracer, limit, simd)?;
-                let build_ms = match &drawn {
-                    Drawn::Tracer(built) => built.build_s * 1e3,
-                    _ => started.elapsed().as_secs_f64() * 1e3,
-                };
-                let safety = match &drawn {
-                    Drawn::Tracer(built) => built.safety.as_ref(),
-                    _ => None,
-                };
-                if let Some(safety) = safety {
-                    let (w, h) = (camera.width(), camera.height());
-                    let directions = (0..h)
-                        .flat_map(|j| (0..w).map(move |i| (i, j)))
-                        .map(|(i, j)| camera.ray(i, j).dir);
-                    safety.check_view(camera.eye(), directions, None)?;
-                }
-                // Shapes bounded by phi max may not admit the sun's shadow rays: skip those.
-                let shadows = safety.is_none_or(|safety| {
-                    safety.check_view(camera.eye(), std::iter::empty(), Some(sun)).is_ok()
-                });
-                for _ in 0..repeat {
-                    let timer = Instant::now();
-                    primary =
-                        drawn.render(args.single_rays, &camera, &bounds, &mut gbuffer, &bar)?;
-                    primary_s = primary_s.min(timer.elapsed().as_secs_f64());
-                }
-                // Shadow rays: the tracer's, or the exact tracer of a rasterizing renderer.
-                let exact = drawn.tracer();
-                let one_at_a_time = OneRayAtATime(exact);
-                let traced: &dyn Tracer = if args.single_rays { &one_at_a_time } else { exact };
-                bar.finish_and_clear();
-                let (mut shadow, mut shadow_s) = (TraceStats::default(), None::<f64>);
-                let mut sweep = None;
-                if shadows {
-                    let timer = Instant::now();
-                    let swept = if !args.no_shadow_sweep
-                        && SunShadows::<&dyn Tracer>::walks_batches_over(&field, surface)
-                    {
-                        Some(SunShadows::new(traced, field.clone(), sun)?)
-                    } else {
-                        None
-                    };
-                    let sweep_s = timer.elapsed().as_secs_f64();
-                    let traced: &dyn Tracer = match &swept {
-                        Some(swept) => swept,
-                        None => traced,
-                    };
-                    for _ in 0..repeat {
-                        let timer = Instant::now();
-                        shadow = shadow_rays(traced, &camera, &gbuffer, sun);
-                        let s = timer.elapsed().as_secs_f64();
-                        shadow_s = Some(shadow_s.map_or(s, |best| best.min(s)));
-                    }
-                    if let Some(swept) = &swept {
-                        sweep = Some((sweep_s, proven_share(swept, &camera, &gbuffer, sun)));
-                    }
-                }
+                let bars = progress::Bars::default();
+                let m = measure(
+                    &settings,
+                    &field,
+                    (view, &camera),
+                    surface,
+                    tracer,
+                    &mut gbuffer,
+                    &bars,
+                )?;
                 if let Some(dir) = &args.depth_dir {
                     let path = dir.join(format!("{view}-{surface}-{tracer}.npy"));
                     relief_io::write_npy_f32(
@@ -189,27 +123,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                         &gbuffer.depth_hw(),
                     )?;
                 }
-                let peak_mib =
-                    memory::peak_resident_bytes().map_or(f64::NAN, |b| b as f64 / 1048576.0);
-                let m = Measurement {
-                    view,
-                    camera: &camera,
-                    surface,
-                    tracer,
-                    build_ms,
-                    primary,
-                    primary_s,
-                    shadow,
-                    shadow_s,
-                    sweep,
-                    peak_mib,
-                    simd: simd.effective(),
-                    single_rays: args.single_rays,
-                };
                 if args.json {
-                    writeln!(out, "{}", m.json(threads))?;
+                    writeln!(out, "{}", json(&m, simd.effective(), args.single_rays, threads))?;
                 } else {
-                    writeln!(out, "{}", m.row())?;
+                    writeln!(out, "{}", row(&m))?;
                 }
             }
         }
@@ -263,121 +180,66 @@ fn refuse_unused_options(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-impl Measurement<'_> {
-    fn primary_mrays(&self) -> f64 {
-        self.primary.rays as f64 / self.primary_s / 1e6
-    }
-
-    fn shadow_mrays(&self) -> Option<f64> {
-        self.shadow_s.map(|s| self.shadow.rays as f64 / s / 1e6)
-    }
-
-    fn row(&self) -> String {
-        format!(
-            "{:<13} {:<9} {:<18} {:>9.1} {:>9.2} {:>6.1} {:>7.1} {:>6} {:>9} {:>7.1} {:>8.0} {:>8} {:>7}",
-            self.view,
-            self.surface,
-            self.tracer.to_string(),
-            self.build_ms,
-            self.primary_mrays(),
-            100.0 * self.primary.hits as f64 / self.primary.rays.max(1) as f64,
-            self.primary.mean_steps(),
-            self.primary.max_steps,
-            self.shadow_mrays().map_or("-".into(), |m| format!("{m:.2}")),
-            self.shadow.mean_steps(),
-            self.peak_mib,
-            self.sweep.map_or("-".into(), |(s, _)| format!("{:.1}", s * 1e3)),
-            self.sweep.map_or("-".into(), |(_, share)| format!("{:.1}", share * 100.0))
-        )
-    }
-
-    fn json(&self, threads: usize) -> String {
-        let v = |d: DVec3| format!("[{}, {}, {}]", d.x, d.y, d.z);
-        let c = self.camera;
-        format!(
-            concat!(
-                "{{\"view\": \"{}\", \"surface\": \"{}\", \"tracer\": \"{}\", \"simd\": \"{}\", \"single_rays\": {}, \"threads\": {}, ",
-                "\"build_ms\": {}, \"primary_rays\": {}, \"primary_s\": {}, \"primary_hits\": {}, ",
-                "\"primary_mean_steps\": {}, \"primary_max_steps\": {}, \"shadow_rays\": {}, ",
-                "\"shadow_s\": {}, \"shadow_mean_steps\": {}, \"shadow_sweep_build_s\": {}, ",
-                "\"shadow_sweep_decided\": {}, \"peak_mib\": {}, ",
-                "\"camera\": {{\"eye\": {}, \"target\": {}, \"up\": {}, \"fov_deg\": {}, ",
-                "\"width\": {}, \"height\": {}}}, \"sun\": {{\"azimuth_deg\": {}, \"elevation_deg\": {}}}}}"
-            ),
-            self.view,
-            self.surface,
-            self.tracer,
-            self.simd,
-            self.single_rays,
-            threads,
-            self.build_ms,
-            self.primary.rays,
-            self.primary_s,
-            self.primary.hits,
-            self.primary.mean_steps(),
-            self.primary.max_steps,
-            self.shadow.rays,
-            self.shadow_s.map_or("null".into(), |s| s.to_string()),
-            self.shadow.mean_steps(),
-            self.sweep.map_or("null".into(), |(s, _)| s.to_string()),
-            self.sweep.map_or("null".into(), |(_, share)| share.to_string()),
-            self.peak_mib,
-            v(c.eye()),
-            v(c.target()),
-            v(c.up()),
-            c.fov_deg().map_or("null".into(), |f| f.to_string()),
-            c.width(),
-            c.height(),
-            SUN.0,
-            SUN.1
-        )
-    }
+/// One line of the results table.
+fn row(m: &Measurement) -> String {
+    format!(
+        "{:<13} {:<9} {:<18} {:>9.1} {:>9.2} {:>6.1} {:>7.1} {:>6} {:>9} {:>7.1} {:>8.0} {:>8} {:>7}",
+        m.view,
+        m.surface,
+        m.tracer.to_string(),
+        m.build_ms,
+        m.primary_mrays(),
+        100.0 * m.hit_share(),
+        m.primary.mean_steps(),
+        m.primary.max_steps,
+        m.shadow_mrays().map_or("-".into(), |r| format!("{r:.2}")),
+        m.shadow.mean_steps(),
+        m.peak_mib,
+        m.sweep.map_or("-".into(), |s| format!("{:.1}", s.build_s * 1e3)),
+        m.sweep.map_or("-".into(), |s| format!("{:.1}", s.decided * 100.0))
+    )
 }
 
-/// Traces a shadow ray towards `sun` from every hit of `gbuffer`, in parallel by strips of
-/// tiles, each tile's rays as one batch.
-fn shadow_rays(tracer: &dyn Tracer, camera: &Camera, gbuffer: &GBuffer, sun: DVec3) -> TraceStats {
-    let (width, height) = (gbuffer.width, gbuffer.height);
-    (0..height.div_ceil(TILE_SIZE))
-        .into_par_iter()
-        .map(|strip| {
-            let mut stats = TraceStats::default();
-            let mut batch = RayBatch::default();
-            let rows = strip * TILE_SIZE..((strip + 1) * TILE_SIZE).min(height);
-            for tile_x in (0..width).step_by(TILE_SIZE) {
-                batch.clear();
-                let tile = Tile::new(tile_x, rows.start, width, rows.end);
-                tile.shadow_rays(camera, gbuffer, sun, &mut batch.rays);
-                batch.occlude(tracer);
-                for (&s, &o) in batch.steps.iter().zip(&batch.occluded) {
-                    stats.record(s, o);
-                }
-            }
-            stats
-        })
-        .reduce(TraceStats::default, TraceStats::merge)
-}
-
-/// The share of the shadow rays towards `sun` from the hits of `gbuffer` that `sweep`
-/// decides (proves lit or occluded) without tracing.
-fn proven_share(
-    sweep: &SunShadows<&dyn Tracer>,
-    camera: &Camera,
-    gbuffer: &GBuffer,
-    sun: DVec3,
-) -> f64 {
-    let (width, height) = (gbuffer.width, gbuffer.height);
-    let (proven, rays) = (0..height.div_ceil(TILE_SIZE))
-        .into_par_iter()
-        .map(|strip| {
-            let mut rays = Vec::new();
-            let rows = strip * TILE_SIZE..((strip + 1) * TILE_SIZE).min(height);
-            for tile_x in (0..width).step_by(TILE_SIZE) {
-                let tile = Tile::new(tile_x, rows.start, width, rows.end);
-                tile.shadow_rays(camera, gbuffer, sun, &mut rays);
-            }
-            (rays.iter().filter(|r| sweep.decide(r, &mut 0).is_some()).count(), rays.len())
-        })
-        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    proven as f64 / rays.max(1) as f64
+/// One measurement as a JSON object (with its camera and sun), traced with `simd` packet
+/// tests (or `single_rays`) on `threads` threads.
+fn json(m: &Measurement, simd: Simd, single_rays: bool, threads: usize) -> String {
+    let v = |d: DVec3| format!("[{}, {}, {}]", d.x, d.y, d.z);
+    let c = &m.camera;
+    format!(
+        concat!(
+            "{{\"view\": \"{}\", \"surface\": \"{}\", \"tracer\": \"{}\", \"simd\": \"{}\", \"single_rays\": {}, \"threads\": {}, ",
+            "\"build_ms\": {}, \"primary_rays\": {}, \"primary_s\": {}, \"primary_hits\": {}, ",
+            "\"primary_mean_steps\": {}, \"primary_max_steps\": {}, \"shadow_rays\": {}, ",
+            "\"shadow_s\": {}, \"shadow_mean_steps\": {}, \"shadow_sweep_build_s\": {}, ",
+            "\"shadow_sweep_decided\": {}, \"peak_mib\": {}, ",
+            "\"camera\": {{\"eye\": {}, \"target\": {}, \"up\": {}, \"fov_deg\": {}, ",
+            "\"width\": {}, \"height\": {}}}, \"sun\": {{\"azimuth_deg\": {}, \"elevation_deg\": {}}}}}"
+        ),
+        m.view,
+        m.surface,
+        m.tracer,
+        simd,
+        single_rays,
+        threads,
+        m.build_ms,
+        m.primary.rays,
+        m.primary_s,
+        m.primary.hits,
+        m.primary.mean_steps(),
+        m.primary.max_steps,
+        m.shadow.rays,
+        m.shadow_s.map_or("null".into(), |s| s.to_string()),
+        m.shadow.mean_steps(),
+        m.sweep.map_or("null".into(), |s| s.build_s.to_string()),
+        m.sweep.map_or("null".into(), |s| s.decided.to_string()),
+        m.peak_mib,
+        v(c.eye()),
+        v(c.target()),
+        v(c.up()),
+        c.fov_deg().map_or("null".into(), |f| f.to_string()),
+        c.width(),
+        c.height(),
+        BENCHMARK_SUN.0,
+        BENCHMARK_SUN.1
+    )
 }

@@ -1,7 +1,6 @@
 //! One module per subcommand.
 
 mod bench;
-mod bench_drawn;
 mod bench_dynamic;
 mod compare;
 mod convert;
