@@ -2,9 +2,8 @@
 //! scene and write the result, the simulation state and step count included in a `.json`
 //! scene so a later run continues it.
 
-use super::generate::write_mlhm;
 use super::simulate_frames::{self, Frames};
-use super::simulate_keep::{Keeper, SNAPSHOT_BYTES_PER_SLOT};
+use super::simulate_keep::{write_scene, Keeper, SNAPSHOT_BYTES_PER_SLOT};
 use crate::args::{ReadArgs, SimulateArgs};
 use crate::{input, outputs, progress};
 use anyhow::{bail, Context, Result};
@@ -56,7 +55,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let written = keeper.scene(&state).and_then(|out| write_mlhm(&args.output, &out));
+    let written = keeper.scene(&state).and_then(|out| write_scene(&args.output, &out));
     if let Err(e) = written {
         return Err(keeper.fail_with_valid(e, &state));
     }

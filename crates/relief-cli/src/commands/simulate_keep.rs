@@ -6,16 +6,13 @@
 //! deterministic, so the replay gives the same bytes).
 
 use crate::args::SimulateArgs;
-use crate::commands::generate::write_mlhm;
 use anyhow::{Context, Result};
 use relief_core::Mlhm;
-use relief_io::{MlhmScene, SimulationState};
+use relief_io::MlhmScene;
+use relief_render::simulation::SceneTemplate;
+use relief_render::RenderError;
 use relief_sim::erosion::{ErosionParams, ErosionState, SimulationPlanes};
-use serde_json::Value;
 use std::path::{Path, PathBuf};
-
-/// The scene key holding the steps simulated so far (the reference simulator's).
-pub use relief_render::simulation::STEP_KEY;
 
 /// Steps between the in-memory copies a failed step is replayed from (at most this many
 /// steps are replayed).
@@ -46,7 +43,8 @@ impl Snapshot {
 pub struct Keeper<'a> {
     output: &'a Path,
     input_path: &'a Path,
-    input: &'a MlhmScene,
+    /// The input scene, whose states are written.
+    template: SceneTemplate,
     checkpoint_every: Option<u64>,
     /// Layer capacity of the run's state.
     capacity: usize,
@@ -61,7 +59,7 @@ impl<'a> Keeper<'a> {
         Ok(Keeper {
             output: &args.output,
             input_path: &args.input,
-            input,
+            template: SceneTemplate::of(input),
             checkpoint_every: args.checkpoint,
             capacity: state.max_layers(),
             snapshot: Snapshot::of(state)?,
@@ -96,34 +94,7 @@ impl<'a> Keeper<'a> {
     /// The scene file of `state`: the input's settings with the step count, the terrain in
     /// the layers it uses (at least the input's), the simulation planes.
     pub fn scene(&self, state: &ErosionState) -> Result<MlhmScene> {
-        let layers = state.used_layers().max(self.input.mlhm.max_layers());
-        let map = state.to_mlhm_with_layers(layers)?;
-        let planes = state.planes_with_layers(layers);
-        Ok(self.scene_of(map, planes, state.step_count(), layers))
-    }
-
-    fn scene_of(
-        &self,
-        mlhm: Mlhm,
-        planes: SimulationPlanes,
-        step: u64,
-        layers: usize,
-    ) -> MlhmScene {
-        let mut settings = self.input.settings.clone();
-        settings.insert(STEP_KEY.into(), Value::from(step));
-        MlhmScene {
-            mlhm,
-            max_layer_count: self.input.max_layer_count.max(layers),
-            precision: self.input.precision,
-            simulation: Some(SimulationState {
-                fluxes: planes.fluxes,
-                stability: planes.stability,
-                sediment: planes.sediment,
-                damage: planes.damage,
-            }),
-            settings,
-            repaired: 0,
-        }
+        Ok(self.template.scene(state)?)
     }
 
     /// Writes `state` as `OUT.step-N.json` (with its `.dat`) beside the output; returns the
@@ -134,7 +105,7 @@ impl<'a> Keeper<'a> {
             // A run that failed at its first step, from a state saved so: the input holds it.
             return Ok(path);
         }
-        write_mlhm(&path, &self.scene(state)?)
+        write_scene(&path, &self.scene(state)?)
             .with_context(|| format!("writing the state at step {}", state.step_count()))?;
         Ok(path)
     }
@@ -186,6 +157,16 @@ impl<'a> Keeper<'a> {
             "{error:#}; the last valid state, at step {step}, is saved as {shown} (continue \
              with relief simulate {shown} ...)"
         )
+    }
+}
+
+/// Writes the simulated `scene` to `path` (`.json` or `.mlhm`, as relief-render's
+/// [`relief_render::simulation::write_scene`]), saying "rounding to f16" where the terrain
+/// could not be rounded to the scene's precision.
+pub fn write_scene(path: &Path, scene: &MlhmScene) -> Result<()> {
+    match relief_render::simulation::write_scene(path, scene) {
+        Err(RenderError::Rounding(source)) => Err(source).context("rounding to f16"),
+        written => Ok(written?),
     }
 }
 
