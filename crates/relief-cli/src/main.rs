@@ -4,6 +4,7 @@
 
 mod applies;
 mod args;
+mod cli;
 mod commands;
 mod input;
 mod opening;
@@ -19,7 +20,7 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let cli = match args::Cli::try_parse() {
+    let cli = match cli::Cli::try_parse() {
         Ok(cli) => cli,
         // Help and version are not errors; everything else is bad usage (exit code 2).
         Err(e) if !e.use_stderr() => {

@@ -89,8 +89,8 @@ pub use georef::sidecars::{aux_xml_path, prj_path, world_file_path};
 pub use layer_raster::{Layer, LayerRaster};
 pub use memory_budget::{default_memory_budget, default_memory_limit, MemoryBudget};
 pub use raster::{
-    DegreeSpacing, Format, PngEncoding, Raster, RasterInfo, ReadOptions, VoidPolicy,
-    BYTES_PER_SAMPLE,
+    height_field_of_samples, DegreeSpacing, Format, PngEncoding, Raster, RasterInfo, ReadOptions,
+    VoidPolicy, BYTES_PER_SAMPLE,
 };
 pub use read::{format_of, read_raster, read_raster_from_bytes};
 pub use rows::mosaic::open_mosaic;

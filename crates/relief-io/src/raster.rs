@@ -218,29 +218,44 @@ impl Raster {
     /// The height field of this raster, with its voids resolved by `voids`. `path` names the
     /// file in errors (a raster of nothing but voids, for one).
     pub fn into_height_field(self, path: &Path, voids: VoidPolicy) -> Result<HeightField, IoError> {
-        let Raster { width, height, mut samples, geometry, .. } = self;
-        let has_voids = samples.iter().any(|v| v.is_nan());
-        if has_voids && samples.iter().all(|v| v.is_nan()) {
-            return Err(IoError::invalid_data(path, "every sample is a void (nodata)"));
-        }
-        let invalid = |e: relief_core::CoreError| IoError::invalid_data(path, e.to_string());
-        match voids {
-            VoidPolicy::Fill => {
-                if has_voids {
-                    fill_voids(width, height, &mut samples);
-                }
-                HeightField::new(width, height, samples, geometry).map_err(invalid)
+        let Raster { width, height, samples, geometry, .. } = self;
+        height_field_of_samples(width, height, samples, geometry, path, voids)
+    }
+}
+
+/// The height field of `width x height` row-major `samples` (row 0 south; voids NaN) placed
+/// by `geometry`, with its voids resolved by `voids`: filled (nearest valid sample, then
+/// smoothed) or kept as holes. `path` names the samples' file in errors (samples of nothing
+/// but voids, for one).
+pub fn height_field_of_samples(
+    width: usize,
+    height: usize,
+    mut samples: Vec<f32>,
+    geometry: GridGeometry,
+    path: &Path,
+    voids: VoidPolicy,
+) -> Result<HeightField, IoError> {
+    let has_voids = samples.iter().any(|v| v.is_nan());
+    if has_voids && samples.iter().all(|v| v.is_nan()) {
+        return Err(IoError::invalid_data(path, "every sample is a void (nodata)"));
+    }
+    let invalid = |e: relief_core::CoreError| IoError::invalid_data(path, e.to_string());
+    match voids {
+        VoidPolicy::Fill => {
+            if has_voids {
+                fill_voids(width, height, &mut samples);
             }
-            VoidPolicy::Hole if has_voids => {
-                let holes: Vec<bool> = samples.iter().map(|v| v.is_nan()).collect();
-                for v in samples.iter_mut().filter(|v| v.is_nan()) {
-                    *v = 0.0;
-                }
-                let field = HeightField::new(width, height, samples, geometry).map_err(invalid)?;
-                field.with_holes(holes).map_err(invalid)
-            }
-            VoidPolicy::Hole => HeightField::new(width, height, samples, geometry).map_err(invalid),
+            HeightField::new(width, height, samples, geometry).map_err(invalid)
         }
+        VoidPolicy::Hole if has_voids => {
+            let holes: Vec<bool> = samples.iter().map(|v| v.is_nan()).collect();
+            for v in samples.iter_mut().filter(|v| v.is_nan()) {
+                *v = 0.0;
+            }
+            let field = HeightField::new(width, height, samples, geometry).map_err(invalid)?;
+            field.with_holes(holes).map_err(invalid)
+        }
+        VoidPolicy::Hole => HeightField::new(width, height, samples, geometry).map_err(invalid),
     }
 }
 

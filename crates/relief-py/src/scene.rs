@@ -12,9 +12,8 @@ use crate::simulation::{Overrides, Simulation};
 use crate::state_arrays::{state_arrays, StateCopy};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use relief_core::{Aabb, DVec2, DVec3, Mlhm};
+use relief_render::scenes::mlhm::mlhm_bounds;
 use relief_render::{ImageHolding, KeptHits, Picture, RenderError, Scene, Silent, TracerChoice};
-use relief_trace::{MlhmMode, MlhmNaiveTracer};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, RwLock, RwLockReadGuard, RwLockWriteGuard};
 
@@ -87,7 +86,7 @@ impl PyScene {
             let Scene::Mlhm(layered) = &mut opened.scene else {
                 unreachable!("simulation_of refuses every scene but an MLHM scene")
             };
-            let bounds = layered_bounds(&map)?;
+            let bounds = mlhm_bounds(&map)?;
             (layered.map, layered.bounds) = (map, bounds);
             Ok(step)
         });
@@ -109,19 +108,6 @@ fn simulation_of(opened: &mut Opened) -> Result<&mut Simulation, RenderError> {
         opened.simulation = Some(Simulation::start(path, opened.max_memory)?);
     }
     Ok(opened.simulation.as_mut().expect("started above"))
-}
-
-/// The box an MLHM scene of `map` is framed and coloured by, as the scene layer opens it:
-/// the columns' box with its bottom (minus infinity under the lowest columns) raised to the
-/// lowest bedrock top.
-fn layered_bounds(map: &Arc<Mlhm>) -> Result<Aabb, RenderError> {
-    let bounds = MlhmNaiveTracer::new(map.clone(), DVec2::ZERO).world_bounds(MlhmMode::SolidsWater);
-    let lowest = map.heights().bedrock_min;
-    let finite = Aabb::new(DVec3::new(bounds.min.x, bounds.min.y, lowest), bounds.max);
-    if !(finite.min.is_finite() && finite.max.is_finite() && lowest <= finite.max.z) {
-        return Err(RenderError::NoFiniteBounds(format!("{finite:?}")));
-    }
-    Ok(finite)
 }
 
 /// How the renderer of `scene` holds its picture (for the memory check): strip by strip for

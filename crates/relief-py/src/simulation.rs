@@ -4,12 +4,13 @@
 //! `relief simulate` writes after as many steps with the same seed.
 
 use relief_core::{Mlhm, Precision};
-use relief_io::{MlhmScene, SimulationState};
-use relief_render::input::{is_native_mlhm, is_reference_scene, load_mlhm};
-use relief_render::simulation::{scene_params, start_state, BYTES_PER_SLOT, STEP_KEY};
+use relief_io::MlhmScene;
+use relief_render::input::load_mlhm;
+use relief_render::simulation::{
+    scene_params, start_state, write_scene, SceneTemplate, BYTES_PER_SLOT,
+};
 use relief_render::{ReadSettings, RenderError};
 use relief_sim::erosion::{ErosionError, ErosionParams, ErosionState, SimulationPlanes};
-use serde_json::{Map, Value};
 use std::path::{Path, PathBuf};
 
 /// What a caller may change of a scene's simulation settings for a run (`None`: the scene's,
@@ -31,14 +32,8 @@ pub struct Simulation {
     path: PathBuf,
     /// The terrain and the simulator's planes.
     state: ErosionState,
-    /// The scene's settings (its `Simulation/*` ones included).
-    settings: Map<String, Value>,
-    /// The scene's layer capacity.
-    max_layer_count: usize,
-    /// The precision the scene is stored at.
-    precision: Precision,
-    /// The scene's own layer planes: the terrain written has at least these.
-    initial_layers: usize,
+    /// The scene it started from, whose states are written.
+    template: SceneTemplate,
 }
 
 impl Simulation {
@@ -48,20 +43,13 @@ impl Simulation {
         let read = ReadSettings { max_memory, ..ReadSettings::default() };
         let scene = load_mlhm(path, &read)?;
         let state = start_state(&scene, path, max_memory, BYTES_PER_SLOT)?;
-        Ok(Simulation {
-            path: path.to_path_buf(),
-            state,
-            initial_layers: scene.mlhm.max_layers(),
-            settings: scene.settings,
-            max_layer_count: scene.max_layer_count,
-            precision: scene.precision,
-        })
+        Ok(Simulation { path: path.to_path_buf(), state, template: SceneTemplate::of(&scene) })
     }
 
     /// The scene's parameters (the reference defaults, its `Simulation/*` settings over them)
     /// with `overrides` over those, checked.
     pub fn params(&self, overrides: Overrides) -> Result<ErosionParams, RenderError> {
-        let mut params = scene_params(&self.settings);
+        let mut params = scene_params(self.template.settings());
         params.rain = overrides.rain.unwrap_or(params.rain);
         params.evaporation = overrides.evaporation.unwrap_or(params.evaporation);
         params.dt = overrides.dt.unwrap_or(params.dt);
@@ -93,7 +81,7 @@ impl Simulation {
 
     /// Layer planes of the terrain as written: the layers it uses, at least the scene's own.
     pub fn layers(&self) -> usize {
-        self.state.used_layers().max(self.initial_layers)
+        self.template.layers(&self.state)
     }
 
     /// The terrain at f32, in [`Simulation::layers`] layer planes.
@@ -105,10 +93,11 @@ impl Simulation {
     /// scene's precision.
     pub fn drawn_terrain(&self) -> Result<Mlhm, RenderError> {
         let map = self.terrain()?;
-        if self.precision == Precision::F32 {
+        let precision = self.template.precision();
+        if precision == Precision::F32 {
             return Ok(map);
         }
-        map.to_precision(self.precision).map_err(RenderError::Rounding)
+        map.to_precision(precision).map_err(RenderError::Rounding)
     }
 
     /// The simulator's planes, in [`Simulation::layers`] layer planes.
@@ -119,42 +108,13 @@ impl Simulation {
     /// The scene file of the state, as `relief simulate` writes it: the scene's settings with
     /// the step count, the terrain in the layers it uses (at least the scene's), the planes.
     pub fn scene_file(&self) -> Result<MlhmScene, RenderError> {
-        let layers = self.layers();
-        let planes = self.planes();
-        let mut settings = self.settings.clone();
-        settings.insert(STEP_KEY.into(), Value::from(self.state.step_count()));
-        Ok(MlhmScene {
-            mlhm: self.terrain()?,
-            max_layer_count: self.max_layer_count.max(layers),
-            precision: self.precision,
-            simulation: Some(SimulationState {
-                fluxes: planes.fluxes,
-                stability: planes.stability,
-                sediment: planes.sediment,
-                damage: planes.damage,
-            }),
-            settings,
-            repaired: 0,
-        })
+        self.template.scene(&self.state)
     }
 
     /// Writes the state to `path` as `relief simulate -o path` does: a `.json` reference
     /// scene (with its `.dat` beside it, the simulation state and step count included) or a
     /// `.mlhm` (the terrain only, at the scene's precision).
     pub fn write(&self, path: &Path) -> Result<(), RenderError> {
-        let scene = self.scene_file()?;
-        if is_reference_scene(path) {
-            relief_io::write_mlhm_scene(path, &scene)?;
-        } else if is_native_mlhm(path) {
-            let map = scene.mlhm.to_precision(scene.precision).map_err(RenderError::Rounding)?;
-            relief_io::write_mlhm_native(path, &map)?;
-        } else {
-            return Err(RenderError::Unsupported(format!(
-                "{}: a simulated scene is written as .json (the reference simulator's scene, \
-                 with its .dat beside it) or .mlhm",
-                path.display()
-            )));
-        }
-        Ok(())
+        write_scene(path, &self.scene_file()?)
     }
 }

@@ -4,7 +4,7 @@
 
 use crate::arrays::ArrayGrid;
 use relief_core::{GridGeometry, HeightField};
-use relief_io::{IoError, VoidPolicy};
+use relief_io::VoidPolicy;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -22,32 +22,10 @@ pub fn height_field(
     geometry: GridGeometry,
     voids: VoidPolicy,
 ) -> Result<Arc<HeightField>, String> {
-    let (width, height) = (grid.width, grid.height);
-    let mut samples = flip_rows(&grid.samples, width);
+    let samples = flip_rows(&grid.samples, grid.width);
     let name = Path::new("heights");
-    let invalid =
-        |reason: String| IoError::InvalidData { path: name.to_path_buf(), reason }.to_string();
-    let has_voids = samples.iter().any(|v| v.is_nan());
-    if has_voids && samples.iter().all(|v| v.is_nan()) {
-        return Err(invalid("every sample is a void (nodata)".into()));
-    }
-    let holes = match voids {
-        VoidPolicy::Fill if has_voids => {
-            relief_io::fill_voids(width, height, &mut samples);
-            None
-        }
-        VoidPolicy::Hole if has_voids => {
-            let holes: Vec<bool> = samples.iter().map(|v| v.is_nan()).collect();
-            samples.iter_mut().filter(|v| v.is_nan()).for_each(|v| *v = 0.0);
-            Some(holes)
-        }
-        _ => None,
-    };
     let field =
-        HeightField::new(width, height, samples, geometry).map_err(|e| invalid(e.to_string()))?;
-    let field = match holes {
-        Some(holes) => field.with_holes(holes).map_err(|e| invalid(e.to_string()))?,
-        None => field,
-    };
+        relief_io::height_field_of_samples(grid.width, grid.height, samples, geometry, name, voids)
+            .map_err(|e| e.to_string())?;
     Ok(Arc::new(field))
 }

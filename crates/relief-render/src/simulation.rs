@@ -14,8 +14,9 @@ use serde_json::{Map, Value};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// The scene key holding the steps simulated so far (the reference simulator's).
-pub const STEP_KEY: &str = "Simulation/CurrentSimulationStep";
+mod scene_file;
+
+pub use scene_file::{write_scene, SceneTemplate, STEP_KEY};
 
 /// Bytes the simulation holds per column slot: the terrain, the saved planes and the
 /// per-step scratch planes.

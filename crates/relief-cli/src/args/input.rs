@@ -30,7 +30,7 @@ pub struct ReadArgs {
 }
 
 /// `--z-unit`: m, ft or us-ft.
-pub(super) fn z_unit(s: &str) -> Result<relief_io::LengthUnit, String> {
+pub(crate) fn z_unit(s: &str) -> Result<relief_io::LengthUnit, String> {
     s.parse()
 }
 

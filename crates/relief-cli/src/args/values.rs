@@ -2,34 +2,34 @@
 
 use crate::parse;
 
-pub(super) fn tau_px(s: &str) -> Result<f64, String> {
+pub(crate) fn tau_px(s: &str) -> Result<f64, String> {
     parse::number_in(s, "a number of pixels", &(0.01..=1e4))
 }
 
-pub(super) fn non_negative_number(s: &str) -> Result<f64, String> {
+pub(crate) fn non_negative_number(s: &str) -> Result<f64, String> {
     parse::number_in(s, "a number of pixels", &(0.0..=1e6))
 }
 
-pub(super) fn cache_mb(s: &str) -> Result<u64, String> {
+pub(crate) fn cache_mb(s: &str) -> Result<u64, String> {
     parse::whole_in(s, 16..=(1 << 24), "megabytes of cache")
 }
 
-pub(super) fn tile_samples(s: &str) -> Result<u32, String> {
+pub(crate) fn tile_samples(s: &str) -> Result<u32, String> {
     parse::whole_in(s, 16..=4096, "samples per tile side").map(|v| v as u32)
 }
 
 /// `--cell`: 2 to 4096 samples.
-pub(super) fn cell_samples(s: &str) -> Result<usize, String> {
+pub(crate) fn cell_samples(s: &str) -> Result<usize, String> {
     parse::whole_in(s, 2..=4096, "cell").map(|v| v as usize)
 }
 
 /// `--lop`: 2 to 10 levels.
-pub(super) fn lop_levels(s: &str) -> Result<usize, String> {
+pub(crate) fn lop_levels(s: &str) -> Result<usize, String> {
     parse::whole_in(s, 2..=10, "number of levels of precision").map(|v| v as usize)
 }
 
 /// A finite number above 0.
-pub(super) fn positive_number(s: &str) -> Result<f64, String> {
+pub(crate) fn positive_number(s: &str) -> Result<f64, String> {
     let v: f64 = s.trim().parse().map_err(|_| format!("'{s}' is not a number"))?;
     if v.is_finite() && v > 0.0 {
         Ok(v)
@@ -39,76 +39,76 @@ pub(super) fn positive_number(s: &str) -> Result<f64, String> {
 }
 
 /// A sun's angular radius: 0 to 45 degrees.
-pub(super) fn sun_radius(s: &str) -> Result<f64, String> {
+pub(crate) fn sun_radius(s: &str) -> Result<f64, String> {
     parse::number_in(s, "sun radius", &(0.0..=relief_shade::shade_map::MAX_SUN_RADIUS_DEG))
         .map_err(|e| format!("{e} degrees"))
 }
 
 /// Rays per sample of a shade map: 1 to 4096.
-pub(super) fn shade_rays(s: &str) -> Result<u32, String> {
+pub(crate) fn shade_rays(s: &str) -> Result<u32, String> {
     let max = u64::from(relief_shade::shade_map::MAX_RAYS_PER_SAMPLE);
     parse::whole_in(s, 1..=max, "ray count").map(|n| n as u32)
 }
 
 /// A terrain's samples (or an MLHM's cells) per side: 1 to 65536.
-pub(super) fn terrain_side(s: &str) -> Result<usize, String> {
+pub(crate) fn terrain_side(s: &str) -> Result<usize, String> {
     parse::whole_in(s, 1..=65536, "size").map(|v| v as usize)
 }
 
 /// A seed: any whole number from 0 to 2^64 - 1.
-pub(super) fn seed(s: &str) -> Result<u64, String> {
+pub(crate) fn seed(s: &str) -> Result<u64, String> {
     parse::whole_in(s, 0..=u64::MAX, "seed")
 }
 
 /// `--safety-reach`: 1 to 1024 texels (the precomputation's time grows with it).
-pub(super) fn safety_reach(s: &str) -> Result<u16, String> {
+pub(crate) fn safety_reach(s: &str) -> Result<u16, String> {
     parse::whole_in(s, 1..=1024, "--safety-reach").map(|v| v as u16)
 }
 
 /// `--max-layers`: 1 to 127, what the scene format's int8 layer counts hold.
-pub(super) fn max_layers(s: &str) -> Result<usize, String> {
+pub(crate) fn max_layers(s: &str) -> Result<usize, String> {
     parse::whole_in(s, 1..=127, "--max-layers").map(|v| v as usize)
 }
 
 /// `--frames`: 1 to 100000 frames.
-pub(super) fn frames(s: &str) -> Result<u32, String> {
+pub(crate) fn frames(s: &str) -> Result<u32, String> {
     parse::whole_in(s, 1..=100_000, "--frames").map(|v| v as u32)
 }
 
 /// `--frame-budget`: 5 to 1000 milliseconds.
-pub(super) fn frame_budget(s: &str) -> Result<u64, String> {
+pub(crate) fn frame_budget(s: &str) -> Result<u64, String> {
     parse::whole_in(s, 5..=1000, "--frame-budget")
 }
 
 /// `--repeat`: 1 to 1000 runs of every view.
-pub(super) fn repeat(s: &str) -> Result<u32, String> {
+pub(crate) fn repeat(s: &str) -> Result<u32, String> {
     parse::whole_in(s, 1..=1000, "--repeat").map(|v| v as u32)
 }
 
 /// `--checkpoint`: 1 to 10^7 steps.
-pub(super) fn checkpoint_every(s: &str) -> Result<u64, String> {
+pub(crate) fn checkpoint_every(s: &str) -> Result<u64, String> {
     parse::whole_in(s, 1..=10_000_000, "--checkpoint")
 }
 
 /// `--render-every`: 1 to 10^7 steps.
-pub(super) fn render_every(s: &str) -> Result<u64, String> {
+pub(crate) fn render_every(s: &str) -> Result<u64, String> {
     parse::whole_in(s, 1..=10_000_000, "--render-every")
 }
 
 /// Simulation steps: 1 to 10^7.
-pub(super) fn simulation_steps(s: &str) -> Result<u64, String> {
+pub(crate) fn simulation_steps(s: &str) -> Result<u64, String> {
     parse::whole_in(s, 1..=10_000_000, "step count")
 }
 
 /// A rate of rain or evaporation: 0 to 100 m/s.
-pub(super) fn water_rate(s: &str) -> Result<f32, String> {
+pub(crate) fn water_rate(s: &str) -> Result<f32, String> {
     parse::number_in(s, "water rate", &(0.0..=100.0))
         .map(|v| v as f32)
         .map_err(|e| format!("{e} m/s"))
 }
 
 /// A time step: 0.001 to 10 s.
-pub(super) fn time_step(s: &str) -> Result<f32, String> {
+pub(crate) fn time_step(s: &str) -> Result<f32, String> {
     parse::number_in(s, "time step", &(0.001..=10.0))
         .map(|v| v as f32)
         .map_err(|e| format!("{e} s"))

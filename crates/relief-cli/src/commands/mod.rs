@@ -1,28 +1,19 @@
 //! One module per subcommand.
 
-mod bench;
-mod bench_drawn;
-mod bench_dynamic;
-mod compare;
-mod convert;
-mod flight_plan;
-mod flythrough;
-mod flythrough_log;
-mod generate;
-mod info;
-mod info_mlhm;
-mod info_stacks;
-mod info_tiles;
-mod mesh;
-mod render;
-mod shade;
-mod simulate;
-mod simulate_frames;
-mod simulate_keep;
-mod tile;
-mod view;
+pub mod bench;
+pub mod compare;
+pub mod convert;
+pub mod flythrough;
+pub mod generate;
+pub mod info;
+pub mod mesh;
+pub mod render;
+pub mod shade;
+pub mod simulate;
+pub mod tile;
+pub mod view;
 
-use crate::args::{Cli, Command};
+use crate::cli::{Cli, Command};
 use crate::memory::{format_bytes, Budget, ImageHolding};
 use anyhow::{bail, Result};
 

@@ -1,0 +1,218 @@
+//! `relief shade`: shade rasters of a DEM, aligned with it sample for sample, written with
+//! its georeference, CRS and nodata.
+
+pub mod args;
+
+use crate::args::Voids;
+use crate::{applies, input, memory, outputs, progress};
+use anyhow::{bail, Result};
+use args::ShadeArgs;
+use relief_io::{Layer, LayerRaster, RasterInfo, VoidPolicy};
+use relief_shade::shade_map::{shade_map, ShadeMap, ShadeMapParams, SunPosition};
+use relief_trace::{build_tracer, TracerKind};
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// How `relief shade` writes its layers, by the output's extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ShadeOutput {
+    /// A float32 GeoTIFF, one band per layer.
+    GeoTiff,
+    /// A 16-bit grey PNG of one layer, with a world file.
+    Png,
+}
+
+/// Runs `relief shade`.
+pub fn run(args: &ShadeArgs) -> Result<()> {
+    let format = check_outputs(args)?;
+    let params = params(args)?;
+    applies::check_read_args(&args.read, Some(&args.input))?;
+    if input::is_mlhm_scene(&args.input) {
+        bail!("{} is an MLHM scene; relief shade makes maps of height files", args.input.display());
+    }
+    let budget = memory::budget(args.read.max_memory);
+
+    let start = Instant::now();
+    let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
+    let samples = raster.width as u64 * raster.height as u64;
+    // The field, the voids' mask, the pyramid (a third more than the field) and the layers.
+    let needed = samples * (4 + 1 + 2 + 4 * params.layers.len() as u64);
+    if needed > budget.bytes {
+        bail!(
+            "shading {} x {} samples needs {}, over the {} memory limit ({})",
+            raster.width,
+            raster.height,
+            crate::memory::format_bytes(needed),
+            crate::memory::format_bytes(budget.bytes),
+            budget.origin
+        );
+    }
+    let void: Vec<bool> = raster.samples.iter().map(|v| v.is_nan()).collect();
+    let voids = void.iter().filter(|&&v| v).count();
+    let info = raster.info.clone();
+    let policy = match args.read.voids.unwrap_or(Voids::Fill) {
+        Voids::Fill => VoidPolicy::Fill,
+        Voids::Hole => VoidPolicy::Hole,
+    };
+    let field =
+        input::place(raster.into_height_field(&args.input, policy)?, args.spacing, args.z_scale)?;
+    let read_ms = elapsed_ms(start);
+
+    let start = Instant::now();
+    let field = Arc::new(field);
+    let tracer = build_tracer(field.clone(), args.surface, TracerKind::Mipmap);
+    let build_ms = elapsed_ms(start);
+
+    let start = Instant::now();
+    let bar = progress::bar(field.height() as u64, "shading");
+    let mask = (voids > 0).then_some(void.as_slice());
+    let map = shade_map(&field, &*tracer, mask, &params, &|rows| bar.set_position(rows))?;
+    bar.finish_and_clear();
+    let trace_ms = elapsed_ms(start);
+
+    let (width, height, rays) = (map.width, map.height, map.rays);
+    let start = Instant::now();
+    write(&args.output, format, map, &info, voids > 0)?;
+    let write_ms = elapsed_ms(start);
+
+    let names: Vec<&str> = params.layers.iter().map(|l| l.name()).collect();
+    let rays_per_s = rays as f64 / (trace_ms / 1e3).max(1e-9);
+    eprintln!(
+        "wrote {} ({} x {} samples, {}; {} rays in {:.2} s, {:.1} Mrays/s)",
+        args.output.display(),
+        width,
+        height,
+        names.join(", "),
+        rays,
+        trace_ms / 1e3,
+        rays_per_s / 1e6
+    );
+    if let Some(path) = &args.stats {
+        let stats = serde_json::json!({
+            "samples": samples,
+            "voids": voids,
+            "layers": names,
+            "rays": rays,
+            "rays_per_s": rays_per_s,
+            "read_ms": read_ms,
+            "build_ms": build_ms,
+            "trace_ms": trace_ms,
+            "write_ms": write_ms,
+        });
+        outputs::write_stats(path, &stats)?;
+    }
+    Ok(())
+}
+
+/// The format the output's extension asks for; refuses outputs that cannot be written
+/// before any work.
+fn check_outputs(args: &ShadeArgs) -> Result<ShadeOutput> {
+    let output = &args.output;
+    outputs::check_writable(output)?;
+    let format = match applies::extension(output).as_deref() {
+        Some("tif" | "tiff") => ShadeOutput::GeoTiff,
+        Some("png") => ShadeOutput::Png,
+        _ => bail!("-o {}: shade layers are written as .tif (GeoTIFF) or .png", output.display()),
+    };
+    if format == ShadeOutput::Png && args.layers.len() > 1 {
+        bail!(
+            "-o {}: a PNG holds one layer, not {} ({}); write a .tif for several",
+            output.display(),
+            args.layers.len(),
+            args.layers.iter().map(|l| l.name()).collect::<Vec<_>>().join(", ")
+        );
+    }
+    let mut all = vec![("-o", output.as_path())];
+    if let Some(stats) = &args.stats {
+        outputs::check_stats(stats)?;
+        all.push(("--stats", stats.as_path()));
+    }
+    outputs::check_distinct(&all, &[&args.input])?;
+    Ok(format)
+}
+
+/// The shade map's parameters; refuses options that do nothing for the layers asked for.
+fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
+    let defaults = ShadeMapParams::default();
+    let layers = &args.layers;
+    let names = layers.iter().map(|l| l.name()).collect::<Vec<_>>().join(", ");
+    let here = format!("--layers {names}");
+    let needs_suns = layers.iter().any(|l| l.needs_suns());
+    let needs_sun_rays = layers.iter().any(|l| l.needs_sun_rays());
+    let needs_sky = layers.iter().any(|l| l.needs_sky_rays());
+    if !needs_suns && !args.sun.is_empty() {
+        return Err(applies::refuse("--sun", "the shadow, hillshade and combined layers", &here));
+    }
+    if !needs_sun_rays && args.sun_radius.is_some() {
+        return Err(applies::refuse("--sun-radius", "the shadow and combined layers", &here));
+    }
+    if args.sun_rays.is_some() && !args.sun_radius.is_some_and(|r| r > 0.0) {
+        return Err(applies::refuse(
+            "--sun-rays",
+            "a sun with --sun-radius above 0",
+            "a point sun",
+        ));
+    }
+    if !needs_sky && args.sky_rays.is_some() {
+        return Err(applies::refuse("--sky-rays", "the sky and combined layers", &here));
+    }
+    let suns = if args.sun.is_empty() {
+        defaults.suns.clone()
+    } else {
+        args.sun
+            .iter()
+            .map(|&(azimuth_deg, elevation_deg)| SunPosition { azimuth_deg, elevation_deg })
+            .collect()
+    };
+    let params = ShadeMapParams {
+        layers: layers.clone(),
+        suns: if needs_suns { suns } else { Vec::new() },
+        sun_radius_deg: args.sun_radius.unwrap_or(defaults.sun_radius_deg),
+        sun_rays: args.sun_rays.unwrap_or(defaults.sun_rays),
+        sky_rays: args.sky_rays.unwrap_or(defaults.sky_rays),
+    };
+    params.validate()?;
+    Ok(params)
+}
+
+/// Writes `map` to `path` on the input's grid: its georeference and CRS, and its nodata (NaN
+/// when it declared none but had voids, which are NaN samples in a float file).
+fn write(
+    path: &Path,
+    format: ShadeOutput,
+    map: ShadeMap,
+    info: &RasterInfo,
+    has_voids: bool,
+) -> Result<()> {
+    let georeference = info.georeference.clone();
+    match format {
+        ShadeOutput::Png => {
+            let (_, samples) = &map.layers[0];
+            relief_io::write_layer_png(
+                path,
+                samples,
+                map.width,
+                map.height,
+                georeference.as_ref(),
+            )?;
+        }
+        ShadeOutput::GeoTiff => {
+            let nodata = info.nodata.or(has_voids.then_some(f64::NAN));
+            let layers = map
+                .layers
+                .into_iter()
+                .map(|(layer, samples)| Layer { name: layer.name().to_string(), samples })
+                .collect();
+            let raster =
+                LayerRaster { width: map.width, height: map.height, layers, georeference, nodata };
+            relief_io::write_layers_geotiff(path, &raster)?;
+        }
+    }
+    Ok(())
+}
+
+/// Milliseconds since `start`.
+fn elapsed_ms(start: Instant) -> f64 {
+    start.elapsed().as_secs_f64() * 1e3
+}
