@@ -2,15 +2,18 @@
 //! scene at N² cells, built once, then rebuilt in place R times; prints the median and the
 //! fastest rebuild, for box bounds (f32 and f16) and the smooth surface's padded bounds.
 //!
-//! `cargo run --release -p relief-trace --example hierarchy_rebuild -- 4096 [R] [NAME]`, NAME
+//! `cargo bench -p relief-bench --bench hierarchy_rebuild -- 4096 [R] [NAME]`, NAME
 //! one of `f32`, `f16`, `smooth` for that kind alone.
+
+#[path = "common/args.rs"]
+mod args;
 
 use relief_core::Precision;
 use relief_trace::MlhmHierarchy;
 use std::time::Instant;
 
 fn main() {
-    let mut args = std::env::args().skip(1);
+    let mut args = args::program_args().into_iter();
     let size: usize = args.next().map_or(4096, |s| s.parse().expect("N: cells per side"));
     let repeat: usize = args.next().map_or(9, |s| s.parse().expect("R: rebuilds"));
     let only = args.next();
