@@ -13,7 +13,9 @@
 //! in batches (the rays of a batch that cross the tile), so a tracer with packets keeps them.
 //!
 //! Each tile is a height field of its own standing on the whole raster's floor, and a ray is
-//! handed to a tile only over the stretch where it crosses the tile's rectangle. The tiles'
+//! handed to a tile only over the stretch where it crosses the tile's rectangle (the box only
+//! decides whether the tile is visited: the tile's tracer clips the stretch to its own solid,
+//! so a flat tile, whose box has no height, is met all the same). The tiles'
 //! solids are therefore columns that together make the untiled raster's solid when every tile
 //! is of level 0. Where a coarse tile meets a finer one, the two surfaces need not meet: the
 //! solids still do, as a vertical step at the rectangles' shared edge, whose face a ray that
@@ -28,8 +30,9 @@ use std::sync::Arc;
 /// One node of a frame's tile quadtree.
 #[derive(Debug)]
 enum Node {
-    /// A tile to trace.
-    Leaf { bounds: Aabb, tile: Arc<LoadedTile> },
+    /// A tile to trace: `bounds` is its box, `column` its rectangle from minus to plus
+    /// infinity (the stretch of a ray handed to its tracer).
+    Leaf { bounds: Aabb, column: Aabb, tile: Arc<LoadedTile> },
     /// Children to visit (indices into the node list), in the order a ray meets them for each
     /// of the four sign classes of its direction's x and y ([`sign_class`]).
     Inner { bounds: Aabb, orders: [Vec<u32>; 4] },
@@ -75,7 +78,8 @@ pub enum TreeNode {
 impl TiledTerrain {
     /// The terrain of `root`'s tiles on `surface`, over a solid from `floor` up (world z;
     /// `z_scale` turns the tiles' sample values into world z). Tiles of nothing but voids are
-    /// left out.
+    /// left out, and so are tiles whose rectangle has no area (those of a `triangles` surface
+    /// over a raster one sample wide or high, which has no squares).
     pub fn new(root: TreeNode, surface: Surface, floor: f64, z_scale: f64) -> Self {
         let mut terrain = TiledTerrain { surface, nodes: Vec::new(), tiles: 0 };
         terrain.add(root, floor, z_scale);
@@ -97,7 +101,7 @@ impl TiledTerrain {
         let mut at = 0usize;
         loop {
             match self.nodes.get(at)? {
-                Node::Leaf { tile, bounds } => {
+                Node::Leaf { tile, bounds, .. } => {
                     return inside(bounds).then(|| tile_slope(tile, x, y)).flatten();
                 }
                 Node::Inner { orders, .. } => {
@@ -114,12 +118,18 @@ impl TiledTerrain {
         match node {
             TreeNode::Tile(tile) => {
                 tile.heights.as_ref()?;
+                let (min, max) = (tile.rect.min, tile.rect.max);
+                if !(min[0] < max[0] && min[1] < max[1]) {
+                    return None;
+                }
                 let top = tile.record.max as f64 * z_scale;
-                let bounds = Aabb::new(
-                    DVec3::new(tile.rect.min[0], tile.rect.min[1], floor),
-                    DVec3::new(tile.rect.max[0], tile.rect.max[1], top),
+                let bounds =
+                    Aabb::new(DVec3::new(min[0], min[1], floor), DVec3::new(max[0], max[1], top));
+                let column = Aabb::new(
+                    DVec3::new(min[0], min[1], f64::NEG_INFINITY),
+                    DVec3::new(max[0], max[1], f64::INFINITY),
                 );
-                self.nodes.push(Node::Leaf { bounds, tile });
+                self.nodes.push(Node::Leaf { bounds, column, tile });
                 self.tiles += 1;
             }
             TreeNode::Inner(children) => {
@@ -156,22 +166,23 @@ impl TiledTerrain {
     /// The first hit under node `at`, or (with `any`) the first one found.
     fn trace(&self, at: u32, ray: &Ray, inv_dir: DVec3, any: bool, steps: &mut u32) -> Option<Hit> {
         let node = &self.nodes[at as usize];
-        let clip = node.bounds().clip_with_inverse(ray, inv_dir)?;
+        node.bounds().clip_with_inverse(ray, inv_dir)?;
         *steps += 1;
         match node {
-            Node::Leaf { tile, .. } => {
+            Node::Leaf { tile, column, .. } => {
                 let tracer = leaf_tracer(tile);
-                let part = Ray { t_min: clip.t_enter, t_max: clip.t_exit, ..*ray };
+                let span = column.clip_with_inverse(ray, inv_dir)?;
+                let part = Ray { t_min: span.t_enter, t_max: span.t_exit, ..*ray };
                 if any {
                     let blocked = tracer.occluded_counted(&part, steps);
                     return blocked.then_some(Hit {
-                        t: clip.t_enter,
+                        t: span.t_enter,
                         position: ray.origin,
                         normal: DVec3::Z,
                     });
                 }
                 let hit = tracer.intersect_counted(&part, steps)?;
-                Some(entry_face_fixed(hit, &clip, ray))
+                Some(entry_face_fixed(hit, &span, ray))
             }
             Node::Inner { orders, .. } => orders[sign_class(ray.dir)]
                 .iter()
@@ -188,10 +199,15 @@ impl TiledTerrain {
             if batch.done[k as usize] {
                 continue;
             }
-            let ray = &batch.rays[k as usize];
-            if let Some(clip) = node.bounds().clip_with_inverse(ray, batch.inv_dirs[k as usize]) {
+            let (ray, inv_dir) = (&batch.rays[k as usize], batch.inv_dirs[k as usize]);
+            if let Some(clip) = node.bounds().clip_with_inverse(ray, inv_dir) {
                 batch.steps[k as usize] += 1;
-                entering.push((k, clip));
+                // A leaf's tracer gets the stretch of the ray over the tile's rectangle.
+                let span = match node {
+                    Node::Leaf { column, .. } => column.clip_with_inverse(ray, inv_dir),
+                    Node::Inner { .. } => Some(clip),
+                };
+                entering.extend(span.map(|span| (k, span)));
             }
         }
         if !entering.is_empty() {
@@ -308,7 +324,8 @@ impl<'a> Batch<'a> {
         Batch { rays, inv_dirs, hits, done, steps, any, scratch: Scratch::default() }
     }
 
-    /// Traces the `entering` rays, each over the stretch where it crosses the tile's box.
+    /// Traces the `entering` rays, each over the stretch where it crosses the tile's
+    /// rectangle.
     fn trace_leaf(&mut self, tracer: &dyn Tracer, entering: &[(u32, Clip)]) {
         let s = &mut self.scratch;
         s.parts.clear();
@@ -343,9 +360,9 @@ impl<'a> Batch<'a> {
     }
 }
 
-/// A ray that enters the tile's box already in the solid hits the face it crossed: a wall
-/// where levels meet or at the raster's edge, the floor, or a flat top at the tile's highest
-/// sample (the tile's tracer, which sees the ray start there, cannot tell which).
+/// A ray that enters the tile's rectangle (`clip`, its stretch over it) already in the
+/// solid hits the wall it crossed, where levels meet or at the raster's edge (the tile's
+/// tracer, which sees the ray start there, cannot tell).
 fn entry_face_fixed(mut hit: Hit, clip: &Clip, ray: &Ray) -> Hit {
     if hit.t == clip.t_enter && clip.face != BoxFace::Inside {
         hit.normal = face_normal(clip.face, ray.dir);
