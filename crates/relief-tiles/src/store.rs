@@ -175,13 +175,16 @@ impl TileStore {
         // are exactly the raster's. (A coarser tile keeps the repeats: they carry its surface,
         // whose samples lie further in, out to the edge of its rectangle.)
         let (columns, rows) = self.layout.stored_within_level(id);
+        let mut bytes =
+            (side * side) as u64 * (4 + 2) + record.has_voids as u64 * (side * side) as u64;
         let traced = match surface {
             Surface::Triangles if id.level == 0 && (columns.len(), rows.len()) != (side, side) => {
-                field_of(columns, rows)?
+                let cut = field_of(columns, rows)?;
+                bytes += (cut.width() * cut.height()) as u64 * (4 + record.has_voids as u64);
+                cut
             }
             _ => field.clone(),
         };
-        let bytes = (side * side) as u64 * (4 + 2) + record.has_voids as u64 * (side * side) as u64;
         let tracer = self.tile_tracers.make(traced, surface);
         Ok(LoadedTile { id, rect, record, heights: Some(TracedHeights { field, tracer }), bytes })
     }
