@@ -169,19 +169,23 @@ impl TileStore {
             stored.field(columns, rows, geometry, self.floor).map(Arc::new).map_err(invalid)
         };
         let field = field_of(0..side, 0..side)?;
-        // The ring repeats the raster's edge samples beyond its edges, which the `triangles`
-        // surface would join into squares the raster does not have: a level-0 tile traces the
-        // raster's own samples only, so that its surface, its walls beside holes and its edges
-        // are exactly the raster's. (A coarser tile keeps the repeats: they carry its surface,
-        // whose samples lie further in, out to the edge of its rectangle.)
+        // The ring repeats the raster's edge samples beyond its edges. Beside a hole, the
+        // `triangles` surface would join the repeats into squares the raster does not have,
+        // with no wall where the raster has one: a level-0 tile with voids traces the raster's
+        // own samples only, so that its surface and walls are exactly the raster's. (Without
+        // voids, the squares of repeats lie outside the tile's rectangle, whose edge stands
+        // where the raster's wall does, so they change nothing. A coarser tile keeps the
+        // repeats: they carry its surface, whose samples lie further in, out to the edge of its
+        // rectangle.)
         let (columns, rows) = self.layout.stored_within_level(id);
         let mut bytes =
             (side * side) as u64 * (4 + 2) + record.has_voids as u64 * (side * side) as u64;
+        let cut = (columns.len(), rows.len()) != (side, side);
         let traced = match surface {
-            Surface::Triangles if id.level == 0 && (columns.len(), rows.len()) != (side, side) => {
-                let cut = field_of(columns, rows)?;
-                bytes += (cut.width() * cut.height()) as u64 * (4 + record.has_voids as u64);
-                cut
+            Surface::Triangles if id.level == 0 && record.has_voids && cut => {
+                let within = field_of(columns, rows)?;
+                bytes += (within.width() * within.height()) as u64 * (4 + 1);
+                within
             }
             _ => field.clone(),
         };
