@@ -165,11 +165,13 @@ impl TiledTerrain {
 
     /// The first hit under node `at`, or (with `any`) the first one found.
     fn trace(&self, at: u32, ray: &Ray, inv_dir: DVec3, any: bool, steps: &mut u32) -> Option<Hit> {
-        match &self.nodes[at as usize] {
-            Node::Leaf { tile, column, bounds } => {
-                let span = leaf_span(column, bounds, ray, inv_dir)?;
-                *steps += 1;
+        let node = &self.nodes[at as usize];
+        node.bounds().clip_with_inverse(ray, inv_dir)?;
+        *steps += 1;
+        match node {
+            Node::Leaf { tile, column, .. } => {
                 let tracer = leaf_tracer(tile);
+                let span = column.clip_with_inverse(ray, inv_dir)?;
                 let part = Ray { t_min: span.t_enter, t_max: span.t_exit, ..*ray };
                 if any {
                     let blocked = tracer.occluded_counted(&part, steps);
@@ -182,13 +184,9 @@ impl TiledTerrain {
                 let hit = tracer.intersect_counted(&part, steps)?;
                 Some(entry_face_fixed(hit, &span, ray))
             }
-            Node::Inner { bounds, orders } => {
-                bounds.clip_with_inverse(ray, inv_dir)?;
-                *steps += 1;
-                orders[sign_class(ray.dir)]
-                    .iter()
-                    .find_map(|&c| self.trace(c, ray, inv_dir, any, steps))
-            }
+            Node::Inner { orders, .. } => orders[sign_class(ray.dir)]
+                .iter()
+                .find_map(|&c| self.trace(c, ray, inv_dir, any, steps)),
         }
     }
 
@@ -202,13 +200,14 @@ impl TiledTerrain {
                 continue;
             }
             let (ray, inv_dir) = (&batch.rays[k as usize], batch.inv_dirs[k as usize]);
-            let span = match node {
-                Node::Leaf { column, bounds, .. } => leaf_span(column, bounds, ray, inv_dir),
-                Node::Inner { bounds, .. } => bounds.clip_with_inverse(ray, inv_dir),
-            };
-            if let Some(span) = span {
+            if let Some(clip) = node.bounds().clip_with_inverse(ray, inv_dir) {
                 batch.steps[k as usize] += 1;
-                entering.push((k, span));
+                // A leaf's tracer gets the stretch of the ray over the tile's rectangle.
+                let span = match node {
+                    Node::Leaf { column, .. } => column.clip_with_inverse(ray, inv_dir),
+                    Node::Inner { .. } => Some(clip),
+                };
+                entering.extend(span.map(|span| (k, span)));
             }
         }
         if !entering.is_empty() {
@@ -240,22 +239,6 @@ impl TiledTerrain {
             }
         }
     }
-}
-
-/// The stretch of `ray` over a leaf's rectangle (`column`) when the ray meets the leaf's box
-/// (`bounds`, the column cut to the tile's heights): the part of the ray the leaf's tracer
-/// gets. The box's x and y slabs are the column's, so only its z slab is tested again.
-#[inline]
-fn leaf_span(column: &Aabb, bounds: &Aabb, ray: &Ray, inv_dir: DVec3) -> Option<Clip> {
-    let span = column.clip_with_inverse(ray, inv_dir)?;
-    let (o, lo, hi) = (ray.origin.z, bounds.min.z, bounds.max.z);
-    let meets = if ray.dir.z == 0.0 {
-        lo <= o && o <= hi
-    } else {
-        let (a, b) = ((lo - o) * inv_dir.z, (hi - o) * inv_dir.z);
-        span.t_enter.max(a.min(b)) <= span.t_exit.min(a.max(b))
-    };
-    meets.then_some(span)
 }
 
 /// The tracer of a leaf (leaves are tiles with samples).
