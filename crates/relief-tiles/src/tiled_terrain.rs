@@ -13,9 +13,9 @@
 //! in batches (the rays of a batch that cross the tile), so a tracer with packets keeps them.
 //!
 //! Each tile is a height field of its own standing on the whole raster's floor, and a ray is
-//! handed to a tile only over the stretch where it crosses the tile's rectangle (the box only
-//! decides whether the tile is visited: the tile's tracer clips the stretch to its own solid,
-//! so a flat tile, whose box has no height, is met all the same). The tiles'
+//! handed to a tile only over the stretch where it crosses the tile's box (over a flat tile,
+//! whose box has no height, the stretch where it crosses the tile's rectangle: the tile's
+//! tracer clips it to its own solid, whose top a stretch of no length could miss). The tiles'
 //! solids are therefore columns that together make the untiled raster's solid when every tile
 //! is of level 0. Where a coarse tile meets a finer one, the two surfaces need not meet: the
 //! solids still do, as a vertical step at the rectangles' shared edge, whose face a ray that
@@ -30,9 +30,8 @@ use std::sync::Arc;
 /// One node of a frame's tile quadtree.
 #[derive(Debug)]
 enum Node {
-    /// A tile to trace: `bounds` is its box, `column` its rectangle from minus to plus
-    /// infinity (the stretch of a ray handed to its tracer).
-    Leaf { bounds: Aabb, column: Aabb, tile: Arc<LoadedTile> },
+    /// A tile to trace; `flat` when its box has no height.
+    Leaf { bounds: Aabb, flat: bool, tile: Arc<LoadedTile> },
     /// Children to visit (indices into the node list), in the order a ray meets them for each
     /// of the four sign classes of its direction's x and y ([`sign_class`]).
     Inner { bounds: Aabb, orders: [Vec<u32>; 4] },
@@ -125,11 +124,8 @@ impl TiledTerrain {
                 let top = tile.record.max as f64 * z_scale;
                 let bounds =
                     Aabb::new(DVec3::new(min[0], min[1], floor), DVec3::new(max[0], max[1], top));
-                let column = Aabb::new(
-                    DVec3::new(min[0], min[1], f64::NEG_INFINITY),
-                    DVec3::new(max[0], max[1], f64::INFINITY),
-                );
-                self.nodes.push(Node::Leaf { bounds, column, tile });
+                let flat = top <= floor;
+                self.nodes.push(Node::Leaf { bounds, flat, tile });
                 self.tiles += 1;
             }
             TreeNode::Inner(children) => {
@@ -166,23 +162,23 @@ impl TiledTerrain {
     /// The first hit under node `at`, or (with `any`) the first one found.
     fn trace(&self, at: u32, ray: &Ray, inv_dir: DVec3, any: bool, steps: &mut u32) -> Option<Hit> {
         let node = &self.nodes[at as usize];
-        node.bounds().clip_with_inverse(ray, inv_dir)?;
+        let clip = node.bounds().clip_with_inverse(ray, inv_dir)?;
         *steps += 1;
         match node {
-            Node::Leaf { tile, column, .. } => {
+            Node::Leaf { tile, flat, bounds } => {
                 let tracer = leaf_tracer(tile);
-                let span = column.clip_with_inverse(ray, inv_dir)?;
-                let part = Ray { t_min: span.t_enter, t_max: span.t_exit, ..*ray };
+                let clip = if *flat { over_rectangle(bounds, ray, inv_dir, clip) } else { clip };
+                let part = Ray { t_min: clip.t_enter, t_max: clip.t_exit, ..*ray };
                 if any {
                     let blocked = tracer.occluded_counted(&part, steps);
                     return blocked.then_some(Hit {
-                        t: span.t_enter,
+                        t: clip.t_enter,
                         position: ray.origin,
                         normal: DVec3::Z,
                     });
                 }
                 let hit = tracer.intersect_counted(&part, steps)?;
-                Some(entry_face_fixed(hit, &span, ray))
+                Some(entry_face_fixed(hit, &clip, ray))
             }
             Node::Inner { orders, .. } => orders[sign_class(ray.dir)]
                 .iter()
@@ -199,20 +195,22 @@ impl TiledTerrain {
             if batch.done[k as usize] {
                 continue;
             }
-            let (ray, inv_dir) = (&batch.rays[k as usize], batch.inv_dirs[k as usize]);
-            if let Some(clip) = node.bounds().clip_with_inverse(ray, inv_dir) {
+            let ray = &batch.rays[k as usize];
+            if let Some(clip) = node.bounds().clip_with_inverse(ray, batch.inv_dirs[k as usize]) {
                 batch.steps[k as usize] += 1;
-                // A leaf's tracer gets the stretch of the ray over the tile's rectangle.
-                let span = match node {
-                    Node::Leaf { column, .. } => column.clip_with_inverse(ray, inv_dir),
-                    Node::Inner { .. } => Some(clip),
-                };
-                entering.extend(span.map(|span| (k, span)));
+                entering.push((k, clip));
             }
         }
         if !entering.is_empty() {
             match node {
-                Node::Leaf { tile, .. } => {
+                Node::Leaf { tile, flat, bounds } => {
+                    if *flat {
+                        for (k, clip) in entering.iter_mut() {
+                            let k = *k as usize;
+                            *clip =
+                                over_rectangle(bounds, &batch.rays[k], batch.inv_dirs[k], *clip);
+                        }
+                    }
                     batch.trace_leaf(leaf_tracer(tile), &entering);
                 }
                 Node::Inner { orders, .. } => {
@@ -239,6 +237,16 @@ impl TiledTerrain {
             }
         }
     }
+}
+
+/// The stretch of `ray` over the rectangle of a flat tile's box `bounds`, which it crosses as
+/// `clip` (kept should rounding make the stretch empty).
+fn over_rectangle(bounds: &Aabb, ray: &Ray, inv_dir: DVec3, clip: Clip) -> Clip {
+    let column = Aabb::new(
+        DVec3::new(bounds.min.x, bounds.min.y, f64::NEG_INFINITY),
+        DVec3::new(bounds.max.x, bounds.max.y, f64::INFINITY),
+    );
+    column.clip_with_inverse(ray, inv_dir).unwrap_or(clip)
 }
 
 /// The tracer of a leaf (leaves are tiles with samples).
@@ -324,8 +332,7 @@ impl<'a> Batch<'a> {
         Batch { rays, inv_dirs, hits, done, steps, any, scratch: Scratch::default() }
     }
 
-    /// Traces the `entering` rays, each over the stretch where it crosses the tile's
-    /// rectangle.
+    /// Traces the `entering` rays, each over the stretch where it crosses the tile's box.
     fn trace_leaf(&mut self, tracer: &dyn Tracer, entering: &[(u32, Clip)]) {
         let s = &mut self.scratch;
         s.parts.clear();
@@ -360,9 +367,9 @@ impl<'a> Batch<'a> {
     }
 }
 
-/// A ray that enters the tile's rectangle (`clip`, its stretch over it) already in the
-/// solid hits the wall it crossed, where levels meet or at the raster's edge (the tile's
-/// tracer, which sees the ray start there, cannot tell).
+/// A ray that enters the tile's box already in the solid hits the face it crossed: a wall
+/// where levels meet or at the raster's edge, the floor, or a flat top at the tile's highest
+/// sample (the tile's tracer, which sees the ray start there, cannot tell which).
 fn entry_face_fixed(mut hit: Hit, clip: &Clip, ray: &Ray) -> Hit {
     if hit.t == clip.t_enter && clip.face != BoxFace::Inside {
         hit.normal = face_normal(clip.face, ray.dir);
