@@ -212,18 +212,19 @@ impl StoredSamples<'_> {
         floor: f32,
     ) -> Result<HeightField, relief_core::CoreError> {
         let (width, height) = (columns.len(), rows.len());
-        let window: Vec<f32> = rows
-            .clone()
-            .flat_map(|r| &self.samples[r * self.side + columns.start..r * self.side + columns.end])
-            .copied()
-            .collect();
+        let window = || {
+            let rows = rows.clone();
+            rows.flat_map(|r| {
+                &self.samples[r * self.side + columns.start..r * self.side + columns.end]
+            })
+        };
         let geometry = GridGeometry {
             origin: geometry.origin
                 + DVec2::new(columns.start as f64 * geometry.dx, rows.start as f64 * geometry.dy),
             ..geometry
         };
-        let holes = self.record.has_voids.then(|| window.iter().map(|v| v.is_nan()).collect());
-        let filled = window.iter().map(|&v| if v.is_nan() { self.record.min } else { v }).collect();
+        let holes = self.record.has_voids.then(|| window().map(|v| v.is_nan()).collect());
+        let filled = window().map(|&v| if v.is_nan() { self.record.min } else { v }).collect();
         let mut field = HeightField::new(width, height, filled, geometry)?;
         if let Some(holes) = holes {
             field = field.with_holes(holes)?;
