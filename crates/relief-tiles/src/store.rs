@@ -223,8 +223,13 @@ impl StoredSamples<'_> {
                 + DVec2::new(columns.start as f64 * geometry.dx, rows.start as f64 * geometry.dy),
             ..geometry
         };
-        let holes = self.record.has_voids.then(|| window().map(|v| v.is_nan()).collect());
-        let filled = window().map(|&v| if v.is_nan() { self.record.min } else { v }).collect();
+        let holes = self.record.has_voids.then(|| {
+            let mut holes = Vec::with_capacity(width * height);
+            holes.extend(window().map(|v| v.is_nan()));
+            holes
+        });
+        let mut filled = Vec::with_capacity(width * height);
+        filled.extend(window().map(|&v| if v.is_nan() { self.record.min } else { v }));
         let mut field = HeightField::new(width, height, filled, geometry)?;
         if let Some(holes) = holes {
             field = field.with_holes(holes)?;
