@@ -11,6 +11,7 @@
 //! `triangles` surface needs to reach across the tile's edges.
 
 use relief_core::{GridGeometry, Surface};
+use std::ops::Range;
 
 /// One tile of the pyramid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -184,6 +185,21 @@ impl PyramidLayout {
         (id.col as i64 * t - 1, id.row as i64 * t - 1)
     }
 
+    /// The stored samples of tile `id` that are samples of its level, as ranges of the stored
+    /// tile's columns and rows: every stored sample but the ring's repeats of the edge sample
+    /// beyond the level's edges.
+    pub fn stored_within_level(&self, id: TileId) -> (Range<usize>, Range<usize>) {
+        let (width, height) = self.level_size(id.level);
+        let (c0, r0) = self.stored_origin(id);
+        let side = self.stored_side() as i64;
+        let axis = |first: i64, size: u64| {
+            let lo = (-first).clamp(0, side);
+            let hi = (size as i64 - first).clamp(lo, side);
+            lo as usize..hi as usize
+        };
+        (axis(c0, width), axis(r0, height))
+    }
+
     /// The world rectangle tile `id` answers for: its footprint on level 0's texels, clipped to
     /// the raster, and for the `triangles` surface to the sample centres (from half a texel in
     /// from the raster's edges).
@@ -269,5 +285,16 @@ mod tests {
         let b = layout.rect(TileId { level: 1, col: 1, row: 0 }, &g, Surface::Boxes);
         assert_eq!((a.min, a.max[0]), ([10.0, 20.0], 10.0 + 256.0 * 2.0));
         assert_eq!(a.max[0], b.min[0]);
+    }
+
+    #[test]
+    fn the_ring_beyond_the_level_is_left_out_of_the_samples_within_it() {
+        let layout = PyramidLayout::new(20, 9, 8);
+        // Tile (0, 0) of level 0: its ring's first column and row lie before the raster.
+        assert_eq!(layout.stored_within_level(TileId { level: 0, col: 0, row: 0 }), (1..10, 1..10));
+        // Tile (2, 1): columns 15..=19 and rows 7..=8 of the raster.
+        assert_eq!(layout.stored_within_level(TileId { level: 0, col: 2, row: 1 }), (0..5, 0..2));
+        // Level 1 is 10 x 5 samples: tile (1, 0) holds its columns 7..=9 and rows 0..=4.
+        assert_eq!(layout.stored_within_level(TileId { level: 1, col: 1, row: 0 }), (0..3, 1..6));
     }
 }

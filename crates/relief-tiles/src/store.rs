@@ -9,8 +9,9 @@ use crate::layout::Rect;
 use crate::record_table::read_record_table;
 use crate::tile_tracer::{TileTracerFactory, TracedHeights};
 use crate::{PyramidLayout, TileError, TileId};
-use relief_core::{Aabb, DVec3, GridGeometry, HeightField, Precision, Surface};
+use relief_core::{Aabb, DVec2, DVec3, GridGeometry, HeightField, Precision, Surface};
 use std::fs::File;
+use std::ops::Range;
 use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -157,25 +158,83 @@ impl TileStore {
         let samples =
             read_slot(&self.data, &data_path, &self.layout, self.header.precision, id, &record)?;
         let side = self.layout.stored_side();
-        let geometry = self.layout.tile_geometry(id, &self.geometry());
         let invalid = |e: relief_core::CoreError| TileError::Corrupt {
             path: data_path.clone(),
             tile: id,
             reason: e.to_string(),
         };
-        let holes: Option<Vec<bool>> =
-            record.has_voids.then(|| samples.iter().map(|v| v.is_nan()).collect());
-        let filled: Vec<f32> =
-            samples.iter().map(|&v| if v.is_nan() { record.min } else { v }).collect();
-        let mut field = HeightField::new(side, side, filled, geometry).map_err(invalid)?;
-        if let Some(holes) = holes {
-            field = field.with_holes(holes).map_err(invalid)?;
-        }
-        let field = field.with_floor(self.floor).map_err(invalid)?;
-        let bytes = (side * side) as u64 * (4 + 2) + record.has_voids as u64 * (side * side) as u64;
-        let field = Arc::new(field);
-        let tracer = self.tile_tracers.make(field.clone(), surface);
+        let stored = StoredSamples { samples: &samples, side, record: &record };
+        let field_of = |columns: Range<usize>, rows: Range<usize>| {
+            let geometry = self.layout.tile_geometry(id, &self.geometry());
+            stored.field(columns, rows, geometry, self.floor).map(Arc::new).map_err(invalid)
+        };
+        let field = field_of(0..side, 0..side)?;
+        // The ring repeats the raster's edge samples beyond its edges. Beside a hole, the
+        // `triangles` surface would join the repeats into squares the raster does not have,
+        // with no wall where the raster has one: a level-0 tile with voids traces the raster's
+        // own samples only, so that its surface and walls are exactly the raster's. (Without
+        // voids, the squares of repeats lie outside the tile's rectangle, whose edge stands
+        // where the raster's wall does, so they change nothing. A coarser tile keeps the
+        // repeats: they carry its surface, whose samples lie further in, out to the edge of its
+        // rectangle.)
+        let (columns, rows) = self.layout.stored_within_level(id);
+        let mut bytes =
+            (side * side) as u64 * (4 + 2) + record.has_voids as u64 * (side * side) as u64;
+        let cut = (columns.len(), rows.len()) != (side, side);
+        let traced = match surface {
+            Surface::Triangles if id.level == 0 && record.has_voids && cut => {
+                let within = field_of(columns, rows)?;
+                bytes += (within.width() * within.height()) as u64 * (4 + 1);
+                within
+            }
+            _ => field.clone(),
+        };
+        let tracer = self.tile_tracers.make(traced, surface);
         Ok(LoadedTile { id, rect, record, heights: Some(TracedHeights { field, tracer }), bytes })
+    }
+}
+
+/// A stored tile's decoded samples (voids as NaN), `side` to a row, with its record.
+struct StoredSamples<'a> {
+    samples: &'a [f32],
+    side: usize,
+    record: &'a TileRecord,
+}
+
+impl StoredSamples<'_> {
+    /// The height field of the stored samples in `columns` x `rows` (`geometry` places the
+    /// whole stored tile), standing on `floor`: voids are holes.
+    fn field(
+        &self,
+        columns: Range<usize>,
+        rows: Range<usize>,
+        geometry: GridGeometry,
+        floor: f32,
+    ) -> Result<HeightField, relief_core::CoreError> {
+        let (width, height) = (columns.len(), rows.len());
+        let window = || {
+            let rows = rows.clone();
+            rows.flat_map(|r| {
+                &self.samples[r * self.side + columns.start..r * self.side + columns.end]
+            })
+        };
+        let geometry = GridGeometry {
+            origin: geometry.origin
+                + DVec2::new(columns.start as f64 * geometry.dx, rows.start as f64 * geometry.dy),
+            ..geometry
+        };
+        let holes = self.record.has_voids.then(|| {
+            let mut holes = Vec::with_capacity(width * height);
+            holes.extend(window().map(|v| v.is_nan()));
+            holes
+        });
+        let mut filled = Vec::with_capacity(width * height);
+        filled.extend(window().map(|&v| if v.is_nan() { self.record.min } else { v }));
+        let mut field = HeightField::new(width, height, filled, geometry)?;
+        if let Some(holes) = holes {
+            field = field.with_holes(holes)?;
+        }
+        field.with_floor(floor)
     }
 }
 

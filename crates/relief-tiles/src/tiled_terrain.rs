@@ -13,7 +13,9 @@
 //! in batches (the rays of a batch that cross the tile), so a tracer with packets keeps them.
 //!
 //! Each tile is a height field of its own standing on the whole raster's floor, and a ray is
-//! handed to a tile only over the stretch where it crosses the tile's rectangle. The tiles'
+//! handed to a tile only over the stretch where it crosses the tile's box (over a flat tile,
+//! whose box has no height, the stretch where it crosses the tile's rectangle: the tile's
+//! tracer clips it to its own solid, whose top a stretch of no length could miss). The tiles'
 //! solids are therefore columns that together make the untiled raster's solid when every tile
 //! is of level 0. Where a coarse tile meets a finer one, the two surfaces need not meet: the
 //! solids still do, as a vertical step at the rectangles' shared edge, whose face a ray that
@@ -28,8 +30,8 @@ use std::sync::Arc;
 /// One node of a frame's tile quadtree.
 #[derive(Debug)]
 enum Node {
-    /// A tile to trace.
-    Leaf { bounds: Aabb, tile: Arc<LoadedTile> },
+    /// A tile to trace; `flat` when its box has no height.
+    Leaf { bounds: Aabb, flat: bool, tile: Arc<LoadedTile> },
     /// Children to visit (indices into the node list), in the order a ray meets them for each
     /// of the four sign classes of its direction's x and y ([`sign_class`]).
     Inner { bounds: Aabb, orders: [Vec<u32>; 4] },
@@ -75,7 +77,8 @@ pub enum TreeNode {
 impl TiledTerrain {
     /// The terrain of `root`'s tiles on `surface`, over a solid from `floor` up (world z;
     /// `z_scale` turns the tiles' sample values into world z). Tiles of nothing but voids are
-    /// left out.
+    /// left out, and so are tiles whose rectangle has no area (those of a `triangles` surface
+    /// over a raster one sample wide or high, which has no squares).
     pub fn new(root: TreeNode, surface: Surface, floor: f64, z_scale: f64) -> Self {
         let mut terrain = TiledTerrain { surface, nodes: Vec::new(), tiles: 0 };
         terrain.add(root, floor, z_scale);
@@ -97,7 +100,7 @@ impl TiledTerrain {
         let mut at = 0usize;
         loop {
             match self.nodes.get(at)? {
-                Node::Leaf { tile, bounds } => {
+                Node::Leaf { tile, bounds, .. } => {
                     return inside(bounds).then(|| tile_slope(tile, x, y)).flatten();
                 }
                 Node::Inner { orders, .. } => {
@@ -114,12 +117,15 @@ impl TiledTerrain {
         match node {
             TreeNode::Tile(tile) => {
                 tile.heights.as_ref()?;
+                let (min, max) = (tile.rect.min, tile.rect.max);
+                if !(min[0] < max[0] && min[1] < max[1]) {
+                    return None;
+                }
                 let top = tile.record.max as f64 * z_scale;
-                let bounds = Aabb::new(
-                    DVec3::new(tile.rect.min[0], tile.rect.min[1], floor),
-                    DVec3::new(tile.rect.max[0], tile.rect.max[1], top),
-                );
-                self.nodes.push(Node::Leaf { bounds, tile });
+                let bounds =
+                    Aabb::new(DVec3::new(min[0], min[1], floor), DVec3::new(max[0], max[1], top));
+                let flat = top <= floor;
+                self.nodes.push(Node::Leaf { bounds, flat, tile });
                 self.tiles += 1;
             }
             TreeNode::Inner(children) => {
@@ -159,8 +165,9 @@ impl TiledTerrain {
         let clip = node.bounds().clip_with_inverse(ray, inv_dir)?;
         *steps += 1;
         match node {
-            Node::Leaf { tile, .. } => {
+            Node::Leaf { tile, flat, bounds } => {
                 let tracer = leaf_tracer(tile);
+                let clip = if *flat { over_rectangle(bounds, ray, inv_dir, clip) } else { clip };
                 let part = Ray { t_min: clip.t_enter, t_max: clip.t_exit, ..*ray };
                 if any {
                     let blocked = tracer.occluded_counted(&part, steps);
@@ -196,7 +203,14 @@ impl TiledTerrain {
         }
         if !entering.is_empty() {
             match node {
-                Node::Leaf { tile, .. } => {
+                Node::Leaf { tile, flat, bounds } => {
+                    if *flat {
+                        for (k, clip) in entering.iter_mut() {
+                            let k = *k as usize;
+                            *clip =
+                                over_rectangle(bounds, &batch.rays[k], batch.inv_dirs[k], *clip);
+                        }
+                    }
                     batch.trace_leaf(leaf_tracer(tile), &entering);
                 }
                 Node::Inner { orders, .. } => {
@@ -223,6 +237,16 @@ impl TiledTerrain {
             }
         }
     }
+}
+
+/// The stretch of `ray` over the rectangle of a flat tile's box `bounds`, which it crosses as
+/// `clip` (kept should rounding make the stretch empty).
+fn over_rectangle(bounds: &Aabb, ray: &Ray, inv_dir: DVec3, clip: Clip) -> Clip {
+    let column = Aabb::new(
+        DVec3::new(bounds.min.x, bounds.min.y, f64::NEG_INFINITY),
+        DVec3::new(bounds.max.x, bounds.max.y, f64::INFINITY),
+    );
+    column.clip_with_inverse(ray, inv_dir).unwrap_or(clip)
 }
 
 /// The tracer of a leaf (leaves are tiles with samples).
