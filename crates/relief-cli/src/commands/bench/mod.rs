@@ -3,7 +3,7 @@
 //! For every view, surface and tracer it prints the acceleration-structure build time, primary and
 //! shadow rays per second, mean and maximum traversal steps per ray and the process's peak memory
 //! so far. Over the triangles surface of a field without holes, shadow rays go through the sun's
-//! shadow sweep ([`SunShadows`]) first, unless `--no-shadow-sweep`: its build time and the share of
+//! shadow sweep ([`relief_trace::SunShadows`]) first, unless `--no-shadow-sweep`: its build time and the share of
 //! shadow rays it decides without tracing are reported apart (elsewhere the sweep does not pay, and
 //! is not built). Every view is traced `--repeat` times and the fastest run is reported.
 //! Measurements, not assertions: run it on an otherwise idle machine.

@@ -1,5 +1,5 @@
 //! `relief view`: the interactive viewer (relief-viewer) over any scene `relief render`
-//! takes (a tile store too), drawn by the live scenes of [`crate::live`] (an MLHM scene's
+//! takes (a tile store too), drawn by the live scenes of [`relief_viewer::live`] (an MLHM scene's
 //! erosion simulation run, paused and stepped from the viewer).
 
 pub mod args;
