@@ -119,21 +119,35 @@ pub(crate) fn check_layout<R: Read + Seek>(
             "photometric interpretation {photometric:?}; relief reads BlackIsZero (1)"
         )));
     }
-    let compression = decoder
+    let compression = read_compression(decoder, true, |other, code| {
+        format!(
+            "compression {other:?} (TIFF code {code}); relief reads uncompressed, LZW, Deflate, \
+             ZSTD and PackBits"
+        )
+    })?;
+    Ok((sample_type, compression, usize::from(bands)))
+}
+
+/// The Compression tag's code (1, none, when absent), refused with `refusal(method, code)`'s
+/// message unless it is one the decoder reads: none, LZW, Deflate, PackBits, and ZSTD where
+/// `zstd` says so.
+pub(crate) fn read_compression<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+    zstd: bool,
+    refusal: impl FnOnce(CompressionMethod, u16) -> String,
+) -> Result<u16, FormatError> {
+    let code = decoder
         .find_tag_unsigned::<u16>(Tag::Compression)
         .map_err(tag_error("Compression"))?
         .unwrap_or(1);
-    match CompressionMethod::from_u16_exhaustive(compression) {
+    match CompressionMethod::from_u16_exhaustive(code) {
         CompressionMethod::None
         | CompressionMethod::LZW
         | CompressionMethod::Deflate
         | CompressionMethod::OldDeflate
-        | CompressionMethod::PackBits
-        | CompressionMethod::ZSTD => Ok((sample_type, compression, usize::from(bands))),
-        other => Err(FormatError::Unsupported(format!(
-            "compression {other:?} (TIFF code {compression}); relief reads uncompressed, \
-                 LZW, Deflate, ZSTD and PackBits"
-        ))),
+        | CompressionMethod::PackBits => Ok(code),
+        CompressionMethod::ZSTD if zstd => Ok(code),
+        other => Err(FormatError::Unsupported(refusal(other, code))),
     }
 }
 

@@ -3,7 +3,7 @@
 //! that a photo far larger than memory can be tiled.
 
 use crate::format_error::FormatError;
-use crate::geotiff::tags::{read_placement, tag_error, tiff_error};
+use crate::geotiff::tags::{read_compression, read_placement, tag_error, tiff_error};
 use crate::input_file::open_input;
 use crate::png::decoding_error::png_decoding_error;
 use crate::{Georeference, IoError};
@@ -12,7 +12,7 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
 use tiff::decoder::{ChunkType, Decoder, DecodingResult};
-use tiff::tags::{CompressionMethod, Tag};
+use tiff::tags::Tag;
 use tiff::ColorType as TiffColour;
 
 /// The largest inflation deflate allows (about 1032:1) times the largest growth of a pixel
@@ -223,24 +223,13 @@ impl TiffOrtho {
                     .into(),
             ));
         }
-        let compression = decoder
-            .find_tag_unsigned::<u16>(Tag::Compression)
-            .map_err(tag_error("Compression"))?
-            .unwrap_or(1);
-        match CompressionMethod::from_u16_exhaustive(compression) {
-            CompressionMethod::None
-            | CompressionMethod::LZW
-            | CompressionMethod::Deflate
-            | CompressionMethod::OldDeflate
-            | CompressionMethod::PackBits => {}
-            other => {
-                return Err(FormatError::Unsupported(format!(
-                    "{other:?} compression (TIFF code {compression}) of an ortho photo; \
-                         relief reads uncompressed, LZW, Deflate and PackBits (convert with \
-                         gdal_translate -co COMPRESS=DEFLATE)"
-                )))
-            }
-        }
+        read_compression(&mut decoder, false, |other, code| {
+            format!(
+                "{other:?} compression (TIFF code {code}) of an ortho photo; relief reads \
+                 uncompressed, LZW, Deflate and PackBits (convert with gdal_translate -co \
+                 COMPRESS=DEFLATE)"
+            )
+        })?;
         let (placement, tags) = read_placement(&mut decoder, width as usize, height as usize)?;
         let georeference =
             if placement.georeferenced { Georeference::from_geotiff_tags(tags) } else { None };
