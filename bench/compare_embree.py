@@ -17,6 +17,13 @@ For each terrain size this script
 Both sides trace every view --repeat times and report the fastest run: relief bench into one
 G-buffer allocated beforehand, Embree through repeated cast_rays / test_occlusions calls.
 
+With --native (the default; skipped when libembree-dev does not install) it then sets native
+Embree 3 with packets of 16 beside relief on the same premade rays, alternating runs, and
+relief's shading of Embree's hits beside the whole `relief render` (bench/native_anchor.py),
+and prints those tables in markdown:
+
+    python3 bench/compare_embree.py --sizes 4096 --res 1920x1080 --tracers mipmap --native
+
 Not part of the tests. Needs the Debian packages libusb-1.0-0 and libgomp1 and the PyPI
 packages open3d, plotly, dash and numpy:
 
@@ -37,6 +44,8 @@ import tempfile
 import time
 
 import numpy as np
+
+import native_anchor
 
 
 def run_child(cmd):
@@ -126,6 +135,12 @@ def main():
     parser.add_argument("--tracers", default="mipmap",
                         help="relief tracers, comma-separated (mipmap, naive, cyl_all+cone_all, ...)")
     parser.add_argument("--repeat", type=int, default=3, help="runs per view; the fastest counts")
+    parser.add_argument("--native", action=argparse.BooleanOptionalAction, default=True,
+                        help="also native Embree (packets of 16) and relief on the same premade rays "
+                             "(bench/native_anchor.py); skipped when libembree-dev does not install")
+    parser.add_argument("--runs", type=int, default=5,
+                        help="native comparison: alternating runs per side; the median counts")
+    parser.add_argument("--threads", type=int, default=2, help="native comparison: threads of each side")
     args = parser.parse_args()
     import open3d as o3d  # imported late so --help works without it
 
@@ -134,6 +149,7 @@ def main():
     width, height = (int(v) for v in args.res.lower().split("x"))
     print(f"relief vs Embree (Open3D {o3d.__version__}), {args.res}, threads: {os.cpu_count()}, work: {work}")
     rows = []
+    natives = {}
     for n in args.sizes:
         terrain = os.path.join(work, f"fbm-{n}.npy")
         run_child([args.relief, "generate", "fbm", "--size", str(n), "--seed", "1", "-o", terrain])
@@ -156,6 +172,8 @@ def main():
         embree_build = time.perf_counter() - started
         del vertices
         embree_views = {}
+        native_views = {}
+        order = native_anchor.tile_order(width, height) if args.native else None
         for r in relief:
             if r["view"] in embree_views:
                 continue
@@ -184,6 +202,13 @@ def main():
                 shadow_s = min(shadow_s, time.perf_counter() - started)
             embree_views[r["view"]] = (t_hit, hit, len(rays) / primary_s / 1e6,
                                        len(shadow) / shadow_s / 1e6)
+            if args.native:
+                primary_path, shadow_path = native_anchor.write_view_rays(
+                    work, r["view"], eye, dirs, t_hit, hit, origins, sun, order)
+                depth_name = f"{r['view']}-triangles-{r['tracer']}.npy"
+                native_views[r["view"]] = {
+                    "primary": primary_path, "shadow": shadow_path, "order": order,
+                    "relief_bench_depth": np.load(os.path.join(depth_dir, depth_name)).ravel()}
         embree_peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
         for r in relief:
             t_hit, hit, embree_primary, embree_shadow = embree_views[r["view"]]
@@ -206,6 +231,11 @@ def main():
                 "differ_fraction": differ.mean(),
             })
         del scene
+        if args.native:
+            native = native_anchor.native_comparison(
+                args, work, terrain, h, native_views, width, height, solid_triangles)
+            if native is not None:
+                natives[n] = native
 
     header = ("size", "view", "tracer", "hit %", "build s E/r", "ratio", "primary Mr/s E/r", "ratio",
               "shadow Mr/s E/r", "ratio", "peak MiB E/r", "ratio", "depth differs")
@@ -221,8 +251,10 @@ def main():
             f"{x['embree_peak_mib'] / x['relief_render_peak_mib']:.1f}x",
             f"{x['differ_fraction']:.2e}",
         ]))
+    for n, native in natives.items():
+        native_anchor.print_native_tables(n, native, rows, width, height)
     with open(os.path.join(work, "results.json"), "w") as f:
-        json.dump(rows, f, indent=1)
+        json.dump({"open3d": rows, "native": natives}, f, indent=1)
 
 
 if __name__ == "__main__":

@@ -35,7 +35,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <time.h>
 
 /* Packets are 16 rays; each OpenMP thread takes this many packets (256 rays) at a time,
@@ -54,10 +53,16 @@ static double now_seconds(void) {
     return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
+/* The peak resident set so far, in MiB, from /proc (getrusage's ru_maxrss would count the
+ * pages of the Python process that forked this one); 0 where unknown. */
 static double peak_rss_mib(void) {
-    struct rusage usage;
-    getrusage(RUSAGE_SELF, &usage);
-    return usage.ru_maxrss / 1024.0;
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    double kib = 0.0;
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "VmHWM: %lf kB", &kib) == 1) break;
+    if (f) fclose(f);
+    return kib / 1024.0;
 }
 
 /* The whole file at path, its size in bytes into *size. */

@@ -44,7 +44,9 @@ fn spread(mut times: Vec<f64>) -> String {
 fn main() -> Result<()> {
     let args = args::program_args();
     let [terrain, view, size, distance, normal, runs, png] = &args[..] else {
-        bail!("usage: shade_hits TERRAIN.npy VIEW WIDTHxHEIGHT DISTANCE.f32 NORMAL.f32 RUNS OUT.png");
+        bail!(
+            "usage: shade_hits TERRAIN.npy VIEW WIDTHxHEIGHT DISTANCE.f32 NORMAL.f32 RUNS OUT.png"
+        );
     };
     let (width, height) = size.split_once('x').context("size as WIDTHxHEIGHT")?;
     let (width, height): (u32, u32) = (width.parse()?, height.parse()?);

@@ -127,9 +127,7 @@ fn run(tracer: &MipmapTracer, pool: &rayon::ThreadPool, line: &str) -> Result<()
     pool.install(|| trace(tracer, kind, &rays, &mut out));
     let seconds = started.elapsed().as_secs_f64();
     let (name, found_key, found) = match kind {
-        Kind::Primary => {
-            ("primary", "hits", out.distance.iter().filter(|d| d.is_finite()).count())
-        }
+        Kind::Primary => ("primary", "hits", out.distance.iter().filter(|d| d.is_finite()).count()),
         Kind::Shadow => ("shadow", "blocked", out.occluded.iter().filter(|&&o| o != 0).count()),
     };
     println!(
