@@ -19,8 +19,9 @@
  * (+inf for a miss) and unit geometric normal facing the ray (zeros for a miss), or each
  * shadow ray's occlusion (1 blocked, 0 free), into those buffers. When OUT is not "-", they
  * are written after the run to OUT.distance.f32 and OUT.normal.f32 (3 floats a ray) or
- * OUT.occluded.u8. Each command prints one JSON line: kind, rays, seconds, Mrays/s, hits
- * (or blocked rays) and the peak resident set so far; the build prints one line first.
+ * OUT.occluded.u8. Each command prints one JSON line: kind, rays, wall seconds, CPU seconds of
+ * all threads, Mrays/s, hits (or blocked rays) and the peak resident set so far; the build
+ * prints one line first.
  *
  * By hand (Debian: apt-get install -y libembree-dev):
  *
@@ -49,11 +50,17 @@ static void fail(const char *what, const char *detail) {
     exit(1);
 }
 
-static double now_seconds(void) {
+static double clock_seconds(clockid_t clock) {
     struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
+    clock_gettime(clock, &t);
     return t.tv_sec + 1e-9 * t.tv_nsec;
 }
+
+static double now_seconds(void) { return clock_seconds(CLOCK_MONOTONIC); }
+
+/* CPU seconds all threads of this process have run: on a loaded machine, rays per CPU
+ * second times the thread count estimates the rate the threads would reach alone. */
+static double cpu_seconds(void) { return clock_seconds(CLOCK_PROCESS_CPUTIME_ID); }
 
 /* The peak resident set so far, in MiB, from /proc (getrusage's ru_maxrss would count the
  * pages of the Python process that forked this one); 0 where unknown. */
@@ -229,6 +236,7 @@ static void run(RTCScene scene, struct ThreadBuffers *buffers, int threads, cons
         out.normal = aligned(3 * n * sizeof(float));
     }
     size_t packets = (n + PACKET - 1) / PACKET;
+    double cpu_started = cpu_seconds();
     double started = now_seconds();
 #pragma omp parallel num_threads(threads)
     {
@@ -245,11 +253,12 @@ static void run(RTCScene scene, struct ThreadBuffers *buffers, int threads, cons
         }
     }
     double seconds = now_seconds() - started;
+    double cpu = cpu_seconds() - cpu_started;
     size_t found = 0;
     for (size_t i = 0; i < n; i++) found += k == 's' ? out.occluded[i] : isfinite(out.distance[i]);
-    printf("{\"kind\": \"%s\", \"rays\": %zu, \"seconds\": %.6f, \"mrays_s\": %.3f, "
-           "\"%s\": %zu, \"peak_mib\": %.1f}\n",
-           kind, n, seconds, n / seconds / 1e6, k == 's' ? "blocked" : "hits", found,
+    printf("{\"kind\": \"%s\", \"rays\": %zu, \"seconds\": %.6f, \"cpu_seconds\": %.6f, "
+           "\"mrays_s\": %.3f, \"%s\": %zu, \"peak_mib\": %.1f}\n",
+           kind, n, seconds, cpu, n / seconds / 1e6, k == 's' ? "blocked" : "hits", found,
            peak_rss_mib());
     fflush(stdout);
     if (strcmp(out_prefix, "-") != 0) {

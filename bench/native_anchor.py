@@ -107,13 +107,16 @@ class LineProgram:
         self.proc.wait()
 
 
-def summary(runs):
-    """Median and spread of a list of runs' JSON lines."""
+def summary(runs, threads):
+    """Median and spread of a list of runs' JSON lines; cpu_mrays is the rate from the median
+    CPU seconds of all threads, as if the threads had the cores to themselves."""
     rays = runs[0]["rays"]
     rates = sorted(rays / r["seconds"] / 1e6 for r in runs)
     seconds = sorted(r["seconds"] for r in runs)
+    cpu = sorted(r["cpu_seconds"] for r in runs)
     return {"rays": rays, "mrays": rates[len(rates) // 2], "min": rates[0], "max": rates[-1],
-            "median_s": seconds[len(seconds) // 2], "runs": len(runs)}
+            "median_s": seconds[len(seconds) // 2], "runs": len(runs),
+            "cpu_mrays": rays * threads / cpu[len(cpu) // 2] / 1e6}
 
 
 def read_tile_ordered(path, order, dtype=np.float32, width=1):
@@ -199,7 +202,7 @@ def native_comparison(args, work, terrain, h, views, width, height, solid_triang
         normal_path = os.path.join(folder, f"{view}-embree-rows.normal.f32")
         embree_depth.astype(np.float32).tofile(distance_path)
         normals.astype(np.float32).tofile(normal_path)
-        row = {kind: summary(r) for kind, r in runs.items()}
+        row = {kind: summary(r, args.threads) for kind, r in runs.items()}
         row["embree_vs_relief_bench_differ"] = depth_differs(embree_depth, v["relief_bench_depth"])
         row["embree_vs_relief_premade_differ"] = depth_differs(embree_depth, relief_depth)
         row["shadow_blocked_differ"] = float(
@@ -245,6 +248,16 @@ def print_native_tables(n, native, open3d_rows, width, height):
               f"| {o['relief_shadow'] / e16s:.2f}x, {rs / e16s:.2f}x, {o['relief_shadow'] / o['embree_shadow']:.2f}x "
               f"| {v['embree_vs_relief_bench_differ']:.2e}, {v['embree_vs_relief_premade_differ']:.2e} "
               f"| {v['shadow_blocked_differ']:.2e} |")
+    print("\nThe same runs as rays per CPU second of all threads, times the thread count (what the "
+          "threads would reach with the cores to themselves; less sensitive to other load):\n")
+    print("| view | Embree16 primary | Embree16 shadow | Embree1 primary | relief premade primary "
+          "| relief premade shadow | primary relief / E16 | shadow relief / E16 |")
+    print("|---|---|---|---|---|---|---|---|")
+    for view, v in native["views"].items():
+        c = {kind: v[kind]["cpu_mrays"] for kind in v if isinstance(v[kind], dict) and "cpu_mrays" in v[kind]}
+        print(f"| {view} | {c['embree primary']:.1f} | {c['embree shadow']:.1f} | {c['embree single']:.1f} "
+              f"| {c['relief primary']:.1f} | {c['relief shadow']:.1f} "
+              f"| {c['relief primary'] / c['embree primary']:.2f}x | {c['relief shadow'] / c['embree shadow']:.2f}x |")
     first = next(iter(native["views"].values()))
     o = next(iter(by_view.values()))
     print("\n| | Open3D | native Embree16 | relief (bench) | relief (premade rays) |")
