@@ -23,6 +23,7 @@ its headers are missing. Nothing here is a dependency of relief.
 
 import json
 import os
+import resource
 import subprocess
 import sys
 import time
@@ -137,13 +138,19 @@ def depth_differs(a, b):
     return float(((np.isfinite(a) != np.isfinite(b)) | (both & far)).mean())
 
 
+def children_cpu_seconds():
+    """User and system seconds of the finished children of this process."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def timed_wall(cmd):
-    """Seconds cmd takes, wall clock; exits on failure."""
-    started = time.perf_counter()
+    """Wall and CPU seconds cmd takes; exits on failure."""
+    cpu_started, started = children_cpu_seconds(), time.perf_counter()
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed:\n{proc.stderr}")
-    return time.perf_counter() - started
+    return time.perf_counter() - started, children_cpu_seconds() - cpu_started
 
 
 def median(values):
@@ -153,15 +160,18 @@ def median(values):
 def whole_render(relief, terrain, width, height, runs, folder):
     """`relief render --no-shadows` at 192x108 and width x height, alternately, runs times
     each: medians and the rate of the rays beyond the small render."""
-    small, large = [], []
+    times = {"192x108": [], f"{width}x{height}": []}
     png = os.path.join(folder, "render.png")
     for _ in range(runs):
-        for size, times in (("192x108", small), (f"{width}x{height}", large)):
-            times.append(timed_wall([relief, "render", terrain, "--size", size, "--no-shadows", "-o", png]))
-    beyond = median(large) - median(small)
-    return {"small_s": median(small), "large_s": median(large), "beyond_s": beyond,
-            "mrays": (width * height - 192 * 108) / beyond / 1e6,
-            "large_spread": (min(large), max(large)), "small_spread": (min(small), max(small))}
+        for size, runs_of_size in times.items():
+            runs_of_size.append(timed_wall([relief, "render", terrain, "--size", size, "--no-shadows", "-o", png]))
+    small, large = times.values()
+    beyond = median([t for t, _ in large]) - median([t for t, _ in small])
+    cpu_beyond = median([c for _, c in large]) - median([c for _, c in small])
+    pixels = width * height - 192 * 108
+    return {"small_s": median([t for t, _ in small]), "large_s": median([t for t, _ in large]),
+            "beyond_s": beyond, "mrays": pixels / beyond / 1e6, "cpu_beyond_s": cpu_beyond,
+            "large_spread": (min(large)[0], max(large)[0]), "small_spread": (min(small)[0], max(small)[0])}
 
 
 def native_comparison(args, work, terrain, h, views, width, height, solid_triangles):
@@ -181,7 +191,8 @@ def native_comparison(args, work, terrain, h, views, width, height, solid_triang
     embree = LineProgram([binary, vertices_path, triangles_path, threads])
     relief = LineProgram(["cargo", "bench", "-q", "-p", "relief-bench", "--bench", "trace_rays", "--",
                           terrain, threads])
-    results = {"embree_build_s": embree.started["seconds"], "relief_build_s": relief.started["seconds"],
+    results = {"threads": args.threads,
+               "embree_build_s": embree.started["seconds"], "relief_build_s": relief.started["seconds"],
                "embree_version": embree.started["embree"], "views": {}}
     for view, v in views.items():
         runs = {"relief primary": [], "embree primary": [], "relief shadow": [], "embree shadow": [],
@@ -278,3 +289,15 @@ def print_native_tables(n, native, open3d_rows, width, height):
         rate = v["embree primary"]["rays"] / (cast + shade + png) / 1e6
         print(f"| {view} | {cast:.3f} | {shade:.3f} | {png:.3f} | {rate:.1f} | {w['mrays'] / rate:.2f}x "
               f"| {w['mrays'] / by_view[view]['embree_primary']:.2f}x |")
+    threads = native["threads"]
+    relief_cpu_rate = (width * height - 192 * 108) * threads / w["cpu_beyond_s"] / 1e6
+    print(f"\nPer CPU second of all threads times {threads}: `relief render` beyond 192x108 "
+          f"{w['cpu_beyond_s']:.3f} CPU s, {relief_cpu_rate:.1f} Mrays/s\n")
+    print("| view | Embree16 cast CPU s | shading CPU s | PNG CPU s | Embree16 + shading Mr/s "
+          "| relief render / (Embree16 + shading) |")
+    print("|---|---|---|---|---|---|")
+    for view, v in native["views"].items():
+        cast = v["embree primary"]["rays"] * threads / v["embree primary"]["cpu_mrays"] / 1e6
+        shade, png = v["shade"]["shade"]["cpu_median_s"], v["shade"]["png"]["cpu_median_s"]
+        rate = v["embree primary"]["rays"] * threads / (cast + shade + png) / 1e6
+        print(f"| {view} | {cast:.3f} | {shade:.3f} | {png:.3f} | {rate:.1f} | {relief_cpu_rate / rate:.2f}x |")

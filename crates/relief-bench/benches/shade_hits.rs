@@ -11,7 +11,8 @@
 //!   the terrain's bounds, sun at 315, 35 degrees, exposure 1), without shadows;
 //! - `png`: writing that picture as `relief render` writes its PNG (fast compression);
 //!
-//! and prints one JSON line with each stage's median, fastest and slowest seconds.
+//! and prints one JSON line with each stage's median, fastest and slowest wall seconds and
+//! median CPU seconds of all threads.
 //!
 //! ```sh
 //! cargo bench -p relief-bench --bench shade_hits -- \
@@ -30,15 +31,41 @@ use std::time::Instant;
 
 #[path = "common/args.rs"]
 mod args;
+#[path = "common/process_clock.rs"]
+mod process_clock;
 #[path = "common/raw_files.rs"]
 mod raw_files;
 
-/// Median, fastest and slowest of `times`, as a JSON object.
-fn spread(mut times: Vec<f64>) -> String {
-    times.sort_by(f64::total_cmp);
-    let median = times[times.len() / 2];
-    let (min, max) = (times[0], times[times.len() - 1]);
-    format!("{{\"median_s\": {median:.6}, \"min_s\": {min:.6}, \"max_s\": {max:.6}}}")
+/// The wall and CPU seconds (all threads) of each run of a stage.
+#[derive(Default)]
+struct StageTimes {
+    wall: Vec<f64>,
+    cpu: Vec<f64>,
+}
+
+impl StageTimes {
+    /// Runs `stage` once, recording its times.
+    fn time<T>(&mut self, stage: impl FnOnce() -> Result<T>) -> Result<T> {
+        let (cpu_started, started) = (process_clock::cpu_seconds(), Instant::now());
+        let value = stage()?;
+        self.wall.push(started.elapsed().as_secs_f64());
+        self.cpu.push(process_clock::cpu_seconds() - cpu_started);
+        Ok(value)
+    }
+
+    /// Median, fastest and slowest wall seconds and the median CPU seconds, as JSON.
+    fn json(mut self) -> String {
+        self.wall.sort_by(f64::total_cmp);
+        self.cpu.sort_by(f64::total_cmp);
+        let (wall, cpu) = (&self.wall, &self.cpu);
+        format!(
+            "{{\"median_s\": {:.6}, \"min_s\": {:.6}, \"max_s\": {:.6}, \"cpu_median_s\": {:.6}}}",
+            wall[wall.len() / 2],
+            wall[0],
+            wall[wall.len() - 1],
+            cpu[cpu.len() / 2]
+        )
+    }
 }
 
 fn main() -> Result<()> {
@@ -74,21 +101,20 @@ fn main() -> Result<()> {
         *pixel = [n[0], n[1], n[2]];
     }
 
-    let (mut shade_times, mut png_times) = (Vec::new(), Vec::new());
+    let (mut shade_times, mut png_times) = (StageTimes::default(), StageTimes::default());
     for _ in 0..runs {
-        let started = Instant::now();
-        let (rgb, _) = shade_to_srgb8(&gbuffer, &NoOccluders, &camera, &params)?;
-        shade_times.push(started.elapsed().as_secs_f64());
-        let started = Instant::now();
-        relief_io::write_png_rgb8(Path::new(png), width, height, rgb.as_flattened())?;
-        png_times.push(started.elapsed().as_secs_f64());
+        let shaded = || Ok(shade_to_srgb8(&gbuffer, &NoOccluders, &camera, &params)?.0);
+        let rgb = shade_times.time(shaded)?;
+        let written =
+            || Ok(relief_io::write_png_rgb8(Path::new(png), width, height, rgb.as_flattened())?);
+        png_times.time(written)?;
     }
     println!(
         "{{\"view\": \"{view}\", \"pixels\": {}, \"threads\": {}, \"shade\": {}, \"png\": {}}}",
         gbuffer.len(),
         rayon::current_num_threads(),
-        spread(shade_times),
-        spread(png_times)
+        shade_times.json(),
+        png_times.json()
     );
     Ok(())
 }

@@ -36,6 +36,8 @@ use std::time::Instant;
 
 #[path = "common/args.rs"]
 mod args;
+#[path = "common/process_clock.rs"]
+mod process_clock;
 #[path = "common/raw_files.rs"]
 mod raw_files;
 
@@ -98,18 +100,6 @@ fn trace(tracer: &MipmapTracer, kind: Kind, rays: &[Ray], out: &mut Outputs) {
     );
 }
 
-/// CPU seconds all threads of this process have run (from /proc, in nanoseconds): on a loaded
-/// machine, rays per CPU second times the thread count estimates the rate the threads would
-/// reach alone.
-fn cpu_seconds() -> f64 {
-    let tasks = std::fs::read_dir("/proc/self/task").into_iter().flatten().flatten();
-    let on_cpu_ns = |task: std::fs::DirEntry| -> Option<u64> {
-        let stat = std::fs::read_to_string(task.path().join("schedstat")).ok()?;
-        stat.split_whitespace().next()?.parse().ok()
-    };
-    tasks.filter_map(on_cpu_ns).sum::<u64>() as f64 * 1e-9
-}
-
 /// The peak resident set of this process so far, in MiB (from /proc; 0 where unknown).
 fn peak_rss_mib() -> f64 {
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
@@ -136,11 +126,11 @@ fn run(tracer: &MipmapTracer, pool: &rayon::ThreadPool, line: &str) -> Result<()
         normal: vec![[0.0; 3]; if kind == Kind::Primary { n } else { 0 }],
         occluded: vec![0; if kind == Kind::Shadow { n } else { 0 }],
     };
-    let cpu_started = cpu_seconds();
+    let cpu_started = process_clock::cpu_seconds();
     let started = Instant::now();
     pool.install(|| trace(tracer, kind, &rays, &mut out));
     let seconds = started.elapsed().as_secs_f64();
-    let cpu = cpu_seconds() - cpu_started;
+    let cpu = process_clock::cpu_seconds() - cpu_started;
     let (name, found_key, found) = match kind {
         Kind::Primary => ("primary", "hits", out.distance.iter().filter(|d| d.is_finite()).count()),
         Kind::Shadow => ("shadow", "blocked", out.occluded.iter().filter(|&&o| o != 0).count()),
