@@ -5,14 +5,17 @@
 /// nearest integer.
 const ROUNDING_MAGIC: f32 = 12_582_912.0;
 
-/// `ln 2` split in two: the high part has few enough bits that `k * LN2_HIGH` is exact.
-const LN2_HIGH: f32 = 0.693_145_751_953_125;
-/// The rest of `ln 2`.
-const LN2_LOW: f32 = 1.428_606_765_330_187e-6;
+/// `ln 2` split in two: the high part (0.693145751953125) has few enough bits that
+/// `k * LN2_HIGH` is exact.
+const LN2_HIGH: f32 = f32::from_bits(0x3F31_7200);
+/// The rest of `ln 2` (1.4286068e-6).
+const LN2_LOW: f32 = f32::from_bits(0x35BF_BE8E);
 
 /// `e^x` for `x <= 0`, within a few `f32` ulps (relative error below 5e-7); `x` is clamped to
 /// `[-87, 0]` (NaN taken as -87), so the result lies in `[1.6e-38, 1]` and `e^0` is exactly 1.
 #[inline(always)]
+// Not `clamp`, which keeps a NaN: `max` takes -87 for it.
+#[allow(clippy::manual_clamp)]
 pub(crate) fn exp_non_positive(x: f32) -> f32 {
     let x = x.max(-87.0).min(0.0);
     let k = (x * std::f32::consts::LOG2_E + ROUNDING_MAGIC) - ROUNDING_MAGIC;

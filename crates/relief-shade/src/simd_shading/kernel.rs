@@ -142,8 +142,8 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
         }
         let z = dir[2][l];
         let rise = if z > 0.0 { z.min(1.0).sqrt() } else { 0.0 };
-        for ch in 0..3 {
-            sky[ch][l] = c.horizon[ch] + (c.zenith[ch] - c.horizon[ch]) * rise;
+        for (ch, sky) in sky.iter_mut().enumerate() {
+            sky[l] = c.horizon[ch] + (c.zenith[ch] - c.horizon[ch]) * rise;
         }
     }
     let albedo = albedo_lanes(c, p, &dir, &unit_normal);
@@ -158,7 +158,7 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
         };
         let lit = n_l > 0.0 && p.visibility[l] > 0.0;
         let sun = if lit { c.irradiance * n_l * p.visibility[l] } else { 0.0 };
-        let sky_light = 0.5 + 0.5 * n[2].max(-1.0).min(1.0);
+        let sky_light = 0.5 + 0.5 * n[2].clamp(-1.0, 1.0);
         let distance = p.distance[l];
         let transmittance = exp_non_positive(-c.fog_density * distance);
         let hit = distance < f32::INFINITY;
@@ -197,8 +197,8 @@ fn albedo_lanes<const N: usize>(
             if steep_rock {
                 for l in 0..N {
                     // smoothstep(0.18, 0.5, 1 - n.z), as `HypsometricRamp::albedo` has it.
-                    let steepness = 1.0 - normal[2][l].max(0.0).min(1.0);
-                    let s = ((steepness - 0.18) / (0.5 - 0.18)).max(0.0).min(1.0);
+                    let steepness = 1.0 - normal[2][l].clamp(0.0, 1.0);
+                    let s = ((steepness - 0.18) / (0.5 - 0.18)).clamp(0.0, 1.0);
                     let s = s * s * (3.0 - 2.0 * s);
                     for ch in 0..3 {
                         albedo[ch][l] = albedo[ch][l] * (1.0 - s) + rock[ch] * s;
@@ -221,7 +221,7 @@ fn ggx(a2: f32, f0: f32, n: [f32; 3], v: [f32; 3], l: [f32; 3], n_l: f32) -> f32
     let half_exists = sum_squared > 0.0;
     let n_h = (n_v_signed + n_l).max(0.0);
     let n_h2 = if half_exists { n_h * n_h / sum_squared } else { 0.0 };
-    let v_h = if half_exists { (0.5 * sum_squared.max(0.0).sqrt()).max(0.0).min(1.0) } else { 0.0 };
+    let v_h = if half_exists { (0.5 * sum_squared.max(0.0).sqrt()).clamp(0.0, 1.0) } else { 0.0 };
     let d_denom = n_h2 * (a2 - 1.0) + 1.0;
     let n_l_pos = n_l.max(0.0);
     let smith = n_l_pos * (n_v * n_v * (1.0 - a2) + a2).sqrt()

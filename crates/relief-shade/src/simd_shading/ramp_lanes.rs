@@ -42,13 +42,13 @@ impl RampLanes {
     /// 0), interpolated between the two nearest samples as `hypsometric_colour` does.
     #[inline(always)]
     pub(crate) fn colour(&self, t: f32) -> [f32; 3] {
-        let t = if t.is_nan() { 0.0 } else { t.max(0.0).min(1.0) };
+        let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
         // The first stop at or above t, at least the second (as `stretch` finds it).
         let mut k = 1;
         while k < STOPS - 1 && self.stops[k] < t {
             k += 1;
         }
-        let w = ((t - self.stops[k - 1]) * self.inverse_width[k]).max(0.0).min(1.0);
+        let w = ((t - self.stops[k - 1]) * self.inverse_width[k]).clamp(0.0, 1.0);
         let x = w * SAMPLES_PER_STRETCH as f32;
         let n = (x as usize).min(SAMPLES_PER_STRETCH - 1);
         let f = x - n as f32;
