@@ -3,8 +3,7 @@
 
 use std::f32::consts::FRAC_1_PI;
 
-use relief_core::colour::ByteSteps;
-
+use super::byte_lanes::ByteLanes;
 use super::exp_approx::exp_non_positive;
 use super::ramp_lanes::RampLanes;
 
@@ -59,7 +58,7 @@ pub(crate) struct LaneConstants {
     /// Exposure.
     pub exposure: f32,
     /// The tone curve's byte steps.
-    pub steps: &'static ByteSteps,
+    pub steps: &'static ByteLanes,
 }
 
 /// One run of up to `N` pixels of a row, structure of arrays.
@@ -113,8 +112,12 @@ pub(crate) fn shade_row_lanes<const N: usize>(
             lanes.visibility[l] = visibility[start + l];
         }
         let radiance = radiance_lanes(c, sy, &lanes);
+        // No closures here (`array::map`): they would be compiled apart from the lane width's
+        // target features.
+        let (red, green, blue) =
+            (c.steps.bytes(&radiance[0]), c.steps.bytes(&radiance[1]), c.steps.bytes(&radiance[2]));
         for (l, pixel) in out[start..start + m].iter_mut().enumerate() {
-            *pixel = [0, 1, 2].map(|ch| c.steps.byte(radiance[ch][l]));
+            *pixel = [red[l] as u8, green[l] as u8, blue[l] as u8];
         }
         start += m;
     }
@@ -128,8 +131,10 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
     let mut unit_normal = [[0.0f32; N]; 3];
     let mut sky = [[0.0f32; N]; 3];
     for l in 0..N {
-        let d: [f32; 3] =
-            std::array::from_fn(|a| c.forward[a] + p.sx[l] * c.right[a] + sy * c.up[a]);
+        let mut d = [0.0f32; 3];
+        for a in 0..3 {
+            d[a] = c.forward[a] + p.sx[l] * c.right[a] + sy * c.up[a];
+        }
         let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         for a in 0..3 {
             dir[a][l] = d[a] / length;
@@ -181,19 +186,13 @@ fn albedo_lanes<const N: usize>(
     normal: &[[f32; N]; 3],
 ) -> [[f32; N]; 3] {
     match c.albedo {
-        LaneAlbedo::Uniform(rgb) => rgb.map(|v| [v; N]),
+        LaneAlbedo::Uniform(rgb) => [[rgb[0]; N], [rgb[1]; N], [rgb[2]; N]],
         LaneAlbedo::Ramp { t_eye, t_per_unit, steep_rock, rock, table } => {
             let mut t = [0.0f32; N];
             for l in 0..N {
                 t[l] = t_eye + dir[2][l] * (p.distance[l] * t_per_unit);
             }
-            let mut albedo = [[0.0f32; N]; 3];
-            for l in 0..N {
-                let colour = table.colour(t[l]);
-                for ch in 0..3 {
-                    albedo[ch][l] = colour[ch];
-                }
-            }
+            let mut albedo = table.colour_lanes(&t);
             if steep_rock {
                 for l in 0..N {
                     // smoothstep(0.18, 0.5, 1 - n.z), as `HypsometricRamp::albedo` has it.

@@ -12,6 +12,7 @@
 //! Shadow rays are still traced per tile in `f64` from the same points as before (`strip.rs`),
 //! so shadows are the same; only the arithmetic of lighting moves to `f32`.
 
+mod byte_lanes;
 mod exp_approx;
 mod kernel;
 mod lane_width;

@@ -2,11 +2,11 @@
 
 use relief_core::{Camera, Projection};
 
+use super::byte_lanes::ByteLanes;
 use super::kernel::{shade_row_lanes, LaneAlbedo, LaneConstants};
 use super::lane_width::LaneWidth;
 use super::ramp_lanes::RampLanes;
 use crate::colour_ramp::rock_linear;
-use crate::tonemap::srgb8_steps;
 use crate::{Albedo, ShadeError, ShadingParams};
 
 /// Smallest GGX roughness the kernel lights: below it the lobe's peak is too sharp for `f32`
@@ -74,7 +74,7 @@ impl ShadingKernel {
             }),
             fog_density: params.fog_density as f32,
             exposure: params.exposure as f32,
-            steps: srgb8_steps(),
+            steps: ByteLanes::tone_curve(),
         };
         Some(ShadingKernel {
             constants,
