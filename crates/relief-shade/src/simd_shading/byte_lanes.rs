@@ -50,16 +50,19 @@ impl ByteLanes {
     /// `ByteSteps::byte` gives.
     #[inline(always)]
     pub(crate) fn bytes<const N: usize>(&self, x: &[f32; N]) -> [u32; N] {
+        // Fields read once, and `&` rather than `&&`: the loop then has no conditional loads.
+        let (first, at_start, lowest, last) =
+            (&self.first, &*self.at_start, self.lowest, self.first[255]);
         let mut out = [0u32; N];
         for l in 0..N {
             let v = x[l];
             let bits = v.to_bits();
-            let inside = v > 0.0 && v < self.first[255] && bits >= self.lowest;
-            let bucket =
-                if inside { (bits.wrapping_sub(self.lowest) >> BUCKET_SHIFT) as usize } else { 0 };
-            let b = self.at_start[bucket & (BUCKETS - 1)];
-            let step_up = u32::from(v >= self.first[(b as usize + 1).min(256)]);
-            let top = if v >= self.first[255] { 255 } else { 0 };
+            let inside = (v > 0.0) & (v < last) & (bits >= lowest);
+            // Outside, the bucket is any in range: its byte is not used.
+            let bucket = (bits.wrapping_sub(lowest) >> BUCKET_SHIFT) & (BUCKETS as u32 - 1);
+            let b = at_start[bucket as usize];
+            let step_up = u32::from(v >= first[(b + 1).min(256) as usize]);
+            let top = if v >= last { 255 } else { 0 };
             out[l] = if inside { b + step_up } else { top };
         }
         out

@@ -74,15 +74,44 @@ pub(crate) struct Lanes<const N: usize> {
 }
 
 impl<const N: usize> Lanes<N> {
-    /// Lanes of misses.
+    /// The first `N` pixels of the slices (each holds at least `N`), loaded whole so that the
+    /// loads are vector loads.
     #[inline(always)]
-    pub(crate) fn empty() -> Self {
+    fn whole(sx: &[f32], distance: &[f32], normal: &[[f32; 3]], visibility: &[f32]) -> Self {
+        let first = |v: &[f32]| -> [f32; N] { v[..N].try_into().expect("N values") };
+        let normals: &[[f32; 3]; N] = normal[..N].try_into().expect("N normals");
+        let mut by_axis = [[0.0f32; N]; 3];
+        for l in 0..N {
+            by_axis[0][l] = normals[l][0];
+            by_axis[1][l] = normals[l][1];
+            by_axis[2][l] = normals[l][2];
+        }
         Lanes {
+            sx: first(sx),
+            distance: first(distance),
+            normal: by_axis,
+            visibility: first(visibility),
+        }
+    }
+
+    /// The pixels of the slices (fewer than `N`), the other lanes misses.
+    #[inline(always)]
+    fn part(sx: &[f32], distance: &[f32], normal: &[[f32; 3]], visibility: &[f32]) -> Self {
+        let mut lanes = Lanes {
             sx: [0.0; N],
             distance: [f32::INFINITY; N],
             normal: [[0.0; N]; 3],
             visibility: [0.0; N],
+        };
+        for l in 0..sx.len().min(N) {
+            lanes.sx[l] = sx[l];
+            lanes.distance[l] = distance[l];
+            for (axis, value) in lanes.normal.iter_mut().zip(normal[l]) {
+                axis[l] = value;
+            }
+            lanes.visibility[l] = visibility[l];
         }
+        lanes
     }
 }
 
@@ -101,16 +130,21 @@ pub(crate) fn shade_row_lanes<const N: usize>(
     let mut start = 0;
     while start < out.len() {
         let m = N.min(out.len() - start);
-        let mut lanes = Lanes::<N>::empty();
-        for l in 0..m {
-            lanes.sx[l] = sx[start + l];
-            lanes.distance[l] = distance[start + l];
-            let n = normal[start + l];
-            lanes.normal[0][l] = n[0];
-            lanes.normal[1][l] = n[1];
-            lanes.normal[2][l] = n[2];
-            lanes.visibility[l] = visibility[start + l];
-        }
+        let lanes = if m == N {
+            Lanes::<N>::whole(
+                &sx[start..],
+                &distance[start..],
+                &normal[start..],
+                &visibility[start..],
+            )
+        } else {
+            Lanes::<N>::part(
+                &sx[start..],
+                &distance[start..],
+                &normal[start..],
+                &visibility[start..],
+            )
+        };
         let radiance = radiance_lanes(c, sy, &lanes);
         // No closures here (`array::map`): they would be compiled apart from the lane width's
         // target features.
