@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use relief_core::{Camera, DVec3, GridGeometry, HeightField, Projection, Surface};
 use relief_shade::{
-    render_gbuffer, render_to_srgb8, shade_to_srgb8, Albedo, GgxSpecular, HypsometricRamp,
-    KeptHits, LaneWidth, RgbTexture, ShadingKernel, ShadingParams, Sun,
+    render_gbuffer, render_to_srgb8, shade, shade_to_srgb8, tonemap_to_srgb8, Albedo, GgxSpecular,
+    HypsometricRamp, KeptHits, LaneWidth, RgbTexture, ShadingKernel, ShadingParams, Sun,
 };
 use relief_trace::{build_tracer, TracerKind};
 
@@ -271,4 +271,21 @@ fn the_kernel_leaves_what_it_does_not_cover_to_the_f64_pass() {
     assert!(ShadingKernel::new(&orthographic, &params).is_none());
     assert_eq!(LaneWidth::Portable.lanes(), 8);
     assert!(LaneWidth::Portable.is_available() && LaneWidth::detect().is_available());
+}
+
+#[test]
+fn precise_shading_is_the_f64_pass_byte_for_byte() {
+    let mut random = Random(11);
+    let field = random_terrain(&mut random);
+    let bounds = field.world_bounds(Surface::Triangles);
+    let tracer = build_tracer(field.clone(), Surface::Triangles, TracerKind::Mipmap);
+    for _ in 0..6 {
+        let camera = random_camera(&mut random, &bounds, 57, 31);
+        let params = ShadingParams { precise: true, ..random_params(&mut random, &bounds) };
+        let (gbuffer, _) = render_gbuffer(&*tracer, &camera, &bounds, &|_| {}).unwrap();
+        let (radiance, _) = shade(&gbuffer, &*tracer, &camera, &params).unwrap();
+        let want = tonemap_to_srgb8(&radiance, params.exposure).unwrap();
+        let (got, _) = shade_to_srgb8(&gbuffer, &*tracer, &camera, &params).unwrap();
+        assert!(got.concat() == want, "precise is the f64 pass, tone-mapped");
+    }
 }

@@ -9,6 +9,18 @@
 //! so the widths differ only in speed. The picture stays within one 8-bit step per channel of
 //! the `f64` one; `ShadingParams::precise` keeps the `f64` pass.
 //!
+//! Where the picture moves: only where a channel's exposed radiance lies within the `f32`
+//! rounding (a few 1e-7 of the value) of one of the tone curve's 255 byte steps, since the
+//! byte table (`byte_lanes.rs`) is the `f64` pass's own, step for step. On the default
+//! 1920x1080 render of a 4096^2 fBm terrain 28 of 6,220,800 channels move by one step (27
+//! without shadows), and the tests' random scenes move 1 channel in 344,901; the golden
+//! pictures of relief-cli do not move at all.
+//!
+//! Cost (one thread, 1920x1080, `cargo bench -p relief-bench --bench shading_lanes`): the
+//! `f64` pass 100-280 ms a frame by view, the kernel 36 ms with AVX-512, 44-50 ms with AVX2
+//! and 59-75 ms portable. The kernel's remaining time is mostly its table lookups (gathers
+//! from the ramp and the byte steps) and its seven divisions and six square roots a pixel.
+//!
 //! Shadow rays are still traced per tile in `f64` from the same points as before (`strip.rs`),
 //! so shadows are the same; only the arithmetic of lighting moves to `f32`.
 
