@@ -166,8 +166,8 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
     let mut sky = [[0.0f32; N]; 3];
     for l in 0..N {
         let mut d = [0.0f32; 3];
-        for a in 0..3 {
-            d[a] = c.forward[a] + p.sx[l] * c.right[a] + sy * c.up[a];
+        for (a, d) in d.iter_mut().enumerate() {
+            *d = c.forward[a] + p.sx[l] * c.right[a] + sy * c.up[a];
         }
         let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         for a in 0..3 {
