@@ -24,6 +24,10 @@ pub struct ShadingKernel {
     constants: LaneConstants,
     screen_x: Vec<f32>,
     screen_y: Vec<f32>,
+    /// [`Camera::screen_x`] of every column, for the shadow rays made in `f64`.
+    pub(crate) screen_x_f64: Vec<f64>,
+    /// [`Camera::screen_y`] of every row.
+    pub(crate) screen_y_f64: Vec<f64>,
     width: LaneWidth,
 }
 
@@ -76,10 +80,14 @@ impl ShadingKernel {
             exposure: params.exposure as f32,
             steps: ByteLanes::tone_curve(),
         };
+        let screen_x_f64: Vec<f64> = (0..camera.width()).map(|i| camera.screen_x(i)).collect();
+        let screen_y_f64: Vec<f64> = (0..camera.height()).map(|j| camera.screen_y(j)).collect();
         Some(ShadingKernel {
             constants,
-            screen_x: (0..camera.width()).map(|i| camera.screen_x(i) as f32).collect(),
-            screen_y: (0..camera.height()).map(|j| camera.screen_y(j) as f32).collect(),
+            screen_x: screen_x_f64.iter().map(|&x| x as f32).collect(),
+            screen_y: screen_y_f64.iter().map(|&y| y as f32).collect(),
+            screen_x_f64,
+            screen_y_f64,
             width: LaneWidth::detect(),
         })
     }

@@ -42,9 +42,8 @@ pub(crate) fn shade_strip_in_lanes(
                 }
                 let normal = DVec3::from(gbuffer.normal[k].map(f64::from)).normalize_or_zero();
                 if normal.dot(pass.to_sun) > 0.0 {
-                    let camera = pass.camera;
-                    let ray =
-                        camera.ray_through(camera.screen_x(i as u32), camera.screen_y(j as u32));
+                    let (sx, sy) = (kernel.screen_x_f64[i], kernel.screen_y_f64[j]);
+                    let ray = pass.camera.ray_through(sx, sy);
                     batch.rays.push(shadow_ray(ray.at(distance), normal, distance, pass.to_sun));
                     owners.push(i + (j - top) * width);
                 }
