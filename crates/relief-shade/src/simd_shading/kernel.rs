@@ -15,7 +15,8 @@ const MIN_COS_VIEW: f32 = 1e-4;
 pub(crate) enum LaneAlbedo {
     /// The same reflectance everywhere.
     Uniform([f32; 3]),
-    /// The hypsometric ramp: elevation fraction `t = t_eye + dir.z * distance * t_per_unit`.
+    /// The hypsometric ramp: elevation fraction `t = t_eye + (origin.z - eye.z) * t_per_unit
+    /// + dir.z * distance * t_per_unit`.
     Ramp {
         /// The eye's elevation fraction.
         t_eye: f32,
@@ -33,6 +34,9 @@ pub(crate) enum LaneAlbedo {
 /// The per-pass constants of the kernel, in `f32`.
 #[derive(Clone)]
 pub(crate) struct LaneConstants {
+    /// Whether the camera is orthographic: rays along `forward` from `eye + sx right + sy up`
+    /// (else from the eye through the pixel).
+    pub orthographic: bool,
     /// The camera's unit viewing direction.
     pub forward: [f32; 3],
     /// The camera's unit right vector.
@@ -160,7 +164,8 @@ pub(crate) fn shade_row_lanes<const N: usize>(
 /// The exposed linear radiance of `N` pixels, by channel.
 #[inline(always)]
 fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [[f32; N]; 3] {
-    // The view ray, as `Camera::ray_through` makes it: normalize(forward + sx right + sy up).
+    // The view ray, as `Camera::ray_through` makes it: normalize(forward + sx right + sy up),
+    // or `forward` for an orthographic camera.
     let mut dir = [[0.0f32; N]; 3];
     let mut unit_normal = [[0.0f32; N]; 3];
     let mut sky = [[0.0f32; N]; 3];
@@ -171,7 +176,7 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
         }
         let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         for a in 0..3 {
-            dir[a][l] = d[a] / length;
+            dir[a][l] = if c.orthographic { c.forward[a] } else { d[a] / length };
         }
         let n = [p.normal[0][l], p.normal[1][l], p.normal[2][l]];
         let squared = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
@@ -185,7 +190,7 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
             sky[l] = c.horizon[ch] + (c.zenith[ch] - c.horizon[ch]) * rise;
         }
     }
-    let albedo = albedo_lanes(c, p, &dir, &unit_normal);
+    let albedo = albedo_lanes(c, sy, p, &dir, &unit_normal);
     let mut out = [[0.0f32; N]; 3];
     for l in 0..N {
         let n = [unit_normal[0][l], unit_normal[1][l], unit_normal[2][l]];
@@ -215,6 +220,7 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
 #[inline(always)]
 fn albedo_lanes<const N: usize>(
     c: &LaneConstants,
+    sy: f32,
     p: &Lanes<N>,
     dir: &[[f32; N]; 3],
     normal: &[[f32; N]; 3],
@@ -224,7 +230,9 @@ fn albedo_lanes<const N: usize>(
         LaneAlbedo::Ramp { t_eye, t_per_unit, steep_rock, rock, table } => {
             let mut t = [0.0f32; N];
             for l in 0..N {
-                t[l] = t_eye + dir[2][l] * (p.distance[l] * t_per_unit);
+                // The ray's origin above the eye: none for a pinhole.
+                let rise = if c.orthographic { p.sx[l] * c.right[2] + sy * c.up[2] } else { 0.0 };
+                t[l] = t_eye + rise * t_per_unit + dir[2][l] * (p.distance[l] * t_per_unit);
             }
             let mut albedo = table.colour_lanes(&t);
             if steep_rock {

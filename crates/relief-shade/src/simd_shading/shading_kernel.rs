@@ -14,7 +14,7 @@ use crate::{Albedo, ShadeError, ShadingParams};
 pub const MIN_LANE_ROUGHNESS: f64 = 0.2;
 
 /// The deferred shading of one camera's picture in `f32` lanes, for the parameters it covers:
-/// a pinhole camera, uniform or hypsometric albedo, any sun and sky, GGX of roughness at least
+/// a pinhole or orthographic camera, uniform or hypsometric albedo, any sun and sky, GGX of roughness at least
 /// [`MIN_LANE_ROUGHNESS`] or none, fog, exposure; `ShadingParams::precise` off.
 ///
 /// A pixel's bytes are within one 8-bit step per channel of the `f64` pass's
@@ -36,7 +36,7 @@ impl ShadingKernel {
     /// width [`LaneWidth::detect`] picks; `None` where the kernel does not cover the
     /// parameters (see [`ShadingKernel`]), which the `f64` pass then shades.
     pub fn new(camera: &Camera, params: &ShadingParams) -> Option<ShadingKernel> {
-        if params.precise || !matches!(camera.projection(), Projection::Perspective { .. }) {
+        if params.precise {
             return None;
         }
         if params.specular.is_some_and(|s| s.roughness < MIN_LANE_ROUGHNESS) {
@@ -63,6 +63,7 @@ impl ShadingKernel {
         };
         let lights = params.sun.is_up() && params.sun.irradiance > 0.0;
         let constants = LaneConstants {
+            orthographic: matches!(camera.projection(), Projection::Orthographic { .. }),
             forward: camera.forward().as_vec3().to_array(),
             right: camera.right().as_vec3().to_array(),
             up: camera.image_up().as_vec3().to_array(),
