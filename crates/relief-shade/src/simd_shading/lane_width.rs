@@ -71,7 +71,7 @@ impl LaneWidth {
     }
 
     /// The widest width this processor runs: it pays where there is one (AVX-512 shades a
-    /// frame in about 0.7 of AVX2's time on an AMD EPYC with AVX-512, AVX2 in 0.7 of the
+    /// frame in about 0.65 of AVX2's time on an AMD EPYC with AVX-512, AVX2 in 0.7 of the
     /// portable path's; `cargo bench -p relief-bench --bench shading_lanes`).
     pub fn widest() -> LaneWidth {
         LaneWidth::ALL.into_iter().rev().find(|w| w.is_available()).unwrap_or(LaneWidth::Portable)

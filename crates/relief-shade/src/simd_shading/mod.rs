@@ -16,13 +16,11 @@
 //! without shadows), and the tests' random scenes move 1 channel in 344,901; the golden
 //! pictures of relief-cli do not move at all.
 //!
-//! Cost (one thread, 1920x1080, `cargo bench -p relief-bench --bench shading_lanes`): the
-//! `f64` pass 100-280 ms a frame by view, the kernel 36 ms with AVX-512, 44-50 ms with AVX2
-//! and 59-75 ms portable. The kernel's remaining time is mostly its table lookups (gathers
-//! from the ramp and the byte steps) and its seven divisions and six square roots a pixel.
-//!
-//! Shadow rays are still traced per tile in `f64` from the same points as before (`strip.rs`),
-//! so shadows are the same; only the arithmetic of lighting moves to `f32`.
+//! Cost (one thread, 1920x1080, no shadows, `cargo bench -p relief-bench --bench
+//! shading_lanes`, medians of 7 alternating rounds): the `f64` pass 99-182 ms a frame by view,
+//! the kernel 29-30 ms with AVX-512, 45-49 ms with AVX2 and 65-89 ms portable. A profile puts
+//! the kernel's time over its gathers (ramp samples and byte steps), divisions and square
+//! roots; the shadow rays' set-up in `f64` stays as it was.
 
 mod byte_lanes;
 mod exp_approx;
