@@ -30,6 +30,6 @@ mod ramp_lanes;
 mod shading_kernel;
 mod strip;
 
-pub use lane_width::LaneWidth;
-pub use shading_kernel::ShadingKernel;
+pub use lane_width::{LaneWidth, LANE_WIDTH_VARIABLE};
+pub use shading_kernel::{ShadingKernel, MIN_LANE_ROUGHNESS};
 pub(crate) use strip::shade_strip_in_lanes;
