@@ -164,7 +164,8 @@ pub(crate) fn shade_row_lanes<const N: usize>(
 /// The exposed linear radiance of `N` pixels, by channel.
 #[inline(always)]
 fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [[f32; N]; 3] {
-    // The view ray, as `Camera::ray_through` makes it: normalize(forward + sx right + sy up),
+    // The view ray, as `Camera::ray_through` makes it: normalize(forward + sx right + sy up)
+    // (times the reciprocal of the length, as glam normalizes),
     // or `forward` for an orthographic camera.
     let mut dir = [[0.0f32; N]; 3];
     let mut unit_normal = [[0.0f32; N]; 3];
@@ -174,9 +175,9 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
         for (a, d) in d.iter_mut().enumerate() {
             *d = c.forward[a] + p.sx[l] * c.right[a] + sy * c.up[a];
         }
-        let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let inverse_length = 1.0 / (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         for a in 0..3 {
-            dir[a][l] = if c.orthographic { c.forward[a] } else { d[a] / length };
+            dir[a][l] = if c.orthographic { c.forward[a] } else { d[a] * inverse_length };
         }
         let n = [p.normal[0][l], p.normal[1][l], p.normal[2][l]];
         let squared = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
@@ -239,7 +240,7 @@ fn albedo_lanes<const N: usize>(
                 for l in 0..N {
                     // smoothstep(0.18, 0.5, 1 - n.z), as `HypsometricRamp::albedo` has it.
                     let steepness = 1.0 - normal[2][l].clamp(0.0, 1.0);
-                    let s = ((steepness - 0.18) / (0.5 - 0.18)).clamp(0.0, 1.0);
+                    let s = ((steepness - 0.18) * (1.0 / (0.5 - 0.18))).clamp(0.0, 1.0);
                     let s = s * s * (3.0 - 2.0 * s);
                     for ch in 0..3 {
                         albedo[ch][l] = albedo[ch][l] * (1.0 - s) + rock[ch] * s;
