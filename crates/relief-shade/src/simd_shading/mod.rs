@@ -10,7 +10,7 @@
 //! the `f64` one; `ShadingParams::precise` keeps the `f64` pass.
 //!
 //! Where the picture moves: only where a channel's exposed radiance lies within the `f32`
-//! rounding (a few 1e-7 of the value) of one of the tone curve's 255 byte steps, since the
+//! arithmetic's rounding of one of the tone curve's 255 byte steps, since the
 //! byte table (`byte_lanes.rs`) is the `f64` pass's own, step for step. On the default
 //! 1920x1080 render of a 4096^2 fBm terrain 34 of 6,220,800 channels move by one step (33
 //! without shadows; 14 of 2,764,800 at 1280x720), none by more; the tests' random scenes
