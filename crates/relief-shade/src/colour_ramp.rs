@@ -22,7 +22,7 @@ const STOPS: [(f64, [u8; 3]); 9] = [
 const ROCK: [u8; 3] = [104, 100, 96];
 
 /// Samples of the ramp's linear colour per stretch between two stops, both stops included.
-const SAMPLES_PER_STRETCH: usize = 512;
+pub(crate) const SAMPLES_PER_STRETCH: usize = 512;
 
 /// Linear-RGB colour of the hypsometric ramp at elevation fraction `t` (clamped to `[0, 1]`,
 /// NaN taken as 0): deep green lowlands, yellow-green, brown, grey rock, white snow on the top
@@ -31,6 +31,16 @@ const SAMPLES_PER_STRETCH: usize = 512;
 /// The conversion to linear (a power per channel) is tabulated once: 512 samples between each
 /// two stops, interpolated linearly, within 1e-6 of the curve (see the tests).
 pub fn hypsometric_colour(t: f64) -> DVec3 {
+    let (k, w) = stretch(t);
+    let x = w * SAMPLES_PER_STRETCH as f64;
+    let n = (x as usize).min(SAMPLES_PER_STRETCH - 1);
+    let samples = &ramp_table()[k - 1];
+    samples[n].lerp(samples[n + 1], x - n as f64)
+}
+
+/// The ramp's linear colour tabulated: for each stretch between two stops (`k - 1` to `k`, at
+/// index `k - 1`), [`SAMPLES_PER_STRETCH`] + 1 samples from one stop to the next, built once.
+pub(crate) fn ramp_table() -> &'static [[DVec3; SAMPLES_PER_STRETCH + 1]] {
     static TABLE: std::sync::LazyLock<Vec<[DVec3; SAMPLES_PER_STRETCH + 1]>> =
         std::sync::LazyLock::new(|| {
             (1..STOPS.len())
@@ -41,11 +51,19 @@ pub fn hypsometric_colour(t: f64) -> DVec3 {
                 })
                 .collect()
         });
-    let (k, w) = stretch(t);
-    let x = w * SAMPLES_PER_STRETCH as f64;
-    let n = (x as usize).min(SAMPLES_PER_STRETCH - 1);
-    let samples = &TABLE[k - 1];
-    samples[n].lerp(samples[n + 1], x - n as f64)
+    &TABLE
+}
+
+/// The elevation fractions of the ramp's stops, increasing from 0 to 1.
+pub(crate) fn stop_fractions() -> [f64; STOPS.len()] {
+    STOPS.map(|(t, _)| t)
+}
+
+/// The linear colour steep slopes turn to.
+pub(crate) fn rock_linear() -> DVec3 {
+    static ROCK_LINEAR: std::sync::LazyLock<DVec3> =
+        std::sync::LazyLock::new(|| linear(srgb8(ROCK)));
+    *ROCK_LINEAR
 }
 
 /// The stretch of the ramp that elevation fraction `t` falls in (`k`: between stops `k - 1`
@@ -105,9 +123,7 @@ impl HypsometricRamp {
         // 1 - n.z is 0.13 at a 30° slope, 0.29 at 45° and 0.5 at 60°: rock takes over between
         // about 35° and 60°.
         let steepness = 1.0 - normal_z.clamp(0.0, 1.0);
-        static ROCK_LINEAR: std::sync::LazyLock<DVec3> =
-            std::sync::LazyLock::new(|| linear(srgb8(ROCK)));
-        colour.lerp(*ROCK_LINEAR, smoothstep(0.18, 0.5, steepness))
+        colour.lerp(rock_linear(), smoothstep(0.18, 0.5, steepness))
     }
 }
 

@@ -6,12 +6,13 @@ use relief_trace::Tracer;
 
 use crate::error::non_negative;
 use crate::gbuffer::image_plane;
+use crate::simd_shading::shade_strip_in_lanes;
 use crate::sky::validate_fog_density;
 use crate::tonemap::srgb8_pixel;
 use crate::{
     aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, ground_footprint,
     shadow_ray, slope_from_normal, Albedo, GBuffer, GgxSpecular, HypsometricRamp, RayBatch,
-    ShadeError, Sky, Sun, Tile, TraceStats, TILE_SIZE,
+    ShadeError, ShadingKernel, Sky, Sun, Tile, TraceStats, TILE_SIZE,
 };
 
 /// Everything the deferred pass needs besides the G-buffer: lights, materials, atmosphere.
@@ -32,11 +33,16 @@ pub struct ShadingParams {
     pub fog_density: f64,
     /// Exposure to tone-map the result with (see [`crate::tonemap_to_srgb8`]).
     pub exposure: f64,
+    /// Whether the passes that end in 8-bit sRGB ([`shade_to_srgb8`],
+    /// [`crate::render_to_srgb8`]) light every pixel in `f64`. Off, pixels the `f32` kernel
+    /// covers ([`crate::ShadingKernel`]) are lit in `f32` lanes, within one 8-bit step per
+    /// channel of the `f64` picture and several times faster.
+    pub precise: bool,
 }
 
 impl Default for ShadingParams {
     /// Default sun and sky, a uniform grey albedo of 0.3, shadows, rough GGX specular, no fog,
-    /// exposure 1. [`ShadingParams::for_terrain`] fits the ramp and fog to a terrain instead.
+    /// exposure 1, the `f32` kernel where it covers the pixels. [`ShadingParams::for_terrain`] fits the ramp and fog to a terrain instead.
     fn default() -> Self {
         ShadingParams {
             sun: Sun::default(),
@@ -46,6 +52,7 @@ impl Default for ShadingParams {
             specular: Some(GgxSpecular::default()),
             fog_density: 0.0,
             exposure: 1.0,
+            precise: false,
         }
     }
 }
@@ -105,17 +112,28 @@ pub fn shade(
 }
 
 /// As [`shade`] followed by [`crate::tonemap_to_srgb8`] with `params.exposure`, pixel by
-/// pixel, without holding the linear image: the same bytes with a sixth of the memory.
+/// pixel, without holding the linear image: the same bytes with a sixth of the memory when
+/// `params.precise` is set or the `f32` kernel does not cover the parameters
+/// ([`ShadingKernel`]); else lit in `f32` lanes, within one 8-bit step per channel of those
+/// bytes, with the same shadow rays.
 pub fn shade_to_srgb8(
     gbuffer: &GBuffer,
     tracer: &dyn Tracer,
     camera: &Camera,
     params: &ShadingParams,
 ) -> Result<(Vec<[u8; 3]>, TraceStats), ShadeError> {
-    let exposure = params.exposure as f32;
-    shade_with(gbuffer, tracer, camera, params, |radiance| {
-        srgb8_pixel(radiance.as_vec3().to_array(), exposure)
-    })
+    params.validate()?;
+    gbuffer.validate_for(camera)?;
+    let kernel = ShadingKernel::new(camera, params);
+    let width = gbuffer.width;
+    let mut rgb = image_plane(gbuffer.len(), [0u8; 3], "shaded image")?;
+    let pass = ShadingPass::new(gbuffer, 0, tracer, camera, params);
+    let stats = rgb
+        .par_chunks_mut(TILE_SIZE * width)
+        .enumerate()
+        .map(|(s, strip)| pass.shade_strip_srgb8(s * TILE_SIZE, strip, kernel.as_ref()))
+        .reduce(TraceStats::default, TraceStats::merge);
+    Ok((rgb, stats))
 }
 
 /// The deferred pass of [`shade`], each pixel's radiance stored as `store` makes it.
@@ -206,12 +224,12 @@ enum Lighting {
 /// The per-pass constants of [`shade`], over a G-buffer of whole rows of the camera's image
 /// from `first_row` on (all of them, or a strip).
 pub(crate) struct ShadingPass<'a> {
-    gbuffer: &'a GBuffer,
+    pub(crate) gbuffer: &'a GBuffer,
     first_row: usize,
-    tracer: &'a dyn Tracer,
-    camera: &'a Camera,
-    params: &'a ShadingParams,
-    to_sun: DVec3,
+    pub(crate) tracer: &'a dyn Tracer,
+    pub(crate) camera: &'a Camera,
+    pub(crate) params: &'a ShadingParams,
+    pub(crate) to_sun: DVec3,
     sky_ambient: DVec3,
 }
 
@@ -260,9 +278,27 @@ impl<'a> ShadingPass<'a> {
         stats
     }
 
+    /// As [`ShadingPass::shade_strip`] into 8-bit sRGB with `params.exposure`: in `f32`
+    /// lanes when `kernel` is given (see [`shade_strip_in_lanes`]), else in `f64`.
+    pub(crate) fn shade_strip_srgb8(
+        &self,
+        top: usize,
+        out: &mut [[u8; 3]],
+        kernel: Option<&ShadingKernel>,
+    ) -> TraceStats {
+        match kernel {
+            Some(kernel) => shade_strip_in_lanes(self, kernel, top, out),
+            None => {
+                let exposure = self.params.exposure as f32;
+                let store = |radiance: DVec3| srgb8_pixel(radiance.as_vec3().to_array(), exposure);
+                self.shade_strip(top, out, &store)
+            }
+        }
+    }
+
     /// The G-buffer index of image pixel (i, j).
     #[inline]
-    fn index(&self, i: usize, j: usize) -> usize {
+    pub(crate) fn index(&self, i: usize, j: usize) -> usize {
         i + (j - self.first_row) * self.gbuffer.width
     }
 

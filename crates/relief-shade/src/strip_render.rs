@@ -10,8 +10,7 @@ use relief_trace::Tracer;
 use crate::deferred::ShadingPass;
 use crate::gbuffer::image_plane;
 use crate::render::{trace_strip, HitEncoder};
-use crate::tonemap::srgb8_pixel;
-use crate::{GBuffer, ShadeError, ShadingParams, TraceStats, TILE_SIZE};
+use crate::{GBuffer, ShadeError, ShadingKernel, ShadingParams, TraceStats, TILE_SIZE};
 
 /// What [`render_to_srgb8`] keeps of the primary hits besides the picture.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -93,8 +92,7 @@ pub fn render_to_srgb8(
         })
         .collect();
     let encoder = HitEncoder::for_shading(bounds, camera, &params.albedo);
-    let exposure = params.exposure as f32;
-    let store = |radiance: relief_core::DVec3| srgb8_pixel(radiance.as_vec3().to_array(), exposure);
+    let kernel = ShadingKernel::new(camera, params);
     let started = Instant::now();
     let totals = strips
         .into_par_iter()
@@ -112,7 +110,7 @@ pub fn render_to_srgb8(
                 let primary = trace_strip(tracer, &encoder, top, &mut rows, progress);
                 let shaded = Instant::now();
                 let pass = ShadingPass::new(strip_gbuffer, top, shadow_tracer, camera, params);
-                let shadow = pass.shade_strip(top, strip.rgb, &store);
+                let shadow = pass.shade_strip_srgb8(top, strip.rgb, kernel.as_ref());
                 if let Some(depth) = strip.depth {
                     depth.copy_from_slice(&strip_gbuffer.distance[..pixels]);
                 }

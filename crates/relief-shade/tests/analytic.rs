@@ -48,6 +48,7 @@ fn lambert_only(rho: [f32; 3], sun: Sun) -> ShadingParams {
         specular: None,
         fog_density: 0.0,
         exposure: 1.0,
+        precise: false,
     }
 }
 

@@ -1,0 +1,72 @@
+//! A strip of the deferred pass in `f32` lanes: shadow rays traced tile by tile in `f64` as
+//! the `f64` pass traces them, then every row lit by the kernel.
+
+use relief_core::DVec3;
+
+use super::ShadingKernel;
+use crate::deferred::ShadingPass;
+use crate::{shadow_ray, RayBatch, Tile, TraceStats, TILE_SIZE};
+
+/// Shades the image rows from `top` on (at most [`TILE_SIZE`], all in the pass's G-buffer)
+/// into `out` with `kernel`, and counts the shadow rays.
+///
+/// The shadow rays are the `f64` pass's, bit for bit and in the same batches (each tile's
+/// pixels in Morton order): from the point the pixel's `f64` camera ray reaches at the stored
+/// distance, for pixels whose `f64` normal faces the sun. So shadows and the counts are the
+/// same; the kernel does the rest of the arithmetic.
+pub(crate) fn shade_strip_in_lanes(
+    pass: &ShadingPass,
+    kernel: &ShadingKernel,
+    top: usize,
+    out: &mut [[u8; 3]],
+) -> TraceStats {
+    let gbuffer = pass.gbuffer;
+    let width = gbuffer.width;
+    let rows = out.len() / width;
+    let params = pass.params;
+    let mut stats = TraceStats::default();
+    let lights = params.sun.is_up() && params.sun.irradiance > 0.0;
+    let mut visibility = vec![if lights && !params.shadows { 1.0f32 } else { 0.0 }; out.len()];
+    if lights && params.shadows {
+        let mut batch = RayBatch::default();
+        let mut owners = Vec::new();
+        for tile_x in (0..width).step_by(TILE_SIZE) {
+            batch.clear();
+            owners.clear();
+            let tile = Tile::new(tile_x, top, width, top + rows);
+            for (i, j) in tile.pixels() {
+                let k = pass.index(i, j);
+                let distance = gbuffer.distance[k] as f64;
+                if !distance.is_finite() {
+                    continue;
+                }
+                let normal = DVec3::from(gbuffer.normal[k].map(f64::from)).normalize_or_zero();
+                if normal.dot(pass.to_sun) > 0.0 {
+                    let (sx, sy) = (kernel.screen_x_f64[i], kernel.screen_y_f64[j]);
+                    let ray = pass.camera.ray_through(sx, sy);
+                    batch.rays.push(shadow_ray(ray.at(distance), normal, distance, pass.to_sun));
+                    owners.push(i + (j - top) * width);
+                }
+            }
+            batch.occlude(pass.tracer);
+            let traced = owners.iter().zip(&batch.occluded).zip(&batch.steps);
+            for ((&n, &occluded), &steps) in traced {
+                stats.record(steps, occluded);
+                visibility[n] = if occluded { 0.0 } else { 1.0 };
+            }
+        }
+    }
+    for r in 0..rows {
+        let k = pass.index(0, top + r);
+        let pixels = r * width..(r + 1) * width;
+        kernel.shade_row(
+            top + r,
+            0,
+            &gbuffer.distance[k..k + width],
+            &gbuffer.normal[k..k + width],
+            &visibility[pixels.clone()],
+            &mut out[pixels],
+        );
+    }
+    stats
+}
