@@ -274,10 +274,11 @@ impl<T: Tracer> SunShadows<T> {
 
     /// Whether a sweep over `surface` of `field` pays for about `rays` shadow rays: it walks
     /// batches there ([`SunShadows::walks_batches_over`]), and the rays are at least one per
-    /// 16 samples, below which its build (a pass over the field, about 1 ns a sample) costs
-    /// more than it saves.
+    /// 64 samples, below which its build (from the tracer's max mipmap, about 5 ms at 4096^2)
+    /// costs more than it saves (at 1280x720 over 4096^2, 921,600 pixels, it saves about 25
+    /// ms of shadow rays; docs/performance.md).
     pub fn pays_for(field: &HeightField, surface: Surface, rays: usize) -> bool {
-        Self::walks_batches_over(field, surface) && rays >= field.width() * field.height() / 16
+        Self::walks_batches_over(field, surface) && rays >= field.width() * field.height() / 64
     }
 
     /// The wrapped tracer.

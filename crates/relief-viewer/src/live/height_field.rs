@@ -16,6 +16,11 @@ use relief_trace::{Simd, SunShadows, Tracer, TracerKind};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
+
+/// How many frames a kept shadow sweep is counted to serve when deciding whether it pays: the
+/// viewer redraws while the camera moves and refines at rest, all under one sun.
+const FRAMES_UNDER_ONE_SUN: usize = 16;
+
 /// The surfaces a height field offers, in the order the viewer cycles them.
 const SURFACES: [Surface; 2] = [Surface::Triangles, Surface::Boxes];
 
@@ -121,7 +126,12 @@ impl LiveHeightField {
             return Some(kept.sweep.clone());
         }
         let field = &self.scene.field;
-        let sweep = Arc::new(sun_shadow_sweep(tracer.clone(), field, surface, params, pixels)?);
+        // The sweep is kept for every frame drawn under the same sun, so its build (a pass over
+        // the field, a few milliseconds at 4096^2) pays for the shadow rays of all of them, not
+        // of this frame alone: it pays whenever it would for their sum.
+        let rays_while_kept = pixels.saturating_mul(FRAMES_UNDER_ONE_SUN);
+        let sweep = sun_shadow_sweep(tracer.clone(), field, surface, params, rays_while_kept)?;
+        let sweep = Arc::new(sweep);
         *kept = Some(KeptSweep { built_for, sweep: sweep.clone() });
         Some(sweep)
     }
