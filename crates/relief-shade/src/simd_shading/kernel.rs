@@ -119,18 +119,30 @@ impl<const N: usize> Lanes<N> {
     }
 }
 
-/// Shades one row of pixels whose screen y is `sy`, `N` at a time: `sx`, `distance`,
-/// `normal`, `visibility` and `out` have one entry per pixel.
+/// A run of pixels of one image row as the kernel reads them: the row's screen y, and one
+/// entry a pixel of each slice (screen x, G-buffer distance and normal, the sun's visibility).
+#[derive(Clone, Copy)]
+pub(crate) struct RowPixels<'a> {
+    /// [`relief_core::Camera::screen_y`] of the row.
+    pub sy: f32,
+    /// [`relief_core::Camera::screen_x`] of each pixel's column.
+    pub sx: &'a [f32],
+    /// Distance to the hit (`+inf` for a miss).
+    pub distance: &'a [f32],
+    /// The hit's normal.
+    pub normal: &'a [[f32; 3]],
+    /// The sun's visibility (0 or 1).
+    pub visibility: &'a [f32],
+}
+
+/// Shades `row`, `N` pixels at a time, one byte triple a pixel into `out`.
 #[inline(always)]
 pub(crate) fn shade_row_lanes<const N: usize>(
     c: &LaneConstants,
-    sy: f32,
-    sx: &[f32],
-    distance: &[f32],
-    normal: &[[f32; 3]],
-    visibility: &[f32],
+    row: &RowPixels,
     out: &mut [[u8; 3]],
 ) {
+    let RowPixels { sy, sx, distance, normal, visibility } = *row;
     let mut start = 0;
     while start < out.len() {
         let m = N.min(out.len() - start);

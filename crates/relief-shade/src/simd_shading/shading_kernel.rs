@@ -3,7 +3,7 @@
 use relief_core::{Camera, Projection};
 
 use super::byte_lanes::ByteLanes;
-use super::kernel::{shade_row_lanes, LaneAlbedo, LaneConstants};
+use super::kernel::{shade_row_lanes, LaneAlbedo, LaneConstants, RowPixels};
 use super::lane_width::LaneWidth;
 use super::ramp_lanes::RampLanes;
 use crate::colour_ramp::rock_linear;
@@ -131,69 +131,39 @@ impl ShadingKernel {
             "one distance, normal and visibility per pixel"
         );
         let sx = &self.screen_x[first_column..first_column + n];
-        let sy = self.screen_y[row];
+        let pixels = RowPixels { sy: self.screen_y[row], sx, distance, normal, visibility };
         let c = &self.constants;
         match self.width {
-            LaneWidth::Portable => shade_row_portable(c, sy, sx, distance, normal, visibility, out),
+            LaneWidth::Portable => shade_row_portable(c, &pixels, out),
             #[cfg(target_arch = "x86_64")]
             // SAFETY: a kernel holds a width only once `is_available` found it on this
             // processor (`detect` and `with_width` check it).
-            LaneWidth::Avx2 => unsafe {
-                shade_row_avx2(c, sy, sx, distance, normal, visibility, out)
-            },
+            LaneWidth::Avx2 => unsafe { shade_row_avx2(c, &pixels, out) },
             #[cfg(target_arch = "x86_64")]
             // SAFETY: as above.
-            LaneWidth::Avx512 => unsafe {
-                shade_row_avx512(c, sy, sx, distance, normal, visibility, out)
-            },
+            LaneWidth::Avx512 => unsafe { shade_row_avx512(c, &pixels, out) },
             #[cfg(not(target_arch = "x86_64"))]
-            LaneWidth::Avx2 | LaneWidth::Avx512 => {
-                shade_row_portable(c, sy, sx, distance, normal, visibility, out)
-            }
+            LaneWidth::Avx2 | LaneWidth::Avx512 => shade_row_portable(c, &pixels, out),
         }
     }
 }
 
 /// The kernel, 8 lanes, compiled for the baseline processor.
-fn shade_row_portable(
-    c: &LaneConstants,
-    sy: f32,
-    sx: &[f32],
-    distance: &[f32],
-    normal: &[[f32; 3]],
-    visibility: &[f32],
-    out: &mut [[u8; 3]],
-) {
-    shade_row_lanes::<8>(c, sy, sx, distance, normal, visibility, out)
+fn shade_row_portable(c: &LaneConstants, pixels: &RowPixels, out: &mut [[u8; 3]]) {
+    shade_row_lanes::<8>(c, pixels, out)
 }
 
 /// The kernel, 8 lanes, compiled for AVX2 and FMA (no multiply-add is fused: Rust never
 /// contracts one).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn shade_row_avx2(
-    c: &LaneConstants,
-    sy: f32,
-    sx: &[f32],
-    distance: &[f32],
-    normal: &[[f32; 3]],
-    visibility: &[f32],
-    out: &mut [[u8; 3]],
-) {
-    shade_row_lanes::<8>(c, sy, sx, distance, normal, visibility, out)
+fn shade_row_avx2(c: &LaneConstants, pixels: &RowPixels, out: &mut [[u8; 3]]) {
+    shade_row_lanes::<8>(c, pixels, out)
 }
 
 /// The kernel, 16 lanes, compiled for AVX-512.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
-fn shade_row_avx512(
-    c: &LaneConstants,
-    sy: f32,
-    sx: &[f32],
-    distance: &[f32],
-    normal: &[[f32; 3]],
-    visibility: &[f32],
-    out: &mut [[u8; 3]],
-) {
-    shade_row_lanes::<16>(c, sy, sx, distance, normal, visibility, out)
+fn shade_row_avx512(c: &LaneConstants, pixels: &RowPixels, out: &mut [[u8; 3]]) {
+    shade_row_lanes::<16>(c, pixels, out)
 }

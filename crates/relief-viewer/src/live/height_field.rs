@@ -16,7 +16,6 @@ use relief_trace::{Simd, SunShadows, Tracer, TracerKind};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
-
 /// How many frames a kept shadow sweep is counted to serve when deciding whether it pays: the
 /// viewer redraws while the camera moves and refines at rest, all under one sun.
 const FRAMES_UNDER_ONE_SUN: usize = 16;
