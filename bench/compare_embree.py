@@ -144,7 +144,10 @@ def main():
     args = parser.parse_args()
     import open3d as o3d  # imported late so --help works without it
 
-    work = args.work or tempfile.mkdtemp(prefix="relief-vs-embree-")
+    # Without --work, the terrains, depth images and ray files (about 1.4 GB at 4096^2) go to a
+    # temporary folder removed at the end.
+    temporary = None if args.work else tempfile.TemporaryDirectory(prefix="relief-vs-embree-")
+    work = args.work or temporary.name
     os.makedirs(work, exist_ok=True)
     width, height = (int(v) for v in args.res.lower().split("x"))
     print(f"relief vs Embree (Open3D {o3d.__version__}), {args.res}, threads: {os.cpu_count()}, work: {work}")
