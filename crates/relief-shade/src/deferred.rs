@@ -42,7 +42,8 @@ pub struct ShadingParams {
 
 impl Default for ShadingParams {
     /// Default sun and sky, a uniform grey albedo of 0.3, shadows, rough GGX specular, no fog,
-    /// exposure 1, the `f32` kernel where it covers the pixels. [`ShadingParams::for_terrain`] fits the ramp and fog to a terrain instead.
+    /// exposure 1, the `f32` kernel where it covers the pixels. [`ShadingParams::for_terrain`]
+    /// fits the ramp and fog to a terrain instead.
     fn default() -> Self {
         ShadingParams {
             sun: Sun::default(),
