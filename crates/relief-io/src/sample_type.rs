@@ -15,7 +15,50 @@ pub(crate) enum SampleType {
     F64,
 }
 
+/// The byte order of stored samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SampleOrder {
+    /// Least significant byte first.
+    Little,
+    /// Most significant byte first.
+    Big,
+    /// This processor's order (what a decoder that swapped already leaves).
+    Native,
+}
+
 impl SampleType {
+    /// Converts `bytes`, samples of this type in `order`, to `f32` into `out`, one a sample
+    /// (as many as both hold).
+    pub(crate) fn decode(self, bytes: &[u8], order: SampleOrder, out: &mut [f32]) {
+        macro_rules! each {
+            ($t:ty) => {{
+                const N: usize = std::mem::size_of::<$t>();
+                for (o, b) in out.iter_mut().zip(bytes.chunks_exact(N)) {
+                    let mut raw = [0u8; N];
+                    raw.copy_from_slice(b);
+                    *o = match order {
+                        SampleOrder::Little => <$t>::from_le_bytes(raw),
+                        SampleOrder::Big => <$t>::from_be_bytes(raw),
+                        SampleOrder::Native => <$t>::from_ne_bytes(raw),
+                    } as f32;
+                }
+            }};
+        }
+        use SampleType::*;
+        match self {
+            I8 => each!(i8),
+            U8 => each!(u8),
+            I16 => each!(i16),
+            U16 => each!(u16),
+            I32 => each!(i32),
+            U32 => each!(u32),
+            I64 => each!(i64),
+            U64 => each!(u64),
+            F32 => each!(f32),
+            F64 => each!(f64),
+        }
+    }
+
     /// Bytes per sample.
     pub(crate) fn size(self) -> usize {
         use SampleType::*;

@@ -8,7 +8,7 @@ use crate::geotiff::stored_chunk::{Predictor, StoredChunkDecoder, StoredCodec, C
 use crate::geotiff::tags::{check_layout, read_nodata, read_placement, tag_error, tiff_error};
 use crate::input_file::open_input;
 use crate::raster::mark_voids;
-use crate::sample_type::SampleType;
+use crate::sample_type::{SampleOrder, SampleType};
 use crate::{Format, Georeference, IoError, Raster, RasterInfo, ReadOptions};
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
@@ -448,28 +448,7 @@ fn limits(options: &ReadOptions) -> Limits {
 
 /// Converts native-endian samples (as the decoder leaves them) to f32.
 fn convert(bytes: &[u8], sample_type: SampleType, out: &mut [f32]) {
-    macro_rules! each {
-        ($t:ty) => {{
-            const N: usize = std::mem::size_of::<$t>();
-            for (o, b) in out.iter_mut().zip(bytes.chunks_exact(N)) {
-                let mut raw = [0u8; N];
-                raw.copy_from_slice(b);
-                *o = <$t>::from_ne_bytes(raw) as f32;
-            }
-        }};
-    }
-    match sample_type {
-        SampleType::I8 => each!(i8),
-        SampleType::U8 => each!(u8),
-        SampleType::I16 => each!(i16),
-        SampleType::U16 => each!(u16),
-        SampleType::I32 => each!(i32),
-        SampleType::U32 => each!(u32),
-        SampleType::I64 => each!(i64),
-        SampleType::U64 => each!(u64),
-        SampleType::F32 => each!(f32),
-        SampleType::F64 => each!(f64),
-    }
+    sample_type.decode(bytes, SampleOrder::Native, out)
 }
 
 /// Reverses the order of the rows of a row-major grid in place.

@@ -3,7 +3,7 @@
 use crate::format_error::FormatError;
 use crate::npy::header::{read_header, Dtype, ScalarKind};
 use crate::raster::ReadOptions;
-use crate::sample_type::SampleType;
+use crate::sample_type::SampleOrder;
 use crate::IoError;
 use half::f16;
 use std::io::{ErrorKind, Read};
@@ -123,38 +123,19 @@ fn decode(
 
 /// Converts the elements in `bytes` to f32 into `out` (float16 exactly, as every f16 is an f32).
 pub(crate) fn convert(bytes: &[u8], dtype: Dtype, out: &mut [f32]) {
-    macro_rules! each {
-        ($t:ty) => {
-            each!($t, |v: $t| v as f32)
-        };
-        ($t:ty, $to_f32:expr) => {{
-            const N: usize = std::mem::size_of::<$t>();
-            for (o, b) in out.iter_mut().zip(bytes.chunks_exact(N)) {
-                let mut raw = [0u8; N];
-                raw.copy_from_slice(b);
-                let v = if dtype.big_endian {
-                    <$t>::from_be_bytes(raw)
-                } else {
-                    <$t>::from_le_bytes(raw)
-                };
-                *o = $to_f32(v);
-            }
-        }};
-    }
+    let order = if dtype.big_endian { SampleOrder::Big } else { SampleOrder::Little };
     match dtype.kind {
-        ScalarKind::Sample(sample) => match sample {
-            SampleType::I8 => each!(i8),
-            SampleType::U8 => each!(u8),
-            SampleType::I16 => each!(i16),
-            SampleType::U16 => each!(u16),
-            SampleType::I32 => each!(i32),
-            SampleType::U32 => each!(u32),
-            SampleType::I64 => each!(i64),
-            SampleType::U64 => each!(u64),
-            SampleType::F32 => each!(f32),
-            SampleType::F64 => each!(f64),
-        },
-        ScalarKind::F16 => each!(u16, |bits| f16::from_bits(bits).to_f32()),
+        ScalarKind::Sample(sample) => sample.decode(bytes, order, out),
+        ScalarKind::F16 => {
+            for (o, b) in out.iter_mut().zip(bytes.chunks_exact(2)) {
+                let raw = [b[0], b[1]];
+                let bits = match order {
+                    SampleOrder::Big => u16::from_be_bytes(raw),
+                    _ => u16::from_le_bytes(raw),
+                };
+                *o = f16::from_bits(bits).to_f32();
+            }
+        }
     }
 }
 
