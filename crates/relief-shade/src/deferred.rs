@@ -197,12 +197,24 @@ impl ShadowTile {
             self.views.push(view);
             self.visibility.push(visibility);
         }
-        self.batch.occlude(pass.tracer);
-        let traced = self.owners.iter().zip(&self.batch.occluded).zip(&self.batch.steps);
-        for ((&n, &occluded), &steps) in traced {
-            stats.record(steps, occluded);
-            self.visibility[n] = if occluded { 0.0 } else { 1.0 };
-        }
+        trace_shadows(&mut self.batch, pass.tracer, &self.owners, &mut self.visibility, stats);
+    }
+}
+
+/// Traces the shadow rays of `batch` with `tracer`, sets the visibility of each ray's owner
+/// (`owners[k]` indexes `visibility`) to 0 where the ray is occluded and 1 where it is not, and
+/// counts the rays in `stats`.
+pub(crate) fn trace_shadows<T: From<u8>>(
+    batch: &mut RayBatch,
+    tracer: &dyn Tracer,
+    owners: &[usize],
+    visibility: &mut [T],
+    stats: &mut TraceStats,
+) {
+    batch.occlude(tracer);
+    for ((&n, &occluded), &steps) in owners.iter().zip(&batch.occluded).zip(&batch.steps) {
+        stats.record(steps, occluded);
+        visibility[n] = T::from(!occluded as u8);
     }
 }
 

@@ -4,7 +4,7 @@
 use relief_core::DVec3;
 
 use super::ShadingKernel;
-use crate::deferred::ShadingPass;
+use crate::deferred::{trace_shadows, ShadingPass};
 use crate::{shadow_ray, RayBatch, Tile, TraceStats, TILE_SIZE};
 
 /// Shades the image rows from `top` on (at most [`TILE_SIZE`], all in the pass's G-buffer)
@@ -48,12 +48,7 @@ pub(crate) fn shade_strip_in_lanes(
                     owners.push(i + (j - top) * width);
                 }
             }
-            batch.occlude(pass.tracer);
-            let traced = owners.iter().zip(&batch.occluded).zip(&batch.steps);
-            for ((&n, &occluded), &steps) in traced {
-                stats.record(steps, occluded);
-                visibility[n] = if occluded { 0.0 } else { 1.0 };
-            }
+            trace_shadows(&mut batch, pass.tracer, &owners, &mut visibility, &mut stats);
         }
     }
     for r in 0..rows {
