@@ -54,6 +54,7 @@ mod depth_metrics;
 mod error;
 mod footprint;
 mod gbuffer;
+pub mod horizon;
 pub mod hybrid;
 pub mod mlhm;
 mod ray_batch;
