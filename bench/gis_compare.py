@@ -100,7 +100,8 @@ def relief_capabilities(relief, work):
         if proc.returncode == 0:
             layers.add(name)
         else:
-            print(f"relief shade --layers {name}: {proc.stderr.strip().splitlines()[-1:]}", file=sys.stderr)
+            reason = (proc.stderr.strip().splitlines() or ["(no message)"])[0]
+            print(f"left out: relief shade --layers {name}: {reason}", file=sys.stderr)
     help_text = subprocess.run([relief, "shade", "--help"], capture_output=True, text=True).stdout
     for path in (tiny, out):
         if path.exists():
@@ -146,7 +147,8 @@ class Table:
     def add(self, layer, tool, settings, seconds, error=None, unit="", note=""):
         row = {"layer": layer, "tool": tool, "settings": settings, "seconds": seconds,
                "mean_abs_error": None if error is None else error[0],
-               "max_abs_error": None if error is None else error[1], "unit": unit, "note": note}
+               "max_abs_error": None if error is None else error[1], "unit": unit, "note": note,
+               "load_average_1min": round(os.getloadavg()[0], 2)}
         self.rows.append(row)
         print(self.line(row), flush=True)
 
@@ -170,7 +172,8 @@ def compare_dem(args, name, dem_path, work, lat_lon):
     dem, dx, dy = horizon_scan.read_dem(dem_path)
     points = horizon_scan.random_points(dem.shape, args.points, args.seed)
     print(f"\n### {name}: {dem.shape[1]} x {dem.shape[0]} samples, cells {dx:.2f} x {dy:.2f} m, "
-          f"{args.points} points (seed {args.seed})\n", flush=True)
+          f"{args.points} points (seed {args.seed}); load average {os.getloadavg()[0]:.1f} on "
+          f"{os.cpu_count()} cores\n", flush=True)
     start = time.perf_counter()
     ref = horizon_scan.reference_layers(dem, dx, dy, points, args.ref_azimuths)
     ref_seconds = time.perf_counter() - start

@@ -1,12 +1,16 @@
 #!/usr/bin/env python3
 """Makes the pictures of docs/gis.md from the Jacksboro fault DEM (the repository's fixture):
-`gdaldem hillshade` beside relief's shadow, sky and combined layers, and a map composed in
-Python from relief's layers and a colour ramp of the heights.
+`gdaldem hillshade` beside relief's shadow, sky and combined layers, a map composed in
+Python from relief's layers and a colour ramp of the heights, and one small picture of each
+layer of `relief shade` (docs/images/gis/LAYER.png, a colour map with its scale).
 
 Run from the repository's root after `cargo build --release` and `python3 -m pip install .`,
-with gdal-bin installed (`apt-get install gdal-bin`):
-    python3 bench/gis_pictures.py
+with gdal-bin and matplotlib installed (`apt-get install gdal-bin`, `pip install matplotlib`):
+    python3 bench/gis_pictures.py               # every picture
+    python3 bench/gis_pictures.py --layers-only # only docs/images/gis/
 """
+import argparse
+import shutil
 import subprocess
 import tempfile
 from pathlib import Path
@@ -19,6 +23,24 @@ import relief
 
 DEM = "crates/relief-io/tests/fixtures/jacksboro_fault_dem.tif"
 OUT = Path("docs/gis")
+LAYER_PICTURES = Path("docs/images/gis")
+# Each layer's colour map, value range (None: the 1st to 99th percentile) and unit.
+LAYER_STYLES = {
+    "shadow": ("gray", (0, 1), "fraction of the sun seen"),
+    "sky": ("gray", None, "sky-view factor"),
+    "hillshade": ("gray", (0, 1), "cosine of the sun's incidence"),
+    "combined": ("gray", (0, 1), "0..1"),
+    "sky-aniso": ("gray", None, "anisotropic sky-view factor"),
+    "openness-pos": ("viridis", None, "positive openness, degrees"),
+    "openness-neg": ("viridis", None, "negative openness, degrees"),
+    "sky-illumination": ("gray", None, "diffuse light, 1 on an open plane"),
+    "hillshade-multi": ("gray", (0, 1), "0..1"),
+    "insolation": ("inferno", None, "Wh/m² of direct beam, 2026-06-21"),
+    "sun-hours": ("inferno", None, "hours of direct sun, 2026-06-21"),
+    "horizon-000.0": ("RdBu_r", "symmetric", "horizon angle towards the north, degrees"),
+}
+PROBE_LAYERS = ["shadow", "sky", "hillshade", "combined", "horizon", "sky-aniso", "openness-pos",
+                "openness-neg", "sky-illumination", "hillshade-multi", "insolation", "sun-hours"]
 RELIEF = "target/release/relief"
 
 
@@ -27,9 +49,76 @@ def grey(values):
     return Image.fromarray((np.nan_to_num(values, nan=0.0).clip(0, 1) * 255).round().astype(np.uint8))
 
 
+def layers_of_this_relief(work):
+    """The layers this build of `relief shade` makes (each tried on a small DEM)."""
+    tiny = work / "probe.npy"
+    np.save(tiny, np.random.default_rng(0).random((9, 9), dtype=np.float32))
+    found = []
+    for name in PROBE_LAYERS:
+        extra = ["--date", "2026-06-21", "--lat", "36", "--lon", "-87"] if name in ("insolation", "sun-hours") else []
+        proc = subprocess.run([RELIEF, "shade", str(tiny), "-o", str(work / "probe.tif"), "--layers", name] + extra,
+                              capture_output=True)
+        if proc.returncode == 0:
+            found.append(name)
+    return found
+
+
+def layer_pictures(work):
+    """One picture per layer of the real DEM, from the bands of one `relief shade` GeoTIFF."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    LAYER_PICTURES.mkdir(parents=True, exist_ok=True)
+    layers = layers_of_this_relief(work)
+    options = ["--sun", "315,20"]
+    if "insolation" in layers or "sun-hours" in layers:
+        options += ["--date", "2026-06-21", "--step", "15m"]
+    subprocess.run([RELIEF, "shade", DEM, "-o", str(work / "layers.tif"), "--layers", ",".join(layers)] + options,
+                   check=True)
+    with rasterio.open(work / "layers.tif") as f:
+        bands = {name: f.read(band) for band, name in enumerate(f.descriptions, start=1)}
+    for name, values in bands.items():
+        if name not in LAYER_STYLES:
+            continue
+        colour_map, span, unit = LAYER_STYLES[name]
+        finite = values[np.isfinite(values)]
+        if span is None:
+            span = tuple(np.percentile(finite, [1, 99]))
+        elif span == "symmetric":
+            edge = float(np.percentile(np.abs(finite), 99))
+            span = (-edge, edge)
+        figure, axes = plt.subplots(figsize=(4.0, 3.9), dpi=100)
+        image = axes.imshow(values, cmap=colour_map, vmin=span[0], vmax=span[1], interpolation="nearest")
+        axes.set_axis_off()
+        axes.set_title(name, fontsize=10)
+        bar = figure.colorbar(image, ax=axes, orientation="horizontal", fraction=0.05, pad=0.03)
+        bar.set_label(unit, fontsize=8)
+        bar.ax.tick_params(labelsize=7)
+        figure.savefig(LAYER_PICTURES / f"{name}.png", bbox_inches="tight")
+        plt.close(figure)
+        print(f"{name}: {span[0]:.4g} .. {span[1]:.4g} {unit}")
+    print(f"wrote {len(bands)} layer pictures into {LAYER_PICTURES}")
+
+
 def main():
-    OUT.mkdir(parents=True, exist_ok=True)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--layers-only", action="store_true", help="only the pictures of each layer")
+    args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="relief-gis-"))
+    try:
+        layer_pictures(work)
+        if not args.layers_only:
+            comparison_and_map(work)
+    finally:
+        shutil.rmtree(work)
+
+
+def comparison_and_map(work):
+    """gdaldem's hillshade beside relief's layers (docs/gis/comparison.png) and the map composed
+    in Python (docs/gis/map.png)."""
+    OUT.mkdir(parents=True, exist_ok=True)
     # 1. gdaldem's hillshade (local slope only), and relief's layers from the command line.
     subprocess.run(["gdaldem", "hillshade", DEM, str(work / "gdaldem.tif"), "-compute_edges", "-s",
                     "111120", "-alt", "20", "-q"],
