@@ -301,7 +301,12 @@ def main():
     parser.add_argument("--work", default=None, help="keep the DEMs here")
     parser.add_argument("--json", default="gis_compare.json", help="where to write every figure")
     parser.add_argument("--no-install", action="store_true", help="do not install missing anchors")
+    parser.add_argument("--summary", metavar="JSON", help="only print the tables of an earlier run's JSON")
     args = parser.parse_args()
+    if args.summary:
+        with open(args.summary) as f:
+            print_summary(json.load(f))
+        return
     if not args.no_install:
         anchors.install_anchors()
     # A stop by SIGTERM still removes the temporary folder.
@@ -325,12 +330,18 @@ def main():
         if temporary is not None:
             temporary.cleanup()
     print("\n## Summary, layer by layer")
+    print_summary(results)
+    print(f"\nwrote {args.json}")
+
+
+def print_summary(results):
+    """Each DEM's table in layer order, as markdown."""
     for name, dem in results["dems"].items():
-        print(f"\n### {name}\n\n{Table.header()}")
+        print(f"\n{name}: {dem['shape'][1]} x {dem['shape'][0]} samples, cells {dem['dx']:.2f} x "
+              f"{dem['dy']:.2f} m\n\n{Table.header()}")
         for row in sorted(dem["rows"], key=lambda r: LAYER_ORDER.index(r["layer"])
                           if r["layer"] in LAYER_ORDER else len(LAYER_ORDER)):
             print(Table.line(row))
-    print(f"\nwrote {args.json}")
 
 
 if __name__ == "__main__":
