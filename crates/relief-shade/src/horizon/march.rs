@@ -4,6 +4,16 @@
 
 use super::cell_pyramid::CellPyramid;
 
+/// `x` rounded down, without a call into the maths library.
+#[inline(always)]
+fn floor(x: f64) -> isize {
+    let truncated = x as isize;
+    truncated - isize::from((truncated as f64) > x)
+}
+
+/// The nearest a hint may lie, in cells: nearer, it would be the sample's own point.
+const HINT_NEAREST: f64 = 1e-6;
+
 /// How near a line's end in a cell must come to a corner, in cells, to pass through it.
 const VERTEX_TOLERANCE: f64 = 1e-9;
 
@@ -115,6 +125,15 @@ impl MarchTerrain<'_> {
     }
 }
 
+/// The horizon from one sample in one direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Horizon {
+    /// Elevation angle in radians.
+    pub angle: f64,
+    /// Horizontal distance in metres to the point that sets it (NaN if none).
+    pub distance: f64,
+}
+
 /// One compass direction's march: the line's step per metre in samples, and the limits.
 pub(crate) struct DirectionMarch<'a> {
     terrain: &'a MarchTerrain<'a>,
@@ -163,19 +182,37 @@ impl<'a> DirectionMarch<'a> {
         }
     }
 
-    /// The horizon's elevation angle in radians seen from sample (`col`, `row`) raised by the
-    /// observer's height: the steepest angle up (or least steep down) to any point of the
-    /// surface along the direction, to the edge of the data or the radius; 0 where no surface
-    /// lies ahead.
-    pub(crate) fn horizon(&self, col: usize, row: usize) -> f64 {
+    /// The horizon seen from sample (`col`, `row`) raised by the observer's height: the
+    /// steepest slope up (or least steep down) to any point of the surface along the direction,
+    /// to the edge of the data or the radius, as an elevation angle in radians (0 where no
+    /// surface lies ahead), and the horizontal distance to the point that sets it.
+    ///
+    /// `hints` are distances along the line where the horizon may lie (where a neighbouring
+    /// sample's is): the surface's slope there is a lower bound that lets the march skip more
+    /// from the start. They change how fast the answer is found, never the answer.
+    pub(crate) fn horizon(&self, col: usize, row: usize, hints: &[f64]) -> Horizon {
         let terrain = self.terrain;
         let (cells_x, cells_y) = (terrain.width as isize - 1, terrain.height as isize - 1);
+        let none = Horizon { angle: 0.0, distance: f64::NAN };
         if cells_x < 1 || cells_y < 1 {
-            return 0.0;
+            return none;
         }
         let (u0, v0) = (col as f64, row as f64);
         let z0 = terrain.samples[col + row * terrain.width] as f64 * terrain.sign * terrain.z_scale
             + self.observer_height;
+        let mut best = f64::NEG_INFINITY;
+        let mut distance = f64::NAN;
+        let nearest = HINT_NEAREST * terrain.dx.min(terrain.dy);
+        for &t in hints {
+            if t >= nearest && t <= self.t_end {
+                if let Some(z) = self.surface_at(u0 + self.a * t, v0 + self.b * t) {
+                    let slope = (z - z0) / t - self.drop * t;
+                    if slope > best {
+                        (best, distance) = (slope, t);
+                    }
+                }
+            }
+        }
         // The cell the line starts in; along a grid line, either neighbour (the profile on
         // their shared edge is the same).
         let start = |p: usize, step: f64, cells: isize| -> isize {
@@ -189,7 +226,6 @@ impl<'a> DirectionMarch<'a> {
         let (mut c, mut r) = (start(col, self.a, cells_x), start(row, self.b, cells_y));
         let pyramid = &terrain.pyramid;
         let top = pyramid.top();
-        let mut best = f64::NEG_INFINITY;
         let mut t = 0.0f64;
         let mut level = 0usize;
         while (0..cells_x).contains(&c) && (0..cells_y).contains(&r) && t < self.t_end {
@@ -212,14 +248,24 @@ impl<'a> DirectionMarch<'a> {
                 f64::INFINITY
             };
             let t_exit = t_u.min(t_v);
+            // The node cannot raise the horizon if its highest point, at the nearest distance
+            // (or the farthest, below the observer), is no steeper than the best so far.
             let highest = pyramid.get(level, nx, ny) as f64 * terrain.z_scale - z0;
-            let bound = if highest >= 0.0 { highest / t } else { highest / t_exit } - self.drop * t;
-            if !(bound <= best) {
+            let lowest_line = best + self.drop * t;
+            let skip = if highest >= 0.0 {
+                highest <= lowest_line * t
+            } else {
+                highest <= lowest_line * t_exit
+            };
+            if !skip {
                 if level > 0 {
                     level -= 1;
                     continue;
                 }
-                self.cell(c as usize, r as usize, t, t_exit.min(self.t_end), u0, v0, z0, &mut best);
+                let end = t_exit.min(self.t_end);
+                if let Some(at) = self.cell(c as usize, r as usize, t, end, u0, v0, z0, &mut best) {
+                    distance = at;
+                }
             }
             if t_exit >= self.t_end {
                 break;
@@ -227,7 +273,7 @@ impl<'a> DirectionMarch<'a> {
             // Step into the next node: across the face the line leaves by, and along the
             // other axis to where the line is then (inside the node, never backwards).
             let along = |p0: f64, step: f64, lo: isize, hi: isize, now: isize| -> isize {
-                let p = ((p0 + step * t_exit).floor() as isize).clamp(lo, hi - 1);
+                let p = floor(p0 + step * t_exit).clamp(lo, hi - 1);
                 if step > 0.0 {
                     p.max(now)
                 } else if step < 0.0 {
@@ -248,16 +294,36 @@ impl<'a> DirectionMarch<'a> {
                     if self.b > 0.0 { v_hi } else { v_lo - 1 },
                 )
             };
+            // Up to the largest node the line has just entered.
+            while level < top
+                && ((next_c >> (level + 1)) != (c >> (level + 1))
+                    || (next_r >> (level + 1)) != (r >> (level + 1)))
+            {
+                level += 1;
+            }
             c = next_c;
             r = next_r;
             t = t.max(t_exit);
-            level = (level + 1).min(top);
         }
         if best == f64::NEG_INFINITY {
-            0.0
+            none
         } else {
-            best.atan()
+            Horizon { angle: best.atan(), distance }
         }
+    }
+
+    /// The surface's height at grid point (`u`, `v`), if a whole cell holds it.
+    fn surface_at(&self, u: f64, v: f64) -> Option<f64> {
+        let terrain = self.terrain;
+        let (cells_x, cells_y) = (terrain.width - 1, terrain.height - 1);
+        if !(u >= 0.0 && v >= 0.0 && u <= cells_x as f64 && v <= cells_y as f64) {
+            return None;
+        }
+        let (c, r) = ((u as usize).min(cells_x - 1), (v as usize).min(cells_y - 1));
+        if !terrain.has_surface(c, r) {
+            return None;
+        }
+        Some(terrain.corners(c, r).height_at(u - c as f64, v - r as f64))
     }
 
     /// A cell with a hole corner has no surface of its own, but where a line enters or leaves
@@ -265,9 +331,17 @@ impl<'a> DirectionMarch<'a> {
     /// there (a line along a grid line, or through a corner, beside the holes; or the end of
     /// the radius on such an edge).
     #[cold]
-    fn hole_cell(&self, c: usize, r: usize, ends: [(f64, f64, f64); 2], z0: f64, best: &mut f64) {
+    fn hole_cell(
+        &self,
+        c: usize,
+        r: usize,
+        ends: [(f64, f64, f64); 2],
+        z0: f64,
+        best: &mut f64,
+    ) -> Option<f64> {
         let terrain = self.terrain;
-        let Some(on_surface) = &terrain.on_surface else { return };
+        let on_surface = terrain.on_surface.as_ref()?;
+        let mut raised = None;
         let (w, h) = (terrain.width, terrain.height);
         let side = |x: f64| -> Option<usize> {
             if x.abs() < VERTEX_TOLERANCE {
@@ -308,9 +382,14 @@ impl<'a> DirectionMarch<'a> {
                 (None, None) => None,
             };
             if let Some(g) = g {
-                *best = best.max((g - z0) / t - self.drop * t);
+                let slope = (g - z0) / t - self.drop * t;
+                if slope > *best {
+                    *best = slope;
+                    raised = Some(t);
+                }
             }
         }
+        raised
     }
 
     /// Raises `best` to the steepest slope of the surface of cell (`c`, `r`) between
@@ -330,7 +409,7 @@ impl<'a> DirectionMarch<'a> {
         v0: f64,
         z0: f64,
         best: &mut f64,
-    ) {
+    ) -> Option<f64> {
         let local = |t: f64| -> (f64, f64) {
             let s = (u0 + self.a * t - c as f64).clamp(0.0, 1.0);
             let q = (v0 + self.b * t - r as f64).clamp(0.0, 1.0);
@@ -339,10 +418,10 @@ impl<'a> DirectionMarch<'a> {
         let (s_in, q_in) = local(t_in);
         let (s_out, q_out) = local(t_out);
         if !self.terrain.has_surface(c, r) {
-            self.hole_cell(c, r, [(t_in, s_in, q_in), (t_out, s_out, q_out)], z0, best);
-            return;
+            return self.hole_cell(c, r, [(t_in, s_in, q_in), (t_out, s_out, q_out)], z0, best);
         }
         let corners = self.terrain.corners(c, r);
+        let mut raised = None;
         let g_in = corners.height_at(s_in, q_in) - z0;
         let g_out = corners.height_at(s_out, q_out) - z0;
         let mut points = [(t_in, g_in), (t_out, g_out), (t_out, g_out)];
@@ -358,6 +437,7 @@ impl<'a> DirectionMarch<'a> {
                 let slope = g / t - self.drop * t;
                 if slope > *best {
                     *best = slope;
+                    raised = Some(t);
                 }
             }
         }
@@ -377,10 +457,12 @@ impl<'a> DirectionMarch<'a> {
                         let slope = rate - 2.0 * (-at_zero * self.drop).sqrt();
                         if slope > *best {
                             *best = slope;
+                            raised = Some(t_peak);
                         }
                     }
                 }
             }
         }
+        raised
     }
 }

@@ -153,23 +153,35 @@ impl<'a> HorizonEngine<'a> {
         let p = &self.params;
         (0..p.azimuths as usize)
             .map(|k| {
+                let azimuth = p.azimuth_deg(k);
                 let march = DirectionMarch::new(
                     &self.terrain,
-                    p.azimuth_deg(k),
+                    azimuth,
                     p.observer_height,
                     p.radius,
                     p.refraction,
                 );
+                // Where the previous sample's horizon (west in the row) and the one below's
+                // (south, the row before) lie, seen along this sample's line: hints.
+                let (sin, cos) = azimuth.to_radians().sin_cos();
+                let (west, south) = (-self.terrain.dx * sin, -self.terrain.dy * cos);
+                let mut below = vec![f64::NAN; width];
                 let mut angles = Vec::with_capacity(rows.len() * width);
                 for row in rows.clone() {
+                    let mut previous = f64::NAN;
                     for col in 0..width {
                         let index = col + row * width;
                         let void = self.void.is_some_and(|v| v[index]);
-                        angles.push(if void || self.is_hole(index) {
-                            f32::NAN
-                        } else {
-                            march.horizon(col, row) as f32
-                        });
+                        if void || self.is_hole(index) {
+                            angles.push(f32::NAN);
+                            (previous, below[col]) = (f64::NAN, f64::NAN);
+                            continue;
+                        }
+                        let hints = [previous + west, below[col] + south];
+                        let horizon = march.horizon(col, row, &hints);
+                        angles.push(horizon.angle as f32);
+                        previous = horizon.distance;
+                        below[col] = horizon.distance;
                     }
                 }
                 angles
