@@ -234,14 +234,16 @@ def compare_dem(args, name, dem_path, work, lat_lon):
               errors(at(neg["opns"], points), ref["openness-neg"]), "degrees", square)
     # relief's openness both ways and anisotropic SVF.
     if {"openness-pos", "openness-neg"} <= layers:
-        bands = relief_row("openness-pos", "64 azimuths", ["--layers", "openness-pos,openness-neg",
-                           "--azimuths", "64"], ref["openness-pos"], "degrees")
+        n = str(args.azimuths)
+        bands = relief_row("openness-pos", f"{n} azimuths", ["--layers", "openness-pos,openness-neg",
+                           "--azimuths", n], ref["openness-pos"], "degrees")
         if bands is not None:
             table.rows[-1]["note"] = "both opennesses in this run"
-            table.add("openness-neg", "relief", "64 azimuths (the same run)", None,
+            table.add("openness-neg", "relief", f"{n} azimuths (the same run)", None,
                       errors(at(bands["openness-neg"], points), ref["openness-neg"]), "degrees")
     if "sky-aniso" in layers:
-        relief_row("sky-aniso", "64 azimuths, main 315", ["--layers", "sky-aniso", "--azimuths", "64"],
+        relief_row("sky-aniso", f"{args.azimuths} azimuths, main 315",
+                   ["--layers", "sky-aniso", "--azimuths", str(args.azimuths)],
                    ref["sky-aniso"])
     # Horizon angles at relief's own azimuths: a direct check of exactness.
     if "horizon" in layers:
@@ -297,6 +299,8 @@ def main():
     parser.add_argument("--ref-azimuths", type=int, default=180)
     parser.add_argument("--rvt-rmax", type=int, default=100,
                         help="r_max in cells of rvt-py's run at 64 directions")
+    parser.add_argument("--azimuths", type=int, default=32,
+                        help="relief's directions for openness and sky-aniso (sky runs at 16 and 64)")
     parser.add_argument("--relief", default="target/release/relief")
     parser.add_argument("--work", default=None, help="keep the DEMs here")
     parser.add_argument("--json", default="gis_compare.json", help="where to write every figure")
