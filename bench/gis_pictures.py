@@ -79,6 +79,7 @@ def layer_pictures(work):
                    check=True)
     with rasterio.open(work / "layers.tif") as f:
         bands = {name: f.read(band) for band, name in enumerate(f.descriptions, start=1)}
+    drawn = 0
     for name, values in bands.items():
         if name not in LAYER_STYLES:
             continue
@@ -96,10 +97,13 @@ def layer_pictures(work):
         bar = figure.colorbar(image, ax=axes, orientation="horizontal", fraction=0.05, pad=0.03)
         bar.set_label(unit, fontsize=8)
         bar.ax.tick_params(labelsize=7)
-        figure.savefig(LAYER_PICTURES / f"{name}.png", bbox_inches="tight")
+        # One horizon band stands for the layer: docs/images/gis/horizon.png.
+        file_name = "horizon" if name.startswith("horizon-") else name
+        figure.savefig(LAYER_PICTURES / f"{file_name}.png", bbox_inches="tight")
+        drawn += 1
         plt.close(figure)
         print(f"{name}: {span[0]:.4g} .. {span[1]:.4g} {unit}")
-    print(f"wrote {len(bands)} layer pictures into {LAYER_PICTURES}")
+    print(f"wrote {drawn} layer pictures into {LAYER_PICTURES}")
 
 
 def main():
