@@ -130,7 +130,7 @@ def comparison_and_map(work):
     with rasterio.open(work / "gdaldem.tif") as f:
         grey(f.read(1) / 255.0).save(work / "gdaldem-hillshade.png")
     subprocess.run([RELIEF, "shade", DEM, "-o", str(work / "shade.tif"), "--layers",
-                    "shadow,sky,hillshade,combined", "--sun", "315,20", "--sky-rays", "64"],
+                    "shadow,sky,hillshade,combined", "--sun", "315,20", "--azimuths", "64"],
                    check=True)
     with rasterio.open(work / "shade.tif") as f:
         for band, name in enumerate(f.descriptions, start=1):
