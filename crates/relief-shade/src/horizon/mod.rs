@@ -171,19 +171,19 @@ impl<'a> HorizonEngine<'a> {
                 let mut angles = Vec::with_capacity(rows.len() * width);
                 for row in rows.clone() {
                     let mut previous = f64::NAN;
-                    for col in 0..width {
+                    for (col, below) in below.iter_mut().enumerate() {
                         let index = col + row * width;
                         let void = self.void.is_some_and(|v| v[index]);
                         if void || self.is_hole(index) {
                             angles.push(f32::NAN);
-                            (previous, below[col]) = (f64::NAN, f64::NAN);
+                            (previous, *below) = (f64::NAN, f64::NAN);
                             continue;
                         }
-                        let hints = [previous + west, below[col] + south];
+                        let hints = [previous + west, *below + south];
                         let horizon = march.horizon(col, row, &hints, at_least_level);
                         angles.push(horizon.angle as f32);
                         previous = horizon.distance;
-                        below[col] = horizon.distance;
+                        *below = horizon.distance;
                     }
                 }
                 angles

@@ -96,7 +96,7 @@ const TILE_COLS: usize = 8;
 /// - [`ShadeLayer::SkyIllumination`]: `(1 - SUN_SHARE_OF_SKY_ILLUMINATION)` times
 ///   [`sky_illumination`] plus that share times the shadow layer (RVT's shaded sky
 ///   illumination);
-/// - [`ShadeLayer::HillshadeMulti`]: [`multidirectional_hillshade`];
+/// - [`ShadeLayer::HillshadeMulti`]: the hillshade of [`multidirectional_hillshade`];
 /// - [`ShadeLayer::Insolation`] and [`ShadeLayer::SunHours`]: over the
 ///   [`ShadeMapParams::insolation`] suns, the direct-beam energy on the tilted cell (Wh/m²) and
 ///   the hours of direct sun, a sun counting where it stands above the horizon (interpolated
