@@ -56,7 +56,7 @@ pub struct ShadeArgs {
     /// Let the earth's curvature lower distant terrain, less atmospheric refraction of
     /// coefficient K (0 to below 1) [default when given alone: 0.13].
     #[arg(long, value_name = "K", num_args = 0..=1, default_missing_value = "0.13",
-          value_parser = refraction, allow_hyphen_values = true)]
+          value_parser = refraction)]
     pub earth_curvature: Option<f64>,
     /// The sky of the sky-illumination layer: overcast (three times brighter at the zenith than
     /// at the horizon) or uniform [default: overcast].
