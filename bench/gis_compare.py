@@ -143,7 +143,8 @@ def at(grid, points):
 
 
 class Table:
-    """Rows of one DEM's comparison: printed as markdown and kept for the JSON."""
+    """Rows of one DEM's comparison: printed as markdown and kept for the JSON. The load column
+    is the machine's 1-minute load average as the row's timing ended."""
 
     def __init__(self, dem_name):
         self.dem_name, self.rows = dem_name, []
@@ -158,8 +159,8 @@ class Table:
 
     @staticmethod
     def header():
-        return ("| layer | tool | settings | time s | mean abs error | max error | unit |\n"
-                "|---|---|---|---|---|---|---|")
+        return ("| layer | tool | settings | time s | load | mean abs error | max error | unit |\n"
+                "|---|---|---|---|---|---|---|---|")
 
     @staticmethod
     def line(row):
@@ -167,7 +168,8 @@ class Table:
             return "" if v is None else f"{v:.{digits}g}" if abs(v) < 1e-3 and v != 0 else f"{v:.{digits}f}"
         seconds = "" if row["seconds"] is None else f"{row['seconds']:.2f}"
         note = f" ({row['note']})" if row["note"] else ""
-        return (f"| {row['layer']} | {row['tool']} | {row['settings']}{note} | {seconds} | "
+        load = "" if row["seconds"] is None else f"{row['load_average_1min']:.1f}"
+        return (f"| {row['layer']} | {row['tool']} | {row['settings']}{note} | {seconds} | {load} | "
                 f"{number(row['mean_abs_error'], 4)} | {number(row['max_abs_error'], 4)} | {row['unit']} |")
 
 
