@@ -47,10 +47,7 @@ fn near_a_wall(field: &HeightField, col: usize, row: usize) -> bool {
 /// The world point at fractions (`u`, `v`) of the field's footprint.
 fn point_in(field: &HeightField, u: f64, v: f64) -> (f64, f64) {
     let g = field.geometry();
-    (
-        g.origin.x + u * field.width() as f64 * g.dx,
-        g.origin.y + v * field.height() as f64 * g.dy,
-    )
+    (g.origin.x + u * field.width() as f64 * g.dx, g.origin.y + v * field.height() as f64 * g.dy)
 }
 
 fn run(field: &Arc<HeightField>, surface: Surface, params: &ViewshedParams) -> Viewshed {
@@ -156,7 +153,11 @@ fn field_of(w: usize, h: usize, dx: f64, height: impl Fn(f64, f64) -> f64) -> Ar
 }
 
 fn one_observer(x: f64, y: f64, height: f64) -> ViewshedParams {
-    ViewshedParams { observers: vec![Observer::new(x, y, height)], target_height: 0.0, radius: None }
+    ViewshedParams {
+        observers: vec![Observer::new(x, y, height)],
+        target_height: 0.0,
+        radius: None,
+    }
 }
 
 #[test]
