@@ -217,7 +217,7 @@ impl SightLines<'_> {
                 return None;
             }
         }
-        Some(Ray::new(target, to_eye).with_range(0.0, 1.0))
+        Some(Ray::new(self.eye, -to_eye).with_range(0.0, 1.0))
     }
 }
 
