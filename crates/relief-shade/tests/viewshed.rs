@@ -268,3 +268,18 @@ fn the_viewshed_is_the_same_whatever_the_thread_count() {
         assert!(one.counts.contains(&count), "no sample seen by {count}");
     }
 }
+
+#[test]
+fn the_ground_behind_a_wall_is_proven_hidden_without_tracing() {
+    // The sweep proves the lines of sight that pass through the wall hidden: only the samples
+    // seen and the hidden ones within ten texels behind the wall (where the wall's squares are
+    // not yet in the sweep's bins) are traced, and the answer is the geometry's.
+    let field = field_of(120, 40, 1.0, |x, _| if (50.0..53.0).contains(&x) { 30.0 } else { 0.0 });
+    let result = run(&field, Surface::Triangles, &one_observer(20.5, 20.5, 2.0));
+    let seen = result.counts.iter().filter(|&&c| c == 1.0).count() as u64;
+    assert!(result.rays < seen + 10 * 40, "{} rays for {seen} samples seen", result.rays);
+    for row in 0..40 {
+        assert_eq!(result.counts[20 + row * 120], 1.0, "row {row} before the wall");
+        assert_eq!(result.counts[100 + row * 120], 0.0, "row {row} behind the wall");
+    }
+}

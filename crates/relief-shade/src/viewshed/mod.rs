@@ -7,8 +7,13 @@
 //! ends of the segment are raised by the lift of the shade map's rays
 //! ([`crate::shade_map::SURFACE_LIFT`], a millionth of a cell), so that a target on the ground
 //! is not hidden by the surface it lies on, and the segment is traced by the exact tracer
-//! handed in, as one ray from the target to the eye.
+//! handed in, as one ray from the eye to the target.
+//!
+//! Most hidden samples are not traced: a sweep outward from the eye ([`hidden_sweep`]) proves
+//! them hidden, exactly, from lower bounds of the terrain's horizon; the answer is the one the
+//! tracer would give.
 
+pub mod hidden_sweep;
 mod observer;
 
 pub use observer::{Observer, DEFAULT_OBSERVER_HEIGHT};
@@ -142,7 +147,11 @@ pub fn viewshed(
     let done_rows = AtomicU64::new(0);
     let mut rays = 0;
     for &eye in &eyes {
-        let sights = SightLines { field, tracer, void, eye, params };
+        let mut sights = SightLines { field, tracer, void, eye, params, hidden: Vec::new() };
+        let target = |col, row| sights.target_point(col, row);
+        let hidden = hidden_sweep::proven_hidden(field, tracer.surface(), eye, &target);
+        sights.hidden = hidden;
+        let sights = &sights;
         rays += counts
             .par_chunks_mut(BAND_ROWS * width)
             .enumerate()
@@ -178,6 +187,8 @@ struct SightLines<'a> {
     void: Option<&'a [bool]>,
     eye: DVec3,
     params: &'a ViewshedParams,
+    /// Per sample, whether its line of sight is proven hidden without tracing.
+    hidden: Vec<bool>,
 }
 
 impl SightLines<'_> {
@@ -202,22 +213,31 @@ impl SightLines<'_> {
         cast
     }
 
-    /// The ray from the target point of sample (`col`, `row`) to the eye, or `None` when
-    /// the sample is void or out of the radius.
-    fn sight_line(&self, col: usize, row: usize) -> Option<Ray> {
+    /// The target point of sample (`col`, `row`): its sample point raised by the target
+    /// height (and the lift), or `None` when the sample is void or out of the radius.
+    fn target_point(&self, col: usize, row: usize) -> Option<DVec3> {
         let index = col + row * self.field.width();
         if self.field.is_hole(col, row) || self.void.is_some_and(|v| v[index]) {
             return None;
         }
         let target =
             surface_origin(self.field, col, row) + DVec3::new(0.0, 0.0, self.params.target_height);
-        let to_eye = self.eye - target;
         if let Some(radius) = self.params.radius {
-            if to_eye.x.hypot(to_eye.y) > radius {
+            if (target.x - self.eye.x).hypot(target.y - self.eye.y) > radius {
                 return None;
             }
         }
-        Some(Ray::new(self.eye, -to_eye).with_range(0.0, 1.0))
+        Some(target)
+    }
+
+    /// The ray from the eye to the target point of sample (`col`, `row`), or `None` when
+    /// the sample is void, out of the radius, or proven hidden.
+    fn sight_line(&self, col: usize, row: usize) -> Option<Ray> {
+        if self.hidden.get(col + row * self.field.width()) == Some(&true) {
+            return None;
+        }
+        let target = self.target_point(col, row)?;
+        Some(Ray::new(self.eye, target - self.eye).with_range(0.0, 1.0))
     }
 }
 
