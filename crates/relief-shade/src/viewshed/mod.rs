@@ -146,24 +146,33 @@ pub fn viewshed(
 
     let done_rows = AtomicU64::new(0);
     let mut rays = 0;
-    for &eye in &eyes {
-        let mut sights = SightLines { field, tracer, void, eye, params, hidden: Vec::new() };
-        let target = |col, row| sights.target_point(col, row);
-        let hidden = hidden_sweep::proven_hidden(field, tracer.surface(), eye, &target);
-        sights.hidden = hidden;
-        let sights = &sights;
-        rays += counts
-            .par_chunks_mut(BAND_ROWS * width)
-            .enumerate()
-            .map(|(band, band_counts)| {
-                let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(height);
-                let cast = sights.count_band(rows.clone(), band_counts);
-                progress(
-                    done_rows.fetch_add(rows.len() as u64, Ordering::Relaxed) + rows.len() as u64,
-                );
-                cast
+    // The sweeps are one pass each: those of several observers run side by side, as many at
+    // a time as there are threads.
+    let group = rayon::current_num_threads().max(1);
+    for eyes in eyes.chunks(group) {
+        let sweeps: Vec<SightLines> = eyes
+            .par_iter()
+            .map(|&eye| {
+                let mut sights =
+                    SightLines { field, tracer, void, eye, params, hidden: Vec::new() };
+                let target = |col, row| sights.target_point(col, row);
+                sights.hidden = hidden_sweep::proven_hidden(field, tracer.surface(), eye, &target);
+                sights
             })
-            .sum::<u64>();
+            .collect();
+        for sights in &sweeps {
+            rays += counts
+                .par_chunks_mut(BAND_ROWS * width)
+                .enumerate()
+                .map(|(band, band_counts)| {
+                    let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(height);
+                    let cast = sights.count_band(rows.clone(), band_counts);
+                    let done = rows.len() as u64;
+                    progress(done_rows.fetch_add(done, Ordering::Relaxed) + done);
+                    cast
+                })
+                .sum::<u64>();
+        }
     }
     let counts = counts
         .iter()

@@ -30,8 +30,10 @@ pub fn run(args: &ViewshedArgs) -> Result<()> {
     let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
     let samples = raster.width as u64 * raster.height as u64;
     // The field, the voids' mask, the pyramid (a third more than the field), the counts (as
-    // integers and as the output's floats) and the sweep's flags.
-    let needed = samples * (4 + 1 + 2 + 4 + 4 + 1);
+    // integers and as the output's floats) and the flags of the sweeps run side by side (one
+    // per thread).
+    let threads = rayon::current_num_threads() as u64;
+    let needed = samples * (4 + 1 + 2 + 4 + 4 + threads);
     if needed > budget.bytes {
         bail!(
             "a viewshed of {} x {} samples needs {}, over the {} memory limit ({})",
