@@ -12,6 +12,7 @@ use crate::commands::shade::args::ShadeArgs;
 use crate::commands::simulate::args::SimulateArgs;
 use crate::commands::tile::args::TileArgs;
 use crate::commands::view::args::ViewArgs;
+use crate::commands::viewshed::args::ViewshedArgs;
 use clap::{Parser, Subcommand};
 
 /// relief: exact, fast ray casting of terrain on the CPU.
@@ -71,4 +72,8 @@ pub enum Command {
     /// `solid` mesh and a `water` mesh, at one level of detail or at the levels a camera
     /// needs (crack-free between levels), written as glTF binary (.glb), OBJ or PLY.
     Mesh(Box<MeshArgs>),
+    /// Which samples of a DEM an observer sees (1 or 0), or how many of several observers
+    /// see each one, exact for the DEM's surface, written on its grid (its georeference, CRS
+    /// and nodata).
+    Viewshed(Box<ViewshedArgs>),
 }

@@ -26,6 +26,7 @@ mod simulate;
 mod simulation;
 mod state_arrays;
 mod terrain;
+mod viewshed;
 mod write_png;
 
 use pyo3::prelude::*;
@@ -41,6 +42,7 @@ fn _relief(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(intersect::intersect, m)?)?;
     m.add_function(wrap_pyfunction!(read::read, m)?)?;
     m.add_function(wrap_pyfunction!(shade::shade, m)?)?;
+    m.add_function(wrap_pyfunction!(viewshed::viewshed, m)?)?;
     m.add_function(wrap_pyfunction!(write_png::write_png, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

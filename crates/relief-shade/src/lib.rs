@@ -71,6 +71,7 @@ mod strip_render;
 mod sun;
 mod texture;
 mod tonemap;
+pub mod viewshed;
 
 pub use albedo::{Albedo, FilteredAlbedo};
 pub use clipmap_renderer::{ClipmapRenderer, ClipmapStats};

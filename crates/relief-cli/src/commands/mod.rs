@@ -12,6 +12,7 @@ pub mod shade;
 pub mod simulate;
 pub mod tile;
 pub mod view;
+pub mod viewshed;
 
 use crate::cli::{Cli, Command};
 use crate::memory::{format_bytes, Budget, ImageHolding};
@@ -32,6 +33,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Tile(args) => tile::run(&args),
         Command::Flythrough(args) => flythrough::run(&args),
         Command::Mesh(args) => mesh::run(&args),
+        Command::Viewshed(args) => viewshed::run(&args),
     }
 }
 

@@ -135,6 +135,25 @@ def shade(
     ``insolation`` (Wh/m²) and ``sun-hours`` as ``relief shade`` writes them.
     """
 
+def viewshed(
+    heights: npt.ArrayLike,
+    spacing: Spacing = None,
+    *,
+    origin: Optional[Tuple[float, float]] = None,
+    z_scale: float = 1.0,
+    observers: Sequence[Sequence[float]] = (),
+    target_height: float = 0.0,
+    radius: Optional[float] = None,
+    surface: Surface = "triangles",
+    voids: Voids = "fill",
+) -> npt.NDArray[np.float32]:
+    """Per sample of ``heights`` (north-up, NaN at its voids), how many of ``observers``
+    see it: 0 or 1 for one observer. Each observer is ``(x, y)`` or ``(x, y, height)`` in
+    world coordinates, the eye ``height`` (default 1.7) metres above the ground; a sample is
+    seen when the segment from the eye to its point raised by ``target_height`` does not
+    pass below the surface, within ``radius`` metres when given, as ``relief viewshed``.
+    """
+
 def intersect(
     heights: npt.ArrayLike,
     origins: npt.ArrayLike,
