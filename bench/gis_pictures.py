@@ -148,7 +148,7 @@ def comparison_and_map(work):
     # 2. A map composed in Python: a colour ramp of the heights lit by relief's layers.
     heights, georeference = relief.read(DEM)
     layers = relief.shade(heights, georeference, layers=["shadow", "sky", "hillshade"],
-                          suns=[(315.0, 20.0)], sun_radius=0.27, sky_rays=64)
+                          suns=[(315.0, 20.0)], sun_radius=0.27, azimuths=32)
     low, high = np.nanmin(heights), np.nanmax(heights)
     t = ((heights - low) / (high - low))[..., None]
     ramp = (1 - t) * np.array([0.42, 0.58, 0.36]) + t * np.array([0.93, 0.87, 0.74])

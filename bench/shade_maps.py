@@ -18,8 +18,8 @@ RUNS = [
     ("shadow, 1 sun", ["--layers", "shadow"]),
     ("shadow, 1 sun of 0.27°, 16 rays", ["--layers", "shadow", "--sun-radius", "0.27", "--sun-rays", "16"]),
     ("hillshade", ["--layers", "hillshade"]),
-    ("sky, 16 directions", ["--layers", "sky", "--sky-rays", "16"]),
-    ("sky, 64 directions", ["--layers", "sky", "--sky-rays", "64"]),
+    ("sky, 16 directions", ["--layers", "sky", "--azimuths", "16"]),
+    ("sky, 64 directions", ["--layers", "sky", "--azimuths", "64"]),
     ("combined (1 sun, 64 sky directions)", ["--layers", "combined"]),
 ]
 
