@@ -20,7 +20,7 @@ RUNS = [
     ("hillshade", ["--layers", "hillshade"]),
     ("sky, 16 directions", ["--layers", "sky", "--azimuths", "16"]),
     ("sky, 64 directions", ["--layers", "sky", "--azimuths", "64"]),
-    ("combined (1 sun, 64 sky directions)", ["--layers", "combined"]),
+    ("combined (1 sun, horizons in 32 directions)", ["--layers", "combined"]),
 ]
 
 
