@@ -3,7 +3,7 @@
 viewshed on one observer over a 3601^2 DEM at 10 m (the seeded fBm terrain written as a
 projected GeoTIFF), reports how far their answers agree with relief's and where they differ,
 times a cumulative viewshed of 100 observers with relief, and prints the Markdown tables of
-docs/gis-viewshed.md.
+docs/gis.md (section Viewsheds).
 
 Installs its anchors first (apt-get install gdal-bin, pip install xarray-spatial rasterio).
 Run after `cargo build --release -p relief-cli`, on an otherwise idle machine:
