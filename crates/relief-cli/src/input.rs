@@ -13,6 +13,37 @@ pub use relief_render::input::{
     fbm, is_mlhm_scene, is_native_mlhm, is_reference_scene, is_stacks_file, is_tile_store, place,
 };
 
+/// A height file read to be mapped sample for sample: the field placed, which samples were
+/// voids before they were filled (or kept as holes), how many, and the raster's georeference,
+/// CRS and nodata for the output.
+pub struct MappedField {
+    /// The height field, placed by the file's georeference or `--spacing` and `--z-scale`.
+    pub field: HeightField,
+    /// Per sample, whether it was a void.
+    pub void: Vec<bool>,
+    /// How many samples were voids.
+    pub voids: usize,
+    /// What the file said of its grid.
+    pub info: relief_io::RasterInfo,
+}
+
+/// `raster`, read from `path` with `read`, as a [`MappedField`] placed by `spacing` and
+/// `z_scale`.
+pub fn mapped_field(
+    raster: relief_io::Raster,
+    path: &Path,
+    read: &ReadArgs,
+    spacing: Option<(f64, f64)>,
+    z_scale: f64,
+) -> Result<MappedField> {
+    let void: Vec<bool> = raster.samples.iter().map(|v| v.is_nan()).collect();
+    let voids = void.iter().filter(|&&v| v).count();
+    let info = raster.info.clone();
+    let policy = void_policy(read.voids.unwrap_or(Voids::Fill));
+    let field = place(raster.into_height_field(path, policy)?, spacing, z_scale)?;
+    Ok(MappedField { field, void, voids, info })
+}
+
 /// The reading settings `args` give.
 pub fn read_settings(args: &ReadArgs) -> ReadSettings {
     ReadSettings {

@@ -28,6 +28,21 @@ impl ShadeError {
     }
 }
 
+/// Checks that a void mask, if given, has one flag per sample of a `width` x `height` field.
+pub(crate) fn check_void_mask(
+    void: Option<&[bool]>,
+    width: usize,
+    height: usize,
+) -> Result<(), ShadeError> {
+    match void {
+        Some(void) if void.len() != width * height => Err(ShadeError::Mismatch(format!(
+            "a void mask of {} samples for a {width}x{height} height field",
+            void.len()
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Checks that `value` is finite and at least 0.
 pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<(), ShadeError> {
     if value.is_finite() && value >= 0.0 {

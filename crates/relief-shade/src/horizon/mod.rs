@@ -81,14 +81,7 @@ impl<'a> HorizonEngine<'a> {
     ) -> Result<Self, ShadeError> {
         params.validate()?;
         let (width, height) = (field.width(), field.height());
-        if let Some(void) = void {
-            if void.len() != width * height {
-                return Err(ShadeError::Mismatch(format!(
-                    "a void mask of {} samples for a {width}x{height} height field",
-                    void.len()
-                )));
-            }
-        }
+        crate::error::check_void_mask(void, width, height)?;
         let sign = match facing {
             Facing::Up => 1.0,
             Facing::Down => -1.0,

@@ -117,14 +117,7 @@ pub fn shade_map(
     params.validate()?;
     let (width, height) = (field.width(), field.height());
     let samples = width * height;
-    if let Some(void) = void {
-        if void.len() != samples {
-            return Err(ShadeError::Mismatch(format!(
-                "a void mask of {} samples for a {width}x{height} height field",
-                void.len()
-            )));
-        }
-    }
+    crate::error::check_void_mask(void, width, height)?;
     let names = params.band_names();
     let mut bands = Vec::with_capacity(names.len());
     for (layer, name) in names {

@@ -125,14 +125,7 @@ pub fn viewshed(
     params.validate()?;
     let (width, height) = (field.width(), field.height());
     let samples = width * height;
-    if let Some(void) = void {
-        if void.len() != samples {
-            return Err(ShadeError::Mismatch(format!(
-                "a void mask of {} samples for a {width}x{height} height field",
-                void.len()
-            )));
-        }
-    }
+    crate::error::check_void_mask(void, width, height)?;
     let eyes = params
         .observers
         .iter()

@@ -3,12 +3,11 @@
 
 pub mod args;
 
-use crate::args::Voids;
 use crate::{applies, input, memory, outputs, progress};
 use anyhow::{bail, Result};
 use args::ShadeArgs;
 use relief_core::Surface;
-use relief_io::{Layer, LayerRaster, RasterInfo, VoidPolicy};
+use relief_io::{Layer, LayerRaster, RasterInfo};
 use relief_shade::horizon::{Facing, HorizonParams};
 use relief_shade::shade_map::{shade_map, ShadeMap, ShadeMapParams, SunPosition};
 use relief_shade::ShadeLayer;
@@ -54,15 +53,8 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
             budget.origin
         );
     }
-    let void: Vec<bool> = raster.samples.iter().map(|v| v.is_nan()).collect();
-    let voids = void.iter().filter(|&&v| v).count();
-    let info = raster.info.clone();
-    let policy = match args.read.voids.unwrap_or(Voids::Fill) {
-        Voids::Fill => VoidPolicy::Fill,
-        Voids::Hole => VoidPolicy::Hole,
-    };
-    let field =
-        input::place(raster.into_height_field(&args.input, policy)?, args.spacing, args.z_scale)?;
+    let input::MappedField { field, void, voids, info } =
+        input::mapped_field(raster, &args.input, &args.read, args.spacing, args.z_scale)?;
     let read_ms = elapsed_ms(start);
 
     let start = Instant::now();

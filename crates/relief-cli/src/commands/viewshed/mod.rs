@@ -3,12 +3,11 @@
 
 pub mod args;
 
-use crate::args::Voids;
 use crate::{applies, input, memory, outputs, progress};
 use anyhow::{bail, Result};
 use args::ViewshedArgs;
 use relief_core::HeightField;
-use relief_io::{Georeference, Layer, LayerRaster, VoidPolicy};
+use relief_io::{Georeference, Layer, LayerRaster};
 use relief_shade::viewshed::{viewshed, Observer, ViewshedParams, DEFAULT_OBSERVER_HEIGHT};
 use relief_trace::{build_tracer, TracerKind};
 use std::sync::Arc;
@@ -44,15 +43,8 @@ pub fn run(args: &ViewshedArgs) -> Result<()> {
             budget.origin
         );
     }
-    let void: Vec<bool> = raster.samples.iter().map(|v| v.is_nan()).collect();
-    let voids = void.iter().filter(|&&v| v).count();
-    let info = raster.info.clone();
-    let policy = match args.read.voids.unwrap_or(Voids::Fill) {
-        Voids::Fill => VoidPolicy::Fill,
-        Voids::Hole => VoidPolicy::Hole,
-    };
-    let field =
-        input::place(raster.into_height_field(&args.input, policy)?, args.spacing, args.z_scale)?;
+    let input::MappedField { field, void, voids, info } =
+        input::mapped_field(raster, &args.input, &args.read, args.spacing, args.z_scale)?;
     let observers = args
         .observer
         .iter()
