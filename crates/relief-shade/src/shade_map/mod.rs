@@ -100,7 +100,7 @@ const TILE_COLS: usize = 8;
 /// - [`ShadeLayer::Insolation`] and [`ShadeLayer::SunHours`]: over the
 ///   [`ShadeMapParams::insolation`] suns, the direct-beam energy on the tilted cell (Wh/m²) and
 ///   the hours of direct sun, a sun counting where it stands above the horizontal and above
-///   the horizon (interpolated between the two nearest directions);
+///   the horizon (`max(h, 0)` interpolated between the two nearest directions);
 /// - [`ShadeLayer::Combined`]: `(1 - SKY_SHARE)` times the mean over the suns of Lambert times
 ///   that sun's fraction seen, plus `SKY_SHARE` times the sky-view factor.
 ///
@@ -308,7 +308,8 @@ impl Context<'_> {
             let position = sun.azimuth_deg.rem_euclid(360.0) / step;
             let below = (position.floor() as usize).min(n - 1);
             let weight = position - below as f64;
-            let (a, b) = (up[below][k] as f64, up[(below + 1) % n][k] as f64);
+            // The horizons above the horizontal (the sun counts above both), interpolated.
+            let (a, b) = (up[below][k].max(0.0) as f64, up[(below + 1) % n][k].max(0.0) as f64);
             let horizon = a + (b - a) * weight;
             // Night is night even from a peak whose horizon dips below the horizontal: the
             // sun counts above both (so whether other layers asked for the horizons below the
