@@ -4,7 +4,9 @@
 
 mod params;
 
-pub use params::{HorizonParams, DEFAULT_AZIMUTHS, DEFAULT_OBSERVER_HEIGHT, REFRACTION_COEFFICIENT};
+pub use params::{
+    HorizonParams, DEFAULT_AZIMUTHS, DEFAULT_OBSERVER_HEIGHT, REFRACTION_COEFFICIENT,
+};
 
 /// Horizon angles of every sample in every direction of a [`HorizonParams`].
 #[derive(Debug, Clone, PartialEq)]
