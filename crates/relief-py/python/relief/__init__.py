@@ -33,6 +33,7 @@ from ._relief import (
     render,
     shade,
     simulate,
+    sun_position,
     write_png,
 )
 
@@ -46,5 +47,6 @@ __all__ = [
     "render",
     "shade",
     "simulate",
+    "sun_position",
     "write_png",
 ]
