@@ -220,7 +220,9 @@ impl UtcInstant {
     }
 
     /// The instant of a date (`YYYY-MM-DD`), a time (`HH:MM[:SS]`) and a timezone (`+HH:MM`,
-    /// `-HH:MM` or `Z`), each parsed as [`super::time_text`] says.
+    /// `-HH:MM` or `Z`), each parsed as
+    /// [`parse_date`](super::parse_date), [`parse_time`](super::parse_time) and
+    /// [`parse_timezone`](super::parse_timezone) parse them.
     pub fn from_civil_text(date: &str, time: &str, zone: &str) -> Result<UtcInstant, ShadeError> {
         use super::time_text::{parse_date, parse_time, parse_timezone};
         Ok(UtcInstant::from_civil(parse_date(date)?, parse_time(time)?, parse_timezone(zone)?))

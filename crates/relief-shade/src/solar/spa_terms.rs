@@ -1,6 +1,10 @@
 //! The periodic terms of NREL's solar position algorithm (Reda & Andreas 2004, tables A4.2
 //! and A4.3): the earth's heliocentric longitude, latitude and radius vector (VSOP87 series as
 //! Meeus gives them), and the nutation in longitude and obliquity.
+#![allow(
+    clippy::approx_constant,
+    reason = "the phases 3.14 and 3.142 are the published tables' values, not pi"
+)]
 
 /// Heliocentric longitude terms of order 0: (A, B, C) of A cos(B + C JME), 1e-8 rad.
 pub(super) const L0: [[f64; 3]; 64] = [
