@@ -2,11 +2,24 @@
 //! horizon seen from every sample of a height field, to the edge of the data (or a radius),
 //! from which the sky-view factor, openness, sky illumination and insolation follow.
 
+mod cell_pyramid;
+mod march;
 mod params;
 
 pub use params::{
-    HorizonParams, DEFAULT_AZIMUTHS, DEFAULT_OBSERVER_HEIGHT, REFRACTION_COEFFICIENT,
+    HorizonParams, DEFAULT_AZIMUTHS, DEFAULT_OBSERVER_HEIGHT, MAX_AZIMUTHS, REFRACTION_COEFFICIENT,
 };
+
+use crate::ShadeError;
+use cell_pyramid::CellPyramid;
+use march::{DirectionMarch, MarchTerrain};
+use rayon::prelude::*;
+use relief_core::HeightField;
+use std::ops::Range;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Rows of samples whose horizons are found together: one parallel task.
+const BAND_ROWS: usize = 4;
 
 /// Horizon angles of every sample in every direction of a [`HorizonParams`].
 #[derive(Debug, Clone, PartialEq)]
@@ -36,4 +49,188 @@ impl HorizonMap {
         let (a, b) = (self.angles[below][index], self.angles[above][index]);
         a + (b - a) * weight
     }
+}
+
+/// Which way up the terrain is seen: as it is, or upside down (for negative openness, the
+/// horizon of the inverted terrain is the depth of the valleys around a sample).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Facing {
+    /// The terrain as it is.
+    Up,
+    /// The terrain upside down, on the same triangles.
+    Down,
+}
+
+/// The horizon engine over one height field: finds the exact horizon angles of any band of
+/// rows in every direction of its [`HorizonParams`].
+pub struct HorizonEngine<'a> {
+    terrain: MarchTerrain<'a>,
+    void: Option<&'a [bool]>,
+    params: HorizonParams,
+}
+
+impl<'a> HorizonEngine<'a> {
+    /// Prepares the engine (builds its pyramid of maxima) for `field` seen `facing` up or
+    /// down. A sample that is a hole of `field`, or marked in `void` (indexed like the
+    /// samples), has no horizon (NaN); the surface is absent only over the holes' cells.
+    pub fn new(
+        field: &'a HeightField,
+        void: Option<&'a [bool]>,
+        params: &HorizonParams,
+        facing: Facing,
+    ) -> Result<Self, ShadeError> {
+        params.validate()?;
+        let (width, height) = (field.width(), field.height());
+        if let Some(void) = void {
+            if void.len() != width * height {
+                return Err(ShadeError::Mismatch(format!(
+                    "a void mask of {} samples for a {width}x{height} height field",
+                    void.len()
+                )));
+            }
+        }
+        let sign = match facing {
+            Facing::Up => 1.0,
+            Facing::Down => -1.0,
+        };
+        let holes = field.holes();
+        let samples = field.samples();
+        let (cells_x, cells_y) = (width.saturating_sub(1), height.saturating_sub(1));
+        let hole = |k: usize| holes.is_some_and(|h| h[k]);
+        let whole = |c: usize, r: usize| {
+            let k = c + r * width;
+            !(hole(k) || hole(k + 1) || hole(k + width) || hole(k + width + 1))
+        };
+        // With holes, the samples that are points of the surface: corners of a whole cell.
+        let on_surface = holes.map(|_| {
+            let mut on = vec![false; width * height];
+            for r in 0..cells_y {
+                for c in 0..cells_x {
+                    if whole(c, r) {
+                        let k = c + r * width;
+                        for corner in [k, k + 1, k + width, k + width + 1] {
+                            on[corner] = true;
+                        }
+                    }
+                }
+            }
+            on
+        });
+        // A cell's bound: its highest corner that is a point of the surface.
+        let pyramid = CellPyramid::build(cells_x, cells_y, &|c, r| {
+            let k = c + r * width;
+            [k, k + 1, k + width, k + width + 1]
+                .into_iter()
+                .filter(|&k| on_surface.as_ref().is_none_or(|on| on[k]))
+                .map(|k| sign as f32 * samples[k])
+                .fold(f32::NEG_INFINITY, f32::max)
+        });
+        let g = field.geometry();
+        let terrain = MarchTerrain {
+            samples: field.samples(),
+            width,
+            height,
+            sign,
+            z_scale: g.z_scale,
+            dx: g.dx,
+            dy: g.dy,
+            pyramid,
+            holes,
+            on_surface,
+        };
+        Ok(HorizonEngine { terrain, void, params: *params })
+    }
+
+    /// The parameters the engine was made with.
+    pub fn params(&self) -> &HorizonParams {
+        &self.params
+    }
+
+    /// Per direction, the horizon angles in radians of the samples of `rows`, row by row (NaN
+    /// on voids and holes).
+    pub fn band(&self, rows: Range<usize>) -> Vec<Vec<f32>> {
+        let width = self.terrain.width;
+        let p = &self.params;
+        (0..p.azimuths as usize)
+            .map(|k| {
+                let azimuth = p.azimuth_deg(k);
+                let march = DirectionMarch::new(
+                    &self.terrain,
+                    azimuth,
+                    p.observer_height,
+                    p.radius,
+                    p.refraction,
+                );
+                // Where the previous sample's horizon (west in the row) and the one below's
+                // (south, the row before) lie, seen along this sample's line: hints.
+                let (sin, cos) = azimuth.to_radians().sin_cos();
+                let (west, south) = (-self.terrain.dx * sin, -self.terrain.dy * cos);
+                let mut below = vec![f64::NAN; width];
+                let mut angles = Vec::with_capacity(rows.len() * width);
+                for row in rows.clone() {
+                    let mut previous = f64::NAN;
+                    for col in 0..width {
+                        let index = col + row * width;
+                        let void = self.void.is_some_and(|v| v[index]);
+                        if void || self.is_hole(index) {
+                            angles.push(f32::NAN);
+                            (previous, below[col]) = (f64::NAN, f64::NAN);
+                            continue;
+                        }
+                        let hints = [previous + west, below[col] + south];
+                        let horizon = march.horizon(col, row, &hints);
+                        angles.push(horizon.angle as f32);
+                        previous = horizon.distance;
+                        below[col] = horizon.distance;
+                    }
+                }
+                angles
+            })
+            .collect()
+    }
+
+    fn is_hole(&self, index: usize) -> bool {
+        self.terrain.holes.is_some_and(|h| h[index])
+    }
+}
+
+/// The horizon map of `field` (see [`HorizonEngine`]), every band in parallel; `progress` is
+/// called with the rows done. The same result whatever the number of threads. Errors: bad
+/// parameters, a void mask of the wrong size, or a map too large for memory.
+pub fn horizon_map(
+    field: &HeightField,
+    void: Option<&[bool]>,
+    params: &HorizonParams,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<HorizonMap, ShadeError> {
+    let engine = HorizonEngine::new(field, void, params, Facing::Up)?;
+    let (width, height) = (field.width(), field.height());
+    let n = params.azimuths as usize;
+    let mut angles = Vec::with_capacity(n);
+    for _ in 0..n {
+        let mut values = Vec::new();
+        values.try_reserve_exact(width * height).map_err(|_| {
+            ShadeError::Limits(format!(
+                "{n} directions of horizons of {width}x{height} samples do not fit in memory"
+            ))
+        })?;
+        angles.push(values);
+    }
+    let done = AtomicU64::new(0);
+    let bands: Vec<Vec<Vec<f32>>> = (0..height.div_ceil(BAND_ROWS))
+        .into_par_iter()
+        .map(|band| {
+            let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(height);
+            let result = engine.band(rows.clone());
+            progress(done.fetch_add(rows.len() as u64, Ordering::Relaxed) + rows.len() as u64);
+            result
+        })
+        .collect();
+    for band in bands {
+        for (values, band_values) in angles.iter_mut().zip(band) {
+            values.extend_from_slice(&band_values);
+        }
+    }
+    let azimuths_deg = (0..n).map(|k| params.azimuth_deg(k)).collect();
+    Ok(HorizonMap { width, height, azimuths_deg, angles })
 }

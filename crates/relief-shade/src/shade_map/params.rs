@@ -1,6 +1,7 @@
 //! What a shade map is asked for: its layers, suns and ray counts.
 
-use super::ShadeLayer;
+use super::{Anisotropy, ShadeLayer, SkyModel};
+use crate::horizon::{Facing, HorizonParams};
 use crate::{sun_direction, ShadeError};
 use relief_core::DVec3;
 
@@ -28,7 +29,25 @@ impl SunPosition {
 /// from the sun.
 pub const SKY_SHARE: f64 = 0.3;
 
-/// Most rays a map may cast per sample and sun, or to the sky.
+/// The share of the sun's cast shadow in the [`ShadeLayer::SkyIllumination`] layer, beside
+/// `1 - SUN_SHARE_OF_SKY_ILLUMINATION` times the sky's diffuse light (RVT's shaded sky
+/// illumination: 0.8 sky, 0.2 shadow).
+pub const SUN_SHARE_OF_SKY_ILLUMINATION: f64 = 0.2;
+
+/// One position of the sun for the insolation layers, and what it stands for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InsolationSun {
+    /// Compass direction in degrees, clockwise from north.
+    pub azimuth_deg: f64,
+    /// Apparent elevation above the horizon in degrees (may be negative: then it counts zero).
+    pub elevation_deg: f64,
+    /// The hours this position stands for (the time step).
+    pub hours: f64,
+    /// The direct-beam irradiance normal to the sun's rays, W/m².
+    pub beam_w_m2: f64,
+}
+
+/// Most rays a map may cast per sample and sun.
 pub const MAX_RAYS_PER_SAMPLE: u32 = 4096;
 
 /// Largest angular radius of a sun's disc, in degrees.
@@ -45,19 +64,30 @@ pub struct ShadeMapParams {
     pub sun_radius_deg: f64,
     /// Rays per sun spread over its disc when `sun_radius_deg > 0`.
     pub sun_rays: u32,
-    /// Directions over the sky for the sky-view factor.
-    pub sky_rays: u32,
+    /// The horizons' directions, observer height, radius and curvature, for the layers built
+    /// on them.
+    pub horizon: HorizonParams,
+    /// The weighting of the anisotropic sky-view factor.
+    pub anisotropy: Anisotropy,
+    /// The sky of the sky-illumination layer.
+    pub sky_model: SkyModel,
+    /// The sun's positions over the period of the insolation layers.
+    pub insolation: Vec<InsolationSun>,
 }
 
 impl Default for ShadeMapParams {
-    /// The combined layer, one point sun from the north-west 45 degrees up, 64 sky rays.
+    /// The combined layer, one point sun from the north-west 45 degrees up, horizons in 32
+    /// directions, RVT's anisotropy, an overcast sky, no insolation suns.
     fn default() -> Self {
         ShadeMapParams {
             layers: vec![ShadeLayer::Combined],
             suns: vec![SunPosition::CARTOGRAPHIC],
             sun_radius_deg: 0.0,
             sun_rays: 16,
-            sky_rays: 64,
+            horizon: HorizonParams::default(),
+            anisotropy: Anisotropy::default(),
+            sky_model: SkyModel::Overcast,
+            insolation: Vec::new(),
         }
     }
 }
@@ -99,15 +129,79 @@ impl ShadeMapParams {
                 ),
             ));
         }
-        for (name, rays) in [("sun rays", self.sun_rays), ("sky rays", self.sky_rays)] {
-            if !(1..=MAX_RAYS_PER_SAMPLE).contains(&rays) {
+        if !(1..=MAX_RAYS_PER_SAMPLE).contains(&self.sun_rays) {
+            return Err(ShadeError::parameter(
+                "sun rays",
+                format!("{} is not between 1 and {MAX_RAYS_PER_SAMPLE}", self.sun_rays),
+            ));
+        }
+        self.horizon.validate()?;
+        let a = &self.anisotropy;
+        if !(a.main_direction_deg.is_finite()
+            && (0.0..=1.0).contains(&a.min_weight)
+            && a.polynomial >= 0)
+        {
+            return Err(ShadeError::parameter(
+                "anisotropy",
+                format!("{a:?}: the main direction must be finite, the minimum weight in [0, 1], the power >= 0"),
+            ));
+        }
+        for sun in &self.insolation {
+            if !(sun.azimuth_deg.is_finite()
+                && sun.elevation_deg.is_finite()
+                && sun.hours.is_finite()
+                && sun.hours >= 0.0
+                && sun.beam_w_m2.is_finite()
+                && sun.beam_w_m2 >= 0.0)
+            {
                 return Err(ShadeError::parameter(
-                    name,
-                    format!("{rays} is not between 1 and {MAX_RAYS_PER_SAMPLE}"),
+                    "insolation sun",
+                    format!("{sun:?} is not finite and >= 0"),
                 ));
             }
         }
+        if self.layers.iter().any(|l| l.needs_insolation_suns()) && self.insolation.is_empty() {
+            return Err(ShadeError::parameter(
+                "insolation",
+                "no sun position given (a date, a time or a period)",
+            ));
+        }
         Ok(())
+    }
+
+    /// The bands of the layers, in order, with their names: one per layer, but the horizon's
+    /// one per direction (`horizon-000.0`, `horizon-011.2`, ...).
+    pub fn band_names(&self) -> Vec<(ShadeLayer, String)> {
+        let mut names = Vec::new();
+        for &layer in &self.layers {
+            if layer == ShadeLayer::Horizon {
+                for k in 0..self.horizon.azimuths as usize {
+                    names.push((layer, format!("horizon-{:05.1}", self.horizon.azimuth_deg(k))));
+                }
+            } else {
+                names.push((layer, layer.name().to_string()));
+            }
+        }
+        names
+    }
+
+    /// How many bands `layer` has.
+    pub fn bands_of(&self, layer: ShadeLayer) -> usize {
+        if layer == ShadeLayer::Horizon {
+            self.horizon.azimuths as usize
+        } else {
+            1
+        }
+    }
+
+    /// Whether any layer asked for is built on the horizons of the terrain seen `facing`.
+    pub fn needs_horizons(&self, facing: Facing) -> bool {
+        self.layers.iter().any(|l| l.needs_horizons(facing))
+    }
+
+    /// Whether any layer asked for needs each sample's normal.
+    pub fn needs_normal(&self) -> bool {
+        self.layers.iter().any(|l| l.needs_normal())
     }
 
     /// Whether any layer asked for needs rays towards the suns.
@@ -115,17 +209,14 @@ impl ShadeMapParams {
         self.layers.iter().any(|l| l.needs_sun_rays())
     }
 
-    /// Whether any layer asked for needs rays towards the sky.
-    pub fn needs_sky_rays(&self) -> bool {
-        self.layers.iter().any(|l| l.needs_sky_rays())
-    }
-
     /// Rays per sample the map casts.
     pub fn rays_per_sample(&self) -> u64 {
         let sun_rays = if self.sun_radius_deg > 0.0 { self.sun_rays } else { 1 };
-        let sun = if self.needs_sun_rays() { self.suns.len() as u64 * sun_rays as u64 } else { 0 };
-        let sky = if self.needs_sky_rays() { self.sky_rays as u64 } else { 0 };
-        sun + sky
+        if self.needs_sun_rays() {
+            self.suns.len() as u64 * sun_rays as u64
+        } else {
+            0
+        }
     }
 }
 
@@ -144,8 +235,16 @@ mod tests {
         let twice =
             ShadeMapParams { layers: vec![ShadeLayer::Sky, ShadeLayer::Sky], ..Default::default() };
         assert!(twice.validate().unwrap_err().to_string().contains("sky is asked for twice"));
-        let rays = ShadeMapParams { sky_rays: 0, ..Default::default() };
-        assert!(rays.validate().unwrap_err().to_string().contains("sky rays"));
+        let rays = ShadeMapParams { sun_rays: 0, ..Default::default() };
+        assert!(rays.validate().unwrap_err().to_string().contains("sun rays"));
+        let directions = ShadeMapParams {
+            horizon: HorizonParams { azimuths: 0, ..Default::default() },
+            ..Default::default()
+        };
+        assert!(directions.validate().unwrap_err().to_string().contains("azimuths"));
+        let no_period =
+            ShadeMapParams { layers: vec![ShadeLayer::Insolation], ..Default::default() };
+        assert!(no_period.validate().unwrap_err().to_string().contains("no sun position"));
         let radius = ShadeMapParams { sun_radius_deg: f64::NAN, ..Default::default() };
         assert!(radius.validate().unwrap_err().to_string().contains("sun radius"));
         let sky_only =
@@ -156,10 +255,10 @@ mod tests {
     #[test]
     fn rays_per_sample_counts_what_the_layers_need() {
         let mut params = ShadeMapParams::default();
-        assert_eq!(params.rays_per_sample(), 1 + 64);
+        assert_eq!(params.rays_per_sample(), 1);
         params.sun_radius_deg = 0.5;
         params.suns.push(SunPosition { azimuth_deg: 0.0, elevation_deg: 30.0 });
-        assert_eq!(params.rays_per_sample(), 2 * 16 + 64);
+        assert_eq!(params.rays_per_sample(), 2 * 16);
         params.layers = vec![ShadeLayer::Hillshade];
         assert_eq!(params.rays_per_sample(), 0);
     }
