@@ -6,6 +6,7 @@ use super::civil_time::{TimeOfDay, UtcInstant, UtcOffset, SECONDS_PER_DAY};
 use super::clear_sky::clear_sky_beam;
 use super::spa::{solar_position, Observer};
 use super::time_text::DateRange;
+use crate::shade_map::InsolationSun;
 use crate::ShadeError;
 
 /// Most sun samples one period may have (a year at 5-minute steps is 105 120).
@@ -40,6 +41,18 @@ impl SunSample {
             hours,
             beam_w_m2: clear_sky_beam(sun.apparent_elevation_deg),
         })
+    }
+}
+
+impl From<SunSample> for InsolationSun {
+    /// The same sun, as the insolation layers of a shade map take it.
+    fn from(sun: SunSample) -> InsolationSun {
+        InsolationSun {
+            azimuth_deg: sun.azimuth_deg,
+            elevation_deg: sun.elevation_deg,
+            hours: sun.hours,
+            beam_w_m2: sun.beam_w_m2,
+        }
     }
 }
 
