@@ -64,26 +64,48 @@ impl Georeference {
         width: usize,
         height: usize,
     ) -> Result<GeographicPosition, PositionError> {
+        self.centre_and_true_north(width, height).map(|(position, _)| position)
+    }
+
+    /// The direction of true north at the centre of a raster of `width x height` pixels so
+    /// placed, in degrees clockwise from the grid's north (+y): 0 in a geographic CRS, minus
+    /// the meridians' convergence in WGS 84 UTM (up to a few degrees off the central
+    /// meridian). A compass azimuth `a` points along the grid azimuth `a + true_north`.
+    ///
+    /// ```
+    /// use relief_io::Georeference;
+    /// assert_eq!(Georeference::srtm_tile(46, 7, 3601).true_north_deg(3601, 3601).unwrap(), 0.0);
+    /// ```
+    pub fn true_north_deg(&self, width: usize, height: usize) -> Result<f64, PositionError> {
+        self.centre_and_true_north(width, height).map(|(_, north)| north)
+    }
+
+    /// [`centre_position`](Self::centre_position) and [`true_north_deg`](Self::true_north_deg).
+    fn centre_and_true_north(
+        &self,
+        width: usize,
+        height: usize,
+    ) -> Result<(GeographicPosition, f64), PositionError> {
         let [x0, a, b, y0, d, e] = self.geotransform;
         let (u, v) = (width as f64 / 2.0, height as f64 / 2.0);
         let (x, y) = (x0 + u * a + v * b, y0 + u * d + v * e);
         let crs = self.epsg().map_or_else(|| "no EPSG code".to_string(), |c| format!("EPSG:{c}"));
         let out_of_range = || PositionError::OutOfRange { crs: crs.clone(), x, y };
-        let position = if self.is_geographic() {
-            GeographicPosition { latitude_deg: y, longitude_deg: wrap_longitude(x) }
+        let (position, convergence) = if self.is_geographic() {
+            (GeographicPosition { latitude_deg: y, longitude_deg: wrap_longitude(x) }, 0.0)
         } else {
             let (zone, north) = match self.epsg() {
                 Some(code @ 32601..=32660) => (code - 32600, true),
                 Some(code @ 32701..=32760) => (code - 32700, false),
                 _ => return Err(PositionError::UnsupportedCrs { crs }),
             };
-            utm_to_geographic(zone as u8, north, x, y).ok_or_else(out_of_range)?
+            utm_inverse(zone as u8, north, x, y).ok_or_else(out_of_range)?
         };
         let fine = position.latitude_deg.is_finite()
             && position.longitude_deg.is_finite()
             && (-90.0..=90.0).contains(&position.latitude_deg);
         if fine {
-            Ok(position)
+            Ok((position, -convergence))
         } else {
             Err(out_of_range())
         }
@@ -106,6 +128,18 @@ pub fn utm_to_geographic(
     easting: f64,
     northing: f64,
 ) -> Option<GeographicPosition> {
+    utm_inverse(zone, north, easting, northing).map(|(position, _)| position)
+}
+
+/// The latitude and longitude of WGS 84 UTM coordinates, and the meridians' convergence
+/// there in degrees (the angle from grid north to true north, counterclockwise positive:
+/// positive east of the central meridian in the northern hemisphere).
+fn utm_inverse(
+    zone: u8,
+    north: bool,
+    easting: f64,
+    northing: f64,
+) -> Option<(GeographicPosition, f64)> {
     if !(1..=60).contains(&zone) || !easting.is_finite() || !northing.is_finite() {
         return None;
     }
@@ -129,11 +163,17 @@ pub fn utm_to_geographic(
         4397.0 * n4 / 161_280.0,
     ];
     let (mut xi_sphere, mut eta_sphere) = (xi, eta);
+    // The derivatives of the series, for the convergence.
+    let (mut p, mut q) = (1.0, 0.0);
     for (j, b) in beta.iter().enumerate() {
         let k = 2.0 * (j + 1) as f64;
         xi_sphere -= b * (k * xi).sin() * (k * eta).cosh();
         eta_sphere -= b * (k * xi).cos() * (k * eta).sinh();
+        p -= k * b * (k * xi).cos() * (k * eta).cosh();
+        q += k * b * (k * xi).sin() * (k * eta).sinh();
     }
+    let spherical = xi_sphere.tan() * eta_sphere.tanh();
+    let convergence = (q + p * spherical).atan2(p - q * spherical).to_degrees();
     let conformal_latitude = (xi_sphere.sin() / eta_sphere.cosh()).asin();
     let longitude = central_meridian + eta_sphere.sinh().atan2(xi_sphere.cos()).to_degrees();
     // Conformal latitude to geodetic latitude (the delta series).
@@ -149,10 +189,11 @@ pub fn utm_to_geographic(
             .enumerate()
             .map(|(j, d)| d * (2.0 * (j + 1) as f64 * conformal_latitude).sin())
             .sum::<f64>();
-    Some(GeographicPosition {
+    let position = GeographicPosition {
         latitude_deg: latitude.to_degrees(),
         longitude_deg: wrap_longitude(longitude),
-    })
+    };
+    Some((position, convergence))
 }
 
 /// `degrees` of longitude wrapped to [-180, 180).
@@ -225,6 +266,28 @@ mod tests {
         let south = projected(32733, 334_776.0, 6_252_090.0, 2.0);
         let centre = south.centre_position(10, 10).unwrap();
         assert!((centre.latitude_deg - -33.8586639165).abs() < 1e-9, "{centre:?}");
+    }
+
+    #[test]
+    fn true_north_off_the_central_meridian() {
+        // (EPSG code, easting, northing, grid azimuth of true north) as PROJ gives them: the
+        // direction between points 1e-5 degrees of latitude apart.
+        #[rustfmt::skip]
+        let proj = [
+            (32632, 690237.1407995026, 5202641.6391071845, -1.82744111525047),
+            (32632, 286935.5585948423, 5203413.721526127, 2.046889492792174),
+            (32733, 334416.3939896558, 6251925.3603523895, -0.997553193353661),
+            (32618, 584469.7157825801, 4507045.932973549, -0.6522692115149795),
+            (32660, 595404.9704624237, 7767829.407630524, -2.3494063221876353),
+        ];
+        for (epsg, easting, northing, true_north) in proj {
+            // A 2 x 2 raster of 1 m pixels centred on the point.
+            let raster = projected(epsg, easting - 1.0, northing + 1.0, 1.0);
+            let got = raster.true_north_deg(2, 2).unwrap();
+            assert!((got - true_north).abs() < 1e-6, "{epsg}: {got} vs {true_north}");
+        }
+        let on_the_meridian = projected(32632, 499_999.0, 5_200_001.0, 1.0);
+        assert!(on_the_meridian.true_north_deg(2, 2).unwrap().abs() < 1e-12);
     }
 
     #[test]

@@ -51,7 +51,8 @@ pub struct SunTimeArgs {
     pub lon: Option<f64>,
 }
 
-/// The sun that `--date` and its companions ask for.
+/// The sun that `--date` and its companions ask for, its azimuths on the DEM's grid (degrees
+/// clockwise from +y: from true north turned by the meridians' convergence of a UTM DEM).
 #[derive(Debug, Clone, PartialEq)]
 pub enum SunTimes {
     /// No `--date`: the suns are those of `--sun`, or the default.
@@ -80,6 +81,9 @@ pub fn sun_samples(
         return Ok(SunTimes::NotAsked);
     };
     let place = place(args, georeference, width, height)?;
+    // Compass azimuths onto the grid; a CRS that says nothing of it is taken as north-up.
+    let true_north = georeference.and_then(|g| g.true_north_deg(width, height).ok()).unwrap_or(0.0);
+    let on_grid = |azimuth_deg: f64| (azimuth_deg + true_north).rem_euclid(360.0);
     let observer = Observer::at(place.latitude_deg, place.longitude_deg);
     let offset = args.timezone.unwrap_or(UtcOffset::UTC);
     match args.time {
@@ -108,13 +112,17 @@ pub fn sun_samples(
                 );
             }
             Ok(SunTimes::Instant(SunPosition {
-                azimuth_deg: sun.azimuth_deg,
+                azimuth_deg: on_grid(sun.azimuth_deg),
                 elevation_deg: sun.apparent_elevation_deg,
             }))
         }
         None => {
             let step = args.step.unwrap_or(DEFAULT_STEP_S);
-            Ok(SunTimes::Period(sun_samples_over(days, offset, step, &observer)?))
+            let mut suns = sun_samples_over(days, offset, step, &observer)?;
+            for sun in &mut suns {
+                sun.azimuth_deg = on_grid(sun.azimuth_deg);
+            }
+            Ok(SunTimes::Period(suns))
         }
     }
 }
@@ -276,6 +284,34 @@ mod tests {
         };
         assert_eq!(hourly.len(), 24);
         assert_eq!(sun_samples(&SunTimeArgs::default(), None, 1, 1).unwrap(), SunTimes::NotAsked);
+    }
+
+    #[test]
+    fn azimuths_on_a_utm_grid_turn_with_the_meridians() {
+        // 1000 x 1000 pixels of 10 m centred on (690237, 5202641) in UTM zone 32 N (46.95 N,
+        // 11.5 E): true north lies 1.827 degrees counterclockwise of the grid's north.
+        let tags = relief_io::GeoTiffTags {
+            model_pixel_scale: Some(vec![10.0, 10.0, 0.0]),
+            model_tiepoint: Some(vec![0.0, 0.0, 0.0, 685_237.14, 5_207_641.64, 0.0]),
+            // GTModelType projected, GTRasterType PixelIsArea, ProjectedCSType 32632.
+            geo_key_directory: Some(vec![
+                1, 1, 0, 3, 1024, 0, 1, 1, 1025, 0, 1, 1, 3072, 0, 1, 32632,
+            ]),
+            ..relief_io::GeoTiffTags::default()
+        };
+        let utm = Georeference::from_geotiff_tags(tags).unwrap();
+        let args = parse(&["--date", "2026-06-21", "--time", "11:00"]).unwrap();
+        let SunTimes::Instant(on_grid) = sun_samples(&args, Some(&utm), 1000, 1000).unwrap() else {
+            panic!("not one instant");
+        };
+        let there =
+            parse(&["--date", "2026-06-21", "--time", "11:00", "--lat", "46.95", "--lon", "11.5"]);
+        let SunTimes::Instant(compass) = sun_samples(&there.unwrap(), None, 1, 1).unwrap() else {
+            panic!("not one instant");
+        };
+        assert!((on_grid.elevation_deg - compass.elevation_deg).abs() < 1e-6);
+        let turned = on_grid.azimuth_deg - compass.azimuth_deg;
+        assert!((turned - -1.8274).abs() < 1e-3, "{turned}");
     }
 
     #[test]
