@@ -54,7 +54,7 @@ print('made')"#,
         "shadow,sky,hillshade,combined",
         "--sun",
         "270,20",
-        "--sky-rays",
+        "--azimuths",
         "16",
     ]);
     let report = python(
@@ -119,7 +119,7 @@ fn a_png_layer_is_placed_by_its_world_file() {
     std::fs::create_dir_all(&dir).unwrap();
     let (dem, png) = (dir.join("dem.tif"), dir.join("combined.png"));
     ok(&["generate", "fbm", "--size", "64", "-o", dem.to_str().unwrap()]);
-    ok(&["shade", dem.to_str().unwrap(), "-o", png.to_str().unwrap(), "--sky-rays", "8"]);
+    ok(&["shade", dem.to_str().unwrap(), "-o", png.to_str().unwrap(), "--azimuths", "8"]);
     assert!(dir.join("combined.pgw").exists(), "the world file is written beside the PNG");
     let report = python(
         "rasterio",

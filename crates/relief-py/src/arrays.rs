@@ -137,6 +137,19 @@ pub fn image_f32(
     Ok(array.into_pyarray(py))
 }
 
+/// A `(bands, height, width)` float32 array of `values` (band by band, each row-major).
+pub fn bands_f32(
+    py: Python<'_>,
+    bands: usize,
+    height: usize,
+    width: usize,
+    values: Vec<f32>,
+) -> PyResult<Bound<'_, PyArray3<f32>>> {
+    let array = Array3::from_shape_vec((bands, height, width), values)
+        .map_err(|e| invalid(format!("{bands} bands of {width} x {height}: {e}")))?;
+    Ok(array.into_pyarray(py))
+}
+
 /// A `(height, width, 3)` uint8 array of the RGB bytes `rgb` (row-major).
 pub fn image_rgb8(
     py: Python<'_>,

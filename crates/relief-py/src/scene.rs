@@ -7,13 +7,14 @@ use crate::errors::{invalid, scene as scene_error};
 use crate::info::{Crs, SceneInfo};
 use crate::options;
 use crate::picture::{arrays, check_image, Rendered};
-use crate::shade::{layer_arrays, map_params, shade_field};
+use crate::shade::{check_surface, layer_arrays, map_params, shade_field};
 use crate::simulation::{Overrides, Simulation};
 use crate::state_arrays::{state_arrays, StateCopy};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_render::scenes::mlhm::mlhm_bounds;
 use relief_render::{ImageHolding, KeptHits, Picture, RenderError, Scene, Silent, TracerChoice};
+use relief_shade::horizon::HorizonParams;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, RwLock, RwLockReadGuard, RwLockWriteGuard};
 
@@ -188,17 +189,20 @@ impl PyScene {
 
     /// The shade layers of a height-field scene, each a float32 array of its grid, row 0 the
     /// north edge, as ``relief.shade`` makes them of the scene's terrain (its surface, as
-    /// placed when opened): ``layers`` of ``"shadow"``, ``"sky"``, ``"hillshade"`` and
-    /// ``"combined"``; ``suns`` as ``(azimuth, elevation)`` in degrees, each of
-    /// ``sun_radius`` degrees sampled by ``sun_rays`` rays; the sky by ``sky_rays``. NaN where
-    /// the scene keeps a void as a hole (opened with ``voids="hole"``).
+    /// placed when opened), with the same keywords: ``layers``, ``suns`` as ``(azimuth,
+    /// elevation)`` in degrees, each of ``sun_radius`` degrees sampled by ``sun_rays`` rays;
+    /// the horizons' ``azimuths``, ``observer_height``, ``radius`` and ``earth_curvature``;
+    /// ``sky_model`` and ``insolation``. NaN where the scene keeps a void as a hole (opened
+    /// with ``voids="hole"``).
     ///
     /// Raises ``relief.ReliefError`` for any other scene (an MLHM scene, a stacks terrain, a
     /// tile store).
     #[pyo3(signature = (
         layers=vec!["combined".to_string()], suns=vec![(315.0, 45.0)], sun_radius=0.0,
-        sun_rays=16, sky_rays=64
+        sun_rays=16, azimuths=32, observer_height=0.01, radius=None, earth_curvature=None,
+        sky_model="overcast", insolation=Vec::new()
     ))]
+    #[allow(clippy::too_many_arguments)]
     fn shade<'py>(
         &self,
         py: Python<'py>,
@@ -206,9 +210,17 @@ impl PyScene {
         suns: Vec<(f64, f64)>,
         sun_radius: f64,
         sun_rays: u32,
-        sky_rays: u32,
+        azimuths: u32,
+        observer_height: f64,
+        radius: Option<f64>,
+        earth_curvature: Option<f64>,
+        sky_model: &str,
+        insolation: Vec<(f64, f64, f64, f64)>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let params = map_params(layers, suns, sun_radius, sun_rays, sky_rays)?;
+        let horizon =
+            HorizonParams { azimuths, observer_height, radius, refraction: earth_curvature };
+        let params =
+            map_params(layers, suns, sun_radius, sun_rays, horizon, sky_model, insolation)?;
         let map = py.detach(|| {
             let opened = self.locked();
             let Scene::HeightField(scene) = &opened.scene else {
@@ -217,6 +229,7 @@ impl PyScene {
                     opened.scene.describe()
                 ));
             };
+            check_surface(&params, scene.surface)?;
             shade_field(&scene.field, scene.surface, scene.field.holes(), &params)
         });
         layer_arrays(py, map.map_err(invalid)?)

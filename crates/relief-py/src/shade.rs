@@ -1,14 +1,17 @@
-//! `relief.shade`: the shade layers of a heights array (cast shadows, sky-view factor,
-//! hillshade, combined), on the array's own grid.
+//! `relief.shade`: the shade layers of a heights array (cast shadows, horizons and the layers
+//! built on them, hillshades, combined), on the array's own grid.
 
-use crate::arrays::{heights as heights_array, image_f32};
+use crate::arrays::{bands_f32, heights as heights_array, image_f32};
 use crate::errors::{argument, invalid};
 use crate::options;
 use crate::terrain::{flip_rows, height_field};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::{HeightField, Surface};
-use relief_shade::shade_map::{shade_map, ShadeLayer, ShadeMap, ShadeMapParams, SunPosition};
+use relief_shade::horizon::{Facing, HorizonParams};
+use relief_shade::shade_map::{
+    shade_map, ShadeLayer, ShadeMap, ShadeMapParams, SkyModel, SunPosition,
+};
 use relief_trace::{build_tracer, TracerKind};
 use std::sync::Arc;
 
@@ -17,20 +20,31 @@ use std::sync::Arc;
 /// ``heights``, ``spacing``, ``origin``, ``z_scale``, ``surface`` and ``voids`` place and read
 /// the terrain as ``render`` does (row 0 the north edge; NaN a void). ``layers``: any of
 /// ``"shadow"`` (the fraction of the suns each sample sees, cast shadows exact), ``"sky"`` (the
-/// sky-view factor from ``sky_rays`` directions), ``"hillshade"`` (Lambert's cosine with Horn's
-/// gradient, as ``gdaldem hillshade``) and ``"combined"`` (the map layer). ``suns``: a sequence
-/// of ``(azimuth, elevation)`` in degrees, azimuth clockwise from north, elevation above 0;
-/// ``sun_radius``: each sun's angular radius in degrees, sampled by ``sun_rays`` rays.
+/// sky-view factor from exact horizons), ``"hillshade"`` (Lambert's cosine with Horn's
+/// gradient, as ``gdaldem hillshade``), ``"combined"`` (the map layer), ``"horizon"`` (the
+/// horizon's elevation angle in degrees in each of ``azimuths`` directions from north: a
+/// ``(azimuths, rows, columns)`` array), ``"sky-aniso"`` (RVT's anisotropic sky-view factor),
+/// ``"openness-pos"`` and ``"openness-neg"`` (degrees), ``"sky-illumination"`` (an
+/// ``sky_model`` sky, ``"overcast"`` or ``"uniform"``, with the suns' shadows),
+/// ``"hillshade-multi"`` (``gdaldem -multidirectional``), ``"insolation"`` (Wh/m²) and
+/// ``"sun-hours"`` (see ``insolation``). ``suns``: a sequence of ``(azimuth, elevation)`` in
+/// degrees, azimuth clockwise from north, elevation above 0; ``sun_radius``: each sun's
+/// angular radius in degrees, sampled by ``sun_rays`` rays. The horizons: ``azimuths``
+/// directions, seen ``observer_height`` metres above each sample, to ``radius`` metres (None:
+/// the edge of the data), with ``earth_curvature`` the refraction coefficient of the earth's
+/// curvature (None: a flat earth). ``insolation``: the sun's positions over a period, as a
+/// sequence of ``(azimuth, apparent elevation, hours, beam W/m²)``, as
+/// ``relief.sun_positions_over`` gives them.
 ///
-/// Returns a dict from layer name to its array, in the order of ``layers``: 0 dark (or closed
-/// to the sky) to 1 lit (or open), NaN at a void of ``heights``, exactly as ``relief shade``
-/// computes it.
+/// Returns a dict from layer name to its array, in the order of ``layers``, NaN at a void of
+/// ``heights``, exactly as ``relief shade`` computes it.
 ///
 /// Raises ``relief.ReliefError`` (a ``ValueError``) for arrays or options relief cannot use.
 #[pyfunction]
 #[pyo3(signature = (
     heights, spacing=None, *, origin=None, z_scale=1.0, layers=vec!["combined".to_string()],
-    suns=vec![(315.0, 45.0)], sun_radius=0.0, sun_rays=16, sky_rays=64,
+    suns=vec![(315.0, 45.0)], sun_radius=0.0, sun_rays=16, azimuths=32, observer_height=0.01,
+    radius=None, earth_curvature=None, sky_model="overcast", insolation=Vec::new(),
     surface="triangles", voids="fill"
 ))]
 #[allow(clippy::too_many_arguments)]
@@ -44,14 +58,21 @@ pub fn shade<'py>(
     suns: Vec<(f64, f64)>,
     sun_radius: f64,
     sun_rays: u32,
-    sky_rays: u32,
+    azimuths: u32,
+    observer_height: f64,
+    radius: Option<f64>,
+    earth_curvature: Option<f64>,
+    sky_model: &str,
+    insolation: Vec<(f64, f64, f64, f64)>,
     surface: &str,
     voids: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let geometry = options::geometry(spacing, origin, z_scale)?;
     let surface = options::surface(surface)?;
     let voids = options::voids(voids)?;
-    let params = map_params(layers, suns, sun_radius, sun_rays, sky_rays)?;
+    let horizon = HorizonParams { azimuths, observer_height, radius, refraction: earth_curvature };
+    let params = map_params(layers, suns, sun_radius, sun_rays, horizon, sky_model, insolation)?;
+    check_surface(&params, surface).map_err(invalid)?;
     let grid = heights_array(heights)?;
 
     let map = py.detach(|| {
@@ -65,14 +86,17 @@ pub fn shade<'py>(
 }
 
 /// The shade map's parameters: the `layers` by name, the `suns` as (azimuth, elevation) in
-/// degrees, each of `sun_radius` degrees sampled by `sun_rays` rays, the sky by `sky_rays`;
+/// degrees, each of `sun_radius` degrees sampled by `sun_rays` rays, the `horizon`'s, the
+/// `sky_model` by name and the `insolation` suns as (azimuth, elevation, hours, beam);
 /// checked as `relief shade` checks them.
 pub fn map_params(
     layers: Vec<String>,
     suns: Vec<(f64, f64)>,
     sun_radius: f64,
     sun_rays: u32,
-    sky_rays: u32,
+    horizon: HorizonParams,
+    sky_model: &str,
+    insolation: Vec<(f64, f64, f64, f64)>,
 ) -> PyResult<ShadeMapParams> {
     let layers = layers
         .iter()
@@ -82,9 +106,35 @@ pub fn map_params(
         .into_iter()
         .map(|(azimuth_deg, elevation_deg)| SunPosition { azimuth_deg, elevation_deg })
         .collect();
-    let params = ShadeMapParams { layers, suns, sun_radius_deg: sun_radius, sun_rays, sky_rays };
+    let insolation = insolation
+        .into_iter()
+        .map(|(azimuth_deg, elevation_deg, hours, beam_w_m2)| {
+            relief_shade::shade_map::InsolationSun { azimuth_deg, elevation_deg, hours, beam_w_m2 }
+        })
+        .collect();
+    let params = ShadeMapParams {
+        layers,
+        suns,
+        sun_radius_deg: sun_radius,
+        sun_rays,
+        horizon,
+        sky_model: sky_model.parse::<SkyModel>().map_err(invalid)?,
+        insolation,
+        ..ShadeMapParams::default()
+    };
     params.validate().map_err(argument)?;
     Ok(params)
+}
+
+/// Refuses the boxes surface for the layers built on horizons (exact for triangles only).
+pub fn check_surface(params: &ShadeMapParams, surface: Surface) -> Result<(), String> {
+    let horizons = params.needs_horizons(Facing::Up) || params.needs_horizons(Facing::Down);
+    if horizons && surface == Surface::Boxes {
+        return Err("surface='boxes': the layers built on horizons are exact for the triangles \
+                    surface only"
+            .to_string());
+    }
+    Ok(())
 }
 
 /// The shade map of `surface` of `field` (NaN where `mask` marks a void), traced by the
@@ -102,10 +152,21 @@ pub fn shade_field(
 /// The layers of `map` as a dict from layer name to a north-up float32 array.
 pub fn layer_arrays(py: Python<'_>, map: ShadeMap) -> PyResult<Bound<'_, PyDict>> {
     let result = PyDict::new(py);
-    for (layer, values) in map.layers {
+    let (width, height) = (map.width, map.height);
+    let mut horizon = Vec::new();
+    for band in map.bands {
         // relief's rows run south to north; the caller's array runs north to south.
-        let north_up = flip_rows(&values, map.width);
-        result.set_item(layer.name(), image_f32(py, map.height, map.width, north_up)?)?;
+        let north_up = flip_rows(&band.values, width);
+        if band.layer == ShadeLayer::Horizon {
+            horizon.extend(north_up);
+        } else {
+            result.set_item(band.layer.name(), image_f32(py, height, width, north_up)?)?;
+        }
+    }
+    if !horizon.is_empty() {
+        let bands = horizon.len() / (width * height).max(1);
+        result
+            .set_item(ShadeLayer::Horizon.name(), bands_f32(py, bands, height, width, horizon)?)?;
     }
     Ok(result)
 }

@@ -53,14 +53,22 @@ fn brute_horizon(
     let g = field.geometry();
     let p = [col as f64 * g.dx, row as f64 * g.dy];
     let z0 = sign * field.sample(col, row) as f64 * g.z_scale + params.observer_height;
-    let d = [azimuth_deg.to_radians().sin(), azimuth_deg.to_radians().cos()];
+    // Due north, east, south and west exactly (sin 180° is not 0 in floating point).
+    let d = match azimuth_deg {
+        0.0 => [0.0, 1.0],
+        90.0 => [1.0, 0.0],
+        180.0 => [0.0, -1.0],
+        270.0 => [-1.0, 0.0],
+        _ => [azimuth_deg.to_radians().sin(), azimuth_deg.to_radians().cos()],
+    };
     let cross = |v: &[f64; 3]| d[0] * (v[1] - p[1]) - d[1] * (v[0] - p[0]);
     let radius = params.radius.unwrap_or(f64::INFINITY);
-    let mut best = f64::NEG_INFINITY;
+    // The profile's points: (distance, height above the observer).
+    let mut points: Vec<(f64, f64)> = Vec::new();
     let mut consider = |x: [f64; 3]| {
         let t = (x[0] - p[0]) * d[0] + (x[1] - p[1]) * d[1];
         if t > 1e-9 && t <= radius * (1.0 + 1e-12) {
-            best = best.max((x[2] - z0) / t);
+            points.push((t, x[2] - z0));
         }
     };
     for tri in tris {
@@ -93,12 +101,32 @@ fn brute_horizon(
             }
         }
     }
+    let drop = params.refraction.map_or(0.0, |k| (1.0 - k) / (2.0 * EARTH_RADIUS));
+    let slope = |(t, g): (f64, f64)| g / t - drop * t;
+    let mut best = points.iter().copied().map(slope).fold(f64::NEG_INFINITY, f64::max);
+    if drop > 0.0 {
+        // The earth's drop bends the profile between its points: sample each piece densely
+        // (consecutive points along the line bound a piece inside one triangle), from the
+        // sample's own point on.
+        points.push((0.0, -params.observer_height));
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for pair in points.windows(2) {
+            let ((t1, g1), (t2, g2)) = (pair[0], pair[1]);
+            for k in 1..2000 {
+                let f = k as f64 / 2000.0;
+                best = best.max(slope((t1 + f * (t2 - t1), g1 + f * (g2 - g1))));
+            }
+        }
+    }
     if best == f64::NEG_INFINITY {
         0.0
     } else {
         best.atan()
     }
 }
+
+/// The earth's mean radius the engine uses, metres.
+const EARTH_RADIUS: f64 = 6_371_008.8;
 
 /// A random terrain of one of five kinds: smooth hills, flat, pits, spikes, cliffs; some
 /// with holes.
@@ -192,6 +220,26 @@ proptest! {
         let params = HorizonParams { azimuths, observer_height, radius, refraction: None };
         let facing = if down { Facing::Down } else { Facing::Up };
         check(&field, &params, facing)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// With the earth's curvature, on cells hundreds of metres wide where it lowers the far
+    /// terrain by metres: the slope peaks inside the profile's linear pieces too.
+    #[test]
+    fn horizons_over_a_curved_earth_equal_the_brute_force(
+        field in terrain().prop_filter("no holes", |f| f.holes().is_none()),
+        k in 0.0f64..0.5,
+        azimuths in 1u32..6,
+    ) {
+        let wide = field
+            .clone()
+            .with_geometry(GridGeometry { dx: 700.0, dy: 450.0, z_scale: 3.0, ..*field.geometry() })
+            .unwrap();
+        let params = HorizonParams { azimuths, refraction: Some(k), ..HorizonParams::default() };
+        check(&wide, &params, Facing::Up)?;
     }
 }
 

@@ -215,7 +215,10 @@ fn a_slope_sees_one_minus_its_angle_over_pi_of_the_sky() {
         for row in 1..23 {
             for col in 1..23 {
                 let v = sky[col + row * 24] as f64;
-                assert!((v - expected).abs() <= 1e-4, "{slope_deg}° at ({col}, {row}): {v} vs {expected}");
+                assert!(
+                    (v - expected).abs() <= 1e-4,
+                    "{slope_deg}° at ({col}, {row}): {v} vs {expected}"
+                );
             }
         }
         // Its openness is 90 degrees off the edges (as much up one way as down the other);

@@ -50,6 +50,32 @@ pub(crate) fn shade_rays(s: &str) -> Result<u32, String> {
     parse::whole_in(s, 1..=max, "ray count").map(|n| n as u32)
 }
 
+/// Directions of a horizon map: 1 to 4096.
+pub(crate) fn azimuths(s: &str) -> Result<u32, String> {
+    let max = u64::from(relief_shade::horizon::MAX_AZIMUTHS);
+    parse::whole_in(s, 1..=max, "number of directions").map(|n| n as u32)
+}
+
+/// An observer's height above the ground: 0 to 10000 metres.
+pub(crate) fn observer_height(s: &str) -> Result<f64, String> {
+    parse::number_in(s, "observer height", &(0.0..=1e4)).map_err(|e| format!("{e} metres"))
+}
+
+/// A search radius: above 0, at most 1e8 metres.
+pub(crate) fn radius(s: &str) -> Result<f64, String> {
+    let r = parse::number_in(s, "radius", &(0.0..=1e8)).map_err(|e| format!("{e} metres"))?;
+    if r > 0.0 {
+        Ok(r)
+    } else {
+        Err(format!("radius {s} is not above 0 metres"))
+    }
+}
+
+/// An atmospheric refraction coefficient: 0 to 0.99.
+pub(crate) fn refraction(s: &str) -> Result<f64, String> {
+    parse::number_in(s, "refraction coefficient", &(0.0..=0.99))
+}
+
 /// A terrain's samples (or an MLHM's cells) per side: 1 to 65536.
 pub(crate) fn terrain_side(s: &str) -> Result<usize, String> {
     parse::whole_in(s, 1..=65536, "size").map(|v| v as usize)

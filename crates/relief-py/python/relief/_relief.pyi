@@ -102,7 +102,9 @@ def render(
     ``camera`` is ``None`` (automatic framing) or ``{eye, target, up, fov}``.
     """
 
-ShadeLayer = Literal["shadow", "sky", "hillshade", "combined"]
+ShadeLayer = Literal["shadow", "sky", "hillshade", "combined", "horizon", "sky-aniso",
+                     "openness-pos", "openness-neg", "sky-illumination", "hillshade-multi",
+                     "insolation", "sun-hours"]
 
 def shade(
     heights: npt.ArrayLike,
@@ -114,16 +116,23 @@ def shade(
     suns: Sequence[Tuple[float, float]] = ((315.0, 45.0),),
     sun_radius: float = 0.0,
     sun_rays: int = 16,
-    sky_rays: int = 64,
+    azimuths: int = 32,
+    observer_height: float = 0.01,
+    radius: Optional[float] = None,
+    earth_curvature: Optional[float] = None,
+    sky_model: Literal["overcast", "uniform"] = "overcast",
+    insolation: Sequence[Tuple[float, float, float, float]] = (),
     surface: Surface = "triangles",
     voids: Voids = "fill",
 ) -> dict[str, npt.NDArray[np.float32]]:
-    """The shade layers of ``heights``, each shaped like it (north-up, NaN at its voids).
+    """The shade layers of ``heights``, each shaped like it (north-up, NaN at its voids); the
+    horizon a ``(azimuths, rows, columns)`` array of degrees.
 
     ``shadow``: the fraction of the suns each sample sees (exact cast shadows); ``sky``: the
-    sky-view factor from ``sky_rays`` directions; ``hillshade``: Lambert's cosine with Horn's
-    gradient; ``combined``: the map layer. 0 dark or closed, 1 lit or open, as ``relief
-    shade`` writes them.
+    sky-view factor from exact horizons in ``azimuths`` directions; ``hillshade``: Lambert's
+    cosine with Horn's gradient; ``combined``: the map layer; ``horizon``, ``sky-aniso``,
+    ``openness-pos``, ``openness-neg`` (degrees), ``sky-illumination``, ``hillshade-multi``,
+    ``insolation`` (Wh/m²) and ``sun-hours`` as ``relief shade`` writes them.
     """
 
 def intersect(
@@ -240,7 +249,12 @@ class Scene:
         suns: Sequence[Tuple[float, float]] = ((315.0, 45.0),),
         sun_radius: float = 0.0,
         sun_rays: int = 16,
-        sky_rays: int = 64,
+        azimuths: int = 32,
+        observer_height: float = 0.01,
+        radius: Optional[float] = None,
+        earth_curvature: Optional[float] = None,
+        sky_model: Literal["overcast", "uniform"] = "overcast",
+        insolation: Sequence[Tuple[float, float, float, float]] = (),
     ) -> dict[str, npt.NDArray[np.float32]]:
         """A height field's shade layers, north-up; ``ReliefError`` for any other scene."""
     @property

@@ -6,8 +6,10 @@
 /// `l + 1` the highest of the (up to) 2x2 nodes of level `l` below each node.
 #[derive(Debug, Clone)]
 pub(crate) struct CellPyramid {
-    /// Per level: nodes along x, nodes along y, and the maxima row by row.
-    levels: Vec<(usize, usize, Vec<f32>)>,
+    /// Every level's maxima row by row, level 0 first.
+    values: Vec<f32>,
+    /// Per level: where it starts in `values`, and its nodes along x.
+    levels: Vec<(usize, usize)>,
 }
 
 impl CellPyramid {
@@ -35,7 +37,13 @@ impl CellPyramid {
             }
             levels.push((ux, uy, above));
         }
-        CellPyramid { levels }
+        let mut values = Vec::with_capacity(levels.iter().map(|(_, _, v)| v.len()).sum());
+        let mut starts = Vec::with_capacity(levels.len());
+        for (nx, _, level) in levels {
+            starts.push((values.len(), nx));
+            values.extend_from_slice(&level);
+        }
+        CellPyramid { values, levels: starts }
     }
 
     /// The highest level (one node over every cell).
@@ -46,8 +54,8 @@ impl CellPyramid {
     /// The maximum of node (`x`, `y`) of `level`.
     #[inline(always)]
     pub(crate) fn get(&self, level: usize, x: usize, y: usize) -> f32 {
-        let (nx, _, values) = &self.levels[level];
-        values[x + y * nx]
+        let (start, nx) = self.levels[level];
+        self.values[start + x + y * nx]
     }
 }
 

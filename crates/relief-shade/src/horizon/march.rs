@@ -4,6 +4,13 @@
 
 use super::cell_pyramid::CellPyramid;
 
+/// `x` rounded down, without a call into the maths library.
+#[inline(always)]
+fn floor(x: f64) -> isize {
+    let truncated = x as isize;
+    truncated - isize::from((truncated as f64) > x)
+}
+
 /// The nearest a hint may lie, in cells: nearer, it would be the sample's own point.
 const HINT_NEAREST: f64 = 1e-6;
 
@@ -266,7 +273,7 @@ impl<'a> DirectionMarch<'a> {
             // Step into the next node: across the face the line leaves by, and along the
             // other axis to where the line is then (inside the node, never backwards).
             let along = |p0: f64, step: f64, lo: isize, hi: isize, now: isize| -> isize {
-                let p = ((p0 + step * t_exit).floor() as isize).clamp(lo, hi - 1);
+                let p = floor(p0 + step * t_exit).clamp(lo, hi - 1);
                 if step > 0.0 {
                     p.max(now)
                 } else if step < 0.0 {
@@ -459,4 +466,3 @@ impl<'a> DirectionMarch<'a> {
         raised
     }
 }
-

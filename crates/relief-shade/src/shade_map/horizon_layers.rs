@@ -148,8 +148,10 @@ fn overcast_integral(a: f64, b: f64, h: f64) -> f64 {
 
 /// The hillshade of `gdaldem hillshade -multidirectional`: Lambert's cosine of the surface
 /// under four suns 45 degrees up, from azimuths 225, 270, 315 and 360, each weighted by
-/// `sin^2(aspect - azimuth)` (the weights sum to 2), so every slope is lit from across its
-/// fall line (USGS Open-File Report 92-422). A flat sample gets `sin 45`.
+/// `cos^2(aspect - azimuth)` with the aspect the compass direction the slope faces (the
+/// weights sum to 2; what gdaldem computes, checked on planes of four aspects by
+/// bench/gis/gdaldem_weights.py; after Mark 1992, USGS Open-File Report 92-422). A flat
+/// sample gets `sin 45`.
 pub fn multidirectional_hillshade(normal: DVec3) -> f64 {
     let sun = |azimuth: f64| crate::sun_direction(azimuth, 45.0);
     let horizontal = normal.x.hypot(normal.y);
@@ -160,7 +162,7 @@ pub fn multidirectional_hillshade(normal: DVec3) -> f64 {
     let aspect = normal.x.atan2(normal.y);
     let mut sum = 0.0;
     for azimuth in [225.0f64, 270.0, 315.0, 360.0] {
-        let weight = (aspect - azimuth.to_radians()).sin().powi(2);
+        let weight = (aspect - azimuth.to_radians()).cos().powi(2);
         sum += weight * normal.dot(sun(azimuth)).max(0.0);
     }
     sum / 2.0

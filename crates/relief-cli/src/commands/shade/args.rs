@@ -5,6 +5,7 @@ use crate::args::*;
 use crate::parse;
 use clap::Args;
 use relief_core::Surface;
+use relief_shade::shade_map::SkyModel;
 use relief_shade::ShadeLayer;
 use std::path::PathBuf;
 
@@ -20,8 +21,12 @@ pub struct ShadeArgs {
     /// layer's name) or .png (one layer, 16-bit grey, with a .pgw world file).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// The layers, comma-separated, in the order of the bands: shadow, sky, hillshade,
-    /// combined. Each is 0 (dark, or closed to the sky) to 1 (lit, or open).
+    /// The layers, comma-separated, in the order of the bands: shadow (cast shadows of the
+    /// suns), sky (sky-view factor), hillshade, combined (the map layer), horizon (one band
+    /// per direction, degrees), sky-aniso (RVT's anisotropic sky-view factor), openness-pos,
+    /// openness-neg (degrees), sky-illumination, hillshade-multi (gdaldem's
+    /// -multidirectional), insolation (Wh/m2), sun-hours. Those not in degrees, hours or Wh/m2
+    /// are 0 (dark, or closed to the sky) to 1 (lit, or open).
     #[arg(long, value_delimiter = ',', default_values = ["combined"])]
     pub layers: Vec<ShadeLayer>,
     /// A sun, AZIMUTH,ELEVATION in degrees (azimuth clockwise from north, elevation above the
@@ -37,10 +42,26 @@ pub struct ShadeArgs {
     /// Rays over each sun's disc, with --sun-radius (1 to 4096) [default: 16].
     #[arg(long, value_name = "N", value_parser = shade_rays, allow_hyphen_values = true)]
     pub sun_rays: Option<u32>,
-    /// Directions over the sky for the sky-view factor, for the sky and combined layers (1 to
-    /// 4096) [default: 64].
-    #[arg(long, value_name = "N", value_parser = shade_rays, allow_hyphen_values = true)]
-    pub sky_rays: Option<u32>,
+    /// Compass directions of the horizons, evenly spaced from north, for the layers built on
+    /// them (sky, combined, horizon, sky-aniso, openness, sky-illumination, insolation,
+    /// sun-hours; 1 to 4096) [default: 32].
+    #[arg(long, value_name = "N", value_parser = azimuths, allow_hyphen_values = true)]
+    pub azimuths: Option<u32>,
+    /// How far above each sample the horizons are seen from, in metres [default: 0.01].
+    #[arg(long, value_name = "M", value_parser = observer_height, allow_hyphen_values = true)]
+    pub observer_height: Option<f64>,
+    /// Search the horizons this far only, in metres [default: to the edge of the data].
+    #[arg(long, value_name = "M", value_parser = radius, allow_hyphen_values = true)]
+    pub radius: Option<f64>,
+    /// Let the earth's curvature lower distant terrain, less atmospheric refraction of
+    /// coefficient K (0 to below 1) [default when given alone: 0.13].
+    #[arg(long, value_name = "K", num_args = 0..=1, default_missing_value = "0.13",
+          value_parser = refraction)]
+    pub earth_curvature: Option<f64>,
+    /// The sky of the sky-illumination layer: overcast (three times brighter at the zenith than
+    /// at the horizon) or uniform [default: overcast].
+    #[arg(long, value_name = "SKY")]
+    pub sky_model: Option<SkyModel>,
     /// The surface the rays meet: triangles (through the samples) or boxes (a flat-topped
     /// column per sample).
     #[arg(long, default_value = "triangles")]

@@ -8,8 +8,11 @@ use crate::args::Voids;
 use crate::{applies, input, memory, outputs, progress};
 use anyhow::{bail, Result};
 use args::ShadeArgs;
+use relief_core::Surface;
 use relief_io::{Layer, LayerRaster, RasterInfo, VoidPolicy};
+use relief_shade::horizon::{Facing, HorizonParams};
 use relief_shade::shade_map::{shade_map, ShadeMap, ShadeMapParams, SunPosition};
+use relief_shade::ShadeLayer;
 use relief_trace::{build_tracer, TracerKind};
 use std::path::Path;
 use std::sync::Arc;
@@ -37,8 +40,11 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
     let start = Instant::now();
     let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
     let samples = raster.width as u64 * raster.height as u64;
-    // The field, the voids' mask, the pyramid (a third more than the field) and the layers.
-    let needed = samples * (4 + 1 + 2 + 4 * params.layers.len() as u64);
+    // The field, the voids' mask, the tracer's pyramid (a third more than the field), the
+    // bands, and a pyramid of maxima per horizon engine (up, and down for negative openness).
+    let bands = params.band_names().len() as u64;
+    let engines = [Facing::Up, Facing::Down].iter().filter(|&&f| params.needs_horizons(f)).count();
+    let needed = samples * (4 + 1 + 2 + 4 * bands + 6 * engines as u64);
     if needed > budget.bytes {
         bail!(
             "shading {} x {} samples needs {}, over the {} memory limit ({})",
@@ -78,6 +84,9 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
     let write_ms = elapsed_ms(start);
 
     let names: Vec<&str> = params.layers.iter().map(|l| l.name()).collect();
+    let horizon_directions =
+        [Facing::Up, Facing::Down].iter().filter(|&&f| params.needs_horizons(f)).count() as u32
+            * params.horizon.azimuths;
     let rays_per_s = rays as f64 / (trace_ms / 1e3).max(1e-9);
     eprintln!(
         "wrote {} ({} x {} samples, {}; {} rays in {:.2} s, {:.1} Mrays/s)",
@@ -96,6 +105,7 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
             "layers": names,
             "rays": rays,
             "rays_per_s": rays_per_s,
+            "horizon_directions": horizon_directions,
             "read_ms": read_ms,
             "build_ms": build_ms,
             "trace_ms": trace_ms,
@@ -116,11 +126,13 @@ fn check_outputs(args: &ShadeArgs) -> Result<ShadeOutput> {
         Some("png") => ShadeOutput::Png,
         _ => bail!("-o {}: shade layers are written as .tif (GeoTIFF) or .png", output.display()),
     };
-    if format == ShadeOutput::Png && args.layers.len() > 1 {
+    if format == ShadeOutput::Png
+        && (args.layers.len() > 1 || args.layers.contains(&ShadeLayer::Horizon))
+    {
         bail!(
-            "-o {}: a PNG holds one layer, not {} ({}); write a .tif for several",
+            "-o {}: a PNG holds one band, not {} ({}); write a .tif for several",
             output.display(),
-            args.layers.len(),
+            if args.layers.len() > 1 { "several layers" } else { "a band per direction" },
             args.layers.iter().map(|l| l.name()).collect::<Vec<_>>().join(", ")
         );
     }
@@ -141,12 +153,21 @@ fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
     let here = format!("--layers {names}");
     let needs_suns = layers.iter().any(|l| l.needs_suns());
     let needs_sun_rays = layers.iter().any(|l| l.needs_sun_rays());
-    let needs_sky = layers.iter().any(|l| l.needs_sky_rays());
+    let needs_horizons =
+        layers.iter().any(|l| l.needs_horizons(Facing::Up) || l.needs_horizons(Facing::Down));
     if !needs_suns && !args.sun.is_empty() {
-        return Err(applies::refuse("--sun", "the shadow, hillshade and combined layers", &here));
+        return Err(applies::refuse(
+            "--sun",
+            "the shadow, hillshade, combined and sky-illumination layers",
+            &here,
+        ));
     }
     if !needs_sun_rays && args.sun_radius.is_some() {
-        return Err(applies::refuse("--sun-radius", "the shadow and combined layers", &here));
+        return Err(applies::refuse(
+            "--sun-radius",
+            "the shadow, combined and sky-illumination layers",
+            &here,
+        ));
     }
     if args.sun_rays.is_some() && !args.sun_radius.is_some_and(|r| r > 0.0) {
         return Err(applies::refuse(
@@ -155,8 +176,24 @@ fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
             "a point sun",
         ));
     }
-    if !needs_sky && args.sky_rays.is_some() {
-        return Err(applies::refuse("--sky-rays", "the sky and combined layers", &here));
+    let horizon_layers = "the layers built on horizons (sky, combined, horizon, sky-aniso, openness-pos, openness-neg, sky-illumination, insolation, sun-hours)";
+    for (option, given) in [
+        ("--azimuths", args.azimuths.is_some()),
+        ("--observer-height", args.observer_height.is_some()),
+        ("--radius", args.radius.is_some()),
+        ("--earth-curvature", args.earth_curvature.is_some()),
+    ] {
+        if given && !needs_horizons {
+            return Err(applies::refuse(option, horizon_layers, &here));
+        }
+    }
+    if args.sky_model.is_some() && !layers.contains(&ShadeLayer::SkyIllumination) {
+        return Err(applies::refuse("--sky-model", "the sky-illumination layer", &here));
+    }
+    if needs_horizons && args.surface == Surface::Boxes {
+        bail!(
+            "--surface boxes: the layers built on horizons ({names}) are exact for the triangles surface only"
+        );
     }
     let suns = if args.sun.is_empty() {
         defaults.suns.clone()
@@ -171,7 +208,14 @@ fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
         suns: if needs_suns { suns } else { Vec::new() },
         sun_radius_deg: args.sun_radius.unwrap_or(defaults.sun_radius_deg),
         sun_rays: args.sun_rays.unwrap_or(defaults.sun_rays),
-        sky_rays: args.sky_rays.unwrap_or(defaults.sky_rays),
+        horizon: HorizonParams {
+            azimuths: args.azimuths.unwrap_or(defaults.horizon.azimuths),
+            observer_height: args.observer_height.unwrap_or(defaults.horizon.observer_height),
+            radius: args.radius,
+            refraction: args.earth_curvature,
+        },
+        sky_model: args.sky_model.unwrap_or(defaults.sky_model),
+        ..defaults.clone()
     };
     params.validate()?;
     Ok(params)
@@ -189,10 +233,9 @@ fn write(
     let georeference = info.georeference.clone();
     match format {
         ShadeOutput::Png => {
-            let (_, samples) = &map.layers[0];
             relief_io::write_layer_png(
                 path,
-                samples,
+                &map.bands[0].values,
                 map.width,
                 map.height,
                 georeference.as_ref(),
@@ -201,9 +244,9 @@ fn write(
         ShadeOutput::GeoTiff => {
             let nodata = info.nodata.or(has_voids.then_some(f64::NAN));
             let layers = map
-                .layers
+                .bands
                 .into_iter()
-                .map(|(layer, samples)| Layer { name: layer.name().to_string(), samples })
+                .map(|band| Layer { name: band.name, samples: band.values })
                 .collect();
             let raster =
                 LayerRaster { width: map.width, height: map.height, layers, georeference, nodata };
