@@ -1,20 +1,24 @@
-//! The horizon engine's speed: the exact horizons of every sample of a height field in N
-//! directions, and what they cost per sample and direction.
+//! The horizon engine's speed: the shade layers built on the exact horizons of every sample
+//! of a height field in N directions, and what they cost per sample and direction.
 //!
 //! It reads a height field (any file `relief shade` reads), places it at SPACING metres, and
-//! times `horizon_map` RUNS times, printing one JSON line with the median, fastest and slowest
-//! wall seconds, the median CPU seconds of all threads, and nanoseconds of CPU per sample and
-//! direction.
+//! times `shade_map` of LAYERS (comma-separated, as `relief shade --layers` takes them) RUNS
+//! times, printing one JSON line with the median, fastest and slowest wall seconds, the median
+//! CPU seconds of all threads, and nanoseconds of CPU per sample and direction.
 //!
 //! ```sh
-//! cargo bench -p relief-bench --bench horizons -- dem.npy SPACING AZIMUTHS RUNS
+//! cargo bench -p relief-bench --bench horizons -- dem.npy SPACING AZIMUTHS LAYERS RUNS
 //! ```
 
 use anyhow::{bail, Context, Result};
 use relief_core::GridGeometry;
+use relief_core::Surface;
 use relief_io::{ReadOptions, VoidPolicy};
-use relief_shade::horizon::{horizon_map, HorizonParams};
+use relief_shade::horizon::HorizonParams;
+use relief_shade::shade_map::{shade_map, ShadeLayer, ShadeMapParams};
+use relief_trace::{build_tracer, TracerKind};
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
 #[path = "common/args.rs"]
@@ -24,9 +28,13 @@ mod process_clock;
 
 fn main() -> Result<()> {
     let args = args::program_args();
-    let [path, spacing, azimuths, runs] = args.as_slice() else {
-        bail!("usage: horizons DEM SPACING AZIMUTHS RUNS");
+    let [path, spacing, azimuths, layers, runs] = args.as_slice() else {
+        bail!("usage: horizons DEM SPACING AZIMUTHS LAYERS RUNS");
     };
+    let layers = layers
+        .split(',')
+        .map(|name| name.parse::<ShadeLayer>().map_err(anyhow::Error::msg))
+        .collect::<Result<Vec<_>>>()?;
     let spacing: f64 = spacing.parse().context("SPACING")?;
     let azimuths: u32 = azimuths.parse().context("AZIMUTHS")?;
     let runs: usize = runs.parse().context("RUNS")?;
@@ -36,12 +44,18 @@ fn main() -> Result<()> {
     let field = raster.into_height_field(path, VoidPolicy::Fill)?;
     let field =
         field.with_geometry(GridGeometry { dx: spacing, dy: spacing, ..GridGeometry::unit() })?;
-    let params = HorizonParams { azimuths, ..HorizonParams::default() };
+    let field = Arc::new(field);
+    let tracer = build_tracer(field.clone(), Surface::Triangles, TracerKind::Mipmap);
+    let params = ShadeMapParams {
+        layers,
+        horizon: HorizonParams { azimuths, ..HorizonParams::default() },
+        ..ShadeMapParams::default()
+    };
     let mut wall = Vec::new();
     let mut cpu = Vec::new();
     for _ in 0..runs {
         let (start, cpu_start) = (Instant::now(), process_clock::cpu_seconds());
-        let map = horizon_map(&field, None, &params, &|_| {})?;
+        let map = shade_map(&field, &*tracer, None, &params, &|_| {})?;
         wall.push(start.elapsed().as_secs_f64());
         cpu.push(process_clock::cpu_seconds() - cpu_start);
         std::hint::black_box(map);

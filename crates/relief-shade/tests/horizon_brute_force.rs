@@ -185,17 +185,23 @@ fn check(field: &HeightField, params: &HorizonParams, facing: Facing) -> Result<
     let sign = if facing == Facing::Up { 1.0 } else { -1.0 };
     let tris = triangles(field, sign);
     let engine = HorizonEngine::new(field, None, params, facing).unwrap();
-    let angles = engine.band(0..field.height());
-    for (k, per_direction) in angles.iter().enumerate() {
+    let angles = engine.band(0..field.height(), false);
+    let level = engine.band(0..field.height(), true);
+    for (k, (per_direction, level)) in angles.iter().zip(&level).enumerate() {
         let azimuth = params.azimuth_deg(k);
         for row in 0..field.height() {
             for col in 0..field.width() {
                 let got = per_direction[col + row * field.width()];
+                let got_level = level[col + row * field.width()];
                 if field.is_hole(col, row) {
-                    prop_assert!(got.is_nan());
+                    prop_assert!(got.is_nan() && got_level.is_nan());
                     continue;
                 }
                 let want = brute_horizon(field, &tris, sign, col, row, azimuth, params);
+                prop_assert!(
+                    (got_level as f64 - want.max(0.0)).abs() < 1e-6,
+                    "sample ({col}, {row}) towards {azimuth}, above the horizontal: {got_level} against {want}"
+                );
                 prop_assert!(
                     (got as f64 - want).abs() < 1e-6,
                     "sample ({col}, {row}) towards {azimuth}: {got} against {want}; {}x{} holes at {:?}", field.width(), field.height(), (0..field.width() * field.height()).filter(|&k| field.is_hole(k % field.width(), k / field.width())).collect::<Vec<_>>()

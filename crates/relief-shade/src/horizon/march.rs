@@ -190,7 +190,16 @@ impl<'a> DirectionMarch<'a> {
     /// `hints` are distances along the line where the horizon may lie (where a neighbouring
     /// sample's is): the surface's slope there is a lower bound that lets the march skip more
     /// from the start. They change how fast the answer is found, never the answer.
-    pub(crate) fn horizon(&self, col: usize, row: usize, hints: &[f64]) -> Horizon {
+    ///
+    /// With `at_least_level`, the horizon is wanted only where it is above the horizontal:
+    /// the answer is `max(angle, 0)`, and the march skips everything below the observer.
+    pub(crate) fn horizon(
+        &self,
+        col: usize,
+        row: usize,
+        hints: &[f64],
+        at_least_level: bool,
+    ) -> Horizon {
         let terrain = self.terrain;
         let (cells_x, cells_y) = (terrain.width as isize - 1, terrain.height as isize - 1);
         let none = Horizon { angle: 0.0, distance: f64::NAN };
@@ -200,7 +209,8 @@ impl<'a> DirectionMarch<'a> {
         let (u0, v0) = (col as f64, row as f64);
         let z0 = terrain.samples[col + row * terrain.width] as f64 * terrain.sign * terrain.z_scale
             + self.observer_height;
-        let mut best = f64::NEG_INFINITY;
+        let lowest = if at_least_level { 0.0 } else { f64::NEG_INFINITY };
+        let mut best = lowest;
         let mut distance = f64::NAN;
         let nearest = HINT_NEAREST * terrain.dx.min(terrain.dy);
         for &t in hints {
@@ -305,7 +315,7 @@ impl<'a> DirectionMarch<'a> {
             r = next_r;
             t = t.max(t_exit);
         }
-        if best == f64::NEG_INFINITY {
+        if best == f64::NEG_INFINITY || distance.is_nan() {
             none
         } else {
             Horizon { angle: best.atan(), distance }

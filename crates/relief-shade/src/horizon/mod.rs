@@ -147,8 +147,10 @@ impl<'a> HorizonEngine<'a> {
     }
 
     /// Per direction, the horizon angles in radians of the samples of `rows`, row by row (NaN
-    /// on voids and holes).
-    pub fn band(&self, rows: Range<usize>) -> Vec<Vec<f32>> {
+    /// on voids and holes). With `at_least_level`, only the horizons above the horizontal are
+    /// wanted: each angle is `max(angle, 0)`, found faster (what the sky-view factor and the
+    /// layers of the sky and the sun need).
+    pub fn band(&self, rows: Range<usize>, at_least_level: bool) -> Vec<Vec<f32>> {
         let width = self.terrain.width;
         let p = &self.params;
         (0..p.azimuths as usize)
@@ -169,19 +171,19 @@ impl<'a> HorizonEngine<'a> {
                 let mut angles = Vec::with_capacity(rows.len() * width);
                 for row in rows.clone() {
                     let mut previous = f64::NAN;
-                    for col in 0..width {
+                    for (col, below) in below.iter_mut().enumerate() {
                         let index = col + row * width;
                         let void = self.void.is_some_and(|v| v[index]);
                         if void || self.is_hole(index) {
                             angles.push(f32::NAN);
-                            (previous, below[col]) = (f64::NAN, f64::NAN);
+                            (previous, *below) = (f64::NAN, f64::NAN);
                             continue;
                         }
-                        let hints = [previous + west, below[col] + south];
-                        let horizon = march.horizon(col, row, &hints);
+                        let hints = [previous + west, *below + south];
+                        let horizon = march.horizon(col, row, &hints, at_least_level);
                         angles.push(horizon.angle as f32);
                         previous = horizon.distance;
-                        below[col] = horizon.distance;
+                        *below = horizon.distance;
                     }
                 }
                 angles
@@ -221,7 +223,7 @@ pub fn horizon_map(
         .into_par_iter()
         .map(|band| {
             let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(height);
-            let result = engine.band(rows.clone());
+            let result = engine.band(rows.clone(), false);
             progress(done.fetch_add(rows.len() as u64, Ordering::Relaxed) + rows.len() as u64);
             result
         })

@@ -178,7 +178,7 @@ mod tests {
 
     #[test]
     fn an_open_plane_sees_the_whole_sky() {
-        let flat = vec![-0.001; 16];
+        let flat = [-0.001; 16];
         assert_eq!(sky_view_factor(flat.iter().copied()), 1.0);
         assert!((openness_deg(flat.iter().copied()) - 90.057).abs() < 1e-3);
         for model in [SkyModel::Uniform, SkyModel::Overcast] {
@@ -198,7 +198,7 @@ mod tests {
         // A horizon at γ all round: SVF 1 - sin γ; a uniform sky lights the floor by cos² γ;
         // an overcast sky by ((1 - sin² γ) / 2 + 2 (1 - sin³ γ) / 3) / (7 / 6).
         let gamma: f64 = 0.6;
-        let pit = vec![gamma; 32];
+        let pit = [gamma; 32];
         assert!((sky_view_factor(pit.iter().copied()) - (1.0 - gamma.sin())).abs() < 1e-12);
         assert!((openness_deg(pit.iter().copied()) - (90.0 - gamma.to_degrees())).abs() < 1e-9);
         let uniform =

@@ -96,7 +96,7 @@ const TILE_COLS: usize = 8;
 /// - [`ShadeLayer::SkyIllumination`]: `(1 - SUN_SHARE_OF_SKY_ILLUMINATION)` times
 ///   [`sky_illumination`] plus that share times the shadow layer (RVT's shaded sky
 ///   illumination);
-/// - [`ShadeLayer::HillshadeMulti`]: [`multidirectional_hillshade`];
+/// - [`ShadeLayer::HillshadeMulti`]: the hillshade of [`multidirectional_hillshade`];
 /// - [`ShadeLayer::Insolation`] and [`ShadeLayer::SunHours`]: over the
 ///   [`ShadeMapParams::insolation`] suns, the direct-beam energy on the tilted cell (Wh/m²) and
 ///   the hours of direct sun, a sun counting where it stands above the horizon (interpolated
@@ -223,8 +223,13 @@ impl Context<'_> {
         let width = field.width();
         let count = rows.len() * width;
         let (seen_per_sun, rays) = self.suns_seen(rows.clone());
-        let up = self.up.as_ref().map(|e| e.band(rows.clone()));
-        let down = self.down.as_ref().map(|e| e.band(rows.clone()));
+        // Only the horizon and the positive openness need the horizons below the horizontal.
+        let level_only = !params
+            .layers
+            .iter()
+            .any(|l| matches!(l, ShadeLayer::Horizon | ShadeLayer::OpennessPos));
+        let up = self.up.as_ref().map(|e| e.band(rows.clone(), level_only));
+        let down = self.down.as_ref().map(|e| e.band(rows.clone(), false));
         let n_bands: usize = params.layers.iter().map(|&l| params.bands_of(l)).sum();
         let mut bands = vec![vec![f32::NAN; count]; n_bands];
         let suns = self.rays.sun_centres.len().max(1) as f64;
