@@ -118,8 +118,11 @@ fn an_infinite_slope_gets_the_cosine_of_its_tilt() {
             assert!((got - expected).abs() < 1e-3 * expected, "({col}, {row}): {got} {expected}");
         }
     }
-    // The horizon at -1.5 rad lets in every sample of the day, night included.
-    assert_eq!(result.sun_hours[24], 24.0);
+    // Below a horizon of -1.5 rad the sun still counts only above the horizontal: night is
+    // night.
+    let daylight: f64 = suns.iter().filter(|s| s.elevation_deg > 0.0).map(|s| s.hours).sum();
+    assert!((f64::from(result.sun_hours[24]) - daylight).abs() < 1e-4);
+    assert!(daylight < 17.0);
 }
 
 #[test]
@@ -140,8 +143,10 @@ fn the_sun_between_two_directions_is_where_angle_towards_puts_it() {
             let sun = SunSample { azimuth_deg, elevation_deg, hours: 0.5, beam_w_m2: 1000.0 };
             let result = insolation(&plane, None, &horizons, &[sun]).unwrap();
             for i in 0..width * height {
-                let lit =
-                    elevation_deg.to_radians() as f32 > horizons.angle_towards(i, azimuth_deg);
+                // Above the horizontal and the horizon: at -10 degrees, under horizons
+                // down to -17 degrees, nothing is lit.
+                let lit = elevation_deg > 0.0
+                    && elevation_deg.to_radians() as f32 > horizons.angle_towards(i, azimuth_deg);
                 let expected = if lit { 0.5 } else { 0.0 };
                 assert_eq!(result.sun_hours[i], expected, "{azimuth_deg} {elevation_deg} {i}");
             }

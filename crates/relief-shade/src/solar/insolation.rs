@@ -22,8 +22,10 @@ pub struct Insolation {
 /// The hours of direct sun and the direct-beam energy of every sample of `field` under the
 /// suns `suns`.
 ///
-/// A sample is in direct sun when the sun's elevation is above its horizon angle towards the
-/// sun ([`HorizonMap::angle_towards`]); it then receives `beam * max(0, n . s) * hours`, `n`
+/// A sample is in direct sun when the sun stands above the horizontal and above its horizon
+/// angle towards the sun ([`HorizonMap::angle_towards`]): night is night even from a peak
+/// whose horizon dips below the horizontal, as in the insolation layers of
+/// [`shade_map`](crate::shade_map::shade_map). It then receives `beam * max(0, n . s) * hours`, `n`
 /// the cell's normal ([`horn_normal`], the tilted cell), `s` the unit vector towards the sun.
 /// Samples marked in `void` (or holes of the field) are NaN. Rows are computed in parallel;
 /// each sample sums its suns in their order, so the result does not depend on the threads.
@@ -54,10 +56,15 @@ pub fn insolation(
         check_sun(k, sun)?;
     }
     let lowest = lowest_horizon(horizons);
-    // A sun below every horizon angle of the map lights nothing: left out.
+    // A sun below the horizontal or below every horizon angle of the map lights nothing:
+    // left out.
     let suns: Vec<SunInMap> = suns
         .iter()
-        .filter(|sun| sun.hours > 0.0 && (sun.elevation_deg.to_radians() as f32) > lowest)
+        .filter(|sun| {
+            sun.hours > 0.0
+                && sun.elevation_deg > 0.0
+                && (sun.elevation_deg.to_radians() as f32) > lowest
+        })
         .map(|sun| SunInMap::new(sun, horizons))
         .collect();
 

@@ -17,8 +17,9 @@ pub const MAX_SUN_SAMPLES: u64 = 1_000_000;
 pub struct SunSample {
     /// Compass direction of the sun in degrees, clockwise from north (+y): 90 is east (+x).
     pub azimuth_deg: f64,
-    /// The sun's apparent elevation (refraction included) above the horizon in degrees, in
-    /// [-90, 90]; below a sample's horizon angle in its direction, that sample is shaded.
+    /// The sun's apparent elevation (refraction included) above the horizontal in degrees,
+    /// in [-90, 90]; below 0, or below a sample's horizon angle in its direction, it does not
+    /// light that sample.
     pub elevation_deg: f64,
     /// The duration the sample stands for, in hours (>= 0).
     pub hours: f64,
@@ -59,8 +60,8 @@ impl From<SunSample> for InsolationSun {
 /// The sun over every day of `days` on clocks `offset` from UTC (from the first day's 00:00
 /// to the end of the last day), at the middle of each step of `step_s` seconds; a last step
 /// cut short by the period's end stands for the time left. Samples with the sun below the
-/// horizon are kept (their beam is 0): the sun may still stand above the horizon angle of a
-/// peak.
+/// horizontal are kept (their beam is 0; insolation counts them zero), so the samples tile
+/// the whole period.
 ///
 /// ```
 /// use relief_shade::solar::{parse_date_range, sun_samples_over, Observer, UtcOffset};
