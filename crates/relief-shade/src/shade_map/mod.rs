@@ -99,8 +99,8 @@ const TILE_COLS: usize = 8;
 /// - [`ShadeLayer::HillshadeMulti`]: the hillshade of [`multidirectional_hillshade`];
 /// - [`ShadeLayer::Insolation`] and [`ShadeLayer::SunHours`]: over the
 ///   [`ShadeMapParams::insolation`] suns, the direct-beam energy on the tilted cell (Wh/m²) and
-///   the hours of direct sun, a sun counting where it stands above the horizon (interpolated
-///   between the two nearest directions);
+///   the hours of direct sun, a sun counting where it stands above the horizontal and above
+///   the horizon (interpolated between the two nearest directions);
 /// - [`ShadeLayer::Combined`]: `(1 - SKY_SHARE)` times the mean over the suns of Lambert times
 ///   that sun's fraction seen, plus `SKY_SHARE` times the sky-view factor.
 ///
@@ -317,7 +317,10 @@ impl Context<'_> {
             let weight = position - below as f64;
             let (a, b) = (up[below][k] as f64, up[(below + 1) % n][k] as f64);
             let horizon = a + (b - a) * weight;
-            if sun.elevation_deg.to_radians() > horizon {
+            // Night is night even from a peak whose horizon dips below the horizontal: the
+            // sun counts above both (so whether other layers asked for the horizons below the
+            // horizontal changes nothing).
+            if sun.elevation_deg > 0.0 && sun.elevation_deg.to_radians() > horizon {
                 hours += sun.hours;
                 let towards = crate::sun_direction(sun.azimuth_deg, sun.elevation_deg);
                 energy += sun.beam_w_m2 * normal.dot(towards).max(0.0) * sun.hours;
