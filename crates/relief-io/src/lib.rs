@@ -83,6 +83,7 @@ mod write;
 pub use atomic_write::write_bytes_atomically;
 pub use error::IoError;
 pub use georef::geodesy::metres_per_degree;
+pub use georef::geographic_position::{utm_to_geographic, GeographicPosition, PositionError};
 pub use georef::georeference::{GeoTiffTags, Georeference, EPSG_WGS84};
 pub use georef::height_unit::{HeightUnit, LengthUnit};
 pub use georef::sidecars::{aux_xml_path, prj_path, world_file_path};

@@ -24,6 +24,7 @@ mod scene;
 mod shade;
 mod simulate;
 mod simulation;
+mod solar;
 mod state_arrays;
 mod terrain;
 mod viewshed;
@@ -44,6 +45,7 @@ fn _relief(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(shade::shade, m)?)?;
     m.add_function(wrap_pyfunction!(viewshed::viewshed, m)?)?;
     m.add_function(wrap_pyfunction!(write_png::write_png, m)?)?;
+    m.add_function(wrap_pyfunction!(solar::sun_position, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

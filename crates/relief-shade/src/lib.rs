@@ -64,6 +64,7 @@ pub mod shade_map;
 mod shading;
 pub mod simd_shading;
 mod sky;
+pub mod solar;
 mod srgb8_table;
 mod stacks_renderer;
 mod stats;

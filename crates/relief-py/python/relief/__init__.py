@@ -33,6 +33,7 @@ from ._relief import (
     render,
     shade,
     simulate,
+    sun_position,
     viewshed,
     write_png,
 )
@@ -47,6 +48,7 @@ __all__ = [
     "render",
     "shade",
     "simulate",
+    "sun_position",
     "viewshed",
     "write_png",
 ]

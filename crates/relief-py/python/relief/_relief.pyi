@@ -179,6 +179,30 @@ def write_png(path: Union[str, PathLike[str]], rgb: npt.NDArray[np.uint8]) -> No
     written.
     """
 
+class SunPosition(TypedDict):
+    """The sun at each time given, float64 arrays in degrees."""
+
+    azimuth: npt.NDArray[np.float64]
+    elevation: npt.NDArray[np.float64]
+    apparent_elevation: npt.NDArray[np.float64]
+
+def sun_position(
+    latitude: float,
+    longitude: float,
+    times: Union[Sequence[Any], npt.NDArray[np.datetime64]],
+    *,
+    elevation: float = 0.0,
+    pressure: float = 1013.25,
+    temperature: float = 12.0,
+    delta_t: float = 67.0,
+) -> SunPosition:
+    """The sun seen from ``latitude``, ``longitude`` (degrees) at each of ``times`` by NREL's
+    solar position algorithm: ISO-8601 strings with an offset (``"2026-06-21T09:30:00+02:00"``),
+    timezone-aware datetimes, or numpy datetime64 (UTC). ``azimuth`` clockwise from north,
+    ``elevation`` without refraction, ``apparent_elevation`` with it (``pressure`` in mbar,
+    ``temperature`` in C); ``elevation`` (the keyword) in metres, ``delta_t`` in seconds.
+    """
+
 class SceneCamera(TypedDict, total=False):
     """A scene's camera, as ``relief render``'s options: ``eye`` and ``target`` together (or
     ``target`` with ``view``), ``up``, ``fov``; ``view`` frames the scene from ``(azimuth,

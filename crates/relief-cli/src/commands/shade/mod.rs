@@ -2,6 +2,7 @@
 //! its georeference, CRS and nodata.
 
 pub mod args;
+pub mod when;
 
 use crate::{applies, input, memory, outputs, progress};
 use anyhow::{bail, Result};
