@@ -7,7 +7,7 @@ use crate::errors::{invalid, scene as scene_error};
 use crate::info::{Crs, SceneInfo};
 use crate::options;
 use crate::picture::{arrays, check_image, Rendered};
-use crate::shade::{check_surface, layer_arrays, map_params, shade_field};
+use crate::shade::{check_surface, layer_arrays, map_params, shade_field, SunTime};
 use crate::simulation::{Overrides, Simulation};
 use crate::state_arrays::{state_arrays, StateCopy};
 use pyo3::prelude::*;
@@ -192,15 +192,17 @@ impl PyScene {
     /// placed when opened), with the same keywords: ``layers``, ``suns`` as ``(azimuth,
     /// elevation)`` in degrees, each of ``sun_radius`` degrees sampled by ``sun_rays`` rays;
     /// the horizons' ``azimuths``, ``observer_height``, ``radius`` and ``earth_curvature``;
-    /// ``sky_model`` and ``insolation``. NaN where the scene keeps a void as a hole (opened
-    /// with ``voids="hole"``).
+    /// ``sky_model``; the sun from ``date``, ``time``, ``timezone``, ``step``, ``latitude``
+    /// and ``longitude``. NaN where the scene keeps a void as a hole (opened with
+    /// ``voids="hole"``).
     ///
     /// Raises ``relief.ReliefError`` for any other scene (an MLHM scene, a stacks terrain, a
     /// tile store).
     #[pyo3(signature = (
         layers=vec!["combined".to_string()], suns=vec![(315.0, 45.0)], sun_radius=0.0,
         sun_rays=16, azimuths=32, observer_height=0.01, radius=None, earth_curvature=None,
-        sky_model="overcast", insolation=Vec::new()
+        sky_model="overcast", date=None, time=None, timezone="Z", step="15m", latitude=None,
+        longitude=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn shade<'py>(
@@ -215,12 +217,17 @@ impl PyScene {
         radius: Option<f64>,
         earth_curvature: Option<f64>,
         sky_model: &str,
-        insolation: Vec<(f64, f64, f64, f64)>,
+        date: Option<&str>,
+        time: Option<&str>,
+        timezone: &str,
+        step: &str,
+        latitude: Option<f64>,
+        longitude: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let when = SunTime { date, time, timezone, step, latitude, longitude };
         let horizon =
             HorizonParams { azimuths, observer_height, radius, refraction: earth_curvature };
-        let params =
-            map_params(layers, suns, sun_radius, sun_rays, horizon, sky_model, insolation)?;
+        let params = map_params(layers, suns, sun_radius, sun_rays, horizon, sky_model, &when)?;
         let map = py.detach(|| {
             let opened = self.locked();
             let Scene::HeightField(scene) = &opened.scene else {

@@ -10,8 +10,9 @@ use pyo3::types::PyDict;
 use relief_core::{HeightField, Surface};
 use relief_shade::horizon::{Facing, HorizonParams};
 use relief_shade::shade_map::{
-    shade_map, ShadeLayer, ShadeMap, ShadeMapParams, SkyModel, SunPosition,
+    shade_map, InsolationSun, ShadeLayer, ShadeMap, ShadeMapParams, SkyModel, SunPosition,
 };
+use relief_shade::solar;
 use relief_trace::{build_tracer, TracerKind};
 use std::sync::Arc;
 
@@ -32,9 +33,12 @@ use std::sync::Arc;
 /// angular radius in degrees, sampled by ``sun_rays`` rays. The horizons: ``azimuths``
 /// directions, seen ``observer_height`` metres above each sample, to ``radius`` metres (None:
 /// the edge of the data), with ``earth_curvature`` the refraction coefficient of the earth's
-/// curvature (None: a flat earth). ``insolation``: the sun's positions over a period, as a
-/// sequence of ``(azimuth, apparent elevation, hours, beam W/m²)``, as
-/// ``relief.sun_positions_over`` gives them.
+/// curvature (None: a flat earth). The sun from place and time (NREL's solar position
+/// algorithm), as ``relief shade``'s ``--date``: ``date`` ``"YYYY-MM-DD"`` with ``time``
+/// ``"HH:MM"`` places one sun (instead of ``suns``); ``date`` alone, or a range
+/// ``"FROM..TO"``, is the period of ``"insolation"`` and ``"sun-hours"``, every ``step``
+/// (``"15m"``); clocks ``timezone`` from UTC (``"+02:00"``, ``"Z"``), seen from ``latitude`` and
+/// ``longitude`` in degrees (an array has no georeference: both are needed with ``date``).
 ///
 /// Returns a dict from layer name to its array, in the order of ``layers``, NaN at a void of
 /// ``heights``, exactly as ``relief shade`` computes it.
@@ -44,8 +48,8 @@ use std::sync::Arc;
 #[pyo3(signature = (
     heights, spacing=None, *, origin=None, z_scale=1.0, layers=vec!["combined".to_string()],
     suns=vec![(315.0, 45.0)], sun_radius=0.0, sun_rays=16, azimuths=32, observer_height=0.01,
-    radius=None, earth_curvature=None, sky_model="overcast", insolation=Vec::new(),
-    surface="triangles", voids="fill"
+    radius=None, earth_curvature=None, sky_model="overcast", date=None, time=None,
+    timezone="Z", step="15m", latitude=None, longitude=None, surface="triangles", voids="fill"
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn shade<'py>(
@@ -63,7 +67,12 @@ pub fn shade<'py>(
     radius: Option<f64>,
     earth_curvature: Option<f64>,
     sky_model: &str,
-    insolation: Vec<(f64, f64, f64, f64)>,
+    date: Option<&str>,
+    time: Option<&str>,
+    timezone: &str,
+    step: &str,
+    latitude: Option<f64>,
+    longitude: Option<f64>,
     surface: &str,
     voids: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -71,7 +80,8 @@ pub fn shade<'py>(
     let surface = options::surface(surface)?;
     let voids = options::voids(voids)?;
     let horizon = HorizonParams { azimuths, observer_height, radius, refraction: earth_curvature };
-    let params = map_params(layers, suns, sun_radius, sun_rays, horizon, sky_model, insolation)?;
+    let when = SunTime { date, time, timezone, step, latitude, longitude };
+    let params = map_params(layers, suns, sun_radius, sun_rays, horizon, sky_model, &when)?;
     check_surface(&params, surface).map_err(invalid)?;
     let grid = heights_array(heights)?;
 
@@ -85,10 +95,78 @@ pub fn shade<'py>(
     layer_arrays(py, map.map_err(invalid)?)
 }
 
+/// When and where the sun shines, as `relief.shade`'s keywords give it.
+pub struct SunTime<'a> {
+    /// `YYYY-MM-DD` or `FROM..TO`.
+    pub date: Option<&'a str>,
+    /// `HH:MM`, for one instant.
+    pub time: Option<&'a str>,
+    /// The clocks' offset from UTC.
+    pub timezone: &'a str,
+    /// The time step over a period.
+    pub step: &'a str,
+    /// Degrees north.
+    pub latitude: Option<f64>,
+    /// Degrees east.
+    pub longitude: Option<f64>,
+}
+
+impl SunTime<'_> {
+    /// The sun of one instant (`Some`, with a time) or the suns of the period (without), by
+    /// NREL's solar position algorithm; neither without a date.
+    fn suns(&self) -> Result<(Option<SunPosition>, Vec<InsolationSun>), String> {
+        let Some(date) = self.date else {
+            if self.time.is_some() || self.latitude.is_some() || self.longitude.is_some() {
+                return Err("time, latitude and longitude need a date".to_string());
+            }
+            return Ok((None, Vec::new()));
+        };
+        let (Some(latitude), Some(longitude)) = (self.latitude, self.longitude) else {
+            return Err(
+                "a date needs latitude and longitude (an array has no georeference)".to_string()
+            );
+        };
+        let e = |e: relief_shade::ShadeError| e.to_string();
+        let days = solar::parse_date_range(date).map_err(e)?;
+        let offset = solar::parse_timezone(self.timezone).map_err(e)?;
+        let observer = solar::Observer::at(latitude, longitude);
+        match self.time {
+            Some(time) => {
+                if days.first != days.last {
+                    return Err(format!("time {time} asks for one instant, not the range {date}"));
+                }
+                let instant = solar::UtcInstant::from_civil(
+                    days.first,
+                    solar::parse_time(time).map_err(e)?,
+                    offset,
+                );
+                let sun = solar::solar_position(instant, &observer).map_err(e)?;
+                if sun.apparent_elevation_deg <= 0.0 {
+                    return Err(format!(
+                        "the sun is below the horizon at {} (elevation {:.2} degrees)",
+                        instant.local_text(offset),
+                        sun.apparent_elevation_deg
+                    ));
+                }
+                let position = SunPosition {
+                    azimuth_deg: sun.azimuth_deg,
+                    elevation_deg: sun.apparent_elevation_deg,
+                };
+                Ok((Some(position), Vec::new()))
+            }
+            None => {
+                let step = solar::parse_step(self.step).map_err(e)?;
+                let suns = solar::sun_samples_over(days, offset, step, &observer).map_err(e)?;
+                Ok((None, suns.into_iter().map(InsolationSun::from).collect()))
+            }
+        }
+    }
+}
+
 /// The shade map's parameters: the `layers` by name, the `suns` as (azimuth, elevation) in
 /// degrees, each of `sun_radius` degrees sampled by `sun_rays` rays, the `horizon`'s, the
-/// `sky_model` by name and the `insolation` suns as (azimuth, elevation, hours, beam);
-/// checked as `relief shade` checks them.
+/// `sky_model` by name and the sun of `when` (replacing `suns` for one instant, or the
+/// insolation suns of a period); checked as `relief shade` checks them.
 pub fn map_params(
     layers: Vec<String>,
     suns: Vec<(f64, f64)>,
@@ -96,22 +174,20 @@ pub fn map_params(
     sun_rays: u32,
     horizon: HorizonParams,
     sky_model: &str,
-    insolation: Vec<(f64, f64, f64, f64)>,
+    when: &SunTime<'_>,
 ) -> PyResult<ShadeMapParams> {
     let layers = layers
         .iter()
         .map(|name| name.parse::<ShadeLayer>().map_err(invalid))
         .collect::<PyResult<Vec<_>>>()?;
-    let suns = suns
-        .into_iter()
-        .map(|(azimuth_deg, elevation_deg)| SunPosition { azimuth_deg, elevation_deg })
-        .collect();
-    let insolation = insolation
-        .into_iter()
-        .map(|(azimuth_deg, elevation_deg, hours, beam_w_m2)| {
-            relief_shade::shade_map::InsolationSun { azimuth_deg, elevation_deg, hours, beam_w_m2 }
-        })
-        .collect();
+    let (instant, insolation) = when.suns().map_err(invalid)?;
+    let suns = match instant {
+        Some(sun) => vec![sun],
+        None => suns
+            .into_iter()
+            .map(|(azimuth_deg, elevation_deg)| SunPosition { azimuth_deg, elevation_deg })
+            .collect(),
+    };
     let params = ShadeMapParams {
         layers,
         suns,

@@ -89,3 +89,35 @@ def test_views_and_orders_give_the_same_layers(terrain):
 def test_bad_options_raise_relief_errors(terrain, kwargs, message):
     with pytest.raises(relief.ReliefError, match=message.replace("(", r"\(").replace(")", r"\)")):
         relief.shade(terrain, **kwargs)
+
+
+def test_insolation_over_a_day_equals_the_command_line(tmp_path, run_relief, terrain):
+    when = dict(date="2026-06-21", timezone="+02:00", step="30m", latitude=46.5, longitude=7.9)
+    layers = relief.shade(terrain, layers=["insolation", "sun-hours"], azimuths=8,
+                          spacing=(2.0, 3.0), **when)
+    np.save(tmp_path / "h.npy", np.flipud(terrain))
+    run_relief("shade", tmp_path / "h.npy", "-o", tmp_path / "s.tif", "--layers",
+               "insolation,sun-hours", "--azimuths", "8", "--spacing", "2,3", "--date",
+               "2026-06-21", "--timezone", "+02:00", "--step", "30m", "--lat", "46.5",
+               "--lon", "7.9")
+    with rasterio.open(tmp_path / "s.tif") as cli:
+        np.testing.assert_array_equal(cli.read(1), layers["insolation"])
+        np.testing.assert_array_equal(cli.read(2), layers["sun-hours"])
+    # Midsummer in the Alps: at most the day's length of sun, some of it hidden here.
+    hours = layers["sun-hours"]
+    assert hours.max() <= 16.0 and hours.min() < hours.max()
+
+
+def test_the_sun_of_one_instant_and_bad_dates():
+    flat = np.full((6, 5), 3.0)
+    lit = relief.shade(flat, layers=["hillshade"], date="2026-06-21", time="12:00",
+                       latitude=0.0, longitude=0.0)["hillshade"]
+    # Near the zenith at noon on the equator in June (the sun 23.4 degrees north of it).
+    np.testing.assert_allclose(lit, np.sin(np.radians(90 - 23.4)), atol=0.01)
+    with pytest.raises(relief.ReliefError, match="2026-02-30 does not exist"):
+        relief.shade(flat, layers=["insolation"], date="2026-02-30", latitude=0, longitude=0)
+    with pytest.raises(relief.ReliefError, match="below the horizon"):
+        relief.shade(flat, layers=["shadow"], date="2026-06-21", time="00:00", latitude=0,
+                     longitude=0)
+    with pytest.raises(relief.ReliefError, match="latitude and longitude"):
+        relief.shade(flat, layers=["insolation"], date="2026-06-21")

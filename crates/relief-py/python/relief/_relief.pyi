@@ -121,7 +121,12 @@ def shade(
     radius: Optional[float] = None,
     earth_curvature: Optional[float] = None,
     sky_model: Literal["overcast", "uniform"] = "overcast",
-    insolation: Sequence[Tuple[float, float, float, float]] = (),
+    date: Optional[str] = None,
+    time: Optional[str] = None,
+    timezone: str = "Z",
+    step: str = "15m",
+    latitude: Optional[float] = None,
+    longitude: Optional[float] = None,
     surface: Surface = "triangles",
     voids: Voids = "fill",
 ) -> dict[str, npt.NDArray[np.float32]]:
@@ -132,7 +137,9 @@ def shade(
     sky-view factor from exact horizons in ``azimuths`` directions; ``hillshade``: Lambert's
     cosine with Horn's gradient; ``combined``: the map layer; ``horizon``, ``sky-aniso``,
     ``openness-pos``, ``openness-neg`` (degrees), ``sky-illumination``, ``hillshade-multi``,
-    ``insolation`` (Wh/m²) and ``sun-hours`` as ``relief shade`` writes them.
+    ``insolation`` (Wh/m²) and ``sun-hours`` over ``date`` (a day or ``"FROM..TO"``, every
+    ``step``, clocks ``timezone``, seen from ``latitude``, ``longitude``) as ``relief shade``
+    writes them; ``date`` with ``time`` places the one sun of the shadow layers.
     """
 
 def viewshed(
@@ -273,7 +280,12 @@ class Scene:
         radius: Optional[float] = None,
         earth_curvature: Optional[float] = None,
         sky_model: Literal["overcast", "uniform"] = "overcast",
-        insolation: Sequence[Tuple[float, float, float, float]] = (),
+        date: Optional[str] = None,
+        time: Optional[str] = None,
+        timezone: str = "Z",
+        step: str = "15m",
+        latitude: Optional[float] = None,
+        longitude: Optional[float] = None,
     ) -> dict[str, npt.NDArray[np.float32]]:
         """A height field's shade layers, north-up; ``ReliefError`` for any other scene."""
     @property

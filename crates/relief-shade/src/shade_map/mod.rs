@@ -26,6 +26,7 @@ pub use params::{
 pub use surface_ray::{surface_origin, surface_ray, SURFACE_LIFT};
 
 use crate::horizon::{Facing, HorizonEngine};
+use crate::solar::{direct_sun, SunOverGrid};
 use crate::ShadeError;
 use rayon::prelude::*;
 use relief_core::{DVec3, HeightField, Ray};
@@ -145,6 +146,11 @@ pub fn shade_map(
         azimuths_deg: (0..params.horizon.azimuths as usize)
             .map(|k| params.horizon.azimuth_deg(k))
             .collect(),
+        insolation_suns: params
+            .insolation
+            .iter()
+            .filter_map(|&sun| SunOverGrid::new(sun, params.horizon.azimuths as usize))
+            .collect(),
     };
     let done_rows = AtomicU64::new(0);
     let results: Vec<BandValues> = (0..height.div_ceil(BAND_ROWS))
@@ -207,6 +213,8 @@ struct Context<'a> {
     up: Option<HorizonEngine<'a>>,
     down: Option<HorizonEngine<'a>>,
     azimuths_deg: Vec<f64>,
+    /// The insolation suns that light anything, placed between the horizons' directions.
+    insolation_suns: Vec<SunOverGrid>,
 }
 
 impl Context<'_> {
@@ -271,7 +279,11 @@ impl Context<'_> {
                     }
                     ShadeLayer::Insolation | ShadeLayer::SunHours => {
                         let up = up.as_deref().unwrap_or_default();
-                        let (energy, hours) = self.insolation(up, k, normal.unwrap_or(DVec3::Z));
+                        let (hours, energy) = direct_sun(
+                            &self.insolation_suns,
+                            |d| up[d][k],
+                            normal.unwrap_or(DVec3::Z),
+                        );
                         if layer == ShadeLayer::Insolation {
                             energy
                         } else {
@@ -293,34 +305,6 @@ impl Context<'_> {
             }
         }
         BandValues { bands, rays }
-    }
-
-    /// The direct-beam energy (Wh/m²) on a tilted cell of unit `normal` and the hours of direct
-    /// sun of band sample `k`, whose horizons are `up`, over the map's insolation suns.
-    fn insolation(&self, up: &[Vec<f32>], k: usize, normal: DVec3) -> (f64, f64) {
-        let n = up.len();
-        if n == 0 {
-            return (0.0, 0.0);
-        }
-        let step = 360.0 / n as f64;
-        let (mut energy, mut hours) = (0.0, 0.0);
-        for sun in &self.params.insolation {
-            let position = sun.azimuth_deg.rem_euclid(360.0) / step;
-            let below = (position.floor() as usize).min(n - 1);
-            let weight = position - below as f64;
-            // The horizons above the horizontal (the sun counts above both), interpolated.
-            let (a, b) = (up[below][k].max(0.0) as f64, up[(below + 1) % n][k].max(0.0) as f64);
-            let horizon = a + (b - a) * weight;
-            // Night is night even from a peak whose horizon dips below the horizontal: the
-            // sun counts above both (so whether other layers asked for the horizons below the
-            // horizontal changes nothing).
-            if sun.elevation_deg > 0.0 && sun.elevation_deg.to_radians() > horizon {
-                hours += sun.hours;
-                let towards = crate::sun_direction(sun.azimuth_deg, sun.elevation_deg);
-                energy += sun.beam_w_m2 * normal.dot(towards).max(0.0) * sun.hours;
-            }
-        }
-        (energy, hours)
     }
 
     /// Per sun, the fraction of its rays that escape from each sample of `rows` (band

@@ -5,9 +5,10 @@
 use super::sun_samples::SunSample;
 use crate::horizon::HorizonMap;
 use crate::shade_map::horn_normal;
+use crate::shade_map::InsolationSun;
 use crate::ShadeError;
 use rayon::prelude::*;
-use relief_core::HeightField;
+use relief_core::{DVec3, HeightField};
 
 /// Direct sun on every sample of a height field, in its sample order (row-major, row 0
 /// south), NaN on voids.
@@ -23,8 +24,9 @@ pub struct Insolation {
 /// suns `suns`.
 ///
 /// A sample is in direct sun when the sun stands above the horizontal and above its horizon
-/// angle towards the sun ([`HorizonMap::angle_towards`]): night is night even from a peak
-/// whose horizon dips below the horizontal, as in the insolation layers of
+/// angle towards the sun (the horizons clamped at the horizontal, interpolated as
+/// [`HorizonMap::angle_towards`] does): night is night even from a peak whose horizon dips
+/// below the horizontal, as in the insolation layers of
 /// [`shade_map`](crate::shade_map::shade_map). It then receives `beam * max(0, n . s) * hours`, `n`
 /// the cell's normal ([`horn_normal`], the tilted cell), `s` the unit vector towards the sun.
 /// Samples marked in `void` (or holes of the field) are NaN. Rows are computed in parallel;
@@ -58,14 +60,10 @@ pub fn insolation(
     let lowest = lowest_horizon(horizons);
     // A sun below the horizontal or below every horizon angle of the map lights nothing:
     // left out.
-    let suns: Vec<SunInMap> = suns
+    let suns: Vec<SunOverGrid> = suns
         .iter()
-        .filter(|sun| {
-            sun.hours > 0.0
-                && sun.elevation_deg > 0.0
-                && (sun.elevation_deg.to_radians() as f32) > lowest
-        })
-        .map(|sun| SunInMap::new(sun, horizons))
+        .filter(|sun| (sun.elevation_deg.to_radians() as f32) > lowest.max(0.0))
+        .filter_map(|&sun| SunOverGrid::new(sun.into(), horizons.azimuths_deg.len()))
         .collect();
 
     let mut sun_hours = vec![0.0f32; width * height];
@@ -73,25 +71,13 @@ pub fn insolation(
     sun_hours.par_chunks_mut(width).zip(energy_wh_m2.par_chunks_mut(width)).enumerate().for_each(
         |(row, (hours_row, energy_row))| {
             let start = row * width;
-            let normals: Vec<[f64; 3]> =
-                (0..width).map(|col| horn_normal(field, void, col, row).to_array()).collect();
+            let normals: Vec<DVec3> =
+                (0..width).map(|col| horn_normal(field, void, col, row)).collect();
             let mut hours = vec![0.0f64; width];
             let mut energy = vec![0.0f64; width];
-            for sun in &suns {
-                let (below, above) = (
-                    &horizons.angles[sun.below][start..start + width],
-                    &horizons.angles[sun.above][start..start + width],
-                );
-                for col in 0..width {
-                    let (a, b) = (below[col], above[col]);
-                    if sun.elevation_rad > a + (b - a) * sun.weight {
-                        let n = normals[col];
-                        let cosine =
-                            n[0] * sun.towards[0] + n[1] * sun.towards[1] + n[2] * sun.towards[2];
-                        hours[col] += sun.hours;
-                        energy[col] += sun.beam_w_m2 * cosine.max(0.0) * sun.hours;
-                    }
-                }
+            for (col, (hours, energy)) in hours.iter_mut().zip(&mut energy).enumerate() {
+                let index = start + col;
+                (*hours, *energy) = direct_sun(&suns, |k| horizons.angles[k][index], normals[col]);
             }
             for col in 0..width {
                 let is_void = void.is_some_and(|v| v[start + col]) || field.is_hole(col, row);
@@ -106,39 +92,58 @@ pub fn insolation(
     Ok(Insolation { sun_hours, energy_wh_m2 })
 }
 
-/// A sun with what every sample needs of it: the two directions of the horizon map it lies
-/// between and its weight between them (as [`HorizonMap::angle_towards`] interpolates), its
-/// elevation in radians and its unit vector.
-struct SunInMap {
+/// A sun with what every sample needs of it: the two directions of a horizon map it lies
+/// between and its weight between them, its elevation in radians and its unit vector.
+pub(crate) struct SunOverGrid {
     below: usize,
     above: usize,
     weight: f32,
     elevation_rad: f32,
-    towards: [f64; 3],
+    towards: DVec3,
     hours: f64,
     beam_w_m2: f64,
 }
 
-impl SunInMap {
-    fn new(sun: &SunSample, horizons: &HorizonMap) -> SunInMap {
-        let n = horizons.azimuths_deg.len();
-        let position = sun.azimuth_deg.rem_euclid(360.0) / (360.0 / n as f64);
-        let below = (position.floor() as usize).min(n - 1);
-        let (azimuth, elevation) = (sun.azimuth_deg.to_radians(), sun.elevation_deg.to_radians());
-        SunInMap {
+impl SunOverGrid {
+    /// The sun of `sun` over a map of `directions` evenly spaced horizon directions; `None`
+    /// for a sun that lights nothing (below the horizontal, or standing for no time).
+    pub(crate) fn new(sun: InsolationSun, directions: usize) -> Option<SunOverGrid> {
+        if !(sun.hours > 0.0 && sun.elevation_deg > 0.0) || directions == 0 {
+            return None;
+        }
+        let position = sun.azimuth_deg.rem_euclid(360.0) / (360.0 / directions as f64);
+        let below = (position.floor() as usize).min(directions - 1);
+        Some(SunOverGrid {
             below,
-            above: (below + 1) % n,
+            above: (below + 1) % directions,
             weight: (position - below as f64) as f32,
-            elevation_rad: elevation as f32,
-            towards: [
-                azimuth.sin() * elevation.cos(),
-                azimuth.cos() * elevation.cos(),
-                elevation.sin(),
-            ],
+            elevation_rad: sun.elevation_deg.to_radians() as f32,
+            towards: crate::sun_direction(sun.azimuth_deg, sun.elevation_deg),
             hours: sun.hours,
             beam_w_m2: sun.beam_w_m2,
+        })
+    }
+}
+
+/// The hours of direct sun and the direct-beam energy (Wh/m²) of one sample with horizon
+/// angles `angle(k)` (radians) in the map's directions and unit `normal`, under `suns`: a sun
+/// counts where it stands above the horizon, the horizons clamped at the horizontal in each
+/// direction and interpolated between the two the sun lies between (so whether the horizons
+/// below the horizontal were found changes nothing), and brings `beam * max(0, n . s) * hours`.
+pub(crate) fn direct_sun(
+    suns: &[SunOverGrid],
+    angle: impl Fn(usize) -> f32,
+    normal: DVec3,
+) -> (f64, f64) {
+    let (mut hours, mut energy) = (0.0, 0.0);
+    for sun in suns {
+        let (a, b) = (angle(sun.below).max(0.0), angle(sun.above).max(0.0));
+        if sun.elevation_rad > a + (b - a) * sun.weight {
+            hours += sun.hours;
+            energy += sun.beam_w_m2 * normal.dot(sun.towards).max(0.0) * sun.hours;
         }
     }
+    (hours, energy)
 }
 
 /// The lowest horizon angle of the map (NaNs left out); +inf for a map of voids only.

@@ -22,6 +22,7 @@ mod time_text;
 
 pub use civil_time::{is_leap_year, CivilDate, TimeOfDay, UtcInstant, UtcOffset, SECONDS_PER_DAY};
 pub use clear_sky::{clear_sky_beam, relative_air_mass, SOLAR_CONSTANT_W_M2};
+pub(crate) use insolation::{direct_sun, SunOverGrid};
 pub use insolation::{insolation, Insolation};
 pub use spa::{
     solar_position, Observer, SolarPosition, DEFAULT_DELTA_T_S, DEFAULT_PRESSURE_MBAR,

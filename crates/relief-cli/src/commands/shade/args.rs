@@ -73,6 +73,9 @@ pub struct ShadeArgs {
     /// --z-unit).
     #[arg(long, default_value = "1", value_parser = parse::z_scale, allow_hyphen_values = true)]
     pub z_scale: f64,
+    /// When and where the sun shines: --date, --time, --timezone, --step, --lat, --lon.
+    #[command(flatten)]
+    pub when: super::when::SunTimeArgs,
     /// Write the stage timings and ray counts to this .json file.
     #[arg(long, value_name = "F.json")]
     pub stats: Option<PathBuf>,

@@ -10,12 +10,13 @@ use args::ShadeArgs;
 use relief_core::Surface;
 use relief_io::{Layer, LayerRaster, RasterInfo};
 use relief_shade::horizon::{Facing, HorizonParams};
-use relief_shade::shade_map::{shade_map, ShadeMap, ShadeMapParams, SunPosition};
+use relief_shade::shade_map::{shade_map, InsolationSun, ShadeMap, ShadeMapParams, SunPosition};
 use relief_shade::ShadeLayer;
 use relief_trace::{build_tracer, TracerKind};
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
+use when::SunTimes;
 
 /// How `relief shade` writes its layers, by the output's extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,8 +55,18 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
             budget.origin
         );
     }
+    let (width, height) = (raster.width, raster.height);
     let input::MappedField { field, void, voids, info } =
         input::mapped_field(raster, &args.input, &args.read, args.spacing, args.z_scale)?;
+    let mut params = params;
+    match when::sun_samples(&args.when, info.georeference.as_ref(), width, height)? {
+        SunTimes::NotAsked => {}
+        SunTimes::Instant(sun) => params.suns = vec![sun],
+        SunTimes::Period(suns) => {
+            params.insolation = suns.into_iter().map(InsolationSun::from).collect()
+        }
+    }
+    params.validate()?;
     let read_ms = elapsed_ms(start);
 
     let start = Instant::now();
@@ -147,6 +158,35 @@ fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
     let needs_sun_rays = layers.iter().any(|l| l.needs_sun_rays());
     let needs_horizons =
         layers.iter().any(|l| l.needs_horizons(Facing::Up) || l.needs_horizons(Facing::Down));
+    let needs_period = layers.iter().any(|l| l.needs_insolation_suns());
+    let when = &args.when;
+    if let Some(days) = when.date {
+        let day = days.first;
+        if !args.sun.is_empty() {
+            bail!("--sun and --date both say where the sun is: give one");
+        }
+        match (when.time.is_some(), needs_period) {
+            (true, true) => bail!(
+                "--time asks for the sun of one instant, but {here} sums the sun over a period: \
+                 leave --time out (insolation and sun-hours take --date {day} alone, or a range \
+                 FROM..TO)"
+            ),
+            (true, false) if !needs_suns => {
+                return Err(applies::refuse(
+                    "--date with --time",
+                    "the layers lit by the sun",
+                    &here,
+                ))
+            }
+            (false, false) => bail!(
+                "--date without --time is a period for the insolation and sun-hours layers, not \
+                 in {here}: add --time HH:MM for the sun of one instant"
+            ),
+            _ => {}
+        }
+    } else if needs_period {
+        bail!("{here}: insolation and sun-hours need a period of days, --date YYYY-MM-DD[..YYYY-MM-DD]");
+    }
     if !needs_suns && !args.sun.is_empty() {
         return Err(applies::refuse(
             "--sun",
@@ -209,7 +249,10 @@ fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
         sky_model: args.sky_model.unwrap_or(defaults.sky_model),
         ..defaults.clone()
     };
-    params.validate()?;
+    // With --date, the suns are placed once the DEM's georeference is read.
+    if when.date.is_none() {
+        params.validate()?;
+    }
     Ok(params)
 }
 

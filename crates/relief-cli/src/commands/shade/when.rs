@@ -1,10 +1,6 @@
 //! When and where the sun shines on the DEM for `relief shade`: `--date`, `--time`,
 //! `--timezone`, `--step`, `--lat` and `--lon`, turned (with the DEM's georeference) into one
 //! sun for the instantaneous shadow layer or the sun's samples over days for insolation.
-#![allow(
-    dead_code,
-    reason = "ShadeArgs flattens SunTimeArgs when the insolation layers land; until then the tests use it"
-)]
 
 use crate::parse;
 use anyhow::{anyhow, bail, Context, Result};

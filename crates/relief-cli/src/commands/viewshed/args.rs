@@ -19,7 +19,7 @@ pub struct ViewshedArgs {
     /// each sample) for several.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// An observer, X,Y[,HEIGHT]: X and Y in the DEM's own coordinates (its CRS; grid units,
+    /// An observer, X,Y or X,Y,HEIGHT: X and Y in the DEM's own coordinates (its CRS; grid units,
     /// the first sample at 0.5,0.5, for a file without a georeference), HEIGHT of the eye
     /// above the ground in metres [default: 1.7]. Give it again for a cumulative viewshed.
     #[arg(long, value_parser = observer, allow_hyphen_values = true,
