@@ -72,13 +72,20 @@ def layer_pictures(work):
 
     LAYER_PICTURES.mkdir(parents=True, exist_ok=True)
     layers = layers_of_this_relief(work)
-    options = ["--sun", "315,20"]
-    if "insolation" in layers or "sun-hours" in layers:
-        options += ["--date", "2026-06-21", "--step", "15m"]
-    subprocess.run([RELIEF, "shade", DEM, "-o", str(work / "layers.tif"), "--layers", ",".join(layers)] + options,
-                   check=True)
-    with rasterio.open(work / "layers.tif") as f:
-        bands = {name: f.read(band) for band, name in enumerate(f.descriptions, start=1)}
+    # The sun of --sun for most layers; the sun over midsummer day (from --date, which
+    # replaces --sun) for insolation and sun hours: two runs.
+    over_a_day = [name for name in layers if name in ("insolation", "sun-hours")]
+    runs = [([name for name in layers if name not in over_a_day], ["--sun", "315,20"]),
+            (over_a_day, ["--date", "2026-06-21", "--step", "15m", "--timezone", "-05:00"])]
+    bands = {}
+    for run, (names, options) in enumerate(runs):
+        if not names:
+            continue
+        out = work / f"layers{run}.tif"
+        subprocess.run([RELIEF, "shade", DEM, "-o", str(out), "--layers", ",".join(names)] + options,
+                       check=True)
+        with rasterio.open(out) as f:
+            bands.update({name: f.read(band) for band, name in enumerate(f.descriptions, start=1)})
     drawn = 0
     for name, values in bands.items():
         if name not in LAYER_STYLES:
