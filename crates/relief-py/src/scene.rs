@@ -7,7 +7,7 @@ use crate::errors::{invalid, scene as scene_error};
 use crate::info::{Crs, SceneInfo};
 use crate::options;
 use crate::picture::{arrays, check_image, Rendered};
-use crate::shade::{check_surface, layer_arrays, map_params, shade_field, SunTime};
+use crate::shade::{layer_arrays, map_params, shade_field, SunTime};
 use crate::simulation::{Overrides, Simulation};
 use crate::state_arrays::{state_arrays, StateCopy};
 use pyo3::prelude::*;
@@ -236,7 +236,7 @@ impl PyScene {
                     opened.scene.describe()
                 ));
             };
-            check_surface(&params, scene.surface)?;
+            params.check_surface(scene.surface).map_err(|e| e.to_string())?;
             shade_field(&scene.field, scene.surface, scene.field.holes(), &params)
         });
         layer_arrays(py, map.map_err(invalid)?)

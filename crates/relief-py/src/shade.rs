@@ -8,7 +8,7 @@ use crate::terrain::{flip_rows, height_field};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::{HeightField, Surface};
-use relief_shade::horizon::{Facing, HorizonParams};
+use relief_shade::horizon::HorizonParams;
 use relief_shade::shade_map::{
     shade_map, InsolationSun, ShadeLayer, ShadeMap, ShadeMapParams, SkyModel, SunPosition,
 };
@@ -82,7 +82,7 @@ pub fn shade<'py>(
     let horizon = HorizonParams { azimuths, observer_height, radius, refraction: earth_curvature };
     let when = SunTime { date, time, timezone, step, latitude, longitude };
     let params = map_params(layers, suns, sun_radius, sun_rays, horizon, sky_model, &when)?;
-    check_surface(&params, surface).map_err(invalid)?;
+    params.check_surface(surface).map_err(argument)?;
     let grid = heights_array(heights)?;
 
     let map = py.detach(|| {
@@ -157,7 +157,7 @@ impl SunTime<'_> {
             None => {
                 let step = solar::parse_step(self.step).map_err(e)?;
                 let suns = solar::sun_samples_over(days, offset, step, &observer).map_err(e)?;
-                Ok((None, suns.into_iter().map(InsolationSun::from).collect()))
+                Ok((None, suns))
             }
         }
     }
@@ -200,17 +200,6 @@ pub fn map_params(
     };
     params.validate().map_err(argument)?;
     Ok(params)
-}
-
-/// Refuses the boxes surface for the layers built on horizons (exact for triangles only).
-pub fn check_surface(params: &ShadeMapParams, surface: Surface) -> Result<(), String> {
-    let horizons = params.needs_horizons(Facing::Up) || params.needs_horizons(Facing::Down);
-    if horizons && surface == Surface::Boxes {
-        return Err("surface='boxes': the layers built on horizons are exact for the triangles \
-                    surface only"
-            .to_string());
-    }
-    Ok(())
 }
 
 /// The shade map of `surface` of `field` (NaN where `mask` marks a void), traced by the

@@ -4,7 +4,7 @@
 
 use relief_core::{GridGeometry, HeightField, Surface};
 use relief_shade::horizon::{horizon_map, HorizonParams};
-use relief_shade::shade_map::{shade_map, InsolationSun, ShadeLayer, ShadeMapParams};
+use relief_shade::shade_map::{shade_map, ShadeLayer, ShadeMapParams};
 use relief_shade::solar::{
     insolation, parse_date_range, sun_samples_over, Observer, SunSample, UtcOffset,
 };
@@ -77,7 +77,7 @@ fn insolation_agrees_with_the_shade_maps_layers() {
     let params = ShadeMapParams {
         layers: vec![ShadeLayer::Insolation, ShadeLayer::SunHours, ShadeLayer::OpennessPos],
         horizon,
-        insolation: suns.iter().copied().map(InsolationSun::from).collect(),
+        insolation: suns.clone(),
         ..ShadeMapParams::default()
     };
     let shared = Arc::new(rough.clone());

@@ -115,6 +115,11 @@ impl ShadeLayer {
         }
     }
 
+    /// Whether the layer is built on horizons, of the terrain or of the terrain upside down.
+    pub fn builds_on_horizons(self) -> bool {
+        self.needs_horizons(Facing::Up) || self.needs_horizons(Facing::Down)
+    }
+
     /// Whether the layer needs each sample's normal.
     pub fn needs_normal(self) -> bool {
         matches!(

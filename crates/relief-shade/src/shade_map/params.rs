@@ -3,7 +3,7 @@
 use super::{Anisotropy, ShadeLayer, SkyModel};
 use crate::horizon::{Facing, HorizonParams};
 use crate::{sun_direction, ShadeError};
-use relief_core::DVec3;
+use relief_core::{DVec3, Surface};
 
 /// A sun's place in the sky.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -197,6 +197,29 @@ impl ShadeMapParams {
     /// Whether any layer asked for is built on the horizons of the terrain seen `facing`.
     pub fn needs_horizons(&self, facing: Facing) -> bool {
         self.layers.iter().any(|l| l.needs_horizons(facing))
+    }
+
+    /// How many horizon engines the layers need: one for the terrain, one for it upside down.
+    pub fn horizon_engines(&self) -> u32 {
+        [Facing::Up, Facing::Down].into_iter().filter(|&f| self.needs_horizons(f)).count() as u32
+    }
+
+    /// Refuses a `surface` the layers cannot be exact for: those built on horizons are exact
+    /// for the `triangles` surface only.
+    pub fn check_surface(&self, surface: Surface) -> Result<(), ShadeError> {
+        let built_on_horizons: Vec<&str> =
+            self.layers.iter().filter(|l| l.builds_on_horizons()).map(|l| l.name()).collect();
+        if surface == Surface::Boxes && !built_on_horizons.is_empty() {
+            return Err(ShadeError::parameter(
+                "surface",
+                format!(
+                    "boxes: the layers built on horizons ({}) are exact for the triangles \
+                     surface only",
+                    built_on_horizons.join(", ")
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// Whether any layer asked for needs each sample's normal.

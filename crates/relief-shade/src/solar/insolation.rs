@@ -63,7 +63,7 @@ pub fn insolation(
     let suns: Vec<SunOverGrid> = suns
         .iter()
         .filter(|sun| (sun.elevation_deg.to_radians() as f32) > lowest.max(0.0))
-        .filter_map(|&sun| SunOverGrid::new(sun.into(), horizons.azimuths_deg.len()))
+        .filter_map(|&sun| SunOverGrid::new(sun, horizons.azimuths_deg.len()))
         .collect();
 
     let mut sun_hours = vec![0.0f32; width * height];

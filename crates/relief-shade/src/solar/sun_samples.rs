@@ -12,20 +12,10 @@ use crate::ShadeError;
 /// Most sun samples one period may have (a year at 5-minute steps is 105 120).
 pub const MAX_SUN_SAMPLES: u64 = 1_000_000;
 
-/// The sun over one span of time, as insolation counts it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SunSample {
-    /// Compass direction of the sun in degrees, clockwise from north (+y): 90 is east (+x).
-    pub azimuth_deg: f64,
-    /// The sun's apparent elevation (refraction included) above the horizontal in degrees,
-    /// in [-90, 90]; below 0, or below a sample's horizon angle in its direction, it does not
-    /// light that sample.
-    pub elevation_deg: f64,
-    /// The duration the sample stands for, in hours (>= 0).
-    pub hours: f64,
-    /// The direct-beam irradiance on a plane facing the sun, in W/m^2 (>= 0).
-    pub beam_w_m2: f64,
-}
+/// The sun over one span of time, as insolation counts it: the shade map's
+/// [`InsolationSun`] (its direction, apparent elevation, the hours it stands for and its
+/// beam).
+pub type SunSample = InsolationSun;
 
 impl SunSample {
     /// The sun seen by `observer` at `instant`, standing for `hours`, with the clear-sky beam
@@ -42,18 +32,6 @@ impl SunSample {
             hours,
             beam_w_m2: clear_sky_beam(sun.apparent_elevation_deg),
         })
-    }
-}
-
-impl From<SunSample> for InsolationSun {
-    /// The same sun, as the insolation layers of a shade map take it.
-    fn from(sun: SunSample) -> InsolationSun {
-        InsolationSun {
-            azimuth_deg: sun.azimuth_deg,
-            elevation_deg: sun.elevation_deg,
-            hours: sun.hours,
-            beam_w_m2: sun.beam_w_m2,
-        }
     }
 }
 

@@ -7,10 +7,9 @@ pub mod when;
 use crate::{applies, input, memory, outputs, progress};
 use anyhow::{bail, Result};
 use args::ShadeArgs;
-use relief_core::Surface;
 use relief_io::{Layer, LayerRaster, RasterInfo};
-use relief_shade::horizon::{Facing, HorizonParams};
-use relief_shade::shade_map::{shade_map, InsolationSun, ShadeMap, ShadeMapParams, SunPosition};
+use relief_shade::horizon::HorizonParams;
+use relief_shade::shade_map::{shade_map, ShadeMap, ShadeMapParams, SunPosition};
 use relief_shade::ShadeLayer;
 use relief_trace::{build_tracer, TracerKind};
 use std::path::Path;
@@ -43,8 +42,7 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
     // The field, the voids' mask, the tracer's pyramid (a third more than the field), the
     // bands, and a pyramid of maxima per horizon engine (up, and down for negative openness).
     let bands = params.band_names().len() as u64;
-    let engines = [Facing::Up, Facing::Down].iter().filter(|&&f| params.needs_horizons(f)).count();
-    let needed = samples * (4 + 1 + 2 + 4 * bands + 6 * engines as u64);
+    let needed = samples * (4 + 1 + 2 + 4 * bands + 6 * params.horizon_engines() as u64);
     if needed > budget.bytes {
         bail!(
             "shading {} x {} samples needs {}, over the {} memory limit ({})",
@@ -62,9 +60,7 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
     match when::sun_samples(&args.when, info.georeference.as_ref(), width, height)? {
         SunTimes::NotAsked => {}
         SunTimes::Instant(sun) => params.suns = vec![sun],
-        SunTimes::Period(suns) => {
-            params.insolation = suns.into_iter().map(InsolationSun::from).collect()
-        }
+        SunTimes::Period(suns) => params.insolation = suns,
     }
     params.validate()?;
     let read_ms = elapsed_ms(start);
@@ -87,9 +83,7 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
     let write_ms = elapsed_ms(start);
 
     let names: Vec<&str> = params.layers.iter().map(|l| l.name()).collect();
-    let horizon_directions =
-        [Facing::Up, Facing::Down].iter().filter(|&&f| params.needs_horizons(f)).count() as u32
-            * params.horizon.azimuths;
+    let horizon_directions = params.horizon_engines() * params.horizon.azimuths;
     let rays_per_s = rays as f64 / (trace_ms / 1e3).max(1e-9);
     eprintln!(
         "wrote {} ({} x {} samples, {}; {} rays in {:.2} s, {:.1} Mrays/s)",
@@ -156,8 +150,7 @@ fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
     let here = format!("--layers {names}");
     let needs_suns = layers.iter().any(|l| l.needs_suns());
     let needs_sun_rays = layers.iter().any(|l| l.needs_sun_rays());
-    let needs_horizons =
-        layers.iter().any(|l| l.needs_horizons(Facing::Up) || l.needs_horizons(Facing::Down));
+    let needs_horizons = layers.iter().any(|l| l.builds_on_horizons());
     let needs_period = layers.iter().any(|l| l.needs_insolation_suns());
     let when = &args.when;
     if let Some(days) = when.date {
@@ -222,11 +215,6 @@ fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
     if args.sky_model.is_some() && !layers.contains(&ShadeLayer::SkyIllumination) {
         return Err(applies::refuse("--sky-model", "the sky-illumination layer", &here));
     }
-    if needs_horizons && args.surface == Surface::Boxes {
-        bail!(
-            "--surface boxes: the layers built on horizons ({names}) are exact for the triangles surface only"
-        );
-    }
     let suns = if args.sun.is_empty() {
         defaults.suns.clone()
     } else {
@@ -249,6 +237,7 @@ fn params(args: &ShadeArgs) -> Result<ShadeMapParams> {
         sky_model: args.sky_model.unwrap_or(defaults.sky_model),
         ..defaults.clone()
     };
+    params.check_surface(args.surface)?;
     // With --date, the suns are placed once the DEM's georeference is read.
     if when.date.is_none() {
         params.validate()?;
