@@ -384,12 +384,35 @@ fn xdotool(display: &str, args: &[&str]) -> bool {
         .is_ok_and(|s| s.success())
 }
 
+/// Gives the keyboard to the viewer's window on `display` once it is mapped. The window
+/// exists a moment before it is mapped, and focusing it then fails, so this tries again for
+/// up to 30 s; if it never succeeds the viewer is killed and its stderr shown.
+fn focus_viewer_window(display: &str, viewer: &mut std::process::Child) {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    let visible = ["search", "--sync", "--onlyvisible", "--name", "relief view"];
+    loop {
+        let focus = [&visible[..], &["windowfocus", "--sync"]].concat();
+        if xdotool(display, &focus) {
+            return;
+        }
+        if std::time::Instant::now() > deadline || viewer.try_wait().unwrap().is_some() {
+            let _ = viewer.kill();
+            let mut err = String::new();
+            if let Some(mut pipe) = viewer.stderr.take() {
+                let _ = std::io::Read::read_to_string(&mut pipe, &mut err);
+            }
+            panic!("the viewer's window could not be given the keyboard in 30 s:\n{err}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+}
+
 fn keys_and_the_mouse_typed_into_the_window_fly_it_save_and_close_it() {
     let x = x_server().expect("Xvfb starts");
     assert!(xdotool(&x.display, &["version"]), "xdotool runs");
     let dir = folder("view-typed");
     let stats = dir.join("frames.json");
-    let viewer = Command::new(env!("CARGO_BIN_EXE_relief"))
+    let mut viewer = Command::new(env!("CARGO_BIN_EXE_relief"))
         .args(["view", "--fbm-size", "128", "--size", "320x180", "--output-dir", path(&dir)])
         .args(["--stats", path(&stats)])
         .env("DISPLAY", &x.display)
@@ -399,7 +422,7 @@ fn keys_and_the_mouse_typed_into_the_window_fly_it_save_and_close_it() {
     // Wait for the window, give it the keyboard, then type as a user does: fly forward,
     // drag the view, screenshot, quit.
     let d = x.display.as_str();
-    assert!(xdotool(d, &["search", "--sync", "--name", "relief view", "windowfocus", "--sync"]));
+    focus_viewer_window(d, &mut viewer);
     let pause = |ms| std::thread::sleep(std::time::Duration::from_millis(ms));
     pause(300);
     assert!(xdotool(d, &["keydown", "w"]));
