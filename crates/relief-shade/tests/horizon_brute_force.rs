@@ -266,3 +266,70 @@ proptest! {
         check(&square, &params, Facing::Up)?;
     }
 }
+
+/// A rough terrain of `w` x `h` samples: hills of several wavelengths, noise, and spikes and
+/// pits here and there, so that horizons are set near and far.
+fn large_terrain() -> impl Strategy<Value = HeightField> {
+    (40usize..150, 40usize..150, any::<u64>(), 0.5f64..2.0, 0.5f64..2.0).prop_map(
+        |(w, h, seed, dx, dy)| {
+            let mut state = seed | 1;
+            let mut next = move || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state % 10_000) as f32 / 10_000.0
+            };
+            let samples = (0..w * h)
+                .map(|k| {
+                    let (c, r) = ((k % w) as f32, (k / w) as f32);
+                    let hills = (c * 0.05).sin() * 20.0 + (r * 0.13 + c * 0.07).cos() * 8.0;
+                    let spike = if next() < 0.01 { 30.0 * next() - 10.0 } else { 0.0 };
+                    hills + spike + next()
+                })
+                .collect();
+            let geometry = GridGeometry { dx, dy, z_scale: 1.3, ..GridGeometry::unit() };
+            HeightField::new(w, h, samples, geometry).unwrap()
+        },
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Lines hundreds of cells long, where the engine skips long stretches at once: every
+    /// direction of 40 samples against the brute force (and NaN on the voids it is given).
+    #[test]
+    fn horizons_of_large_terrains_equal_the_brute_force_at_sampled_points(
+        field in large_terrain(),
+        azimuths in 5u32..40,
+        radius in prop::option::of(5.0f64..120.0),
+        down in prop::bool::ANY,
+        picks in prop::collection::vec((0.0f64..1.0, 0.0f64..1.0), 40),
+    ) {
+        let params = HorizonParams { azimuths, radius, ..HorizonParams::default() };
+        let (facing, sign) = if down { (Facing::Down, -1.0) } else { (Facing::Up, 1.0) };
+        let (w, h) = (field.width(), field.height());
+        let void: Vec<bool> = (0..w * h).map(|k| k % 97 == 5).collect();
+        let tris = triangles(&field, sign);
+        let engine = HorizonEngine::new(&field, Some(&void), &params, facing).unwrap();
+        let angles = engine.band(0..h, false);
+        let level = engine.band(0..h, true);
+        for (k, (angles, level)) in angles.iter().zip(&level).enumerate() {
+            let azimuth = params.azimuth_deg(k);
+            for &(u, v) in &picks {
+                let (col, row) = ((u * w as f64) as usize, (v * h as f64) as usize);
+                let index = col + row * w;
+                if void[index] {
+                    prop_assert!(angles[index].is_nan() && level[index].is_nan());
+                    continue;
+                }
+                let want = brute_horizon(&field, &tris, sign, col, row, azimuth, &params);
+                let (got, got_level) = (angles[index] as f64, level[index] as f64);
+                prop_assert!(
+                    (got - want).abs() < 1e-6 && (got_level - want.max(0.0)).abs() < 1e-6,
+                    "{w}x{h}, sample ({col}, {row}) towards {azimuth}: {got} and {got_level}, not {want}"
+                );
+            }
+        }
+    }
+}

@@ -125,6 +125,20 @@ impl MarchTerrain<'_> {
     }
 }
 
+/// The samples along x and y per horizontal metre towards `azimuth_deg` (clockwise from north)
+/// on a grid of spacings `dx`, `dy`: exact on the axes, so that lines due north, east, south
+/// or west run along the grid's lines.
+pub(crate) fn unit_steps(azimuth_deg: f64, dx: f64, dy: f64) -> (f64, f64) {
+    let (sin, cos) = match azimuth_deg.rem_euclid(360.0) {
+        0.0 => (0.0, 1.0),
+        90.0 => (1.0, 0.0),
+        180.0 => (0.0, -1.0),
+        270.0 => (-1.0, 0.0),
+        other => other.to_radians().sin_cos(),
+    };
+    (sin / dx, cos / dy)
+}
+
 /// The horizon from one sample in one direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Horizon {
@@ -160,16 +174,7 @@ impl<'a> DirectionMarch<'a> {
         radius: Option<f64>,
         refraction: Option<f64>,
     ) -> Self {
-        // Exact components on the axes, so lines due north, east, south or west run along the
-        // grid's lines.
-        let (sin, cos) = match azimuth_deg.rem_euclid(360.0) {
-            0.0 => (0.0, 1.0),
-            90.0 => (1.0, 0.0),
-            180.0 => (0.0, -1.0),
-            270.0 => (-1.0, 0.0),
-            other => other.to_radians().sin_cos(),
-        };
-        let (a, b) = (sin / terrain.dx, cos / terrain.dy);
+        let (a, b) = unit_steps(azimuth_deg, terrain.dx, terrain.dy);
         DirectionMarch {
             terrain,
             a,

@@ -3,8 +3,13 @@
 //! from which the sky-view factor, openness, sky illumination and insolation follow.
 
 mod cell_pyramid;
+mod lane_engine;
+mod lane_frame;
+mod lane_vector;
+mod lanes;
 mod march;
 mod params;
+mod stencil;
 
 pub use params::{
     HorizonParams, DEFAULT_AZIMUTHS, DEFAULT_OBSERVER_HEIGHT, MAX_AZIMUTHS, REFRACTION_COEFFICIENT,
@@ -12,6 +17,7 @@ pub use params::{
 
 use crate::ShadeError;
 use cell_pyramid::CellPyramid;
+use lane_engine::LaneEngine;
 use march::{DirectionMarch, MarchTerrain};
 use rayon::prelude::*;
 use relief_core::HeightField;
@@ -19,7 +25,7 @@ use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Rows of samples whose horizons are found together: one parallel task.
-const BAND_ROWS: usize = 4;
+const BAND_ROWS: usize = 32;
 
 /// Horizon angles of every sample in every direction of a [`HorizonParams`].
 #[derive(Debug, Clone, PartialEq)]
@@ -63,16 +69,26 @@ pub enum Facing {
 
 /// The horizon engine over one height field: finds the exact horizon angles of any band of
 /// rows in every direction of its [`HorizonParams`].
+///
+/// Over a height field without holes and a flat earth, it finds the horizons of 16
+/// neighbouring samples at once (their lines cross the surface at the same points,
+/// translated); with holes or the earth's curvature, it marches each sample's line alone.
 pub struct HorizonEngine<'a> {
-    terrain: MarchTerrain<'a>,
+    method: Method<'a>,
     void: Option<&'a [bool]>,
     params: HorizonParams,
 }
 
+/// How a [`HorizonEngine`] finds horizons.
+enum Method<'a> {
+    Lanes(LaneEngine),
+    March(MarchTerrain<'a>),
+}
+
 impl<'a> HorizonEngine<'a> {
-    /// Prepares the engine (builds its pyramid of maxima) for `field` seen `facing` up or
-    /// down. A sample that is a hole of `field`, or marked in `void` (indexed like the
-    /// samples), has no horizon (NaN); the surface is absent only over the holes' cells.
+    /// Prepares the engine for `field` seen `facing` up or down. A sample that is a hole of
+    /// `field`, or marked in `void` (indexed like the samples), has no horizon (NaN); the
+    /// surface is absent only over the holes' cells.
     pub fn new(
         field: &'a HeightField,
         void: Option<&'a [bool]>,
@@ -82,56 +98,16 @@ impl<'a> HorizonEngine<'a> {
         params.validate()?;
         let (width, height) = (field.width(), field.height());
         crate::error::check_void_mask(void, width, height)?;
-        let sign = match facing {
-            Facing::Up => 1.0,
-            Facing::Down => -1.0,
+        let method = if field.holes().is_none()
+            && params.refraction.is_none()
+            && width >= 2
+            && height >= 2
+        {
+            Method::Lanes(LaneEngine::new(field, params, facing))
+        } else {
+            Method::March(march_terrain(field, facing))
         };
-        let holes = field.holes();
-        let samples = field.samples();
-        let (cells_x, cells_y) = (width.saturating_sub(1), height.saturating_sub(1));
-        let hole = |k: usize| holes.is_some_and(|h| h[k]);
-        let whole = |c: usize, r: usize| {
-            let k = c + r * width;
-            !(hole(k) || hole(k + 1) || hole(k + width) || hole(k + width + 1))
-        };
-        // With holes, the samples that are points of the surface: corners of a whole cell.
-        let on_surface = holes.map(|_| {
-            let mut on = vec![false; width * height];
-            for r in 0..cells_y {
-                for c in 0..cells_x {
-                    if whole(c, r) {
-                        let k = c + r * width;
-                        for corner in [k, k + 1, k + width, k + width + 1] {
-                            on[corner] = true;
-                        }
-                    }
-                }
-            }
-            on
-        });
-        // A cell's bound: its highest corner that is a point of the surface.
-        let pyramid = CellPyramid::build(cells_x, cells_y, &|c, r| {
-            let k = c + r * width;
-            [k, k + 1, k + width, k + width + 1]
-                .into_iter()
-                .filter(|&k| on_surface.as_ref().is_none_or(|on| on[k]))
-                .map(|k| sign as f32 * samples[k])
-                .fold(f32::NEG_INFINITY, f32::max)
-        });
-        let g = field.geometry();
-        let terrain = MarchTerrain {
-            samples: field.samples(),
-            width,
-            height,
-            sign,
-            z_scale: g.z_scale,
-            dx: g.dx,
-            dy: g.dy,
-            pyramid,
-            holes,
-            on_surface,
-        };
-        Ok(HorizonEngine { terrain, void, params: *params })
+        Ok(HorizonEngine { method, void, params: *params })
     }
 
     /// The parameters the engine was made with.
@@ -144,13 +120,26 @@ impl<'a> HorizonEngine<'a> {
     /// wanted: each angle is `max(angle, 0)`, found faster (what the sky-view factor and the
     /// layers of the sky and the sun need).
     pub fn band(&self, rows: Range<usize>, at_least_level: bool) -> Vec<Vec<f32>> {
-        let width = self.terrain.width;
+        match &self.method {
+            Method::Lanes(lanes) => lanes.band(rows, self.void, at_least_level),
+            Method::March(terrain) => self.march_band(terrain, rows, at_least_level),
+        }
+    }
+
+    /// [`HorizonEngine::band`], each sample's line marched alone.
+    fn march_band(
+        &self,
+        terrain: &MarchTerrain,
+        rows: Range<usize>,
+        at_least_level: bool,
+    ) -> Vec<Vec<f32>> {
+        let width = terrain.width;
         let p = &self.params;
         (0..p.azimuths as usize)
             .map(|k| {
                 let azimuth = p.azimuth_deg(k);
                 let march = DirectionMarch::new(
-                    &self.terrain,
+                    terrain,
                     azimuth,
                     p.observer_height,
                     p.radius,
@@ -159,7 +148,7 @@ impl<'a> HorizonEngine<'a> {
                 // Where the previous sample's horizon (west in the row) and the one below's
                 // (south, the row before) lie, seen along this sample's line: hints.
                 let (sin, cos) = azimuth.to_radians().sin_cos();
-                let (west, south) = (-self.terrain.dx * sin, -self.terrain.dy * cos);
+                let (west, south) = (-terrain.dx * sin, -terrain.dy * cos);
                 let mut below = vec![f64::NAN; width];
                 let mut angles = Vec::with_capacity(rows.len() * width);
                 for row in rows.clone() {
@@ -167,7 +156,7 @@ impl<'a> HorizonEngine<'a> {
                     for (col, below) in below.iter_mut().enumerate() {
                         let index = col + row * width;
                         let void = self.void.is_some_and(|v| v[index]);
-                        if void || self.is_hole(index) {
+                        if void || terrain.holes.is_some_and(|h| h[index]) {
                             angles.push(f32::NAN);
                             (previous, *below) = (f64::NAN, f64::NAN);
                             continue;
@@ -183,9 +172,59 @@ impl<'a> HorizonEngine<'a> {
             })
             .collect()
     }
+}
 
-    fn is_hole(&self, index: usize) -> bool {
-        self.terrain.holes.is_some_and(|h| h[index])
+/// The terrain as the march reads it: `field` seen `facing` up, with its pyramid of maxima.
+fn march_terrain(field: &HeightField, facing: Facing) -> MarchTerrain<'_> {
+    let (width, height) = (field.width(), field.height());
+    let sign = match facing {
+        Facing::Up => 1.0,
+        Facing::Down => -1.0,
+    };
+    let holes = field.holes();
+    let samples = field.samples();
+    let (cells_x, cells_y) = (width.saturating_sub(1), height.saturating_sub(1));
+    let hole = |k: usize| holes.is_some_and(|h| h[k]);
+    let whole = |c: usize, r: usize| {
+        let k = c + r * width;
+        !(hole(k) || hole(k + 1) || hole(k + width) || hole(k + width + 1))
+    };
+    // With holes, the samples that are points of the surface: corners of a whole cell.
+    let on_surface = holes.map(|_| {
+        let mut on = vec![false; width * height];
+        for r in 0..cells_y {
+            for c in 0..cells_x {
+                if whole(c, r) {
+                    let k = c + r * width;
+                    for corner in [k, k + 1, k + width, k + width + 1] {
+                        on[corner] = true;
+                    }
+                }
+            }
+        }
+        on
+    });
+    // A cell's bound: its highest corner that is a point of the surface.
+    let pyramid = CellPyramid::build(cells_x, cells_y, &|c, r| {
+        let k = c + r * width;
+        [k, k + 1, k + width, k + width + 1]
+            .into_iter()
+            .filter(|&k| on_surface.as_ref().is_none_or(|on| on[k]))
+            .map(|k| sign as f32 * samples[k])
+            .fold(f32::NEG_INFINITY, f32::max)
+    });
+    let g = field.geometry();
+    MarchTerrain {
+        samples,
+        width,
+        height,
+        sign,
+        z_scale: g.z_scale,
+        dx: g.dx,
+        dy: g.dy,
+        pyramid,
+        holes,
+        on_surface,
     }
 }
 

@@ -74,6 +74,14 @@ impl HorizonParams {
         Ok(())
     }
 
+    /// At most how many bytes per sample of the height field one [`super::HorizonEngine`]
+    /// with these parameters holds: two copies of the samples (rows as they are and swapped)
+    /// with their footprints' maxima, the maxima of the rows while it starts, and a little
+    /// per direction.
+    pub fn engine_bytes_per_sample(&self) -> u64 {
+        24 + (self.azimuths as u64).div_ceil(4)
+    }
+
     /// The direction of index `k` in degrees clockwise from north.
     pub fn azimuth_deg(&self, k: usize) -> f64 {
         k as f64 * 360.0 / self.azimuths as f64

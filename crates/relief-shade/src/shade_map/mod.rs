@@ -73,7 +73,7 @@ impl ShadeMap {
 }
 
 /// Rows of samples shaded together: a band is one parallel task, and a tile's height.
-const BAND_ROWS: usize = 8;
+const BAND_ROWS: usize = 32;
 /// Samples per row of a tile: a tile's 8 x 8 rays in one direction are traced as one batch,
 /// a full packet of the mipmap tracer's.
 const TILE_COLS: usize = 8;

@@ -40,9 +40,10 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
     let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
     let samples = raster.width as u64 * raster.height as u64;
     // The field, the voids' mask, the tracer's pyramid (a third more than the field), the
-    // bands, and a pyramid of maxima per horizon engine (up, and down for negative openness).
+    // bands, and each horizon engine (up, and down for negative openness).
     let bands = params.band_names().len() as u64;
-    let needed = samples * (4 + 1 + 2 + 4 * bands + 6 * params.horizon_engines() as u64);
+    let engines = params.horizon_engines() as u64 * params.horizon.engine_bytes_per_sample();
+    let needed = samples * (4 + 1 + 2 + 4 * bands + engines);
     if needed > budget.bytes {
         bail!(
             "shading {} x {} samples needs {}, over the {} memory limit ({})",

@@ -1,0 +1,187 @@
+//! The horizon engine of a height field without holes over a flat earth: every direction's
+//! stencil and band maxima made once, then the samples' horizons found [`LANES`] at a time.
+
+use super::lane_frame::{BandMaxima, LaneFrame, LANES};
+use super::lanes::{LaneDirection, LaneGroup};
+use super::march::unit_steps;
+use super::stencil::Stencil;
+use super::{Facing, HorizonParams};
+use rayon::prelude::*;
+use relief_core::HeightField;
+use std::ops::Range;
+
+/// The lanes engine of one height field seen one way up.
+pub(crate) struct LaneEngine {
+    /// The samples in rows as they are, and with rows and columns swapped (where a direction
+    /// runs more along y than along x), each if a direction needs it.
+    frames: [Option<LaneFrame>; 2],
+    directions: Vec<LaneDirection>,
+    width: usize,
+    height: usize,
+    upside_down: bool,
+    z_scale: f32,
+    observer_height: f32,
+}
+
+impl LaneEngine {
+    /// The engine of `field` (which has no holes, at least 2 x 2 samples) seen `facing` up,
+    /// for the directions, observer height and radius of `params` (its curvature is not this
+    /// engine's).
+    pub(crate) fn new(field: &HeightField, params: &HorizonParams, facing: Facing) -> LaneEngine {
+        let (width, height) = (field.width(), field.height());
+        let g = field.geometry();
+        let sign = if facing == Facing::Up { 1.0 } else { -1.0 };
+        // Per direction: whether its frame is transposed, and its line's step in that frame.
+        let lines: Vec<(bool, isize, f64, f64)> = (0..params.azimuths as usize)
+            .map(|k| {
+                let (a, b) = unit_steps(params.azimuth_deg(k), g.dx, g.dy);
+                let transposed = b.abs() > a.abs();
+                let (along, across) = if transposed { (b, a) } else { (a, b) };
+                (
+                    transposed,
+                    if along > 0.0 { 1 } else { -1 },
+                    across / along.abs(),
+                    1.0 / along.abs(),
+                )
+            })
+            .collect();
+        let needs = |t: bool| lines.iter().any(|l| l.0 == t);
+        let frame =
+            |t: bool| needs(t).then(|| LaneFrame::new(field.samples(), width, height, sign, t));
+        let (rows, columns) = rayon::join(|| frame(false), || frame(true));
+        let frames = [rows, columns];
+        let windows = frames.each_ref().map(|f| f.as_ref().map(LaneFrame::windows));
+        let directions = lines
+            .into_par_iter()
+            .map(|(transposed, step_x, rows_per_step, metres_per_step)| {
+                let frame = frames[transposed as usize].as_ref().expect("built when needed");
+                let stencil = Stencil::new(
+                    step_x,
+                    rows_per_step,
+                    metres_per_step,
+                    frame.stride,
+                    frame.width.saturating_sub(1).max(1),
+                    params.radius,
+                    g.z_scale,
+                    params.observer_height,
+                );
+                let windows =
+                    windows[transposed as usize].as_deref().expect("built with the frame");
+                let maxima = BandMaxima::new(frame, windows, rows_per_step * step_x as f64);
+                LaneDirection { transposed, stencil, maxima }
+            })
+            .collect();
+        LaneEngine {
+            frames,
+            directions,
+            width,
+            height,
+            upside_down: facing == Facing::Down,
+            z_scale: g.z_scale as f32,
+            observer_height: params.observer_height as f32,
+        }
+    }
+
+    /// Per direction, the horizon angles in radians of the samples of `rows`, row by row (NaN
+    /// where `void` says so); with `at_least_level`, `max(angle, 0)`.
+    pub(crate) fn band(
+        &self,
+        rows: Range<usize>,
+        void: Option<&[bool]>,
+        at_least_level: bool,
+    ) -> Vec<Vec<f32>> {
+        let (width, count) = (self.width, rows.len() * self.width);
+        debug_assert!(rows.end <= self.height);
+        let is_void = |col: usize, row: usize| void.is_some_and(|v| v[col + row * width]);
+        self.directions
+            .iter()
+            .map(|direction| {
+                let frame = self.frames[direction.transposed as usize].as_ref().unwrap();
+                let mut out = vec![f32::NAN; count];
+                let mut group = LaneGroup {
+                    frame,
+                    direction,
+                    first_col: 0,
+                    row: 0,
+                    wanted: [false; LANES],
+                    upside_down: self.upside_down,
+                    z_scale: self.z_scale,
+                    observer_height: self.observer_height,
+                    lowest: if at_least_level { 0.0 } else { f32::NEG_INFINITY },
+                };
+                // Each group of lanes: its frame row, its first frame column, its frame columns'
+                // end, and where its samples are in `out` (the first and the step between).
+                let mut run = |row: usize, first: usize, end: usize, at: usize, step: usize| {
+                    group.row = row;
+                    group.first_col = first;
+                    group.wanted = std::array::from_fn(|i| {
+                        let col = first + i;
+                        col < end
+                            && !if direction.transposed {
+                                is_void(row, col)
+                            } else {
+                                is_void(col, row)
+                            }
+                    });
+                    if group.wanted.iter().any(|&w| w) {
+                        let angles = group.angles();
+                        for (i, &angle) in angles.iter().enumerate().take(end - first) {
+                            out[at + i * step] = angle;
+                        }
+                    }
+                };
+                if direction.transposed {
+                    for col in 0..width {
+                        for first in rows.clone().step_by(LANES) {
+                            run(col, first, rows.end, (first - rows.start) * width + col, width);
+                        }
+                    }
+                } else {
+                    for row in rows.clone() {
+                        for first in (0..width).step_by(LANES) {
+                            run(row, first, width, (row - rows.start) * width + first, 1);
+                        }
+                    }
+                }
+                out
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_core::GridGeometry;
+
+    /// The lanes on plain arrays and in the widest vectors the processor has give the same
+    /// bits, in every direction, both ways up, above the horizontal or not, with a radius.
+    #[test]
+    fn every_processor_path_gives_the_same_bits() {
+        let (w, h) = (83, 61);
+        let samples = (0..w * h)
+            .map(|k| {
+                let (c, r) = ((k % w) as f32, (k / w) as f32);
+                (c * 0.21).sin() * 9.0 + (r * 0.17 + c * 0.05).cos() * 5.0 + (k % 7) as f32 * 0.3
+            })
+            .collect();
+        let geometry = GridGeometry { dx: 1.5, dy: 0.8, z_scale: 2.0, ..GridGeometry::unit() };
+        let field = HeightField::new(w, h, samples, geometry).unwrap();
+        for radius in [None, Some(25.0)] {
+            let params = HorizonParams { azimuths: 24, radius, ..HorizonParams::default() };
+            for facing in [Facing::Up, Facing::Down] {
+                let engine = LaneEngine::new(&field, &params, facing);
+                for level in [false, true] {
+                    let fast = engine.band(0..h, None, level);
+                    super::super::lanes::tests::PORTABLE_ONLY.set(true);
+                    let portable = engine.band(0..h, None, level);
+                    super::super::lanes::tests::PORTABLE_ONLY.set(false);
+                    let bits = |v: &Vec<Vec<f32>>| -> Vec<u32> {
+                        v.iter().flatten().map(|a| a.to_bits()).collect()
+                    };
+                    assert_eq!(bits(&fast), bits(&portable), "{radius:?} {facing:?} {level}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,337 @@
+//! The horizons of [`LANES`] neighbouring samples of a row at once: their lines are the same
+//! line translated, so they cross the surface at the same points of a [`Stencil`], each lane
+//! reading its own samples side by side (one vector load for all). The lanes walk the stencil
+//! together and skip, with [`BandMaxima`], each stretch too low to raise any of their
+//! horizons; the rest they test point by point, exactly.
+
+use super::lane_frame::{BandMaxima, LaneFrame, FIRST_LEVEL, LANES, OUTSIDE};
+use super::lane_vector::{LaneVector, Portable};
+use super::stencil::{Coefficients, RadiusEnd, Stencil, Step};
+
+/// The values of the lanes.
+type Lanes = [f32; LANES];
+
+/// Slopes below this come from the padding: no surface lies ahead.
+const NO_SURFACE: f32 = -1e18;
+
+/// Largest stretch skipped at once, in steps (as a power of two).
+const TOP_LEVEL: u32 = 12;
+
+/// One direction of a lanes engine: its line's stencil and the maxima of its bands.
+pub(crate) struct LaneDirection {
+    /// Whether the direction's frame has the height field's columns as rows.
+    pub transposed: bool,
+    pub stencil: Stencil,
+    pub maxima: BandMaxima,
+}
+
+/// What the lanes of one group start from.
+pub(crate) struct LaneGroup<'a> {
+    pub frame: &'a LaneFrame,
+    pub direction: &'a LaneDirection,
+    /// The frame's column of lane 0's sample, and its row.
+    pub first_col: usize,
+    pub row: usize,
+    /// Which lanes hold a sample whose horizon is wanted.
+    pub wanted: [bool; LANES],
+    /// Split along (0,0)-(1,1) where `z00 + z11 <= z10 + z01` of the unsigned samples: with
+    /// the samples upside down, where `>=`.
+    pub upside_down: bool,
+    pub z_scale: f32,
+    pub observer_height: f32,
+    /// The lowest slope wanted (0 for horizons above the horizontal only), or -infinity.
+    pub lowest: f32,
+}
+
+#[inline(always)]
+fn offset(base: usize, by: isize) -> usize {
+    base.wrapping_add_signed(by)
+}
+
+/// Heights above the lanes' samples `z0` of the points `a + w (b - a)`, turned into slopes.
+#[inline(always)]
+fn edge_slopes<V: LaneVector>(a: V, b: V, w: V, z0: V, c: Coefficients) -> V {
+    let (da, db) = (a.sub(z0), b.sub(z0));
+    da.add(w.mul(db.sub(da))).mul(V::splat(c.scale)).sub(V::splat(c.lift))
+}
+
+/// The lanes' `z00, z10, z01, z11` corners of the cell whose corner (0, 0) is `corner`
+/// from `base`, and whether each lane's cell is split along (0,0)-(1,1) (as a selection:
+/// `select(main, other)`).
+#[inline(always)]
+fn cell<V: LaneVector>(z: &[f32], base: usize, stride: usize, corner: isize) -> [V; 4] {
+    let at = offset(base, corner);
+    [V::load(z, at), V::load(z, at + 1), V::load(z, at + stride), V::load(z, at + stride + 1)]
+}
+
+/// Per lane, `main` where the cell of corners `c` is split along (0,0)-(1,1), else `other`.
+#[inline(always)]
+fn by_split<V: LaneVector>(c: &[V; 4], upside_down: bool, main: V, other: V) -> V {
+    let [z00, z10, z01, z11] = *c;
+    let (sum_main, sum_anti) = (z00.add(z11), z10.add(z01));
+    if upside_down {
+        V::select_le(sum_anti, sum_main, main, other)
+    } else {
+        V::select_le(sum_main, sum_anti, main, other)
+    }
+}
+
+/// Raises the lanes' `best` slopes to the steepest over the points of `step`.
+#[inline(always)]
+fn test_step<V: LaneVector>(
+    z: &[f32],
+    base: usize,
+    stride: usize,
+    step: &Step,
+    z0: V,
+    upside_down: bool,
+    best: &mut V,
+) {
+    for e in &step.edges {
+        let (za, zb) = (V::load(z, offset(base, e.a)), V::load(z, offset(base, e.b)));
+        *best = edge_slopes(za, zb, V::splat(e.w), z0, e.coefficients).max(*best);
+    }
+    for d in &step.diagonals {
+        let c = cell::<V>(z, base, stride, d.corner);
+        let [z00, z10, z01, z11] = c;
+        let on_main = edge_slopes(z00, z11, V::splat(d.main), z0, d.main_coefficients);
+        let on_anti = edge_slopes(z01, z10, V::splat(d.anti), z0, d.anti_coefficients);
+        *best = by_split(&c, upside_down, on_main, on_anti).max(*best);
+    }
+}
+
+/// Raises the lanes' `best` slopes to the slope of the line's end at a radius.
+#[inline(always)]
+fn test_end<V: LaneVector>(
+    z: &[f32],
+    base: usize,
+    stride: usize,
+    end: &RadiusEnd,
+    z0: V,
+    upside_down: bool,
+    best: &mut V,
+) {
+    let c = cell::<V>(z, base, stride, end.corner);
+    let [d00, d10, d01, d11] = c.map(|v| v.sub(z0));
+    let (s, q) = (end.s, end.q);
+    let (vs, vq) = (V::splat(s), V::splat(q));
+    let on_main = if s >= q {
+        d00.add(vs.mul(d10.sub(d00))).add(vq.mul(d11.sub(d10)))
+    } else {
+        d00.add(vq.mul(d01.sub(d00))).add(vs.mul(d11.sub(d01)))
+    };
+    let on_anti = if s + q <= 1.0 {
+        d00.add(vs.mul(d10.sub(d00))).add(vq.mul(d01.sub(d00)))
+    } else {
+        let (rs, rq) = (V::splat(1.0 - s), V::splat(1.0 - q));
+        d11.add(rs.mul(d01.sub(d11))).add(rq.mul(d10.sub(d11)))
+    };
+    let rise = by_split(&c, upside_down, on_main, on_anti);
+    let k = end.coefficients;
+    *best = rise.mul(V::splat(k.scale)).sub(V::splat(k.lift)).max(*best);
+}
+
+impl LaneGroup<'_> {
+    /// The steepest slope from each wanted lane's observer to its line's points, at least
+    /// `lowest` (`NaN` in lanes not wanted; below [`NO_SURFACE`] where no surface lies ahead).
+    #[inline(always)]
+    fn slopes<V: LaneVector>(&self) -> Lanes {
+        let frame = self.frame;
+        let stencil = &self.direction.stencil;
+        let (z, stride) = (&frame.z[..], frame.stride);
+        let base = frame.index(self.first_col, self.row);
+        let z0 = V::load(z, base);
+        // Lanes not wanted take the largest slope (nothing raises it) and an infinite
+        // ceiling.
+        let mut best =
+            V::from_array(std::array::from_fn(
+                |i| {
+                    if self.wanted[i] {
+                        self.lowest
+                    } else {
+                        f32::MAX
+                    }
+                },
+            ));
+        let unwanted =
+            V::from_array(std::array::from_fn(
+                |i| if self.wanted[i] { 0.0 } else { f32::INFINITY },
+            ));
+        let last_over_frame = self.last_step();
+        let last = last_over_frame.min(stencil.len());
+        let steps = &stencil.steps[..];
+        let group = self.direction.maxima.group(self.first_col, self.row);
+        let footprints = &frame.footprints[..];
+        let mut k = 1;
+        let mut level = FIRST_LEVEL + 1;
+        while k <= last {
+            if level > FIRST_LEVEL {
+                // A long stretch, against the maxima of the lines' bands.
+                let to = (k + (1 << level) - 1).min(last);
+                if self.band_highest(group, k, to) <= self.ceiling(z0, unwanted, k, to, best) {
+                    k = to + 1;
+                    level = (level + 1).min(TOP_LEVEL);
+                    while (k - 1) % (1 << level) != 0 {
+                        level -= 1;
+                    }
+                } else {
+                    level -= 1;
+                }
+                continue;
+            }
+            // Eight steps against the footprints of their points, then each step.
+            let to = (k + (1 << FIRST_LEVEL) - 1).min(last);
+            let block = &steps[k..=to];
+            let step_highest = |step: &Step| footprints[offset(base, step.footprint)];
+            let highest =
+                block.iter().map(step_highest).fold(OUTSIDE, |m, v| if v > m { v } else { m });
+            let limit = self.ceiling(z0, unwanted, k, to, best);
+            if highest > limit {
+                for step in block {
+                    if step_highest(step) > limit {
+                        test_step(z, base, stride, step, z0, self.upside_down, &mut best);
+                    }
+                }
+            }
+            k = to + 1;
+            if (k - 1) % (1 << (FIRST_LEVEL + 1)) == 0 {
+                level = FIRST_LEVEL + 1;
+            }
+        }
+        if let Some(end) = stencil.end.as_ref().filter(|e| e.step <= last_over_frame) {
+            test_end(z, base, stride, end, z0, self.upside_down, &mut best);
+        }
+        let mut best = best.to_array();
+        for (b, wanted) in best.iter_mut().zip(self.wanted) {
+            if !wanted {
+                *b = f32::NAN;
+            }
+        }
+        best
+    }
+
+    /// The highest sample the lines of band group `group` read in steps `from..=to`.
+    #[inline(always)]
+    fn band_highest(&self, group: usize, from: usize, to: usize) -> f32 {
+        let first = self.first_col as isize;
+        let (near, far) = if self.direction.stencil.step_x > 0 {
+            (first + from as isize - 1, first + (LANES - 1 + to) as isize)
+        } else {
+            (first - to as isize, first + (LANES - 1) as isize - (from as isize - 1))
+        };
+        self.direction.maxima.highest(group, near, far)
+    }
+
+    /// The highest a point of steps `from..=to` may lie without raising the horizon of a
+    /// lane whose sample is `z0` and best slope so far `best` (the least over the lanes;
+    /// `unwanted` is 0 in the lanes wanted, infinite in the others). A lane's bound is its
+    /// best line at the stretch's start, or at its end where the line descends.
+    #[inline(always)]
+    fn ceiling<V: LaneVector>(&self, z0: V, unwanted: V, from: usize, to: usize, best: V) -> f32 {
+        let steps = &self.direction.stencil.steps;
+        let (near, far) = (steps[from - 1].distance, steps[to].distance);
+        let t = V::select_negative(best, V::splat(far), V::splat(near));
+        let rise = best.mul(t).add(V::splat(self.observer_height));
+        z0.add(rise.mul(V::splat(1.0 / self.z_scale))).add(unwanted).min_lane()
+    }
+
+    /// The last step at which any lane's line is still over the frame.
+    fn last_step(&self) -> usize {
+        let (frame, stencil) = (self.frame, &self.direction.stencil);
+        let across = if stencil.step_x > 0 {
+            frame.width.saturating_sub(1 + self.first_col)
+        } else {
+            self.first_col + (LANES - 1).min(frame.width.saturating_sub(1 + self.first_col))
+        };
+        let m = stencil.rows_per_step;
+        let rows = if m > 0.0 {
+            ((frame.height - 1 - self.row) as f64 / m).floor() as usize + 1
+        } else if m < 0.0 {
+            (self.row as f64 / -m).floor() as usize + 1
+        } else {
+            usize::MAX
+        };
+        across.min(rows)
+    }
+
+    /// The horizon angles (radians) of the lanes: `NaN` where not wanted, 0 where no surface
+    /// lies ahead.
+    pub(crate) fn angles(&self) -> Lanes {
+        dispatch(self).map(|s| if s < NO_SURFACE { 0.0 } else { atan(s) })
+    }
+}
+
+/// The arc tangent of `x` in radians (NaN for NaN), within 2e-7 of it relative (Cephes'
+/// `atanf`: a reduction to |x| <= tan(pi/8), then a polynomial); much faster than the
+/// library's in f64, and as exact as an `f32` angle is.
+#[inline]
+fn atan(x: f32) -> f32 {
+    use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
+    let a = x.abs();
+    let (base, y) = if a > 2.414_213_6 {
+        (FRAC_PI_2, -1.0 / a)
+    } else if a > 0.414_213_57 {
+        (FRAC_PI_4, (a - 1.0) / (a + 1.0))
+    } else {
+        (0.0, a)
+    };
+    let z = y * y;
+    let p = (((8.053_744_5e-2 * z - 1.387_768_6e-1) * z + 1.997_771_1e-1) * z - 3.333_295e-1) * z;
+    (base + (p * y + y)).copysign(x)
+}
+
+/// [`LaneGroup::slopes`] compiled for the widest vectors the processor has (the same
+/// operations in each, no fused multiply-add: the same bits).
+#[allow(unsafe_code)]
+fn dispatch(group: &LaneGroup) -> Lanes {
+    #[cfg(test)]
+    if tests::PORTABLE_ONLY.get() {
+        return group.slopes::<Portable>();
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the processor has AVX-512 F (checked just above).
+            return unsafe { slopes_avx512(group) };
+        }
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2 (checked just above).
+            return unsafe { slopes_avx2(group) };
+        }
+    }
+    group.slopes::<Portable>()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx2")]
+fn slopes_avx512(group: &LaneGroup) -> Lanes {
+    group.slopes::<super::lane_vector::Avx512>()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn slopes_avx2(group: &LaneGroup) -> Lanes {
+    group.slopes::<Portable>()
+}
+
+const _: () = assert!(OUTSIDE < NO_SURFACE);
+
+#[cfg(test)]
+pub(crate) mod tests {
+    thread_local! {
+        /// Whether the lanes run on plain arrays whatever the processor has.
+        pub(crate) static PORTABLE_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    }
+
+    #[test]
+    fn atan_is_the_library_s_to_2e_7_relative() {
+        // From -1e6 to 1e6, densest near 0.
+        for i in -15_000..=15_000 {
+            let x = ((i as f64) / 1000.0).sinh() as f32;
+            let (got, want) = (super::atan(x) as f64, (x as f64).atan());
+            assert!((got - want).abs() <= 2e-7 * want.abs(), "atan({x}): {got}, not {want}");
+        }
+        assert!(super::atan(f32::NAN).is_nan());
+        assert_eq!(super::atan(f32::INFINITY), std::f32::consts::FRAC_PI_2);
+    }
+}

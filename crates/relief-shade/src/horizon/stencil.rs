@@ -1,0 +1,233 @@
+//! The points where one direction's line crosses the edges and split diagonals of the
+//! `triangles` surface, found once for the line from a sample and the same for every sample
+//! (translated): the horizon of a sample is the steepest slope to one of them.
+//!
+//! The line runs in a frame where it advances at least as fast along x as along y: one
+//! column per *step*. Step `k` holds the points past column `k - 1` up to column `k`: the
+//! crossing of column `k`'s vertical edge, of a row's horizontal edge between the two, and
+//! of the split diagonal of each cell in between (which diagonal is the split depends on the
+//! cell's samples, so both candidates are kept and each sample's cell chooses).
+
+/// A point on the edge from sample `a` to sample `b` (offsets from the line's sample in a
+/// padded grid), the fraction `w` of the way.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct EdgePoint {
+    pub a: isize,
+    pub b: isize,
+    pub w: f32,
+    pub coefficients: Coefficients,
+}
+
+impl EdgePoint {
+    /// No point (its slope is -infinity).
+    const NONE: EdgePoint = EdgePoint { a: 0, b: 0, w: 0.0, coefficients: Coefficients::NONE };
+}
+
+/// A point on the split diagonal of the cell whose corner (0, 0) is `corner`: at `main`
+/// along the diagonal from (0, 0) to (1, 1) if that is the split, at `anti` along the one
+/// from (0, 1) to (1, 0) if that is. A diagonal the line does not cross has
+/// [`Coefficients::NONE`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct DiagonalPoint {
+    pub corner: isize,
+    pub main: f32,
+    pub main_coefficients: Coefficients,
+    pub anti: f32,
+    pub anti_coefficients: Coefficients,
+}
+
+impl DiagonalPoint {
+    /// No point.
+    const NONE: DiagonalPoint = DiagonalPoint {
+        corner: 0,
+        main: 0.0,
+        main_coefficients: Coefficients::NONE,
+        anti: 0.0,
+        anti_coefficients: Coefficients::NONE,
+    };
+}
+
+/// The end of a line cut at a radius: inside the cell whose corner (0, 0) is `corner`, at
+/// local (`s`, `q`), in step `step`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct RadiusEnd {
+    pub step: usize,
+    pub corner: isize,
+    pub s: f32,
+    pub q: f32,
+    pub coefficients: Coefficients,
+}
+
+/// What turns a point's height above the sample into the slope from the observer at its
+/// distance `t`: `slope = rise * scale - lift`, with `scale = z_scale / t` and
+/// `lift = observer_height / t`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Coefficients {
+    pub scale: f32,
+    pub lift: f32,
+}
+
+impl Coefficients {
+    /// The coefficients of a point that is not there: every slope to it is -infinity.
+    pub const NONE: Coefficients = Coefficients { scale: 0.0, lift: f32::INFINITY };
+}
+
+/// The points of one step: the crossings of column `k` and of a row (each may be
+/// [`EdgePoint::NONE`]), and of the split diagonals of the (up to two) cells between.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Step {
+    pub edges: [EdgePoint; 2],
+    pub diagonals: [DiagonalPoint; 2],
+    /// Where the footprint of the step's points starts, from the line's sample: the lowest
+    /// of the (up to three) rows they read, at the first column of the lanes' (see
+    /// `LaneFrame::footprints`).
+    pub footprint: isize,
+    /// The distance in metres at which the step ends.
+    pub distance: f32,
+}
+
+/// A direction's line in the lanes' frame, and its points step by step.
+#[derive(Debug, Clone)]
+pub(crate) struct Stencil {
+    /// +1 if the line advances towards growing x, -1 otherwise.
+    pub step_x: isize,
+    /// Rows the line advances per step (at most 1 in magnitude).
+    pub rows_per_step: f64,
+    /// The steps from 1; `steps[0]` has no points and ends at distance 0.
+    pub steps: Vec<Step>,
+    /// Where a radius cuts the line.
+    pub end: Option<RadiusEnd>,
+}
+
+/// How near to a grid line a crossing must come, in cells, to be on it.
+const ON_GRID: f64 = 1e-9;
+
+impl Stencil {
+    /// The stencil of the line that advances `step_x` columns and `rows_per_step` rows a step
+    /// (|rows_per_step| <= 1), `metres_per_step` horizontal metres, in a grid of `stride`
+    /// samples a row, for `steps` steps or to `radius` metres, whichever is shorter.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        step_x: isize,
+        rows_per_step: f64,
+        metres_per_step: f64,
+        stride: usize,
+        steps: usize,
+        radius: Option<f64>,
+        z_scale: f64,
+        observer_height: f64,
+    ) -> Stencil {
+        debug_assert!(rows_per_step.abs() <= 1.0 && (step_x == 1 || step_x == -1));
+        let (m, sx) = (rows_per_step, step_x as f64);
+        let stride = stride as isize;
+        let coefficients = |kappa: f64| {
+            let t = kappa * metres_per_step;
+            Coefficients { scale: (z_scale / t) as f32, lift: (observer_height / t) as f32 }
+        };
+        let at = |col: isize, row: isize| col + row * stride;
+        let snap = |v: f64| -> f64 {
+            let r = v.round();
+            if (v - r).abs() < ON_GRID {
+                r
+            } else {
+                v
+            }
+        };
+        // Steps that reach the radius: the last holds the line's end at it.
+        let radius_steps = radius.map(|r| r / metres_per_step);
+        let last = radius_steps.map_or(steps, |s| (s.ceil() as usize).clamp(1, steps.max(1)));
+        let empty = Step {
+            edges: [EdgePoint::NONE; 2],
+            diagonals: [DiagonalPoint::NONE; 2],
+            footprint: 0,
+            distance: 0.0,
+        };
+        let mut all = Vec::with_capacity(last + 1);
+        all.push(empty);
+        let mut end_point = None;
+        for k in 1..=last {
+            let (k0, k1) = ((k - 1) as f64, k as f64);
+            let end = radius_steps.map_or(k1, |s| s.min(k1));
+            let mut step = empty;
+            // A row crossing strictly inside (there is at most one, |m| <= 1).
+            let mut breaks = vec![k0];
+            if m != 0.0 {
+                let (y0, y1) = (m * k0, m * end);
+                let (lo, hi) = (snap(y0.min(y1)), snap(y0.max(y1)));
+                let j = lo.floor() + 1.0;
+                if j < hi {
+                    let kappa = j / m;
+                    if kappa > k0 && kappa < end {
+                        let x = sx * kappa;
+                        let col = x.floor() as isize;
+                        step.edges[1] = EdgePoint {
+                            a: at(col, j as isize),
+                            b: at(col + 1, j as isize),
+                            w: (x - x.floor()) as f32,
+                            coefficients: coefficients(kappa),
+                        };
+                        breaks.push(kappa);
+                    }
+                }
+            }
+            breaks.push(end);
+            // Each piece between breakpoints lies in one cell: its split diagonal's crossing.
+            for (piece, pair) in breaks.windows(2).enumerate() {
+                let (a, b) = (pair[0], pair[1]);
+                if b - a < ON_GRID {
+                    continue;
+                }
+                let mid = 0.5 * (a + b);
+                let (xm, ym) = (sx * mid, m * mid);
+                // Along a grid line the piece lies on an edge: no diagonal to cross, and the
+                // cell above it stands for both (their surfaces agree on the edge).
+                let on_grid_line = (ym - ym.round()).abs() < ON_GRID;
+                let (cx, cy) = (xm.floor(), if on_grid_line { ym.round() } else { ym.floor() });
+                let corner = at(cx as isize, cy as isize);
+                let inside =
+                    |kappa: &f64| !on_grid_line && *kappa > a + ON_GRID && *kappa < b - ON_GRID;
+                let candidate = |kappa: Option<f64>| {
+                    kappa.filter(inside).map_or((0.0, Coefficients::NONE), |kappa| {
+                        ((sx * kappa - cx) as f32, coefficients(kappa))
+                    })
+                };
+                let (main, main_coefficients) = candidate((sx != m).then(|| (cx - cy) / (sx - m)));
+                let (anti, anti_coefficients) =
+                    candidate((sx != -m).then(|| (1.0 + cx + cy) / (sx + m)));
+                step.diagonals[piece] =
+                    DiagonalPoint { corner, main, main_coefficients, anti, anti_coefficients };
+                if b == end && end < k1 {
+                    end_point = Some(RadiusEnd {
+                        step: k,
+                        corner,
+                        s: (sx * end - cx).clamp(0.0, 1.0) as f32,
+                        q: (m * end - cy).clamp(0.0, 1.0) as f32,
+                        coefficients: coefficients(end),
+                    });
+                }
+            }
+            if end == k1 {
+                // The vertical edge of column k.
+                let y = snap(m * k1);
+                let (row, col) = (y.floor() as isize, step_x * k as isize);
+                step.edges[0] = EdgePoint {
+                    a: at(col, row),
+                    b: at(col, row + 1),
+                    w: (y - y.floor()) as f32,
+                    coefficients: coefficients(k1),
+                };
+            }
+            let low_row = snap(m * k0).min(snap(m * k1)).floor() as isize;
+            let first_col = if step_x > 0 { k as isize - 1 } else { -(k as isize) };
+            step.footprint = at(first_col, low_row);
+            step.distance = (k1 * metres_per_step) as f32;
+            all.push(step);
+        }
+        Stencil { step_x, rows_per_step: m, steps: all, end: end_point }
+    }
+
+    /// The number of steps the stencil holds.
+    pub(crate) fn len(&self) -> usize {
+        self.steps.len() - 1
+    }
+}
