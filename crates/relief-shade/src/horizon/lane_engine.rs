@@ -108,12 +108,12 @@ impl LaneEngine {
                     z_scale: self.z_scale,
                     observer_height: self.observer_height,
                     lowest: if at_least_level { 0.0 } else { f32::NEG_INFINITY },
+                    hints: [0; LANES],
                 };
                 // Each group of lanes: its frame row, its first frame column, its frame columns'
                 // end, and where its samples are in `out` (the first and the step between).
                 let mut run = |row: usize, first: usize, end: usize, at: usize, step: usize| {
                     group.row = row;
-                    group.first_col = first;
                     group.wanted = std::array::from_fn(|i| {
                         let col = first + i;
                         col < end
@@ -123,22 +123,29 @@ impl LaneEngine {
                                 is_void(col, row)
                             }
                     });
+                    if group.first_col != first {
+                        group.hints = [0; LANES];
+                    }
+                    group.first_col = first;
                     if group.wanted.iter().any(|&w| w) {
-                        let angles = group.angles();
+                        let (angles, steps) = group.angles();
                         for (i, &angle) in angles.iter().enumerate().take(end - first) {
                             out[at + i * step] = angle;
                         }
+                        group.hints = steps;
                     }
                 };
+                // Column by column: the lines of one row's group and the next row's lie side by
+                // side, read the same samples and have their horizons at about the same steps.
                 if direction.transposed {
-                    for col in 0..width {
-                        for first in rows.clone().step_by(LANES) {
+                    for first in rows.clone().step_by(LANES) {
+                        for col in 0..width {
                             run(col, first, rows.end, (first - rows.start) * width + col, width);
                         }
                     }
                 } else {
-                    for row in rows.clone() {
-                        for first in (0..width).step_by(LANES) {
+                    for first in (0..width).step_by(LANES) {
+                        for row in rows.clone() {
                             run(row, first, width, (row - rows.start) * width + first, 1);
                         }
                     }

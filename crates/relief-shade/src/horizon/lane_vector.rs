@@ -21,6 +21,8 @@ pub(crate) trait LaneVector: Copy {
     fn max(self, o: Self) -> Self;
     /// Per lane, `yes` where `a <= b`, else `no`.
     fn select_le(a: Self, b: Self, yes: Self, no: Self) -> Self;
+    /// Per lane, `yes` where `a > b`, else `no`.
+    fn select_gt(a: Self, b: Self, yes: Self, no: Self) -> Self;
     /// Per lane, `yes` where `a < 0`, else `no`.
     fn select_negative(a: Self, yes: Self, no: Self) -> Self;
     /// The least lane.
@@ -67,6 +69,10 @@ impl LaneVector for Portable {
     #[inline(always)]
     fn select_le(a: Self, b: Self, yes: Self, no: Self) -> Self {
         Portable(std::array::from_fn(|i| if a.0[i] <= b.0[i] { yes.0[i] } else { no.0[i] }))
+    }
+    #[inline(always)]
+    fn select_gt(a: Self, b: Self, yes: Self, no: Self) -> Self {
+        Portable(std::array::from_fn(|i| if a.0[i] > b.0[i] { yes.0[i] } else { no.0[i] }))
     }
     #[inline(always)]
     fn select_negative(a: Self, yes: Self, no: Self) -> Self {
@@ -135,6 +141,13 @@ mod avx512 {
         fn select_le(a: Self, b: Self, yes: Self, no: Self) -> Self {
             unsafe {
                 let m = _mm512_cmp_ps_mask::<_CMP_LE_OQ>(a.0, b.0);
+                Avx512(_mm512_mask_blend_ps(m, no.0, yes.0))
+            }
+        }
+        #[inline(always)]
+        fn select_gt(a: Self, b: Self, yes: Self, no: Self) -> Self {
+            unsafe {
+                let m = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(a.0, b.0);
                 Avx512(_mm512_mask_blend_ps(m, no.0, yes.0))
             }
         }

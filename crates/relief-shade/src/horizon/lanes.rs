@@ -41,6 +41,16 @@ pub(crate) struct LaneGroup<'a> {
     pub observer_height: f32,
     /// The lowest slope wanted (0 for horizons above the horizontal only), or -infinity.
     pub lowest: f32,
+    /// Steps where the horizons of the group one row before lie (0 for none): the lanes'
+    /// horizons are likely near, so these steps are tested first. They change how fast the
+    /// answer is found, never the answer.
+    pub hints: [u32; LANES],
+}
+
+/// The horizons' slopes of a group's lanes, and the steps that set them (0 where none did).
+pub(crate) struct LaneSlopes {
+    pub slopes: Lanes,
+    pub steps: [u32; LANES],
 }
 
 #[inline(always)]
@@ -131,11 +141,31 @@ fn test_end<V: LaneVector>(
     *best = rise.mul(V::splat(k.scale)).sub(V::splat(k.lift)).max(*best);
 }
 
+/// Where a group of lanes reads its samples.
+struct Grid<'a> {
+    z: &'a [f32],
+    /// Lane 0's sample in `z`, and samples a row.
+    base: usize,
+    stride: usize,
+    upside_down: bool,
+}
+
+impl Grid<'_> {
+    /// Raises `best` to the steepest slope over the points of step `j` of `steps`, and marks
+    /// in `set_at` the lanes it raises.
+    #[inline(always)]
+    fn test<V: LaneVector>(&self, steps: &[Step], j: usize, z0: V, best: &mut V, set_at: &mut V) {
+        let before = *best;
+        test_step(self.z, self.base, self.stride, &steps[j], z0, self.upside_down, best);
+        *set_at = V::select_gt(*best, before, V::splat(j as f32), *set_at);
+    }
+}
+
 impl LaneGroup<'_> {
     /// The steepest slope from each wanted lane's observer to its line's points, at least
     /// `lowest` (`NaN` in lanes not wanted; below [`NO_SURFACE`] where no surface lies ahead).
     #[inline(always)]
-    fn slopes<V: LaneVector>(&self) -> Lanes {
+    fn slopes<V: LaneVector>(&self) -> LaneSlopes {
         let frame = self.frame;
         let stencil = &self.direction.stencil;
         let (z, stride) = (&frame.z[..], frame.stride);
@@ -162,6 +192,17 @@ impl LaneGroup<'_> {
         let steps = &stencil.steps[..];
         let group = self.direction.maxima.group(self.first_col, self.row);
         let footprints = &frame.footprints[..];
+        let mut set_at = V::splat(0.0);
+        let grid = Grid { z, base, stride, upside_down: self.upside_down };
+        // First the steps where the hints say the horizons are (three of them at most).
+        let mut tried = [0; 3];
+        for (slot, hint) in [0, LANES / 2, LANES - 1].into_iter().enumerate() {
+            let j = self.hints[hint] as usize;
+            if j >= 1 && j <= last && !tried.contains(&j) {
+                tried[slot] = j;
+                grid.test(steps, j, z0, &mut best, &mut set_at);
+            }
+        }
         let mut k = 1;
         let mut level = FIRST_LEVEL + 1;
         while k <= last {
@@ -187,9 +228,9 @@ impl LaneGroup<'_> {
                 block.iter().map(step_highest).fold(OUTSIDE, |m, v| if v > m { v } else { m });
             let limit = self.ceiling(z0, unwanted, k, to, best);
             if highest > limit {
-                for step in block {
+                for (j, step) in (k..=to).zip(block) {
                     if step_highest(step) > limit {
-                        test_step(z, base, stride, step, z0, self.upside_down, &mut best);
+                        grid.test(steps, j, z0, &mut best, &mut set_at);
                     }
                 }
             }
@@ -201,13 +242,13 @@ impl LaneGroup<'_> {
         if let Some(end) = stencil.end.as_ref().filter(|e| e.step <= last_over_frame) {
             test_end(z, base, stride, end, z0, self.upside_down, &mut best);
         }
-        let mut best = best.to_array();
-        for (b, wanted) in best.iter_mut().zip(self.wanted) {
+        let mut slopes = best.to_array();
+        for (b, wanted) in slopes.iter_mut().zip(self.wanted) {
             if !wanted {
                 *b = f32::NAN;
             }
         }
-        best
+        LaneSlopes { slopes, steps: set_at.to_array().map(|j| j as u32) }
     }
 
     /// The highest sample the lines of band group `group` read in steps `from..=to`.
@@ -256,8 +297,9 @@ impl LaneGroup<'_> {
 
     /// The horizon angles (radians) of the lanes: `NaN` where not wanted, 0 where no surface
     /// lies ahead.
-    pub(crate) fn angles(&self) -> Lanes {
-        dispatch(self).map(|s| if s < NO_SURFACE { 0.0 } else { atan(s) })
+    pub(crate) fn angles(&self) -> (Lanes, [u32; LANES]) {
+        let LaneSlopes { slopes, steps } = dispatch(self);
+        (slopes.map(|s| if s < NO_SURFACE { 0.0 } else { atan(s) }), steps)
     }
 }
 
@@ -283,7 +325,7 @@ fn atan(x: f32) -> f32 {
 /// [`LaneGroup::slopes`] compiled for the widest vectors the processor has (the same
 /// operations in each, no fused multiply-add: the same bits).
 #[allow(unsafe_code)]
-fn dispatch(group: &LaneGroup) -> Lanes {
+fn dispatch(group: &LaneGroup) -> LaneSlopes {
     #[cfg(test)]
     if tests::PORTABLE_ONLY.get() {
         return group.slopes::<Portable>();
@@ -304,13 +346,13 @@ fn dispatch(group: &LaneGroup) -> Lanes {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx2")]
-fn slopes_avx512(group: &LaneGroup) -> Lanes {
+fn slopes_avx512(group: &LaneGroup) -> LaneSlopes {
     group.slopes::<super::lane_vector::Avx512>()
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn slopes_avx2(group: &LaneGroup) -> Lanes {
+fn slopes_avx2(group: &LaneGroup) -> LaneSlopes {
     group.slopes::<Portable>()
 }
 
