@@ -105,3 +105,31 @@ fn insolation_agrees_with_the_shade_maps_layers() {
     assert!(differing_hours <= 2, "{differing_hours} samples differ");
     assert!(ours.sun_hours.iter().any(|&h| h > 0.0 && h < 20.0), "some shade, some sun");
 }
+
+#[test]
+fn the_sun_s_layers_alone_equal_them_beside_the_sky() {
+    // Alone, the shade map finds only the horizons beside the sun's path; beside the sky it
+    // finds every direction's. The same bits either way.
+    let rough = field(52, 44, 5.0, |c, r| {
+        let (x, y) = (c as f32, r as f32);
+        25.0 * (x * 0.23).sin() * (y * 0.19).cos() + 9.0 * ((x - y) * 0.4).sin()
+    });
+    let suns = bern("2026-12-21");
+    let shared = Arc::new(rough.clone());
+    let tracer = build_tracer(shared, Surface::Triangles, TracerKind::Mipmap);
+    let layers_of = |layers: Vec<ShadeLayer>| {
+        let params = ShadeMapParams {
+            layers,
+            horizon: HorizonParams { azimuths: 24, ..HorizonParams::default() },
+            insolation: suns.clone(),
+            ..ShadeMapParams::default()
+        };
+        let map = shade_map(&rough, &*tracer, None, &params, &|_| {}).unwrap();
+        [ShadeLayer::Insolation, ShadeLayer::SunHours]
+            .map(|l| map.layer(l).unwrap().iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+    };
+    let alone = layers_of(vec![ShadeLayer::Insolation, ShadeLayer::SunHours]);
+    let beside = layers_of(vec![ShadeLayer::Sky, ShadeLayer::Insolation, ShadeLayer::SunHours]);
+    assert_eq!(alone, beside);
+    assert!(alone[1].iter().any(|&h| f32::from_bits(h) > 0.0));
+}

@@ -15,7 +15,8 @@ pub(crate) struct LaneEngine {
     /// The samples in rows as they are, and with rows and columns swapped (where a direction
     /// runs more along y than along x), each if a direction needs it.
     frames: [Option<LaneFrame>; 2],
-    directions: Vec<LaneDirection>,
+    /// Per direction, its stencil and maxima (none where its angles are not wanted).
+    directions: Vec<Option<LaneDirection>>,
     width: usize,
     height: usize,
     upside_down: bool,
@@ -25,9 +26,14 @@ pub(crate) struct LaneEngine {
 
 impl LaneEngine {
     /// The engine of `field` (which has no holes, at least 2 x 2 samples) seen `facing` up,
-    /// for the directions, observer height and radius of `params` (its curvature is not this
-    /// engine's).
-    pub(crate) fn new(field: &HeightField, params: &HorizonParams, facing: Facing) -> LaneEngine {
+    /// for the directions of `params` marked in `wanted`, its observer height and radius (its
+    /// curvature is not this engine's).
+    pub(crate) fn new(
+        field: &HeightField,
+        params: &HorizonParams,
+        facing: Facing,
+        wanted: &[bool],
+    ) -> LaneEngine {
         let (width, height) = (field.width(), field.height());
         let g = field.geometry();
         let sign = if facing == Facing::Up { 1.0 } else { -1.0 };
@@ -45,7 +51,7 @@ impl LaneEngine {
                 )
             })
             .collect();
-        let needs = |t: bool| lines.iter().any(|l| l.0 == t);
+        let needs = |t: bool| lines.iter().zip(wanted).any(|(l, &w)| w && l.0 == t);
         let frame =
             |t: bool| needs(t).then(|| LaneFrame::new(field.samples(), width, height, sign, t));
         let (rows, columns) = rayon::join(|| frame(false), || frame(true));
@@ -53,7 +59,11 @@ impl LaneEngine {
         let windows = frames.each_ref().map(|f| f.as_ref().map(LaneFrame::windows));
         let directions = lines
             .into_par_iter()
-            .map(|(transposed, step_x, rows_per_step, metres_per_step)| {
+            .zip(wanted)
+            .map(|((transposed, step_x, rows_per_step, metres_per_step), &wanted)| {
+                if !wanted {
+                    return None;
+                }
                 let frame = frames[transposed as usize].as_ref().expect("built when needed");
                 let stencil = Stencil::new(
                     step_x,
@@ -68,7 +78,7 @@ impl LaneEngine {
                 let windows =
                     windows[transposed as usize].as_deref().expect("built with the frame");
                 let maxima = BandMaxima::new(frame, windows, rows_per_step * step_x as f64);
-                LaneDirection { transposed, stencil, maxima }
+                Some(LaneDirection { transposed, stencil, maxima })
             })
             .collect();
         LaneEngine {
@@ -83,7 +93,8 @@ impl LaneEngine {
     }
 
     /// Per direction, the horizon angles in radians of the samples of `rows`, row by row (NaN
-    /// where `void` says so); with `at_least_level`, `max(angle, 0)`.
+    /// where `void` says so; none in a direction not wanted); with `at_least_level`,
+    /// `max(angle, 0)`.
     pub(crate) fn band(
         &self,
         rows: Range<usize>,
@@ -96,6 +107,9 @@ impl LaneEngine {
         self.directions
             .iter()
             .map(|direction| {
+                let Some(direction) = direction else {
+                    return Vec::new();
+                };
                 let frame = self.frames[direction.transposed as usize].as_ref().unwrap();
                 let mut out = vec![f32::NAN; count];
                 let mut group = LaneGroup {
@@ -177,7 +191,7 @@ mod tests {
         for radius in [None, Some(25.0)] {
             let params = HorizonParams { azimuths: 24, radius, ..HorizonParams::default() };
             for facing in [Facing::Up, Facing::Down] {
-                let engine = LaneEngine::new(&field, &params, facing);
+                let engine = LaneEngine::new(&field, &params, facing, &[true; 24]);
                 for level in [false, true] {
                     let fast = engine.band(0..h, None, level);
                     super::super::lanes::tests::PORTABLE_ONLY.set(true);

@@ -77,6 +77,8 @@ pub struct HorizonEngine<'a> {
     method: Method<'a>,
     void: Option<&'a [bool]>,
     params: HorizonParams,
+    /// Per direction, whether its angles are wanted.
+    wanted: Vec<bool>,
 }
 
 /// How a [`HorizonEngine`] finds horizons.
@@ -95,7 +97,28 @@ impl<'a> HorizonEngine<'a> {
         params: &HorizonParams,
         facing: Facing,
     ) -> Result<Self, ShadeError> {
+        Self::for_directions(field, void, params, facing, None)
+    }
+
+    /// [`HorizonEngine::new`] for the directions marked in `wanted` only (indexed like the
+    /// directions of `params`; all of them with `None`): [`HorizonEngine::band`] gives no
+    /// angles (an empty list) in the others.
+    pub fn for_directions(
+        field: &'a HeightField,
+        void: Option<&'a [bool]>,
+        params: &HorizonParams,
+        facing: Facing,
+        wanted: Option<&[bool]>,
+    ) -> Result<Self, ShadeError> {
         params.validate()?;
+        let n = params.azimuths as usize;
+        if wanted.is_some_and(|w| w.len() != n) {
+            return Err(ShadeError::parameter(
+                "wanted directions",
+                format!("{} flags for {n} directions", wanted.map_or(0, <[bool]>::len)),
+            ));
+        }
+        let wanted = wanted.map_or_else(|| vec![true; n], <[bool]>::to_vec);
         let (width, height) = (field.width(), field.height());
         crate::error::check_void_mask(void, width, height)?;
         let method = if field.holes().is_none()
@@ -103,11 +126,11 @@ impl<'a> HorizonEngine<'a> {
             && width >= 2
             && height >= 2
         {
-            Method::Lanes(LaneEngine::new(field, params, facing))
+            Method::Lanes(LaneEngine::new(field, params, facing, &wanted))
         } else {
             Method::March(march_terrain(field, facing))
         };
-        Ok(HorizonEngine { method, void, params: *params })
+        Ok(HorizonEngine { method, void, params: *params, wanted })
     }
 
     /// The parameters the engine was made with.
@@ -118,7 +141,8 @@ impl<'a> HorizonEngine<'a> {
     /// Per direction, the horizon angles in radians of the samples of `rows`, row by row (NaN
     /// on voids and holes). With `at_least_level`, only the horizons above the horizontal are
     /// wanted: each angle is `max(angle, 0)`, found faster (what the sky-view factor and the
-    /// layers of the sky and the sun need).
+    /// layers of the sky and the sun need). A direction not wanted (see
+    /// [`HorizonEngine::for_directions`]) has no angles.
     pub fn band(&self, rows: Range<usize>, at_least_level: bool) -> Vec<Vec<f32>> {
         match &self.method {
             Method::Lanes(lanes) => lanes.band(rows, self.void, at_least_level),
@@ -137,6 +161,9 @@ impl<'a> HorizonEngine<'a> {
         let p = &self.params;
         (0..p.azimuths as usize)
             .map(|k| {
+                if !self.wanted[k] {
+                    return Vec::new();
+                }
                 let azimuth = p.azimuth_deg(k);
                 let march = DirectionMarch::new(
                     terrain,

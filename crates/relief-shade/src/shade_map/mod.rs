@@ -129,6 +129,22 @@ pub fn shade_map(
         bands.push(ShadeBand { layer, name, values });
     }
 
+    let n = params.horizon.azimuths as usize;
+    let insolation_suns: Vec<SunOverGrid> =
+        params.insolation.iter().filter_map(|&sun| SunOverGrid::new(sun, n)).collect();
+    // Where only the sun's layers need the horizons, only the directions beside its path.
+    let sun_only = params
+        .layers
+        .iter()
+        .filter(|l| l.needs_horizons(Facing::Up))
+        .all(|l| matches!(l, ShadeLayer::Insolation | ShadeLayer::SunHours));
+    let wanted = sun_only.then(|| {
+        let mut wanted = vec![false; n];
+        for direction in insolation_suns.iter().flat_map(SunOverGrid::directions) {
+            wanted[direction] = true;
+        }
+        wanted
+    });
     let context = Context {
         field,
         tracer,
@@ -137,20 +153,22 @@ pub fn shade_map(
         rays: Rays::for_params(params),
         up: params
             .needs_horizons(Facing::Up)
-            .then(|| HorizonEngine::new(field, void, &params.horizon, Facing::Up))
+            .then(|| {
+                HorizonEngine::for_directions(
+                    field,
+                    void,
+                    &params.horizon,
+                    Facing::Up,
+                    wanted.as_deref(),
+                )
+            })
             .transpose()?,
         down: params
             .needs_horizons(Facing::Down)
             .then(|| HorizonEngine::new(field, void, &params.horizon, Facing::Down))
             .transpose()?,
-        azimuths_deg: (0..params.horizon.azimuths as usize)
-            .map(|k| params.horizon.azimuth_deg(k))
-            .collect(),
-        insolation_suns: params
-            .insolation
-            .iter()
-            .filter_map(|&sun| SunOverGrid::new(sun, params.horizon.azimuths as usize))
-            .collect(),
+        azimuths_deg: (0..n).map(|k| params.horizon.azimuth_deg(k)).collect(),
+        insolation_suns,
     };
     let done_rows = AtomicU64::new(0);
     let results: Vec<BandValues> = (0..height.div_ceil(BAND_ROWS))

@@ -123,6 +123,11 @@ impl SunOverGrid {
             beam_w_m2: sun.beam_w_m2,
         })
     }
+
+    /// The two horizon directions (indices) the sun lies between.
+    pub(crate) fn directions(&self) -> [usize; 2] {
+        [self.below, self.above]
+    }
 }
 
 /// The hours of direct sun and the direct-beam energy (Wh/m²) of one sample with horizon
