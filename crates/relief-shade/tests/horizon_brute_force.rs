@@ -128,18 +128,23 @@ fn brute_horizon(
 /// The earth's mean radius the engine uses, metres.
 const EARTH_RADIUS: f64 = 6_371_008.8;
 
+/// Numbers in [0, 1) from `seed` (xorshift).
+fn noise(seed: u64) -> impl FnMut() -> f32 {
+    let mut state = seed | 1;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % 10_000) as f32 / 10_000.0
+    }
+}
+
 /// A random terrain of one of five kinds: smooth hills, flat, pits, spikes, cliffs; some
 /// with holes.
 fn terrain() -> impl Strategy<Value = HeightField> {
     (4usize..18, 4usize..18, 0u8..5, any::<u64>(), 0.3f64..3.0, 0.3f64..3.0, prop::bool::ANY)
         .prop_map(|(w, h, kind, seed, dx, dy, holes)| {
-            let mut state = seed | 1;
-            let mut next = move || {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state % 10_000) as f32 / 10_000.0
-            };
+            let mut next = noise(seed);
             let samples: Vec<f32> = (0..w * h)
                 .map(|k| {
                     let (c, r) = ((k % w) as f32, (k / w) as f32);
@@ -272,13 +277,7 @@ proptest! {
 fn large_terrain() -> impl Strategy<Value = HeightField> {
     (40usize..150, 40usize..150, any::<u64>(), 0.5f64..2.0, 0.5f64..2.0).prop_map(
         |(w, h, seed, dx, dy)| {
-            let mut state = seed | 1;
-            let mut next = move || {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state % 10_000) as f32 / 10_000.0
-            };
+            let mut next = noise(seed);
             let samples = (0..w * h)
                 .map(|k| {
                     let (c, r) = ((k % w) as f32, (k / w) as f32);
