@@ -1,5 +1,5 @@
 //! The height field as the horizon lanes read it: padded, signed, and turned so that every
-//! line advances at least one column per row; and the maxima that let a group of lanes skip
+//! line advances at least as many columns as rows; and the maxima that let a group of lanes skip
 //! the stretches of their lines that cannot raise their horizons.
 
 /// Samples whose horizons are found together, side by side in a row of the frame.

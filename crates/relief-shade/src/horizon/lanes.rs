@@ -1,8 +1,9 @@
 //! The horizons of [`LANES`] neighbouring samples of a row at once: their lines are the same
 //! line translated, so they cross the surface at the same points of a [`Stencil`], each lane
 //! reading its own samples side by side (one vector load for all). The lanes walk the stencil
-//! together and skip, with [`BandMaxima`], each stretch too low to raise any of their
-//! horizons; the rest they test point by point, exactly.
+//! together and skip each stretch too low to raise any of their horizons (long ones by the
+//! [`BandMaxima`], eight steps and single steps by the frame's footprints); the rest they test
+//! point by point, exactly.
 
 use super::lane_frame::{BandMaxima, LaneFrame, FIRST_LEVEL, LANES, OUTSIDE};
 use super::lane_vector::{LaneVector, Portable};
@@ -173,20 +174,11 @@ impl LaneGroup<'_> {
         let z0 = V::load(z, base);
         // Lanes not wanted take the largest slope (nothing raises it) and an infinite
         // ceiling.
-        let mut best =
-            V::from_array(std::array::from_fn(
-                |i| {
-                    if self.wanted[i] {
-                        self.lowest
-                    } else {
-                        f32::MAX
-                    }
-                },
-            ));
-        let unwanted =
-            V::from_array(std::array::from_fn(
-                |i| if self.wanted[i] { 0.0 } else { f32::INFINITY },
-            ));
+        let wanted = self.wanted;
+        let start: Lanes = std::array::from_fn(|i| if wanted[i] { self.lowest } else { f32::MAX });
+        let mut best = V::from_array(start);
+        let unwanted: Lanes = std::array::from_fn(|i| if wanted[i] { 0.0 } else { f32::INFINITY });
+        let unwanted = V::from_array(unwanted);
         let last_over_frame = self.last_step();
         let last = last_over_frame.min(stencil.len());
         let steps = &stencil.steps[..];
