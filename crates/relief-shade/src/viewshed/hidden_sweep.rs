@@ -80,47 +80,73 @@ pub fn proven_hidden(
     field: &HeightField,
     surface: Surface,
     eye: DVec3,
-    target: &dyn Fn(usize, usize) -> Option<DVec3>,
+    target: &(dyn Fn(usize, usize) -> Option<DVec3> + Sync),
 ) -> Vec<bool> {
     let g = field.geometry();
-    let (w, h) = (field.width(), field.height());
     let lo = f64::from(field.min_sample()) * g.z_scale;
     let hi = f64::from(field.max_sample()) * g.z_scale;
     let margin = 1e-6 * (lo.abs().max(hi.abs()).max(eye.z.abs()) + (hi - lo));
     let sweep = Sweep { field, surface, eye, margin };
-    // The eye's texel; rings of texels around it.
-    let ce = (((eye.x - g.origin.x) / g.dx).max(0.0) as usize).min(w - 1);
-    let re = (((eye.y - g.origin.y) / g.dy).max(0.0) as usize).min(h - 1);
-    let rings = ce.max(w - 1 - ce).max(re).max(h - 1 - re) + 1;
-
-    let mut bounds = vec![f64::NEG_INFINITY; BINS];
-    let mut hidden = vec![false; w * h];
-    // Rings of units already in the bins.
-    let mut units_in = 0;
-    let chunk = (rings / 64).clamp(1, RING_CHUNK);
-    for first_ring in (0..rings).step_by(chunk) {
-        // Every unit at least RING_LAG rings nearer than the chunk's first targets.
-        let units_to = first_ring.saturating_sub(RING_LAG - 1);
-        for_annulus(ce, re, units_in..units_to, w, h, &mut |c, r| {
-            if let Some(unit) = sweep.unit(c, r) {
-                for bound in &mut bounds[unit.first..unit.last] {
-                    *bound = bound.max(unit.bound);
-                }
-            }
-        });
-        units_in = units_in.max(units_to);
-        let targets = first_ring..(first_ring + chunk).min(rings);
-        for_annulus(ce, re, targets, w, h, &mut |c, r| {
-            let Some(t) = target(c, r) else { return };
-            let (dx, dy) = (t.x - eye.x, t.y - eye.y);
-            let d = (dx * dx + dy * dy).sqrt();
-            if d > 0.0 {
-                let slope = (t.z - eye.z) / d;
-                hidden[c + r * w] = slope < bounds[bin_of(diamond_angle(dx, dy))];
-            }
-        });
+    // The directions north of the eye (pseudo-angles 0 to 2) and south of it (2 to 4) share
+    // no bin: two sweeps side by side, each over its half of the grid.
+    let (mut north, south) =
+        rayon::join(|| sweep.half(0..BINS / 2, target), || sweep.half(BINS / 2..BINS, target));
+    for (a, b) in north.iter_mut().zip(south) {
+        *a |= b;
     }
-    hidden
+    north
+}
+
+impl Sweep<'_> {
+    /// [`proven_hidden`] for the targets whose direction's bin lies in `bins` (half of them),
+    /// from the units over those bins.
+    fn half(
+        &self,
+        bins: std::ops::Range<usize>,
+        target: &(dyn Fn(usize, usize) -> Option<DVec3> + Sync),
+    ) -> Vec<bool> {
+        let (field, eye) = (self.field, self.eye);
+        let g = field.geometry();
+        let (w, h) = (field.width(), field.height());
+        // The eye's texel; rings of texels around it.
+        let ce = (((eye.x - g.origin.x) / g.dx).max(0.0) as usize).min(w - 1);
+        let re = (((eye.y - g.origin.y) / g.dy).max(0.0) as usize).min(h - 1);
+        let rings = ce.max(w - 1 - ce).max(re).max(h - 1 - re) + 1;
+        // The rows whose units and targets can lie in the half (with a margin of rows).
+        let rows = if bins.start == 0 { re.saturating_sub(2)..h } else { 0..(re + 3).min(h) };
+
+        let mut bounds = vec![f64::NEG_INFINITY; BINS];
+        let mut hidden = vec![false; w * h];
+        // Rings of units already in the bins.
+        let mut units_in = 0;
+        let chunk = (rings / 64).clamp(1, RING_CHUNK);
+        for first_ring in (0..rings).step_by(chunk) {
+            // Every unit at least RING_LAG rings nearer than the chunk's first targets.
+            let units_to = first_ring.saturating_sub(RING_LAG - 1);
+            let annulus = Annulus { ce, re, w, h, rows: rows.clone() };
+            annulus.visit(units_in..units_to, &mut |c, r| {
+                if let Some(unit) = self.unit(c, r) {
+                    let (first, last) = (unit.first.max(bins.start), unit.last.min(bins.end));
+                    for bound in bounds.get_mut(first..last).unwrap_or_default() {
+                        *bound = bound.max(unit.bound);
+                    }
+                }
+            });
+            units_in = units_in.max(units_to);
+            let targets = first_ring..(first_ring + chunk).min(rings);
+            annulus.visit(targets, &mut |c, r| {
+                let Some(t) = target(c, r) else { return };
+                let (dx, dy) = (t.x - eye.x, t.y - eye.y);
+                let d = (dx * dx + dy * dy).sqrt();
+                let bin = bin_of(diamond_angle(dx, dy));
+                if d > 0.0 && bins.contains(&bin) {
+                    let slope = (t.z - eye.z) / d;
+                    hidden[c + r * w] = slope < bounds[bin];
+                }
+            });
+        }
+        hidden
+    }
 }
 
 /// How many rings of texels a unit waits, at least, before it enters the bins: the unit
@@ -134,31 +160,37 @@ const RING_LAG: usize = 3;
 /// order); their units enter the bins before the chunk's first ring is decided.
 const RING_CHUNK: usize = 32;
 
-/// Calls `visit(col, row)` for every texel of a `w` x `h` grid whose ring around texel
-/// (`ce`, `re`) (the larger of its column's and row's distance) lies in `rings`, row by row
-/// from the south, west to east.
-fn for_annulus(
+/// The texels of a `w` x `h` grid in rings around texel (`ce`, `re`) (a texel's ring is the
+/// larger of its column's and row's distance), within `rows`.
+struct Annulus {
     ce: usize,
     re: usize,
-    rings: std::ops::Range<usize>,
     w: usize,
     h: usize,
-    visit: &mut dyn FnMut(usize, usize),
-) {
-    if rings.is_empty() {
-        return;
-    }
-    let outer = rings.end - 1;
-    let cols = |from: usize, to: usize| from..(to + 1).min(w);
-    for r in re.saturating_sub(outer)..(re + outer + 1).min(h) {
-        let dr = r.abs_diff(re);
-        if dr >= rings.start {
-            cols(ce.saturating_sub(outer), ce + outer).for_each(|c| visit(c, r));
-        } else {
-            if let Some(inner) = ce.checked_sub(rings.start) {
-                cols(ce.saturating_sub(outer), inner).for_each(|c| visit(c, r));
+    rows: std::ops::Range<usize>,
+}
+
+impl Annulus {
+    /// Calls `visit(col, row)` for every texel whose ring lies in `rings`, row by row from the
+    /// south, west to east.
+    fn visit(&self, rings: std::ops::Range<usize>, visit: &mut dyn FnMut(usize, usize)) {
+        if rings.is_empty() {
+            return;
+        }
+        let Annulus { ce, re, w, h, .. } = *self;
+        let outer = rings.end - 1;
+        let cols = |from: usize, to: usize| from..(to + 1).min(w);
+        let first = re.saturating_sub(outer).max(self.rows.start);
+        for r in first..(re + outer + 1).min(h).min(self.rows.end) {
+            let dr = r.abs_diff(re);
+            if dr >= rings.start {
+                cols(ce.saturating_sub(outer), ce + outer).for_each(|c| visit(c, r));
+            } else {
+                if let Some(inner) = ce.checked_sub(rings.start) {
+                    cols(ce.saturating_sub(outer), inner).for_each(|c| visit(c, r));
+                }
+                cols(ce + rings.start, ce + outer).for_each(|c| visit(c, r));
             }
-            cols(ce + rings.start, ce + outer).for_each(|c| visit(c, r));
         }
     }
 }
