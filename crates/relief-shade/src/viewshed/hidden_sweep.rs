@@ -242,9 +242,22 @@ impl Sweep<'_> {
         }
         let (far_x, far_y) = (x0.abs().max(x1.abs()), y0.abs().max(y1.abs()));
         let dmax = (far_x * far_x + far_y * far_y).sqrt();
-        let angles = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| diamond_angle(x, y));
-        let lo = angles.iter().copied().fold(f64::INFINITY, f64::min) + ANGLE_MARGIN;
-        let hi = angles.iter().copied().fold(f64::NEG_INFINITY, f64::max) - ANGLE_MARGIN;
+        // The directions the unit covers run from one corner to the opposite one; which two,
+        // by the quadrant it lies in (all four where it straddles an axis).
+        let (lo, hi) = if x0 >= 0.0 && y0 >= 0.0 {
+            (diamond_angle(x1, y0), diamond_angle(x0, y1))
+        } else if x1 <= 0.0 && y0 >= 0.0 {
+            (diamond_angle(x1, y1), diamond_angle(x0, y0))
+        } else if x1 <= 0.0 && y1 <= 0.0 {
+            (diamond_angle(x0, y1), diamond_angle(x1, y0))
+        } else if x0 >= 0.0 && y1 <= 0.0 {
+            (diamond_angle(x0, y0), diamond_angle(x1, y1))
+        } else {
+            let angles = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| diamond_angle(x, y));
+            let lo = angles.iter().copied().fold(f64::INFINITY, f64::min);
+            (lo, angles.iter().copied().fold(f64::NEG_INFINITY, f64::max))
+        };
+        let (lo, hi) = (lo + ANGLE_MARGIN, hi - ANGLE_MARGIN);
         let scale = BINS as f64 / 4.0;
         // Both are >= 0: `as` truncates, the floor.
         let lo_bins = (lo * scale).max(0.0);
