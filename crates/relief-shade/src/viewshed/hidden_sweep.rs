@@ -76,11 +76,11 @@ struct Sweep<'a> {
 /// proven to pass inside the solid of `surface` of `field` (see the module's documentation).
 /// `target(col, row)` is the target point, `None` for a sample not asked about (a void, or
 /// out of the radius).
-pub fn proven_hidden(
+pub fn proven_hidden<T: Fn(usize, usize) -> Option<DVec3> + Sync>(
     field: &HeightField,
     surface: Surface,
     eye: DVec3,
-    target: &(dyn Fn(usize, usize) -> Option<DVec3> + Sync),
+    target: &T,
 ) -> Vec<bool> {
     let g = field.geometry();
     let lo = f64::from(field.min_sample()) * g.z_scale;
@@ -100,10 +100,10 @@ pub fn proven_hidden(
 impl Sweep<'_> {
     /// [`proven_hidden`] for the targets whose direction's bin lies in `bins` (half of them),
     /// from the units over those bins.
-    fn half(
+    fn half<T: Fn(usize, usize) -> Option<DVec3> + Sync>(
         &self,
         bins: std::ops::Range<usize>,
-        target: &(dyn Fn(usize, usize) -> Option<DVec3> + Sync),
+        target: &T,
     ) -> Vec<bool> {
         let (field, eye) = (self.field, self.eye);
         let g = field.geometry();
@@ -124,7 +124,7 @@ impl Sweep<'_> {
             // Every unit at least RING_LAG rings nearer than the chunk's first targets.
             let units_to = first_ring.saturating_sub(RING_LAG - 1);
             let annulus = Annulus { ce, re, w, h, rows: rows.clone() };
-            annulus.visit(units_in..units_to, &mut |c, r| {
+            annulus.visit(units_in..units_to, |c, r| {
                 if let Some(unit) = self.unit(c, r) {
                     let (first, last) = (unit.first.max(bins.start), unit.last.min(bins.end));
                     for bound in bounds.get_mut(first..last).unwrap_or_default() {
@@ -134,7 +134,7 @@ impl Sweep<'_> {
             });
             units_in = units_in.max(units_to);
             let targets = first_ring..(first_ring + chunk).min(rings);
-            annulus.visit(targets, &mut |c, r| {
+            annulus.visit(targets, |c, r| {
                 let Some(t) = target(c, r) else { return };
                 let (dx, dy) = (t.x - eye.x, t.y - eye.y);
                 let d = (dx * dx + dy * dy).sqrt();
@@ -173,7 +173,8 @@ struct Annulus {
 impl Annulus {
     /// Calls `visit(col, row)` for every texel whose ring lies in `rings`, row by row from the
     /// south, west to east.
-    fn visit(&self, rings: std::ops::Range<usize>, visit: &mut dyn FnMut(usize, usize)) {
+    #[inline]
+    fn visit(&self, rings: std::ops::Range<usize>, mut visit: impl FnMut(usize, usize)) {
         if rings.is_empty() {
             return;
         }
