@@ -10,19 +10,19 @@ pub(crate) trait LaneVector: Copy {
     fn splat(v: f32) -> Self;
     /// Lanes `z[at..at + 16]`.
     fn load(z: &[f32], at: usize) -> Self;
-    /// The lanes as an array.
-    fn to_array(self) -> [f32; LANES];
     /// The lanes of an array.
     fn from_array(a: [f32; LANES]) -> Self;
     fn add(self, o: Self) -> Self;
     fn sub(self, o: Self) -> Self;
     fn mul(self, o: Self) -> Self;
+    /// Per lane, the absolute value.
+    fn abs(self) -> Self;
+    /// Whether `a > b` in any lane.
+    fn any_greater(a: Self, b: Self) -> bool;
     /// Per lane, `self` if `self > o`, else `o` (so a NaN in `self` never wins).
     fn max(self, o: Self) -> Self;
     /// Per lane, `yes` where `a <= b`, else `no`.
     fn select_le(a: Self, b: Self, yes: Self, no: Self) -> Self;
-    /// Per lane, `yes` where `a > b`, else `no`.
-    fn select_gt(a: Self, b: Self, yes: Self, no: Self) -> Self;
     /// Per lane, `yes` where `a < 0`, else `no`.
     fn select_negative(a: Self, yes: Self, no: Self) -> Self;
     /// The least lane.
@@ -43,10 +43,6 @@ impl LaneVector for Portable {
         Portable(z[at..at + LANES].try_into().unwrap())
     }
     #[inline(always)]
-    fn to_array(self) -> [f32; LANES] {
-        self.0
-    }
-    #[inline(always)]
     fn from_array(a: [f32; LANES]) -> Self {
         Portable(a)
     }
@@ -63,16 +59,20 @@ impl LaneVector for Portable {
         Portable(std::array::from_fn(|i| self.0[i] * o.0[i]))
     }
     #[inline(always)]
+    fn abs(self) -> Self {
+        Portable(self.0.map(f32::abs))
+    }
+    #[inline(always)]
+    fn any_greater(a: Self, b: Self) -> bool {
+        (0..LANES).any(|i| a.0[i] > b.0[i])
+    }
+    #[inline(always)]
     fn max(self, o: Self) -> Self {
         Portable(std::array::from_fn(|i| if self.0[i] > o.0[i] { self.0[i] } else { o.0[i] }))
     }
     #[inline(always)]
     fn select_le(a: Self, b: Self, yes: Self, no: Self) -> Self {
         Portable(std::array::from_fn(|i| if a.0[i] <= b.0[i] { yes.0[i] } else { no.0[i] }))
-    }
-    #[inline(always)]
-    fn select_gt(a: Self, b: Self, yes: Self, no: Self) -> Self {
-        Portable(std::array::from_fn(|i| if a.0[i] > b.0[i] { yes.0[i] } else { no.0[i] }))
     }
     #[inline(always)]
     fn select_negative(a: Self, yes: Self, no: Self) -> Self {
@@ -111,12 +111,6 @@ mod avx512 {
             Avx512(unsafe { _mm512_loadu_ps(lanes.as_ptr()) })
         }
         #[inline(always)]
-        fn to_array(self) -> [f32; LANES] {
-            let mut out = [0.0; LANES];
-            unsafe { _mm512_storeu_ps(out.as_mut_ptr(), self.0) };
-            out
-        }
-        #[inline(always)]
         fn from_array(a: [f32; LANES]) -> Self {
             Avx512(unsafe { _mm512_loadu_ps(a.as_ptr()) })
         }
@@ -133,6 +127,14 @@ mod avx512 {
             Avx512(unsafe { _mm512_mul_ps(self.0, o.0) })
         }
         #[inline(always)]
+        fn abs(self) -> Self {
+            Avx512(unsafe { _mm512_abs_ps(self.0) })
+        }
+        #[inline(always)]
+        fn any_greater(a: Self, b: Self) -> bool {
+            unsafe { _mm512_cmp_ps_mask::<_CMP_GT_OQ>(a.0, b.0) != 0 }
+        }
+        #[inline(always)]
         fn max(self, o: Self) -> Self {
             // MAXPS returns its second operand unless the first is greater.
             Avx512(unsafe { _mm512_max_ps(self.0, o.0) })
@@ -141,13 +143,6 @@ mod avx512 {
         fn select_le(a: Self, b: Self, yes: Self, no: Self) -> Self {
             unsafe {
                 let m = _mm512_cmp_ps_mask::<_CMP_LE_OQ>(a.0, b.0);
-                Avx512(_mm512_mask_blend_ps(m, no.0, yes.0))
-            }
-        }
-        #[inline(always)]
-        fn select_gt(a: Self, b: Self, yes: Self, no: Self) -> Self {
-            unsafe {
-                let m = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(a.0, b.0);
                 Avx512(_mm512_mask_blend_ps(m, no.0, yes.0))
             }
         }

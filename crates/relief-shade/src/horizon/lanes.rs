@@ -13,7 +13,7 @@ use super::stencil::{Coefficients, RadiusEnd, Stencil, Step};
 type Lanes = [f32; LANES];
 
 /// Slopes below this come from the padding: no surface lies ahead.
-const NO_SURFACE: f32 = -1e18;
+const NO_SURFACE: f64 = -1e18;
 
 /// Largest stretch skipped at once, in steps (as a power of two).
 const TOP_LEVEL: u32 = 12;
@@ -50,7 +50,7 @@ pub(crate) struct LaneGroup<'a> {
 
 /// The horizons' slopes of a group's lanes, and the steps that set them (0 where none did).
 pub(crate) struct LaneSlopes {
-    pub slopes: Lanes,
+    pub slopes: [f64; LANES],
     pub steps: [u32; LANES],
 }
 
@@ -59,16 +59,24 @@ fn offset(base: usize, by: isize) -> usize {
     base.wrapping_add_signed(by)
 }
 
-/// Heights above the lanes' samples `z0` of the points `a + w (b - a)`, turned into slopes.
+/// A bound on the error of a slope computed in f32 below, relative to the sum of the
+/// magnitudes it is made of (each of the six roundings costs at most half an f32 epsilon
+/// of those; twice that for safety).
+const F32_ERROR: f32 = 6.0 * f32::EPSILON;
+
+/// The slopes of the points `a + w (b - a)` from the lanes' samples `z0` in f32, and a bound
+/// on how far each may lie above the exact slope.
 #[inline(always)]
-fn edge_slopes<V: LaneVector>(a: V, b: V, w: V, z0: V, c: Coefficients) -> V {
+fn edge_slopes<V: LaneVector>(a: V, b: V, w: f32, z0: V, c: Coefficients) -> (V, V) {
     let (da, db) = (a.sub(z0), b.sub(z0));
-    da.add(w.mul(db.sub(da))).mul(V::splat(c.scale)).sub(V::splat(c.lift))
+    let slope = da.add(V::splat(w).mul(db.sub(da))).mul(V::splat(c.scale)).sub(V::splat(c.lift));
+    let magnitude = da.abs().max(db.abs()).mul(V::splat(c.scale)).add(slope.abs());
+    let error = magnitude.add(V::splat(c.lift)).mul(V::splat(F32_ERROR));
+    (slope, error)
 }
 
 /// The lanes' `z00, z10, z01, z11` corners of the cell whose corner (0, 0) is `corner`
-/// from `base`, and whether each lane's cell is split along (0,0)-(1,1) (as a selection:
-/// `select(main, other)`).
+/// from `base`.
 #[inline(always)]
 fn cell<V: LaneVector>(z: &[f32], base: usize, stride: usize, corner: isize) -> [V; 4] {
     let at = offset(base, corner);
@@ -87,78 +95,159 @@ fn by_split<V: LaneVector>(c: &[V; 4], upside_down: bool, main: V, other: V) -> 
     }
 }
 
-/// Raises the lanes' `best` slopes to the steepest over the points of `step`.
+/// Whether the cell of corners `z00, z10, z01, z11` is split along (0,0)-(1,1), as
+/// [`by_split`] decides it.
 #[inline(always)]
-fn test_step<V: LaneVector>(
+fn main_split(z00: f32, z10: f32, z01: f32, z11: f32, upside_down: bool) -> bool {
+    let (sum_main, sum_anti) = (z00 + z11, z10 + z01);
+    if upside_down {
+        sum_anti <= sum_main
+    } else {
+        sum_main <= sum_anti
+    }
+}
+
+/// The lanes' best slopes: exact (f64, as the definition computes them) and, for the
+/// skipping, each rounded down to f32.
+struct Best<V> {
+    exact: [f64; LANES],
+    low: V,
+    /// The step whose point set each lane's best (0 for none).
+    steps: [u32; LANES],
+}
+
+/// The largest `f32` at most `x`.
+#[inline(always)]
+fn round_down(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) > x {
+        y.next_down()
+    } else {
+        y
+    }
+}
+
+impl<V: LaneVector> Best<V> {
+    /// Raises each lane to its slope of a point of step `step` where that is larger.
+    #[inline(always)]
+    fn raise(&mut self, slopes: [f64; LANES], step: u32) {
+        let mut raised = false;
+        for ((b, s), at) in self.exact.iter_mut().zip(slopes).zip(&mut self.steps) {
+            if s > *b {
+                (*b, *at, raised) = (s, step, true);
+            }
+        }
+        if raised {
+            self.low = V::from_array(self.exact.map(round_down));
+        }
+    }
+}
+
+/// The exact slopes (f64) of the points `a + w (b - a)`, `a` and `b` read from `z` at
+/// `at_a` and `at_b` for lane 0.
+#[inline(always)]
+fn exact_edge(
     z: &[f32],
-    base: usize,
-    stride: usize,
-    step: &Step,
-    z0: V,
-    upside_down: bool,
-    best: &mut V,
-) {
+    at_a: usize,
+    at_b: usize,
+    w: f64,
+    c: &Coefficients,
+    z0: &[f64; LANES],
+) -> [f64; LANES] {
+    std::array::from_fn(|i| {
+        let (da, db) = (f64::from(z[at_a + i]) - z0[i], f64::from(z[at_b + i]) - z0[i]);
+        (da + w * (db - da)) * c.scale64 - c.lift64
+    })
+}
+
+/// Raises the lanes' `best` slopes to the steepest over the points of `step`: each point in
+/// f32 first, and exactly where it may raise a lane.
+#[inline(always)]
+fn test_step<V: LaneVector>(grid: &Grid<V>, step: &Step, j: u32, best: &mut Best<V>) {
+    let Grid { z, base, stride, upside_down, z0, ref z0_exact } = *grid;
     for e in &step.edges {
-        let (za, zb) = (V::load(z, offset(base, e.a)), V::load(z, offset(base, e.b)));
-        *best = edge_slopes(za, zb, V::splat(e.w), z0, e.coefficients).max(*best);
+        let (at_a, at_b) = (offset(base, e.a), offset(base, e.b));
+        let (slope, error) =
+            edge_slopes(V::load(z, at_a), V::load(z, at_b), e.w, z0, e.coefficients);
+        if V::any_greater(slope.add(error), best.low) {
+            best.raise(exact_edge(z, at_a, at_b, e.w64, &e.coefficients, z0_exact), j);
+        }
     }
     for d in &step.diagonals {
         let c = cell::<V>(z, base, stride, d.corner);
         let [z00, z10, z01, z11] = c;
-        let on_main = edge_slopes(z00, z11, V::splat(d.main), z0, d.main_coefficients);
-        let on_anti = edge_slopes(z01, z10, V::splat(d.anti), z0, d.anti_coefficients);
-        *best = by_split(&c, upside_down, on_main, on_anti).max(*best);
+        let (main, main_error) = edge_slopes(z00, z11, d.main as f32, z0, d.main_coefficients);
+        let (anti, anti_error) = edge_slopes(z01, z10, d.anti as f32, z0, d.anti_coefficients);
+        let slope = by_split(&c, upside_down, main.add(main_error), anti.add(anti_error));
+        if V::any_greater(slope, best.low) {
+            let at = offset(base, d.corner);
+            let on_main =
+                exact_edge(z, at, at + stride + 1, d.main, &d.main_coefficients, z0_exact);
+            let on_anti =
+                exact_edge(z, at + stride, at + 1, d.anti, &d.anti_coefficients, z0_exact);
+            let split: [f64; LANES] = std::array::from_fn(|i| {
+                let (z00, z10) = (z[at + i], z[at + 1 + i]);
+                let (z01, z11) = (z[at + stride + i], z[at + stride + 1 + i]);
+                if main_split(z00, z10, z01, z11, upside_down) {
+                    on_main[i]
+                } else {
+                    on_anti[i]
+                }
+            });
+            best.raise(split, j);
+        }
     }
 }
 
-/// Raises the lanes' `best` slopes to the slope of the line's end at a radius.
+/// Raises the lanes' `best` slopes to the exact slope of the line's end at a radius.
 #[inline(always)]
 fn test_end<V: LaneVector>(
     z: &[f32],
     base: usize,
     stride: usize,
     end: &RadiusEnd,
-    z0: V,
+    z0_exact: &[f64; LANES],
     upside_down: bool,
-    best: &mut V,
+    best: &mut Best<V>,
 ) {
-    let c = cell::<V>(z, base, stride, end.corner);
-    let [d00, d10, d01, d11] = c.map(|v| v.sub(z0));
+    let at = offset(base, end.corner);
     let (s, q) = (end.s, end.q);
-    let (vs, vq) = (V::splat(s), V::splat(q));
-    let on_main = if s >= q {
-        d00.add(vs.mul(d10.sub(d00))).add(vq.mul(d11.sub(d10)))
-    } else {
-        d00.add(vq.mul(d01.sub(d00))).add(vs.mul(d11.sub(d01)))
-    };
-    let on_anti = if s + q <= 1.0 {
-        d00.add(vs.mul(d10.sub(d00))).add(vq.mul(d01.sub(d00)))
-    } else {
-        let (rs, rq) = (V::splat(1.0 - s), V::splat(1.0 - q));
-        d11.add(rs.mul(d01.sub(d11))).add(rq.mul(d10.sub(d11)))
-    };
-    let rise = by_split(&c, upside_down, on_main, on_anti);
-    let k = end.coefficients;
-    *best = rise.mul(V::splat(k.scale)).sub(V::splat(k.lift)).max(*best);
+    let slopes = std::array::from_fn(|i| {
+        let (z00, z10) = (z[at + i], z[at + 1 + i]);
+        let (z01, z11) = (z[at + stride + i], z[at + stride + 1 + i]);
+        let [d00, d10, d01, d11] = [z00, z10, z01, z11].map(|v| f64::from(v) - z0_exact[i]);
+        let rise = if main_split(z00, z10, z01, z11, upside_down) {
+            if s >= q {
+                d00 + s * (d10 - d00) + q * (d11 - d10)
+            } else {
+                d00 + q * (d01 - d00) + s * (d11 - d01)
+            }
+        } else if s + q <= 1.0 {
+            d00 + s * (d10 - d00) + q * (d01 - d00)
+        } else {
+            d11 + (1.0 - s) * (d01 - d11) + (1.0 - q) * (d10 - d11)
+        };
+        rise * end.coefficients.scale64 - end.coefficients.lift64
+    });
+    best.raise(slopes, end.step as u32);
 }
 
-/// Where a group of lanes reads its samples.
-struct Grid<'a> {
+/// Where a group of lanes reads its samples, and the lanes' own samples.
+struct Grid<'a, V> {
     z: &'a [f32],
     /// Lane 0's sample in `z`, and samples a row.
     base: usize,
     stride: usize,
     upside_down: bool,
+    z0: V,
+    z0_exact: [f64; LANES],
 }
 
-impl Grid<'_> {
-    /// Raises `best` to the steepest slope over the points of step `j` of `steps`, and marks
-    /// in `set_at` the lanes it raises.
+impl<V: LaneVector> Grid<'_, V> {
+    /// Raises `best` to the steepest slope over the points of step `j` of `steps`.
     #[inline(always)]
-    fn test<V: LaneVector>(&self, steps: &[Step], j: usize, z0: V, best: &mut V, set_at: &mut V) {
-        let before = *best;
-        test_step(self.z, self.base, self.stride, &steps[j], z0, self.upside_down, best);
-        *set_at = V::select_gt(*best, before, V::splat(j as f32), *set_at);
+    fn test(&self, steps: &[Step], j: usize, best: &mut Best<V>) {
+        test_step(self, &steps[j], j as u32, best);
     }
 }
 
@@ -176,7 +265,8 @@ impl LaneGroup<'_> {
         // ceiling.
         let wanted = self.wanted;
         let start: Lanes = std::array::from_fn(|i| if wanted[i] { self.lowest } else { f32::MAX });
-        let mut best = V::from_array(start);
+        let mut best =
+            Best { exact: start.map(f64::from), low: V::from_array(start), steps: [0; LANES] };
         let unwanted: Lanes = std::array::from_fn(|i| if wanted[i] { 0.0 } else { f32::INFINITY });
         let unwanted = V::from_array(unwanted);
         let last_over_frame = self.last_step();
@@ -184,15 +274,15 @@ impl LaneGroup<'_> {
         let steps = &stencil.steps[..];
         let group = self.direction.maxima.group(self.first_col, self.row);
         let footprints = &frame.footprints[..];
-        let mut set_at = V::splat(0.0);
-        let grid = Grid { z, base, stride, upside_down: self.upside_down };
+        let z0_exact = std::array::from_fn(|i| f64::from(z[base + i]));
+        let grid = Grid { z, base, stride, upside_down: self.upside_down, z0, z0_exact };
         // First the steps where the hints say the horizons are (three of them at most).
         let mut tried = [0; 3];
         for (slot, hint) in [0, LANES / 2, LANES - 1].into_iter().enumerate() {
             let j = self.hints[hint] as usize;
             if j >= 1 && j <= last && !tried.contains(&j) {
                 tried[slot] = j;
-                grid.test(steps, j, z0, &mut best, &mut set_at);
+                grid.test(steps, j, &mut best);
             }
         }
         let mut k = 1;
@@ -201,7 +291,7 @@ impl LaneGroup<'_> {
             if level > FIRST_LEVEL {
                 // A long stretch, against the maxima of the lines' bands.
                 let to = (k + (1 << level) - 1).min(last);
-                if self.band_highest(group, k, to) <= self.ceiling(z0, unwanted, k, to, best) {
+                if self.band_highest(group, k, to) <= self.ceiling(z0, unwanted, k, to, best.low) {
                     k = to + 1;
                     level = (level + 1).min(TOP_LEVEL);
                     while (k - 1) % (1 << level) != 0 {
@@ -218,11 +308,11 @@ impl LaneGroup<'_> {
             let step_highest = |step: &Step| footprints[offset(base, step.footprint)];
             let highest =
                 block.iter().map(step_highest).fold(OUTSIDE, |m, v| if v > m { v } else { m });
-            let limit = self.ceiling(z0, unwanted, k, to, best);
+            let limit = self.ceiling(z0, unwanted, k, to, best.low);
             if highest > limit {
                 for (j, step) in (k..=to).zip(block) {
                     if step_highest(step) > limit {
-                        grid.test(steps, j, z0, &mut best, &mut set_at);
+                        grid.test(steps, j, &mut best);
                     }
                 }
             }
@@ -232,15 +322,15 @@ impl LaneGroup<'_> {
             }
         }
         if let Some(end) = stencil.end.as_ref().filter(|e| e.step <= last_over_frame) {
-            test_end(z, base, stride, end, z0, self.upside_down, &mut best);
+            test_end(z, base, stride, end, &grid.z0_exact, self.upside_down, &mut best);
         }
-        let mut slopes = best.to_array();
+        let mut slopes = best.exact;
         for (b, wanted) in slopes.iter_mut().zip(self.wanted) {
             if !wanted {
-                *b = f32::NAN;
+                *b = f64::NAN;
             }
         }
-        LaneSlopes { slopes, steps: set_at.to_array().map(|j| j as u32) }
+        LaneSlopes { slopes, steps: best.steps }
     }
 
     /// The highest sample the lines of band group `group` read in steps `from..=to`.
@@ -291,7 +381,7 @@ impl LaneGroup<'_> {
     /// lies ahead.
     pub(crate) fn angles(&self) -> (Lanes, [u32; LANES]) {
         let LaneSlopes { slopes, steps } = dispatch(self);
-        (slopes.map(|s| if s < NO_SURFACE { 0.0 } else { atan(s) }), steps)
+        (slopes.map(|s| if s < NO_SURFACE { 0.0 } else { atan(s as f32) }), steps)
     }
 }
 
@@ -348,7 +438,7 @@ fn slopes_avx2(group: &LaneGroup) -> LaneSlopes {
     group.slopes::<Portable>()
 }
 
-const _: () = assert!(OUTSIDE < NO_SURFACE);
+const _: () = assert!((OUTSIDE as f64) < NO_SURFACE);
 
 #[cfg(test)]
 pub(crate) mod tests {

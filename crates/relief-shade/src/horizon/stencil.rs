@@ -15,12 +15,15 @@ pub(crate) struct EdgePoint {
     pub a: isize,
     pub b: isize,
     pub w: f32,
+    /// `w` in f64, for the exact slope.
+    pub w64: f64,
     pub coefficients: Coefficients,
 }
 
 impl EdgePoint {
     /// No point (its slope is -infinity).
-    const NONE: EdgePoint = EdgePoint { a: 0, b: 0, w: 0.0, coefficients: Coefficients::NONE };
+    const NONE: EdgePoint =
+        EdgePoint { a: 0, b: 0, w: 0.0, w64: 0.0, coefficients: Coefficients::NONE };
 }
 
 /// A point on the split diagonal of the cell whose corner (0, 0) is `corner`: at `main`
@@ -30,9 +33,9 @@ impl EdgePoint {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct DiagonalPoint {
     pub corner: isize,
-    pub main: f32,
+    pub main: f64,
     pub main_coefficients: Coefficients,
-    pub anti: f32,
+    pub anti: f64,
     pub anti_coefficients: Coefficients,
 }
 
@@ -53,8 +56,8 @@ impl DiagonalPoint {
 pub(crate) struct RadiusEnd {
     pub step: usize,
     pub corner: isize,
-    pub s: f32,
-    pub q: f32,
+    pub s: f64,
+    pub q: f64,
     pub coefficients: Coefficients,
 }
 
@@ -65,11 +68,15 @@ pub(crate) struct RadiusEnd {
 pub(crate) struct Coefficients {
     pub scale: f32,
     pub lift: f32,
+    /// The same in f64, for the exact slope.
+    pub scale64: f64,
+    pub lift64: f64,
 }
 
 impl Coefficients {
     /// The coefficients of a point that is not there: every slope to it is -infinity.
-    pub const NONE: Coefficients = Coefficients { scale: 0.0, lift: f32::INFINITY };
+    pub const NONE: Coefficients =
+        Coefficients { scale: 0.0, lift: f32::INFINITY, scale64: 0.0, lift64: f64::INFINITY };
 }
 
 /// The points of one step: the crossings of column `k` and of a row (each may be
@@ -122,7 +129,8 @@ impl Stencil {
         let stride = stride as isize;
         let coefficients = |kappa: f64| {
             let t = kappa * metres_per_step;
-            Coefficients { scale: (z_scale / t) as f32, lift: (observer_height / t) as f32 }
+            let (scale64, lift64) = (z_scale / t, observer_height / t);
+            Coefficients { scale: scale64 as f32, lift: lift64 as f32, scale64, lift64 }
         };
         let at = |col: isize, row: isize| col + row * stride;
         let snap = |v: f64| -> f64 {
@@ -164,6 +172,7 @@ impl Stencil {
                             a: at(col, j as isize),
                             b: at(col + 1, j as isize),
                             w: (x - x.floor()) as f32,
+                            w64: x - x.floor(),
                             coefficients: coefficients(kappa),
                         };
                         breaks.push(kappa);
@@ -188,7 +197,7 @@ impl Stencil {
                     |kappa: &f64| !on_grid_line && *kappa > a + ON_GRID && *kappa < b - ON_GRID;
                 let candidate = |kappa: Option<f64>| {
                     kappa.filter(inside).map_or((0.0, Coefficients::NONE), |kappa| {
-                        ((sx * kappa - cx) as f32, coefficients(kappa))
+                        (sx * kappa - cx, coefficients(kappa))
                     })
                 };
                 let (main, main_coefficients) = candidate((sx != m).then(|| (cx - cy) / (sx - m)));
@@ -200,8 +209,8 @@ impl Stencil {
                     end_point = Some(RadiusEnd {
                         step: k,
                         corner,
-                        s: (sx * end - cx).clamp(0.0, 1.0) as f32,
-                        q: (m * end - cy).clamp(0.0, 1.0) as f32,
+                        s: (sx * end - cx).clamp(0.0, 1.0),
+                        q: (m * end - cy).clamp(0.0, 1.0),
                         coefficients: coefficients(end),
                     });
                 }
@@ -214,6 +223,7 @@ impl Stencil {
                     a: at(col, row),
                     b: at(col, row + 1),
                     w: (y - y.floor()) as f32,
+                    w64: y - y.floor(),
                     coefficients: coefficients(k1),
                 };
             }
