@@ -7,6 +7,7 @@
 
 use super::lane_frame::{BandMaxima, LaneFrame, FIRST_LEVEL, LANES, OUTSIDE};
 use super::lane_vector::{LaneVector, Portable};
+use super::march::Corners;
 use super::stencil::{Coefficients, RadiusEnd, Stencil, Step};
 
 /// The values of the lanes.
@@ -216,17 +217,9 @@ fn test_end<V: LaneVector>(
         let (z00, z10) = (z[at + i], z[at + 1 + i]);
         let (z01, z11) = (z[at + stride + i], z[at + stride + 1 + i]);
         let [d00, d10, d01, d11] = [z00, z10, z01, z11].map(|v| f64::from(v) - z0_exact[i]);
-        let rise = if main_split(z00, z10, z01, z11, upside_down) {
-            if s >= q {
-                d00 + s * (d10 - d00) + q * (d11 - d10)
-            } else {
-                d00 + q * (d01 - d00) + s * (d11 - d01)
-            }
-        } else if s + q <= 1.0 {
-            d00 + s * (d10 - d00) + q * (d01 - d00)
-        } else {
-            d11 + (1.0 - s) * (d01 - d11) + (1.0 - q) * (d10 - d11)
-        };
+        let main_diagonal = main_split(z00, z10, z01, z11, upside_down);
+        let rise =
+            Corners { z00: d00, z10: d10, z01: d01, z11: d11, main_diagonal }.height_at(s, q);
         rise * end.coefficients.scale64 - end.coefficients.lift64
     });
     best.raise(slopes, end.step as u32);

@@ -49,19 +49,19 @@ pub(crate) struct MarchTerrain<'a> {
 }
 
 /// The four corners of a cell in signed world heights, and its split.
-struct Corners {
-    z00: f64,
-    z10: f64,
-    z01: f64,
-    z11: f64,
+pub(crate) struct Corners {
+    pub z00: f64,
+    pub z10: f64,
+    pub z01: f64,
+    pub z11: f64,
     /// Split along (0,0)-(1,1), else along (1,0)-(0,1).
-    main_diagonal: bool,
+    pub main_diagonal: bool,
 }
 
 impl Corners {
     /// The surface's height at local coordinates (`s`, `q`) in `[0, 1]^2`.
     #[inline(always)]
-    fn height_at(&self, s: f64, q: f64) -> f64 {
+    pub(crate) fn height_at(&self, s: f64, q: f64) -> f64 {
         let Corners { z00, z10, z01, z11, main_diagonal } = *self;
         if main_diagonal {
             if s >= q {
