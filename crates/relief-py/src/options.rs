@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::{DVec2, GridGeometry, Surface};
 use relief_io::{PngEncoding, VoidPolicy};
-use relief_render::TracerChoice;
+use relief_render::{Antialiasing, TracerChoice};
 use relief_trace::TracerKind;
 use std::ops::RangeInclusive;
 
@@ -135,6 +135,18 @@ pub fn tracer(name: &str) -> PyResult<TracerKind> {
              (expected naive or mipmap; relief.open takes every tracer relief render does)"
         ))),
     }
+}
+
+/// The anti-aliasing `aa` asks for: ``"adaptive"`` (the default), ``"off"``, or the side `N`
+/// of a pixel's grid of samples, 1 to 8 (as `relief render --aa`).
+pub fn antialiasing(aa: &Bound<'_, PyAny>) -> PyResult<Antialiasing> {
+    let text = match aa.extract::<i64>() {
+        Ok(n) => n.to_string(),
+        Err(_) => aa.extract::<String>().map_err(|_| {
+            invalid("aa must be \"adaptive\", \"off\" or a grid side N from 1 to 8")
+        })?,
+    };
+    text.parse().map_err(invalid)
 }
 
 /// The void policy named `name`: `fill` (nearest valid sample, then smoothed, as the command

@@ -28,7 +28,9 @@ use relief_render::{
 /// alone frames automatically with that field of view. ``size``: ``(width, height)`` in
 /// pixels. ``surface``: ``"triangles"`` or ``"boxes"``; ``tracer``: ``"mipmap"`` or
 /// ``"naive"``. ``sun``: ``(azimuth, elevation)`` in degrees; ``shadows``; ``exposure``;
-/// ``voids``: ``"fill"`` or ``"hole"``.
+/// ``voids``: ``"fill"`` or ``"hole"``. ``aa``: anti-aliasing, ``"adaptive"`` (one ray a
+/// pixel, then 4 in the pixels on edges), ``"off"``, or N for N x N rays in every pixel
+/// (1 to 8); the depth stays that of each pixel's centre ray.
 ///
 /// Returns ``(rgb, depth)``: ``rgb`` a uint8 array (height, width, 3), ``depth`` a float32
 /// array (height, width), row 0 the image's top row, the distance from the eye to the first
@@ -40,7 +42,7 @@ use relief_render::{
 #[pyo3(signature = (
     heights, spacing=None, *, origin=None, z_scale=1.0, camera=None, size=(1280, 720),
     surface="triangles", tracer="mipmap", sun=(315.0, 35.0), shadows=true, exposure=1.0,
-    voids="fill"
+    voids="fill", aa=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
@@ -57,8 +59,10 @@ pub fn render<'py>(
     shadows: bool,
     exposure: f64,
     voids: &str,
+    aa: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Rendered<'py>> {
     let (width, height) = options::image_size(size)?;
+    let aa = aa.map(options::antialiasing).transpose()?.unwrap_or_default();
     let holding = ImageHolding::Strips { depth: true, normals: false };
     check_image(width, height, holding, None, None)?;
     let geometry = options::geometry(spacing, origin, z_scale)?;
@@ -88,6 +92,6 @@ pub fn render<'py>(
     });
     let camera = spec.camera(py, &scene.bounds(), width, height)?;
     let keep = KeptHits { depth: true, normals: false };
-    let picture = py.detach(|| scene.render(&camera, keep, &Silent)).map_err(argument)?;
+    let picture = py.detach(|| scene.render(&camera, keep, aa, &Silent)).map_err(argument)?;
     arrays(py, picture)
 }

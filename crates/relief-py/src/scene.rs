@@ -152,15 +152,19 @@ impl PyScene {
     /// (height, width) of the distance from the eye to each pixel's first hit, +inf for a
     /// miss: the picture ``relief render`` writes for the same input, options and camera,
     /// pixel for pixel. An eye inside the terrain, or an up along the view, is warned of
-    /// (``UserWarning``). The GIL is released while the scene is drawn.
-    #[pyo3(signature = (camera=None, size=(1280, 720)))]
+    /// (``UserWarning``). ``aa``: anti-aliasing, ``"adaptive"`` (the default), ``"off"`` or
+    /// N for N x N rays a pixel, as ``relief render --aa``. The GIL is released while the
+    /// scene is drawn.
+    #[pyo3(signature = (camera=None, size=(1280, 720), aa=None))]
     fn render<'py>(
         &self,
         py: Python<'py>,
         camera: Option<&Bound<'py, PyDict>>,
         size: (i64, i64),
+        aa: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Rendered<'py>> {
         let (width, height) = options::image_size(size)?;
+        let aa = aa.map(options::antialiasing).transpose()?.unwrap_or_default();
         let spec = CameraSpec::from_dict(camera, SCENE_KEYS)?;
         let options = spec.options(width, height);
         let (holding, max_memory) = py.detach(|| {
@@ -174,7 +178,7 @@ impl PyScene {
             let placed = scene.camera(&options)?;
             let inside = scene.camera_warning(&placed.camera);
             let keep = KeptHits { depth: true, normals: false };
-            let picture = scene.render(&placed.camera, keep, &Silent)?;
+            let picture = scene.render(&placed.camera, keep, aa, &Silent)?;
             Ok::<_, RenderError>(Drawn { picture, note: placed.note, inside })
         });
         let drawn = drawn.map_err(scene_error)?;

@@ -33,10 +33,14 @@ CASES = [
         ["--spacing", "2.5", "--sun", "90,10", "--exposure", "2", "--eye", "60,140,80",
          "--target", "160,0,0", "--up", "0,0.3,1", "--fov", "60"],
     ),
+    (dict(camera=CAMERA, aa=3), ["--eye", "-20,-30,45", "--target", "24,20,4", "--aa", "3"]),
+    (dict(aa="off"), ["--aa", "off"]),
 ]
 
 
-@pytest.mark.parametrize("kwargs, args", CASES, ids=["camera", "framed", "boxes-naive", "placed"])
+@pytest.mark.parametrize(
+    "kwargs, args", CASES, ids=["camera", "framed", "boxes-naive", "placed", "aa-3", "aa-off"]
+)
 def test_render_equals_the_command_line(tmp_path, run_relief, terrain, kwargs, args):
     np.save(tmp_path / "h.npy", terrain)
     if "origin" in kwargs:
@@ -87,3 +91,16 @@ def test_render_of_a_read_npy_equals_the_command_line(tmp_path, run_relief, terr
     rgb, depth = relief.render(*relief.read(tmp_path / "h.npy"), size=(48, 32))
     cli_rgb, cli_depth = cli_render(run_relief, tmp_path, tmp_path / "h.npy", ["--size", "48x32"])
     assert np.array_equal(rgb, cli_rgb) and np.array_equal(depth, cli_depth)
+
+
+def test_anti_aliasing_changes_only_the_edges_and_keeps_the_depth(terrain):
+    off, depth_off = relief.render(terrain, size=(64, 48), aa="off")
+    adaptive, depth = relief.render(terrain, size=(64, 48))
+    grid, depth_grid = relief.render(terrain, size=(64, 48), aa=4)
+    assert np.array_equal(depth, depth_off) and np.array_equal(depth_grid, depth_off)
+    changed = (adaptive != off).any(axis=2)
+    assert 0 < changed.mean() < 0.5, "some pixels, not most"
+    assert (grid != off).any(axis=2).mean() > changed.mean()
+    for bad in ["fast", 0, 9, 2.5]:
+        with pytest.raises(relief.ReliefError):
+            relief.render(terrain, size=(8, 8), aa=bad)

@@ -6,6 +6,7 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod antialias;
 pub mod camera;
 pub mod draw;
 pub mod error;
@@ -19,6 +20,7 @@ pub mod simulation;
 pub mod tracer_spec;
 pub mod warnings;
 
+pub use antialias::Antialiasing;
 pub use camera::{place_camera, CameraOptions, PlacedCamera, ViewAngles, DEFAULT_FOV_DEG};
 pub use draw::mesh::StacksDrawing;
 pub use draw::picture::Picture;

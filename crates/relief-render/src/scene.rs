@@ -1,6 +1,7 @@
 //! A scene: any input relief takes, opened with its tracer or renderer and its shading, drawn
 //! from a camera.
 
+use crate::antialias::{self, Antialiasing};
 use crate::camera::{place_camera, CameraOptions, PlacedCamera};
 use crate::draw::mesh::StacksDrawing;
 use crate::draw::picture::Picture;
@@ -15,7 +16,7 @@ use crate::scenes::stacks::StacksScene;
 use crate::scenes::store::StoreScene;
 use crate::tracer_spec::TracerChoice;
 use relief_core::{Aabb, Camera};
-use relief_shade::KeptHits;
+use relief_shade::{KeptHits, PixelMask};
 use std::path::Path;
 
 /// Any input, opened to draw.
@@ -105,31 +106,49 @@ impl Scene {
         }
     }
 
-    /// The picture of `camera`, keeping the depth and normals `keep` asks for; long work is
+    /// The picture of `camera`, anti-aliased as `aa` says, keeping the depth and normals
+    /// `keep` asks for (those of the rays through the pixels' centres); long work is
     /// reported to `progress`.
     pub fn render(
         &self,
         camera: &Camera,
         keep: KeptHits,
+        aa: Antialiasing,
         progress: &dyn Progress,
     ) -> Result<Picture, RenderError> {
+        // The renderers that rasterize (and the tile store's) draw every pixel of every pass.
+        type WholePass<'a> = &'a dyn Fn(&Camera, KeptHits, &dyn Progress) -> PictureResult;
+        let whole = |draw: WholePass| {
+            let mut pass =
+                |camera: &Camera, keep, _: Option<&PixelMask>, progress: &dyn Progress| {
+                    draw(camera, keep, progress)
+                };
+            antialias::draw(camera, keep, aa, progress, &mut pass)
+        };
         match self {
             Scene::HeightField(scene) => match scene.choice {
-                TracerChoice::Hybrid => hybrid::draw(scene, camera, keep),
-                TracerChoice::Clipmap => clipmap::draw(scene, camera, keep),
-                _ => strips::draw(scene, camera, keep, progress),
+                TracerChoice::Hybrid => whole(&|camera, keep, _| hybrid::draw(scene, camera, keep)),
+                TracerChoice::Clipmap => {
+                    whole(&|camera, keep, _| clipmap::draw(scene, camera, keep))
+                }
+                _ => strips::draw(scene, camera, keep, aa, progress),
             },
-            Scene::Mlhm(scene) => mlhm::draw(scene, camera, keep, progress),
-            Scene::Stacks(scene) => {
+            Scene::Mlhm(scene) => mlhm::draw(scene, camera, keep, aa, progress),
+            Scene::Stacks(scene) => whole(&|camera, keep, progress| {
                 progress.begin("meshing", None);
                 let picture = scene.draw(camera, keep);
                 progress.end();
                 picture
+            }),
+            Scene::Store(scene) => {
+                whole(&|camera, keep, progress| store::draw(scene, camera, keep, progress))
             }
-            Scene::Store(scene) => store::draw(scene, camera, keep, progress),
         }
     }
 }
+
+/// A picture, or why it could not be drawn.
+type PictureResult = Result<Picture, RenderError>;
 
 /// Whether an input of `kind` opened with `options` is drawn as a stacks mesh: a .stacks
 /// file, or any input but a tile store in mesh mode.

@@ -6,6 +6,7 @@ use relief_trace::Tracer;
 
 use crate::error::non_negative;
 use crate::gbuffer::image_plane;
+use crate::pixel_mask::PixelMask;
 use crate::simd_shading::shade_strip_in_lanes;
 use crate::sky::validate_fog_density;
 use crate::tonemap::srgb8_pixel;
@@ -244,6 +245,8 @@ pub(crate) struct ShadingPass<'a> {
     pub(crate) params: &'a ShadingParams,
     pub(crate) to_sun: DVec3,
     sky_ambient: DVec3,
+    /// The pixels shaded, where not all ([`ShadingPass::marked`]).
+    pub(crate) mask: Option<&'a PixelMask>,
 }
 
 impl<'a> ShadingPass<'a> {
@@ -264,7 +267,14 @@ impl<'a> ShadingPass<'a> {
             params,
             to_sun: params.sun.direction(),
             sky_ambient: params.sky.ambient(),
+            mask: None,
         }
+    }
+
+    /// The pass shading only the pixels `mask` marks (in whole tiles, or runs of
+    /// [`TILE_SIZE`] pixels of a row, that hold one): the others are left as they were.
+    pub(crate) fn marked(self, mask: Option<&'a PixelMask>) -> Self {
+        ShadingPass { mask, ..self }
     }
 
     /// Shades the image rows from `top` on (at most [`TILE_SIZE`], all in the G-buffer) into
@@ -282,6 +292,9 @@ impl<'a> ShadingPass<'a> {
         let mut shadows = ShadowTile::default();
         for tile_x in (0..width).step_by(TILE_SIZE) {
             let tile = Tile::new(tile_x, top, width, top + rows);
+            if self.mask.is_some_and(|m| !m.any_in_tile(tile)) {
+                continue;
+            }
             shadows.trace(self, tile, &mut stats);
             let seen = shadows.views.iter().zip(&shadows.visibility);
             for ((i, j), (view, &visibility)) in tile.pixels().zip(seen) {

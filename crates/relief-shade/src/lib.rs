@@ -57,6 +57,7 @@ mod gbuffer;
 pub mod horizon;
 pub mod hybrid;
 pub mod mlhm;
+mod pixel_mask;
 mod ray_batch;
 mod render;
 mod renderer;
@@ -82,6 +83,7 @@ pub use depth_metrics::{depth_errors, depth_metrics, DepthImage, DepthMetrics, D
 pub use error::ShadeError;
 pub use gbuffer::{GBuffer, GBufferPixel};
 pub use hybrid::{FarField, HybridParams, HybridRenderer, HybridStats, PixelSource};
+pub use pixel_mask::PixelMask;
 pub use ray_batch::RayBatch;
 pub use relief_core::colour::{linear_to_srgb, srgb_to_linear};
 pub use relief_core::texture::{
@@ -97,7 +99,9 @@ pub use simd_shading::{LaneWidth, ShadingKernel};
 pub use sky::{aerial_perspective, fog_density_for_scene, Sky, FOG_AT_TWICE_DIAGONAL};
 pub use stacks_renderer::{StacksFrameStats, StacksRenderer};
 pub use stats::TraceStats;
-pub use strip_render::{render_to_srgb8, KeptHits, StripRender, StripRenderStats};
+pub use strip_render::{
+    render_marked_to_srgb8, render_to_srgb8, KeptHits, StripRender, StripRenderStats, StripTracers,
+};
 pub use sun::{
     light_visibility, shadow_ray, shadow_ray_offset, sun_direction, sun_shadow_sweep, Sun,
     SHADOW_BIAS,

@@ -5,6 +5,7 @@ use relief_core::{Aabb, Camera, DVec3, Ray};
 use relief_trace::{Hit, Tracer};
 
 use crate::gbuffer::GBufferRows;
+use crate::pixel_mask::PixelMask;
 use crate::{shadow_ray, Albedo, GBuffer, GBufferPixel, RayBatch, ShadeError, TraceStats};
 
 /// Side of the square image tiles traced as one unit of parallel work, in pixels.
@@ -170,19 +171,23 @@ pub fn render_gbuffer_into(
     let stats = gbuffer
         .strips_mut(TILE_SIZE)
         .enumerate()
-        .map(|(s, mut strip)| trace_strip(tracer, &encoder, s * TILE_SIZE, &mut strip, progress))
+        .map(|(s, mut strip)| {
+            trace_strip(tracer, &encoder, s * TILE_SIZE, &mut strip, None, progress)
+        })
         .reduce(TraceStats::default, TraceStats::merge);
     Ok(stats)
 }
 
 /// Traces the camera rays of the image rows from `top` on that `strip` holds (whole rows of
 /// the camera's image, at most [`TILE_SIZE`]) into it, tile by tile, each tile's rays as one
-/// batch, calling `progress` with each tile's pixel count.
+/// batch, calling `progress` with each tile's pixel count. With a `mask`, only its pixels
+/// are traced, the others written as misses.
 pub(crate) fn trace_strip(
     tracer: &dyn Tracer,
     encoder: &HitEncoder,
     top: usize,
     strip: &mut GBufferRows,
+    mask: Option<&PixelMask>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> TraceStats {
     let width = encoder.camera.width() as usize;
@@ -192,9 +197,24 @@ pub(crate) fn trace_strip(
     for tile_x in (0..width).step_by(TILE_SIZE) {
         let tile = Tile::new(tile_x, top, width, top + rows);
         batch.clear();
-        tile.camera_rays(encoder.camera, &mut batch.rays);
+        match mask {
+            None => tile.camera_rays(encoder.camera, &mut batch.rays),
+            // A tile without a marked pixel is left as it was: nothing reads it.
+            Some(mask) if !mask.any_in_tile(tile) => continue,
+            Some(mask) => {
+                for (i, j) in tile.pixels() {
+                    if mask.contains(i, j) {
+                        // (i, j) lies inside the camera's u32 image.
+                        batch.rays.push(encoder.camera.ray(i as u32, j as u32));
+                    } else {
+                        encoder.write(strip, i + (j - top) * width, None);
+                    }
+                }
+            }
+        }
         batch.intersect(tracer);
-        for (n, (i, j)) in tile.pixels().enumerate() {
+        let traced = tile.pixels().filter(|&(i, j)| mask.is_none_or(|m| m.contains(i, j)));
+        for (n, (i, j)) in traced.enumerate() {
             let (hit, steps) = (batch.hits[n], batch.steps[n]);
             stats.record(steps, hit.is_some());
             encoder.write(strip, i + (j - top) * width, hit);

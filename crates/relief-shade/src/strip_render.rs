@@ -9,6 +9,7 @@ use relief_trace::Tracer;
 
 use crate::deferred::ShadingPass;
 use crate::gbuffer::image_plane;
+use crate::pixel_mask::PixelMask;
 use crate::render::{trace_strip, HitEncoder};
 use crate::{GBuffer, ShadeError, ShadingKernel, ShadingParams, TraceStats, TILE_SIZE};
 
@@ -70,6 +71,57 @@ pub fn render_to_srgb8(
     keep: KeptHits,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<StripRender, ShadeError> {
+    let tracers = StripTracers { primary: tracer, shadow: shadow_tracer };
+    render_strips(tracers, camera, bounds, params, keep, None, progress)
+}
+
+/// [`render_to_srgb8`] of the pixels `mask` marks only: each is the byte [`render_to_srgb8`]
+/// gives it (its depth and normal too); the others, undrawn, hold the colour of a miss or
+/// none (black, a depth and normal of zeros), at almost no cost, so that an anti-aliasing
+/// pass samples again only the pixels that need it. Fails as [`render_to_srgb8`] does, and when the mask is not of the
+/// camera's image size.
+pub fn render_marked_to_srgb8(
+    tracers: StripTracers,
+    camera: &Camera,
+    bounds: &Aabb,
+    params: &ShadingParams,
+    keep: KeptHits,
+    mask: &PixelMask,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<StripRender, ShadeError> {
+    if !mask.fits(camera.width() as usize, camera.height() as usize) {
+        return Err(ShadeError::Limits(format!(
+            "a mask of {} x {} pixels for a picture of {} x {}",
+            mask.width(),
+            mask.height(),
+            camera.width(),
+            camera.height()
+        )));
+    }
+    render_strips(tracers, camera, bounds, params, keep, Some(mask), progress)
+}
+
+/// The tracers of a strip render: the camera rays', and the shadow rays' (the same tracer, or
+/// one that decides the sun's shadow rays faster).
+#[derive(Clone, Copy)]
+pub struct StripTracers<'a> {
+    /// Traces the camera rays.
+    pub primary: &'a dyn Tracer,
+    /// Traces the shadow rays.
+    pub shadow: &'a dyn Tracer,
+}
+
+/// [`render_to_srgb8`], of the pixels `mask` marks where there is one.
+fn render_strips(
+    tracers: StripTracers,
+    camera: &Camera,
+    bounds: &Aabb,
+    params: &ShadingParams,
+    keep: KeptHits,
+    mask: Option<&PixelMask>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<StripRender, ShadeError> {
+    let StripTracers { primary: tracer, shadow: shadow_tracer } = tracers;
     params.validate()?;
     let (width, height) = (camera.width() as usize, camera.height() as usize);
     // The strip G-buffer also refuses an empty image.
@@ -105,11 +157,15 @@ pub fn render_to_srgb8(
                     ))
                 })?;
                 let (top, pixels) = (strip.top, strip.rgb.len());
+                if mask.is_some_and(|m| !m.any_in_rows(top, pixels / width)) {
+                    return Ok(StripTotals::default());
+                }
                 let traced = Instant::now();
                 let mut rows = strip_gbuffer.rows_mut(pixels / width);
-                let primary = trace_strip(tracer, &encoder, top, &mut rows, progress);
+                let primary = trace_strip(tracer, &encoder, top, &mut rows, mask, progress);
                 let shaded = Instant::now();
-                let pass = ShadingPass::new(strip_gbuffer, top, shadow_tracer, camera, params);
+                let pass = ShadingPass::new(strip_gbuffer, top, shadow_tracer, camera, params)
+                    .marked(mask);
                 let shadow = pass.shade_strip_srgb8(top, strip.rgb, kernel.as_ref());
                 if let Some(depth) = strip.depth {
                     depth.copy_from_slice(&strip_gbuffer.distance[..pixels]);

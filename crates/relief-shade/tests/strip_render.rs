@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use relief_core::{Camera, GridGeometry, HeightField, Surface};
 use relief_shade::{
-    render_gbuffer, render_to_srgb8, shade_to_srgb8, sun_shadow_sweep, Albedo, KeptHits,
-    RgbTexture, ShadingParams,
+    render_gbuffer, render_marked_to_srgb8, render_to_srgb8, shade_to_srgb8, sun_shadow_sweep,
+    Albedo, KeptHits, PixelMask, RgbTexture, ShadingParams, StripTracers,
 };
 use relief_trace::{build_tracer, TracerKind};
 
@@ -104,4 +104,52 @@ fn bad_parameters_are_refused() {
     params.exposure = -1.0;
     let keep = KeptHits::default();
     assert!(render_to_srgb8(&*tracer, &*tracer, &camera, &bounds, &params, keep, &|_| {}).is_err());
+}
+
+#[test]
+fn a_marked_render_draws_the_marked_pixels_as_the_whole_render_does() {
+    let field = terrain();
+    for (surface, (w, h), shadows) in
+        [(Surface::Triangles, (75, 47), true), (Surface::Boxes, (53, 40), false)]
+    {
+        let bounds = field.world_bounds(surface);
+        let tracer = build_tracer(field.clone(), surface, TracerKind::Mipmap);
+        let camera = Camera::frame(&bounds, w, h).unwrap();
+        let mut params = ShadingParams::for_terrain(&bounds).unwrap();
+        params.sun.elevation_deg = 18.0;
+        params.shadows = shadows;
+        let keep = KeptHits { depth: true, normals: true };
+        let whole =
+            render_to_srgb8(&*tracer, &*tracer, &camera, &bounds, &params, keep, &|_| {}).unwrap();
+        // Scattered pixels, a run across a tile's edge, and a whole corner tile.
+        let marked = |i: usize, j: usize| {
+            (i * 7 + j * 13) % 23 == 0 || (j == 20 && (10..40).contains(&i)) || (i < 16 && j < 16)
+        };
+        let mask = PixelMask::from_fn(w as usize, h as usize, marked);
+        let tracers = StripTracers { primary: &*tracer, shadow: &*tracer };
+        let got = render_marked_to_srgb8(tracers, &camera, &bounds, &params, keep, &mask, &|_| {})
+            .unwrap();
+        let (depth, normals) = (got.depth.unwrap(), got.normals.unwrap());
+        for k in 0..(w * h) as usize {
+            let (i, j) = (k % w as usize, k / w as usize);
+            if marked(i, j) {
+                let case = format!("{surface} pixel ({i}, {j})");
+                assert_eq!(got.rgb[k], whole.rgb[k], "{case}");
+                assert_eq!(
+                    depth[k].to_bits(),
+                    whole.depth.as_ref().unwrap()[k].to_bits(),
+                    "{case}"
+                );
+                assert_eq!(normals[k], whole.normals.as_ref().unwrap()[k], "{case}");
+            }
+        }
+        assert!(
+            got.stats.primary.rays < whole.stats.primary.rays / 2,
+            "only the marked are traced"
+        );
+        // A mask of another size is refused.
+        let other = PixelMask::from_fn(w as usize + 1, h as usize, marked);
+        assert!(render_marked_to_srgb8(tracers, &camera, &bounds, &params, keep, &other, &|_| {})
+            .is_err());
+    }
 }

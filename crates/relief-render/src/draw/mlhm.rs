@@ -2,18 +2,20 @@
 //! paper does (Nilles & Müller 2025, sections 4.6 and 5) at a quality preset.
 
 use super::picture::{kept_arrays, ms_since, object, Picture};
+use crate::antialias::{self, Antialiasing};
 use crate::error::RenderError;
 use crate::options::RenderMode;
 use crate::progress::Progress;
 use crate::scenes::mlhm::{LayeredScene, MlhmTracerChoice};
 use relief_core::{Camera, Precision};
-use relief_shade::mlhm::{render_mlhm, MlhmRayCounts, MlhmShading};
-use relief_shade::{tonemap_reinhard_to_rgb8, KeptHits};
+use relief_shade::mlhm::{render_mlhm, render_mlhm_marked, MlhmRayCounts, MlhmShading};
+use relief_shade::{tonemap_reinhard_to_rgb8, KeptHits, PixelMask};
 use relief_trace::MlhmTracer;
 use serde_json::json;
 use std::time::Instant;
 
-/// Draws `scene` from `camera`, keeping the depth and normals `keep` asks for.
+/// Draws `scene` from `camera`, anti-aliased as `aa` says, keeping the depth and normals
+/// `keep` asks for.
 ///
 /// The renderer traces and shades each pixel in one pass: the statistics put that pass in
 /// `trace_ms` and the tone mapping in `shade_ms`.
@@ -21,17 +23,39 @@ pub fn draw(
     scene: &LayeredScene,
     camera: &Camera,
     keep: KeptHits,
+    aa: Antialiasing,
+    progress: &dyn Progress,
+) -> Result<Picture, RenderError> {
+    let (mode, choice) = (scene.mode, scene.choice);
+    let build_started = Instant::now();
+    let tracer = scene.tracer(mode, choice, scene.shading.quality.central_differences)?;
+    let build_ms = ms_since(build_started);
+    let mut pass = |camera: &Camera, keep, mask: Option<&PixelMask>, progress: &dyn Progress| {
+        draw_pass(scene, tracer.as_ref(), build_ms, camera, keep, mask, progress)
+    };
+    antialias::draw(camera, keep, aa, progress, &mut pass)
+}
+
+/// One pass of [`draw`] with `tracer` (built in `build_ms`): the whole picture of `camera`,
+/// or the pixels `mask` marks.
+fn draw_pass(
+    scene: &LayeredScene,
+    tracer: &dyn MlhmTracer,
+    build_ms: f64,
+    camera: &Camera,
+    keep: KeptHits,
+    mask: Option<&PixelMask>,
     progress: &dyn Progress,
 ) -> Result<Picture, RenderError> {
     let (mode, choice, shading) = (scene.mode, scene.choice, &scene.shading);
-    let build_started = Instant::now();
-    let tracer = scene.tracer(mode, choice, shading.quality.central_differences)?;
-    let build_ms = ms_since(build_started);
-
     let (w, h) = (camera.width(), camera.height());
     progress.begin("rendering", Some(w as u64 * h as u64));
     let render_started = Instant::now();
-    let image = render_mlhm(tracer.as_ref(), camera, shading, &|n| progress.advance(n));
+    let advance = |n| progress.advance(n);
+    let image = match mask {
+        Some(mask) => render_mlhm_marked(tracer, camera, shading, mask, &advance),
+        None => render_mlhm(tracer, camera, shading, &advance),
+    };
     let render_ms = ms_since(render_started);
     progress.end();
     let mut image = image?;

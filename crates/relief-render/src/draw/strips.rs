@@ -3,21 +3,25 @@
 
 use super::field_picture::{field_stats, FieldCounts};
 use super::picture::{ms_since, Picture};
+use crate::antialias::{self, Antialiasing};
 use crate::error::RenderError;
 use crate::progress::Progress;
 use crate::scenes::height_field::{check_safety_view, HeightFieldScene};
 use relief_core::Camera;
-use relief_shade::{render_to_srgb8, sun_shadow_sweep, KeptHits};
+use relief_shade::{
+    render_marked_to_srgb8, render_to_srgb8, sun_shadow_sweep, KeptHits, PixelMask, StripTracers,
+};
 use relief_trace::Tracer;
 use serde_json::json;
 use std::time::Instant;
 
 /// Draws `scene` from `camera` with its tracer (built now; safety shapes from the cache or
-/// precomputed), keeping the depth and normals `keep` asks for.
+/// precomputed), anti-aliased as `aa` says, keeping the depth and normals `keep` asks for.
 pub fn draw(
     scene: &HeightFieldScene,
     camera: &Camera,
     keep: KeptHits,
+    aa: Antialiasing,
     progress: &dyn Progress,
 ) -> Result<Picture, RenderError> {
     let build_started = Instant::now();
@@ -34,39 +38,47 @@ pub fn draw(
         Some(sweep) => sweep,
         None => tracer.as_ref(),
     };
+    let tracers = StripTracers { primary: tracer.as_ref(), shadow: shadow_tracer };
     let build_ms = ms_since(build_started);
-
-    progress.begin("rendering", Some(pixels as u64));
-    let drawn = render_to_srgb8(
-        tracer.as_ref(),
-        shadow_tracer,
-        camera,
-        &scene.bounds(),
-        &scene.params,
-        keep,
-        &|n| progress.advance(n),
-    );
-    progress.end();
-    let drawn = drawn?;
-    let stats = &drawn.stats;
-    let counts = FieldCounts {
-        tracer: choice.to_string(),
-        hits: stats.primary.hits,
-        shadow_rays: stats.shadow.rays,
-        build_ms,
-        trace_ms: stats.trace_ms,
-        shade_ms: stats.shade_ms,
-    };
-    let extra = json!({ "mean_steps": stats.primary.mean_steps() });
-    let stats = field_stats(scene, camera, &counts, extra);
-    Ok(Picture {
-        width: camera.width(),
-        height: camera.height(),
-        rgb: drawn.rgb,
-        depth: drawn.depth,
-        normals: drawn.normals,
-        summary: format!("{surface} {choice} tracer"),
-        notes,
-        stats,
-    })
+    let mut pass =
+        |camera: &Camera, keep: KeptHits, mask: Option<&PixelMask>, progress: &dyn Progress| {
+            let (bounds, params) = (&scene.bounds(), &scene.params);
+            let drawn = match mask {
+                None => {
+                    progress
+                        .begin("rendering", Some(camera.width() as u64 * camera.height() as u64));
+                    let (primary, shadow) = (tracers.primary, tracers.shadow);
+                    let advance = |n| progress.advance(n);
+                    let drawn =
+                        render_to_srgb8(primary, shadow, camera, bounds, params, keep, &advance);
+                    progress.end();
+                    drawn?
+                }
+                Some(mask) => {
+                    render_marked_to_srgb8(tracers, camera, bounds, params, keep, mask, &|_| {})?
+                }
+            };
+            let stats = &drawn.stats;
+            let counts = FieldCounts {
+                tracer: choice.to_string(),
+                hits: stats.primary.hits,
+                shadow_rays: stats.shadow.rays,
+                build_ms,
+                trace_ms: stats.trace_ms,
+                shade_ms: stats.shade_ms,
+            };
+            let extra = json!({ "mean_steps": stats.primary.mean_steps() });
+            let stats = field_stats(scene, camera, &counts, extra);
+            Ok(Picture {
+                width: camera.width(),
+                height: camera.height(),
+                rgb: drawn.rgb,
+                depth: drawn.depth,
+                normals: drawn.normals,
+                summary: format!("{surface} {choice} tracer"),
+                notes: notes.clone(),
+                stats,
+            })
+        };
+    antialias::draw(camera, keep, aa, progress, &mut pass)
 }

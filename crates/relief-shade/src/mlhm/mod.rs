@@ -24,7 +24,7 @@ pub use lighting::shade_mlhm;
 pub use materials::{material_colour, solid_albedo, BEDROCK_COLOUR, SAND_COLOUR, WATER_COLOUR};
 pub use preset::{MlhmPreset, MlhmQuality, WaterAbsorption};
 pub use ray_counts::MlhmRayCounts;
-pub use render::{render_mlhm, MlhmImage};
+pub use render::{render_mlhm, render_mlhm_marked, MlhmImage};
 pub use renderer::MlhmRenderer;
 pub use shading::{MlhmShading, SKY_LIGHT};
 pub use water::{absorption_distance, water_transmittance, WATER_EXTINCTION};

@@ -5,7 +5,7 @@ use super::lighting::shade_mlhm;
 use super::ray_counts::MlhmRayCounts;
 use super::renderer::MlhmRenderer;
 use super::shading::MlhmShading;
-use crate::{GBuffer, ShadeError};
+use crate::{GBuffer, PixelMask, ShadeError};
 use relief_core::Camera;
 use relief_trace::MlhmTracer;
 
@@ -33,9 +33,35 @@ pub fn render_mlhm(
     shading: &MlhmShading,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<MlhmImage, ShadeError> {
+    render_with(MlhmRenderer::new(tracer), tracer, camera, shading, progress)
+}
+
+/// [`render_mlhm`] of the pixels `mask` marks only: each gets the radiance [`render_mlhm`]
+/// gives it, and every other pixel that of a miss, at almost no cost (how an anti-aliasing
+/// pass samples again only the pixels that need it).
+///
+/// Fails as [`render_mlhm`] does, and when the mask is not of the camera's image size.
+pub fn render_mlhm_marked(
+    tracer: &dyn MlhmTracer,
+    camera: &Camera,
+    shading: &MlhmShading,
+    mask: &PixelMask,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<MlhmImage, ShadeError> {
+    render_with(MlhmRenderer::new(tracer).marked(mask), tracer, camera, shading, progress)
+}
+
+/// The image `renderer` traces (of `tracer`'s scene) and the deferred lighting shades.
+fn render_with(
+    mut renderer: MlhmRenderer,
+    tracer: &dyn MlhmTracer,
+    camera: &Camera,
+    shading: &MlhmShading,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<MlhmImage, ShadeError> {
     shading.validate()?;
     let mut gbuffer = GBuffer::new(camera.width() as usize, camera.height() as usize)?;
-    let primary = MlhmRenderer::new(tracer).render_into(camera, &mut gbuffer, progress)?;
+    let primary = renderer.render_into(camera, &mut gbuffer, progress)?;
     let (radiance, counts) = shade_mlhm(&gbuffer, tracer, camera, shading)?;
     let counts = MlhmRayCounts { primary, ..counts };
     Ok(MlhmImage { gbuffer, radiance, counts })

@@ -3,7 +3,9 @@
 //! the G-buffer with its full-precision hit for the deferred MLHM lighting
 //! ([`super::shade_mlhm`]).
 
-use crate::{GBuffer, GBufferPixel, Renderer, ShadeError, StageTimings, TraceStats, TILE_SIZE};
+use crate::{
+    GBuffer, GBufferPixel, PixelMask, Renderer, ShadeError, StageTimings, TraceStats, TILE_SIZE,
+};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec2, Ray};
 use relief_trace::{Medium, MlhmHit, MlhmMaterial, MlhmMode, MlhmTracer};
@@ -11,13 +13,20 @@ use relief_trace::{Medium, MlhmHit, MlhmMaterial, MlhmMode, MlhmTracer};
 /// The MLHM renderer of one tracer (boxes or a smooth surface: any [`MlhmTracer`]).
 pub struct MlhmRenderer<'a> {
     tracer: &'a dyn MlhmTracer,
+    /// The pixels traced, where not all ([`MlhmRenderer::marked`]).
+    mask: Option<&'a PixelMask>,
     stats: TraceStats,
 }
 
 impl<'a> MlhmRenderer<'a> {
     /// The renderer of the MLHM `tracer` traces.
     pub fn new(tracer: &'a dyn MlhmTracer) -> Self {
-        MlhmRenderer { tracer, stats: TraceStats::default() }
+        MlhmRenderer { tracer, mask: None, stats: TraceStats::default() }
+    }
+
+    /// The renderer tracing only the pixels `mask` marks, writing the others as misses.
+    pub fn marked(self, mask: &'a PixelMask) -> Self {
+        MlhmRenderer { mask: Some(mask), ..self }
     }
 
     /// The camera rays of the last frame.
@@ -41,6 +50,9 @@ impl<'a> MlhmRenderer<'a> {
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<TraceStats, ShadeError> {
         gbuffer.validate_for(camera)?;
+        if self.mask.is_some_and(|m| !m.fits(gbuffer.width, gbuffer.height)) {
+            return Err(ShadeError::Limits("the mask is not of the picture's size".into()));
+        }
         gbuffer.keep_exact_hits()?;
         let width = gbuffer.width;
         let Some(mut exact) = gbuffer.exact_hits.take() else {
@@ -59,6 +71,11 @@ impl<'a> MlhmRenderer<'a> {
                     for r in 0..rows {
                         for i in cols.clone() {
                             let j = s * TILE_SIZE + r;
+                            if self.mask.is_some_and(|m| !m.contains(i, j)) {
+                                strip.set(i + r * width, &GBufferPixel::MISS);
+                                exact[i + r * width] = GBuffer::EXACT_MISS;
+                                continue;
+                            }
                             // (i, j) lies inside the camera's u32 image.
                             let ray = camera.ray(i as u32, j as u32);
                             let in_water =

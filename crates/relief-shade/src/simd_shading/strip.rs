@@ -5,7 +5,7 @@ use relief_core::DVec3;
 
 use super::ShadingKernel;
 use crate::deferred::{trace_shadows, ShadingPass};
-use crate::{shadow_ray, RayBatch, Tile, TraceStats, TILE_SIZE};
+use crate::{shadow_ray, PixelMask, RayBatch, Tile, TraceStats, TILE_SIZE};
 
 /// Shades the image rows from `top` on (at most [`TILE_SIZE`], all in the pass's G-buffer)
 /// into `out` with `kernel`, and counts the shadow rays.
@@ -34,6 +34,9 @@ pub(crate) fn shade_strip_in_lanes(
             batch.clear();
             owners.clear();
             let tile = Tile::new(tile_x, top, width, top + rows);
+            if pass.mask.is_some_and(|m| !m.any_in_tile(tile)) {
+                continue;
+            }
             for (i, j) in tile.pixels() {
                 let k = pass.index(i, j);
                 let distance = gbuffer.distance[k] as f64;
@@ -53,15 +56,24 @@ pub(crate) fn shade_strip_in_lanes(
     }
     for r in 0..rows {
         let k = pass.index(0, top + r);
-        let pixels = r * width..(r + 1) * width;
-        kernel.shade_row(
-            top + r,
-            0,
-            &gbuffer.distance[k..k + width],
-            &gbuffer.normal[k..k + width],
-            &visibility[pixels.clone()],
-            &mut out[pixels],
-        );
+        // The whole row, or the runs of TILE_SIZE pixels of it that hold a marked one.
+        let run = if pass.mask.is_some() { TILE_SIZE } else { width };
+        for first in (0..width).step_by(run) {
+            let n = run.min(width - first);
+            let marked = |m: &PixelMask| (first..first + n).any(|i| m.contains(i, top + r));
+            if pass.mask.is_some_and(|m| !marked(m)) {
+                continue;
+            }
+            let (g, pixels) = (k + first..k + first + n, r * width + first..r * width + first + n);
+            kernel.shade_row(
+                top + r,
+                first,
+                &gbuffer.distance[g.clone()],
+                &gbuffer.normal[g],
+                &visibility[pixels.clone()],
+                &mut out[pixels],
+            );
+        }
     }
     stats
 }

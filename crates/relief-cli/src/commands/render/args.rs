@@ -13,6 +13,12 @@ pub struct RenderArgs {
     /// Output picture: .png, or .jpg/.jpeg.
     #[arg(short, long, default_value = "relief.png")]
     pub output: PathBuf,
+    /// Anti-aliasing: adaptive (one ray a pixel, then 4 in the pixels whose depth, normal or
+    /// colour differs from a neighbour's: silhouettes, edges, shadow boundaries), N (N x N
+    /// rays in every pixel, on a stratified grid; 1 to 8) or off. The depth and normals
+    /// written are those of the pixels' centre rays [default: adaptive].
+    #[arg(long, value_name = "MODE", default_value = "adaptive")]
+    pub aa: relief_render::Antialiasing,
     /// Also write the distance to the first hit per pixel (.npy, f32, H x W, +inf on a miss).
     #[arg(long)]
     pub depth: Option<PathBuf>,

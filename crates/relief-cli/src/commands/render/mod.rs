@@ -32,7 +32,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let load_ms = outputs::ms_since(started);
 
     let keep = KeptHits { depth: args.depth.is_some(), normals: args.normals.is_some() };
-    let picture = opened.scene.render(&opened.camera, keep, &progress::Bars::default())?;
+    let bars = progress::Bars::default();
+    let picture = opened.scene.render(&opened.camera, keep, args.aa, &bars)?;
     for note in &picture.notes {
         eprintln!("{note}");
     }
