@@ -7,6 +7,7 @@
 #![forbid(unsafe_code)]
 
 pub mod camera;
+pub mod colours;
 pub mod draw;
 pub mod error;
 pub mod input;
@@ -20,6 +21,7 @@ pub mod tracer_spec;
 pub mod warnings;
 
 pub use camera::{place_camera, CameraOptions, PlacedCamera, ViewAngles, DEFAULT_FOV_DEG};
+pub use colours::ColourSettings;
 pub use draw::mesh::StacksDrawing;
 pub use draw::picture::Picture;
 pub use error::RenderError;
