@@ -113,6 +113,9 @@ pub enum RenderError {
     /// what does).
     #[error("{0}")]
     Unsupported(String),
+    /// Map furniture the picture does not define (a scale bar on a perspective picture, ...).
+    #[error("{0}")]
+    Furniture(String),
     /// Colour options that cannot colour the heights (a reversed range, a sea level for a
     /// map without a sea, a colour map with a draped texture).
     #[error("{0}")]

@@ -10,6 +10,7 @@ pub mod camera;
 pub mod colours;
 pub mod draw;
 pub mod error;
+pub mod furniture;
 pub mod input;
 pub mod memory;
 pub mod options;
@@ -25,6 +26,7 @@ pub use colours::ColourSettings;
 pub use draw::mesh::StacksDrawing;
 pub use draw::picture::Picture;
 pub use error::RenderError;
+pub use furniture::MapFurniture;
 pub use input::InputKind;
 pub use memory::{Budget, ImageHolding};
 pub use options::{
