@@ -16,7 +16,7 @@ pub const MAX_LABELS: usize = 6;
 /// range is empty).
 pub fn label_heights(lo: f64, hi: f64, max_labels: usize) -> Vec<f64> {
     let span = hi - lo;
-    if !(span > 0.0) || max_labels == 0 {
+    if span.is_nan() || span <= 0.0 || max_labels == 0 {
         return vec![lo];
     }
     let mut step = 10f64.powf((span / max_labels as f64).log10().floor());
@@ -53,18 +53,20 @@ pub fn height_label(metres: f64) -> String {
 }
 
 /// Draws the legend of `colours` (heights in metres) at the picture's bottom right, on a
-/// light panel; `unit` is the furniture's pixel scale.
-pub(crate) fn draw(canvas: &mut Canvas, colours: &HeightColourMap, unit: u32) {
+/// light panel below row `top` (where it fits; furniture above takes the rows before it);
+/// `unit` is the furniture's pixel scale.
+pub(crate) fn draw(canvas: &mut Canvas, colours: &HeightColourMap, unit: u32, top: i64) {
     let u = unit as i64;
     let (lo, hi) = (colours.min_z, colours.max_z);
     let text_h = font::text_height(unit) as i64;
-    let bar_h = ((canvas.height as f64 * 0.4) as i64).max(4 * text_h);
+    let (pad, margin, bar_w, tick) = (3 * u, 4 * u, 5 * u, 2 * u);
+    let room = canvas.height as i64 - margin - top - 2 * pad - text_h;
+    let bar_h = ((canvas.height as f64 * 0.4) as i64).max(4 * text_h).min(room).max(2 * text_h);
     // As many labels as fit with a line of space between them.
     let fit = (bar_h / (text_h + 3 * u)).max(1) as usize;
     let heights = label_heights(lo, hi, fit.min(MAX_LABELS));
     let labels: Vec<String> = heights.iter().map(|&z| height_label(z)).collect();
     let text_w = labels.iter().map(|l| font::text_width(l, unit) as i64).max().unwrap_or(0);
-    let (pad, margin, bar_w, tick) = (3 * u, 4 * u, 5 * u, 2 * u);
     let panel_w = pad + text_w + 2 * u + tick + bar_w + pad;
     let panel_h = pad + text_h / 2 + bar_h + text_h / 2 + pad;
     let x0 = canvas.width as i64 - margin - panel_w;

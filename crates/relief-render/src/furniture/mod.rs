@@ -71,7 +71,8 @@ impl MapFurniture {
         let unit = furniture_unit(width, height);
         let mut canvas = Canvas { rgb: &mut picture.rgb, width, height };
         if let (true, Some(colours)) = (self.legend, colours) {
-            legend::draw(&mut canvas, colours, unit);
+            let top = if self.north_arrow { north_arrow::bottom(unit) } else { 0 };
+            legend::draw(&mut canvas, colours, unit, top);
         }
         if self.scale_bar {
             let metres_per_pixel = scale_bar::metres_per_pixel(camera)?;

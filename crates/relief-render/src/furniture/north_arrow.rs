@@ -38,7 +38,7 @@ pub fn north_on_screen(camera: &Camera) -> Result<[f64; 2], RenderError> {
     };
     let (dx, dy) = (x1 - x0, y1 - y0);
     let length = dx.hypot(dy);
-    if !(length > 1e-3 * scale) {
+    if length.is_nan() || length <= 1e-3 * scale {
         return Err(RenderError::Furniture(
             "north runs along the view here (straight into or out of the picture): a north \
              arrow has no direction to point"
@@ -48,12 +48,22 @@ pub fn north_on_screen(camera: &Camera) -> Result<[f64; 2], RenderError> {
     Ok([dx / length, -dy / length])
 }
 
+/// Half the side of the arrow's square panel, pixels, at furniture scale `unit`.
+fn half_panel(unit: u32) -> f64 {
+    20.0 * unit as f64
+}
+
+/// The first row below the arrow's panel and its margin, at furniture scale `unit`.
+pub(crate) fn bottom(unit: u32) -> i64 {
+    (4.0 * unit as f64 + 2.0 * half_panel(unit)) as i64 + 4 * unit as i64
+}
+
 /// Draws the needle pointing along `north` (pixel axes, unit) at the picture's top right, on
 /// a light panel; `unit` is the furniture's pixel scale.
 pub(crate) fn draw(canvas: &mut Canvas, north: [f64; 2], unit: u32) {
     let u = unit as f64;
     let (needle, half_width, letter_gap) = (10.0 * u, 3.5 * u, 6.0 * u);
-    let half = (needle + letter_gap + 4.0 * u).ceil();
+    let half = half_panel(unit);
     let margin = 4.0 * u;
     let (cx, cy) = (canvas.width as f64 - margin - half, margin + half);
     canvas.panel((cx - half) as i64, (cy - half) as i64, (2.0 * half) as u32, (2.0 * half) as u32);
