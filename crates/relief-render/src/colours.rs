@@ -49,6 +49,18 @@ impl ColourSettings {
         Ok(())
     }
 
+    /// Refuses any colour option for a scene coloured by its materials (`what`: "MLHM
+    /// scenes", ...).
+    pub fn refuse_for(&self, what: &str) -> Result<(), RenderError> {
+        if self.given() {
+            return Err(RenderError::Colours(format!(
+                "a colour map applies to height fields and tile stores, not to {what} \
+                 (coloured by their materials)"
+            )));
+        }
+        Ok(())
+    }
+
     /// The albedo of a terrain within `bounds` (world heights, which are `z_scale` times the
     /// metres): the hypsometric ramp for `terrain` (exactly relief's default look when no
     /// option is given), a [`HeightColourMap`] for any other map.
