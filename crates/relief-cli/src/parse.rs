@@ -158,6 +158,28 @@ pub fn spacing(s: &str) -> Result<(f64, f64), String> {
     Ok((values[0], values[1]))
 }
 
+/// Heights a colour map's range and sea level may take, metres: deeper than any ocean and
+/// higher than any mountain, by far.
+pub const HEIGHT_RANGE: RangeInclusive<f64> = -1e6..=1e6;
+
+/// `MIN,MAX`: the heights in metres at a colour map's two ends, within [`HEIGHT_RANGE`], the
+/// lower first.
+pub fn height_range(s: &str) -> Result<(f64, f64), String> {
+    let [lo, hi] = numbers::<2>(s, "MIN,MAX")?;
+    if !(HEIGHT_RANGE.contains(&lo) && HEIGHT_RANGE.contains(&hi)) {
+        return Err(format!("heights {s} are outside {} m", range_text(&HEIGHT_RANGE)));
+    }
+    if lo >= hi {
+        return Err(format!("'{s}' must be MIN,MAX with MIN below MAX"));
+    }
+    Ok((lo, hi))
+}
+
+/// A height in metres within [`HEIGHT_RANGE`] (the sea level).
+pub fn height(s: &str) -> Result<f64, String> {
+    number_in(s, "height", &HEIGHT_RANGE).map_err(|e| format!("{e} m"))
+}
+
 /// The height scale, within [`SCALE_RANGE`] (a negative one would turn the terrain upside
 /// down).
 pub fn z_scale(s: &str) -> Result<f64, String> {

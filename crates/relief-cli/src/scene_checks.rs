@@ -8,6 +8,7 @@ use crate::input;
 use anyhow::Result;
 use relief_core::Surface;
 use relief_render::{InputKind, TracerChoice};
+use relief_shade::ColourMap;
 use std::path::Path;
 
 /// Every input `relief render`, `relief view` and `relief flythrough` take, for messages.
@@ -76,12 +77,49 @@ pub fn check_scene_args(args: &SceneArgs, drawn: Drawn) -> Result<()> {
             }
         }
     }
+    check_colour_args(args, drawn)?;
     match (drawn, path) {
         (Drawn::Store, Some(path)) => refuse_store_options(args, path),
         (Drawn::Mesh, _) => refuse_mesh_options(args, "--mode mesh"),
         (Drawn::Mlhm, Some(path)) => refuse_mlhm_scene_options(args, path),
         _ => refuse_height_field_scene_options(args),
     }
+}
+
+/// The first colour option `args` give, if any.
+pub fn colour_option_given(args: &SceneArgs) -> Option<&'static str> {
+    [
+        (args.colormap.is_some(), "--colormap"),
+        (args.height_range.is_some(), "--height-range"),
+        (args.sea_level.is_some(), "--sea-level"),
+    ]
+    .into_iter()
+    .find_map(|(given, name)| given.then_some(name))
+}
+
+/// Refuses the colour options where they would do nothing: for MLHM scenes and stacks
+/// meshes (coloured by their materials), with `--texture`, and `--sea-level` for a map
+/// without a sea.
+fn check_colour_args(args: &SceneArgs, drawn: Drawn) -> Result<()> {
+    let Some(option) = colour_option_given(args) else { return Ok(()) };
+    let here = match drawn {
+        Drawn::Mlhm => Some("MLHM scenes (coloured by their materials)".to_string()),
+        Drawn::Mesh => Some("--mode mesh (coloured by the materials)".to_string()),
+        _ if args.texture.is_some() => Some("--texture (which colours the terrain)".to_string()),
+        _ => None,
+    };
+    if let Some(here) = here {
+        return Err(applies::refuse(option, "height fields and tile stores", &here));
+    }
+    let map = args.colormap.unwrap_or(ColourMap::Terrain);
+    if args.sea_level.is_some() && !map.has_sea_level() {
+        return Err(applies::refuse(
+            "--sea-level",
+            "--colormap bathymetry",
+            &format!("the {map} colour map"),
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses the options of `args` that do nothing for a tile store (at `path`).
@@ -105,6 +143,9 @@ fn refuse_store_options(args: &SceneArgs, path: &Path) -> Result<()> {
 /// Refuses the options of tracers and MLHM rendering that do nothing for a stacks mesh;
 /// `here` names the command, and the reading options that do nothing for the input.
 pub fn refuse_mesh_options(args: &SceneArgs, here: &str) -> Result<()> {
+    if let Some(option) = colour_option_given(args) {
+        return Err(applies::refuse(option, "height fields and tile stores", here));
+    }
     for (given, option) in [
         (args.tracer.is_some(), "--tracer"),
         (args.surface.is_some(), "--surface"),

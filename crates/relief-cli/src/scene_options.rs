@@ -7,8 +7,8 @@ use crate::input::terrain_settings;
 use anyhow::Result;
 use relief_render::options::{DEFAULT_CACHE_MB, DEFAULT_MAX_ERROR_PX, DEFAULT_TEXTURE_CACHE_MB};
 use relief_render::{
-    CameraOptions, HybridSettings, LightSettings, MeshSettings, MlhmSettings, SafetySettings,
-    SceneOptions, StoreSettings,
+    CameraOptions, ColourSettings, HybridSettings, LightSettings, MeshSettings, MlhmSettings,
+    SafetySettings, SceneOptions, StoreSettings,
 };
 use relief_shade::{TextureFilter, DEFAULT_MAX_ANISOTROPY};
 
@@ -40,6 +40,11 @@ pub fn scene_options(
             no_shadows: scene.no_shadows,
             exposure: scene.exposure,
             texture: scene.texture.clone(),
+            colours: ColourSettings {
+                map: scene.colormap,
+                height_range: scene.height_range,
+                sea_level: scene.sea_level,
+            },
         },
     }
 }

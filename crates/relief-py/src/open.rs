@@ -14,7 +14,7 @@ use relief_shade::mlhm::MlhmPreset;
 use std::path::PathBuf;
 
 /// The options `open` takes, as `relief render`'s (with underscores for dashes).
-const KEYS: [&str; 26] = [
+const KEYS: [&str; 29] = [
     "spacing",
     "north_up",
     "z_scale",
@@ -41,6 +41,9 @@ const KEYS: [&str; 26] = [
     "texture",
     "cache_dir",
     "no_cache",
+    "colormap",
+    "height_range",
+    "sea_level",
 ];
 
 /// Opens an input as a scene, as ``relief render`` opens it: a height file (.tif, .tiff,
@@ -63,7 +66,11 @@ const KEYS: [&str; 26] = [
 ///   ``tau`` and ``voxel_height`` (meshes), ``max_error_px`` and ``cache_mb`` (tile stores),
 ///   ``cache_dir`` and ``no_cache`` (the safety shapes' cache);
 /// - light: ``sun`` (``(azimuth, elevation)`` in degrees), ``shadows`` (default True),
-///   ``exposure``, ``texture`` (a PNG draped over the terrain).
+///   ``exposure``, ``texture`` (a PNG draped over the terrain);
+/// - colours of a height field or tile store: ``colormap`` (``"terrain"``, the default,
+///   ``"bathymetry"``, ``"greys"``, ``"viridis"``, ``"cividis"``, ``"magma"``),
+///   ``height_range`` (``(min, max)`` in metres before ``z_scale``; default the terrain's
+///   own) and ``sea_level`` (``bathymetry``'s, metres, default 0).
 ///
 /// Returns a ``relief.Scene``. Raises ``relief.ReliefError`` (a ``ValueError``) for an
 /// option relief cannot use or that does not apply, ``OSError`` (``FileNotFoundError``, ...)
@@ -199,6 +206,11 @@ fn scene_options(given: &Bound<'_, PyDict>) -> PyResult<SceneOptions> {
         o.light.exposure = options::exposure(exposure)?;
     }
     o.light.texture = path("texture")?;
+    let height_range = item("height_range")?
+        .map(|v| v.extract::<(f64, f64)>().map_err(|_| wrong("height_range", "(min, max)")))
+        .transpose()?;
+    o.light.colours =
+        options::colours(text("colormap")?.as_deref(), height_range, number("sea_level")?)?;
     o.safety.cache_dir = path("cache_dir")?;
     o.safety.no_cache = flag("no_cache")?.unwrap_or(false);
     Ok(o)

@@ -1,13 +1,14 @@
 //! The options of the Python functions, each held to the range the relief command line holds
 //! it to, with the command line's messages: placement (spacing, origin, z scale), surface,
-//! tracer, voids, image size, sun and exposure.
+//! tracer, voids, image size, sun and exposure, colour maps and map furniture.
 
 use crate::errors::invalid;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::{DVec2, GridGeometry, Surface};
 use relief_io::{PngEncoding, VoidPolicy};
-use relief_render::{Antialiasing, TracerChoice};
+use relief_render::{Antialiasing, ColourSettings, MapFurniture, TracerChoice};
+use relief_shade::ColourMap;
 use relief_trace::TracerKind;
 use std::ops::RangeInclusive;
 
@@ -224,4 +225,47 @@ pub fn png_encoding(name: &str) -> PyResult<PngEncoding> {
             "unknown png_encoding '{other}' (expected grey, terrain-rgb or terrarium)"
         ))),
     }
+}
+
+/// Heights a colour map's range and sea level may take, metres (as `--height-range`,
+/// `--sea-level`).
+pub const HEIGHT_RANGE: RangeInclusive<f64> = -1e6..=1e6;
+
+/// The colour options (as `--colormap`, `--height-range` and `--sea-level`), checked: a known
+/// map, a finite range within [`HEIGHT_RANGE`] with the lower first, a sea level only for
+/// `bathymetry`.
+pub fn colours(
+    colormap: Option<&str>,
+    height_range: Option<(f64, f64)>,
+    sea_level: Option<f64>,
+) -> PyResult<ColourSettings> {
+    let map = colormap
+        .map(|name| {
+            ColourMap::from_name(name).map_err(|_| {
+                invalid(format!(
+                    "unknown colour map '{name}' (known: {})",
+                    ColourMap::known_names()
+                ))
+            })
+        })
+        .transpose()?;
+    let heights = height_range.iter().flat_map(|&(lo, hi)| [lo, hi]).chain(sea_level);
+    for z in heights {
+        if !HEIGHT_RANGE.contains(&z) {
+            return Err(invalid(format!(
+                "height {} is outside {}..{} m",
+                readable(z),
+                readable(*HEIGHT_RANGE.start()),
+                readable(*HEIGHT_RANGE.end())
+            )));
+        }
+    }
+    let settings = ColourSettings { map, height_range, sea_level };
+    settings.validate().map_err(|e| invalid(e.to_string()))?;
+    Ok(settings)
+}
+
+/// The map furniture the switches ask for (as `--legend`, `--scale-bar`, `--north-arrow`).
+pub fn furniture(legend: bool, scale_bar: bool, north_arrow: bool) -> MapFurniture {
+    MapFurniture { legend, scale_bar, north_arrow }
 }

@@ -10,7 +10,7 @@ use crate::terrain::height_field;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::Surface;
-use relief_render::scenes::height_field::shading;
+use relief_render::scenes::height_field::{legend_colours, shading};
 use relief_render::{
     memory, HeightFieldScene, HybridSettings, ImageHolding, KeptHits, LightSettings,
     SafetySettings, Scene, Silent, TracerChoice,
@@ -28,9 +28,15 @@ use relief_render::{
 /// alone frames automatically with that field of view. ``size``: ``(width, height)`` in
 /// pixels. ``surface``: ``"triangles"`` or ``"boxes"``; ``tracer``: ``"mipmap"`` or
 /// ``"naive"``. ``sun``: ``(azimuth, elevation)`` in degrees; ``shadows``; ``exposure``;
-/// ``voids``: ``"fill"`` or ``"hole"``. ``aa``: anti-aliasing, ``"adaptive"`` (one ray a
-/// pixel, then 4 in the pixels on edges), ``"off"``, or N for N x N rays in every pixel
-/// (1 to 8); the depth stays that of each pixel's centre ray.
+/// ``voids``: ``"fill"`` or ``"hole"``. ``colormap``: ``"terrain"`` (the default look),
+/// ``"bathymetry"`` (blues below ``sea_level``, default 0 m, land colours above),
+/// ``"greys"``, ``"viridis"``, ``"cividis"`` or ``"magma"``, over ``height_range`` ``(min,
+/// max)`` in metres before ``z_scale`` (default: the terrain's own). ``legend``,
+/// ``scale_bar`` and ``north_arrow`` draw that furniture over the picture as ``relief
+/// render --legend --scale-bar --north-arrow`` does (a scale bar needs an orthographic camera,
+/// which ``relief.open(...).render`` takes). ``aa``: anti-aliasing, ``"adaptive"`` (one
+/// ray a pixel, then 4 in the pixels on edges), ``"off"``, or N for N x N rays in every
+/// pixel (1 to 8); the depth stays that of each pixel's centre ray.
 ///
 /// Returns ``(rgb, depth)``: ``rgb`` a uint8 array (height, width, 3), ``depth`` a float32
 /// array (height, width), row 0 the image's top row, the distance from the eye to the first
@@ -42,7 +48,8 @@ use relief_render::{
 #[pyo3(signature = (
     heights, spacing=None, *, origin=None, z_scale=1.0, camera=None, size=(1280, 720),
     surface="triangles", tracer="mipmap", sun=(315.0, 35.0), shadows=true, exposure=1.0,
-    voids="fill", aa=None
+    voids="fill", colormap=None, height_range=None, sea_level=None, legend=false,
+    scale_bar=false, north_arrow=false, aa=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
@@ -59,6 +66,12 @@ pub fn render<'py>(
     shadows: bool,
     exposure: f64,
     voids: &str,
+    colormap: Option<&str>,
+    height_range: Option<(f64, f64)>,
+    sea_level: Option<f64>,
+    legend: bool,
+    scale_bar: bool,
+    north_arrow: bool,
     aa: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Rendered<'py>> {
     let (width, height) = options::image_size(size)?;
@@ -72,14 +85,19 @@ pub fn render<'py>(
         no_shadows: !shadows,
         exposure: options::exposure(exposure)?,
         texture: None,
+        colours: options::colours(colormap, height_range, sea_level)?,
     };
+    let furniture = options::furniture(legend, scale_bar, north_arrow);
     let voids = options::voids(voids)?;
     let spec = CameraSpec::from_dict(camera, ARRAY_KEYS)?;
     let grid = heights_array(heights)?;
 
     let field = py.detach(|| height_field(&grid, geometry, voids)).map_err(invalid)?;
     drop(grid);
-    let params = shading(&light, &field.world_bounds(Surface::Boxes)).map_err(argument)?;
+    let bounds = field.world_bounds(Surface::Boxes);
+    // The colours' metres are the file's heights before the exaggeration `z_scale`.
+    let params = shading(&light, &bounds, z_scale).map_err(argument)?;
+    let colours = legend_colours(&light, &bounds, z_scale).map_err(argument)?;
     let scene = Scene::HeightField(HeightFieldScene {
         field,
         surface,
@@ -88,10 +106,13 @@ pub fn render<'py>(
         hybrid: HybridSettings::default(),
         max_memory: memory::budget(None).bytes,
         params,
+        colours,
         warnings: Vec::new(),
     });
     let camera = spec.camera(py, &scene.bounds(), width, height)?;
     let keep = KeptHits { depth: true, normals: false };
-    let picture = py.detach(|| scene.render(&camera, keep, aa, &Silent)).map_err(argument)?;
+    furniture.check(&camera, colours.as_ref()).map_err(argument)?;
+    let mut picture = py.detach(|| scene.render(&camera, keep, aa, &Silent)).map_err(argument)?;
+    furniture.draw(&mut picture, &camera, colours.as_ref()).map_err(argument)?;
     arrays(py, picture)
 }

@@ -152,17 +152,28 @@ impl PyScene {
     /// (height, width) of the distance from the eye to each pixel's first hit, +inf for a
     /// miss: the picture ``relief render`` writes for the same input, options and camera,
     /// pixel for pixel. An eye inside the terrain, or an up along the view, is warned of
-    /// (``UserWarning``). ``aa``: anti-aliasing, ``"adaptive"`` (the default), ``"off"`` or
-    /// N for N x N rays a pixel, as ``relief render --aa``. The GIL is released while the
-    /// scene is drawn.
-    #[pyo3(signature = (camera=None, size=(1280, 720), aa=None))]
+    /// (``UserWarning``). The GIL is released while the scene is drawn.
+    ///
+    /// ``legend``, ``scale_bar`` and ``north_arrow`` draw that furniture over the picture as
+    /// ``relief render --legend --scale-bar --north-arrow`` does: a legend of the colour map
+    /// (``relief.open(..., colormap=...)``), a scale bar for an orthographic camera, a north
+    /// arrow where north does not run along the view; ``relief.ReliefError`` where the scene
+    /// or the camera does not define one. ``aa``: anti-aliasing, ``"adaptive"`` (the
+    /// default), ``"off"`` or N for N x N rays a pixel, as ``relief render --aa``.
+    #[pyo3(signature = (
+        camera=None, size=(1280, 720), *, legend=false, scale_bar=false, north_arrow=false, aa=None
+    ))]
     fn render<'py>(
         &self,
         py: Python<'py>,
         camera: Option<&Bound<'py, PyDict>>,
         size: (i64, i64),
+        legend: bool,
+        scale_bar: bool,
+        north_arrow: bool,
         aa: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Rendered<'py>> {
+        let furniture = options::furniture(legend, scale_bar, north_arrow);
         let (width, height) = options::image_size(size)?;
         let aa = aa.map(options::antialiasing).transpose()?.unwrap_or_default();
         let spec = CameraSpec::from_dict(camera, SCENE_KEYS)?;
@@ -178,7 +189,10 @@ impl PyScene {
             let placed = scene.camera(&options)?;
             let inside = scene.camera_warning(&placed.camera);
             let keep = KeptHits { depth: true, normals: false };
-            let picture = scene.render(&placed.camera, keep, aa, &Silent)?;
+            let colours = scene.height_colours();
+            furniture.check(&placed.camera, colours.as_ref())?;
+            let mut picture = scene.render(&placed.camera, keep, aa, &Silent)?;
+            furniture.draw(&mut picture, &placed.camera, colours.as_ref())?;
             Ok::<_, RenderError>(Drawn { picture, note: placed.note, inside })
         });
         let drawn = drawn.map_err(scene_error)?;

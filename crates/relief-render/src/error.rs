@@ -113,6 +113,13 @@ pub enum RenderError {
     /// what does).
     #[error("{0}")]
     Unsupported(String),
+    /// Map furniture the picture does not define (a scale bar on a perspective picture, ...).
+    #[error("{0}")]
+    Furniture(String),
+    /// Colour options that cannot colour the heights (a reversed range, a sea level for a
+    /// map without a sea, a colour map with a draped texture).
+    #[error("{0}")]
+    Colours(String),
     /// A smoothing radius out of the range the smooth surface renders in.
     #[error(
         "--sigma {} m is outside {}..{} m (1/64 of a cell to 8 cells of {} m): smaller radii \

@@ -8,8 +8,10 @@
 
 pub mod antialias;
 pub mod camera;
+pub mod colours;
 pub mod draw;
 pub mod error;
+pub mod furniture;
 pub mod input;
 pub mod memory;
 pub mod options;
@@ -22,9 +24,11 @@ pub mod warnings;
 
 pub use antialias::Antialiasing;
 pub use camera::{place_camera, CameraOptions, PlacedCamera, ViewAngles, DEFAULT_FOV_DEG};
+pub use colours::ColourSettings;
 pub use draw::mesh::StacksDrawing;
 pub use draw::picture::Picture;
 pub use error::RenderError;
+pub use furniture::MapFurniture;
 pub use input::InputKind;
 pub use memory::{Budget, ImageHolding};
 pub use options::{

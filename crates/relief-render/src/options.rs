@@ -2,6 +2,7 @@
 //! the light, and the options of each kind of input. Plain values, as a front end (the
 //! command line, the Python module) fills them in; `None` where the default applies.
 
+use crate::colours::ColourSettings;
 use crate::tracer_spec::{SafetySettings, TracerChoice};
 use relief_core::{Precision, Surface};
 use relief_io::{LengthUnit, PngEncoding, ReadOptions, VoidPolicy};
@@ -161,11 +162,19 @@ pub struct LightSettings {
     pub exposure: f64,
     /// A colour texture (PNG) draped over the terrain's footprint, top row north.
     pub texture: Option<PathBuf>,
+    /// How heights are coloured where no texture is draped.
+    pub colours: ColourSettings,
 }
 
 impl Default for LightSettings {
     fn default() -> Self {
-        LightSettings { sun: (315.0, 35.0), no_shadows: false, exposure: 1.0, texture: None }
+        LightSettings {
+            sun: (315.0, 35.0),
+            no_shadows: false,
+            exposure: 1.0,
+            texture: None,
+            colours: ColourSettings::default(),
+        }
     }
 }
 

@@ -16,7 +16,7 @@ use crate::scenes::stacks::StacksScene;
 use crate::scenes::store::StoreScene;
 use crate::tracer_spec::TracerChoice;
 use relief_core::{Aabb, Camera};
-use relief_shade::{KeptHits, PixelMask};
+use relief_shade::{HeightColourMap, KeptHits, PixelMask};
 use std::path::Path;
 
 /// Any input, opened to draw.
@@ -51,6 +51,17 @@ impl Scene {
             return Ok(Scene::Mlhm(LayeredScene::open(path, options)?));
         }
         Ok(Scene::HeightField(HeightFieldScene::open(path, options)?))
+    }
+
+    /// The colour map over heights in metres that colours the scene, for a legend: `None`
+    /// for MLHM scenes and stacks (coloured by their materials) and where a texture or a
+    /// store's photo colours the terrain.
+    pub fn height_colours(&self) -> Option<HeightColourMap> {
+        match self {
+            Scene::HeightField(scene) => scene.colours,
+            Scene::Store(scene) => scene.colours,
+            Scene::Mlhm(_) | Scene::Stacks(_) => None,
+        }
     }
 
     /// The box the drawn surfaces fill.

@@ -1,12 +1,14 @@
-//! Where a surface point's colour comes from: a constant, the hypsometric ramp, a texture, or
-//! a texture filtered over each pixel's footprint.
+//! Where a surface point's colour comes from: a constant, the hypsometric ramp, a named colour
+//! map over heights, a texture, or a texture filtered over each pixel's footprint.
 
 use std::sync::Arc;
 
 use relief_core::DVec3;
 
 use crate::error::non_negative_colour;
-use crate::{FootprintAlbedo, GroundFootprint, HypsometricRamp, RgbTexture, ShadeError};
+use crate::{
+    FootprintAlbedo, GroundFootprint, HeightColourMap, HypsometricRamp, RgbTexture, ShadeError,
+};
 
 /// The source of the diffuse albedo (linear RGB reflectance) of the terrain.
 #[derive(Debug, Clone, PartialEq)]
@@ -15,6 +17,9 @@ pub enum Albedo {
     Uniform([f32; 3]),
     /// A colour ramp over elevation (see [`HypsometricRamp`]).
     Hypsometric(HypsometricRamp),
+    /// A named colour map over a range of heights (see [`HeightColourMap`]), without the
+    /// ramp's rock on steep slopes.
+    Mapped(HeightColourMap),
     /// A texture draped over the terrain's footprint, sampled bilinearly at the G-buffer's
     /// texture coordinates.
     Texture(RgbTexture),
@@ -46,6 +51,7 @@ impl Albedo {
         match self {
             Albedo::Uniform(c) => non_negative_colour("uniform albedo", *c),
             Albedo::Hypsometric(ramp) => ramp.validate(),
+            Albedo::Mapped(map) => map.validate(),
             Albedo::Texture(_) | Albedo::Filtered(_) => Ok(()),
             Albedo::GBufferColour { fallback } => non_negative_colour("fallback albedo", *fallback),
         }
@@ -58,6 +64,7 @@ impl Albedo {
         match self {
             Albedo::Uniform(c) => DVec3::from(c.map(f64::from)),
             Albedo::Hypsometric(ramp) => ramp.albedo(position.z, normal.z),
+            Albedo::Mapped(map) => map.albedo(position.z),
             Albedo::Texture(texture) => texture.sample_bilinear(uv[0] as f64, uv[1] as f64),
             Albedo::Filtered(source) => source.0.albedo(&GroundFootprint::point(position)),
             Albedo::GBufferColour { fallback } => DVec3::from(fallback.map(f64::from)),

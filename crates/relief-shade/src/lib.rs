@@ -4,9 +4,9 @@
 //!    normal, material weights, texture coordinates, pixel footprint), tile by tile in parallel.
 //! 2. [`shade`] lights the G-buffer in one deferred pass: a [`Sun`] with shadow rays, a
 //!    Lambert + GGX BRDF ([`direct_lighting`]), ambient light and aerial perspective from the
-//!    [`Sky`], albedo from a [`HypsometricRamp`], an [`RgbTexture`], or a [`FootprintAlbedo`]
-//!    filtered over each pixel's [`GroundFootprint`] ([`filter_texture`]: bilinear or
-//!    anisotropic, Dick et al. 2009).
+//!    [`Sky`], albedo from a [`HypsometricRamp`], a [`ColourMap`] over heights, an
+//!    [`RgbTexture`], or a [`FootprintAlbedo`] filtered over each pixel's [`GroundFootprint`]
+//!    ([`filter_texture`]: bilinear or anisotropic, Dick et al. 2009).
 //! 3. [`tonemap_to_srgb8`] maps the linear radiance to 8-bit sRGB.
 //!
 //! [`shade_map()`] makes the rasters GIS users overlay on their DEM: cast shadows, the sky-view
@@ -48,6 +48,7 @@
 
 mod albedo;
 mod clipmap_renderer;
+pub mod colour_maps;
 mod colour_ramp;
 mod deferred;
 mod depth_metrics;
@@ -77,6 +78,7 @@ pub mod viewshed;
 
 pub use albedo::{Albedo, FilteredAlbedo};
 pub use clipmap_renderer::{ClipmapRenderer, ClipmapStats};
+pub use colour_maps::{ColourMap, HeightColourMap};
 pub use colour_ramp::{hypsometric_colour, HypsometricRamp};
 pub use deferred::{shade, shade_to_srgb8, ShadingParams};
 pub use depth_metrics::{depth_errors, depth_metrics, DepthImage, DepthMetrics, DepthScale};

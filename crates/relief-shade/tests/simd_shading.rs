@@ -5,8 +5,9 @@ use std::sync::Arc;
 
 use relief_core::{Camera, DVec3, GridGeometry, HeightField, Projection, Surface};
 use relief_shade::{
-    render_gbuffer, render_to_srgb8, shade, shade_to_srgb8, tonemap_to_srgb8, Albedo, GgxSpecular,
-    HypsometricRamp, KeptHits, LaneWidth, RgbTexture, ShadingKernel, ShadingParams, Sun,
+    render_gbuffer, render_to_srgb8, shade, shade_to_srgb8, tonemap_to_srgb8, Albedo, ColourMap,
+    GgxSpecular, HeightColourMap, HypsometricRamp, KeptHits, LaneWidth, RgbTexture, ShadingKernel,
+    ShadingParams, Sun,
 };
 use relief_trace::{build_tracer, TracerKind};
 
@@ -92,6 +93,12 @@ fn random_params(random: &mut Random, bounds: &relief_core::Aabb) -> ShadingPara
             ..HypsometricRamp::new(bounds.min.z, bounds.max.z).unwrap()
         };
         params.albedo = Albedo::Hypsometric(ramp);
+    } else if random.chance(0.4) {
+        // A named map, bathymetry among them, its sea level anywhere in the heights.
+        let map = ColourMap::ALL[random.between(0.0, ColourMap::ALL.len() as f64) as usize];
+        let (lo, hi) = (bounds.min.z, bounds.max.z);
+        let sea_level = random.between(lo, hi);
+        params.albedo = Albedo::Mapped(HeightColourMap::new(map, lo, hi, sea_level).unwrap());
     }
     params
 }

@@ -113,6 +113,19 @@ pub struct SceneArgs {
     /// Colour texture (PNG) draped over the terrain's footprint, top row north.
     #[arg(long)]
     pub texture: Option<PathBuf>,
+    /// Colour map of the heights: terrain (the hypsometric ramp, rock on steep slopes),
+    /// bathymetry (blues below the sea level, land colours above; see --sea-level), greys, or
+    /// the perceptually uniform viridis, cividis and magma [default: terrain].
+    #[arg(long, value_name = "NAME", value_parser = colour_map)]
+    pub colormap: Option<relief_shade::ColourMap>,
+    /// Heights in metres (before --z-scale) at the colour map's two ends, e.g. -500,1500;
+    /// heights beyond take the nearer end's colour [default: the terrain's lowest and highest].
+    #[arg(long, value_name = "MIN,MAX", value_parser = parse::height_range, allow_hyphen_values = true)]
+    pub height_range: Option<(f64, f64)>,
+    /// With --colormap bathymetry: the height in metres where water turns to land [default:
+    /// 0].
+    #[arg(long, value_name = "H", value_parser = parse::height, allow_hyphen_values = true)]
+    pub sea_level: Option<f64>,
     /// Exposure applied before tone mapping (1e-4 to 1e4).
     #[arg(long, default_value = "1", value_parser = parse::exposure, allow_hyphen_values = true)]
     pub exposure: f64,

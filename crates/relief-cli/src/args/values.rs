@@ -2,6 +2,13 @@
 
 use crate::parse;
 
+/// A colour map by name; the message lists the known names.
+pub(crate) fn colour_map(s: &str) -> Result<relief_shade::ColourMap, String> {
+    relief_shade::ColourMap::from_name(s).map_err(|_| {
+        format!("unknown colour map '{s}' (known: {})", relief_shade::ColourMap::known_names())
+    })
+}
+
 pub(crate) fn tau_px(s: &str) -> Result<f64, String> {
     parse::number_in(s, "a number of pixels", &(0.01..=1e4))
 }

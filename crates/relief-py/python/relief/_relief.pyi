@@ -60,6 +60,7 @@ Spacing = Union[float, Tuple[float, float], Mapping[str, Any], None]
 Surface = Literal["triangles", "boxes"]
 TracerName = Literal["mipmap", "naive"]
 Voids = Literal["fill", "hole"]
+ColourMapName = Literal["terrain", "bathymetry", "greys", "viridis", "cividis", "magma"]
 
 def read(
     path: Union[str, PathLike[str]],
@@ -93,6 +94,12 @@ def render(
     shadows: bool = True,
     exposure: float = 1.0,
     voids: Voids = "fill",
+    colormap: Optional[ColourMapName] = None,
+    height_range: Optional[Tuple[float, float]] = None,
+    sea_level: Optional[float] = None,
+    legend: bool = False,
+    scale_bar: bool = False,
+    north_arrow: bool = False,
 ) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
     """Render a north-up heights array as ``relief render`` does: ``(rgb, depth)``.
 
@@ -100,6 +107,11 @@ def render(
     row, the distance from the eye along each pixel's unit ray, +inf for a miss.
     ``spacing`` is a number, ``(dx, dy)`` or the georeference dict ``read`` returns.
     ``camera`` is ``None`` (automatic framing) or ``{eye, target, up, fov}``.
+    ``colormap`` over ``height_range`` (metres before ``z_scale``; default the terrain's
+    own), ``sea_level`` for ``bathymetry`` (default 0), and the ``legend``, ``scale_bar``
+    (orthographic cameras only: ``relief.open(...).render``) and ``north_arrow`` as
+    ``relief render``'s ``--colormap``, ``--height-range``, ``--sea-level``, ``--legend``,
+    ``--scale-bar`` and ``--north-arrow``.
     """
 
 ShadeLayer = Literal["shadow", "sky", "hillshade", "combined", "horizon", "sky-aniso",
@@ -265,10 +277,17 @@ class Scene:
     or a tile store."""
 
     def render(
-        self, camera: Optional[SceneCamera] = None, size: Tuple[int, int] = (1280, 720)
+        self,
+        camera: Optional[SceneCamera] = None,
+        size: Tuple[int, int] = (1280, 720),
+        *,
+        legend: bool = False,
+        scale_bar: bool = False,
+        north_arrow: bool = False,
     ) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
         """``(rgb, depth)`` as ``relief render`` draws the scene: uint8 (height, width, 3) and
-        float32 (height, width), +inf for a miss, pixel for pixel the command line's."""
+        float32 (height, width), +inf for a miss, pixel for pixel the command line's; with
+        its ``--legend``, ``--scale-bar`` (orthographic cameras) and ``--north-arrow``."""
     def shade(
         self,
         layers: Sequence[ShadeLayer] = ("combined",),
@@ -325,6 +344,9 @@ def open(
     texture: Union[str, PathLike[str], None] = None,
     cache_dir: Union[str, PathLike[str], None] = None,
     no_cache: bool = False,
+    colormap: Optional[ColourMapName] = None,
+    height_range: Optional[Tuple[float, float]] = None,
+    sea_level: Optional[float] = None,
 ) -> Scene:
     """Open any input ``relief render`` takes (``None``: the default fBm terrain) as a scene,
     with ``relief render``'s options and defaults. Raises ``ReliefError`` for options relief

@@ -7,7 +7,7 @@ use crate::memory;
 use crate::options::{HybridSettings, LightSettings, SceneOptions};
 use crate::tracer_spec::{SafetySettings, TracerChoice, TracerSpec};
 use relief_core::{Aabb, Camera, HeightField, Surface};
-use relief_shade::{sun_direction, Albedo, RgbTexture, ShadingParams, Sun};
+use relief_shade::{sun_direction, Albedo, HeightColourMap, RgbTexture, ShadingParams, Sun};
 use relief_trace::safety::SafetyTracer;
 use relief_trace::{Simd, TracerKind};
 use std::path::Path;
@@ -29,6 +29,9 @@ pub struct HeightFieldScene {
     pub max_memory: u64,
     /// Lights and materials, fitted to the terrain.
     pub params: ShadingParams,
+    /// The colour map over heights in metres, for a legend; `None` where a texture colours
+    /// the terrain.
+    pub colours: Option<HeightColourMap>,
     /// What opening it found that the user should know (a DEM read at the wrong spacing).
     pub warnings: Vec<String>,
 }
@@ -41,7 +44,10 @@ impl HeightFieldScene {
         let choice = options.tracer.clone().unwrap_or(TracerChoice::Plain(TracerKind::Mipmap));
         let loaded = input::load(path, &options.terrain)?;
         let field = Arc::new(loaded.field);
-        let params = shading(&options.light, &field.world_bounds(Surface::Boxes))?;
+        let bounds = field.world_bounds(Surface::Boxes);
+        let z_scale = options.terrain.z_scale;
+        let params = shading(&options.light, &bounds, z_scale)?;
+        let colours = legend_colours(&options.light, &bounds, z_scale)?;
         Ok(HeightFieldScene {
             field,
             surface,
@@ -50,6 +56,7 @@ impl HeightFieldScene {
             hybrid: options.hybrid.clone(),
             max_memory: memory::budget(options.terrain.read.max_memory).bytes,
             params,
+            colours,
             warnings: loaded.warning.into_iter().collect(),
         })
     }
@@ -99,9 +106,22 @@ pub fn check_safety_view(
     Ok(())
 }
 
-/// Lights and materials as `light` says, fitted to a terrain within `bounds`.
-pub fn shading(light: &LightSettings, bounds: &Aabb) -> Result<ShadingParams, RenderError> {
+/// Lights and materials as `light` says, fitted to a terrain within `bounds`, whose world
+/// heights are `z_scale` times its metres (`--z-scale`).
+pub fn shading(
+    light: &LightSettings,
+    bounds: &Aabb,
+    z_scale: f64,
+) -> Result<ShadingParams, RenderError> {
     let mut params = ShadingParams::for_terrain(bounds)?;
+    if light.colours.given() {
+        if light.texture.is_some() {
+            return Err(RenderError::Colours(
+                "a colour map and a texture both colour the terrain: give one".into(),
+            ));
+        }
+        params.albedo = light.colours.albedo(bounds, z_scale)?;
+    }
     let (azimuth_deg, elevation_deg) = light.sun;
     params.sun = Sun { azimuth_deg, elevation_deg, ..params.sun };
     params.shadows = !light.no_shadows;
@@ -115,4 +135,18 @@ pub fn shading(light: &LightSettings, bounds: &Aabb) -> Result<ShadingParams, Re
     }
     params.validate()?;
     Ok(params)
+}
+
+/// The colour map over heights in metres that `light` lays over a terrain within `bounds`
+/// (world heights `z_scale` times the metres), for a legend; `None` where a texture colours
+/// it.
+pub fn legend_colours(
+    light: &LightSettings,
+    bounds: &Aabb,
+    z_scale: f64,
+) -> Result<Option<HeightColourMap>, RenderError> {
+    match &light.texture {
+        Some(_) => Ok(None),
+        None => light.colours.in_metres(bounds, z_scale).map(Some),
+    }
 }

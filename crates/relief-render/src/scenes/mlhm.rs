@@ -57,6 +57,7 @@ const ORIGIN: DVec2 = DVec2::ZERO;
 impl LayeredScene {
     /// Reads the MLHM scene at `path` as `options` say.
     pub fn open(path: &Path, options: &SceneOptions) -> Result<Self, RenderError> {
+        options.light.colours.refuse_for("MLHM scenes")?;
         let mode = options.mode.unwrap_or(RenderMode::Boxes);
         if mode == RenderMode::Mesh {
             return Err(RenderError::Unsupported(

@@ -24,6 +24,7 @@ impl StacksScene {
     /// mipmap; the options' sigma is the Gaussian smoothing's standard deviation in metres
     /// (default: one cell).
     pub fn open(path: Option<&Path>, options: &SceneOptions) -> Result<Self, RenderError> {
+        options.light.colours.refuse_for("material stacks")?;
         let mut warnings = Vec::new();
         let stacks = read(path, options, &mut warnings)?;
         let spacing = stacks.spacing().x;

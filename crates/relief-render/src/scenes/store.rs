@@ -1,11 +1,13 @@
 //! A tile store (made by `relief tile`) opened for frames: its streamer (cache and loader),
 //! the surface drawn, the shading, the frames' error bound and the store's photo, if any.
 
-use super::height_field::shading;
+use super::height_field::{legend_colours, shading};
 use crate::error::RenderError;
 use crate::options::SceneOptions;
 use relief_core::{Aabb, Camera, Surface};
-use relief_shade::{Albedo, FilteredAlbedo, GBuffer, ShadingParams, TextureFilter};
+use relief_shade::{
+    Albedo, FilteredAlbedo, GBuffer, HeightColourMap, ShadingParams, TextureFilter,
+};
 use relief_tiles::{
     FrameRequest, TextureFrameStats, TextureStore, TextureStreamer, TileStore, TileStreamer,
     TiledTerrain,
@@ -23,6 +25,9 @@ pub struct StoreScene {
     pub bounds: Aabb,
     /// Lights and materials, fitted to the terrain.
     pub params: ShadingParams,
+    /// The colour map over heights in metres, for a legend; `None` where a texture colours
+    /// the terrain (the options' or the store's photo).
+    pub colours: Option<HeightColourMap>,
     /// The screen-space error bound asked for, pixels.
     pub max_error_px: f64,
     /// The store's photo with its own cache, and how it is filtered; `None` for a store
@@ -44,10 +49,23 @@ impl StoreScene {
         };
         let surface = options.surface.unwrap_or(Surface::Triangles);
         let bounds = store.world_bounds(surface);
-        let params = shading(&options.light, &store.world_bounds(Surface::Boxes))?;
+        // A store holds heights in metres: `--z-scale` does not place it.
+        let boxes = store.world_bounds(Surface::Boxes);
+        let params = shading(&options.light, &boxes, 1.0)?;
+        let colours = match texture {
+            Some(_) if options.light.colours.given() => {
+                return Err(RenderError::Colours(format!(
+                    "the tile store {} has a photo, which colours the terrain: a colour map \
+                     does not apply",
+                    path.display()
+                )))
+            }
+            Some(_) => None,
+            None => legend_colours(&options.light, &boxes, 1.0)?,
+        };
         let streamer = TileStreamer::new(store, surface, settings.cache_bytes)?;
         let max_error_px = settings.max_error_px;
-        Ok(StoreScene { streamer, surface, bounds, params, max_error_px, texture })
+        Ok(StoreScene { streamer, surface, bounds, params, colours, max_error_px, texture })
     }
 
     /// Whether the store at `path` has a photo (made by `relief tile --texture`).

@@ -6,6 +6,7 @@ use std::f32::consts::FRAC_1_PI;
 use super::byte_lanes::ByteLanes;
 use super::exp_approx::exp_non_positive;
 use super::ramp_lanes::RampLanes;
+use crate::colour_maps::MapTable;
 
 /// Smallest cosine of the view angle the GGX lobe uses (as `shading.rs`).
 const MIN_COS_VIEW: f32 = 1e-4;
@@ -28,6 +29,21 @@ pub(crate) enum LaneAlbedo {
         rock: [f32; 3],
         /// The ramp's table.
         table: &'static RampLanes,
+    },
+    /// A named colour map over heights: the height above the pivot `h = h_eye + (origin.z -
+    /// eye.z) + dir.z * distance`, the map's position `u = pivot_u + h * (below if h < 0 else
+    /// above)`.
+    Mapped {
+        /// The eye's height above the pivot.
+        h_eye: f32,
+        /// The position at the pivot.
+        pivot_u: f32,
+        /// Position per unit of height below the pivot.
+        below: f32,
+        /// Position per unit of height above it.
+        above: f32,
+        /// The map's table.
+        table: &'static MapTable,
     },
 }
 
@@ -260,6 +276,15 @@ fn albedo_lanes<const N: usize>(
                 }
             }
             albedo
+        }
+        LaneAlbedo::Mapped { h_eye, pivot_u, below, above, table } => {
+            let mut u = [0.0f32; N];
+            for l in 0..N {
+                let rise = if c.orthographic { p.sx[l] * c.right[2] + sy * c.up[2] } else { 0.0 };
+                let h = h_eye + rise + dir[2][l] * p.distance[l];
+                u[l] = pivot_u + h * if h < 0.0 { below } else { above };
+            }
+            table.colour_lanes(&u)
         }
     }
 }

@@ -14,8 +14,9 @@ use crate::{Albedo, ShadeError, ShadingParams};
 pub const MIN_LANE_ROUGHNESS: f64 = 0.2;
 
 /// The deferred shading of one camera's picture in `f32` lanes, for the parameters it covers:
-/// a pinhole or orthographic camera, uniform or hypsometric albedo, any sun and sky, GGX of roughness at least
-/// [`MIN_LANE_ROUGHNESS`] or none, fog, exposure; `ShadingParams::precise` off.
+/// a pinhole or orthographic camera, uniform, hypsometric or colour-mapped albedo, any sun and
+/// sky, GGX of roughness at least [`MIN_LANE_ROUGHNESS`] or none, fog, exposure;
+/// `ShadingParams::precise` off.
 ///
 /// A pixel's bytes are within one 8-bit step per channel of the `f64` pass's
 /// ([`crate::shade_to_srgb8`] with `precise`), and the same at every [`LaneWidth`].
@@ -57,6 +58,16 @@ impl ShadingKernel {
                     steep_rock: ramp.steep_rock,
                     rock: rock_linear().as_vec3().to_array(),
                     table: RampLanes::get(),
+                }
+            }
+            Albedo::Mapped(map) => {
+                let pieces = map.pieces();
+                LaneAlbedo::Mapped {
+                    h_eye: (camera.eye().z - pieces.pivot_z) as f32,
+                    pivot_u: pieces.pivot_u as f32,
+                    below: pieces.below as f32,
+                    above: pieces.above as f32,
+                    table: map.map.table(),
                 }
             }
             _ => return None,

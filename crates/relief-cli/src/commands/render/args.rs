@@ -37,6 +37,9 @@ pub struct RenderArgs {
     /// balanced, a slightly larger file), balanced or high (the smallest file) [default: fast].
     #[arg(long, value_name = "LEVEL")]
     pub png_compression: Option<relief_io::PngCompression>,
+    /// Legend, scale bar and north arrow.
+    #[command(flatten)]
+    pub furniture: FurnitureArgs,
     /// Options of the hybrid renderer.
     #[command(flatten)]
     pub hybrid: HybridArgs,

@@ -29,11 +29,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     check_image_held(w, h, image_holding(args), &budget)?;
     refuse_renderer_options(args)?;
     let opened = open_scene(scene_args, Some(&args.tiles), Some(&args.hybrid))?;
+    let furniture = args.furniture.furniture();
+    let colours = opened.scene.height_colours();
+    furniture.check(&opened.camera, colours.as_ref())?;
     let load_ms = outputs::ms_since(started);
 
     let keep = KeptHits { depth: args.depth.is_some(), normals: args.normals.is_some() };
     let bars = progress::Bars::default();
-    let picture = opened.scene.render(&opened.camera, keep, args.aa, &bars)?;
+    let mut picture = opened.scene.render(&opened.camera, keep, args.aa, &bars)?;
+    furniture.draw(&mut picture, &opened.camera, colours.as_ref())?;
     for note in &picture.notes {
         eprintln!("{note}");
     }
