@@ -1,11 +1,15 @@
 //! The progressive scheduler: which resolution to render next. While the camera moves, the
 //! largest reduced resolution whose predicted time fits the frame budget; once it rests,
-//! doubling the resolution frame by frame up to full; then nothing, until something changes.
+//! doubling the resolution frame by frame up to full, then the full frame anti-aliased
+//! ([`AT_REST_SAMPLES`]² samples a pixel); then nothing, until something changes.
 
 use std::time::Duration;
 
 /// The reductions tried, largest image first: the full size divided by each, per side.
 const DIVISORS: [u32; 6] = [1, 2, 3, 4, 6, 8];
+
+/// The samples a side of a pixel of the last frame at rest: the full frame anti-aliased.
+pub const AT_REST_SAMPLES: u32 = 2;
 
 /// One frame to render: the view's version and the divisor of its size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -18,6 +22,9 @@ pub struct FrameRequest {
     pub width: u32,
     /// Its height in pixels.
     pub height: u32,
+    /// Samples a side of each pixel: 1, or [`AT_REST_SAMPLES`] for the full frame
+    /// anti-aliased at rest (rendered `samples` times as wide and as high, then averaged).
+    pub samples: u32,
 }
 
 /// Decides what to render next.
@@ -27,8 +34,8 @@ pub struct ProgressiveScheduler {
     budget: Duration,
     version: u64,
     moving: bool,
-    /// The last frame shown: (version, divisor).
-    shown: Option<(u64, u32)>,
+    /// The last frame shown: (version, divisor, samples).
+    shown: Option<(u64, u32, u32)>,
     /// Measured cost per pixel, in seconds (an average that follows changes quickly).
     seconds_per_pixel: Option<f64>,
 }
@@ -76,44 +83,51 @@ impl ProgressiveScheduler {
         self.moving = moving;
     }
 
-    /// Whether the image shown is the current view at full resolution.
+    /// Whether the image shown is the current view at full resolution, anti-aliased.
     pub fn is_complete(&self) -> bool {
-        self.shown == Some((self.version, 1))
+        self.shown == Some((self.version, 1, AT_REST_SAMPLES))
     }
 
-    /// The next frame to render, or `None` when the full image of the current view is shown.
+    /// The next frame to render, or `None` when the full image of the current view is shown
+    /// anti-aliased.
     pub fn next(&self) -> Option<FrameRequest> {
         let fast = self.fast_divisor();
-        let divisor = match self.shown {
-            Some((v, d)) if v == self.version => {
-                if self.moving || d == 1 {
+        let (divisor, samples) = match self.shown {
+            Some((v, d, samples)) if v == self.version => {
+                if self.moving || samples > 1 {
                     return None;
                 }
-                // At rest: the next larger image, never one smaller than what is shown.
-                DIVISORS.iter().copied().filter(|&k| k < d).max().unwrap_or(1)
+                // At rest: the next larger image, never one smaller than what is shown; after
+                // the full one, the full one anti-aliased.
+                match DIVISORS.iter().copied().filter(|&k| k < d).max() {
+                    Some(larger) => (larger, 1),
+                    None => (1, AT_REST_SAMPLES),
+                }
             }
             // A new view, moving or not: the largest frame that fits the budget, at once.
-            _ => fast,
+            _ => (fast, 1),
         };
         let (width, height) = self.size_for(divisor);
-        Some(FrameRequest { version: self.version, divisor, width, height })
+        Some(FrameRequest { version: self.version, divisor, width, height, samples })
     }
 
-    /// The current view at full size, whatever is shown: to render it again (a scripted run
-    /// that measures frames at rest).
+    /// The current view at full size, one sample a pixel, whatever is shown: to render it
+    /// again (a scripted run that measures frames at rest).
     pub fn full_request(&self) -> FrameRequest {
-        FrameRequest { version: self.version, divisor: 1, width: self.full.0, height: self.full.1 }
+        let (width, height) = self.full;
+        FrameRequest { version: self.version, divisor: 1, width, height, samples: 1 }
     }
 
     /// `request` was rendered in `elapsed` and is shown.
     pub fn shown(&mut self, request: FrameRequest, elapsed: Duration) {
-        let pixels = f64::from(request.width) * f64::from(request.height);
+        let samples = f64::from(request.samples * request.samples);
+        let pixels = f64::from(request.width) * f64::from(request.height) * samples;
         let measured = elapsed.as_secs_f64() / pixels;
         self.seconds_per_pixel = Some(match self.seconds_per_pixel {
             Some(old) => 0.5 * old + 0.5 * measured,
             None => measured,
         });
-        self.shown = Some((request.version, request.divisor));
+        self.shown = Some((request.version, request.divisor, request.samples));
     }
 
     /// The size of the image for `divisor`.
@@ -167,12 +181,13 @@ mod tests {
         let mut s = ProgressiveScheduler::new((640, 360), 40 * MS);
         let mut sizes = Vec::new();
         while let Some(request) = s.next() {
-            sizes.push((request.width, request.height));
+            sizes.push((request.width, request.height, request.samples));
             s.shown(request, MS); // 1 ms a frame of any size: cheap
         }
-        assert_eq!(sizes.first(), Some(&(80, 45)), "nothing measured yet: the fastest first");
-        assert_eq!(sizes.last(), Some(&(640, 360)));
-        assert!(sizes.windows(2).all(|w| w[0].0 < w[1].0), "{sizes:?}");
+        assert_eq!(sizes.first(), Some(&(80, 45, 1)), "nothing measured yet: the fastest first");
+        // The full frame, then the full frame anti-aliased.
+        assert_eq!(sizes[sizes.len() - 2..], [(640, 360, 1), (640, 360, AT_REST_SAMPLES)]);
+        assert!(sizes.windows(2).all(|w| w[0].0 < w[1].0 || w[0].2 < w[1].2), "{sizes:?}");
         assert!(s.is_complete());
         // A change starts again, now straight at the size the budget affords.
         s.changed();

@@ -62,7 +62,10 @@ pub(crate) fn spawn_render_thread(
                 Ok(_) if job.cancel.is_set() => Rendered::Cancelled(simulated),
                 Ok(frame) => Rendered::Frame {
                     request: job.request,
-                    frame,
+                    frame: match job.request.samples {
+                        1 => frame,
+                        n => frame.averaged(n),
+                    },
                     elapsed: started.elapsed(),
                     moving: job.moving,
                     simulated,
