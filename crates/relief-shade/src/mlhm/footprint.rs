@@ -122,7 +122,7 @@ mod tests {
     #[test]
     fn flat_faces_keep_their_normal_exactly() {
         let map = stepped(0.0);
-        for x in [0.5, 3.0, 4.0, 4.37, 6.9] {
+        for x in [1.5, 3.0, 4.0, 4.37, 6.2] {
             let p = DVec3::new(x, 4.25, 2.0);
             assert_eq!(filtered_normal(&map, p, DVec3::Z, 0.6, false), DVec3::Z, "x = {x}");
         }
