@@ -117,19 +117,47 @@ impl Mlhm {
         (0..n).map(move |k| self.columns[self.index(x, y, k)])
     }
 
-    /// The floor of column `k` of cell `(x, y)`: the ceiling of column `k - 1`, or minus
-    /// infinity for `k = 0`.
+    /// The floor of column `k` of cell `(x, y)`: the ceiling of column `k - 1`, or the map's
+    /// [base](Mlhm::base) (minus infinity unless set) for `k = 0`.
     ///
     /// # Panics
     /// As [`Mlhm::column`].
     pub fn floor(&self, x: usize, y: usize, k: usize) -> f32 {
         if k == 0 {
             let _ = self.column(x, y, 0);
-            f32::NEG_INFINITY
+            self.base
         } else {
             let _ = self.column(x, y, k);
             self.columns[self.index(x, y, k - 1)].ceiling
         }
+    }
+
+    /// The floor of every cell's lowest column, where the solid ends below: minus infinity
+    /// (the lowest columns reach down forever) unless [`Mlhm::set_base`] set it. The box
+    /// tracers and [`Mlhm::floor`] clip the solid there; the volumes
+    /// ([`Mlhm::material_volumes`]) and the smooth surface do not.
+    pub fn base(&self) -> f32 {
+        self.base
+    }
+
+    /// Clips the solid at `base` below: the floor of every cell's lowest column. A base above
+    /// the lowest bedrock top is lowered to it (a column is never cut into), as is a NaN
+    /// base; minus infinity lifts no clip.
+    ///
+    /// ```
+    /// use relief_core::{Mlhm, MlhmColumn};
+    /// let mut map = Mlhm::new(2, 1, 1, 1.0)?;
+    /// map.set_cell(0, 0, &[MlhmColumn::new(3.0, 0.0, 0.0, f32::INFINITY)])?;
+    /// map.set_cell(1, 0, &[MlhmColumn::new(5.0, 0.0, 0.0, f32::INFINITY)])?;
+    /// map.set_base(2.0);
+    /// assert_eq!((map.base(), map.floor(1, 0, 0)), (2.0, 2.0));
+    /// map.set_base(4.0);
+    /// assert_eq!(map.base(), 3.0);
+    /// # Ok::<(), relief_core::CoreError>(())
+    /// ```
+    pub fn set_base(&mut self, base: f32) {
+        let lowest = self.heights().bedrock_min as f32;
+        self.base = if base <= lowest { base } else { lowest };
     }
 
     /// Replaces the columns of cell `(x, y)` by `columns` (bottom to top); the slots above

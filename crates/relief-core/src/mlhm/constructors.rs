@@ -30,6 +30,7 @@ impl Mlhm {
             layer_counts: vec![1; width * height],
             columns,
             precision: Precision::F32,
+            base: f32::NEG_INFINITY,
         })
     }
 
@@ -62,6 +63,7 @@ impl Mlhm {
             layer_counts,
             columns,
             precision: Precision::F32,
+            base: f32::NEG_INFINITY,
         };
         map.validate()?;
         Ok(map)
@@ -146,6 +148,7 @@ impl Mlhm {
             layer_counts: Vec::new(),
             columns: Vec::new(),
             precision: self.precision,
+            base: self.base,
         }
     }
 }

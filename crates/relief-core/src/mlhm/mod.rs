@@ -55,6 +55,8 @@ pub struct Mlhm {
     layer_counts: Vec<u8>,
     columns: Vec<MlhmColumn>,
     precision: Precision,
+    /// The floor of every cell's lowest column ([`Mlhm::base`]): minus infinity unless set.
+    base: f32,
 }
 
 /// The maps the unit tests of this module's files share.

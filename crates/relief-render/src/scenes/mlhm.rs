@@ -77,7 +77,9 @@ impl LayeredScene {
         shading.exposure = light.exposure;
         shading.validate()?;
 
-        let map = Arc::new(input::load_mlhm(path, &options.terrain.read)?.mlhm);
+        let mut map = input::load_mlhm(path, &options.terrain.read)?.mlhm;
+        map.set_base(mlhm_base(&map));
+        let map = Arc::new(map);
         if let Some(sigma) = options.sigma {
             check_sigma(sigma, map.cell_size())?;
         }
@@ -193,14 +195,27 @@ fn check_sigma(sigma: f64, cell_size: f64) -> Result<(), RenderError> {
     Ok(())
 }
 
-/// The box an MLHM scene is framed and coloured by: its solids and water, its bottom (minus
-/// infinity for a scene's lowest columns) raised to the lowest bedrock top, so that it is
-/// finite and holds every visible surface.
+/// Where the solid of an MLHM scene ends below (see [`Mlhm::set_base`]): a little below the
+/// lowest terrain that can be seen, the lowest bedrock top of any cell's lowest column
+/// (every sand, water or column top seen lies at or above it), by 5% of the terrain's height
+/// range and at least one cell. Without it the lowest columns reach down forever and every
+/// picture is of a tall grey pillar under the terrain.
+pub fn mlhm_base(map: &Mlhm) -> f32 {
+    let heights = map.heights();
+    let (lowest, top) = (heights.bedrock_min, heights.solid_max.max(heights.water_max));
+    let margin = (0.05 * (top - lowest)).max(map.cell_size());
+    (lowest - margin) as f32
+}
+
+/// The box an MLHM scene is framed and coloured by: its solids and water, from the solid's
+/// [base](Mlhm::base) (or, where none is set, [`mlhm_base`]) up to the highest solid or
+/// water top, so that it is finite and holds the whole visible block.
 pub fn mlhm_bounds(map: &Arc<Mlhm>) -> Result<Aabb, RenderError> {
     let bounds = MlhmNaiveTracer::new(map.clone(), ORIGIN).world_bounds(MlhmMode::SolidsWater);
-    let lowest = map.heights().bedrock_min;
-    let finite = Aabb::new(DVec3::new(bounds.min.x, bounds.min.y, lowest), bounds.max);
-    if !(finite.min.is_finite() && finite.max.is_finite() && lowest <= finite.max.z) {
+    let base = map.base();
+    let base = if base.is_finite() { base } else { mlhm_base(map) } as f64;
+    let finite = Aabb::new(DVec3::new(bounds.min.x, bounds.min.y, base), bounds.max);
+    if !(finite.min.is_finite() && finite.max.is_finite() && base <= finite.max.z) {
         return Err(RenderError::NoFiniteBounds(format!("{finite:?}")));
     }
     Ok(finite)

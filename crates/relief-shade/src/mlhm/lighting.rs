@@ -12,6 +12,7 @@ use super::brdf::{
     WATER_IOR, WATER_ROUGHNESS,
 };
 use super::environment::SkyLight;
+use super::footprint::{filtered_normal, lift_direction, lit_share};
 use super::materials::{solid_albedo, WATER_COLOUR};
 use super::preset::{MlhmQuality, WaterAbsorption};
 use super::ray_counts::MlhmRayCounts;
@@ -60,6 +61,7 @@ pub fn shade_mlhm(
         sun: shading.sun,
         to_sun: shading.sun.direction(),
         sky: SkyLight::new(shading.sky, shading.sky_light),
+        faceted: tracer.faceted(),
     };
     let counts = radiance
         .par_chunks_mut(TILE_SIZE * width)
@@ -124,6 +126,9 @@ struct Pass<'a> {
     sun: Sun,
     to_sun: DVec3,
     sky: SkyLight,
+    /// Whether the tracer's hits lie on box faces, whose shading terms are filtered over the
+    /// pixel's footprint.
+    faceted: bool,
 }
 
 impl Pass<'_> {
@@ -202,28 +207,62 @@ impl Pass<'_> {
         DVec3::from(WATER_COLOUR) * self.sky.irradiance(DVec3::Z) / PI * 0.25
     }
 
-    /// Visibility of the sun from `p` (normal `n`): by a shadow ray through the solids when
-    /// shadows are on for this bounce (see [`MlhmTracer::light_visibility`]), else 1 on the
-    /// lit side.
+    /// The width of a pixel's footprint at `along` metres from the eye (see
+    /// [`Camera::pixel_footprint`]).
+    fn footprint(&self, along: f64) -> f64 {
+        self.camera.pixel_footprint(along)
+    }
+
+    /// Visibility of the sun from `p` on a face of normal `face`, shaded with the normal `n`
+    /// (see [`Pass::shading_normal`]): by shadow rays through the solids when shadows are on
+    /// for this bounce (see [`MlhmTracer::light_visibility`]), else 1 on the lit side.
+    ///
+    /// On box faces the shadow is filtered over the `footprint` ([`lit_share`]): the rays
+    /// start off the face, shifted across the sun's rays by up to the footprint's width as
+    /// the sun sees it (`footprint * n.l`). A smooth surface's soft shadow is taken as the
+    /// tracer gives it.
+    #[allow(clippy::too_many_arguments)]
     fn sun_visibility(
         &self,
         p: DVec3,
+        face: DVec3,
         n: DVec3,
         along: f64,
+        footprint: f64,
         lit: bool,
         counts: &mut MlhmRayCounts,
     ) -> f64 {
-        if !self.sun.is_up() || n.dot(self.to_sun) <= 0.0 {
+        let n_l = n.dot(self.to_sun);
+        if !self.sun.is_up() || n_l <= 0.0 {
             return 0.0;
         }
         if !(self.quality.shadows && lit) {
             return 1.0;
         }
-        let ray = Ray::new(p + n * self.bias(p, along), self.to_sun);
-        let mut steps = 0;
-        let visibility = self.tracer.light_visibility(&ray, &mut steps);
-        counts.shadow.record(steps, visibility < 1.0);
-        visibility
+        let start = p + face * self.bias(p, along);
+        let mut shadow_ray = |origin: DVec3| {
+            let mut steps = 0;
+            let visibility =
+                self.tracer.light_visibility(&Ray::new(origin, self.to_sun), &mut steps);
+            counts.shadow.record(steps, visibility < 1.0);
+            visibility
+        };
+        if !self.faceted {
+            return shadow_ray(start);
+        }
+        let lift = lift_direction(n, self.to_sun);
+        lit_share(footprint * n_l, |shift| shadow_ray(start + lift * shift) < 1.0)
+    }
+
+    /// The normal `p` is shaded with, on a face of normal `face` of the solids (or, where
+    /// `water`, of the water's surface seen from air) seen over a pixel `footprint` wide: on
+    /// box faces, the boxes' normal filtered over the footprint ([`filtered_normal`]); the
+    /// face's own on a smooth surface.
+    fn shading_normal(&self, p: DVec3, face: DVec3, footprint: f64, water: bool) -> DVec3 {
+        if !self.faceted {
+            return face;
+        }
+        filtered_normal(self.map, p - self.origin.extend(0.0), face, footprint, water)
     }
 
     /// The geometric ambient occlusion at `p` of normal `n`: with `V` the solid volume in the
@@ -247,14 +286,16 @@ impl Pass<'_> {
         bounce: Bounce,
         counts: &mut MlhmRayCounts,
     ) -> DVec3 {
-        let (p, n, v) = (h.hit.position, h.hit.normal, -ray.dir);
+        let (p, face, v) = (h.hit.position, h.hit.normal, -ray.dir);
+        let footprint = self.footprint(along);
+        let n = self.shading_normal(p, face, footprint, false);
         let lit = bounce == Bounce::Primary || self.quality.secondary_lighting;
         let s = self.map.cell_size();
         let local = p - self.origin.extend(0.0);
         let albedo = solid_albedo(&self.map.material_volumes(local - s, local + s), h.material);
         let f0 = if in_water { TERRAIN_UNDER_WATER_F0 } else { TERRAIN_F0 };
         let lobe = GgxSpecular { roughness: TERRAIN_ROUGHNESS, f0 };
-        let visibility = self.sun_visibility(p, n, along, lit, counts);
+        let visibility = self.sun_visibility(p, face, n, along, footprint, lit, counts);
         let n_l = n.dot(self.to_sun).max(0.0);
         let direct = (albedo / PI + DVec3::splat(lobe.brdf_smith_schlick(n, v, self.to_sun)))
             * (self.sun.irradiance * n_l * visibility);
@@ -263,10 +304,13 @@ impl Pass<'_> {
         direct + (albedo * self.sky.irradiance(n) / PI + glossy) * ao
     }
 
-    /// The sun's highlight on a water surface of normal `n` seen along `v`.
+    /// The sun's highlight on a water surface (face normal `face`, shaded with normal `n`)
+    /// seen along `v`.
+    #[allow(clippy::too_many_arguments)]
     fn water_highlight(
         &self,
         p: DVec3,
+        face: DVec3,
         n: DVec3,
         v: DVec3,
         along: f64,
@@ -278,7 +322,8 @@ impl Pass<'_> {
         if specular <= 0.0 {
             return DVec3::ZERO;
         }
-        let visibility = self.sun_visibility(p, n, along, lit, counts);
+        let footprint = self.footprint(along);
+        let visibility = self.sun_visibility(p, face, n, along, footprint, lit, counts);
         DVec3::splat(specular * self.sun.irradiance * n.dot(self.to_sun).max(0.0) * visibility)
     }
 
@@ -302,21 +347,27 @@ impl Pass<'_> {
         self.radiance(&ray, hit, in_water, along, Bounce::Secondary, counts)
     }
 
-    /// The water surface seen from air at `p` (normal `n` facing the ray): a reflection and
-    /// a refraction ray mixed by Fresnel, or an opaque water colour without secondary rays.
+    /// The water surface seen from air at `p` (face normal `face` facing the ray): a
+    /// reflection and a refraction ray mixed by Fresnel, or an opaque water colour without
+    /// secondary rays. Directions and Fresnel follow the shading normal
+    /// ([`Pass::shading_normal`]); the secondary rays start off the face.
     fn water_from_air(
         &self,
         ray: &Ray,
         p: DVec3,
-        n: DVec3,
+        face: DVec3,
         along: f64,
         bounce: Bounce,
         counts: &mut MlhmRayCounts,
     ) -> DVec3 {
         let v = -ray.dir;
+        // A mirror needs the viewer on the normal's side.
+        let n = Some(self.shading_normal(p, face, self.footprint(along), true))
+            .filter(|n| n.dot(v) > 0.0)
+            .unwrap_or(face);
         let lit = bounce == Bounce::Primary || self.quality.secondary_lighting;
         let f = fresnel(n.dot(v), 1.0 / WATER_IOR, WATER_F0);
-        let highlight = self.water_highlight(p, n, v, along, lit, counts);
+        let highlight = self.water_highlight(p, face, n, v, along, lit, counts);
         let mirror = reflect(ray.dir, n);
         if !(self.quality.water_rays && bounce == Bounce::Primary) {
             let body = DVec3::from(WATER_COLOUR) / PI
@@ -326,10 +377,10 @@ impl Pass<'_> {
         }
         let eps = self.bias(p, along);
         let reflection =
-            self.secondary(p + n * eps, mirror, false, along, Secondary::Reflected, counts);
+            self.secondary(p + face * eps, mirror, false, along, Secondary::Reflected, counts);
         let refraction = match refract(ray.dir, n, 1.0 / WATER_IOR) {
             Some(dir) => {
-                self.secondary(p - n * eps, dir, true, along, Secondary::Refracted, counts)
+                self.secondary(p - face * eps, dir, true, along, Secondary::Refracted, counts)
             }
             None => DVec3::ZERO,
         };

@@ -5,6 +5,7 @@
 
 mod brdf;
 mod environment;
+mod footprint;
 mod lighting;
 mod materials;
 mod preset;
@@ -20,6 +21,9 @@ pub use brdf::{
     WATER_IOR, WATER_ROUGHNESS,
 };
 pub use environment::{reference_sky, SkyLight, GROUND_RADIANCE};
+pub use footprint::{
+    filtered_normal, lift_direction, lit_share, NORMAL_FILTER_FOOTPRINTS, VISIBILITY_BISECTIONS,
+};
 pub use lighting::shade_mlhm;
 pub use materials::{material_colour, solid_albedo, BEDROCK_COLOUR, SAND_COLOUR, WATER_COLOUR};
 pub use preset::{MlhmPreset, MlhmQuality, WaterAbsorption};

@@ -7,8 +7,9 @@ use std::str::FromStr;
 
 /// What an MLHM ray intersects: which materials count as "inside".
 ///
-/// With `floor(k)` the ceiling of column `k - 1` (minus infinity for `k = 0`), the boxes of a
-/// cell of `n` columns are, closed intervals over the cell's footprint:
+/// With `floor(k)` the ceiling of column `k - 1` (for `k = 0` the map's
+/// [base](relief_core::Mlhm::base), minus infinity unless set), the boxes of a cell of `n`
+/// columns are, closed intervals over the cell's footprint:
 ///
 /// - [`Solids`](MlhmMode::Solids): `[floor(k), bedrock(k) + sand(k)]` for every column `k`
 ///   (shadow rays, rays that ignore water);
@@ -16,7 +17,7 @@ use std::str::FromStr;
 ///   the visible surface that primary rays and depth output use;
 /// - [`SolidsAir`](MlhmMode::SolidsAir): for rays travelling inside water, everything that is
 ///   not water: `[water_top(k - 1), bedrock(k) + sand(k)]` for every column `k` (the air of
-///   column `k - 1`, then the solids of column `k`; `water_top(-1)` is minus infinity), and the
+///   column `k - 1`, then the solids of column `k`; `water_top(-1)` is the base), and the
 ///   air above the top column, `[water_top(n - 1), +inf]`. This is the paper's
 ///   `[a_min(k-1), s_max(k)]` with the open sky added as one more box.
 ///
@@ -185,19 +186,20 @@ pub(crate) fn for_each_box(
     mut f: impl FnMut(&ColumnBox) -> bool,
 ) {
     let mut below: Option<MlhmColumn> = None;
+    let base = map.base() as f64;
     for (k, c) in map.cell_columns(x, y).enumerate() {
         let layer = |top: f32, material, column| Layer { top: top as f64, material, column };
         let bedrock = layer(c.bedrock, MlhmMaterial::Bedrock, k);
         let sand = layer(c.solid_top(), MlhmMaterial::Sand, k);
         let boxed = match mode {
             MlhmMode::Solids | MlhmMode::SolidsWater => {
-                let floor = below.map_or(f64::NEG_INFINITY, |b| b.ceiling as f64);
+                let floor = below.map_or(base, |b| b.ceiling as f64);
                 let water = layer(c.water_top(), MlhmMaterial::Water, k);
                 let n = if mode == MlhmMode::Solids { 2 } else { 3 };
                 ColumnBox::new(floor, &[bedrock, sand, water][..n])
             }
             MlhmMode::SolidsAir => match below {
-                None => ColumnBox::new(f64::NEG_INFINITY, &[bedrock, sand]),
+                None => ColumnBox::new(base, &[bedrock, sand]),
                 Some(b) => {
                     let air = layer(b.ceiling, MlhmMaterial::Air, k - 1);
                     ColumnBox::new(b.water_top() as f64, &[air, bedrock, sand])

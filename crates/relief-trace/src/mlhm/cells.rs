@@ -24,11 +24,12 @@ pub(crate) fn ray_to_cells(map: &Mlhm, origin: DVec2, ray: &Ray) -> Option<Ray> 
     ok.then_some(cell)
 }
 
-/// The world box over the footprint of `map` placed at `origin`, from minus infinity (the
-/// lowest columns reach down forever) up to `top`.
+/// The world box over the footprint of `map` placed at `origin`, from the map's
+/// [base](Mlhm::base) (minus infinity unless set: the lowest columns reach down forever) up to
+/// `top`.
 pub(crate) fn world_box(map: &Mlhm, origin: DVec2, top: f64) -> Aabb {
     let size = DVec2::new(map.width() as f64, map.height() as f64) * map.cell_size();
-    Aabb::new(origin.extend(f64::NEG_INFINITY), (origin + size).extend(top))
+    Aabb::new(origin.extend(map.base() as f64), (origin + size).extend(top))
 }
 
 /// A cell's part of the clipped ray.

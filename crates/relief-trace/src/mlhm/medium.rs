@@ -18,7 +18,8 @@ pub enum Medium {
 }
 
 /// The medium at world point `p` of `map`, whose south-west corner is at world `origin`:
-/// resolved within the one cell below `p`, since water in an MLHM lies in columns.
+/// resolved within the one cell below `p`, since water in an MLHM lies in columns; air below
+/// the map's [base](Mlhm::base).
 pub fn medium_at(map: &Mlhm, origin: DVec2, p: DVec3) -> Medium {
     let s = map.cell_size();
     let (fx, fy) = ((p.x - origin.x) / s, (p.y - origin.y) / s);
@@ -27,6 +28,10 @@ pub fn medium_at(map: &Mlhm, origin: DVec2, p: DVec3) -> Medium {
     }
     let (x, y) = (fx as usize, fy as usize);
     let z = p.z;
+    // Below the base the solid has ended.
+    if z < map.base() as f64 {
+        return Medium::Air;
+    }
     let n = map.layer_count(x, y);
     for (k, c) in map.cell_columns(x, y).enumerate() {
         if z >= c.ceiling as f64 && k + 1 < n {

@@ -90,8 +90,10 @@ impl MlhmNaiveTracer {
         let inv = DVec3::ONE / ray.dir;
         let (w, h) = (self.map.width(), self.map.height());
         let top = self.world_bounds(mode).max.z;
-        let bounds =
-            Aabb::new(DVec3::new(0.0, 0.0, f64::NEG_INFINITY), DVec3::new(w as f64, h as f64, top));
+        let bounds = Aabb::new(
+            DVec3::new(0.0, 0.0, self.map.base() as f64),
+            DVec3::new(w as f64, h as f64, top),
+        );
         let clip = bounds.clip(&ray)?;
         let (mut cx, mut cy) = (
             axis_cell(ray.origin.x, ray.dir.x, inv.x, clip.t_enter, w),

@@ -132,6 +132,11 @@ impl MlhmTracer for MlhmSmoothTracer {
         self.origin
     }
 
+    /// The smooth surface has no faces: its normals and soft shadows are smooth already.
+    fn faceted(&self) -> bool {
+        false
+    }
+
     fn intersect_mode_counted(
         &self,
         ray: &Ray,

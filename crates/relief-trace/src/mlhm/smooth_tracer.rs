@@ -468,7 +468,9 @@ impl Tracer for MlhmSmoothTracer {
             MlhmMode::SolidsAir => f64::INFINITY,
             mode => self.heights(mode).1,
         };
-        world_box(&self.map, self.origin, top)
+        let boxed = world_box(&self.map, self.origin, top);
+        // The smooth surface is not clipped at the map's base.
+        Aabb::new(boxed.min.truncate().extend(f64::NEG_INFINITY), boxed.max)
     }
 
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {

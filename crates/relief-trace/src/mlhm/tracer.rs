@@ -63,6 +63,14 @@ pub trait MlhmTracer: Tracer {
         0.0
     }
 
+    /// Whether the hits lie on the flat, axis-aligned faces of the boxes (true for the box
+    /// tracers): faces and steps far smaller than a pixel, whose shading terms (normal,
+    /// occlusion, hard shadows) the lighting filters over the pixel's footprint. A smooth
+    /// surface's tracer returns false: its normals and soft shadows are smooth already.
+    fn faceted(&self) -> bool {
+        true
+    }
+
     /// How much of a distant light reaches the origin of the shadow ray `ray` past the solids,
     /// counting the nodes and cells visited into `steps`: 0 when the ray meets a solid, else
     /// 1 for a hard shadow. Tracers of a smooth surface may return values in between, a soft

@@ -154,8 +154,12 @@ impl Drawing for LiveMlhm {
             *simulation = Some(MlhmSimulation::open(&scene.path, scene.max_memory)?);
         }
         let running = simulation.as_mut().expect("made above");
-        let (map, advanced) = running.advance(request.steps, request.budget, request.rain)?;
-        self.scene.write().expect("no render panicked").map = Arc::new(map);
+        let (mut map, advanced) = running.advance(request.steps, request.budget, request.rain)?;
+        let mut scene = self.scene.write().expect("no render panicked");
+        // The solid ends where it ended as the scene opened (lower if erosion dug deeper).
+        map.set_base(scene.map.base());
+        scene.map = Arc::new(map);
+        drop(scene);
         // The tracers, hierarchy included, are built anew over the new terrain.
         self.built.clear();
         let report = SimulationReport {

@@ -7,7 +7,7 @@ use crate::{applies, outputs};
 use anyhow::{bail, Context, Result};
 use relief_core::{Camera, DVec2, Mlhm};
 use relief_render::draw::mlhm::mlhm_frame;
-use relief_render::scenes::mlhm::mlhm_bounds;
+use relief_render::scenes::mlhm::{mlhm_base, mlhm_bounds};
 use relief_render::{place_camera, CameraOptions};
 use relief_shade::mlhm::{MlhmPreset, MlhmShading};
 use relief_shade::Sun;
@@ -61,6 +61,8 @@ pub struct Frames {
     camera: Camera,
     /// The map's layer planes: the initial map's, grown as columns split.
     layers: usize,
+    /// Where the solid ends below ([`mlhm_base`] of the initial map), in every frame.
+    base: f32,
     hierarchy: Option<MlhmHierarchy>,
     /// Milliseconds of the steps since the last frame.
     pending_steps_ms: f64,
@@ -102,6 +104,7 @@ impl Frames {
             preset,
             camera,
             layers: map.max_layers(),
+            base: mlhm_base(map),
             hierarchy: None,
             pending_steps_ms: 0.0,
             pending_steps: 0,
@@ -120,7 +123,9 @@ impl Frames {
         }
         let started = Instant::now();
         self.layers = self.layers.max(state.used_layers());
-        let map = Arc::new(state.to_mlhm_with_layers(self.layers)?);
+        let mut map = state.to_mlhm_with_layers(self.layers)?;
+        map.set_base(self.base);
+        let map = Arc::new(map);
         let convert = ms_since(started);
 
         let started = Instant::now();
