@@ -37,6 +37,10 @@ pub enum Projection {
 ///
 /// Either way the direction is a unit vector, so a hit's ray parameter `t` is its distance from
 /// the ray's origin (the eye, or the point on the eye's plane): the depth relief writes.
+///
+/// A camera may sample its pixels off their centres ([`Camera::with_pixel_offset`]): every
+/// pixel's ray then passes `(dx, dy)` pixels right of and below its centre, `i + 0.5 + dx` and
+/// `j + 0.5 + dy` in the formulas above. Anti-aliasing takes its samples so.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     eye: DVec3,
@@ -51,6 +55,8 @@ pub struct Camera {
     /// Half the image's height: `tan(fov / 2)` at unit distance for a pinhole, `height / 2`
     /// world units for an orthographic camera.
     half_height: f64,
+    /// Where each pixel's ray passes, in pixels right of and below its centre.
+    pixel_offset: [f64; 2],
 }
 
 impl Camera {
@@ -127,6 +133,7 @@ impl Camera {
             right,
             true_up,
             half_height,
+            pixel_offset: [0.0, 0.0],
         })
     }
 
@@ -154,19 +161,41 @@ impl Camera {
         self.ray_through(self.screen_x(i), self.screen_y(j))
     }
 
-    /// `sx` of pixel column `i`: `(2 (i + 0.5) / W - 1) * s * W / H`. A renderer that traces
-    /// many pixels of the same columns and rows computes it once per column and passes it to
+    /// `sx` of pixel column `i`: `(2 (i + 0.5 + dx) / W - 1) * s * W / H`, `dx` the
+    /// [`Camera::pixel_offset`] (0 unless asked for). A renderer that traces many pixels of the
+    /// same columns and rows computes it once per column and passes it to
     /// [`Camera::ray_through`], which then gives exactly [`Camera::ray`].
     #[inline]
     pub fn screen_x(&self, i: u32) -> f64 {
         let (w, h) = (self.width as f64, self.height as f64);
-        (2.0 * (i as f64 + 0.5) / w - 1.0) * self.half_height * w / h
+        (2.0 * (i as f64 + 0.5 + self.pixel_offset[0]) / w - 1.0) * self.half_height * w / h
     }
 
-    /// `sy` of pixel row `j`: `(1 - 2 (j + 0.5) / H) * s` (see [`Camera::screen_x`]).
+    /// `sy` of pixel row `j`: `(1 - 2 (j + 0.5 + dy) / H) * s` (see [`Camera::screen_x`]).
     #[inline]
     pub fn screen_y(&self, j: u32) -> f64 {
-        (1.0 - 2.0 * (j as f64 + 0.5) / self.height as f64) * self.half_height
+        (1.0 - 2.0 * (j as f64 + 0.5 + self.pixel_offset[1]) / self.height as f64)
+            * self.half_height
+    }
+
+    /// The same camera sampling each pixel `(dx, dy)` pixels right of and below its centre
+    /// (each in `[-0.5, 0.5]`: a point of the pixel); `(0, 0)` is the centre, where every
+    /// camera samples unless told otherwise.
+    ///
+    /// Fails when an offset is not finite or leaves the pixel.
+    pub fn with_pixel_offset(self, dx: f64, dy: f64) -> Result<Camera, CoreError> {
+        if !((-0.5..=0.5).contains(&dx) && (-0.5..=0.5).contains(&dy)) {
+            return Err(CoreError::Camera(format!(
+                "pixel offset ({dx}, {dy}) must lie in the pixel, each between -0.5 and 0.5"
+            )));
+        }
+        Ok(Camera { pixel_offset: [dx, dy], ..self })
+    }
+
+    /// Where each pixel's ray passes, in pixels right of and below its centre: `[dx, dy]`
+    /// ([`Camera::with_pixel_offset`]).
+    pub fn pixel_offset(&self) -> [f64; 2] {
+        self.pixel_offset
     }
 
     /// The ray of screen coordinates `(sx, sy)`: from the eye along
@@ -333,6 +362,24 @@ mod tests {
         assert!((cam.pixel_footprint(2.0) - 2.0 * 2.0 / 4.0).abs() < 1e-12);
         assert_eq!(cam.fov_deg(), Some(90.0));
         assert!(cam.ray(0, 0).origin == DVec3::ZERO && cam.ray(7, 3).origin == DVec3::ZERO);
+    }
+
+    #[test]
+    fn an_offset_camera_samples_each_pixel_off_its_centre() {
+        let cam = Camera::look_at(DVec3::ZERO, DVec3::X, DVec3::Z, 60.0, 6, 4).unwrap();
+        assert_eq!(cam.pixel_offset(), [0.0, 0.0]);
+        let shifted = cam.with_pixel_offset(0.5, -0.25).unwrap();
+        assert_eq!(shifted.pixel_offset(), [0.5, -0.25]);
+        // Half a pixel to the right is half way to the next column's centre; a quarter up,
+        // a quarter of the way to the row above.
+        let halfway = |a: f64, b: f64| (a + b) / 2.0;
+        assert!((shifted.screen_x(2) - halfway(cam.screen_x(2), cam.screen_x(3))).abs() < 1e-12);
+        let quarter = cam.screen_y(1) + (cam.screen_y(0) - cam.screen_y(1)) / 4.0;
+        assert!((shifted.screen_y(1) - quarter).abs() < 1e-12);
+        for bad in [0.51, -0.6, f64::NAN, f64::INFINITY] {
+            assert!(cam.with_pixel_offset(bad, 0.0).is_err());
+            assert!(cam.with_pixel_offset(0.0, bad).is_err());
+        }
     }
 
     #[test]

@@ -7,8 +7,9 @@
 //! length in pixels) or `(W/2 + f x, H/2 - f y, 1)` (orthographic), and pixel centre
 //! `P = (i + 0.5, j + 0.5, 1)` is seen through the triangle in front of the eye exactly when the
 //! three edge functions `E_k . P`, with `E_0 = V_1 x V_2`, `E_1 = V_2 x V_0`, `E_2 = V_0 x V_1`,
-//! all have the sign of `det(V_0, V_1, V_2)`. No triangle is clipped, so triangles reaching
-//! behind the eye (low cameras over terrain) are covered exactly.
+//! all have the sign of `det(V_0, V_1, V_2)` (a camera sampling its pixels off their centres,
+//! [`Camera::pixel_offset`], moves `V` by the offset the other way). No triangle is clipped,
+//! so triangles reaching behind the eye (low cameras over terrain) are covered exactly.
 //!
 //! Watertightness: an edge function depends on its edge's two vertices only, and IEEE
 //! arithmetic is symmetric under negation, so the two triangles sharing an edge evaluate
@@ -48,8 +49,9 @@ impl ScreenProjection {
             up: camera.image_up(),
             forward: camera.forward(),
             focal: height as f64 / (2.0 * camera.half_height()),
-            half_width: width as f64 / 2.0,
-            half_height: height as f64 / 2.0,
+            // A camera sampling its pixels off their centres moves the image the other way.
+            half_width: width as f64 / 2.0 - camera.pixel_offset()[0],
+            half_height: height as f64 / 2.0 - camera.pixel_offset()[1],
             perspective: matches!(camera.projection(), Projection::Perspective { .. }),
             width,
             height,

@@ -7,11 +7,10 @@
 //! colour differs from a neighbour's ([`edges::edge_mask`]): silhouettes, box edges, creases,
 //! shadow and material boundaries.
 //!
-//! The samples of a grid are the pixels of one camera `N` times finer (its pixel `(N i + a,
-//! N j + b)` looks through the centre of sub-square `(a, b)` of pixel `(i, j)`), drawn in one
-//! pass, so that a pixel's samples are traced together. A renderer that traces rays draws
-//! only the marked pixels of that pass ([`relief_shade::PixelMask`]); the rasterizing
-//! renderers draw it whole.
+//! Each sample of the grid is a pass of the camera sampling every pixel off its centre by the
+//! same offset ([`Camera::with_pixel_offset`]), so memory stays that of one picture whatever
+//! `N`. A renderer that traces rays draws only the marked pixels of an adaptive pass
+//! ([`relief_shade::PixelMask`]); the rasterizing renderers and tile stores draw it whole.
 //!
 //! The depth and normals a picture keeps are always those of the ray through each pixel's
 //! centre, so they stay exact.
@@ -109,17 +108,16 @@ pub(crate) fn draw(
     }
 }
 
-/// `camera` with `n` times its pixels across and down: its pixel `(n i + a, n j + b)` looks
-/// through the centre of sub-square `(a, b)` of the `n x n` sub-squares of `camera`'s pixel
-/// `(i, j)`, so a pass of it is a pass of `camera` on the stratified grid.
-fn finer(camera: &Camera, n: u32) -> Result<Camera, RenderError> {
-    let (width, height) = (camera.width() * n, camera.height() * n);
-    let (eye, target, up) = (camera.eye(), camera.target(), camera.up());
-    Ok(Camera::new(eye, target, up, camera.projection(), width, height)?)
+/// The pixel offsets of an `n x n` stratified grid: the centres of the pixel's `n x n`
+/// sub-squares, a row of them after another from the top left, each in `(-0.5, 0.5)`.
+pub fn grid_offsets(n: u32) -> Vec<[f64; 2]> {
+    let at = |k: u32| (k as f64 + 0.5) / n as f64 - 0.5;
+    (0..n * n).map(|k| [at(k % n), at(k / n)]).collect()
 }
 
-/// Every pixel sampled on an `n x n` grid (one pass of the camera `n` times finer, averaged
-/// down); the depth and normals come from a pass of the centre rays, where they are asked for.
+/// Every pixel sampled on an `n x n` grid: a pass for each offset of the grid (a pass of the
+/// centres too, for the depth and normals, where they are asked for and the grid has no
+/// centre), their colours averaged in linear light.
 fn draw_grid(
     camera: &Camera,
     keep: KeptHits,
@@ -127,32 +125,39 @@ fn draw_grid(
     progress: &dyn Progress,
     pass: &mut Pass,
 ) -> Result<Picture, RenderError> {
+    let offsets = grid_offsets(n);
+    let has_centre = offsets.contains(&[0.0, 0.0]);
     let wants_centre = keep.depth || keep.normals;
-    let centre = if wants_centre { Some(pass(camera, keep, None, progress)?) } else { None };
+    // The picture whose statistics, depth and normals are kept: the centre pass's where there
+    // is one, else the first pass's.
+    let mut kept =
+        if wants_centre && !has_centre { Some(pass(camera, keep, None, progress)?) } else { None };
     let started = Instant::now();
-    progress.begin("anti-aliasing", None);
-    let fine = pass(&finer(camera, n)?, KeptHits::default(), None, &Silent);
+    let mut sum = LinearSum::new(camera.width() as usize * camera.height() as usize);
+    progress.begin("anti-aliasing", Some(offsets.len() as u64));
+    for &[dx, dy] in &offsets {
+        let is_centre = [dx, dy] == [0.0, 0.0];
+        let sample = if is_centre {
+            pass(camera, keep, None, &Silent)?
+        } else {
+            pass(&camera.with_pixel_offset(dx, dy)?, KeptHits::default(), None, &Silent)?
+        };
+        sum.add_all(&sample.rgb);
+        if is_centre || kept.is_none() {
+            kept = Some(sample);
+        }
+        progress.advance(1);
+    }
     progress.end();
-    let fine = fine?;
-    let (w, h) = (camera.width() as usize, camera.height() as usize);
-    let mut picture = centre.unwrap_or_else(|| {
-        // The statistics of the finer pass, of this picture's size.
-        let mut picture = Picture { width: w as u32, height: h as u32, ..fine.clone() };
-        picture.stats.insert("width".into(), json!(w));
-        picture.stats.insert("height".into(), json!(h));
-        picture
-    });
-    let side = n as usize;
-    let mean = |k| sub_pixel_mean(&fine.rgb, w, side, k);
-    picture.rgb = (0..w * h).into_par_iter().map(mean).collect();
-    let samples = fine.rgb.len() as u64;
-    let ms = ms_since(started);
-    record(&mut picture, Antialiasing::Grid(n), samples, ms, None);
+    let mut picture = kept.expect("a grid has a pass");
+    picture.rgb = sum.means(offsets.len());
+    let samples = picture.rgb.len() as u64 * offsets.len() as u64;
+    record(&mut picture, Antialiasing::Grid(n), samples, ms_since(started), None);
     Ok(picture)
 }
 
-/// One ray a pixel, then the 2 x 2 grid of each pixel on an edge, which replaces it (one
-/// pass of the camera twice as fine, of the sub-pixels of the edge pixels only).
+/// One ray a pixel, then a pass for each offset of the 2 x 2 grid, of the pixels on an edge
+/// only, whose four samples replace their colour.
 fn draw_adaptive(
     camera: &Camera,
     keep: KeptHits,
@@ -162,24 +167,26 @@ fn draw_adaptive(
     let mut picture = pass(camera, KeptHits { depth: true, normals: true }, None, progress)?;
     let started = Instant::now();
     let edges = edges::edge_mask(&picture);
-    let marked = edges.count();
-    if marked > 0 {
-        let (w, n) = (picture.width as usize, ADAPTIVE_GRID as usize);
-        progress.begin("anti-aliasing", None);
-        let fine_camera = finer(camera, ADAPTIVE_GRID)?;
-        let fine = pass(&fine_camera, KeptHits::default(), Some(&edges.finer(n)), &Silent);
+    let marked = edges.indices();
+    if !marked.is_empty() {
+        let offsets = grid_offsets(ADAPTIVE_GRID);
+        let mut sum = LinearSum::new(picture.rgb.len());
+        progress.begin("anti-aliasing", Some(offsets.len() as u64));
+        for &[dx, dy] in &offsets {
+            let camera = camera.with_pixel_offset(dx, dy)?;
+            let sample = pass(&camera, KeptHits::default(), Some(&edges), &Silent)?;
+            marked.iter().for_each(|&k| sum.add(k, sample.rgb[k]));
+            progress.advance(1);
+        }
         progress.end();
-        let fine = fine?;
-        picture.rgb.par_iter_mut().enumerate().for_each(|(k, rgb)| {
-            if edges.contains(k % w, k / w) {
-                *rgb = sub_pixel_mean(&fine.rgb, w, n, k);
-            }
-        });
+        for &k in &marked {
+            picture.rgb[k] = sum.mean(k, offsets.len());
+        }
     }
     picture.depth = picture.depth.filter(|_| keep.depth);
     picture.normals = picture.normals.filter(|_| keep.normals);
-    let samples = marked as u64 * u64::from(ADAPTIVE_GRID * ADAPTIVE_GRID);
-    let share = marked as f64 / picture.rgb.len() as f64;
+    let samples = (marked.len() as u64) * u64::from(ADAPTIVE_GRID * ADAPTIVE_GRID);
+    let share = marked.len() as f64 / picture.rgb.len() as f64;
     record(&mut picture, Antialiasing::Adaptive, samples, ms_since(started), Some(share));
     Ok(picture)
 }
@@ -196,15 +203,40 @@ fn record(picture: &mut Picture, aa: Antialiasing, samples: u64, ms: f64, share:
     }
 }
 
-/// The mean colour, in linear light, of the `n x n` sub-pixels of pixel `k` of a picture
-/// `width` pixels wide, in the picture `fine` of its camera `n` times finer.
-fn sub_pixel_mean(fine: &[[u8; 3]], width: usize, n: usize, k: usize) -> [u8; 3] {
-    let linear = srgb8_to_linear_table();
-    let (i, j) = (k % width * n, k / width * n);
-    let mut sum = [0.0f32; 3];
-    for s in 0..n * n {
-        let rgb = fine[i + s % n + (j + s / n) * width * n];
-        (0..3).for_each(|c| sum[c] += linear[rgb[c] as usize]);
+/// Sums of pixels' colours in linear light, over the passes of a picture.
+pub struct LinearSum {
+    sums: Vec<[f32; 3]>,
+}
+
+impl LinearSum {
+    /// Sums of `pixels` pixels, all zero.
+    pub fn new(pixels: usize) -> Self {
+        LinearSum { sums: vec![[0.0; 3]; pixels] }
     }
-    sum.map(|v| linear_to_srgb8(v / (n * n) as f32))
+
+    /// Adds the sRGB colour `rgb` to pixel `k`'s sum.
+    #[inline]
+    pub fn add(&mut self, k: usize, rgb: [u8; 3]) {
+        let linear = srgb8_to_linear_table();
+        (0..3).for_each(|c| self.sums[k][c] += linear[rgb[c] as usize]);
+    }
+
+    /// Adds a pass's colours, pixel by pixel.
+    pub fn add_all(&mut self, rgb: &[[u8; 3]]) {
+        let linear = srgb8_to_linear_table();
+        self.sums.par_iter_mut().zip(rgb).for_each(|(sum, p)| {
+            (0..3).for_each(|c| sum[c] += linear[p[c] as usize]);
+        });
+    }
+
+    /// The mean of `n` colours summed at pixel `k`, in sRGB.
+    #[inline]
+    pub fn mean(&self, k: usize, n: usize) -> [u8; 3] {
+        self.sums[k].map(|s| linear_to_srgb8(s / n as f32))
+    }
+
+    /// The means of `n` colours summed at every pixel, in sRGB.
+    pub fn means(&self, n: usize) -> Vec<[u8; 3]> {
+        self.sums.par_iter().map(|s| s.map(|s| linear_to_srgb8(s / n as f32))).collect()
+    }
 }

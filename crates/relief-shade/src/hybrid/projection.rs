@@ -114,8 +114,9 @@ pub fn project_box(camera: &Camera, b: &Aabb) -> BoxProjection {
         (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
     for c in &corners {
         let (sx, sy) = if perspective { (c.x / c.z, c.y / c.z) } else { (c.x, c.y) };
-        let px = (sx / aspect + 1.0) * 0.5 * w;
-        let py = (1.0 - sy / s) * 0.5 * h;
+        // In pixels of the camera's samples (off the centres where it samples so).
+        let px = (sx / aspect + 1.0) * 0.5 * w - camera.pixel_offset()[0];
+        let py = (1.0 - sy / s) * 0.5 * h - camera.pixel_offset()[1];
         x0 = x0.min(px);
         x1 = x1.max(px);
         y0 = y0.min(py);

@@ -21,7 +21,9 @@ use super::shading::MlhmShading;
 use super::water::{absorption_distance, water_transmittance};
 use crate::gbuffer::image_plane;
 use crate::shading::schlick;
-use crate::{shadow_ray_offset, GBuffer, GgxSpecular, ShadeError, Sun, TraceStats, TILE_SIZE};
+use crate::{
+    shadow_ray_offset, GBuffer, GgxSpecular, PixelMask, ShadeError, Sun, TraceStats, TILE_SIZE,
+};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec2, DVec3, Mlhm, Ray};
 use relief_trace::{Hit, Medium, MlhmHit, MlhmMaterial, MlhmMode, MlhmTracer};
@@ -42,6 +44,18 @@ pub fn shade_mlhm(
     tracer: &dyn MlhmTracer,
     camera: &Camera,
     shading: &MlhmShading,
+) -> Result<(Vec<[f32; 3]>, MlhmRayCounts), ShadeError> {
+    shade_mlhm_marked(gbuffer, tracer, camera, shading, None)
+}
+
+/// [`shade_mlhm`] of the pixels `mask` marks only, where there is one (the others are left
+/// black): how an anti-aliasing pass lights the pixels it samples again.
+pub(crate) fn shade_mlhm_marked(
+    gbuffer: &GBuffer,
+    tracer: &dyn MlhmTracer,
+    camera: &Camera,
+    shading: &MlhmShading,
+    mask: Option<&PixelMask>,
 ) -> Result<(Vec<[f32; 3]>, MlhmRayCounts), ShadeError> {
     shading.validate()?;
     gbuffer.validate_for(camera)?;
@@ -73,6 +87,9 @@ pub fn shade_mlhm(
                 for r in 0..rows {
                     for i in tile_x..(tile_x + TILE_SIZE).min(width) {
                         let j = s * TILE_SIZE + r;
+                        if mask.is_some_and(|m| !m.contains(i, j)) {
+                            continue;
+                        }
                         let k = i + j * width;
                         let seen = gbuffer.exact_hit(k).map(|hit| SurfaceHit {
                             hit,

@@ -1,7 +1,7 @@
 //! The whole MLHM rendering, Nilles & Müller (2025), section 4.6: the renderer's visibility
 //! pass into a G-buffer, then the deferred MLHM lighting over it.
 
-use super::lighting::shade_mlhm;
+use super::lighting::shade_mlhm_marked;
 use super::ray_counts::MlhmRayCounts;
 use super::renderer::MlhmRenderer;
 use super::shading::MlhmShading;
@@ -37,8 +37,8 @@ pub fn render_mlhm(
 }
 
 /// [`render_mlhm`] of the pixels `mask` marks only: each gets the radiance [`render_mlhm`]
-/// gives it, and every other pixel that of a miss, at almost no cost (how an anti-aliasing
-/// pass samples again only the pixels that need it).
+/// gives it, and every other pixel is black, at almost no cost (how an anti-aliasing pass
+/// samples again only the pixels that need it).
 ///
 /// Fails as [`render_mlhm`] does, and when the mask is not of the camera's image size.
 pub fn render_mlhm_marked(
@@ -61,8 +61,9 @@ fn render_with(
 ) -> Result<MlhmImage, ShadeError> {
     shading.validate()?;
     let mut gbuffer = GBuffer::new(camera.width() as usize, camera.height() as usize)?;
+    let mask = renderer.mask();
     let primary = renderer.render_into(camera, &mut gbuffer, progress)?;
-    let (radiance, counts) = shade_mlhm(&gbuffer, tracer, camera, shading)?;
+    let (radiance, counts) = shade_mlhm_marked(&gbuffer, tracer, camera, shading, mask)?;
     let counts = MlhmRayCounts { primary, ..counts };
     Ok(MlhmImage { gbuffer, radiance, counts })
 }

@@ -29,6 +29,11 @@ impl<'a> MlhmRenderer<'a> {
         MlhmRenderer { mask: Some(mask), ..self }
     }
 
+    /// The pixels it traces, where not all.
+    pub fn mask(&self) -> Option<&'a PixelMask> {
+        self.mask
+    }
+
     /// The camera rays of the last frame.
     pub fn last_stats(&self) -> TraceStats {
         self.stats

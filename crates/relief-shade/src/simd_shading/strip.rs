@@ -5,7 +5,7 @@ use relief_core::DVec3;
 
 use super::ShadingKernel;
 use crate::deferred::{trace_shadows, ShadingPass};
-use crate::{shadow_ray, PixelMask, RayBatch, Tile, TraceStats, TILE_SIZE};
+use crate::{shadow_ray, RayBatch, Tile, TraceStats, TILE_SIZE};
 
 /// Shades the image rows from `top` on (at most [`TILE_SIZE`], all in the pass's G-buffer)
 /// into `out` with `kernel`, and counts the shadow rays.
@@ -56,14 +56,7 @@ pub(crate) fn shade_strip_in_lanes(
     }
     for r in 0..rows {
         let k = pass.index(0, top + r);
-        // The whole row, or the runs of TILE_SIZE pixels of it that hold a marked one.
-        let run = if pass.mask.is_some() { TILE_SIZE } else { width };
-        for first in (0..width).step_by(run) {
-            let n = run.min(width - first);
-            let marked = |m: &PixelMask| (first..first + n).any(|i| m.contains(i, top + r));
-            if pass.mask.is_some_and(|m| !marked(m)) {
-                continue;
-            }
+        let mut shade = |first: usize, n: usize| {
             let (g, pixels) = (k + first..k + first + n, r * width + first..r * width + first + n);
             kernel.shade_row(
                 top + r,
@@ -73,6 +66,23 @@ pub(crate) fn shade_strip_in_lanes(
                 &visibility[pixels.clone()],
                 &mut out[pixels],
             );
+        };
+        match pass.mask {
+            None => shade(0, width),
+            // Each run of marked pixels of the row.
+            Some(mask) => {
+                let mut i = 0;
+                while i < width {
+                    let first = i;
+                    while i < width && mask.contains(i, top + r) {
+                        i += 1;
+                    }
+                    if i > first {
+                        shade(first, i - first);
+                    }
+                    i += 1;
+                }
+            }
         }
     }
     stats
