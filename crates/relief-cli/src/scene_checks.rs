@@ -8,7 +8,7 @@ use crate::input;
 use anyhow::Result;
 use relief_core::Surface;
 use relief_render::{InputKind, TracerChoice};
-use relief_shade::ColourMap;
+use relief_shade::{ColourMap, NormalStyle};
 use std::path::Path;
 
 /// Every input `relief render`, `relief view` and `relief flythrough` take, for messages.
@@ -78,6 +78,7 @@ pub fn check_scene_args(args: &SceneArgs, drawn: Drawn) -> Result<()> {
         }
     }
     check_colour_args(args, drawn)?;
+    check_shading_normals(args, drawn)?;
     match (drawn, path) {
         (Drawn::Store, Some(path)) => refuse_store_options(args, path),
         (Drawn::Mesh, _) => refuse_mesh_options(args, "--mode mesh"),
@@ -120,6 +121,28 @@ fn check_colour_args(args: &SceneArgs, drawn: Drawn) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// Refuses `--shading-normals` where it would do nothing: for MLHM scenes and stacks meshes
+/// (which shade their own surfaces), and smooth normals for the boxes surface (always
+/// faceted).
+fn check_shading_normals(args: &SceneArgs, drawn: Drawn) -> Result<()> {
+    let Some(style) = args.shading_normals else { return Ok(()) };
+    let here = match drawn {
+        Drawn::Mlhm => "MLHM scenes",
+        Drawn::Mesh => "--mode mesh",
+        Drawn::HeightField | Drawn::Store => {
+            if style == NormalStyle::Smooth && args.surface == Some(Surface::Boxes) {
+                return Err(applies::refuse(
+                    "--shading-normals smooth",
+                    "--surface triangles",
+                    "--surface boxes (always faceted)",
+                ));
+            }
+            return Ok(());
+        }
+    };
+    Err(applies::refuse("--shading-normals", "height fields and tile stores", here))
 }
 
 /// Refuses the options of `args` that do nothing for a tile store (at `path`).

@@ -8,7 +8,7 @@ use relief_core::{Precision, Surface};
 use relief_io::{LengthUnit, PngEncoding, ReadOptions, VoidPolicy};
 use relief_shade::hybrid::HybridParams;
 use relief_shade::mlhm::MlhmPreset;
-use relief_shade::{FarField, TextureFilter};
+use relief_shade::{FarField, NormalStyle, TextureFilter};
 use relief_trace::MlhmBacktrack;
 use std::path::PathBuf;
 
@@ -164,6 +164,9 @@ pub struct LightSettings {
     pub texture: Option<PathBuf>,
     /// How heights are coloured where no texture is draped.
     pub colours: ColourSettings,
+    /// The normals that light a height field's `triangles` surface [default: smooth for
+    /// triangles; `boxes` are always faceted, and refuse smooth given explicitly].
+    pub shading_normals: Option<NormalStyle>,
 }
 
 impl Default for LightSettings {
@@ -174,6 +177,7 @@ impl Default for LightSettings {
             exposure: 1.0,
             texture: None,
             colours: ColourSettings::default(),
+            shading_normals: None,
         }
     }
 }
