@@ -123,14 +123,14 @@ fn check_colour_args(args: &SceneArgs, drawn: Drawn) -> Result<()> {
     Ok(())
 }
 
-/// Refuses `--shading-normals` where it would do nothing: for MLHM scenes and stacks meshes
-/// (which shade their own surfaces), and smooth normals for the boxes surface (always
-/// faceted).
+/// Refuses `--shading-normals` where it would do nothing: for MLHM scenes (which shade
+/// their own surfaces; stacks meshes refuse it with [`refuse_mesh_options`]), and smooth
+/// normals for the boxes surface (always faceted).
 fn check_shading_normals(args: &SceneArgs, drawn: Drawn) -> Result<()> {
     let Some(style) = args.shading_normals else { return Ok(()) };
     let here = match drawn {
         Drawn::Mlhm => "MLHM scenes",
-        Drawn::Mesh => "--mode mesh",
+        Drawn::Mesh => return Ok(()),
         Drawn::HeightField | Drawn::Store => {
             if style == NormalStyle::Smooth && args.surface == Some(Surface::Boxes) {
                 return Err(applies::refuse(
@@ -168,6 +168,9 @@ fn refuse_store_options(args: &SceneArgs, path: &Path) -> Result<()> {
 pub fn refuse_mesh_options(args: &SceneArgs, here: &str) -> Result<()> {
     if let Some(option) = colour_option_given(args) {
         return Err(applies::refuse(option, "height fields and tile stores", here));
+    }
+    if args.shading_normals.is_some() {
+        return Err(applies::refuse("--shading-normals", "height fields and tile stores", here));
     }
     for (given, option) in [
         (args.tracer.is_some(), "--tracer"),
