@@ -3,6 +3,7 @@
 //! command line, the Python module) fills them in; `None` where the default applies.
 
 use crate::colours::ColourSettings;
+use crate::error::RenderError;
 use crate::tracer_spec::{SafetySettings, TracerChoice};
 use relief_core::{Precision, Surface};
 use relief_io::{LengthUnit, PngEncoding, ReadOptions, VoidPolicy};
@@ -208,4 +209,15 @@ pub struct SceneOptions {
     pub hybrid: HybridSettings,
     /// The light and colours.
     pub light: LightSettings,
+}
+
+/// Refuses shading normals asked for a scene that shades its own surface (`what`: "MLHM
+/// scenes", ...): they apply to height fields and tile stores.
+pub fn refuse_shading_normals(light: &LightSettings, what: &str) -> Result<(), RenderError> {
+    match light.shading_normals {
+        Some(style) => Err(RenderError::Unsupported(format!(
+            "shading normals ({style}) apply to height fields and tile stores, not to {what}"
+        ))),
+        None => Ok(()),
+    }
 }
