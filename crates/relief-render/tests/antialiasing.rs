@@ -22,7 +22,7 @@ fn edge_scene(turn_deg: f64) -> (Scene, Camera, Edge) {
     let field = HeightField::new(64, 64, vec![10.0; 64 * 64], GridGeometry::unit()).unwrap();
     let field = Arc::new(field);
     let bounds = field.world_bounds(Surface::Triangles);
-    let params = shading(&LightSettings::default(), &bounds).unwrap();
+    let params = shading(&LightSettings::default(), &bounds, 1.0).unwrap();
     let scene = Scene::HeightField(HeightFieldScene {
         field,
         surface: Surface::Triangles,
@@ -31,6 +31,8 @@ fn edge_scene(turn_deg: f64) -> (Scene, Camera, Edge) {
         hybrid: HybridSettings::default(),
         max_memory: 1 << 30,
         params,
+        normal_style: None,
+        colours: None,
         warnings: Vec::new(),
     });
     let edge_x = bounds.max.x;
