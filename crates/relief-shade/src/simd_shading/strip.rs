@@ -102,7 +102,7 @@ fn shading_normals(
         for (i, normal) in row.iter_mut().enumerate() {
             let k = pass.index(i, j);
             let distance = gbuffer.distance[k] as f64;
-            if !distance.is_finite() {
+            if !distance.is_finite() || pass.mask.is_some_and(|m| !m.contains(i, j)) {
                 continue;
             }
             let geometric = DVec3::from(gbuffer.normal[k].map(f64::from)).normalize_or_zero();
