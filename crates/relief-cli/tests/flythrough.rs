@@ -77,7 +77,8 @@ fn render_key(input: &Path, key: &Key, name: &str, extra: &[&str]) -> Vec<u8> {
     let triple = |v: [f64; 3]| format!("{},{},{}", v[0], v[1], v[2]);
     let (eye, target, up, fov) = (triple(key.1), triple(key.2), triple(key.3), key.4.to_string());
     let png = scratch(&format!("{name}.png"));
-    let mut args = vec!["render", p(input), "-o", p(&png), "--size", "96x64"];
+    // A flythrough's frames are not anti-aliased: the render to compare with is not either.
+    let mut args = vec!["render", p(input), "-o", p(&png), "--size", "96x64", "--aa", "off"];
     args.extend(["--eye", &eye, "--target", &target, "--up", &up, "--fov", &fov]);
     args.extend(extra);
     stdout_of(&relief(&args));
