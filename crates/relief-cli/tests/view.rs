@@ -141,7 +141,7 @@ fn a_screenshot_at_rest_is_relief_render_of_the_same_camera() {
         let out = relief_on(&x.display, &view);
         assert!(out.status.success(), "{view:?}: {}", stderr(&out));
         assert_saved_once(&out, &shot);
-        let mut render = vec!["render", "-o", path(&picture)];
+        let mut render = vec!["render", "--aa", "off", "-o", path(&picture)];
         render.extend(&scene_args);
         render.extend(camera);
         let out = relief(&render);
@@ -172,7 +172,7 @@ fn mlhm_mode_and_preset_switched_at_run_time_render_as_relief_render_does() {
 
     let render = |name: &str, extra: &[&str]| {
         let picture = dir.join(format!("{name}.png"));
-        let mut args = vec!["render", path(&scene), "-o", path(&picture)];
+        let mut args = vec!["render", "--aa", "off", path(&scene), "-o", path(&picture)];
         args.extend(extra);
         args.extend(camera);
         let out = relief(&args);
@@ -261,6 +261,8 @@ fn a_scripted_flight_moves_switches_records_and_replays_as_render() {
     let picture = dir.join("replayed.png");
     let out = relief(&[
         "render",
+        "--aa",
+        "off",
         "--fbm-size",
         "96",
         "--size",
@@ -302,7 +304,7 @@ fn rivers_rain(dir: &Path, camera: &[&str]) -> (PathBuf, (u32, u32, Vec<u8>)) {
 
 /// `relief render SCENE -o PICTURE` at `camera`, decoded.
 fn render_picture(scene: &Path, picture: &Path, camera: &[&str]) -> (u32, u32, Vec<u8>) {
-    let mut args = vec!["render", path(scene), "-o", path(picture)];
+    let mut args = vec!["render", "--aa", "off", path(scene), "-o", path(picture)];
     args.extend(camera);
     let out = relief(&args);
     assert!(out.status.success(), "{args:?}: {}", stderr(&out));

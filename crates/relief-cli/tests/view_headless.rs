@@ -68,7 +68,8 @@ fn a_headless_view_at_rest_is_relief_render_of_the_same_camera() {
     let args = ["view", dem, "--size", "64x36", "--frames", "2", "--screenshot", "v.png"];
     let (code, stderr) = relief(&dir, &args);
     assert_eq!(code, Some(0), "{stderr}");
-    let (code, stderr) = relief(&dir, &["render", dem, "--size", "64x36", "-o", "r.png"]);
+    let (code, stderr) =
+        relief(&dir, &["render", dem, "--size", "64x36", "--aa", "off", "-o", "r.png"]);
     assert_eq!(code, Some(0), "{stderr}");
     assert!(png_pixels(&dir.join("v.png")) == png_pixels(&dir.join("r.png")));
 }
@@ -94,7 +95,18 @@ fn a_tile_store_is_viewed() {
     assert!(stderr.contains("32x32 tile store"), "{stderr}");
     assert_eq!(png_size(&dir.join("s.png")), (40, 24));
     // At rest, the store's frame is relief render's picture of it.
-    let render = ["render", "dem.store", "--size", "40x24", "--cache-mb", "16", "-o", "r.png"];
+    let render = [
+        "render",
+        "dem.store",
+        "--size",
+        "40x24",
+        "--cache-mb",
+        "16",
+        "--aa",
+        "off",
+        "-o",
+        "r.png",
+    ];
     let (code, stderr) = relief(&dir, &render);
     assert_eq!(code, Some(0), "{stderr}");
     assert!(png_pixels(&dir.join("s.png")) == png_pixels(&dir.join("r.png")));
