@@ -8,7 +8,7 @@ use crate::input;
 use anyhow::Result;
 use relief_core::Surface;
 use relief_render::{InputKind, TracerChoice};
-use relief_shade::ColourMap;
+use relief_shade::{ColourMap, NormalStyle};
 use std::path::Path;
 
 /// Every input `relief render`, `relief view` and `relief flythrough` take, for messages.
@@ -78,6 +78,7 @@ pub fn check_scene_args(args: &SceneArgs, drawn: Drawn) -> Result<()> {
         }
     }
     check_colour_args(args, drawn)?;
+    check_shading_normals(args, drawn)?;
     match (drawn, path) {
         (Drawn::Store, Some(path)) => refuse_store_options(args, path),
         (Drawn::Mesh, _) => refuse_mesh_options(args, "--mode mesh"),
@@ -122,6 +123,28 @@ fn check_colour_args(args: &SceneArgs, drawn: Drawn) -> Result<()> {
     Ok(())
 }
 
+/// Refuses `--shading-normals` where it would do nothing: for MLHM scenes (which shade
+/// their own surfaces; stacks meshes refuse it with [`refuse_mesh_options`]), and smooth
+/// normals for the boxes surface (always faceted).
+fn check_shading_normals(args: &SceneArgs, drawn: Drawn) -> Result<()> {
+    let Some(style) = args.shading_normals else { return Ok(()) };
+    let here = match drawn {
+        Drawn::Mlhm => "MLHM scenes",
+        Drawn::Mesh => return Ok(()),
+        Drawn::HeightField | Drawn::Store => {
+            if style == NormalStyle::Smooth && args.surface == Some(Surface::Boxes) {
+                return Err(applies::refuse(
+                    "--shading-normals smooth",
+                    "--surface triangles",
+                    "--surface boxes (always faceted)",
+                ));
+            }
+            return Ok(());
+        }
+    };
+    Err(applies::refuse("--shading-normals", "height fields and tile stores", here))
+}
+
 /// Refuses the options of `args` that do nothing for a tile store (at `path`).
 fn refuse_store_options(args: &SceneArgs, path: &Path) -> Result<()> {
     let here = format!("a tile store ({})", path.display());
@@ -145,6 +168,9 @@ fn refuse_store_options(args: &SceneArgs, path: &Path) -> Result<()> {
 pub fn refuse_mesh_options(args: &SceneArgs, here: &str) -> Result<()> {
     if let Some(option) = colour_option_given(args) {
         return Err(applies::refuse(option, "height fields and tile stores", here));
+    }
+    if args.shading_normals.is_some() {
+        return Err(applies::refuse("--shading-normals", "height fields and tile stores", here));
     }
     for (given, option) in [
         (args.tracer.is_some(), "--tracer"),

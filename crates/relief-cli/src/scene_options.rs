@@ -45,6 +45,7 @@ pub fn scene_options(
                 height_range: scene.height_range,
                 sea_level: scene.sea_level,
             },
+            shading_normals: scene.shading_normals,
         },
     }
 }

@@ -32,6 +32,7 @@ mod height_field;
 mod mlhm;
 mod ray;
 mod sample_region;
+mod smooth_normals;
 mod stacks;
 mod surface;
 pub mod texture;
@@ -44,6 +45,7 @@ pub use height_field::{GridGeometry, HeightField};
 pub use mlhm::{MaterialVolumes, Mlhm, MlhmColumn, MlhmHeights, Precision};
 pub use ray::Ray;
 pub use sample_region::SampleRegion;
+pub use smooth_normals::SmoothNormals;
 pub use stacks::{
     aggregate, MaterialKind, MaterialStacks, StackLayer, StackMaterial, StacksMipmap,
 };

@@ -14,7 +14,7 @@ use relief_shade::mlhm::MlhmPreset;
 use std::path::PathBuf;
 
 /// The options `open` takes, as `relief render`'s (with underscores for dashes).
-const KEYS: [&str; 29] = [
+const KEYS: [&str; 30] = [
     "spacing",
     "north_up",
     "z_scale",
@@ -44,6 +44,7 @@ const KEYS: [&str; 29] = [
     "colormap",
     "height_range",
     "sea_level",
+    "shading_normals",
 ];
 
 /// Opens an input as a scene, as ``relief render`` opens it: a height file (.tif, .tiff,
@@ -70,7 +71,9 @@ const KEYS: [&str; 29] = [
 /// - colours of a height field or tile store: ``colormap`` (``"terrain"``, the default,
 ///   ``"bathymetry"``, ``"greys"``, ``"viridis"``, ``"cividis"``, ``"magma"``),
 ///   ``height_range`` (``(min, max)`` in metres before ``z_scale``; default the terrain's
-///   own) and ``sea_level`` (``bathymetry``'s, metres, default 0).
+///   own) and ``sea_level`` (``bathymetry``'s, metres, default 0); ``shading_normals``
+///   (``"smooth"``, the default for the triangles surface, or ``"faceted"``; boxes are
+///   always faceted and refuse ``"smooth"``).
 ///
 /// Returns a ``relief.Scene``. Raises ``relief.ReliefError`` (a ``ValueError``) for an
 /// option relief cannot use or that does not apply, ``OSError`` (``FileNotFoundError``, ...)
@@ -211,6 +214,8 @@ fn scene_options(given: &Bound<'_, PyDict>) -> PyResult<SceneOptions> {
         .transpose()?;
     o.light.colours =
         options::colours(text("colormap")?.as_deref(), height_range, number("sea_level")?)?;
+    o.light.shading_normals =
+        text("shading_normals")?.map(|n| options::shading_normals(&n)).transpose()?;
     o.safety.cache_dir = path("cache_dir")?;
     o.safety.no_cache = flag("no_cache")?.unwrap_or(false);
     Ok(o)

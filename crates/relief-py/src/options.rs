@@ -8,7 +8,7 @@ use pyo3::types::PyDict;
 use relief_core::{DVec2, GridGeometry, Surface};
 use relief_io::{PngEncoding, VoidPolicy};
 use relief_render::{Antialiasing, ColourSettings, MapFurniture, TracerChoice};
-use relief_shade::ColourMap;
+use relief_shade::{ColourMap, NormalStyle};
 use relief_trace::TracerKind;
 use std::ops::RangeInclusive;
 
@@ -268,4 +268,9 @@ pub fn colours(
 /// The map furniture the switches ask for (as `--legend`, `--scale-bar`, `--north-arrow`).
 pub fn furniture(legend: bool, scale_bar: bool, north_arrow: bool) -> MapFurniture {
     MapFurniture { legend, scale_bar, north_arrow }
+}
+
+/// The shading normals by name (as `--shading-normals`): `smooth` or `faceted`.
+pub fn shading_normals(name: &str) -> PyResult<NormalStyle> {
+    name.parse::<NormalStyle>().map_err(invalid)
 }

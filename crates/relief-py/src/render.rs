@@ -10,7 +10,9 @@ use crate::terrain::height_field;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use relief_core::Surface;
-use relief_render::scenes::height_field::{legend_colours, shading};
+use relief_render::scenes::height_field::{
+    legend_colours, shading, shading_normals as shading_normals_of,
+};
 use relief_render::{
     memory, HeightFieldScene, HybridSettings, ImageHolding, KeptHits, LightSettings,
     SafetySettings, Scene, Silent, TracerChoice,
@@ -34,7 +36,10 @@ use relief_render::{
 /// max)`` in metres before ``z_scale`` (default: the terrain's own). ``legend``,
 /// ``scale_bar`` and ``north_arrow`` draw that furniture over the picture as ``relief
 /// render --legend --scale-bar --north-arrow`` does (a scale bar needs an orthographic camera,
-/// which ``relief.open(...).render`` takes). ``aa``: anti-aliasing, ``"adaptive"`` (one
+/// which ``relief.open(...).render`` takes). ``shading_normals``: ``"smooth"`` (the
+/// default for ``"triangles"``: normals interpolated from the heights' gradients, no facets
+/// show) or ``"faceted"`` (each triangle's exact normal); ``"boxes"`` are always faceted and
+/// refuse ``"smooth"``; the depth is exact either way. ``aa``: anti-aliasing, ``"adaptive"`` (one
 /// ray a pixel, then 4 in the pixels on edges), ``"off"``, or N for N x N rays in every
 /// pixel (1 to 8); the depth stays that of each pixel's centre ray.
 ///
@@ -49,7 +54,7 @@ use relief_render::{
     heights, spacing=None, *, origin=None, z_scale=1.0, camera=None, size=(1280, 720),
     surface="triangles", tracer="mipmap", sun=(315.0, 35.0), shadows=true, exposure=1.0,
     voids="fill", colormap=None, height_range=None, sea_level=None, legend=false,
-    scale_bar=false, north_arrow=false, aa=None
+    scale_bar=false, north_arrow=false, aa=None, shading_normals=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
@@ -73,6 +78,7 @@ pub fn render<'py>(
     scale_bar: bool,
     north_arrow: bool,
     aa: Option<&Bound<'py, PyAny>>,
+    shading_normals: Option<&str>,
 ) -> PyResult<Rendered<'py>> {
     let (width, height) = options::image_size(size)?;
     let aa = aa.map(options::antialiasing).transpose()?.unwrap_or_default();
@@ -86,6 +92,7 @@ pub fn render<'py>(
         exposure: options::exposure(exposure)?,
         texture: None,
         colours: options::colours(colormap, height_range, sea_level)?,
+        shading_normals: shading_normals.map(options::shading_normals).transpose()?,
     };
     let furniture = options::furniture(legend, scale_bar, north_arrow);
     let voids = options::voids(voids)?;
@@ -96,7 +103,9 @@ pub fn render<'py>(
     drop(grid);
     let bounds = field.world_bounds(Surface::Boxes);
     // The colours' metres are the file's heights before the exaggeration `z_scale`.
-    let params = shading(&light, &bounds, z_scale).map_err(argument)?;
+    let mut params = shading(&light, &bounds, z_scale).map_err(argument)?;
+    params.normals =
+        shading_normals_of(light.shading_normals, surface, &field).map_err(argument)?;
     let colours = legend_colours(&light, &bounds, z_scale).map_err(argument)?;
     let scene = Scene::HeightField(HeightFieldScene {
         field,
@@ -106,6 +115,7 @@ pub fn render<'py>(
         hybrid: HybridSettings::default(),
         max_memory: memory::budget(None).bytes,
         params,
+        normal_style: light.shading_normals,
         colours,
         warnings: Vec::new(),
     });

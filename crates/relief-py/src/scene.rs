@@ -163,6 +163,7 @@ impl PyScene {
     #[pyo3(signature = (
         camera=None, size=(1280, 720), *, legend=false, scale_bar=false, north_arrow=false, aa=None
     ))]
+    #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
         py: Python<'py>,

@@ -82,3 +82,34 @@ def test_open_refuses_a_colour_map_for_an_mlhm_scene(tmp_path, run_relief):
     scene = relief.open(tmp_path / "s.mlhm")
     with pytest.raises(relief.ReliefError, match="a legend shows a colour map of heights"):
         scene.render(size=(32, 18), legend=True)
+
+
+def test_shading_normals_as_the_command_line(tmp_path, run_relief, terrain):
+    """Smooth normals are the default of the triangles surface; faceted is the other way, and
+    both give `relief render --shading-normals`'s pixels."""
+    np.save(tmp_path / "h.npy", terrain)
+    base = [tmp_path / "h.npy", "--north-up", "--size", "96x64", "--eye", "-20,-30,45",
+            "--target", "24,20,4"]
+    smooth, depth_smooth = relief.render(terrain, size=(96, 64), camera=CAMERA)
+    faceted, depth_faceted = relief.render(
+        terrain, size=(96, 64), camera=CAMERA, shading_normals="faceted")
+    assert np.array_equal(smooth, cli_picture(run_relief, tmp_path, base))
+    assert np.array_equal(
+        faceted, cli_picture(run_relief, tmp_path, [*base, "--shading-normals", "faceted"]))
+    assert not np.array_equal(smooth, faceted)
+    assert np.array_equal(depth_smooth, depth_faceted)
+    scene = relief.open(tmp_path / "h.npy", north_up=True, shading_normals="faceted")
+    rgb, _ = scene.render(CAMERA, size=(96, 64))
+    assert np.array_equal(rgb, faceted)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(shading_normals="flat"), "unknown shading normals 'flat' (expected smooth or faceted)"),
+        (dict(shading_normals="smooth", surface="boxes"), "boxes are always faceted"),
+    ],
+)
+def test_bad_shading_normals_raise_relief_errors(terrain, kwargs, message):
+    with pytest.raises(relief.ReliefError, match=re.escape(message)):
+        relief.render(terrain, size=(32, 18), **kwargs)

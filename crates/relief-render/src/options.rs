@@ -3,12 +3,13 @@
 //! command line, the Python module) fills them in; `None` where the default applies.
 
 use crate::colours::ColourSettings;
+use crate::error::RenderError;
 use crate::tracer_spec::{SafetySettings, TracerChoice};
 use relief_core::{Precision, Surface};
 use relief_io::{LengthUnit, PngEncoding, ReadOptions, VoidPolicy};
 use relief_shade::hybrid::HybridParams;
 use relief_shade::mlhm::MlhmPreset;
-use relief_shade::{FarField, TextureFilter};
+use relief_shade::{FarField, NormalStyle, TextureFilter};
 use relief_trace::MlhmBacktrack;
 use std::path::PathBuf;
 
@@ -164,6 +165,9 @@ pub struct LightSettings {
     pub texture: Option<PathBuf>,
     /// How heights are coloured where no texture is draped.
     pub colours: ColourSettings,
+    /// The normals that light a height field's `triangles` surface [default: smooth for
+    /// triangles; `boxes` are always faceted, and refuse smooth given explicitly].
+    pub shading_normals: Option<NormalStyle>,
 }
 
 impl Default for LightSettings {
@@ -174,6 +178,7 @@ impl Default for LightSettings {
             exposure: 1.0,
             texture: None,
             colours: ColourSettings::default(),
+            shading_normals: None,
         }
     }
 }
@@ -204,4 +209,15 @@ pub struct SceneOptions {
     pub hybrid: HybridSettings,
     /// The light and colours.
     pub light: LightSettings,
+}
+
+/// Refuses shading normals asked for a scene that shades its own surface (`what`: "MLHM
+/// scenes", ...): they apply to height fields and tile stores.
+pub fn refuse_shading_normals(light: &LightSettings, what: &str) -> Result<(), RenderError> {
+    match light.shading_normals {
+        Some(style) => Err(RenderError::Unsupported(format!(
+            "shading normals ({style}) apply to height fields and tile stores, not to {what}"
+        ))),
+        None => Ok(()),
+    }
 }

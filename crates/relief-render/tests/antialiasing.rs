@@ -31,6 +31,7 @@ fn edge_scene(turn_deg: f64) -> (Scene, Camera, Edge) {
         hybrid: HybridSettings::default(),
         max_memory: 1 << 30,
         params,
+        normal_style: None,
         colours: None,
         warnings: Vec::new(),
     });

@@ -13,7 +13,7 @@ use crate::tonemap::srgb8_pixel;
 use crate::{
     aerial_perspective, ambient_lighting, direct_lighting, fog_density_for_scene, ground_footprint,
     shadow_ray, slope_from_normal, Albedo, GBuffer, GgxSpecular, HypsometricRamp, RayBatch,
-    ShadeError, ShadingKernel, Sky, Sun, Tile, TraceStats, TILE_SIZE,
+    ShadeError, ShadingKernel, ShadingNormals, Sky, Sun, Tile, TraceStats, TILE_SIZE,
 };
 
 /// Everything the deferred pass needs besides the G-buffer: lights, materials, atmosphere.
@@ -39,12 +39,17 @@ pub struct ShadingParams {
     /// covers ([`crate::ShadingKernel`]) are lit in `f32` lanes, within one 8-bit step per
     /// channel of the `f64` picture and several times faster.
     pub precise: bool,
+    /// The normals that light the hits: the G-buffer's exact geometric ones, or a height
+    /// field's smooth ones ([`ShadingNormals`]); the sun's visibility stays the geometric
+    /// normal's either way.
+    pub normals: ShadingNormals,
 }
 
 impl Default for ShadingParams {
     /// Default sun and sky, a uniform grey albedo of 0.3, shadows, rough GGX specular, no fog,
-    /// exposure 1, the `f32` kernel where it covers the pixels. [`ShadingParams::for_terrain`]
-    /// fits the ramp and fog to a terrain instead.
+    /// exposure 1, the `f32` kernel where it covers the pixels, faceted normals (smooth ones
+    /// need the surface that gives them). [`ShadingParams::for_terrain`] fits the ramp and fog
+    /// to a terrain instead.
     fn default() -> Self {
         ShadingParams {
             sun: Sun::default(),
@@ -55,6 +60,7 @@ impl Default for ShadingParams {
             fog_density: 0.0,
             exposure: 1.0,
             precise: false,
+            normals: ShadingNormals::Faceted,
         }
     }
 }
@@ -222,7 +228,18 @@ pub(crate) fn trace_shadows<T: From<u8>>(
 /// What a pixel sees: its view ray and, on a hit, the distance, position and unit normal.
 struct View {
     ray: Ray,
-    hit: Option<(f64, DVec3, DVec3)>,
+    hit: Option<ViewHit>,
+}
+
+/// A hit as a pixel sees it.
+#[derive(Clone, Copy)]
+struct ViewHit {
+    distance: f64,
+    position: DVec3,
+    /// The unit geometric normal: whether and whence the sun is seen.
+    geometric: DVec3,
+    /// The unit normal that lights it ([`ShadingNormals::at`]).
+    shading: DVec3,
 }
 
 /// How the sun reaches a pixel, before shadows are traced.
@@ -337,15 +354,25 @@ impl<'a> ShadingPass<'a> {
         if !distance.is_finite() {
             return View { ray, hit: None };
         }
-        let normal = DVec3::from(g.normal[k].map(f64::from)).normalize_or_zero();
-        View { ray, hit: Some((distance, ray.at(distance), normal)) }
+        let geometric = DVec3::from(g.normal[k].map(f64::from)).normalize_or_zero();
+        let position = ray.at(distance);
+        let shading = self.params.normals.at(position, geometric, distance);
+        View { ray, hit: Some(ViewHit { distance, position, geometric, shading }) }
     }
 
     /// How the sun reaches what `view` sees: whether it needs a shadow ray (see
     /// [`shadow_ray`]).
+    ///
+    /// Both the facing test and the shadow ray's origin (offset along the normal) use the
+    /// exact geometric normal, whatever normals light the hit: a facet that faces away from
+    /// the sun is in its own shadow on the exact surface, so a smooth normal that still faces
+    /// the sun there would send a shadow ray into the next facet and speckle lit slopes at a
+    /// low sun with self-shadowing acne. The shadows are therefore the faceted picture's, bit
+    /// for bit; the smooth normal only grades the light ([`direct_lighting`] gives nothing
+    /// where it faces away).
     fn lighting(&self, view: &View) -> Lighting {
         let p = self.params;
-        let Some((distance, position, normal)) = view.hit else {
+        let Some(ViewHit { distance, position, geometric: normal, .. }) = view.hit else {
             return Lighting::Unlit;
         };
         let lit = p.sun.is_up() && p.sun.irradiance > 0.0 && normal.dot(self.to_sun) > 0.0;
@@ -362,7 +389,7 @@ impl<'a> ShadingPass<'a> {
         let (g, p) = (self.gbuffer, self.params);
         let ray = view.ray;
         let sky = p.sky.radiance(ray.dir);
-        let Some((distance, position, normal)) = view.hit else {
+        let Some(ViewHit { distance, position, shading: normal, .. }) = view.hit else {
             return sky;
         };
         let albedo = match &p.albedo {

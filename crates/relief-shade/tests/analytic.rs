@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use relief_core::{Camera, DVec3, GridGeometry, HeightField, Surface};
 use relief_shade::{
-    direct_lighting, light_visibility, render_gbuffer, shade, sun_direction, Albedo, ShadingParams,
-    Sky, Sun, TraceStats,
+    direct_lighting, light_visibility, render_gbuffer, shade, sun_direction, Albedo,
+    ShadingNormals, ShadingParams, Sky, Sun, TraceStats,
 };
 use relief_trace::{build_tracer, Tracer, TracerKind};
 
@@ -49,6 +49,7 @@ fn lambert_only(rho: [f32; 3], sun: Sun) -> ShadingParams {
         fog_density: 0.0,
         exposure: 1.0,
         precise: false,
+        normals: ShadingNormals::Faceted,
     }
 }
 

@@ -16,7 +16,7 @@ fn a_marked_render_gives_the_marked_pixels_the_whole_render_s_radiance() {
         Camera::look_at(eye, DVec3::new(128.0, 128.0, 0.0), DVec3::Z, 45.0, 40, 30).unwrap();
     let shading = MlhmShading::new(MlhmPreset::High);
     let whole = render_mlhm(&tracer, &camera, &shading, &|_| {}).unwrap();
-    let marked = |i: usize, j: usize| (i * 5 + j * 3) % 11 == 0 || (i > 30 && j > 20);
+    let marked = |i: usize, j: usize| (i * 5 + j * 3).is_multiple_of(11) || (i > 30 && j > 20);
     let mask = PixelMask::from_fn(40, 30, marked);
     let got = render_mlhm_marked(&tracer, &camera, &shading, &mask, &|_| {}).unwrap();
     for k in 0..40 * 30 {

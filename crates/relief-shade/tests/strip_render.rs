@@ -123,7 +123,9 @@ fn a_marked_render_draws_the_marked_pixels_as_the_whole_render_does() {
             render_to_srgb8(&*tracer, &*tracer, &camera, &bounds, &params, keep, &|_| {}).unwrap();
         // Scattered pixels, a run across a tile's edge, and a whole corner tile.
         let marked = |i: usize, j: usize| {
-            (i * 7 + j * 13) % 23 == 0 || (j == 20 && (10..40).contains(&i)) || (i < 16 && j < 16)
+            (i * 7 + j * 13).is_multiple_of(23)
+                || (j == 20 && (10..40).contains(&i))
+                || (i < 16 && j < 16)
         };
         let mask = PixelMask::from_fn(w as usize, h as usize, marked);
         let tracers = StripTracers { primary: &*tracer, shadow: &*tracer };

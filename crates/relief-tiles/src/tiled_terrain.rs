@@ -23,7 +23,7 @@
 //! cracks nor holes at any mix of levels.
 
 use crate::store::LoadedTile;
-use relief_core::{Aabb, BoxFace, Clip, DVec2, DVec3, Ray, Surface};
+use relief_core::{Aabb, BoxFace, Clip, DVec2, DVec3, Ray, SmoothNormals, Surface};
 use relief_trace::{Hit, Tracer};
 use std::sync::Arc;
 
@@ -96,13 +96,17 @@ impl TiledTerrain {
     /// its stored samples), interpolated bilinearly between the four samples around the point.
     /// `None` outside every tile.
     pub fn surface_slope(&self, x: f64, y: f64) -> Option<DVec2> {
+        tile_slope(self.tile_at(x, y)?, x, y)
+    }
+
+    /// The tile drawn at world `(x, y)`, whose rectangle holds the point; `None` outside
+    /// every tile.
+    fn tile_at(&self, x: f64, y: f64) -> Option<&LoadedTile> {
         let inside = |b: &Aabb| b.min.x <= x && x <= b.max.x && b.min.y <= y && y <= b.max.y;
         let mut at = 0usize;
         loop {
             match self.nodes.get(at)? {
-                Node::Leaf { tile, bounds, .. } => {
-                    return inside(bounds).then(|| tile_slope(tile, x, y)).flatten();
-                }
+                Node::Leaf { tile, bounds, .. } => return inside(bounds).then_some(&**tile),
                 Node::Inner { orders, .. } => {
                     at = *orders[0].iter().find(|&&c| inside(self.nodes[c as usize].bounds()))?
                         as usize;
@@ -253,6 +257,20 @@ fn over_rectangle(bounds: &Aabb, ray: &Ray, inv_dir: DVec3, clip: Clip) -> Clip 
 #[inline]
 fn leaf_tracer(tile: &LoadedTile) -> &dyn Tracer {
     &*tile.heights.as_ref().expect("leaves have samples").tracer
+}
+
+/// The smooth shading normal of the tile drawn at a point: its height field's
+/// ([`HeightField::smooth_normal_at`](relief_core::HeightField::smooth_normal_at)), from the
+/// tile's own samples (one-sided differences at its stored edges, so a seam between tiles of
+/// different levels may show a slight crease). A `boxes` terrain has none.
+impl SmoothNormals for TiledTerrain {
+    fn smooth_normal(&self, position: DVec3) -> Option<DVec3> {
+        if self.surface != Surface::Triangles {
+            return None;
+        }
+        let field = &self.tile_at(position.x, position.y)?.heights.as_ref()?.field;
+        field.smooth_normal_at(position.x, position.y)
+    }
 }
 
 /// The slope of `tile`'s heights at world `(x, y)` (see [`TiledTerrain::surface_slope`]).

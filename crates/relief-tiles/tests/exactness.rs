@@ -2,10 +2,12 @@
 //! to 1e-5 relative and the shaded picture, shadows included, from cameras looking across tile
 //! seams; and coarser tolerances leave neither cracks nor holes.
 
-use relief_core::{Camera, DVec2, DVec3, GridGeometry, Surface};
+use relief_core::{Camera, DVec2, DVec3, GridGeometry, HeightField, Surface};
 use relief_io::{Format, InMemoryRows, Raster, RasterInfo, VoidPolicy};
-use relief_shade::{render_gbuffer, shade_to_srgb8, ShadingParams};
-use relief_tiles::{build_store, BuildOptions, FrameRequest, Precision, TileStore, TileStreamer};
+use relief_shade::{render_gbuffer, shade_to_srgb8, GBuffer, ShadingNormals, ShadingParams};
+use relief_tiles::{
+    build_store, BuildOptions, FrameRequest, Precision, TileStore, TileStreamer, TiledTerrain,
+};
 use relief_trace::{MipmapTracer, Tracer};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -145,8 +147,40 @@ fn compare(surface: Surface, voids: bool, tile: u32) {
             );
         }
         assert_eq!(differ, 0, "{surface:?}: {differ} shaded pixels differ (shadows)");
+        if surface == Surface::Triangles {
+            compare_smooth(&field, tiled, &camera, &params, [&a, &b]);
+        }
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Smooth shading normals of the tiles (each from its own samples) light the picture as the
+/// whole field's do, but for the pixels beside a seam, where a tile's one-sided differences
+/// stand in for the whole field's central ones.
+fn compare_smooth(
+    field: &Arc<HeightField>,
+    tiled: TiledTerrain,
+    camera: &Camera,
+    params: &ShadingParams,
+    [whole, tiles]: [&GBuffer; 2],
+) {
+    let tiled = Arc::new(tiled);
+    let lit = |normals| ShadingParams { normals, ..params.clone() };
+    let smooth_whole = lit(ShadingNormals::smooth(field.clone()));
+    let smooth_tiled = lit(ShadingNormals::smooth(tiled.clone()));
+    let (ia, _) = shade_to_srgb8(whole, &*tiled, camera, &smooth_whole).unwrap();
+    let (ib, _) = shade_to_srgb8(tiles, &*tiled, camera, &smooth_tiled).unwrap();
+    let (faceted, _) = shade_to_srgb8(whole, &*tiled, camera, params).unwrap();
+    let steps = |x: &[[u8; 3]], y: &[[u8; 3]]| {
+        x.iter()
+            .zip(y)
+            .filter(|(p, q)| p.iter().zip(q.iter()).any(|(u, v)| u.abs_diff(*v) > 2))
+            .count()
+    };
+    let (seams, smoothed) = (steps(&ia, &ib), steps(&ia, &faceted));
+    eprintln!("smooth: {seams} pixels differ at seams, {smoothed} from faceted");
+    assert!(smoothed > 200, "smooth normals change the picture: {smoothed}");
+    assert!(seams * 10 < smoothed, "{seams} pixels differ beside seams, {smoothed} smoothed");
 }
 
 #[test]

@@ -30,29 +30,6 @@ pub struct Frame {
     pub note: Option<String>,
 }
 
-impl Frame {
-    /// The frame `n` times smaller across and down, each pixel the mean, in linear light, of
-    /// the `n x n` pixels it covers: a frame rendered `n` times finer, anti-aliased. The
-    /// size must be a multiple of `n`.
-    pub fn averaged(self, n: u32) -> Frame {
-        let (width, height, n) = (self.width / n, self.height / n, n as usize);
-        let linear = relief_core::colour::srgb8_to_linear_table();
-        let fine_width = self.width as usize;
-        let rgb = (0..width as usize * height as usize)
-            .map(|k| {
-                let (i, j) = (k % width as usize * n, k / width as usize * n);
-                let mut sum = [0.0f32; 3];
-                for s in 0..n * n {
-                    let p = self.rgb[i + s % n + (j + s / n) * fine_width];
-                    (0..3).for_each(|c| sum[c] += linear[p[c] as usize]);
-                }
-                sum.map(|v| relief_core::colour::linear_to_srgb8(v / (n * n) as f32))
-            })
-            .collect();
-        Frame { width, height, rgb, ..self }
-    }
-}
-
 /// Set by the viewer when it no longer needs the frame being rendered (the view changed while
 /// a frame at rest was on its way); a renderer may then stop early, and its frame is
 /// discarded.
@@ -151,21 +128,5 @@ mod tests {
         blit(&frame, &mut target, 4, 2);
         let (red, blue) = (0xff0000, 0x0000ff);
         assert_eq!(target, [red, red, blue, blue, red, red, blue, blue]);
-    }
-
-    #[test]
-    fn an_averaged_frame_is_the_mean_of_each_block_in_linear_light() {
-        let (black, white) = ([0u8; 3], [255u8; 3]);
-        let frame = Frame {
-            width: 4,
-            height: 2,
-            rgb: vec![black, white, white, white, white, black, white, white],
-            stats: FrameStats::default(),
-            note: None,
-        };
-        let small = frame.averaged(2);
-        assert_eq!((small.width, small.height), (2, 1));
-        // Half black, half white: half the light, which sRGB encodes as 188 (not 128).
-        assert_eq!(small.rgb, [[188; 3], [255; 3]]);
     }
 }

@@ -23,7 +23,8 @@ pub struct FrameRequest {
     /// Its height in pixels.
     pub height: u32,
     /// Samples a side of each pixel: 1, or [`AT_REST_SAMPLES`] for the full frame
-    /// anti-aliased at rest (rendered `samples` times as wide and as high, then averaged).
+    /// anti-aliased at rest (a frame for each offset of the grid, averaged, as `relief render
+    /// --aa N` draws it).
     pub samples: u32,
 }
 

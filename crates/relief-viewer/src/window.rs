@@ -186,9 +186,7 @@ impl App {
 
     /// Sends `request` to the render thread with the current camera and settings.
     fn send(&mut self, event_loop: &dyn LoopControl, request: FrameRequest) {
-        // An anti-aliased frame is rendered `samples` times finer, then averaged.
-        let (width, height) = (request.width * request.samples, request.height * request.samples);
-        let camera = match self.controller.camera(width, height) {
+        let camera = match self.controller.camera(request.width, request.height) {
             Ok(camera) => camera,
             Err(e) => return self.fail(event_loop, ViewerError::Render(e.to_string())),
         };

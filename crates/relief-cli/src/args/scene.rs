@@ -126,6 +126,12 @@ pub struct SceneArgs {
     /// 0].
     #[arg(long, value_name = "H", value_parser = parse::height, allow_hyphen_values = true)]
     pub sea_level: Option<f64>,
+    /// Normals that light the triangles surface: smooth (interpolated from the heights'
+    /// gradients at the samples, as DEM viewers shade) or faceted (each triangle's exact
+    /// normal); depth, --normals and shadows stay exact either way. Boxes are always faceted
+    /// [default: smooth].
+    #[arg(long, value_name = "STYLE")]
+    pub shading_normals: Option<relief_shade::NormalStyle>,
     /// Exposure applied before tone mapping (1e-4 to 1e4).
     #[arg(long, default_value = "1", value_parser = parse::exposure, allow_hyphen_values = true)]
     pub exposure: f64,

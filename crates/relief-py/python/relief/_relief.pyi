@@ -61,6 +61,7 @@ Surface = Literal["triangles", "boxes"]
 TracerName = Literal["mipmap", "naive"]
 Voids = Literal["fill", "hole"]
 ColourMapName = Literal["terrain", "bathymetry", "greys", "viridis", "cividis", "magma"]
+ShadingNormalsName = Literal["smooth", "faceted"]
 
 def read(
     path: Union[str, PathLike[str]],
@@ -100,6 +101,7 @@ def render(
     legend: bool = False,
     scale_bar: bool = False,
     north_arrow: bool = False,
+    shading_normals: Optional[ShadingNormalsName] = None,
 ) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
     """Render a north-up heights array as ``relief render`` does: ``(rgb, depth)``.
 
@@ -111,7 +113,8 @@ def render(
     own), ``sea_level`` for ``bathymetry`` (default 0), and the ``legend``, ``scale_bar``
     (orthographic cameras only: ``relief.open(...).render``) and ``north_arrow`` as
     ``relief render``'s ``--colormap``, ``--height-range``, ``--sea-level``, ``--legend``,
-    ``--scale-bar`` and ``--north-arrow``.
+    ``--scale-bar`` and ``--north-arrow``. ``shading_normals``: ``"smooth"`` (the default
+    for triangles) or ``"faceted"``, as ``--shading-normals``; boxes are always faceted.
     """
 
 ShadeLayer = Literal["shadow", "sky", "hillshade", "combined", "horizon", "sky-aniso",
@@ -347,6 +350,7 @@ def open(
     colormap: Optional[ColourMapName] = None,
     height_range: Optional[Tuple[float, float]] = None,
     sea_level: Optional[float] = None,
+    shading_normals: Optional[ShadingNormalsName] = None,
 ) -> Scene:
     """Open any input ``relief render`` takes (``None``: the default fBm terrain) as a scene,
     with ``relief render``'s options and defaults. Raises ``ReliefError`` for options relief

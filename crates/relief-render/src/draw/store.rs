@@ -44,7 +44,11 @@ pub fn frame(
     let terrain = Arc::new(terrain);
     let (gbuffer, primary) = render_gbuffer(&*terrain, camera, &scene.bounds, &|_| {})?;
     let (textured, _) = scene.frame_params(&gbuffer, camera, &terrain, wait)?;
-    let params = relief_shade::ShadingParams { albedo: textured.albedo, ..params.clone() };
+    let params = relief_shade::ShadingParams {
+        albedo: textured.albedo,
+        normals: textured.normals,
+        ..params.clone()
+    };
     let (rgb, shadow) = shade_to_srgb8(&gbuffer, &*terrain, camera, &params)?;
     let pixels = u64::from(camera.width()) * u64::from(camera.height());
     Ok(StoreFrame { rgb, tiles, rays: pixels + shadow.rays, mean_steps: primary.mean_steps() })

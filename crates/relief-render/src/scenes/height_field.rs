@@ -7,7 +7,10 @@ use crate::memory;
 use crate::options::{HybridSettings, LightSettings, SceneOptions};
 use crate::tracer_spec::{SafetySettings, TracerChoice, TracerSpec};
 use relief_core::{Aabb, Camera, HeightField, Surface};
-use relief_shade::{sun_direction, Albedo, HeightColourMap, RgbTexture, ShadingParams, Sun};
+use relief_shade::{
+    sun_direction, Albedo, HeightColourMap, NormalStyle, RgbTexture, ShadingNormals, ShadingParams,
+    Sun,
+};
 use relief_trace::safety::SafetyTracer;
 use relief_trace::{Simd, TracerKind};
 use std::path::Path;
@@ -27,8 +30,11 @@ pub struct HeightFieldScene {
     pub hybrid: HybridSettings,
     /// Bytes the safety shapes may take.
     pub max_memory: u64,
-    /// Lights and materials, fitted to the terrain.
+    /// Lights and materials, fitted to the terrain, with the normals of [`Self::surface`]
+    /// ([`HeightFieldScene::normals`]).
     pub params: ShadingParams,
+    /// The shading normals asked for (`None`: the surface's default).
+    pub normal_style: Option<NormalStyle>,
     /// The colour map over heights in metres, for a legend; `None` where a texture colours
     /// the terrain.
     pub colours: Option<HeightColourMap>,
@@ -46,7 +52,9 @@ impl HeightFieldScene {
         let field = Arc::new(loaded.field);
         let bounds = field.world_bounds(Surface::Boxes);
         let z_scale = options.terrain.z_scale;
-        let params = shading(&options.light, &bounds, z_scale)?;
+        let mut params = shading(&options.light, &bounds, z_scale)?;
+        let normal_style = options.light.shading_normals;
+        params.normals = shading_normals(normal_style, surface, &field)?;
         let colours = legend_colours(&options.light, &bounds, z_scale)?;
         Ok(HeightFieldScene {
             field,
@@ -56,9 +64,18 @@ impl HeightFieldScene {
             hybrid: options.hybrid.clone(),
             max_memory: memory::budget(options.terrain.read.max_memory).bytes,
             params,
+            normal_style,
             colours,
             warnings: loaded.warning.into_iter().collect(),
         })
+    }
+
+    /// The normals that light `surface` of the scene's field (the viewer switches surfaces):
+    /// as [`shading_normals`] gives them for the style asked, except that `boxes` are
+    /// faceted whatever was asked.
+    pub fn normals(&self, surface: Surface) -> ShadingNormals {
+        let style = if surface == Surface::Boxes { None } else { self.normal_style };
+        shading_normals(style, surface, &self.field).unwrap_or_default()
     }
 
     /// The box the drawn surface fills.
@@ -104,6 +121,25 @@ pub fn check_safety_view(
     let rays = (0..h).flat_map(|j| (0..w).map(move |i| camera.ray(i, j)));
     safety.check_rays(rays, light)?;
     Ok(())
+}
+
+/// The normals that light `surface` of `field` in the `style` asked: smooth (from the field's
+/// gradients, [`relief_core::HeightField::smooth_normal_at`]) or faceted; by default smooth
+/// for `triangles` and faceted for `boxes`, whose flat tops have no smooth normals to give.
+///
+/// Fails when smooth normals are asked for the `boxes` surface.
+pub fn shading_normals(
+    style: Option<NormalStyle>,
+    surface: Surface,
+    field: &Arc<HeightField>,
+) -> Result<ShadingNormals, RenderError> {
+    match (style, surface) {
+        (Some(NormalStyle::Smooth), Surface::Boxes) => Err(RenderError::Unsupported(
+            "smooth shading normals are for the triangles surface: boxes are always faceted".into(),
+        )),
+        (Some(NormalStyle::Faceted), _) | (None, Surface::Boxes) => Ok(ShadingNormals::Faceted),
+        (_, Surface::Triangles) => Ok(ShadingNormals::smooth(field.clone())),
+    }
 }
 
 /// Lights and materials as `light` says, fitted to a terrain within `bounds`, whose world

@@ -4,7 +4,7 @@
 
 use crate::error::RenderError;
 use crate::input;
-use crate::options::{RenderMode, SceneOptions};
+use crate::options::{refuse_shading_normals, RenderMode, SceneOptions};
 use crate::tracer_spec::TracerChoice;
 use relief_core::{Aabb, Camera, DVec2, DVec3, Mlhm, Precision};
 use relief_shade::mlhm::{MlhmPreset, MlhmShading};
@@ -58,6 +58,7 @@ impl LayeredScene {
     /// Reads the MLHM scene at `path` as `options` say.
     pub fn open(path: &Path, options: &SceneOptions) -> Result<Self, RenderError> {
         options.light.colours.refuse_for("MLHM scenes")?;
+        refuse_shading_normals(&options.light, "MLHM scenes")?;
         let mode = options.mode.unwrap_or(RenderMode::Boxes);
         if mode == RenderMode::Mesh {
             return Err(RenderError::Unsupported(

@@ -4,7 +4,7 @@
 
 use crate::error::RenderError;
 use crate::input;
-use crate::options::SceneOptions;
+use crate::options::{refuse_shading_normals, SceneOptions};
 use relief_core::{Aabb, Camera, DVec3, MaterialStacks, StacksMipmap};
 use relief_mesh::{Smoothing, StacksMeshParams, StacksMesher};
 use std::path::Path;
@@ -25,6 +25,7 @@ impl StacksScene {
     /// (default: one cell).
     pub fn open(path: Option<&Path>, options: &SceneOptions) -> Result<Self, RenderError> {
         options.light.colours.refuse_for("material stacks")?;
+        refuse_shading_normals(&options.light, "material stacks")?;
         let mut warnings = Vec::new();
         let stacks = read(path, options, &mut warnings)?;
         let spacing = stacks.spacing().x;

@@ -6,7 +6,8 @@ use crate::error::RenderError;
 use crate::options::SceneOptions;
 use relief_core::{Aabb, Camera, Surface};
 use relief_shade::{
-    Albedo, FilteredAlbedo, GBuffer, HeightColourMap, ShadingParams, TextureFilter,
+    Albedo, FilteredAlbedo, GBuffer, HeightColourMap, NormalStyle, ShadingNormals, ShadingParams,
+    TextureFilter,
 };
 use relief_tiles::{
     FrameRequest, TextureFrameStats, TextureStore, TextureStreamer, TileStore, TileStreamer,
@@ -23,8 +24,11 @@ pub struct StoreScene {
     pub surface: Surface,
     /// The box the surface fills.
     pub bounds: Aabb,
-    /// Lights and materials, fitted to the terrain.
+    /// Lights and materials, fitted to the terrain; faceted normals (a frame's params light
+    /// it with its tiles' smooth normals where asked, see [`StoreScene::frame_params`]).
     pub params: ShadingParams,
+    /// The shading normals asked for (`None`: smooth for triangles, faceted for boxes).
+    pub normal_style: Option<NormalStyle>,
     /// The colour map over heights in metres, for a legend; `None` where a texture colours
     /// the terrain (the options' or the store's photo).
     pub colours: Option<HeightColourMap>,
@@ -52,6 +56,13 @@ impl StoreScene {
         // A store holds heights in metres: `--z-scale` does not place it.
         let boxes = store.world_bounds(Surface::Boxes);
         let params = shading(&options.light, &boxes, 1.0)?;
+        let normal_style = options.light.shading_normals;
+        if normal_style == Some(NormalStyle::Smooth) && surface == Surface::Boxes {
+            return Err(RenderError::Unsupported(
+                "smooth shading normals are for the triangles surface: boxes are always faceted"
+                    .into(),
+            ));
+        }
         let colours = match texture {
             Some(_) if options.light.colours.given() => {
                 return Err(RenderError::Colours(format!(
@@ -65,7 +76,16 @@ impl StoreScene {
         };
         let streamer = TileStreamer::new(store, surface, settings.cache_bytes)?;
         let max_error_px = settings.max_error_px;
-        Ok(StoreScene { streamer, surface, bounds, params, colours, max_error_px, texture })
+        Ok(StoreScene {
+            streamer,
+            surface,
+            bounds,
+            params,
+            normal_style,
+            colours,
+            max_error_px,
+            texture,
+        })
     }
 
     /// Whether the store at `path` has a photo (made by `relief tile --texture`).
@@ -82,7 +102,8 @@ impl StoreScene {
 
     /// The shading of the frame `camera` saw into `gbuffer` over `terrain`: the store's photo,
     /// when it has one, filtered over each pixel's footprint (its tiles loaded for the frame
-    /// when it `wait`s, else coarser ones standing in), else the scene's own.
+    /// when it `wait`s, else coarser ones standing in), else the scene's own; lit with the
+    /// frame's tiles' smooth normals unless faceted ones are asked ([`StoreScene::normals`]).
     pub fn frame_params(
         &self,
         gbuffer: &GBuffer,
@@ -90,15 +111,26 @@ impl StoreScene {
         terrain: &Arc<TiledTerrain>,
         wait: bool,
     ) -> Result<(ShadingParams, Option<TextureFrameStats>), RenderError> {
+        let normals = self.normals(terrain);
         let Some((textures, filter)) = &self.texture else {
-            return Ok((self.params.clone(), None));
+            return Ok((ShadingParams { normals, ..self.params.clone() }, None));
         };
         let (frame, stats) = textures.frame(gbuffer, camera, terrain.clone(), *filter, wait)?;
         let params = ShadingParams {
             albedo: Albedo::Filtered(FilteredAlbedo(Arc::new(frame))),
+            normals,
             ..self.params.clone()
         };
         Ok((params, Some(stats)))
+    }
+
+    /// The normals that light a frame drawn over `terrain`: its tiles' smooth normals for
+    /// the `triangles` surface unless faceted ones are asked; faceted for `boxes`.
+    pub fn normals(&self, terrain: &Arc<TiledTerrain>) -> ShadingNormals {
+        match (self.normal_style, self.surface) {
+            (Some(NormalStyle::Faceted), _) | (_, Surface::Boxes) => ShadingNormals::Faceted,
+            _ => ShadingNormals::smooth(terrain.clone()),
+        }
     }
 
     /// What a frame asks of the streamer: the error bound, culling only when no shadow rays

@@ -5,7 +5,7 @@ use relief_core::DVec3;
 
 use super::ShadingKernel;
 use crate::deferred::{trace_shadows, ShadingPass};
-use crate::{shadow_ray, RayBatch, Tile, TraceStats, TILE_SIZE};
+use crate::{shadow_ray, RayBatch, ShadingNormals, Tile, TraceStats, TILE_SIZE};
 
 /// Shades the image rows from `top` on (at most [`TILE_SIZE`], all in the pass's G-buffer)
 /// into `out` with `kernel`, and counts the shadow rays.
@@ -54,6 +54,7 @@ pub(crate) fn shade_strip_in_lanes(
             trace_shadows(&mut batch, pass.tracer, &owners, &mut visibility, &mut stats);
         }
     }
+    let normals = shading_normals(pass, kernel, top, rows);
     for r in 0..rows {
         let k = pass.index(0, top + r);
         let mut shade = |first: usize, n: usize| {
@@ -62,7 +63,10 @@ pub(crate) fn shade_strip_in_lanes(
                 top + r,
                 first,
                 &gbuffer.distance[g.clone()],
-                &gbuffer.normal[g],
+                match &normals {
+                    Some(normals) => &normals[pixels.clone()],
+                    None => &gbuffer.normal[g],
+                },
                 &visibility[pixels.clone()],
                 &mut out[pixels],
             );
@@ -86,4 +90,36 @@ pub(crate) fn shade_strip_in_lanes(
         }
     }
     stats
+}
+
+/// The normals that light the `rows` image rows from `top` on, row-major, where they are not
+/// the G-buffer's (smooth normals): each hit's [`ShadingNormals::at`] at the point the
+/// pixel's `f64` camera ray reaches, as the `f64` pass finds it; zeros for a miss.
+fn shading_normals(
+    pass: &ShadingPass,
+    kernel: &ShadingKernel,
+    top: usize,
+    rows: usize,
+) -> Option<Vec<[f32; 3]>> {
+    if matches!(pass.params.normals, ShadingNormals::Faceted) {
+        return None;
+    }
+    let gbuffer = pass.gbuffer;
+    let width = gbuffer.width;
+    let mut normals = vec![[0.0f32; 3]; rows * width];
+    for (r, row) in normals.chunks_mut(width).enumerate() {
+        let j = top + r;
+        for (i, normal) in row.iter_mut().enumerate() {
+            let k = pass.index(i, j);
+            let distance = gbuffer.distance[k] as f64;
+            if !distance.is_finite() || pass.mask.is_some_and(|m| !m.contains(i, j)) {
+                continue;
+            }
+            let geometric = DVec3::from(gbuffer.normal[k].map(f64::from)).normalize_or_zero();
+            let ray = pass.camera.ray_through(kernel.screen_x_f64[i], kernel.screen_y_f64[j]);
+            let shading = pass.params.normals.at(ray.at(distance), geometric, distance);
+            *normal = shading.as_vec3().to_array();
+        }
+    }
+    Some(normals)
 }

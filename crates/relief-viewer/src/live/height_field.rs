@@ -156,6 +156,8 @@ impl Drawing for LiveHeightField {
         let mut index = settings.tracer.min(self.choices.len() - 1);
         let mut params = self.params.lock().expect("no render panicked");
         apply_view_settings(&mut params, settings);
+        // The scene's shading normals for the surface shown: boxes are always faceted.
+        params.normals = self.scene.normals(surface);
         let mut note = None;
         if let (TracerChoice::Safety(_), Some(safety)) = (&self.choices[index], &self.safety) {
             let refused = if surface != Surface::Triangles {

@@ -5,6 +5,7 @@ use crate::frame::{Cancel, Frame, SceneRenderer};
 use crate::progressive::FrameRequest;
 use crate::{SimulationReport, SimulationRequest, ViewSettings};
 use relief_core::Camera;
+use relief_render::antialias::{grid_offsets, LinearSum};
 use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
@@ -58,14 +59,15 @@ pub(crate) fn spawn_render_thread(
             };
             // The frame's time is the rendering's (the scheduler sizes frames by it).
             let started = Instant::now();
-            let rendered = match renderer.render(&job.camera, &job.settings, &job.cancel) {
+            let frame = match job.request.samples {
+                1 => renderer.render(&job.camera, &job.settings, &job.cancel),
+                n => render_antialiased(renderer.as_ref(), &job, n),
+            };
+            let rendered = match frame {
                 Ok(_) if job.cancel.is_set() => Rendered::Cancelled(simulated),
                 Ok(frame) => Rendered::Frame {
                     request: job.request,
-                    frame: match job.request.samples {
-                        1 => frame,
-                        n => frame.averaged(n),
-                    },
+                    frame,
                     elapsed: started.elapsed(),
                     moving: job.moving,
                     simulated,
@@ -78,4 +80,28 @@ pub(crate) fn spawn_render_thread(
         }
     });
     (send, worker)
+}
+
+/// `job`'s frame anti-aliased on an `n x n` grid, as `relief render --aa N` draws it: a frame
+/// for each offset of the grid, their colours averaged in linear light.
+fn render_antialiased(renderer: &dyn SceneRenderer, job: &Job, n: u32) -> Result<Frame, String> {
+    let pixels = job.camera.width() as usize * job.camera.height() as usize;
+    let mut sum = LinearSum::new(pixels);
+    let mut last: Option<Frame> = None;
+    let mut rays = 0;
+    let offsets = grid_offsets(n);
+    for &[dx, dy] in &offsets {
+        if job.cancel.is_set() {
+            break;
+        }
+        let camera = job.camera.with_pixel_offset(dx, dy).map_err(|e| e.to_string())?;
+        let frame = renderer.render(&camera, &job.settings, &job.cancel)?;
+        sum.add_all(&frame.rgb);
+        rays += frame.stats.rays;
+        last = Some(frame);
+    }
+    let mut frame = last.ok_or("no frame was rendered")?;
+    frame.rgb = sum.means(offsets.len());
+    frame.stats.rays = rays;
+    Ok(frame)
 }
