@@ -9,7 +9,8 @@ the PNG's compression, the same in every mode, do not water the ratios down), an
 command's wall time beside it. Prints a markdown table (docs/pictures.md) and writes the
 pictures into --out:
 
-    python3 bench/antialiasing.py --relief target/release/relief --out /tmp/aa-bench
+    python3 bench/antialiasing.py --relief target/release/relief --out /tmp/aa-bench \
+        --docs docs/images/pictures
 
 Not part of the tests; needs only Python 3.
 """
@@ -39,6 +40,7 @@ def main():
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--size", default="1920x1080")
     parser.add_argument("--out", default=None, help="folder for the pictures")
+    parser.add_argument("--docs", default=None, help="folder for the close-ups of the docs")
     a = parser.parse_args()
     out = Path(a.out or tempfile.mkdtemp(prefix="relief-aa-"))
     out.mkdir(parents=True, exist_ok=True)
@@ -73,6 +75,21 @@ def main():
             print(f"| {name} | {mode} | {med:.0f} ({min(t):.0f}-{max(t):.0f}) | "
                   f"{med / off:.2f} | {statistics.median(walls[mode]):.0f} | {shown} |")
     print(f"\npictures in {out}")
+    if a.docs:
+        crops(out, Path(a.docs))
+
+
+def crops(out, docs):
+    """Close-ups (a 320 x 180 crop of each 1920 x 1080 picture, drawn twice as large, pixel
+    for pixel) for docs/pictures.md; needs Pillow."""
+    from PIL import Image
+
+    docs.mkdir(parents=True, exist_ok=True)
+    boxes = {"fbm": (760, 120, 1080, 300), "mlhm": (800, 420, 1120, 600)}
+    for scene, box in boxes.items():
+        for mode in MODES:
+            picture = Image.open(out / f"{scene}-aa-{mode}.png").crop(box)
+            picture.resize((640, 360), Image.NEAREST).save(docs / f"aa-{scene}-{mode}.png")
 
 
 if __name__ == "__main__":

@@ -161,14 +161,16 @@ fn cave() -> &'static Path {
 
 #[test]
 fn mlhm_tracers_render_the_brute_force_depth_of_the_orthographic_rays() {
-    let map = relief_io::read_mlhm_native(cave(), &ReadOptions::default()).unwrap();
+    let mut map = relief_io::read_mlhm_native(cave(), &ReadOptions::default()).unwrap();
+    // The solid ends at the base relief renders it on (a little below the lowest terrain).
+    map.set_base(relief_render::scenes::mlhm::mlhm_base(&map));
     let lowest = map.heights().bedrock_min as f64;
     let side = map.width() as f64 * map.cell_size();
     let target = DVec3::new(0.5 * side, 0.5 * side, lowest);
     let (distance, height) = (3.0 * side, 1.1 * side);
     let rays = convention_rays(AZ, EL, distance, target, height);
-    // The boxes [floor, bedrock + sand + water] of every column (the lowest from minus
-    // infinity), slab by slab.
+    // The boxes [floor, bedrock + sand + water] of every column (the lowest from the base),
+    // slab by slab.
     let reference: Vec<Option<f64>> = rays
         .iter()
         .map(|r| {

@@ -191,7 +191,11 @@ impl ShadowTile {
         self.visibility.clear();
         tile.camera_rays(pass.camera, &mut self.camera_rays);
         for (n, ((i, j), &ray)) in tile.pixels().zip(&self.camera_rays).enumerate() {
-            let view = pass.view(i, j, ray);
+            // A pixel a mask leaves out is not drawn: seen as a miss, it costs no shadow ray.
+            let view = match pass.mask {
+                Some(mask) if !mask.contains(i, j) => View { ray, hit: None },
+                _ => pass.view(i, j, ray),
+            };
             let visibility = match pass.lighting(&view) {
                 Lighting::Unlit => 0.0,
                 Lighting::Lit => 1.0,

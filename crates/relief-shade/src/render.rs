@@ -181,7 +181,7 @@ pub fn render_gbuffer_into(
 /// Traces the camera rays of the image rows from `top` on that `strip` holds (whole rows of
 /// the camera's image, at most [`TILE_SIZE`]) into it, tile by tile, each tile's rays as one
 /// batch, calling `progress` with each tile's pixel count. With a `mask`, only its pixels
-/// are traced, the others written as misses.
+/// are traced and written.
 pub(crate) fn trace_strip(
     tracer: &dyn Tracer,
     encoder: &HitEncoder,
@@ -201,14 +201,11 @@ pub(crate) fn trace_strip(
             None => tile.camera_rays(encoder.camera, &mut batch.rays),
             // A tile without a marked pixel is left as it was: nothing reads it.
             Some(mask) if !mask.any_in_tile(tile) => continue,
+            // The unmarked pixels of the tile are left as they were: nothing reads them.
             Some(mask) => {
-                for (i, j) in tile.pixels() {
-                    if mask.contains(i, j) {
-                        // (i, j) lies inside the camera's u32 image.
-                        batch.rays.push(encoder.camera.ray(i as u32, j as u32));
-                    } else {
-                        encoder.write(strip, i + (j - top) * width, None);
-                    }
+                for (i, j) in tile.pixels().filter(|&(i, j)| mask.contains(i, j)) {
+                    // (i, j) lies inside the camera's u32 image.
+                    batch.rays.push(encoder.camera.ray(i as u32, j as u32));
                 }
             }
         }

@@ -76,9 +76,9 @@ pub fn render_to_srgb8(
 }
 
 /// [`render_to_srgb8`] of the pixels `mask` marks only: each is the byte [`render_to_srgb8`]
-/// gives it (its depth and normal too); the others, undrawn, hold the colour of a miss or
-/// none (black, a depth and normal of zeros), at almost no cost, so that an anti-aliasing
-/// pass samples again only the pixels that need it. Fails as [`render_to_srgb8`] does, and when the mask is not of the
+/// gives it (its depth and normal too); the others are not drawn (what they hold is not
+/// meant to be read), at almost no cost, so that an anti-aliasing pass samples again only
+/// the pixels that need it. Fails as [`render_to_srgb8`] does, and when the mask is not of the
 /// camera's image size.
 pub fn render_marked_to_srgb8(
     tracers: StripTracers,

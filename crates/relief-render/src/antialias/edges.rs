@@ -11,7 +11,7 @@ const DEPTH_JUMP: f32 = 0.04;
 
 /// Two neighbours' colours differ by more than this many 8-bit steps in a channel: a shadow's
 /// edge, a material boundary.
-const COLOUR_STEP: u8 = 48;
+const COLOUR_STEP: u8 = 64;
 
 /// Two neighbours' normals differ by more than this angle's cosine (about 45 degrees) and
 /// their colours by more than [`CREASE_COLOUR_STEP`]: a box edge, a sharp ridge, a crease that
@@ -20,7 +20,7 @@ const COLOUR_STEP: u8 = 48;
 const CREASE_COS: f32 = 0.7;
 
 /// The colour step a crease must show to count (see [`CREASE_COS`]).
-const CREASE_COLOUR_STEP: u8 = 24;
+const CREASE_COLOUR_STEP: u8 = 32;
 
 /// The pixels of `picture` (which keeps its depth and normals) on an edge: each pixel of a
 /// pair of horizontal or vertical neighbours that see different things (one hits and the

@@ -38,6 +38,9 @@ pub(crate) fn shade_strip_in_lanes(
                 continue;
             }
             for (i, j) in tile.pixels() {
+                if pass.mask.is_some_and(|m| !m.contains(i, j)) {
+                    continue;
+                }
                 let k = pass.index(i, j);
                 let distance = gbuffer.distance[k] as f64;
                 if !distance.is_finite() {
@@ -110,9 +113,12 @@ fn shading_normals(
     for (r, row) in normals.chunks_mut(width).enumerate() {
         let j = top + r;
         for (i, normal) in row.iter_mut().enumerate() {
+            if pass.mask.is_some_and(|m| !m.contains(i, j)) {
+                continue;
+            }
             let k = pass.index(i, j);
             let distance = gbuffer.distance[k] as f64;
-            if !distance.is_finite() || pass.mask.is_some_and(|m| !m.contains(i, j)) {
+            if !distance.is_finite() {
                 continue;
             }
             let geometric = DVec3::from(gbuffer.normal[k].map(f64::from)).normalize_or_zero();

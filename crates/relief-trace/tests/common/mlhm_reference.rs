@@ -5,10 +5,16 @@ use relief_core::{DVec2, DVec3, Mlhm, MlhmColumn, Ray};
 use relief_trace::{MlhmMaterial, MlhmMode};
 
 /// The material layers `(bottom, top, material)` of column `k` of a cell that `mode` counts as
-/// inside, bottom to top, including zero-thickness ones.
-fn layers(columns: &[MlhmColumn], k: usize, mode: MlhmMode) -> Vec<(f64, f64, MlhmMaterial)> {
+/// inside, bottom to top, including zero-thickness ones; the lowest column's solid begins at
+/// the map's `base` (minus infinity unless the map is clipped, `Mlhm::set_base`).
+fn layers(
+    columns: &[MlhmColumn],
+    k: usize,
+    mode: MlhmMode,
+    base: f64,
+) -> Vec<(f64, f64, MlhmMaterial)> {
     let c = columns[k];
-    let floor = if k == 0 { f64::NEG_INFINITY } else { columns[k - 1].ceiling as f64 };
+    let floor = if k == 0 { base } else { columns[k - 1].ceiling as f64 };
     let (bedrock, solid, water) = (c.bedrock as f64, c.solid_top() as f64, c.water_top() as f64);
     let mut out =
         vec![(floor, bedrock, MlhmMaterial::Bedrock), (bedrock, solid, MlhmMaterial::Sand)];
@@ -59,7 +65,7 @@ pub fn first_hit(
             let columns: Vec<MlhmColumn> = map.cell_columns(x, y).collect();
             let (x0, y0) = (origin.x + x as f64 * s, origin.y + y as f64 * s);
             for k in 0..columns.len() {
-                for (bottom, top, material) in layers(&columns, k, mode) {
+                for (bottom, top, material) in layers(&columns, k, mode, map.base() as f64) {
                     if top <= bottom {
                         continue;
                     }
