@@ -6,7 +6,7 @@ use crate::errors::invalid;
 use numpy::{PyArray2, PyArray3};
 use pyo3::prelude::*;
 use relief_render::memory::{self, format_bytes, ImageHolding};
-use relief_render::Picture;
+use relief_render::{Antialiasing, Picture};
 
 /// What a render returns: the RGB image and its depth.
 pub type Rendered<'py> = (Bound<'py, PyArray3<u8>>, Bound<'py, PyArray2<f32>>);
@@ -20,19 +20,22 @@ pub fn arrays(py: Python<'_>, picture: Picture) -> PyResult<Rendered<'_>> {
     Ok((image_rgb8(py, h, w, rgb)?, image_f32(py, h, w, depth)?))
 }
 
-/// Refuses an image of `width x height` pixels that `holding` would draw over the memory
-/// budget `max_memory` gives (default: half the machine's memory), with the command line's
-/// message; `raise_with` names the option that raises the budget, if the caller has one.
+/// Refuses an image of `width x height` pixels that `holding` would draw, anti-aliased as `aa`
+/// says, over the memory budget `max_memory` gives (default: half the machine's memory), with
+/// the command line's message; `raise_with` names the option that raises the budget, if the
+/// caller has one.
 pub fn check_image(
     width: u32,
     height: u32,
     holding: ImageHolding,
+    aa: Antialiasing,
     max_memory: Option<u64>,
     raise_with: Option<&str>,
 ) -> PyResult<()> {
     let budget = memory::budget(max_memory);
     let threads = rayon::current_num_threads();
-    let needed = memory::image_bytes(width, height, holding, threads);
+    let needed = memory::image_bytes(width, height, holding, threads)
+        + memory::antialiasing_bytes(width, height, aa);
     if needed > budget.bytes {
         return Err(invalid(format!(
             "a {width}x{height} image needs {}, over the {} memory limit ({})",

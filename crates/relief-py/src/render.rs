@@ -83,7 +83,7 @@ pub fn render<'py>(
     let (width, height) = options::image_size(size)?;
     let aa = aa.map(options::antialiasing).transpose()?.unwrap_or_default();
     let holding = ImageHolding::Strips { depth: true, normals: false };
-    check_image(width, height, holding, None, None)?;
+    check_image(width, height, holding, aa, None, None)?;
     let geometry = options::geometry(spacing, origin, z_scale)?;
     let (surface, kind) = (options::surface(surface)?, options::tracer(tracer)?);
     let light = LightSettings {

@@ -183,7 +183,8 @@ impl PyScene {
             let opened = self.locked();
             (holding(&opened.scene), opened.max_memory)
         });
-        check_image(width, height, holding, max_memory, Some("relief.open(..., max_memory=N)"))?;
+        let raise_with = Some("relief.open(..., max_memory=N)");
+        check_image(width, height, holding, aa, max_memory, raise_with)?;
         let drawn = py.detach(|| {
             let opened = self.locked();
             let scene = &opened.scene;

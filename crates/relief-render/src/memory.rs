@@ -117,6 +117,20 @@ pub fn image_bytes(width: u32, height: u32, holding: ImageHolding, threads: usiz
     }
 }
 
+/// The memory anti-aliasing adds to an image of `width x height` drawn with `aa`, beside what
+/// its renderer holds for one picture ([`image_bytes`]): adaptive, the depth and normals of
+/// the centre rays (16 bytes a pixel), the comparisons and the mask (3) and a pass's picture
+/// (3); a grid, the sums of its samples in linear light (12) and a pass's picture beside the
+/// kept one (3).
+pub fn antialiasing_bytes(width: u32, height: u32, aa: crate::Antialiasing) -> u64 {
+    let pixels = u64::from(width) * u64::from(height);
+    match aa {
+        crate::Antialiasing::Off | crate::Antialiasing::Grid(1) => 0,
+        crate::Antialiasing::Adaptive => pixels * 22,
+        crate::Antialiasing::Grid(_) => pixels * 15,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -137,6 +151,8 @@ mod tests {
         let both = ImageHolding::Strips { depth: true, normals: true };
         assert!(image_bytes(100, 100, both, 1) > image_bytes(100, 100, strips, 1));
         assert_eq!(image_bytes(10, 10, ImageHolding::WholeGBuffer, 8), 7100);
+        assert_eq!(antialiasing_bytes(10, 10, crate::Antialiasing::Off), 0);
+        assert!(antialiasing_bytes(10, 10, crate::Antialiasing::Adaptive) > 0);
     }
 
     #[test]

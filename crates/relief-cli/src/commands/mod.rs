@@ -17,6 +17,7 @@ pub mod viewshed;
 use crate::cli::{Cli, Command};
 use crate::memory::{format_bytes, Budget, ImageHolding};
 use anyhow::{bail, Result};
+use relief_render::Antialiasing;
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
@@ -64,8 +65,20 @@ fn check_frame(scene: &crate::args::SceneArgs, budget: &Budget) -> Result<()> {
 /// Refuses an image of `width x height` pixels that would not fit the memory `budget` held
 /// as `holding` says.
 fn check_image_held(width: u32, height: u32, holding: ImageHolding, budget: &Budget) -> Result<()> {
+    check_antialiased_image_held(width, height, holding, Antialiasing::Off, budget)
+}
+
+/// [`check_image_held`] for a picture anti-aliased as `aa` says.
+fn check_antialiased_image_held(
+    width: u32,
+    height: u32,
+    holding: ImageHolding,
+    aa: Antialiasing,
+    budget: &Budget,
+) -> Result<()> {
     let threads = rayon::current_num_threads();
-    let needed = crate::memory::image_bytes(width, height, holding, threads);
+    let needed = crate::memory::image_bytes(width, height, holding, threads)
+        + crate::memory::antialiasing_bytes(width, height, aa);
     if needed > budget.bytes {
         bail!(
             "a {width}x{height} image needs {}, over the {} memory limit ({})",

@@ -170,17 +170,18 @@ fn draw_adaptive(
     let marked = edges.indices();
     if !marked.is_empty() {
         let offsets = grid_offsets(ADAPTIVE_GRID);
-        let mut sum = LinearSum::new(picture.rgb.len());
+        // The sums of the marked pixels only, the m-th at m.
+        let mut sum = LinearSum::new(marked.len());
         progress.begin("anti-aliasing", Some(offsets.len() as u64));
         for &[dx, dy] in &offsets {
             let camera = camera.with_pixel_offset(dx, dy)?;
             let sample = pass(&camera, KeptHits::default(), Some(&edges), &Silent)?;
-            marked.iter().for_each(|&k| sum.add(k, sample.rgb[k]));
+            marked.iter().enumerate().for_each(|(m, &k)| sum.add(m, sample.rgb[k]));
             progress.advance(1);
         }
         progress.end();
-        for &k in &marked {
-            picture.rgb[k] = sum.mean(k, offsets.len());
+        for (m, &k) in marked.iter().enumerate() {
+            picture.rgb[k] = sum.mean(m, offsets.len());
         }
     }
     picture.depth = picture.depth.filter(|_| keep.depth);

@@ -3,7 +3,7 @@
 
 pub mod args;
 
-use super::check_image_held;
+use super::check_antialiased_image_held;
 use crate::args::SceneArgs;
 use crate::memory::ImageHolding;
 use crate::opening::open_scene;
@@ -26,7 +26,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let scene_args = &args.scene;
     let budget = memory::budget(scene_args.input.read.max_memory);
     let (w, h) = scene_args.size;
-    check_image_held(w, h, image_holding(args), &budget)?;
+    check_antialiased_image_held(w, h, image_holding(args), args.aa, &budget)?;
     refuse_renderer_options(args)?;
     let opened = open_scene(scene_args, Some(&args.tiles), Some(&args.hybrid))?;
     let furniture = args.furniture.furniture();
