@@ -75,7 +75,7 @@ impl MlhmSmoothTracer {
     ) -> DVec3 {
         let n = &self.normal_implicit;
         let base = match self.options.normals {
-            MlhmNormalScheme::Central => 0.0,
+            MlhmNormalScheme::Central | MlhmNormalScheme::Smoothed => 0.0,
             MlhmNormalScheme::Forward if n.radius() == self.implicit.radius() => {
                 n.field_volume_from(&self.map, local, field, volumes)
             }

@@ -13,8 +13,10 @@ use relief_core::{Aabb, DVec2, DVec3, Mlhm, MlhmHeights, Precision, Ray, Surface
 use std::sync::Arc;
 
 /// The options of an [`MlhmSmoothTracer`]; [`Default`] gives the paper's settings
-/// (`σ = σ_n = h` = one cell, forward differences, exit stack, padded hierarchy, soft
-/// shadows).
+/// (`σ = σ_n = h` = one cell, exit stack, padded hierarchy, soft shadows) but for the
+/// normals, the gradient of the volume averaged over the cube of half-size h
+/// ([`MlhmNormalScheme::Smoothed`]) instead of the paper's forward differences, whose
+/// normals turn in jumps at every cell.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MlhmSmoothOptions {
     /// The smoothing radius σ, metres: the half-size of the cube whose material volume
@@ -27,7 +29,8 @@ pub struct MlhmSmoothOptions {
     /// The spacing h of the normals' finite differences, metres. `h = σ_n` is smoother,
     /// `h = 0.5 σ_n` (with central differences) follows the terrain more closely. `None`: σ_n.
     pub normal_spacing: Option<f64>,
-    /// Forward (3 volume evaluations besides the hit's) or central (6) differences.
+    /// Forward (3 volume evaluations besides the hit's) or central (6) differences of the
+    /// volume, or of the volume averaged over the cube of half-size h (6, smooth).
     pub normals: MlhmNormalScheme,
     /// How the hierarchical traversal climbs back to coarser levels.
     pub backtrack: MlhmBacktrack,
@@ -47,7 +50,7 @@ impl Default for MlhmSmoothOptions {
             radius: None,
             normal_radius: None,
             normal_spacing: None,
-            normals: MlhmNormalScheme::Forward,
+            normals: MlhmNormalScheme::Smoothed,
             backtrack: MlhmBacktrack::ExitStack,
             hierarchy: true,
             precision: Precision::F32,
