@@ -45,10 +45,8 @@ pub enum MlhmNormalScheme {
     /// the surface (best with `h = 0.5 σ_n`).
     Central,
     /// The exact gradient of `V` averaged twice over the cube of half-size `h` (`V`
-    /// convolved with two normalised cubes of half-size `h`): central differences of
-    /// spacing `h` of the volume weighted by the cube blurred once along the difference's
-    /// axis and twice along the others ([`Mlhm::blurred_volumes`]); 6 evaluations over a
-    /// box reaching `σ_n + 2h`. Over box-shaped columns `V` has a kink wherever a face of
+    /// convolved with two normalised cubes of half-size `h`), in one pass over the cells a
+    /// box reaching `σ_n + 2h` covers ([`Mlhm::blurred_volume_gradient`]). Over box-shaped columns `V` has a kink wherever a face of
     /// the cube crosses a cell edge or a column top, so plain differences turn the normal
     /// in jumps at every cell, and on slopes steeper than about one cell per cell the
     /// surface's ledges (one per cell) swing it by 15-20°: ribs. Averaged twice, the
@@ -283,6 +281,10 @@ impl MlhmImplicit {
         scheme: MlhmNormalScheme,
         base: f64,
     ) -> DVec3 {
+        if scheme == MlhmNormalScheme::Smoothed {
+            // V averaged twice over the cube of half-size h.
+            return self.blurred_field_gradient(map, p, field, [[spacing; 2]; 3]);
+        }
         let v = |q: DVec3| self.field_volume(map, q, field);
         let mut g = DVec3::ZERO;
         for axis in 0..3 {
@@ -291,17 +293,40 @@ impl MlhmImplicit {
             g[axis] = match scheme {
                 MlhmNormalScheme::Forward => (v(p + e) - base) / spacing,
                 MlhmNormalScheme::Central => (v(p + e) - v(p - e)) / (2.0 * spacing),
-                MlhmNormalScheme::Smoothed => {
-                    // d/dx of V averaged twice over the cube of half-size h: V averaged once
-                    // along x and twice along y and z, differenced across x.
-                    let mut blurs = [[spacing; 2]; 3];
-                    blurs[axis] = [spacing, 0.0];
-                    let w = |q: DVec3| self.blurred_field_volume(map, q, field, blurs);
-                    (w(p + e) - w(p - e)) / (2.0 * spacing)
-                }
+                MlhmNormalScheme::Smoothed => unreachable!("returned above"),
             };
         }
         g
+    }
+
+    /// The gradient of [`blurred_field_volume`](Self::blurred_field_volume) at `p`, exact
+    /// ([`Mlhm::blurred_volume_gradient`]).
+    pub fn blurred_field_gradient(
+        &self,
+        map: &Mlhm,
+        p: DVec3,
+        field: MlhmField,
+        blurs: [[f64; 2]; 3],
+    ) -> DVec3 {
+        let kernel = blurs.map(|blurs| BlurredBox { half: self.radius, blurs });
+        let g = map.blurred_volume_gradient(p, kernel);
+        let solid = DVec3::new(g[0].solid(), g[1].solid(), g[2].solid());
+        let total = DVec3::new(g[0].total(), g[1].total(), g[2].total());
+        match field {
+            MlhmField::Solid => solid,
+            MlhmField::SolidWater => total,
+            MlhmField::Air => {
+                // The cube's part over the grid, less the material in it.
+                let s = map.cell_size();
+                let over = |a: usize, cells: usize| {
+                    let (lo, hi) = (-p[a], cells as f64 * s - p[a]);
+                    (kernel[a].weight(lo, hi), kernel[a].density(lo) - kernel[a].density(hi))
+                };
+                let ((wx, dx), (wy, dy)) = (over(0, map.width()), over(1, map.height()));
+                let side = 2.0 * self.radius;
+                DVec3::new(dx * wy * side, wx * dy * side, 0.0) - total
+            }
+        }
     }
 
     /// The volume of `field` weighted by the cube around `p` blurred along each axis by
