@@ -426,12 +426,26 @@ mod tests {
     fn gradients_of_a_plane_point_down() {
         let map = Mlhm::new(8, 8, 1, 1.0).unwrap();
         let implicit = MlhmImplicit::new(1.0).unwrap();
+        let p = DVec3::new(4.3, 3.7, 0.1);
         for scheme in MlhmNormalScheme::ALL {
-            let g =
-                implicit.gradient(&map, DVec3::new(4.3, 3.7, 0.1), MlhmField::Solid, 0.5, scheme);
-            assert!((g - DVec3::new(0.0, 0.0, -4.0)).length() < 1e-12, "{scheme}: {g}");
+            let g = implicit.gradient(&map, p, MlhmField::Solid, 0.5, scheme);
+            // The cube's face (4 m²) moving through the plane; blurred, the plane meets the
+            // cube shifted by up to 2 h less often than the plain cube 0.1 m off its centre.
+            let z = match scheme {
+                MlhmNormalScheme::Smoothed => {
+                    -4.0 * relief_core::BlurredBox { half: 1.0, blurs: [0.5; 2] }.density(-0.1)
+                }
+                _ => -4.0,
+            };
+            assert!((g - DVec3::new(0.0, 0.0, z)).length() < 1e-12, "{scheme}: {g}");
+            assert!(z < -3.5, "{scheme}: {z}");
         }
+        // The air's gradient is the solid's, reversed, away from the grid's edges.
+        let air = implicit.gradient(&map, p, MlhmField::Air, 0.5, MlhmNormalScheme::Smoothed);
+        let solid = implicit.gradient(&map, p, MlhmField::Solid, 0.5, MlhmNormalScheme::Smoothed);
+        assert!((air + solid).length() < 1e-12, "{air} {solid}");
         assert_eq!("central".parse(), Ok(MlhmNormalScheme::Central));
+        assert_eq!("smoothed".parse(), Ok(MlhmNormalScheme::Smoothed));
         assert!("upwind".parse::<MlhmNormalScheme>().is_err());
     }
 }
