@@ -66,6 +66,7 @@ pub fn shade_mlhm(
         to_sun: shading.sun.direction(),
         sky: SkyLight::new(shading.sky, shading.sky_light),
         faceted: tracer.faceted(),
+        smoothing: tracer.smoothing_radius(),
     };
     let counts = radiance
         .par_chunks_mut(TILE_SIZE * width)
@@ -133,6 +134,8 @@ struct Pass<'a> {
     /// Whether the tracer's hits lie on box faces, whose shading terms are filtered over the
     /// pixel's footprint.
     faceted: bool,
+    /// The radius over which the tracer's surface smooths the boxes, `None` for the boxes.
+    smoothing: Option<f64>,
 }
 
 impl Pass<'_> {
@@ -271,11 +274,14 @@ impl Pass<'_> {
 
     /// The geometric ambient occlusion at `p` of normal `n`: with `V` the solid volume in the
     /// cube of half-size `a` centred at `p + a n`, `(1 - V / (2a)³)²`. On a smooth surface
-    /// `V` is averaged over shifts of the cube by up to `AO_BLUR a` twice
+    /// `a` is at least its smoothing radius and `V` is averaged over shifts of the cube by up to `AO_BLUR a` twice
     /// ([`Mlhm::blurred_volumes`]): the plain cube's volume of box columns has a kink at
     /// every cell edge and column top, which drew a rib per cell on steep smooth slopes.
     fn occlusion(&self, p: DVec3, n: DVec3, lit: bool, counts: &mut MlhmRayCounts) -> f64 {
         let Some(a) = self.quality.ao_radius.filter(|_| lit) else { return 1.0 };
+        // The boxes lie up to about σ off a smooth surface (inside it at a rounded edge): a
+        // smaller cube would sit inside them there and read black.
+        let a = a.max(self.smoothing.unwrap_or(0.0));
         counts.occlusion += 1;
         let centre = p - self.origin.extend(0.0) + n * a;
         let solid = if self.faceted {

@@ -137,6 +137,11 @@ impl MlhmTracer for MlhmSmoothTracer {
         false
     }
 
+    /// σ, the half-size of the cube whose volume defines the surface.
+    fn smoothing_radius(&self) -> Option<f64> {
+        Some(self.implicit.radius())
+    }
+
     fn intersect_mode_counted(
         &self,
         ray: &Ray,
