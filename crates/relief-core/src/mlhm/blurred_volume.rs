@@ -259,7 +259,7 @@ impl Mlhm {
     /// let map = Mlhm::new(8, 8, 1, 1.0)?; // flat bedrock at z = 0
     /// let k = BlurredBox { half: 1.0, blurs: [1.0, 1.0] };
     /// let [dx, dy, dz] = map.blurred_volume_gradient(DVec3::new(4.0, 4.0, 0.3), [k; 3]);
-    /// assert_eq!((dx.bedrock, dy.bedrock), (0.0, 0.0));
+    /// assert!(dx.bedrock.abs() < 1e-12 && dy.bedrock.abs() < 1e-12); // flat across
     /// assert!((dz.bedrock + 4.0 * k.density(-0.3)).abs() < 1e-12); // rock leaves the box
     /// # Ok::<(), relief_core::CoreError>(())
     /// ```
