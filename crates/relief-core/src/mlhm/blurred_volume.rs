@@ -168,8 +168,8 @@ impl BlurredBox {
 #[inline]
 fn covered(kernel: BlurredBox, centre: f64, cells: usize, size: f64) -> Option<(usize, usize)> {
     let (lo, hi) = ((centre - kernel.reach()) / size, (centre + kernel.reach()) / size);
-    // `!(lo < hi)` also refuses NaN.
-    if !(lo < hi) || hi <= 0.0 || lo >= cells as f64 {
+    // `lo < hi` is false for NaN too.
+    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) || hi <= 0.0 || lo >= cells as f64 {
         return None;
     }
     let first = (lo.max(0.0).floor() as usize).min(cells - 1);
