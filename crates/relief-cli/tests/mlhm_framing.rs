@@ -1,7 +1,8 @@
 //! The default framings of every generated MLHM scene kind show the whole block of terrain:
 //! the solid ends a little below the lowest terrain (its base), so the three-quarter view and
 //! a view from the side at 1 degree show every surface, base included, with sky all around
-//! (the image's border rows and columns all miss), not a pillar cut off by the image's edge.
+//! (the image's border rows and columns all miss), not a pillar cut off by the image's edge,
+//! in box and in smooth mode.
 
 mod common;
 
@@ -46,17 +47,21 @@ fn every_scene_kind_is_framed_whole_from_the_default_view_and_from_the_side() {
         let scene = generated(kind);
         let scene = scene.to_str().unwrap();
         let (w, h) = (64, 36);
-        for (view, extra) in [
-            ("default", vec![]),
-            ("side", vec!["--view", "0,1", "--ortho"]),
-            ("map", vec!["--view", "0,90", "--ortho"]),
-        ] {
-            let name = format!("framing-{kind}-{view}");
-            let mut args = vec![scene, "--size", "64x36", "--preset", "low"];
-            args.extend(extra);
-            let (shape, depth, _) = render_depth(&name, &args);
-            assert_eq!(shape, vec![h, w]);
-            assert_framed(&name, &depth, w, h);
+        // The smooth surface ends at the same base as the boxes (a pillar reaching down
+        // forever would hit the bottom rows).
+        for mode in ["boxes", "smooth"] {
+            for (view, extra) in [
+                ("default", vec![]),
+                ("side", vec!["--view", "0,1", "--ortho"]),
+                ("map", vec!["--view", "0,90", "--ortho"]),
+            ] {
+                let name = format!("framing-{kind}-{mode}-{view}");
+                let mut args = vec![scene, "--size", "64x36", "--preset", "low", "--mode", mode];
+                args.extend(extra);
+                let (shape, depth, _) = render_depth(&name, &args);
+                assert_eq!(shape, vec![h, w]);
+                assert_framed(&name, &depth, w, h);
+            }
         }
     }
 }

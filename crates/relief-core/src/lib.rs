@@ -42,7 +42,7 @@ pub use camera::{Camera, Projection};
 pub use error::CoreError;
 pub use framing::{Framing, Lens};
 pub use height_field::{GridGeometry, HeightField};
-pub use mlhm::{MaterialVolumes, Mlhm, MlhmColumn, MlhmHeights, Precision};
+pub use mlhm::{BlurredBox, MaterialVolumes, Mlhm, MlhmColumn, MlhmHeights, Precision};
 pub use ray::Ray;
 pub use sample_region::SampleRegion;
 pub use smooth_normals::SmoothNormals;

@@ -134,8 +134,8 @@ impl Mlhm {
 
     /// The floor of every cell's lowest column, where the solid ends below: minus infinity
     /// (the lowest columns reach down forever) unless [`Mlhm::set_base`] set it. The box
-    /// tracers and [`Mlhm::floor`] clip the solid there; the volumes
-    /// ([`Mlhm::material_volumes`]) and the smooth surface do not.
+    /// tracers, [`Mlhm::floor`], the volumes ([`Mlhm::material_volumes`],
+    /// [`Mlhm::blurred_volumes`]) and so the smooth surface clip the solid there.
     pub fn base(&self) -> f32 {
         self.base
     }

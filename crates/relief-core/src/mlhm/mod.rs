@@ -8,9 +8,12 @@
 //!   setting a cell;
 //! - [`invariants`]: validation, naming the cell and the column, and the closing of slack;
 //! - [`precision`]: [`Precision`] and the conservative conversion to f16;
-//! - [`volume`]: exact volumes of each material inside a box ([`MaterialVolumes`]).
+//! - [`volume`]: exact volumes of each material inside a box ([`MaterialVolumes`]);
+//! - [`blurred_volume`]: the same weighted by a blurred box ([`BlurredBox`]), smooth in the
+//!   box's centre.
 
 mod access;
+mod blurred_volume;
 mod column;
 mod constructors;
 mod invariants;
@@ -18,6 +21,7 @@ mod precision;
 mod volume;
 
 pub use access::MlhmHeights;
+pub use blurred_volume::BlurredBox;
 pub use column::MlhmColumn;
 pub use precision::Precision;
 pub use volume::MaterialVolumes;

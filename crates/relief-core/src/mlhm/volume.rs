@@ -4,7 +4,7 @@
 //! material colours blended by volume fractions and of the smooth implicit surface `V(p)`.
 //!
 //! A column's materials are the half-open height intervals `[floor, bedrock)` (bedrock, from
-//! minus infinity for the lowest column), `[bedrock, solid_top)` (sand) and
+//! the map's base, minus infinity unless set, for the lowest column), `[bedrock, solid_top)` (sand) and
 //! `[solid_top, water_top)` (water), with [`MlhmColumn::solid_top`] and
 //! [`MlhmColumn::water_top`] the f32 sums the rest of relief uses, so the intervals never
 //! overlap on a valid map. The volume of a material in a box is the sum, over every cell
@@ -193,9 +193,10 @@ impl Mlhm {
     /// of bedrock, `[bedrock, solid_top)` of sand and `[solid_top, water_top)` of water,
     /// with [`MlhmColumn::solid_top`] and [`MlhmColumn::water_top`] the f32 sums the rest of
     /// relief uses, so that they never overlap. The lowest column's bedrock reaches down to
-    /// minus infinity, clipped to the box; parts of the box outside the grid hold nothing. A
-    /// box with a NaN bound or without volume (`min >= max` on an axis) holds nothing; a box
-    /// reaching down to minus infinity over the grid holds infinite bedrock.
+    /// the map's [base](Mlhm::base) (minus infinity unless set), clipped to the box; parts
+    /// of the box outside the grid hold nothing. A box with a NaN bound or without volume
+    /// (`min >= max` on an axis) holds nothing; a box reaching down to minus infinity over
+    /// a grid without a base holds infinite bedrock.
     ///
     /// Runs in time proportional to the overlapped cells times the columns visited per cell,
     /// which stop at the first column whose floor is at or above `max.z`; allocates nothing.
@@ -284,8 +285,10 @@ impl Mlhm {
         let layer_stride = self.width() * self.height();
         let columns = self.raw_columns();
         // The sum over the cell whose lowest column, `lowest`, is at index `i`.
+        // The lowest columns end at the base (minus infinity unless set).
+        let base = clip(self.base(), z_min, z_max);
         let cell = |i: usize, lowest: MlhmColumn| {
-            let mut sum = per_column(lowest, z_min);
+            let mut sum = per_column(lowest, base);
             let (mut below, mut i) = (lowest, i);
             while f64::from(below.ceiling) < z_max {
                 i += layer_stride;

@@ -111,7 +111,8 @@ impl LayeredScene {
     }
 
     /// The tracer `choice` draws the scene's columns with in `mode`; the smooth surface's
-    /// normals by central differences where `central_differences` (as the high presets ask).
+    /// normals averaged over half the spacing (closer to the terrain, as the paper's central
+    /// differences at `h = σ/2`) where `central_differences` (as the max preset asks).
     pub fn tracer(
         &self,
         mode: RenderMode,
@@ -136,9 +137,9 @@ impl LayeredScene {
                 let mut options =
                     MlhmSmoothOptions { radius: self.sigma, ..MlhmSmoothOptions::default() };
                 if central_differences {
-                    // Central differences at half the spacing follow the terrain more closely
-                    // (section 4.4).
-                    options.normals = MlhmNormalScheme::Central;
+                    // Differences at half the spacing follow the terrain more closely
+                    // (section 4.4); of the blurred volume, so that they stay smooth.
+                    options.normals = MlhmNormalScheme::Smoothed;
                     options.normal_spacing = Some(0.5 * self.sigma_or_cell());
                 }
                 match choice {

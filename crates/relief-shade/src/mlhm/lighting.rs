@@ -25,9 +25,13 @@ use crate::{
     shadow_ray_offset, GBuffer, GgxSpecular, PixelMask, ShadeError, Sun, TraceStats, TILE_SIZE,
 };
 use rayon::prelude::*;
-use relief_core::{Camera, DVec2, DVec3, Mlhm, Ray};
+use relief_core::{BlurredBox, Camera, DVec2, DVec3, Mlhm, Ray};
 use relief_trace::{Hit, Medium, MlhmHit, MlhmMaterial, MlhmMode, MlhmTracer};
 use std::f64::consts::PI;
+
+/// How far, in units of the AO cube's half-size, a smooth surface's AO cube is shifted (twice)
+/// to average its volume ([`Mlhm::blurred_volumes`]).
+const AO_BLUR: f64 = 0.5;
 
 /// Lights every pixel of `gbuffer`, which [`super::MlhmRenderer`] drew for `camera` from the
 /// MLHM `tracer` traces, with `shading`: linear radiance per pixel (row-major, row 0 the top
@@ -76,6 +80,7 @@ pub(crate) fn shade_mlhm_marked(
         to_sun: shading.sun.direction(),
         sky: SkyLight::new(shading.sky, shading.sky_light),
         faceted: tracer.faceted(),
+        smoothing: tracer.smoothing_radius(),
     };
     let counts = radiance
         .par_chunks_mut(TILE_SIZE * width)
@@ -146,6 +151,8 @@ struct Pass<'a> {
     /// Whether the tracer's hits lie on box faces, whose shading terms are filtered over the
     /// pixel's footprint.
     faceted: bool,
+    /// The radius over which the tracer's surface smooths the boxes, `None` for the boxes.
+    smoothing: Option<f64>,
 }
 
 impl Pass<'_> {
@@ -283,12 +290,23 @@ impl Pass<'_> {
     }
 
     /// The geometric ambient occlusion at `p` of normal `n`: with `V` the solid volume in the
-    /// cube of half-size `a` centred at `p + a n`, `(1 - V / (2a)³)²`.
+    /// cube of half-size `a` centred at `p + a n`, `(1 - V / (2a)³)²`. On a smooth surface
+    /// `a` is at least its smoothing radius and `V` is averaged over shifts of the cube by up to `AO_BLUR a` twice
+    /// ([`Mlhm::blurred_volumes`]): the plain cube's volume of box columns has a kink at
+    /// every cell edge and column top, which drew a rib per cell on steep smooth slopes.
     fn occlusion(&self, p: DVec3, n: DVec3, lit: bool, counts: &mut MlhmRayCounts) -> f64 {
         let Some(a) = self.quality.ao_radius.filter(|_| lit) else { return 1.0 };
+        // The boxes lie up to about σ off a smooth surface (inside it at a rounded edge): a
+        // smaller cube would sit inside them there and read black.
+        let a = a.max(self.smoothing.unwrap_or(0.0));
         counts.occlusion += 1;
         let centre = p - self.origin.extend(0.0) + n * a;
-        let solid = self.map.solid_volume(centre - a, centre + a);
+        let solid = if self.faceted {
+            self.map.solid_volume(centre - a, centre + a)
+        } else {
+            let k = BlurredBox { half: a, blurs: [AO_BLUR * a; 2] };
+            self.map.blurred_volumes(centre, [k; 3]).solid()
+        };
         let free = (1.0 - solid / (8.0 * a * a * a)).clamp(0.0, 1.0);
         free * free
     }

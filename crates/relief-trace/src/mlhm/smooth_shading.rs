@@ -75,7 +75,7 @@ impl MlhmSmoothTracer {
     ) -> DVec3 {
         let n = &self.normal_implicit;
         let base = match self.options.normals {
-            MlhmNormalScheme::Central => 0.0,
+            MlhmNormalScheme::Central | MlhmNormalScheme::Smoothed => 0.0,
             MlhmNormalScheme::Forward if n.radius() == self.implicit.radius() => {
                 n.field_volume_from(&self.map, local, field, volumes)
             }
@@ -135,6 +135,11 @@ impl MlhmTracer for MlhmSmoothTracer {
     /// The smooth surface has no faces: its normals and soft shadows are smooth already.
     fn faceted(&self) -> bool {
         false
+    }
+
+    /// σ, the half-size of the cube whose volume defines the surface.
+    fn smoothing_radius(&self) -> Option<f64> {
+        Some(self.implicit.radius())
     }
 
     fn intersect_mode_counted(

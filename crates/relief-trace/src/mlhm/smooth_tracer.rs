@@ -13,8 +13,10 @@ use relief_core::{Aabb, DVec2, DVec3, Mlhm, MlhmHeights, Precision, Ray, Surface
 use std::sync::Arc;
 
 /// The options of an [`MlhmSmoothTracer`]; [`Default`] gives the paper's settings
-/// (`σ = σ_n = h` = one cell, forward differences, exit stack, padded hierarchy, soft
-/// shadows).
+/// (`σ = σ_n = h` = one cell, exit stack, padded hierarchy, soft shadows) but for the
+/// normals, the gradient of the volume averaged over the cube of half-size h
+/// ([`MlhmNormalScheme::Smoothed`]) instead of the paper's forward differences, whose
+/// normals turn in jumps at every cell.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MlhmSmoothOptions {
     /// The smoothing radius σ, metres: the half-size of the cube whose material volume
@@ -27,7 +29,8 @@ pub struct MlhmSmoothOptions {
     /// The spacing h of the normals' finite differences, metres. `h = σ_n` is smoother,
     /// `h = 0.5 σ_n` (with central differences) follows the terrain more closely. `None`: σ_n.
     pub normal_spacing: Option<f64>,
-    /// Forward (3 volume evaluations besides the hit's) or central (6) differences.
+    /// Forward (3 volume evaluations besides the hit's) or central (6) differences of the
+    /// volume, or of the volume averaged over the cube of half-size h (6, smooth).
     pub normals: MlhmNormalScheme,
     /// How the hierarchical traversal climbs back to coarser levels.
     pub backtrack: MlhmBacktrack,
@@ -47,7 +50,7 @@ impl Default for MlhmSmoothOptions {
             radius: None,
             normal_radius: None,
             normal_spacing: None,
-            normals: MlhmNormalScheme::Forward,
+            normals: MlhmNormalScheme::Smoothed,
             backtrack: MlhmBacktrack::ExitStack,
             hierarchy: true,
             precision: Precision::F32,
@@ -65,11 +68,13 @@ const MAX_PARTS: usize = 16;
 /// The surface of a mode is where the cube of half-size σ around a point holds half its
 /// volume of the mode's material (for [`MlhmMode::SolidsAir`], of solids or of air); a point
 /// is inside once the cube holds 99 % of that. The surface is clipped to the grid's
-/// footprint, as the boxes are (it would reach about 0.01 σ past the edges). The field
-/// changes with height only in a slab: from 2σ below the lowest bedrock top (below, the
-/// cube over the grid is all bedrock) to σ above the highest solid (water) top (above, it
-/// holds nothing), or 2σ above the highest water top for [`MlhmMode::SolidsAir`] (above,
-/// only air). The ray's part over the footprint is marched inside the slab; beyond it, the
+/// footprint, as the boxes are (it would reach about 0.01 σ past the edges), and ends at the
+/// map's [base](Mlhm::base) as they do (the volumes end there): the solid is a block with
+/// rounded edges, not a pillar. The field changes with height only in a slab: from σ below
+/// the base (below, the cube holds nothing) or, for a map without a base, 2σ below the
+/// lowest bedrock top (below, the cube over the grid is all bedrock) to σ above the highest
+/// solid (water) top (above, it holds nothing), or 2σ above the highest water top for
+/// [`MlhmMode::SolidsAir`] (above, only air). The ray's part over the footprint is marched inside the slab; beyond it, the
 /// tracer evaluates the field once where the ray enters the footprint (below the slab, or
 /// above it for solids + air) and once where it leaves the slab through its bottom (or, for
 /// solids + air, its top), which decides the rest of the ray but near the grid's corners.
@@ -237,16 +242,23 @@ impl MlhmSmoothTracer {
     }
 
     /// The heights between which the field of `mode` changes with height (see
-    /// [`MlhmSmoothTracer`]): below `bottom` the cube over the grid is all bedrock, above
-    /// `top` it holds no solid (no water) or, for [`MlhmMode::SolidsAir`], only air.
-    fn heights(&self, mode: MlhmMode) -> (f64, f64) {
+    /// [`MlhmSmoothTracer`]) and whether the cube below them is all bedrock: above `top` the
+    /// cube holds no solid (no water) or, for [`MlhmMode::SolidsAir`], only air; below
+    /// `bottom` it is all bedrock over the grid where the map has no base, and holds no
+    /// solid where it has one (`bottom` is then a radius below the base).
+    fn heights(&self, mode: MlhmMode) -> (f64, f64, bool) {
         let r = self.implicit.radius();
         let top = match mode {
             MlhmMode::Solids => self.heights.solid_max + r,
             MlhmMode::SolidsWater => self.heights.water_max + r,
             MlhmMode::SolidsAir => self.heights.water_max + 2.0 * r,
         };
-        (self.heights.bedrock_min - 2.0 * r, top)
+        let base = f64::from(self.map.base());
+        if base.is_finite() {
+            (base - r, top, false)
+        } else {
+            (self.heights.bedrock_min - 2.0 * r, top, true)
+        }
     }
 
     /// What to evaluate along the cell-space `ray` in `mode`; `None` when it misses the
@@ -258,7 +270,7 @@ impl MlhmSmoothTracer {
         // Finite: the footprint is along x and y, and the ray moves along one of them or,
         // moving along z only, is cut to the slab below.
         let clip = footprint.clip(ray)?;
-        let (bottom, top) = self.heights(mode);
+        let (bottom, top, solid_below) = self.heights(mode);
         let (oz, dz) = (ray.origin.z, ray.dir.z);
         let probe_above = mode == MlhmMode::SolidsAir;
         let (mut t0, mut t1) = (clip.t_enter, clip.t_exit);
@@ -271,12 +283,14 @@ impl MlhmSmoothTracer {
         }
         let march = (t0 <= t1).then_some((t0, t1));
         let z_enter = oz + clip.t_enter * dz;
-        let beyond = z_enter < bottom || (probe_above && z_enter > top);
+        let beyond = (solid_below && z_enter < bottom) || (probe_above && z_enter > top);
         let probe_first =
             (beyond && march.is_none_or(|(t0, _)| clip.t_enter < t0)).then_some(clip.t_enter);
-        // Leaving the slab through its bottom (or, for solids + air, its top) over the grid.
+        // Leaving the slab through its bottom (above bedrock) or, for solids + air, its top
+        // over the grid.
         let probe_last = march.and_then(|(_, t1)| {
-            (t1 < clip.t_exit && (dz < 0.0 || (dz > 0.0 && probe_above))).then_some(t1)
+            let through = (dz < 0.0 && solid_below) || (dz > 0.0 && probe_above);
+            (t1 < clip.t_exit && through).then_some(t1)
         });
         Some(Plan { probe_first, march, probe_last })
     }
@@ -460,17 +474,16 @@ impl Tracer for MlhmSmoothTracer {
         Surface::Boxes
     }
 
-    /// The footprint, from minus infinity (below the slab the field is all bedrock) up to
-    /// the top of the slab where the field changes, or to infinity for
-    /// [`MlhmMode::SolidsAir`] (air above the slab is hit too).
+    /// The footprint, from a radius below the map's [base](Mlhm::base) (from minus infinity
+    /// where it has none: below the slab the field is all bedrock) up to the top of the slab
+    /// where the field changes, or to infinity for [`MlhmMode::SolidsAir`] (air above the
+    /// slab is hit too).
     fn bounds(&self) -> Aabb {
-        let top = match self.mode {
-            MlhmMode::SolidsAir => f64::INFINITY,
-            mode => self.heights(mode).1,
-        };
+        let (bottom, top, solid_below) = self.heights(self.mode);
+        let top = if self.mode == MlhmMode::SolidsAir { f64::INFINITY } else { top };
+        let bottom = if solid_below { f64::NEG_INFINITY } else { bottom };
         let boxed = world_box(&self.map, self.origin, top);
-        // The smooth surface is not clipped at the map's base.
-        Aabb::new(boxed.min.truncate().extend(f64::NEG_INFINITY), boxed.max)
+        Aabb::new(boxed.min.truncate().extend(bottom), boxed.max)
     }
 
     fn intersect_counted(&self, ray: &Ray, steps: &mut u32) -> Option<Hit> {

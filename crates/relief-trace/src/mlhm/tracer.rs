@@ -71,6 +71,14 @@ pub trait MlhmTracer: Tracer {
         true
     }
 
+    /// The radius σ over which the surface smooths the boxes (the half-size of the cube of
+    /// [`MlhmSmoothTracer`](crate::MlhmSmoothTracer)), `None` for the boxes themselves.
+    /// Shading measures the terrain near a smooth hit smoothed as much, since the boxes
+    /// there may lie up to about σ off the surface.
+    fn smoothing_radius(&self) -> Option<f64> {
+        None
+    }
+
     /// How much of a distant light reaches the origin of the shadow ray `ray` past the solids,
     /// counting the nodes and cells visited into `steps`: 0 when the ray meets a solid, else
     /// 1 for a hard shadow. Tracers of a smooth surface may return values in between, a soft
