@@ -94,6 +94,14 @@ impl<T: MlhmTracer + ?Sized> MlhmTracer for Interruptible<'_, T> {
         self.inner.surface_offset()
     }
 
+    fn faceted(&self) -> bool {
+        self.inner.faceted()
+    }
+
+    fn smoothing_radius(&self) -> Option<f64> {
+        self.inner.smoothing_radius()
+    }
+
     fn light_visibility(&self, ray: &Ray, steps: &mut u32) -> f64 {
         if self.stopped() {
             return 1.0;
