@@ -9,7 +9,7 @@ use crate::progress::Progress;
 use crate::scenes::mlhm::{LayeredScene, MlhmTracerChoice};
 use relief_core::{Camera, Precision};
 use relief_shade::mlhm::{render_mlhm, render_mlhm_marked, MlhmRayCounts, MlhmShading};
-use relief_shade::{tonemap_reinhard_to_rgb8, KeptHits, PixelMask};
+use relief_shade::{tonemap_reinhard_to_rgb8, GBuffer, KeptHits, PixelMask};
 use relief_trace::MlhmTracer;
 use serde_json::json;
 use std::time::Instant;
@@ -30,30 +30,42 @@ pub fn draw(
     let build_started = Instant::now();
     let tracer = scene.tracer(mode, choice, scene.shading.quality.central_differences)?;
     let build_ms = ms_since(build_started);
+    // The anti-aliasing passes draw into one G-buffer, taken back after each.
+    let mut spare = None;
     let mut pass = |camera: &Camera, keep, mask: Option<&PixelMask>, progress: &dyn Progress| {
-        draw_pass(scene, tracer.as_ref(), build_ms, camera, keep, mask, progress)
+        let pass = Pass { scene, tracer: tracer.as_ref(), build_ms, mask, spare: &mut spare };
+        draw_pass(pass, camera, keep, progress)
     };
     antialias::draw(camera, keep, aa, progress, &mut pass)
 }
 
-/// One pass of [`draw`] with `tracer` (built in `build_ms`): the whole picture of `camera`,
-/// or the pixels `mask` marks.
-fn draw_pass(
-    scene: &LayeredScene,
-    tracer: &dyn MlhmTracer,
+/// What a pass of [`draw`] draws with.
+struct Pass<'a> {
+    scene: &'a LayeredScene,
+    /// The tracer, built in `build_ms`.
+    tracer: &'a dyn MlhmTracer,
     build_ms: f64,
+    /// The pixels drawn, where not all.
+    mask: Option<&'a PixelMask>,
+    /// A G-buffer a masked pass draws into and leaves for the next.
+    spare: &'a mut Option<GBuffer>,
+}
+
+/// One pass of [`draw`]: the whole picture of `camera`, or the pixels its mask marks.
+fn draw_pass(
+    pass: Pass,
     camera: &Camera,
     keep: KeptHits,
-    mask: Option<&PixelMask>,
     progress: &dyn Progress,
 ) -> Result<Picture, RenderError> {
+    let Pass { scene, tracer, build_ms, mask, spare } = pass;
     let (mode, choice, shading) = (scene.mode, scene.choice, &scene.shading);
     let (w, h) = (camera.width(), camera.height());
     progress.begin("rendering", Some(w as u64 * h as u64));
     let render_started = Instant::now();
     let advance = |n| progress.advance(n);
     let image = match mask {
-        Some(mask) => render_mlhm_marked(tracer, camera, shading, mask, &advance),
+        Some(mask) => render_mlhm_marked(tracer, camera, shading, mask, spare.take(), &advance),
         None => render_mlhm(tracer, camera, shading, &advance),
     };
     let render_ms = ms_since(render_started);
@@ -115,6 +127,9 @@ fn draw_pass(
         "shading_in_trace": true,
     }));
     let (depth, normals) = kept_arrays(&mut image.gbuffer, keep);
+    if mask.is_some() {
+        *spare = Some(image.gbuffer);
+    }
     let rgb = rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
     Ok(Picture { width: w, height: h, rgb, depth, normals, summary, notes: vec![], stats })
 }

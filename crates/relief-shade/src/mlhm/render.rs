@@ -33,12 +33,13 @@ pub fn render_mlhm(
     shading: &MlhmShading,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<MlhmImage, ShadeError> {
-    render_with(MlhmRenderer::new(tracer), tracer, camera, shading, progress)
+    render_with(MlhmRenderer::new(tracer), tracer, camera, shading, None, progress)
 }
 
 /// [`render_mlhm`] of the pixels `mask` marks only: each gets the radiance [`render_mlhm`]
 /// gives it, and every other pixel is black, at almost no cost (how an anti-aliasing pass
-/// samples again only the pixels that need it).
+/// samples again only the pixels that need it). It draws into `reused`, the G-buffer of an
+/// earlier image of the same size (its other pixels are not read), where one is given.
 ///
 /// Fails as [`render_mlhm`] does, and when the mask is not of the camera's image size.
 pub fn render_mlhm_marked(
@@ -46,21 +47,29 @@ pub fn render_mlhm_marked(
     camera: &Camera,
     shading: &MlhmShading,
     mask: &PixelMask,
+    reused: Option<GBuffer>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<MlhmImage, ShadeError> {
-    render_with(MlhmRenderer::new(tracer).marked(mask), tracer, camera, shading, progress)
+    let renderer = MlhmRenderer::new(tracer).marked(mask);
+    render_with(renderer, tracer, camera, shading, reused, progress)
 }
 
-/// The image `renderer` traces (of `tracer`'s scene) and the deferred lighting shades.
+/// The image `renderer` traces (of `tracer`'s scene) and the deferred lighting shades, into
+/// the `reused` G-buffer where it is of the camera's size.
 fn render_with(
     mut renderer: MlhmRenderer,
     tracer: &dyn MlhmTracer,
     camera: &Camera,
     shading: &MlhmShading,
+    reused: Option<GBuffer>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<MlhmImage, ShadeError> {
     shading.validate()?;
-    let mut gbuffer = GBuffer::new(camera.width() as usize, camera.height() as usize)?;
+    let (width, height) = (camera.width() as usize, camera.height() as usize);
+    let mut gbuffer = match reused {
+        Some(gbuffer) if (gbuffer.width, gbuffer.height) == (width, height) => gbuffer,
+        _ => GBuffer::new(width, height)?,
+    };
     let mask = renderer.mask();
     let primary = renderer.render_into(camera, &mut gbuffer, progress)?;
     let (radiance, counts) = shade_mlhm_marked(&gbuffer, tracer, camera, shading, mask)?;

@@ -24,7 +24,7 @@ impl<'a> MlhmRenderer<'a> {
         MlhmRenderer { tracer, mask: None, stats: TraceStats::default() }
     }
 
-    /// The renderer tracing only the pixels `mask` marks, writing the others as misses.
+    /// The renderer tracing only the pixels `mask` marks, leaving the others as they were.
     pub fn marked(self, mask: &'a PixelMask) -> Self {
         MlhmRenderer { mask: Some(mask), ..self }
     }
@@ -76,9 +76,8 @@ impl<'a> MlhmRenderer<'a> {
                     for r in 0..rows {
                         for i in cols.clone() {
                             let j = s * TILE_SIZE + r;
+                            // A pixel the mask leaves out is not drawn: nothing reads it.
                             if self.mask.is_some_and(|m| !m.contains(i, j)) {
-                                strip.set(i + r * width, &GBufferPixel::MISS);
-                                exact[i + r * width] = GBuffer::EXACT_MISS;
                                 continue;
                             }
                             // (i, j) lies inside the camera's u32 image.
