@@ -88,7 +88,7 @@ fn main() -> Result<()> {
         .with_context(|| format!("no benchmark view '{view}'"))?
         .1;
     let light = LightSettings { no_shadows: true, ..LightSettings::default() };
-    let params = shading(&light, &field.world_bounds(Surface::Triangles))?;
+    let params = shading(&light, &field.world_bounds(Surface::Triangles), 1.0)?;
 
     let mut gbuffer = GBuffer::new(width as usize, height as usize)?;
     let distances = raw_files::read_f32s(distance.as_ref())?;

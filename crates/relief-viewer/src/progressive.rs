@@ -22,7 +22,7 @@ pub struct FrameRequest {
     pub width: u32,
     /// Its height in pixels.
     pub height: u32,
-    /// Samples a side of each pixel: 1, or [`AT_REST_SAMPLES`] for the full frame
+    /// Samples a side of each pixel: 1, or `AT_REST_SAMPLES` (2) for the full frame
     /// anti-aliased at rest (a frame for each offset of the grid, averaged, as `relief render
     /// --aa N` draws it).
     pub samples: u32,

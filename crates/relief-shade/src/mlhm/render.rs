@@ -23,7 +23,7 @@ pub struct MlhmImage {
 
 /// Renders the MLHM that `tracer` traces, as `camera` sees it, with `shading`: the camera
 /// rays into a G-buffer ([`MlhmRenderer::render_into`], `progress` getting the pixels of each
-/// traced tile), then the deferred lighting over it ([`shade_mlhm`]). The result does not
+/// traced tile), then the deferred lighting over it ([`super::shade_mlhm`]). The result does not
 /// depend on the thread count.
 ///
 /// Fails when a parameter is invalid or the image cannot be allocated.

@@ -38,18 +38,10 @@ pub(crate) fn shade_strip_in_lanes(
                 continue;
             }
             for (i, j) in tile.pixels() {
-                if pass.mask.is_some_and(|m| !m.contains(i, j)) {
+                let Some((ray, distance, normal)) = drawn_hit(pass, kernel, i, j) else {
                     continue;
-                }
-                let k = pass.index(i, j);
-                let distance = gbuffer.distance[k] as f64;
-                if !distance.is_finite() {
-                    continue;
-                }
-                let normal = DVec3::from(gbuffer.normal[k].map(f64::from)).normalize_or_zero();
+                };
                 if normal.dot(pass.to_sun) > 0.0 {
-                    let (sx, sy) = (kernel.screen_x_f64[i], kernel.screen_y_f64[j]);
-                    let ray = pass.camera.ray_through(sx, sy);
                     batch.rays.push(shadow_ray(ray.at(distance), normal, distance, pass.to_sun));
                     owners.push(i + (j - top) * width);
                 }
@@ -113,19 +105,34 @@ fn shading_normals(
     for (r, row) in normals.chunks_mut(width).enumerate() {
         let j = top + r;
         for (i, normal) in row.iter_mut().enumerate() {
-            if pass.mask.is_some_and(|m| !m.contains(i, j)) {
+            let Some((ray, distance, geometric)) = drawn_hit(pass, kernel, i, j) else {
                 continue;
-            }
-            let k = pass.index(i, j);
-            let distance = gbuffer.distance[k] as f64;
-            if !distance.is_finite() {
-                continue;
-            }
-            let geometric = DVec3::from(gbuffer.normal[k].map(f64::from)).normalize_or_zero();
-            let ray = pass.camera.ray_through(kernel.screen_x_f64[i], kernel.screen_y_f64[j]);
+            };
             let shading = pass.params.normals.at(ray.at(distance), geometric, distance);
             *normal = shading.as_vec3().to_array();
         }
     }
     Some(normals)
+}
+
+/// What pixel (i, j) of the pass sees, if it is drawn and hits: its `f64` camera ray, the
+/// stored distance and the unit geometric normal.
+#[inline]
+fn drawn_hit(
+    pass: &ShadingPass,
+    kernel: &ShadingKernel,
+    i: usize,
+    j: usize,
+) -> Option<(relief_core::Ray, f64, DVec3)> {
+    if pass.mask.is_some_and(|m| !m.contains(i, j)) {
+        return None;
+    }
+    let k = pass.index(i, j);
+    let distance = pass.gbuffer.distance[k] as f64;
+    if !distance.is_finite() {
+        return None;
+    }
+    let normal = DVec3::from(pass.gbuffer.normal[k].map(f64::from)).normalize_or_zero();
+    let ray = pass.camera.ray_through(kernel.screen_x_f64[i], kernel.screen_y_f64[j]);
+    Some((ray, distance, normal))
 }
