@@ -12,7 +12,7 @@ use crate::simulation::{Overrides, Simulation};
 use crate::state_arrays::{state_arrays, StateCopy};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use relief_render::scenes::mlhm::mlhm_bounds;
+use relief_render::scenes::mlhm::{mlhm_base, mlhm_bounds};
 use relief_render::{ImageHolding, KeptHits, Picture, RenderError, Scene, Silent, TracerChoice};
 use relief_shade::horizon::HorizonParams;
 use std::path::{Path, PathBuf};
@@ -82,7 +82,10 @@ impl PyScene {
                 opened.simulation = None;
                 return Err(RenderError::Erosion(e));
             }
-            let map = Arc::new(simulation.drawn_terrain()?);
+            // The solid ends where relief render ends the terrain a simulation writes.
+            let mut map = simulation.drawn_terrain()?;
+            map.set_base(mlhm_base(&map));
+            let map = Arc::new(map);
             let step = simulation.state().step_count();
             let Scene::Mlhm(layered) = &mut opened.scene else {
                 unreachable!("simulation_of refuses every scene but an MLHM scene")
