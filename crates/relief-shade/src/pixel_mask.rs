@@ -63,12 +63,6 @@ impl PixelMask {
         self.any_in(tile.x..tile.x + tile.cols, tile.y..tile.y + tile.rows)
     }
 
-    /// Whether a pixel of the `n` from `(first, row)` on along the row is marked.
-    #[inline]
-    pub fn any_in_run(&self, row: usize, first: usize, n: usize) -> bool {
-        self.any_in(first..first + n, row..row + 1)
-    }
-
     /// Whether a pixel of `columns` x `rows` (clipped to the image) is marked.
     fn any_in(&self, columns: Range<usize>, rows: Range<usize>) -> bool {
         let clip = |r: Range<usize>, end: usize| r.start..r.end.min(end).max(r.start);
@@ -97,7 +91,5 @@ mod tests {
         assert!(mask.any_in_tile(Tile::new(32, 16, 40, 20)));
         assert!(!mask.any_in_tile(Tile::new(16, 16, 40, 20)));
         assert!(mask.fits(40, 20) && !mask.fits(20, 40));
-        assert!(mask.any_in_run(17, 30, 4) && !mask.any_in_run(17, 34, 6));
-        assert!(mask.any_in_run(17, 20, 100), "a run past the row's end is clipped");
     }
 }

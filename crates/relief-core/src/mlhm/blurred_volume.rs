@@ -50,75 +50,39 @@ impl BlurredBox {
         if x >= self.reach() {
             return 2.0 * h;
         }
-        // The box's cumulative `clamp(y + h, 0, 2h)` and its first two integrals; each blur
-        // is a mean over shifts, a difference of the next integral.
-        let r = |y: f64| (y + h).clamp(0.0, 2.0 * h);
-        let s = |y: f64| {
-            if y <= -h {
-                0.0
-            } else if y <= h {
-                0.5 * (y + h) * (y + h)
-            } else {
-                2.0 * h * y
-            }
-        };
-        let t = |y: f64| {
-            if y <= -h {
-                0.0
-            } else if y <= h {
-                (y + h).powi(3) / 6.0
-            } else {
-                h * y * y + h * h * h / 3.0
-            }
-        };
-        let [mut a, mut b] = self.blurs;
-        if a <= 0.0 {
-            (a, b) = (b, 0.0);
-        }
-        let value = if a <= 0.0 {
-            r(x)
-        } else if b <= 0.0 {
-            (s(x + a) - s(x - a)) / (2.0 * a)
-        } else {
-            (t(x + a + b) - t(x + a - b) - t(x - a + b) + t(x - a - b)) / (4.0 * a * b)
-        };
-        value.clamp(0.0, 2.0 * h)
+        self.blurred(x, 1).clamp(0.0, 2.0 * h)
     }
 
     /// The weight at `x` (relative to the centre), the derivative of
     /// [`cumulative`](BlurredBox::cumulative): 1 inside the plain box and 0 outside it.
     #[inline]
     pub fn density(&self, x: f64) -> f64 {
-        let h = self.half;
         if x <= -self.reach() || x >= self.reach() {
             return 0.0;
         }
-        let r = |y: f64| (y + h).clamp(0.0, 2.0 * h);
-        let s = |y: f64| {
-            if y <= -h {
-                0.0
-            } else if y <= h {
-                0.5 * (y + h) * (y + h)
-            } else {
-                2.0 * h * y
-            }
-        };
+        self.blurred(x, 0).clamp(0.0, 1.0)
+    }
+
+    /// The `order`-th integral of the plain box's indicator (0: the indicator itself), blurred:
+    /// each blur is a mean over its shifts, a difference of the next integral.
+    #[inline]
+    fn blurred(&self, x: f64, order: u32) -> f64 {
+        let h = self.half;
         let [mut a, mut b] = self.blurs;
         if a <= 0.0 {
             (a, b) = (b, 0.0);
         }
-        let value = if a <= 0.0 {
-            if x.abs() <= h {
-                1.0
-            } else {
-                0.0
-            }
+        let integral = |y: f64, k: u32| box_integral(h, y, k);
+        if a <= 0.0 {
+            integral(x, order)
         } else if b <= 0.0 {
-            (r(x + a) - r(x - a)) / (2.0 * a)
+            (integral(x + a, order + 1) - integral(x - a, order + 1)) / (2.0 * a)
         } else {
-            (s(x + a + b) - s(x + a - b) - s(x - a + b) + s(x - a - b)) / (4.0 * a * b)
-        };
-        value.clamp(0.0, 1.0)
+            let k = order + 2;
+            (integral(x + a + b, k) - integral(x + a - b, k) - integral(x - a + b, k)
+                + integral(x - a - b, k))
+                / (4.0 * a * b)
+        }
     }
 
     /// [`cumulative`](BlurredBox::cumulative) and [`density`](BlurredBox::density) at `x`
@@ -160,6 +124,31 @@ impl BlurredBox {
     #[inline]
     pub fn weight(&self, lo: f64, hi: f64) -> f64 {
         self.cumulative(hi) - self.cumulative(lo)
+    }
+}
+
+/// The `order`-th integral from minus infinity of the indicator of `[-h, h]` at `y` (order 0
+/// to 3: the indicator, the ramp `clamp(y + h, 0, 2h)`, and the ramp's first two integrals).
+#[inline]
+fn box_integral(h: f64, y: f64, order: u32) -> f64 {
+    if y <= -h {
+        return if order == 0 && y == -h { 1.0 } else { 0.0 };
+    }
+    let u = y + h;
+    if y <= h {
+        match order {
+            0 => 1.0,
+            1 => u,
+            2 => 0.5 * u * u,
+            _ => u * u * u / 6.0,
+        }
+    } else {
+        match order {
+            0 => 0.0,
+            1 => 2.0 * h,
+            2 => 2.0 * h * y,
+            _ => h * y * y + h * h * h / 3.0,
+        }
     }
 }
 

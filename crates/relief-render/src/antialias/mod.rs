@@ -115,6 +115,23 @@ pub fn grid_offsets(n: u32) -> Vec<[f64; 2]> {
     (0..n * n).map(|k| [at(k % n), at(k / n)]).collect()
 }
 
+/// The colours of `camera`'s picture sampled on an `n x n` grid: `draw` gives the colours of
+/// the camera offset to each point of the grid in turn ([`grid_offsets`]), and they are
+/// averaged in linear light. What `relief render --aa N` and `relief view` at rest draw.
+pub fn grid_mean<E>(
+    camera: &Camera,
+    n: u32,
+    mut draw: impl FnMut(&Camera) -> Result<Vec<[u8; 3]>, E>,
+) -> Result<Vec<[u8; 3]>, E> {
+    let offsets = grid_offsets(n);
+    let mut sum = LinearSum::new(camera.width() as usize * camera.height() as usize);
+    for &[dx, dy] in &offsets {
+        let offset = camera.with_pixel_offset(dx, dy).expect("a grid's points lie in the pixel");
+        sum.add_all(&draw(&offset)?);
+    }
+    Ok(sum.means(offsets.len()))
+}
+
 /// Every pixel sampled on an `n x n` grid: a pass for each offset of the grid (a pass of the
 /// centres too, for the depth and normals, where they are asked for and the grid has no
 /// centre), their colours averaged in linear light.
@@ -133,24 +150,22 @@ fn draw_grid(
     let mut kept =
         if wants_centre && !has_centre { Some(pass(camera, keep, None, progress)?) } else { None };
     let started = Instant::now();
-    let mut sum = LinearSum::new(camera.width() as usize * camera.height() as usize);
     progress.begin("anti-aliasing", Some(offsets.len() as u64));
-    for &[dx, dy] in &offsets {
-        let is_centre = [dx, dy] == [0.0, 0.0];
-        let sample = if is_centre {
-            pass(camera, keep, None, &Silent)?
-        } else {
-            pass(&camera.with_pixel_offset(dx, dy)?, KeptHits::default(), None, &Silent)?
-        };
-        sum.add_all(&sample.rgb);
+    let rgb: Result<_, RenderError> = grid_mean(camera, n, |offset_camera| {
+        let is_centre = offset_camera.pixel_offset() == [0.0, 0.0];
+        let asked = if is_centre { keep } else { KeptHits::default() };
+        let mut sample = pass(offset_camera, asked, None, &Silent)?;
+        progress.advance(1);
+        let rgb = std::mem::take(&mut sample.rgb);
         if is_centre || kept.is_none() {
             kept = Some(sample);
         }
-        progress.advance(1);
-    }
+        Ok(rgb)
+    });
     progress.end();
+    let rgb = rgb?;
     let mut picture = kept.expect("a grid has a pass");
-    picture.rgb = sum.means(offsets.len());
+    picture.rgb = rgb;
     let samples = picture.rgb.len() as u64 * offsets.len() as u64;
     record(&mut picture, Antialiasing::Grid(n), samples, ms_since(started), None);
     Ok(picture)
@@ -205,25 +220,25 @@ fn record(picture: &mut Picture, aa: Antialiasing, samples: u64, ms: f64, share:
 }
 
 /// Sums of pixels' colours in linear light, over the passes of a picture.
-pub struct LinearSum {
+struct LinearSum {
     sums: Vec<[f32; 3]>,
 }
 
 impl LinearSum {
     /// Sums of `pixels` pixels, all zero.
-    pub fn new(pixels: usize) -> Self {
+    fn new(pixels: usize) -> Self {
         LinearSum { sums: vec![[0.0; 3]; pixels] }
     }
 
     /// Adds the sRGB colour `rgb` to pixel `k`'s sum.
     #[inline]
-    pub fn add(&mut self, k: usize, rgb: [u8; 3]) {
+    fn add(&mut self, k: usize, rgb: [u8; 3]) {
         let linear = srgb8_to_linear_table();
         (0..3).for_each(|c| self.sums[k][c] += linear[rgb[c] as usize]);
     }
 
     /// Adds a pass's colours, pixel by pixel.
-    pub fn add_all(&mut self, rgb: &[[u8; 3]]) {
+    fn add_all(&mut self, rgb: &[[u8; 3]]) {
         let linear = srgb8_to_linear_table();
         self.sums.par_iter_mut().zip(rgb).for_each(|(sum, p)| {
             (0..3).for_each(|c| sum[c] += linear[p[c] as usize]);
@@ -232,12 +247,12 @@ impl LinearSum {
 
     /// The mean of `n` colours summed at pixel `k`, in sRGB.
     #[inline]
-    pub fn mean(&self, k: usize, n: usize) -> [u8; 3] {
+    fn mean(&self, k: usize, n: usize) -> [u8; 3] {
         self.sums[k].map(|s| linear_to_srgb8(s / n as f32))
     }
 
     /// The means of `n` colours summed at every pixel, in sRGB.
-    pub fn means(&self, n: usize) -> Vec<[u8; 3]> {
+    fn means(&self, n: usize) -> Vec<[u8; 3]> {
         self.sums.par_iter().map(|s| s.map(|s| linear_to_srgb8(s / n as f32))).collect()
     }
 }

@@ -33,14 +33,14 @@ pub fn draw(
     // The anti-aliasing passes draw into one G-buffer, taken back after each.
     let mut spare = None;
     let mut pass = |camera: &Camera, keep, mask: Option<&PixelMask>, progress: &dyn Progress| {
-        let pass = Pass { scene, tracer: tracer.as_ref(), build_ms, mask, spare: &mut spare };
+        let pass = MlhmPass { scene, tracer: tracer.as_ref(), build_ms, mask, spare: &mut spare };
         draw_pass(pass, camera, keep, progress)
     };
     antialias::draw(camera, keep, aa, progress, &mut pass)
 }
 
 /// What a pass of [`draw`] draws with.
-struct Pass<'a> {
+struct MlhmPass<'a> {
     scene: &'a LayeredScene,
     /// The tracer, built in `build_ms`.
     tracer: &'a dyn MlhmTracer,
@@ -53,12 +53,12 @@ struct Pass<'a> {
 
 /// One pass of [`draw`]: the whole picture of `camera`, or the pixels its mask marks.
 fn draw_pass(
-    pass: Pass,
+    pass: MlhmPass,
     camera: &Camera,
     keep: KeptHits,
     progress: &dyn Progress,
 ) -> Result<Picture, RenderError> {
-    let Pass { scene, tracer, build_ms, mask, spare } = pass;
+    let MlhmPass { scene, tracer, build_ms, mask, spare } = pass;
     let (mode, choice, shading) = (scene.mode, scene.choice, &scene.shading);
     let (w, h) = (camera.width(), camera.height());
     progress.begin("rendering", Some(w as u64 * h as u64));

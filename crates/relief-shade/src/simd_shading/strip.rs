@@ -104,6 +104,9 @@ fn shading_normals(
     let mut normals = vec![[0.0f32; 3]; rows * width];
     for (r, row) in normals.chunks_mut(width).enumerate() {
         let j = top + r;
+        if pass.mask.is_some_and(|m| !m.any_in_rows(j, 1)) {
+            continue;
+        }
         for (i, normal) in row.iter_mut().enumerate() {
             let Some((ray, distance, geometric)) = drawn_hit(pass, kernel, i, j) else {
                 continue;

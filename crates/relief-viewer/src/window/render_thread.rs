@@ -1,11 +1,11 @@
 //! The render thread: frames are rendered (and the simulation stepped) away from the event
 //! loop, which never waits for one.
 
-use crate::frame::{Cancel, Frame, SceneRenderer};
+use crate::frame::{Cancel, Frame, FrameStats, SceneRenderer};
 use crate::progressive::FrameRequest;
 use crate::{SimulationReport, SimulationRequest, ViewSettings};
 use relief_core::Camera;
-use relief_render::antialias::{grid_offsets, LinearSum};
+use relief_render::antialias::grid_mean;
 use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
@@ -82,26 +82,18 @@ pub(crate) fn spawn_render_thread(
     (send, worker)
 }
 
-/// `job`'s frame anti-aliased on an `n x n` grid, as `relief render --aa N` draws it: a frame
-/// for each offset of the grid, their colours averaged in linear light.
+/// `job`'s frame anti-aliased on an `n x n` grid, as `relief render --aa N` draws it
+/// ([`grid_mean`]). A cancelled job's frames stop early (their tracers do) and are dropped.
 fn render_antialiased(renderer: &dyn SceneRenderer, job: &Job, n: u32) -> Result<Frame, String> {
-    let pixels = job.camera.width() as usize * job.camera.height() as usize;
-    let mut sum = LinearSum::new(pixels);
     let mut last: Option<Frame> = None;
     let mut rays = 0;
-    let offsets = grid_offsets(n);
-    for &[dx, dy] in &offsets {
-        if job.cancel.is_set() {
-            break;
-        }
-        let camera = job.camera.with_pixel_offset(dx, dy).map_err(|e| e.to_string())?;
-        let frame = renderer.render(&camera, &job.settings, &job.cancel)?;
-        sum.add_all(&frame.rgb);
+    let rgb = grid_mean::<String>(&job.camera, n, |camera| {
+        let mut frame = renderer.render(camera, &job.settings, &job.cancel)?;
         rays += frame.stats.rays;
+        let rgb = std::mem::take(&mut frame.rgb);
         last = Some(frame);
-    }
-    let mut frame = last.ok_or("no frame was rendered")?;
-    frame.rgb = sum.means(offsets.len());
-    frame.stats.rays = rays;
-    Ok(frame)
+        Ok(rgb)
+    })?;
+    let frame = last.ok_or("no frame was rendered")?;
+    Ok(Frame { rgb, stats: FrameStats { rays, ..frame.stats }, ..frame })
 }
