@@ -116,6 +116,7 @@ mod tests {
         let bounds = CoarseBounds::of_samples(&samples, w, h);
         for (cols, rows) in [(0..w, 0..h), (5..6, 7..8), (31..33, 0..64), (100..290, 40..169)] {
             let [low, high] = bounds.span(cols.clone(), rows.clone());
+            let samples = &samples;
             let values = rows.flat_map(|r| cols.clone().map(move |c| samples[c + r * w]));
             let (lo, hi) =
                 values.fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
