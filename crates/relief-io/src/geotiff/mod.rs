@@ -16,6 +16,7 @@ pub(crate) mod rows;
 pub(crate) mod stored_chunk;
 pub(crate) mod strip_writer;
 pub(crate) mod tags;
+pub(crate) mod tiff_directory;
 pub(crate) mod write;
 pub(crate) mod write_tags;
 
