@@ -88,10 +88,9 @@ impl LayerRaster {
 /// names the file.
 pub(crate) fn check_nodata(path: &Path, nodata: Option<f64>) -> Result<(), IoError> {
     match nodata {
-        Some(v) if !v.is_nan() && f64::from(v as f32) != v => Err(IoError::invalid_data(
-            path,
-            format!("nodata value {v} is not a float32 value"),
-        )),
+        Some(v) if !v.is_nan() && f64::from(v as f32) != v => {
+            Err(IoError::invalid_data(path, format!("nodata value {v} is not a float32 value")))
+        }
         _ => Ok(()),
     }
 }

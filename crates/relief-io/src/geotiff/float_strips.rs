@@ -210,7 +210,9 @@ pub(crate) fn pack_rows(
         predict_floats(row, &mut predicted);
     }
     let mut packed = Vec::new();
-    Deflate::with_level(level).write_to(&mut packed, &predicted).map_err(|e| IoError::io(path, e))?;
+    Deflate::with_level(level)
+        .write_to(&mut packed, &predicted)
+        .map_err(|e| IoError::io(path, e))?;
     Ok(packed)
 }
 
