@@ -112,43 +112,39 @@ fn mean_tile(
     void: f32,
 ) -> Result<Vec<f32>, String> {
     let t = grid.tile;
-    let mut scratch = Vec::new();
-    let mut decoded: [Option<Vec<f32>>; 4] = Default::default();
-    for (slot, stored) in decoded.iter_mut().zip(sources) {
-        if let Some(stored) = stored {
-            *slot = Some(unpack_tile(stored, t, &mut scratch)?);
-        }
-    }
-    drop(scratch);
+    let half = t / 2;
     let is_void = |v: f32| v.is_nan() || v == void;
     let mut out = vec![void; t * t];
-    for r in 0..t {
-        let oy = ty * t + r;
-        if oy >= grid.height {
-            break;
-        }
-        for c in 0..t {
-            let ox = tx * t + c;
-            if ox >= grid.width {
-                break;
-            }
-            let (mut sum, mut n) = (0f64, 0u32);
-            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                let (sx, sy) = (2 * ox + dx, 2 * oy + dy);
-                if sx >= source.width || sy >= source.height {
-                    continue;
+    let mut scratch = Vec::new();
+    // Each source tile lies under one quarter of the output tile.
+    for (k, stored) in sources.iter().enumerate() {
+        let Some(stored) = stored else { continue };
+        let tile = unpack_tile(stored, t, &mut scratch)?;
+        let (kx, ky) = (k % 2, k / 2);
+        // The source tile's samples within the source level.
+        let (sx0, sy0) = ((2 * tx + kx) * t, (2 * ty + ky) * t);
+        let cols = (source.width - sx0).min(t);
+        let rows = (source.height - sy0).min(t);
+        for r in 0..rows.div_ceil(2) {
+            let out_row = &mut out[(ky * half + r) * t + kx * half..][..cols.div_ceil(2)];
+            let north = &tile[2 * r * t..][..cols];
+            let south = (2 * r + 1 < rows).then(|| &tile[(2 * r + 1) * t..][..cols]);
+            for (c, sample) in out_row.iter_mut().enumerate() {
+                let (mut sum, mut n) = (0f64, 0u32);
+                let mut add = |v: f32| {
+                    if !is_void(v) {
+                        sum += f64::from(v);
+                        n += 1;
+                    }
+                };
+                let pair = &north[2 * c..cols.min(2 * c + 2)];
+                pair.iter().for_each(|&v| add(v));
+                if let Some(south) = south {
+                    south[2 * c..cols.min(2 * c + 2)].iter().for_each(|&v| add(v));
                 }
-                // The source tile under (sx, sy) is the k-th of the 2 x 2.
-                let k = (sx / t - 2 * tx) + 2 * (sy / t - 2 * ty);
-                let Some(tile) = &decoded[k] else { continue };
-                let v = tile[(sy % t) * t + sx % t];
-                if !is_void(v) {
-                    sum += f64::from(v);
-                    n += 1;
+                if n > 0 {
+                    *sample = (sum / f64::from(n)) as f32;
                 }
-            }
-            if n > 0 {
-                out[r * t + c] = (sum / f64::from(n)) as f32;
             }
         }
     }

@@ -4,7 +4,7 @@
 //! out as GDAL's COG driver lays it out, under a temporary name, then renamed into place.
 
 use crate::geotiff::cog_journal::{Journal, JournalBlock, JournalHeader};
-use crate::geotiff::cog_layout::{data_order, lay_out, CogMetadata};
+use crate::geotiff::cog_layout::{data_order, lay_out, write_tile, CogMetadata};
 use crate::geotiff::cog_overviews::{build_overviews, overview_bytes_per_thread, stored_bound};
 use crate::geotiff::cog_spill::Spill;
 use crate::geotiff::cog_tiles::{pack_tile, BlockTiles, LevelTiles, TileGrid};
@@ -32,10 +32,12 @@ const OUTPUT_BUFFER: usize = 1 << 20;
 ///   the mean of the 2 x 2 under it ignoring voids (a void where all four are), as GDAL's
 ///   AVERAGE resampling;
 /// - GDAL's ghost area of structural metadata after the header (LAYOUT=IFDS_BEFORE_DATA,
-///   BLOCK_ORDER=ROW_MAJOR, no block leader or trailer), then the directories of the full
-///   resolution and of the overviews (NewSubfileType 1) with their tags' values, then the
-///   tile offset and byte count arrays, then the tiles, from the smallest overview to the
-///   full resolution, each level band by band and row by row;
+///   BLOCK_ORDER=ROW_MAJOR, BLOCK_LEADER=SIZE_AS_UINT4, BLOCK_TRAILER=LAST_4_BYTES_REPEATED,
+///   so that GDAL takes it for a COG), then the directories of the full resolution and of the
+///   overviews (NewSubfileType 1) with their tags' values, then the tile offset and byte
+///   count arrays, then the tiles, from the smallest overview to the full resolution, each
+///   level band by band and row by row, each tile after its size and before its last 4 bytes
+///   repeated;
 /// - the bands in separate planes (PlanarConfiguration 2, GDAL's INTERLEAVE=BAND) rather than
 ///   GDAL's default pixel interleaving: relief's bands are separate quantities (shade layers)
 ///   that readers take one at a time, a band's tile compresses better alone, and relief's own
@@ -423,7 +425,7 @@ impl CogWriter {
                     IoError::invalid_data(&self.path, format!("tile {index} of level {level} lost"))
                 })?;
                 self.spill.read(offset, count, &mut stored)?;
-                out.write_all(&stored).map_err(io)?;
+                write_tile(&mut out, &stored).map_err(io)?;
             }
             out.flush().map_err(io)?;
             drop(out);
