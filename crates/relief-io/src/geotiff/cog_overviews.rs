@@ -32,11 +32,10 @@ fn batch() -> usize {
     rayon::current_num_threads().max(1)
 }
 
-/// Bytes one thread holds building a tile of a `tile`-sided level: the 2 x 2 source tiles
+/// Bytes one thread holds building a tile of `raw` bytes of samples: the 2 x 2 source tiles
 /// stored and decoded, the decoding buffer, the output tile, its predicted bytes and its
 /// stored bytes (each at most a tile's bytes and Deflate's overhead).
-pub(crate) fn overview_bytes_per_thread(tile: usize) -> u64 {
-    let raw = (tile * tile * 4) as u64;
+pub(crate) fn overview_bytes_per_thread(raw: u64) -> u64 {
     let stored = stored_bound(raw);
     4 * stored + 4 * raw + raw + raw + raw + stored
 }
@@ -215,7 +214,8 @@ mod tests {
         let (width, height) = (301, 259);
         // Voids: a 3 x 3 patch (so that some 2 x 2 groups are all void) and scattered ones.
         let value = |x: usize, y: usize| {
-            if (10..13).contains(&x) && (20..23).contains(&y) || (x * 7 + y * 3) % 11 == 0 {
+            if (10..13).contains(&x) && (20..23).contains(&y) || (x * 7 + y * 3).is_multiple_of(11)
+            {
                 -5.0
             } else {
                 (x as f32 * 0.37).sin() * 100.0 + y as f32
