@@ -297,6 +297,8 @@ def test_flythrough_tasks_are_one_a_frame_and_compute_later(client, dem, tmp_pat
     files = client.compute(tasks, sync=True)
     assert [f.rsplit("/", 1)[1] for f in files] == ["frame-00000.png", "frame-00001.png",
                                                      "frame-00002.png"]
+    with pytest.raises(relief.ReliefError, match="unknown PNG compression 'best'"):
+        relief.dask.flythrough(raster, path, 3, tmp_path / "frames", png_compression="best")
     with pytest.raises(relief.ReliefError, match="frames 0 must be 1 to 100000"):
         relief.dask.flythrough(raster, path, 0, tmp_path / "frames")
     (tmp_path / "bad.json").write_text('{"format": "x", "version": 1, "keys": []}')

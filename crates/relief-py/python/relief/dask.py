@@ -54,6 +54,8 @@ RADIUS_HALO_MARGIN = 2
 #: The layers whose value at a sample depends on terrain at any distance (their sun rays are
 #: traced to the edge of the data): the radius form refuses them.
 UNBOUNDED_LAYERS = ("shadow", "combined", "sky-illumination")
+#: relief.write_png's compressions, as --png-compression.
+_PNG_COMPRESSIONS = ("none", "fast", "balanced", "high")
 #: Keywords a store or raster file gives itself (its georeference).
 _PLACEMENT = ("spacing", "origin", "z_scale")
 
@@ -134,8 +136,9 @@ def flythrough(input: Union[str, os.PathLike, None], path: Union[str, os.PathLik
     folder ``output`` is created.
     """
     plan = relief.flight_plan(path, frames)
-    if not isinstance(png_compression, str):
-        raise ReliefError("png_compression must be one of none, fast, balanced, high")
+    if png_compression not in _PNG_COMPRESSIONS:
+        raise ReliefError(f"unknown PNG compression '{png_compression}' (expected none, fast, "
+                          "balanced or high)")
     width, height = size
     output = os.path.abspath(output)
     os.makedirs(output, exist_ok=True)
