@@ -62,15 +62,7 @@ impl LayerRaster {
                 ));
             }
         }
-        if let Some(nodata) = self.nodata {
-            if !nodata.is_nan() && f64::from(nodata as f32) != nodata {
-                return Err(IoError::invalid_data(
-                    path,
-                    format!("nodata value {nodata} is not a float32 value"),
-                ));
-            }
-        }
-        Ok(())
+        check_nodata(path, self.nodata)
     }
 
     /// Whether the file's first row is the grid's southernmost: only when the georeference
@@ -87,13 +79,30 @@ impl LayerRaster {
     /// The GDAL_NODATA text to write: the nodata value (in the shortest form that reads back
     /// exactly), "nan" when there is none but some sample is a void, else nothing.
     pub(crate) fn nodata_text(&self) -> Option<String> {
-        match self.nodata {
-            Some(v) if v.is_nan() => Some("nan".into()),
-            Some(v) => Some(format!("{v}")),
-            None if self.layers.iter().any(|l| l.samples.iter().any(|v| v.is_nan())) => {
-                Some("nan".into())
-            }
-            None => None,
+        let voids = || self.layers.iter().any(|l| l.samples.iter().any(|v| v.is_nan()));
+        nodata_text(self.nodata, voids)
+    }
+}
+
+/// Refuses a nodata value that float32 samples cannot hold exactly (NaN is fine); `path`
+/// names the file.
+pub(crate) fn check_nodata(path: &Path, nodata: Option<f64>) -> Result<(), IoError> {
+    match nodata {
+        Some(v) if !v.is_nan() && f64::from(v as f32) != v => {
+            Err(IoError::invalid_data(path, format!("nodata value {v} is not a float32 value")))
         }
+        _ => Ok(()),
+    }
+}
+
+/// The GDAL_NODATA text of float32 bands declaring `nodata`: the value (in the shortest form
+/// that reads back exactly), "nan" when there is none but `voids()` says some sample is a
+/// void, else nothing.
+pub(crate) fn nodata_text(nodata: Option<f64>, voids: impl FnOnce() -> bool) -> Option<String> {
+    match nodata {
+        Some(v) if v.is_nan() => Some("nan".into()),
+        Some(v) => Some(format!("{v}")),
+        None if voids() => Some("nan".into()),
+        None => None,
     }
 }

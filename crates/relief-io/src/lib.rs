@@ -4,7 +4,8 @@
 //! writers are a public module of their own,
 //!
 //! - [`geotiff`]: single-band GeoTIFFs read whole or by rows, written whole or band by band,
-//!   layer files of named bands, RGB ortho photos;
+//!   layer files of named bands, cloud-optimised GeoTIFFs written block by block, RGB ortho
+//!   photos;
 //! - [`npy`]: NumPy `.npy` arrays and `.npz` archives;
 //! - [`png`]: heights in PNG images (greyscale, terrain-RGB, Terrarium), shade layers with
 //!   their world files, RGB and grey pictures;
@@ -104,7 +105,7 @@ pub use write::{write_height_field, write_height_field_georeferenced, WriteNotes
 // The formats' names that other crates (and the fuzz targets) take from the root.
 pub use geotiff::{
     read_layers_geotiff, write_geotiff, write_geotiff_placed, write_layers_geotiff,
-    write_rgb_geotiff, GeoTiffStripWriter,
+    write_rgb_geotiff, CogWriter, GeoTiffStripWriter,
 };
 pub use hgt::write_hgt;
 pub use jpeg::{write_jpeg_rgb8, JPEG_QUALITY};

@@ -195,6 +195,33 @@ pub enum RenderError {
     /// An MLHM scene without a finite box.
     #[error("the scene has no finite bounds ({0})")]
     NoFiniteBounds(String),
+    /// A raster that cannot be shaded block by block, and why.
+    #[error("{}: {reason}", .path.display())]
+    ShadeSource {
+        /// The raster or tile store.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
+    /// Shading block by block that does not fit in the memory budget even with the smallest
+    /// blocks.
+    #[error(
+        "shading blocks of {block} x {block} samples with a halo of {halo} needs {}, over the \
+         {} memory limit ({}){hint}",
+        format_bytes(*.needed), format_bytes(.budget.bytes), .budget.origin
+    )]
+    ShadeOverBudget {
+        /// The smallest block's side.
+        block: usize,
+        /// The halo around it.
+        halo: usize,
+        /// Bytes it needs.
+        needed: u64,
+        /// The budget.
+        budget: Budget,
+        /// What would help.
+        hint: String,
+    },
 }
 
 /// A number for a message: plain decimals for everyday magnitudes, scientific notation for

@@ -7,6 +7,7 @@
 #![forbid(unsafe_code)]
 
 pub mod antialias;
+pub mod block_shade;
 pub mod camera;
 pub mod camera_path;
 pub mod colours;

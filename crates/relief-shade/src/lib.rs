@@ -96,7 +96,9 @@ pub use relief_core::texture::{
 };
 pub use render::{render_gbuffer, render_gbuffer_into, Tile, TILE_SIZE};
 pub use renderer::{RayCaster, Renderer, StageTimings};
-pub use shade_map::{shade_map, ShadeLayer, ShadeMap, ShadeMapParams, SunPosition};
+pub use shade_map::{
+    shade_map, shade_map_region, ShadeLayer, ShadeMap, ShadeMapParams, SunPosition,
+};
 pub use shading::{ambient_lighting, direct_lighting, GgxSpecular, DIELECTRIC_F0};
 pub use shading_normals::{NormalStyle, ShadingNormals};
 pub use simd_shading::{LaneWidth, ShadingKernel};

@@ -136,6 +136,8 @@ pub fn build_textured_store(
         geometry: source.geometry().into(),
         sources,
         texture: texture.as_ref().map(|t| t.header(options.tile)),
+        georeference: source.info().georeference.as_ref().map(Into::into),
+        nodata: source.info().nodata.filter(|v| v.is_finite()),
     };
     if let (Some(t), Some(texture)) = (&header.texture, &texture) {
         let file_width = texture.rows.info().width as u64;

@@ -166,6 +166,13 @@ pub struct StoreHeader {
     /// absent from the index of a store without, as in stores written before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<crate::TextureHeader>,
+    /// Where the raster lies on the earth (its source's GeoTIFF tags), when the source was
+    /// georeferenced; absent from stores written before it was kept.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub georeference: Option<crate::StoredGeoreference>,
+    /// The source's nodata value, when it declared a finite one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nodata: Option<f64>,
 }
 
 impl StoreHeader {

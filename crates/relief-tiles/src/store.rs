@@ -142,6 +142,20 @@ impl TileStore {
         )
     }
 
+    /// The stored samples of tile `id`: its `(N + 2)^2` samples with their ring (see
+    /// [`PyramidLayout::stored_origin`]), rows from the south, voids NaN, checked against
+    /// their checksum. Errors: a tile never built, a truncated data file, a checksum that does
+    /// not match (each naming the tile).
+    pub fn stored_samples(&self, id: TileId) -> Result<Vec<f32>, TileError> {
+        let data_path = self.dir.join(DATA_FILE);
+        let record = self.record(id).ok_or_else(|| TileError::Corrupt {
+            path: self.dir.join(TABLE_FILE),
+            tile: id,
+            reason: "it was never built".into(),
+        })?;
+        read_slot(&self.data, &data_path, &self.layout, self.header.precision, id, &record)
+    }
+
     /// Reads tile `id`, checks it and builds its tracer for `surface` (with
     /// [`TileStore::tile_tracers`]).
     pub fn load(&self, id: TileId, surface: Surface) -> Result<LoadedTile, TileError> {

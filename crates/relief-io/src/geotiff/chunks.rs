@@ -141,6 +141,11 @@ impl ChunkGrid {
         Ok(ChunkGrid { sparse, offsets, byte_counts: counts, ..grid })
     }
 
+    /// Whether the chunks are tiles (else strips).
+    pub(crate) fn tiled(&self) -> bool {
+        self.kind == ChunkType::Tile
+    }
+
     /// "strip" or "tile".
     pub(crate) fn name(&self) -> &'static str {
         match self.kind {

@@ -194,13 +194,24 @@ pub(crate) fn rows_per_strip(width: usize, height: usize) -> usize {
 /// Predicts and compresses rows of f32 values, `width` a row, into one strip's stored bytes,
 /// at Deflate's balanced level as [`write_geotiff`] does.
 pub(crate) fn pack_strip(path: &Path, rows: &[f32], width: usize) -> Result<Vec<u8>, IoError> {
-    let mut strip = Vec::with_capacity(rows.len() * 4);
+    pack_rows(path, rows, width, DeflateLevel::Balanced)
+}
+
+/// Predicts and compresses rows of f32 values, `width` a row, into one chunk's stored bytes
+/// (a strip, or a tile whose rows are `width` long) at Deflate's `level`.
+pub(crate) fn pack_rows(
+    path: &Path,
+    rows: &[f32],
+    width: usize,
+    level: DeflateLevel,
+) -> Result<Vec<u8>, IoError> {
+    let mut predicted = Vec::with_capacity(rows.len() * 4);
     for row in rows.chunks_exact(width) {
-        predict_floats(row, &mut strip);
+        predict_floats(row, &mut predicted);
     }
     let mut packed = Vec::new();
-    Deflate::with_level(DeflateLevel::Balanced)
-        .write_to(&mut packed, &strip)
+    Deflate::with_level(level)
+        .write_to(&mut packed, &predicted)
         .map_err(|e| IoError::io(path, e))?;
     Ok(packed)
 }

@@ -310,22 +310,28 @@ impl<R: Read + Seek> GeoTiffImage<R> {
             FormatError::Unsupported(format!("{} {index} (index beyond u32)", chunks.name()))
         })?;
         let chunk_error = |e| tiff_error(&format!("{} {index}", chunks.name()), e);
-        let (bytes, stride): (&[u8], usize) = if region.width == chunks.chunk_width {
-            scratch.buffer.resize(row_bytes * region.height, 0);
-            let bytes = &mut scratch.buffer[..row_bytes * region.height];
-            self.decoder.read_chunk_bytes(index_u32, bytes).map_err(chunk_error)?;
-            (bytes, row_bytes)
-        } else {
-            // A tile cut by the raster's east edge. Decoded row by row, tiff 0.11.3 fails
-            // on some valid LZW tiles ("no lzw end code found"): decode whole stored rows
-            // instead, padding included (the crate takes this output width in bytes).
-            let stride = chunks.chunk_width * sample_type.size();
-            self.decoder
-                .read_chunk_to_buffer(&mut scratch.padded, index_u32, stride)
-                .map_err(chunk_error)?;
-            padded_view = scratch.padded.as_buffer(0);
-            (padded_view.as_bytes(), stride)
-        };
+        // tiff 0.11.3 finds a tile's padding from its index counted over every plane, so it
+        // decodes the bottom tiles of the planes after the first whole, padding rows
+        // included: those, like the tiles cut by the east edge, take the padded path.
+        let later_plane_bottom_tile =
+            chunks.tiled() && index >= chunks.count && region.height < chunks.chunk_height;
+        let (bytes, stride): (&[u8], usize) =
+            if region.width == chunks.chunk_width && !later_plane_bottom_tile {
+                scratch.buffer.resize(row_bytes * region.height, 0);
+                let bytes = &mut scratch.buffer[..row_bytes * region.height];
+                self.decoder.read_chunk_bytes(index_u32, bytes).map_err(chunk_error)?;
+                (bytes, row_bytes)
+            } else {
+                // A tile cut by the raster's east edge. Decoded row by row, tiff 0.11.3 fails
+                // on some valid LZW tiles ("no lzw end code found"): decode whole stored rows
+                // instead, padding included (the crate takes this output width in bytes).
+                let stride = chunks.chunk_width * sample_type.size();
+                self.decoder
+                    .read_chunk_to_buffer(&mut scratch.padded, index_u32, stride)
+                    .map_err(chunk_error)?;
+                padded_view = scratch.padded.as_buffer(0);
+                (padded_view.as_bytes(), stride)
+            };
         for row in 0..region.height {
             let raw = bytes.get(row * stride..row * stride + row_bytes).ok_or_else(|| {
                 FormatError::Format(format!("{} {index} decoded short", chunks.name()))

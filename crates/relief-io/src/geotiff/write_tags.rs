@@ -36,6 +36,38 @@ pub(crate) fn write_geometry_tags<W: Write + Seek, K: TiffKind>(
     d.write_tag(Tag::GdalNodata, "nan").map_err(error)
 }
 
+/// The values of one georeferencing tag, as stored.
+pub(crate) enum GeoTagValues<'a> {
+    /// DOUBLE values (pixel scale, tie points, transformation, GeoKey doubles).
+    Doubles(&'a [f64]),
+    /// SHORT values (the GeoKey directory).
+    Shorts(&'a [u16]),
+    /// ASCII bytes (the GeoKeys' text).
+    Ascii(&'a [u8]),
+}
+
+/// The georeferencing tags present in `tags`, each with its values, in the order relief's
+/// writers write them.
+pub(crate) fn georeference_tags(tags: &GeoTiffTags) -> Vec<(Tag, GeoTagValues<'_>)> {
+    let doubles = [
+        (Tag::ModelPixelScaleTag, &tags.model_pixel_scale),
+        (Tag::ModelTiepointTag, &tags.model_tiepoint),
+        (Tag::ModelTransformationTag, &tags.model_transformation),
+        (Tag::GeoDoubleParamsTag, &tags.geo_double_params),
+    ];
+    let mut out: Vec<(Tag, GeoTagValues<'_>)> = doubles
+        .into_iter()
+        .filter_map(|(tag, values)| Some((tag, GeoTagValues::Doubles(values.as_deref()?))))
+        .collect();
+    if let Some(keys) = &tags.geo_key_directory {
+        out.push((Tag::GeoKeyDirectoryTag, GeoTagValues::Shorts(keys)));
+    }
+    if let Some(text) = &tags.geo_ascii_params {
+        out.push((Tag::GeoAsciiParamsTag, GeoTagValues::Ascii(text)));
+    }
+    out
+}
+
 /// Writes the georeferencing tags present in `tags`, unchanged.
 pub(crate) fn write_georeference<W: Write + Seek, K: TiffKind>(
     d: &mut DirectoryEncoder<'_, W, K>,
@@ -43,22 +75,12 @@ pub(crate) fn write_georeference<W: Write + Seek, K: TiffKind>(
     tags: &GeoTiffTags,
 ) -> Result<(), IoError> {
     let error = |e| encoding_error(path, e);
-    let doubles = [
-        (Tag::ModelPixelScaleTag, &tags.model_pixel_scale),
-        (Tag::ModelTiepointTag, &tags.model_tiepoint),
-        (Tag::ModelTransformationTag, &tags.model_transformation),
-        (Tag::GeoDoubleParamsTag, &tags.geo_double_params),
-    ];
-    for (tag, values) in doubles {
-        if let Some(values) = values {
-            d.write_tag(tag, &values[..]).map_err(error)?;
+    for (tag, values) in georeference_tags(tags) {
+        match values {
+            GeoTagValues::Doubles(values) => d.write_tag(tag, values).map_err(error)?,
+            GeoTagValues::Shorts(values) => d.write_tag(tag, values).map_err(error)?,
+            GeoTagValues::Ascii(text) => write_ascii(d, path, tag, text)?,
         }
-    }
-    if let Some(keys) = &tags.geo_key_directory {
-        d.write_tag(Tag::GeoKeyDirectoryTag, &keys[..]).map_err(error)?;
-    }
-    if let Some(text) = &tags.geo_ascii_params {
-        write_ascii(d, path, Tag::GeoAsciiParamsTag, text)?;
     }
     Ok(())
 }

@@ -1,10 +1,11 @@
 //! The horizon engine of a height field without holes over a flat earth: every direction's
 //! stencil and band maxima made once, then the samples' horizons found [`LANES`] at a time.
 
+use super::far_field::{FarContext, FarField, FarLine, Patch};
 use super::lane_frame::{BandMaxima, LaneFrame, LANES};
-use super::lanes::{LaneDirection, LaneGroup};
+use super::lanes::{angle_of, LaneDirection, LaneGroup};
 use super::march::unit_steps;
-use super::stencil::Stencil;
+use super::stencil::{Stencil, StencilLine};
 use super::{Facing, HorizonParams};
 use rayon::prelude::*;
 use relief_core::HeightField;
@@ -17,6 +18,9 @@ pub(crate) struct LaneEngine {
     frames: [Option<LaneFrame>; 2],
     /// Per direction, its stencil and maxima (none where its angles are not wanted).
     directions: Vec<Option<LaneDirection>>,
+    /// Per direction, its line past the window through the whole raster, where the height
+    /// field is a window of a larger raster (none where its angles are not wanted).
+    far_lines: Vec<Option<FarLine>>,
     width: usize,
     height: usize,
     upside_down: bool,
@@ -27,12 +31,14 @@ pub(crate) struct LaneEngine {
 impl LaneEngine {
     /// The engine of `field` (which has no holes, at least 2 x 2 samples) seen `facing` up,
     /// for the directions of `params` marked in `wanted`, its observer height and radius (its
-    /// curvature is not this engine's).
+    /// curvature is not this engine's); with `far`, `field` is a window of the raster `far`
+    /// reads, and the lines go on past the window to the raster's edge (without a radius).
     pub(crate) fn new(
         field: &HeightField,
         params: &HorizonParams,
         facing: Facing,
         wanted: &[bool],
+        far: Option<&FarField>,
     ) -> LaneEngine {
         let (width, height) = (field.width(), field.height());
         let g = field.geometry();
@@ -65,25 +71,33 @@ impl LaneEngine {
                     return None;
                 }
                 let frame = frames[transposed as usize].as_ref().expect("built when needed");
-                let stencil = Stencil::new(
+                let line = StencilLine {
                     step_x,
                     rows_per_step,
                     metres_per_step,
-                    frame.stride,
-                    frame.width.saturating_sub(1).max(1),
-                    params.radius,
-                    g.z_scale,
-                    params.observer_height,
-                );
+                    stride: frame.stride,
+                    radius_steps: params.radius.map(|r| r / metres_per_step),
+                    z_scale: g.z_scale,
+                    observer_height: params.observer_height,
+                };
+                let stencil = Stencil::new(&line, frame.width.saturating_sub(1).max(1));
                 let windows =
                     windows[transposed as usize].as_deref().expect("built with the frame");
                 let maxima = BandMaxima::new(frame, windows, rows_per_step * step_x as f64);
-                Some(LaneDirection { transposed, stencil, maxima })
+                let far = far
+                    .filter(|_| params.radius.is_none())
+                    .map(|far| FarLine::new(&line, transposed, sign, far, width, height));
+                Some((LaneDirection { transposed, stencil, maxima }, far))
             })
-            .collect();
+            .collect::<Vec<_>>();
+        let (directions, far_lines) = directions
+            .into_iter()
+            .map(|d| d.map_or((None, None), |(direction, far)| (Some(direction), far)))
+            .unzip();
         LaneEngine {
             frames,
             directions,
+            far_lines,
             width,
             height,
             upside_down: facing == Facing::Down,
@@ -92,24 +106,36 @@ impl LaneEngine {
         }
     }
 
-    /// Per direction, the horizon angles in radians of the samples of `rows`, row by row (NaN
-    /// where `void` says so; none in a direction not wanted); with `at_least_level`,
-    /// `max(angle, 0)`.
+    /// Samples a row of the height field.
+    pub(crate) fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Per direction, the horizon angles in radians of the samples of columns `cols` of
+    /// `rows`, row by row (NaN where `void` says so; none in a direction not wanted); with
+    /// `at_least_level`, `max(angle, 0)`. With `far` (the far field the engine was made for),
+    /// the lines go on to the raster's edge.
     pub(crate) fn band(
         &self,
         rows: Range<usize>,
+        cols: Range<usize>,
         void: Option<&[bool]>,
         at_least_level: bool,
+        far: Option<&FarContext>,
     ) -> Vec<Vec<f32>> {
-        let (width, count) = (self.width, rows.len() * self.width);
-        debug_assert!(rows.end <= self.height);
+        let (width, count) = (self.width, rows.len() * cols.len());
+        let out_width = cols.len();
+        debug_assert!(rows.end <= self.height && cols.end <= width);
         let is_void = |col: usize, row: usize| void.is_some_and(|v| v[col + row * width]);
+        let mut patch = Patch::default();
         self.directions
             .iter()
-            .map(|direction| {
+            .zip(&self.far_lines)
+            .map(|(direction, far_line)| {
                 let Some(direction) = direction else {
                     return Vec::new();
                 };
+                let far = far.zip(far_line.as_ref());
                 let frame = self.frames[direction.transposed as usize].as_ref().unwrap();
                 let mut out = vec![f32::NAN; count];
                 let mut group = LaneGroup {
@@ -142,25 +168,37 @@ impl LaneEngine {
                     }
                     group.first_col = first;
                     if group.wanted.iter().any(|&w| w) {
-                        let (angles, steps) = group.angles();
-                        for (i, &angle) in angles.iter().enumerate().take(end - first) {
-                            out[at + i * step] = angle;
+                        let mut slopes = group.exact_slopes();
+                        if let Some((far, line)) = far {
+                            let base = frame.index(first, row);
+                            for (i, slope) in slopes.slopes.iter_mut().enumerate() {
+                                if group.wanted[i] {
+                                    let z0 = frame.z[base + i];
+                                    *slope =
+                                        far.raise(line, &mut patch, first + i, row, z0, *slope);
+                                }
+                            }
                         }
-                        group.hints = steps;
+                        for (i, &slope) in slopes.slopes.iter().enumerate().take(end - first) {
+                            out[at + i * step] = angle_of(slope);
+                        }
+                        group.hints = slopes.steps;
                     }
                 };
                 // Column by column: the lines of one row's group and the next row's lie side by
                 // side, read the same samples and have their horizons at about the same steps.
                 if direction.transposed {
                     for first in rows.clone().step_by(LANES) {
-                        for col in 0..width {
-                            run(col, first, rows.end, (first - rows.start) * width + col, width);
+                        for col in cols.clone() {
+                            let at = (first - rows.start) * out_width + col - cols.start;
+                            run(col, first, rows.end, at, out_width);
                         }
                     }
                 } else {
-                    for first in (0..width).step_by(LANES) {
+                    for first in cols.clone().step_by(LANES) {
                         for row in rows.clone() {
-                            run(row, first, width, (row - rows.start) * width + first, 1);
+                            let at = (row - rows.start) * out_width + first - cols.start;
+                            run(row, first, cols.end, at, 1);
                         }
                     }
                 }
@@ -191,11 +229,11 @@ mod tests {
         for radius in [None, Some(25.0)] {
             let params = HorizonParams { azimuths: 24, radius, ..HorizonParams::default() };
             for facing in [Facing::Up, Facing::Down] {
-                let engine = LaneEngine::new(&field, &params, facing, &[true; 24]);
+                let engine = LaneEngine::new(&field, &params, facing, &[true; 24], None);
                 for level in [false, true] {
-                    let fast = engine.band(0..h, None, level);
+                    let fast = engine.band(0..h, 0..w, None, level, None);
                     super::super::lanes::tests::PORTABLE_ONLY.set(true);
-                    let portable = engine.band(0..h, None, level);
+                    let portable = engine.band(0..h, 0..w, None, level, None);
                     super::super::lanes::tests::PORTABLE_ONLY.set(false);
                     let bits = |v: &Vec<Vec<f32>>| -> Vec<u32> {
                         v.iter().flatten().map(|a| a.to_bits()).collect()

@@ -99,7 +99,7 @@ fn by_split<V: LaneVector>(c: &[V; 4], upside_down: bool, main: V, other: V) -> 
 /// Whether the cell of corners `z00, z10, z01, z11` is split along (0,0)-(1,1), as
 /// [`by_split`] decides it.
 #[inline(always)]
-fn main_split(z00: f32, z10: f32, z01: f32, z11: f32, upside_down: bool) -> bool {
+pub(crate) fn main_split(z00: f32, z10: f32, z01: f32, z11: f32, upside_down: bool) -> bool {
     let (sum_main, sum_anti) = (z00 + z11, z10 + z01);
     if upside_down {
         sum_anti <= sum_main
@@ -370,11 +370,20 @@ impl LaneGroup<'_> {
         across.min(rows)
     }
 
-    /// The horizon angles (radians) of the lanes: `NaN` where not wanted, 0 where no surface
-    /// lies ahead.
-    pub(crate) fn angles(&self) -> (Lanes, [u32; LANES]) {
-        let LaneSlopes { slopes, steps } = dispatch(self);
-        (slopes.map(|s| if s < NO_SURFACE { 0.0 } else { atan(s as f32) }), steps)
+    /// The steepest slopes of the lanes' lines (`NaN` where not wanted), and the steps that
+    /// set them.
+    pub(crate) fn exact_slopes(&self) -> LaneSlopes {
+        dispatch(self)
+    }
+}
+
+/// The horizon angle (radians) of a line's steepest slope: 0 where no surface lies ahead.
+#[inline]
+pub(crate) fn angle_of(slope: f64) -> f32 {
+    if slope < NO_SURFACE {
+        0.0
+    } else {
+        atan(slope as f32)
     }
 }
 

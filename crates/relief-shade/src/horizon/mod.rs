@@ -3,6 +3,8 @@
 //! from which the sky-view factor, openness, sky illumination and insolation follow.
 
 mod cell_pyramid;
+mod coarse_bounds;
+mod far_field;
 mod lane_engine;
 mod lane_frame;
 mod lane_vector;
@@ -15,8 +17,12 @@ pub use params::{
     HorizonParams, DEFAULT_AZIMUTHS, DEFAULT_OBSERVER_HEIGHT, MAX_AZIMUTHS, REFRACTION_COEFFICIENT,
 };
 
+pub use coarse_bounds::{block_bounds, CoarseBounds, BOUND_CELL};
+pub use far_field::{FarField, FarSamples, FarTerrain};
+
 use crate::ShadeError;
 use cell_pyramid::CellPyramid;
+use far_field::{FarContext, FarError};
 use lane_engine::LaneEngine;
 use march::{DirectionMarch, MarchTerrain};
 use rayon::prelude::*;
@@ -75,6 +81,8 @@ pub enum Facing {
 /// translated); with holes or the earth's curvature, it marches each sample's line alone.
 pub struct HorizonEngine<'a> {
     method: Method<'a>,
+    /// Where the height field is a window of a larger raster: that raster.
+    far: Option<FarContext<'a>>,
     void: Option<&'a [bool]>,
     params: HorizonParams,
     /// Per direction, whether its angles are wanted.
@@ -110,6 +118,23 @@ impl<'a> HorizonEngine<'a> {
         facing: Facing,
         wanted: Option<&[bool]>,
     ) -> Result<Self, ShadeError> {
+        Self::in_window(field, void, params, facing, wanted, None)
+    }
+
+    /// [`HorizonEngine::for_directions`] where `field` may be a window of a larger raster,
+    /// placed in it by `far`: then each line goes on past the window to the raster's edge (as
+    /// over the whole raster, bit for bit), unless `params` has a radius (the window must then
+    /// reach the radius around every sample whose horizons are asked for). Errors: besides
+    /// those of [`HorizonEngine::new`], a window with holes or over a curved earth without a
+    /// radius (the far field is followed over a flat earth without holes only).
+    pub fn in_window(
+        field: &'a HeightField,
+        void: Option<&'a [bool]>,
+        params: &HorizonParams,
+        facing: Facing,
+        wanted: Option<&[bool]>,
+        far: Option<FarField<'a>>,
+    ) -> Result<Self, ShadeError> {
         params.validate()?;
         let n = params.azimuths as usize;
         if wanted.is_some_and(|w| w.len() != n) {
@@ -121,16 +146,22 @@ impl<'a> HorizonEngine<'a> {
         let wanted = wanted.map_or_else(|| vec![true; n], <[bool]>::to_vec);
         let (width, height) = (field.width(), field.height());
         crate::error::check_void_mask(void, width, height)?;
-        let method = if field.holes().is_none()
-            && params.refraction.is_none()
-            && width >= 2
-            && height >= 2
-        {
-            Method::Lanes(LaneEngine::new(field, params, facing, &wanted))
+        let lanes = field.holes().is_none() && params.refraction.is_none();
+        let far = far.filter(|_| params.radius.is_none());
+        if far.is_some() && !lanes {
+            return Err(ShadeError::Limits(
+                "the horizons of a window of a larger raster are followed past the window over \
+                 a flat earth without voids only: fill the voids, or give a radius"
+                    .to_string(),
+            ));
+        }
+        let method = if lanes && width >= 2 && height >= 2 {
+            Method::Lanes(LaneEngine::new(field, params, facing, &wanted, far.as_ref()))
         } else {
             Method::March(march_terrain(field, facing))
         };
-        Ok(HorizonEngine { method, void, params: *params, wanted })
+        let far = far.map(|field| FarContext { field, error: FarError::default() });
+        Ok(HorizonEngine { method, far, void, params: *params, wanted })
     }
 
     /// The parameters the engine was made with.
@@ -144,10 +175,32 @@ impl<'a> HorizonEngine<'a> {
     /// layers of the sky and the sun need). A direction not wanted (see
     /// [`HorizonEngine::for_directions`]) has no angles.
     pub fn band(&self, rows: Range<usize>, at_least_level: bool) -> Vec<Vec<f32>> {
+        let width = match &self.method {
+            Method::Lanes(lanes) => lanes.width(),
+            Method::March(terrain) => terrain.width,
+        };
+        self.region(rows, 0..width, at_least_level)
+    }
+
+    /// [`HorizonEngine::band`] for the samples of columns `cols` of `rows` only, row by row.
+    pub fn region(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        at_least_level: bool,
+    ) -> Vec<Vec<f32>> {
         match &self.method {
-            Method::Lanes(lanes) => lanes.band(rows, self.void, at_least_level),
-            Method::March(terrain) => self.march_band(terrain, rows, at_least_level),
+            Method::Lanes(lanes) => {
+                lanes.band(rows, cols, self.void, at_least_level, self.far.as_ref())
+            }
+            Method::March(terrain) => self.march_band(terrain, rows, cols, at_least_level),
         }
+    }
+
+    /// The first error met reading the far field, if any: the horizons found since are not
+    /// to be used.
+    pub fn far_error(&self) -> Option<ShadeError> {
+        self.far.as_ref().and_then(|far| far.error.take())
     }
 
     /// [`HorizonEngine::band`], each sample's line marched alone.
@@ -155,6 +208,7 @@ impl<'a> HorizonEngine<'a> {
         &self,
         terrain: &MarchTerrain,
         rows: Range<usize>,
+        cols: Range<usize>,
         at_least_level: bool,
     ) -> Vec<Vec<f32>> {
         let width = terrain.width;
@@ -177,10 +231,11 @@ impl<'a> HorizonEngine<'a> {
                 let (sin, cos) = azimuth.to_radians().sin_cos();
                 let (west, south) = (-terrain.dx * sin, -terrain.dy * cos);
                 let mut below = vec![f64::NAN; width];
-                let mut angles = Vec::with_capacity(rows.len() * width);
+                let mut angles = Vec::with_capacity(rows.len() * cols.len());
                 for row in rows.clone() {
                     let mut previous = f64::NAN;
-                    for (col, below) in below.iter_mut().enumerate() {
+                    for (col, below) in below.iter_mut().enumerate().take(cols.end).skip(cols.start)
+                    {
                         let index = col + row * width;
                         let void = self.void.is_some_and(|v| v[index]);
                         if void || terrain.holes.is_some_and(|h| h[index]) {

@@ -109,29 +109,37 @@ pub(crate) struct Stencil {
 /// How near to a grid line a crossing must come, in cells, to be on it.
 const ON_GRID: f64 = 1e-9;
 
-impl Stencil {
-    /// The stencil of the line that advances `step_x` columns and `rows_per_step` rows a step
-    /// (|rows_per_step| <= 1), `metres_per_step` horizontal metres, in a grid of `stride`
-    /// samples a row, for `steps` steps or to `radius` metres, whichever is shorter.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn new(
-        step_x: isize,
-        rows_per_step: f64,
-        metres_per_step: f64,
-        stride: usize,
-        steps: usize,
-        radius: Option<f64>,
-        z_scale: f64,
-        observer_height: f64,
-    ) -> Stencil {
-        debug_assert!(rows_per_step.abs() <= 1.0 && (step_x == 1 || step_x == -1));
-        let (m, sx) = (rows_per_step, step_x as f64);
-        let stride = stride as isize;
-        let coefficients = |kappa: f64| {
-            let t = kappa * metres_per_step;
-            let (scale64, lift64) = (z_scale / t, observer_height / t);
-            Coefficients { scale: scale64 as f32, lift: lift64 as f32, scale64, lift64 }
-        };
+/// A direction's line in the lanes' frame, from which any step's points follow: the same
+/// arithmetic whether the steps are kept in a [`Stencil`] or made one at a time (the far field
+/// of a window, `far_field.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct StencilLine {
+    /// +1 if the line advances towards growing x, -1 otherwise.
+    pub step_x: isize,
+    /// Rows the line advances per step (at most 1 in magnitude).
+    pub rows_per_step: f64,
+    /// Horizontal metres per step.
+    pub metres_per_step: f64,
+    /// Samples a row of the grid the offsets index.
+    pub stride: usize,
+    /// Where a radius cuts the line, in steps.
+    pub radius_steps: Option<f64>,
+    pub z_scale: f64,
+    pub observer_height: f64,
+}
+
+impl StencilLine {
+    /// The coefficients of a point at `kappa` steps.
+    fn coefficients(&self, kappa: f64) -> Coefficients {
+        let t = kappa * self.metres_per_step;
+        let (scale64, lift64) = (self.z_scale / t, self.observer_height / t);
+        Coefficients { scale: scale64 as f32, lift: lift64 as f32, scale64, lift64 }
+    }
+
+    /// The points of step `k` (from 1), and the line's end at the radius if it lies in it.
+    pub(crate) fn step(&self, k: usize) -> (Step, Option<RadiusEnd>) {
+        let (m, sx, step_x) = (self.rows_per_step, self.step_x as f64, self.step_x);
+        let stride = self.stride as isize;
         let at = |col: isize, row: isize| col + row * stride;
         let snap = |v: f64| -> f64 {
             let r = v.round();
@@ -141,9 +149,106 @@ impl Stencil {
                 v
             }
         };
-        // Steps that reach the radius: the last holds the line's end at it.
-        let radius_steps = radius.map(|r| r / metres_per_step);
-        let last = radius_steps.map_or(steps, |s| (s.ceil() as usize).clamp(1, steps.max(1)));
+        let (k0, k1) = ((k - 1) as f64, k as f64);
+        let end = self.radius_steps.map_or(k1, |s| s.min(k1));
+        let mut step = Step {
+            edges: [EdgePoint::NONE; 2],
+            diagonals: [DiagonalPoint::NONE; 2],
+            footprint: 0,
+            distance: 0.0,
+        };
+        let mut end_point = None;
+        // A row crossing strictly inside (there is at most one, |m| <= 1).
+        let mut breaks = [k0, 0.0, 0.0];
+        let mut pieces = 1;
+        if m != 0.0 {
+            let (y0, y1) = (m * k0, m * end);
+            let (lo, hi) = (snap(y0.min(y1)), snap(y0.max(y1)));
+            let j = lo.floor() + 1.0;
+            if j < hi {
+                let kappa = j / m;
+                if kappa > k0 && kappa < end {
+                    let x = sx * kappa;
+                    let col = x.floor() as isize;
+                    step.edges[1] = EdgePoint {
+                        a: at(col, j as isize),
+                        b: at(col + 1, j as isize),
+                        w: (x - x.floor()) as f32,
+                        w64: x - x.floor(),
+                        coefficients: self.coefficients(kappa),
+                    };
+                    breaks[pieces] = kappa;
+                    pieces += 1;
+                }
+            }
+        }
+        breaks[pieces] = end;
+        // Each piece between breakpoints lies in one cell: its split diagonal's crossing.
+        for (piece, pair) in breaks[..=pieces].windows(2).enumerate() {
+            let (a, b) = (pair[0], pair[1]);
+            if b - a < ON_GRID {
+                continue;
+            }
+            let mid = 0.5 * (a + b);
+            let (xm, ym) = (sx * mid, m * mid);
+            // Along a grid line the piece lies on an edge: no diagonal to cross, and the
+            // cell above it stands for both (their surfaces agree on the edge).
+            let on_grid_line = (ym - ym.round()).abs() < ON_GRID;
+            let (cx, cy) = (xm.floor(), if on_grid_line { ym.round() } else { ym.floor() });
+            let corner = at(cx as isize, cy as isize);
+            let inside =
+                |kappa: &f64| !on_grid_line && *kappa > a + ON_GRID && *kappa < b - ON_GRID;
+            let candidate = |kappa: Option<f64>| {
+                kappa.filter(inside).map_or((0.0, Coefficients::NONE), |kappa| {
+                    (sx * kappa - cx, self.coefficients(kappa))
+                })
+            };
+            let (main, main_coefficients) = candidate((sx != m).then(|| (cx - cy) / (sx - m)));
+            let (anti, anti_coefficients) =
+                candidate((sx != -m).then(|| (1.0 + cx + cy) / (sx + m)));
+            step.diagonals[piece] =
+                DiagonalPoint { corner, main, main_coefficients, anti, anti_coefficients };
+            if b == end && end < k1 {
+                end_point = Some(RadiusEnd {
+                    step: k,
+                    corner,
+                    s: (sx * end - cx).clamp(0.0, 1.0),
+                    q: (m * end - cy).clamp(0.0, 1.0),
+                    coefficients: self.coefficients(end),
+                });
+            }
+        }
+        if end == k1 {
+            // The vertical edge of column k.
+            let y = snap(m * k1);
+            let (row, col) = (y.floor() as isize, step_x * k as isize);
+            step.edges[0] = EdgePoint {
+                a: at(col, row),
+                b: at(col, row + 1),
+                w: (y - y.floor()) as f32,
+                w64: y - y.floor(),
+                coefficients: self.coefficients(k1),
+            };
+        }
+        let low_row = snap(m * k0).min(snap(m * k1)).floor() as isize;
+        let first_col = if step_x > 0 { k as isize - 1 } else { -(k as isize) };
+        step.footprint = at(first_col, low_row);
+        step.distance = (k1 * self.metres_per_step) as f32;
+        (step, end_point)
+    }
+
+    /// The steps that reach the radius (the last holds the line's end at it), at most
+    /// `steps`.
+    fn last_step(&self, steps: usize) -> usize {
+        self.radius_steps.map_or(steps, |s| (s.ceil() as usize).clamp(1, steps.max(1)))
+    }
+}
+
+impl Stencil {
+    /// The stencil of `line` for `steps` steps or to its radius, whichever is shorter.
+    pub(crate) fn new(line: &StencilLine, steps: usize) -> Stencil {
+        debug_assert!(line.rows_per_step.abs() <= 1.0 && (line.step_x == 1 || line.step_x == -1));
+        let last = line.last_step(steps);
         let empty = Step {
             edges: [EdgePoint::NONE; 2],
             diagonals: [DiagonalPoint::NONE; 2],
@@ -154,86 +259,16 @@ impl Stencil {
         all.push(empty);
         let mut end_point = None;
         for k in 1..=last {
-            let (k0, k1) = ((k - 1) as f64, k as f64);
-            let end = radius_steps.map_or(k1, |s| s.min(k1));
-            let mut step = empty;
-            // A row crossing strictly inside (there is at most one, |m| <= 1).
-            let mut breaks = vec![k0];
-            if m != 0.0 {
-                let (y0, y1) = (m * k0, m * end);
-                let (lo, hi) = (snap(y0.min(y1)), snap(y0.max(y1)));
-                let j = lo.floor() + 1.0;
-                if j < hi {
-                    let kappa = j / m;
-                    if kappa > k0 && kappa < end {
-                        let x = sx * kappa;
-                        let col = x.floor() as isize;
-                        step.edges[1] = EdgePoint {
-                            a: at(col, j as isize),
-                            b: at(col + 1, j as isize),
-                            w: (x - x.floor()) as f32,
-                            w64: x - x.floor(),
-                            coefficients: coefficients(kappa),
-                        };
-                        breaks.push(kappa);
-                    }
-                }
-            }
-            breaks.push(end);
-            // Each piece between breakpoints lies in one cell: its split diagonal's crossing.
-            for (piece, pair) in breaks.windows(2).enumerate() {
-                let (a, b) = (pair[0], pair[1]);
-                if b - a < ON_GRID {
-                    continue;
-                }
-                let mid = 0.5 * (a + b);
-                let (xm, ym) = (sx * mid, m * mid);
-                // Along a grid line the piece lies on an edge: no diagonal to cross, and the
-                // cell above it stands for both (their surfaces agree on the edge).
-                let on_grid_line = (ym - ym.round()).abs() < ON_GRID;
-                let (cx, cy) = (xm.floor(), if on_grid_line { ym.round() } else { ym.floor() });
-                let corner = at(cx as isize, cy as isize);
-                let inside =
-                    |kappa: &f64| !on_grid_line && *kappa > a + ON_GRID && *kappa < b - ON_GRID;
-                let candidate = |kappa: Option<f64>| {
-                    kappa.filter(inside).map_or((0.0, Coefficients::NONE), |kappa| {
-                        (sx * kappa - cx, coefficients(kappa))
-                    })
-                };
-                let (main, main_coefficients) = candidate((sx != m).then(|| (cx - cy) / (sx - m)));
-                let (anti, anti_coefficients) =
-                    candidate((sx != -m).then(|| (1.0 + cx + cy) / (sx + m)));
-                step.diagonals[piece] =
-                    DiagonalPoint { corner, main, main_coefficients, anti, anti_coefficients };
-                if b == end && end < k1 {
-                    end_point = Some(RadiusEnd {
-                        step: k,
-                        corner,
-                        s: (sx * end - cx).clamp(0.0, 1.0),
-                        q: (m * end - cy).clamp(0.0, 1.0),
-                        coefficients: coefficients(end),
-                    });
-                }
-            }
-            if end == k1 {
-                // The vertical edge of column k.
-                let y = snap(m * k1);
-                let (row, col) = (y.floor() as isize, step_x * k as isize);
-                step.edges[0] = EdgePoint {
-                    a: at(col, row),
-                    b: at(col, row + 1),
-                    w: (y - y.floor()) as f32,
-                    w64: y - y.floor(),
-                    coefficients: coefficients(k1),
-                };
-            }
-            let low_row = snap(m * k0).min(snap(m * k1)).floor() as isize;
-            let first_col = if step_x > 0 { k as isize - 1 } else { -(k as isize) };
-            step.footprint = at(first_col, low_row);
-            step.distance = (k1 * metres_per_step) as f32;
+            let (step, end) = line.step(k);
+            end_point = end_point.or(end);
             all.push(step);
         }
-        Stencil { step_x, rows_per_step: m, steps: all, end: end_point }
+        Stencil {
+            step_x: line.step_x,
+            rows_per_step: line.rows_per_step,
+            steps: all,
+            end: end_point,
+        }
     }
 
     /// The number of steps the stencil holds.

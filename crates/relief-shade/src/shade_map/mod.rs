@@ -23,7 +23,7 @@ pub use params::{
     InsolationSun, ShadeMapParams, SunPosition, MAX_RAYS_PER_SAMPLE, MAX_SUN_RADIUS_DEG, SKY_SHARE,
     SUN_SHARE_OF_SKY_ILLUMINATION,
 };
-pub use surface_ray::{surface_origin, surface_ray, SURFACE_LIFT};
+pub use surface_ray::{surface_origin, surface_origin_within, surface_ray, SURFACE_LIFT};
 
 use crate::horizon::{Facing, HorizonEngine};
 use crate::solar::{direct_sun, SunOverGrid};
@@ -115,10 +115,60 @@ pub fn shade_map(
     params: &ShadeMapParams,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<ShadeMap, ShadeError> {
+    let whole = ShadeRegion {
+        cols: 0..field.width(),
+        rows: 0..field.height(),
+        far: None,
+        raster_span: None,
+    };
+    shade_map_region(field, tracer, void, params, &whole, progress)
+}
+
+/// The samples of a height field that a shade map covers, and, where the height field is a
+/// window of a larger raster, that raster.
+#[derive(Clone)]
+pub struct ShadeRegion<'a> {
+    /// The columns of the height field shaded.
+    pub cols: Range<usize>,
+    /// The rows of the height field shaded.
+    pub rows: Range<usize>,
+    /// Where the height field is a window of a larger raster, that raster and the window's
+    /// place in it: the horizons go on past the window to the raster's edge (see
+    /// [`HorizonEngine::in_window`]). The window must hold every other sample a layer reads
+    /// (the sun rays' reach, a radius, the hillshade's neighbours): then the map equals the
+    /// whole raster's over the region, bit for bit.
+    pub far: Option<crate::horizon::FarField<'a>>,
+    /// The lowest and highest sample of the raster the height field is a window of (its own
+    /// with `None`): the sun rays start as far above the surface as over the whole raster.
+    pub raster_span: Option<[f32; 2]>,
+}
+
+/// [`shade_map`] over the samples of `region` only: a map of `region.cols.len()` x
+/// `region.rows.len()` samples; `progress` is called with its rows done. Errors: those of
+/// [`shade_map`], a region outside the field, and a far field that could not be read.
+pub fn shade_map_region(
+    field: &HeightField,
+    tracer: &dyn Tracer,
+    void: Option<&[bool]>,
+    params: &ShadeMapParams,
+    region: &ShadeRegion,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ShadeMap, ShadeError> {
     params.validate()?;
-    let (width, height) = (field.width(), field.height());
+    crate::error::check_void_mask(void, field.width(), field.height())?;
+    let ShadeRegion { cols, rows, far, raster_span } = region.clone();
+    if cols.end > field.width() || rows.end > field.height() || cols.is_empty() || rows.is_empty() {
+        return Err(ShadeError::parameter(
+            "region",
+            format!(
+                "columns {cols:?} and rows {rows:?} are not a region of {} x {} samples",
+                field.width(),
+                field.height()
+            ),
+        ));
+    }
+    let (width, height) = (cols.len(), rows.len());
     let samples = width * height;
-    crate::error::check_void_mask(void, width, height)?;
     let names = params.band_names();
     let mut bands = Vec::with_capacity(names.len());
     for (layer, name) in names {
@@ -154,19 +204,24 @@ pub fn shade_map(
         up: params
             .needs_horizons(Facing::Up)
             .then(|| {
-                HorizonEngine::for_directions(
+                HorizonEngine::in_window(
                     field,
                     void,
                     &params.horizon,
                     Facing::Up,
                     wanted.as_deref(),
+                    far,
                 )
             })
             .transpose()?,
         down: params
             .needs_horizons(Facing::Down)
-            .then(|| HorizonEngine::new(field, void, &params.horizon, Facing::Down))
+            .then(|| {
+                HorizonEngine::in_window(field, void, &params.horizon, Facing::Down, None, far)
+            })
             .transpose()?,
+        cols: cols.clone(),
+        raster_span: raster_span.unwrap_or([field.min_sample(), field.max_sample()]),
         azimuths_deg: (0..n).map(|k| params.horizon.azimuth_deg(k)).collect(),
         insolation_suns,
     };
@@ -174,12 +229,19 @@ pub fn shade_map(
     let results: Vec<BandValues> = (0..height.div_ceil(BAND_ROWS))
         .into_par_iter()
         .map(|band| {
-            let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(height);
-            let result = context.shade_rows(rows.clone());
-            progress(done_rows.fetch_add(rows.len() as u64, Ordering::Relaxed) + rows.len() as u64);
+            let band_rows =
+                rows.start + band * BAND_ROWS..rows.start + ((band + 1) * BAND_ROWS).min(height);
+            let result = context.shade_rows(band_rows.clone());
+            let done = band_rows.len() as u64;
+            progress(done_rows.fetch_add(done, Ordering::Relaxed) + done);
             result
         })
         .collect();
+    if let Some(error) =
+        [&context.up, &context.down].into_iter().flatten().find_map(|e| e.far_error())
+    {
+        return Err(error);
+    }
     let mut cast = 0;
     for result in results {
         cast += result.rays;
@@ -233,27 +295,31 @@ struct Context<'a> {
     azimuths_deg: Vec<f64>,
     /// The insolation suns that light anything, placed between the horizons' directions.
     insolation_suns: Vec<SunOverGrid>,
+    /// The columns shaded.
+    cols: Range<usize>,
+    /// The lowest and highest sample of the whole raster.
+    raster_span: [f32; 2],
 }
 
 impl Context<'_> {
     /// Shades the samples of `rows`.
     fn shade_rows(&self, rows: Range<usize>) -> BandValues {
-        let (field, params) = (self.field, self.params);
+        let (field, params, cols) = (self.field, self.params, self.cols.clone());
         let width = field.width();
-        let count = rows.len() * width;
+        let count = rows.len() * cols.len();
         let (seen_per_sun, rays) = self.suns_seen(rows.clone());
         // Only the horizon and the positive openness need the horizons below the horizontal.
         let level_only = !params
             .layers
             .iter()
             .any(|l| matches!(l, ShadeLayer::Horizon | ShadeLayer::OpennessPos));
-        let up = self.up.as_ref().map(|e| e.band(rows.clone(), level_only));
-        let down = self.down.as_ref().map(|e| e.band(rows.clone(), false));
+        let up = self.up.as_ref().map(|e| e.region(rows.clone(), cols.clone(), level_only));
+        let down = self.down.as_ref().map(|e| e.region(rows.clone(), cols.clone(), false));
         let n_bands: usize = params.layers.iter().map(|&l| params.bands_of(l)).sum();
         let mut bands = vec![vec![f32::NAN; count]; n_bands];
         let suns = self.rays.sun_centres.len().max(1) as f64;
         for (k, (col, row)) in
-            rows.clone().flat_map(|r| (0..width).map(move |c| (c, r))).enumerate()
+            rows.clone().flat_map(|r| cols.clone().map(move |c| (c, r))).enumerate()
         {
             if field.is_hole(col, row) || self.void.is_some_and(|v| v[col + row * width]) {
                 continue;
@@ -328,21 +394,22 @@ impl Context<'_> {
     /// Per sun, the fraction of its rays that escape from each sample of `rows` (band
     /// order; 0 on voids), tile by tile; and the rays cast.
     fn suns_seen(&self, rows: Range<usize>) -> (Vec<Vec<f32>>, u64) {
-        let width = self.field.width();
+        let all = self.cols.clone();
+        let width = all.len();
         let mut seen = vec![vec![0.0f32; rows.len() * width]; self.rays.suns.len()];
         if self.rays.suns.is_empty() {
             return (seen, 0);
         }
         let mut cast = 0;
         let mut tile = TileRays::default();
-        for first_col in (0..width).step_by(TILE_COLS) {
-            let cols = first_col..(first_col + TILE_COLS).min(width);
-            tile.gather(self.field, self.void, rows.clone(), cols);
+        for first_col in all.clone().step_by(TILE_COLS) {
+            let cols = first_col..(first_col + TILE_COLS).min(all.end);
+            tile.gather(self.field, self.void, rows.clone(), cols, self.raster_span);
             for (sun, dirs) in self.rays.suns.iter().enumerate() {
                 let fractions = tile.fraction_seen(self.tracer, dirs);
                 cast += (tile.samples.len() * dirs.len()) as u64;
                 for (&(col, row), fraction) in tile.samples.iter().zip(fractions) {
-                    seen[sun][col + (row - rows.start) * width] = fraction;
+                    seen[sun][col - all.start + (row - rows.start) * width] = fraction;
                 }
             }
         }
@@ -376,6 +443,7 @@ impl TileRays {
         void: Option<&[bool]>,
         rows: std::ops::Range<usize>,
         cols: std::ops::Range<usize>,
+        span: [f32; 2],
     ) {
         self.samples.clear();
         self.origins.clear();
@@ -386,7 +454,7 @@ impl TileRays {
                     continue;
                 }
                 self.samples.push((col, row));
-                self.origins.push(surface_origin(field, col, row));
+                self.origins.push(surface_origin_within(field, col, row, span));
             }
         }
     }

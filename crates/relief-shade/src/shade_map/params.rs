@@ -3,7 +3,7 @@
 use super::{Anisotropy, ShadeLayer, SkyModel};
 use crate::horizon::{Facing, HorizonParams};
 use crate::{sun_direction, ShadeError};
-use relief_core::{DVec3, Surface};
+use relief_core::{DVec3, GridGeometry, Surface};
 
 /// A sun's place in the sky.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -230,6 +230,34 @@ impl ShadeMapParams {
     /// Whether any layer asked for needs rays towards the suns.
     pub fn needs_sun_rays(&self) -> bool {
         self.layers.iter().any(|l| l.needs_sun_rays())
+    }
+
+    /// How many samples around a block a window must hold for the map of the block to be the
+    /// whole raster's: the sun rays' reach over a raster whose samples span `span` (its lowest
+    /// and highest), placed by `geometry`; the radius of the horizons if one is given (without
+    /// one they go on past the window, see [`super::ShadeRegion::far`]); and the hillshade's
+    /// neighbours. `None` when the reach is not finite.
+    pub fn halo_samples(&self, span: [f32; 2], geometry: &GridGeometry) -> Option<usize> {
+        let spacing = geometry.dx.min(geometry.dy);
+        let mut metres: f64 = 0.0;
+        if self.needs_sun_rays() {
+            let relief = f64::from(span[1] - span[0]).max(0.0) * geometry.z_scale;
+            let lowest = self.suns.iter().map(|s| s.elevation_deg).fold(90.0, f64::min);
+            let lowest = (lowest - self.sun_radius_deg).to_radians();
+            if lowest <= 0.0 {
+                return None;
+            }
+            // Past this horizontal distance a ray from the surface is above every sample.
+            metres = metres.max(relief / lowest.tan() * (1.0 + 1e-6));
+        }
+        if let Some(radius) = self.horizon.radius {
+            if [Facing::Up, Facing::Down].into_iter().any(|f| self.needs_horizons(f)) {
+                metres = metres.max(radius);
+            }
+        }
+        let samples = (metres / spacing).ceil();
+        // The cells around the farthest point, and the hillshade's 3 x 3.
+        (samples.is_finite() && samples < 1e12).then(|| samples as usize + 3)
     }
 
     /// Rays per sample the map casts.

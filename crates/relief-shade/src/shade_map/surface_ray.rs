@@ -32,10 +32,16 @@ pub fn surface_ray(field: &HeightField, col: usize, row: usize, dir: DVec3) -> R
 
 /// The origin of every ray from sample (`col`, `row`): its point lifted by [`SURFACE_LIFT`].
 pub fn surface_origin(field: &HeightField, col: usize, row: usize) -> DVec3 {
+    surface_origin_within(field, col, row, [field.min_sample(), field.max_sample()])
+}
+
+/// [`surface_origin`] for a `field` that is a window of a raster whose lowest and highest
+/// samples are `span`: the lift is the raster's, so that a window's rays are the raster's.
+pub fn surface_origin_within(field: &HeightField, col: usize, row: usize, span: [f32; 2]) -> DVec3 {
     let g = field.geometry();
     let grid = DVec3::new(col as f64 + 0.5, row as f64 + 0.5, field.sample(col, row) as f64);
     let point = g.point_to_world(grid);
-    let relief = (field.max_sample() - field.min_sample()) as f64 * g.z_scale;
+    let relief = (span[1] - span[0]) as f64 * g.z_scale;
     let lift = SURFACE_LIFT * g.dx.min(g.dy)
         + RELIEF_LIFT * relief
         + COORDINATE_LIFT * point.abs().max_element();
