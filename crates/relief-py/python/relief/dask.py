@@ -84,7 +84,8 @@ def shade(source: Union[str, os.PathLike, da.Array, np.ndarray, xarray.DataArray
     --tile``; a multiple of it reads each tile for one chunk only); default the multiple of
     the tile nearest 2048 (2048 for a raster file). ``options``: the keywords of
     ``relief.shade`` (``layers``, ``suns``, ``azimuths``, ``radius``, ``date``, ...) but
-    ``spacing``, ``origin`` and ``z_scale``, which the source's georeference gives.
+    ``spacing``, ``origin`` and ``z_scale``, which the source's georeference gives, and with
+    ``max_memory``, the most bytes a raster file may take in a worker.
 
     **An array** (``source`` a ``dask.array.Array``, a NumPy array or a 2-D
     ``xarray.DataArray``, north-up, heights as ``relief.shade`` takes them) with ``radius``
@@ -169,7 +170,8 @@ def _shade_source(source, chunks, options):
             "spacing, origin and z_scale are for arrays"
         )
     bands = _layer_bands(options)
-    info = relief.source_info(source)
+    memory = {"max_memory": options["max_memory"]} if "max_memory" in options else {}
+    info = relief.source_info(source, **memory)
     width, height, tile = info["width"], info["height"], info.get("tile")
     rows, cols = _source_chunks(chunks, tile)
     row_chunks, col_chunks = _split(height, rows), _split(width, cols)
@@ -353,8 +355,9 @@ def _spacing(spacing):
 
 def _check_options(options):
     """Raises relief.shade's error for ``options`` it refuses (with the command line's
-    message), on a tiny array, before any task."""
-    relief.shade(np.zeros((3, 3), np.float32), **options)
+    message), on a tiny array, before any task (``max_memory``, a source's, left out)."""
+    relief.shade(np.zeros((3, 3), np.float32),
+                 **{key: value for key, value in options.items() if key != "max_memory"})
 
 
 # Shared by both forms.
