@@ -24,6 +24,7 @@ mod read;
 mod render;
 mod scene;
 mod shade;
+mod shade_window;
 mod simulate;
 mod simulation;
 mod solar;
@@ -45,6 +46,8 @@ fn _relief(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(intersect::intersect, m)?)?;
     m.add_function(wrap_pyfunction!(read::read, m)?)?;
     m.add_function(wrap_pyfunction!(shade::shade, m)?)?;
+    m.add_function(wrap_pyfunction!(shade_window::shade_window, m)?)?;
+    m.add_function(wrap_pyfunction!(shade_window::source_info, m)?)?;
     m.add_function(wrap_pyfunction!(viewshed::viewshed, m)?)?;
     m.add_function(wrap_pyfunction!(write_png::write_png, m)?)?;
     m.add_function(wrap_pyfunction!(solar::sun_position, m)?)?;

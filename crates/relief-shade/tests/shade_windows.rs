@@ -58,7 +58,7 @@ fn by_windows(
 ) -> ShadeMap {
     let span = relief_shade::horizon::block_bounds(samples.iter());
     let halo = params.halo_samples(span, &geometry).expect("a finite reach");
-    let far = FarSamples::new(samples, width, height);
+    let far = FarSamples::new(Arc::new(samples.to_vec()), width, height);
     let mut bands: Vec<Vec<f32>> = Vec::new();
     let mut names = Vec::new();
     let mut layers = Vec::new();

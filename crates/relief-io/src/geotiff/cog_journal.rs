@@ -86,7 +86,7 @@ impl JournalBlock {
             (pair.len() == 2).then_some(bound(0)?..bound(1)?)
         };
         let numbers = value.get("tiles")?.as_array()?;
-        if numbers.len() % 2 != 0 {
+        if !numbers.len().is_multiple_of(2) {
             return None;
         }
         let mut tiles = Vec::with_capacity(numbers.len() / 2);
@@ -218,7 +218,7 @@ mod tests {
         JournalBlock {
             cols: 0..128,
             rows: 72..200,
-            voids: k % 2 == 0,
+            voids: k.is_multiple_of(2),
             tiles: vec![(k, 7), (k + 7, 9)],
         }
     }

@@ -2,20 +2,27 @@
 //! lays them out: the TIFF (or BigTIFF) header, GDAL's ghost area of structural metadata, the
 //! full-resolution directory and then the overviews' (largest first), each followed by its
 //! tags' values, then every tile offset and byte count array; after them the tiles, from the
-//! smallest overview to the full resolution, each level band by band, row by row.
+//! smallest overview to the full resolution, each level band by band, row by row, each tile
+//! between GDAL's leader (its size) and trailer (its last 4 bytes again).
 
 use crate::geotiff::cog_tiles::LevelTiles;
 use crate::geotiff::gdal_metadata::{band_descriptions_xml, GDAL_METADATA_TAG};
 use crate::geotiff::tiff_directory::{encode, Entry, TagValue, TiffFlavour};
 use crate::geotiff::write_tags::{georeference_tags, GeoTagValues};
 use crate::Georeference;
+use std::io::Write;
 use tiff::tags::Tag;
 
-/// GDAL's ghost area after the header: what an optimised reader may rely on. No leader or
-/// trailer around the tiles (GDAL writes a 4-byte size before and the last 4 bytes again
-/// after each; relief does not, so its tile data is exactly TileByteCounts long).
-const GHOST_ITEMS: &str = "LAYOUT=IFDS_BEFORE_DATA\nBLOCK_ORDER=ROW_MAJOR\nBLOCK_LEADER=NONE\n\
-                           BLOCK_TRAILER=NONE\nKNOWN_INCOMPATIBLE_EDITION=NO\n ";
+/// GDAL's ghost area after the header: what an optimised reader may rely on, as GDAL's COG
+/// driver writes it (the final space included). With the block leader and trailer GDAL's
+/// reader takes the file for a COG (IMAGE_STRUCTURE LAYOUT=COG) and reads a run of tiles in
+/// one request, checking each tile's leader and trailer against its TileByteCounts.
+const GHOST_ITEMS: &str = "LAYOUT=IFDS_BEFORE_DATA\nBLOCK_ORDER=ROW_MAJOR\n\
+                           BLOCK_LEADER=SIZE_AS_UINT4\nBLOCK_TRAILER=LAST_4_BYTES_REPEATED\n\
+                           KNOWN_INCOMPATIBLE_EDITION=NO\n ";
+
+/// Bytes around each tile's data: its leader (4) and trailer (4).
+const LEADER_AND_TRAILER: u64 = 8;
 
 /// The ghost area: `GDAL_STRUCTURAL_METADATA_SIZE=<6 digits> bytes\n` (43 bytes), the digits
 /// counting the items after that line.
@@ -55,7 +62,8 @@ pub(crate) fn lay_out(
     metadata: &CogMetadata<'_>,
     force_big: bool,
 ) -> Result<CogLayout, String> {
-    let data_len: u64 = levels.iter().flat_map(|l| l.counts()).map(|&c| u64::from(c)).sum::<u64>();
+    let data_len: u64 =
+        levels.iter().flat_map(|l| l.counts()).map(|&c| u64::from(c) + LEADER_AND_TRAILER).sum();
     let classic = TiffFlavour { big: false };
     let big = force_big || {
         // Offsets are unknown yet, but the directories' size does not depend on them.
@@ -88,7 +96,7 @@ fn directories(
     let mut at = data_start;
     for (k, level) in levels.iter().enumerate().rev() {
         starts[k] = at;
-        at += level.counts().iter().map(|&c| u64::from(c)).sum::<u64>();
+        at += level.counts().iter().map(|&c| u64::from(c) + LEADER_AND_TRAILER).sum::<u64>();
     }
     levels
         .iter()
@@ -99,7 +107,7 @@ fn directories(
 }
 
 /// The directory of one level whose tiles lie one after the other from `start`, in index
-/// order; an overview (NewSubfileType 1) when `overview`, else the full resolution with the
+/// order, each between its leader and trailer; an overview (NewSubfileType 1) when `overview`, else the full resolution with the
 /// band descriptions and georeference.
 fn directory(
     level: &LevelTiles,
@@ -117,8 +125,9 @@ fn directory(
     let mut offsets = Vec::with_capacity(counts.len());
     let mut at = start;
     for &count in counts {
-        offsets.push(at);
-        at += u64::from(count);
+        // The data starts after the 4-byte leader.
+        offsets.push(at + 4);
+        at += u64::from(count) + LEADER_AND_TRAILER;
     }
     let (offsets, counts) = if flavour.big {
         (TagValue::Long8(offsets), TagValue::Long8(counts.iter().map(|&c| u64::from(c)).collect()))
@@ -183,6 +192,19 @@ pub(crate) fn data_order<'a>(
     levels.iter().enumerate().rev().flat_map(|(k, level)| (0..level.len()).map(move |i| (k, i)))
 }
 
+/// Writes a tile's `stored` bytes (at least 4) as the file holds them: the leader (their
+/// count, a little-endian u32), the bytes, the trailer (their last 4 bytes again).
+pub(crate) fn write_tile(out: &mut impl Write, stored: &[u8]) -> std::io::Result<()> {
+    let count = u32::try_from(stored.len()).map_err(std::io::Error::other)?;
+    let last = stored
+        .len()
+        .checked_sub(4)
+        .ok_or_else(|| std::io::Error::other(format!("a stored tile of {} bytes", stored.len())))?;
+    out.write_all(&count.to_le_bytes())?;
+    out.write_all(stored)?;
+    out.write_all(&stored[last..])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -203,6 +225,8 @@ mod tests {
         assert_eq!(ghost.find('\n'), Some(42));
         let size: usize = ghost[30..36].parse().unwrap();
         assert_eq!(ghost.len(), 43 + size);
+        // The size GDAL's COG driver writes for an image without a mask.
+        assert_eq!(size, 140);
         let full = level(300, 200, 2, 10);
         let names = ["a".to_string(), "b".to_string()];
         let metadata =
@@ -212,7 +236,8 @@ mod tests {
         let expected = (8 + 43 + size as u32).next_multiple_of(2);
         assert_eq!(u32::from_le_bytes(layout.header[4..8].try_into().unwrap()), expected);
         assert_eq!(&layout.header[8..8 + ghost.len()], ghost.as_bytes());
-        assert_eq!(layout.file_len, layout.header.len() as u64 + 12 * 10);
+        // 12 tiles of 10 bytes, each with its leader and trailer.
+        assert_eq!(layout.file_len, layout.header.len() as u64 + 12 * 18);
         assert_eq!(&layout.header[..4], b"II*\0");
     }
 
@@ -226,7 +251,7 @@ mod tests {
         let layout = lay_out(&[&full], &metadata, false).unwrap();
         assert_eq!(&layout.header[..4], b"II*\0");
         assert!(layout.file_len <= u64::from(u32::MAX), "{}", layout.file_len);
-        let full = level(300, 200, 1, u32::MAX / 6 + 1);
+        let full = level(300, 200, 1, u32::MAX / 6 - 8 + 1);
         let layout = lay_out(&[&full], &metadata, false).unwrap();
         assert_eq!(&layout.header[..4], b"II+\0");
         assert!(needs_big_tiff(layout.file_len));
@@ -234,6 +259,14 @@ mod tests {
         let small = level(300, 200, 1, 10);
         assert_eq!(&lay_out(&[&small], &metadata, true).unwrap().header[..4], b"II+\0");
         assert!(!needs_big_tiff(u64::from(u32::MAX)));
+    }
+
+    #[test]
+    fn a_tile_is_written_between_its_size_and_its_last_4_bytes() {
+        let mut out = Vec::new();
+        write_tile(&mut out, b"abcdef").unwrap();
+        assert_eq!(out, b"\x06\0\0\0abcdefcdef");
+        assert!(write_tile(&mut out, b"abc").is_err());
     }
 
     #[test]

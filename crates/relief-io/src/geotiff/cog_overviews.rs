@@ -32,11 +32,10 @@ fn batch() -> usize {
     rayon::current_num_threads().max(1)
 }
 
-/// Bytes one thread holds building a tile of a `tile`-sided level: the 2 x 2 source tiles
+/// Bytes one thread holds building a tile of `raw` bytes of samples: the 2 x 2 source tiles
 /// stored and decoded, the decoding buffer, the output tile, its predicted bytes and its
 /// stored bytes (each at most a tile's bytes and Deflate's overhead).
-pub(crate) fn overview_bytes_per_thread(tile: usize) -> u64 {
-    let raw = (tile * tile * 4) as u64;
+pub(crate) fn overview_bytes_per_thread(raw: u64) -> u64 {
     let stored = stored_bound(raw);
     4 * stored + 4 * raw + raw + raw + raw + stored
 }
@@ -112,43 +111,39 @@ fn mean_tile(
     void: f32,
 ) -> Result<Vec<f32>, String> {
     let t = grid.tile;
-    let mut scratch = Vec::new();
-    let mut decoded: [Option<Vec<f32>>; 4] = Default::default();
-    for (slot, stored) in decoded.iter_mut().zip(sources) {
-        if let Some(stored) = stored {
-            *slot = Some(unpack_tile(stored, t, &mut scratch)?);
-        }
-    }
-    drop(scratch);
+    let half = t / 2;
     let is_void = |v: f32| v.is_nan() || v == void;
     let mut out = vec![void; t * t];
-    for r in 0..t {
-        let oy = ty * t + r;
-        if oy >= grid.height {
-            break;
-        }
-        for c in 0..t {
-            let ox = tx * t + c;
-            if ox >= grid.width {
-                break;
-            }
-            let (mut sum, mut n) = (0f64, 0u32);
-            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                let (sx, sy) = (2 * ox + dx, 2 * oy + dy);
-                if sx >= source.width || sy >= source.height {
-                    continue;
+    let mut scratch = Vec::new();
+    // Each source tile lies under one quarter of the output tile.
+    for (k, stored) in sources.iter().enumerate() {
+        let Some(stored) = stored else { continue };
+        let tile = unpack_tile(stored, t, &mut scratch)?;
+        let (kx, ky) = (k % 2, k / 2);
+        // The source tile's samples within the source level.
+        let (sx0, sy0) = ((2 * tx + kx) * t, (2 * ty + ky) * t);
+        let cols = (source.width - sx0).min(t);
+        let rows = (source.height - sy0).min(t);
+        for r in 0..rows.div_ceil(2) {
+            let out_row = &mut out[(ky * half + r) * t + kx * half..][..cols.div_ceil(2)];
+            let north = &tile[2 * r * t..][..cols];
+            let south = (2 * r + 1 < rows).then(|| &tile[(2 * r + 1) * t..][..cols]);
+            for (c, sample) in out_row.iter_mut().enumerate() {
+                let (mut sum, mut n) = (0f64, 0u32);
+                let mut add = |v: f32| {
+                    if !is_void(v) {
+                        sum += f64::from(v);
+                        n += 1;
+                    }
+                };
+                let pair = &north[2 * c..cols.min(2 * c + 2)];
+                pair.iter().for_each(|&v| add(v));
+                if let Some(south) = south {
+                    south[2 * c..cols.min(2 * c + 2)].iter().for_each(|&v| add(v));
                 }
-                // The source tile under (sx, sy) is the k-th of the 2 x 2.
-                let k = (sx / t - 2 * tx) + 2 * (sy / t - 2 * ty);
-                let Some(tile) = &decoded[k] else { continue };
-                let v = tile[(sy % t) * t + sx % t];
-                if !is_void(v) {
-                    sum += f64::from(v);
-                    n += 1;
+                if n > 0 {
+                    *sample = (sum / f64::from(n)) as f32;
                 }
-            }
-            if n > 0 {
-                out[r * t + c] = (sum / f64::from(n)) as f32;
             }
         }
     }
@@ -219,7 +214,8 @@ mod tests {
         let (width, height) = (301, 259);
         // Voids: a 3 x 3 patch (so that some 2 x 2 groups are all void) and scattered ones.
         let value = |x: usize, y: usize| {
-            if (10..13).contains(&x) && (20..23).contains(&y) || (x * 7 + y * 3) % 11 == 0 {
+            if (10..13).contains(&x) && (20..23).contains(&y) || (x * 7 + y * 3).is_multiple_of(11)
+            {
                 -5.0
             } else {
                 (x as f32 * 0.37).sin() * 100.0 + y as f32

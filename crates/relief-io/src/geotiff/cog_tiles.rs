@@ -78,14 +78,16 @@ impl TileGrid {
                  {h} raster"
             ));
         }
-        if cols.start % t != 0 || (cols.end % t != 0 && cols.end != w) {
+        if !cols.start.is_multiple_of(t) || (!cols.end.is_multiple_of(t) && cols.end != w) {
             return Err(format!(
                 "block columns {cols:?} do not cover whole tiles: they must start at a multiple \
                  of the tile side {t} and end at one or at the raster's width {w}"
             ));
         }
         let file_rows = if south_up { rows.clone() } else { h - rows.end..h - rows.start };
-        if file_rows.start % t != 0 || (file_rows.end % t != 0 && file_rows.end != h) {
+        if !file_rows.start.is_multiple_of(t)
+            || (!file_rows.end.is_multiple_of(t) && file_rows.end != h)
+        {
             let (first, last) =
                 if south_up { ("southern", "northern") } else { ("northern", "southern") };
             return Err(format!(
@@ -141,6 +143,46 @@ impl BlockTiles {
             }
         }
         out
+    }
+}
+
+/// Where a block's samples lie, to cut its tiles out of them.
+pub(crate) struct BlockSource {
+    pub(crate) grid: TileGrid,
+    pub(crate) south_up: bool,
+    /// The value voids are written as.
+    pub(crate) void: f32,
+    pub(crate) cols: Range<usize>,
+    pub(crate) rows: Range<usize>,
+}
+
+impl BlockSource {
+    /// Tile (`tx`, `ty`) of a band of the block (which covers it): its `tile x tile` samples
+    /// in file order, voids and the padding past the raster's edge as the void value; and
+    /// whether some sample was a void.
+    pub(crate) fn tile(&self, band: &[f32], tx: usize, ty: usize) -> (Vec<f32>, bool) {
+        let (t, width, height) = (self.grid.tile, self.grid.width, self.grid.height);
+        let mut samples = vec![self.void; t * t];
+        let mut voids = false;
+        let (x0, x1) = (tx * t, ((tx + 1) * t).min(width));
+        let block_width = self.cols.len();
+        for r in 0..t {
+            let file_row = ty * t + r;
+            if file_row >= height {
+                break;
+            }
+            let row = if self.south_up { file_row } else { height - 1 - file_row };
+            let start = (row - self.rows.start) * block_width + x0 - self.cols.start;
+            let source = &band[start..start + x1 - x0];
+            for (sample, &value) in samples[r * t..].iter_mut().zip(source) {
+                if value.is_nan() {
+                    voids = true;
+                } else {
+                    *sample = value;
+                }
+            }
+        }
+        (samples, voids)
     }
 }
 
@@ -286,8 +328,9 @@ mod tests {
 
     #[test]
     fn tiles_pack_and_unpack_and_the_index_finds_what_is_missing() {
-        let samples: Vec<f32> =
-            (0..128 * 128).map(|i| if i % 7 == 0 { f32::NAN } else { i as f32 * 0.5 }).collect();
+        let samples: Vec<f32> = (0..128 * 128usize)
+            .map(|i| if i.is_multiple_of(7) { f32::NAN } else { i as f32 * 0.5 })
+            .collect();
         let stored = pack_tile(Path::new("t.tif"), &samples, 128).unwrap();
         let back = unpack_tile(&stored, 128, &mut Vec::new()).unwrap();
         assert!(back.iter().zip(&samples).all(|(a, b)| a.to_bits() == b.to_bits()));

@@ -4,10 +4,11 @@
 //! out as GDAL's COG driver lays it out, under a temporary name, then renamed into place.
 
 use crate::geotiff::cog_journal::{Journal, JournalBlock, JournalHeader};
-use crate::geotiff::cog_layout::{data_order, lay_out, CogMetadata};
+use crate::geotiff::cog_layout::{data_order, lay_out, write_tile, CogMetadata};
 use crate::geotiff::cog_overviews::{build_overviews, overview_bytes_per_thread, stored_bound};
+use crate::geotiff::cog_progress::{resume, start};
 use crate::geotiff::cog_spill::Spill;
-use crate::geotiff::cog_tiles::{pack_tile, BlockTiles, LevelTiles, TileGrid};
+use crate::geotiff::cog_tiles::{pack_tile, BlockSource, BlockTiles, LevelTiles, TileGrid};
 use crate::layer_raster::{check_nodata, nodata_text};
 use crate::{Georeference, IoError};
 use rayon::prelude::*;
@@ -32,10 +33,12 @@ const OUTPUT_BUFFER: usize = 1 << 20;
 ///   the mean of the 2 x 2 under it ignoring voids (a void where all four are), as GDAL's
 ///   AVERAGE resampling;
 /// - GDAL's ghost area of structural metadata after the header (LAYOUT=IFDS_BEFORE_DATA,
-///   BLOCK_ORDER=ROW_MAJOR, no block leader or trailer), then the directories of the full
-///   resolution and of the overviews (NewSubfileType 1) with their tags' values, then the
-///   tile offset and byte count arrays, then the tiles, from the smallest overview to the
-///   full resolution, each level band by band and row by row;
+///   BLOCK_ORDER=ROW_MAJOR, BLOCK_LEADER=SIZE_AS_UINT4, BLOCK_TRAILER=LAST_4_BYTES_REPEATED,
+///   so that GDAL takes it for a COG), then the directories of the full resolution and of the
+///   overviews (NewSubfileType 1) with their tags' values, then the tile offset and byte
+///   count arrays, then the tiles, from the smallest overview to the full resolution, each
+///   level band by band and row by row, each tile after its size and before its last 4 bytes
+///   repeated;
 /// - the bands in separate planes (PlanarConfiguration 2, GDAL's INTERLEAVE=BAND) rather than
 ///   GDAL's default pixel interleaving: relief's bands are separate quantities (shade layers)
 ///   that readers take one at a time, a band's tile compresses better alone, and relief's own
@@ -182,13 +185,7 @@ impl CogWriter {
         let (progress, resumed) = match resumed {
             Some(progress) => (progress, true),
             None => {
-                let progress = Progress {
-                    full: new_index()?,
-                    done_blocks: Vec::new(),
-                    voids: false,
-                    spill: Spill::create(&spill_path)?,
-                    journal: Journal::create(&journal_path, &header)?,
-                };
+                let progress = start(files, &header, new_index()?)?;
                 sync_directory(path);
                 (progress, false)
             }
@@ -423,7 +420,7 @@ impl CogWriter {
                     IoError::invalid_data(&self.path, format!("tile {index} of level {level} lost"))
                 })?;
                 self.spill.read(offset, count, &mut stored)?;
-                out.write_all(&stored).map_err(io)?;
+                write_tile(&mut out, &stored).map_err(io)?;
             }
             out.flush().map_err(io)?;
             drop(out);
@@ -459,118 +456,37 @@ impl CogWriter {
     /// Deflate encoder), building the overviews (per thread: 2 x 2 source tiles stored and
     /// decoded, the output tile, its predicted and stored bytes) and writing the file (the
     /// directories, 16 bytes a tile and band, one stored tile and a 1 MiB buffer) hold.
+    /// Dimensions [`create`](Self::create) refuses count as the nearest it accepts.
     pub fn memory_bytes(width: usize, height: usize, bands: usize, tile: usize) -> u64 {
-        let grid = TileGrid::new(width.max(1), height.max(1), tile.max(1));
-        let per_band: u64 =
-            std::iter::once(grid).chain(grid.overviews()).map(|g| g.per_band() as u64).sum();
-        let tiles = per_band.saturating_mul(bands as u64);
+        // Dimensions create refuses count as the nearest it accepts.
+        let side = |n: usize| n.clamp(1, u32::MAX as usize) as u64;
+        let (mut w, mut h) = (side(width), side(height));
+        let tile = tile.clamp(128, 1024) as u64;
+        let bands = bands.clamp(1, usize::from(u16::MAX)) as u64;
+        let full_tiles = w.div_ceil(tile) * h.div_ceil(tile);
+        let mut per_band = full_tiles;
+        while w > tile || h > tile {
+            (w, h) = (w.div_ceil(2), h.div_ceil(2));
+            per_band += w.div_ceil(tile) * h.div_ceil(tile);
+        }
+        // Up to 2^50 tiles a band, 2^16 bands: products saturate.
+        let tiles = per_band.saturating_mul(bands);
         let index = tiles.saturating_mul(12);
-        let blocks = (grid.per_band() as u64)
-            .saturating_mul(std::mem::size_of::<(Range<usize>, Range<usize>)>() as u64);
-        let journal_line = (grid.per_band() as u64).saturating_mul(bands as u64 * 128);
+        let blocks = full_tiles * std::mem::size_of::<(Range<usize>, Range<usize>)>() as u64;
+        let journal_line = full_tiles.saturating_mul(bands * 128);
         let threads = rayon::current_num_threads().max(1) as u64;
-        let raw = (tile as u64).saturating_mul(tile as u64 * 4);
+        let raw = tile * tile * 4;
         // miniz_oxide's compressor state is about 300 KiB.
         let encoder = 512 << 10;
-        let write = threads.saturating_mul(2 * raw + stored_bound(raw) + encoder);
-        let overviews = threads.saturating_mul(overview_bytes_per_thread(tile) + encoder);
-        let file = tiles.saturating_mul(16) + (64 << 10) + stored_bound(raw) + OUTPUT_BUFFER as u64;
+        let write = threads * (2 * raw + stored_bound(raw) + encoder);
+        let overviews = threads * (overview_bytes_per_thread(raw) + encoder);
+        let file = tiles
+            .saturating_mul(16)
+            .saturating_add((64 << 10) + stored_bound(raw) + OUTPUT_BUFFER as u64);
         index
             .saturating_add(blocks)
             .saturating_add(journal_line)
             .saturating_add(write.max(overviews).max(file))
-    }
-}
-
-/// What a writer has written so far, and where.
-struct Progress {
-    /// Where each full-resolution tile lies in the spill.
-    full: LevelTiles,
-    done_blocks: Vec<(Range<usize>, Range<usize>)>,
-    /// Whether some sample written was a void.
-    voids: bool,
-    spill: Spill,
-    journal: Journal,
-}
-
-/// Takes up the spill and journal (at `spill_path`, `journal_path`) an earlier writer of the
-/// job `header` left, keeping the blocks whose tiles all lie in the spill, in `full` (the
-/// empty index of `grid`); `None` when there are none of this job.
-fn resume(
-    (spill_path, journal_path): (&Path, &Path),
-    header: &JournalHeader,
-    grid: TileGrid,
-    south_up: bool,
-    mut full: LevelTiles,
-) -> Result<Option<Progress>, IoError> {
-    let Some(mut spill) = Spill::open(spill_path)? else { return Ok(None) };
-    let spill_len = spill.len();
-    let bands = header.bands.len();
-    let (mut done_blocks, mut voids, mut end) = (Vec::new(), false, 0u64);
-    let accept = |block: JournalBlock| {
-        let Ok(tiles) = grid.block(&block.cols, &block.rows, south_up) else { return false };
-        let tiles = tiles.tiles(bands);
-        let in_spill = |&(offset, count): &(u64, u32)| {
-            count > 0 && offset.checked_add(u64::from(count)).is_some_and(|e| e <= spill_len)
-        };
-        let fits = tiles.len() == block.tiles.len()
-            && block.tiles.iter().all(in_spill)
-            && tiles.iter().all(|&(b, tx, ty)| full.get(grid.index(b, tx, ty)).is_none());
-        if !fits {
-            return false;
-        }
-        for (&(b, tx, ty), &(offset, count)) in tiles.iter().zip(&block.tiles) {
-            full.set(grid.index(b, tx, ty), offset, count);
-            end = end.max(offset + u64::from(count));
-        }
-        done_blocks.push((block.cols, block.rows));
-        voids |= block.voids;
-        true
-    };
-    let Some(journal) = Journal::resume(journal_path, header, accept)? else { return Ok(None) };
-    // Tiles of blocks not journaled (and overviews of a finish cut short) are dropped.
-    spill.truncate(end)?;
-    spill.sync()?;
-    Ok(Some(Progress { full, done_blocks, voids, spill, journal }))
-}
-
-/// Where a block's samples lie, to cut its tiles out of them.
-struct BlockSource {
-    grid: TileGrid,
-    south_up: bool,
-    /// The value voids are written as.
-    void: f32,
-    cols: Range<usize>,
-    rows: Range<usize>,
-}
-
-impl BlockSource {
-    /// Tile (`tx`, `ty`) of a band of the block (which covers it): its `tile x tile` samples
-    /// in file order, voids and the padding past the raster's edge as the void value; and
-    /// whether some sample was a void.
-    fn tile(&self, band: &[f32], tx: usize, ty: usize) -> (Vec<f32>, bool) {
-        let (t, width, height) = (self.grid.tile, self.grid.width, self.grid.height);
-        let mut samples = vec![self.void; t * t];
-        let mut voids = false;
-        let (x0, x1) = (tx * t, ((tx + 1) * t).min(width));
-        let block_width = self.cols.len();
-        for r in 0..t {
-            let file_row = ty * t + r;
-            if file_row >= height {
-                break;
-            }
-            let row = if self.south_up { file_row } else { height - 1 - file_row };
-            let start = (row - self.rows.start) * block_width + x0 - self.cols.start;
-            let source = &band[start..start + x1 - x0];
-            for (sample, &value) in samples[r * t..].iter_mut().zip(source) {
-                if value.is_nan() {
-                    voids = true;
-                } else {
-                    *sample = value;
-                }
-            }
-        }
-        (samples, voids)
     }
 }
 

@@ -347,4 +347,8 @@ fn memory_is_the_tile_index_and_a_few_tiles_per_thread() {
     let huge = CogWriter::memory_bytes(1 << 20, 1 << 20, 1, 512);
     let tiles = 2048 * 2048;
     assert!(huge < tiles * (16 + 32 + 128 + 22) + threads * tile * 20 + (4 << 20), "{huge}");
+    // Dimensions create refuses count as the nearest it accepts, without overflow.
+    assert_eq!(CogWriter::memory_bytes(1000, 700, 2, 7), small);
+    assert!(CogWriter::memory_bytes(usize::MAX, usize::MAX, usize::MAX, usize::MAX) > huge);
+    assert!(CogWriter::memory_bytes(0, 0, 0, 0) > 0);
 }

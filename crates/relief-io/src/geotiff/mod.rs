@@ -10,6 +10,7 @@ pub(crate) mod chunks;
 pub(crate) mod cog_journal;
 pub(crate) mod cog_layout;
 pub(crate) mod cog_overviews;
+pub(crate) mod cog_progress;
 pub(crate) mod cog_spill;
 pub(crate) mod cog_tiles;
 pub(crate) mod cog_writer;

@@ -1,5 +1,5 @@
-//! The real clients some tests need (GDAL through rasterio, Pillow, NumPy, trimesh, the Khronos
-//! glTF validator, Xvfb, xdotool), and the test harness that reports a test whose client is
+//! The real clients some tests need (GDAL through rasterio, rio-cogeo's COG validator, Pillow,
+//! NumPy, trimesh, the Khronos glTF validator, Xvfb, xdotool), and the test harness that reports a test whose client is
 //! missing as ignored, with the reason and the install command, instead of passing it; and
 //! likewise a test that reads the shared data (../shared) in a bare clone.
 //!
@@ -48,6 +48,8 @@ pub const SHARED_MISSING: &str = "shared data missing";
 pub enum Client {
     /// GDAL's Python binding, rasterio.
     Rasterio,
+    /// rio-cogeo, whose `cog_validate` checks a cloud-optimised GeoTIFF as GDAL's validator.
+    RioCogeo,
     /// Pillow (`import PIL`).
     Pillow,
     /// NumPy.
@@ -62,8 +64,9 @@ pub enum Client {
     Xdotool,
 }
 
-const ALL: [Client; 7] = [
+const ALL: [Client; 8] = [
     Client::Rasterio,
+    Client::RioCogeo,
     Client::Pillow,
     Client::Numpy,
     Client::Trimesh,
@@ -80,6 +83,7 @@ impl Client {
         };
         match self {
             Client::Rasterio => python("rasterio", "rasterio"),
+            Client::RioCogeo => python("rio_cogeo", "rio-cogeo"),
             Client::Pillow => python("PIL", "pillow"),
             Client::Numpy => python("numpy", "numpy"),
             Client::Trimesh => python("trimesh", "trimesh"),
@@ -111,6 +115,7 @@ impl Client {
         };
         match self {
             Client::Rasterio => imports("rasterio"),
+            Client::RioCogeo => imports("rio_cogeo"),
             Client::Pillow => imports("PIL"),
             Client::Numpy => imports("numpy"),
             Client::Trimesh => imports("trimesh"),

@@ -121,6 +121,38 @@ ShadeLayer = Literal["shadow", "sky", "hillshade", "combined", "horizon", "sky-a
                      "openness-pos", "openness-neg", "sky-illumination", "hillshade-multi",
                      "insolation", "sun-hours"]
 
+def shade_window(
+    source: Union[str, "PathLike[str]"],
+    window: Tuple[int, int, int, int],
+    *,
+    layers: Sequence[ShadeLayer] = ("combined",),
+    suns: Sequence[Tuple[float, float]] = ((315.0, 45.0),),
+    sun_radius: float = 0.0,
+    sun_rays: int = 16,
+    azimuths: int = 32,
+    observer_height: float = 0.01,
+    radius: Optional[float] = None,
+    earth_curvature: Optional[float] = None,
+    sky_model: Literal["overcast", "uniform"] = "overcast",
+    date: Optional[str] = None,
+    time: Optional[str] = None,
+    timezone: str = "Z",
+    step: str = "15m",
+    latitude: Optional[float] = None,
+    longitude: Optional[float] = None,
+    surface: Surface = "triangles",
+    max_memory: Optional[int] = None,
+) -> dict[str, npt.NDArray[np.float32]]:
+    """The shade layers of the window ``(col_off, row_off, width, height)`` (north-up pixels)
+    of a tile store or height file, bit for bit what ``relief shade SOURCE`` writes there."""
+    ...
+
+def source_info(
+    source: Union[str, "PathLike[str]"], *, max_memory: Optional[int] = None
+) -> dict[str, Any]:
+    """The size, tile side and georeference of a tile store or height file."""
+    ...
+
 def shade(
     heights: npt.ArrayLike,
     spacing: Spacing = None,

@@ -8,7 +8,9 @@
 mod plan;
 mod source;
 
-pub use plan::{blocks, window_bytes, Block, BlockPlan, MAX_BLOCK};
+pub use plan::{
+    blocks, chunk_halo, required_halo, window_bytes, Block, BlockPlan, HORIZON_HALO, MAX_BLOCK,
+};
 pub use source::{ShadeSource, DEFAULT_TILE_CACHE};
 
 use crate::RenderError;
@@ -47,14 +49,9 @@ pub fn shade_block(
     let wr = rows.start.saturating_sub(halo)..(rows.end + halo).min(height);
     let (samples, void) = source.window(wc.clone(), wr.clone())?;
     let g = source.geometry();
-    let origin =
-        g.origin + DVec2::new(wc.start as f64 * g.dx, wr.start as f64 * g.dy);
-    let field = Arc::new(HeightField::new(
-        wc.len(),
-        wr.len(),
-        samples,
-        GridGeometry { origin, ..g },
-    )?);
+    let origin = g.origin + DVec2::new(wc.start as f64 * g.dx, wr.start as f64 * g.dy);
+    let field =
+        Arc::new(HeightField::new(wc.len(), wr.len(), samples, GridGeometry { origin, ..g })?);
     let tracer = build_tracer(field.clone(), surface, TracerKind::Mipmap);
     let region = ShadeRegion {
         cols: cols.start - wc.start..cols.end - wc.start,

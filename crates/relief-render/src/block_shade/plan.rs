@@ -28,12 +28,49 @@ pub struct BlockPlan {
 }
 
 /// Bytes a window of `window` samples and its block of `block` samples take while shaded:
-/// the height field, its tracer's pyramid and void mask, each horizon engine's frames, and the
-/// block's bands (made per band of rows, gathered, then handed on: three copies at most).
+/// the height field, its tracer's pyramid and void mask, each horizon engine's frames, the
+/// block's horizon angles in every direction (found a direction at a time), and the block's
+/// bands (made per band of rows, gathered, then handed on: three copies at most).
 pub fn window_bytes(params: &ShadeMapParams, window: u64, block: u64) -> u64 {
-    let engines = params.horizon_engines() as u64 * params.horizon.engine_bytes_per_sample();
+    let engines = params.horizon_engines() as u64;
+    let frames = engines * params.horizon.engine_bytes_per_sample();
+    let angles = engines * params.horizon.azimuths as u64 * 4;
     let bands = params.band_names().len() as u64;
-    window * (4 + 2 + 1 + engines) + block * bands * 4 * 3
+    window * (4 + 2 + 1 + frames) + block * (angles + bands * 4 * 3)
+}
+
+/// Samples around a block that a window holds for the horizons, where they go on past it to
+/// the raster's edge and memory allows: the lines' far walks then start past the stretch where
+/// most horizons are set, and are mostly skipped.
+pub const HORIZON_HALO: usize = 512;
+
+/// Whether the layers of `params` follow horizons past a window (no radius).
+fn far_horizons(params: &ShadeMapParams) -> bool {
+    params.horizon_engines() > 0 && params.horizon.radius.is_none()
+}
+
+/// The halo the layers of `params` need around a block of a raster whose samples span `span`,
+/// placed by `geometry` (see [`ShadeMapParams::halo_samples`]). Errors: a reach that is not
+/// finite.
+pub fn required_halo(
+    params: &ShadeMapParams,
+    span: [f32; 2],
+    geometry: &GridGeometry,
+) -> Result<usize, RenderError> {
+    params.halo_samples(span, geometry).ok_or_else(|| {
+        RenderError::Unsupported("the suns' rays reach no finite distance".to_string())
+    })
+}
+
+/// The halo a window is given around a block of its own (one Dask chunk): what the layers
+/// need, and [`HORIZON_HALO`] for horizons followed past the window.
+pub fn chunk_halo(
+    params: &ShadeMapParams,
+    span: [f32; 2],
+    geometry: &GridGeometry,
+) -> Result<usize, RenderError> {
+    let needed = required_halo(params, span, geometry)?;
+    Ok(needed.max(if far_horizons(params) { HORIZON_HALO } else { 0 }))
 }
 
 impl BlockPlan {
@@ -52,20 +89,22 @@ impl BlockPlan {
         budget: &Budget,
         fixed: u64,
     ) -> Result<BlockPlan, RenderError> {
-        let halo = params.halo_samples(span, geometry).ok_or_else(|| {
-            RenderError::Unsupported("the suns' rays reach no finite distance".to_string())
-        })?;
+        let needed = required_halo(params, span, geometry)?;
         let align = align.max(1);
         let largest = MAX_BLOCK.max(align).min(width.max(height).div_ceil(align) * align);
-        let fits = |block: usize| {
+        let fits = |block: usize, halo: usize| {
             let (bw, bh) = (block.min(width), block.min(height));
             let window = ((bw + 2 * halo).min(width) * (bh + 2 * halo).min(height)) as u64;
             let bytes = window_bytes(params, window, (bw * bh) as u64);
             (fixed + bytes <= budget.bytes, bytes)
         };
+        // The horizons' halo where it fits with blocks of at least half the largest, else the
+        // halo the other layers need.
+        let wide = needed.max(if far_horizons(params) { HORIZON_HALO } else { 0 });
+        let mut halo = wide;
         let mut block = largest;
         loop {
-            let (ok, bytes) = fits(block);
+            let (ok, bytes) = fits(block, halo);
             if ok {
                 return Ok(BlockPlan {
                     block,
@@ -73,6 +112,10 @@ impl BlockPlan {
                     blocks: blocks(width, height, block),
                     window_bytes: bytes,
                 });
+            }
+            if halo > needed && block <= (largest / 2).max(align) {
+                (halo, block) = (needed, largest);
+                continue;
             }
             if block <= align {
                 let hint = if halo > 4 * align {

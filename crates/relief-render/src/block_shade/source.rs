@@ -1,12 +1,12 @@
 //! The raster a shade map is made from, block by block: a tile store read tile by tile through a
 //! bounded cache, or a raster in memory. Either gives windows of samples, the bounds of every
-//! block of 32 x 32 samples, and the georeference to write the layers with; and either is the
+//! block of [`BOUND_CELL`] x [`BOUND_CELL`] samples, and the georeference to write the layers with; and either is the
 //! far field ([`FarTerrain`]) of the windows' horizons.
 
 use crate::RenderError;
-use relief_core::GridGeometry;
-use relief_io::Georeference;
-use relief_shade::horizon::{block_bounds, CoarseBounds, FarTerrain, BOUND_CELL};
+use relief_core::{GridGeometry, HeightField};
+use relief_io::{Format, Georeference, HeightUnit, RasterInfo};
+use relief_shade::horizon::{block_bounds, CoarseBounds, FarTerrain, SamplePatch, BOUND_CELL};
 use relief_shade::ShadeError;
 use relief_tiles::{TileId, TileStore};
 use std::collections::HashMap;
@@ -24,8 +24,7 @@ pub struct ShadeSource {
     width: usize,
     height: usize,
     geometry: GridGeometry,
-    georeference: Option<Georeference>,
-    nodata: Option<f64>,
+    info: RasterInfo,
     bounds: CoarseBounds,
     /// Per sample, whether it was a void (filled for tracing, NaN in every layer): rasters in
     /// memory only.
@@ -35,7 +34,7 @@ pub struct ShadeSource {
 /// Where a [`ShadeSource`]'s samples are.
 enum Samples {
     Store(StoreTiles),
-    Memory(Vec<f32>),
+    Memory(Arc<Vec<f32>>),
 }
 
 impl ShadeSource {
@@ -69,8 +68,7 @@ impl ShadeSource {
         Ok(ShadeSource {
             path: dir.to_path_buf(),
             geometry: header.geometry.into(),
-            georeference: header.georeference.as_ref().map(Into::into),
-            nodata: header.nodata,
+            info: store_info(&header),
             samples: Samples::Store(tiles),
             width,
             height,
@@ -79,31 +77,43 @@ impl ShadeSource {
         })
     }
 
-    /// A raster in memory: `samples` row-major, row 0 south, voids already filled and marked
-    /// in `void`.
-    #[allow(clippy::too_many_arguments)]
+    /// The height field `field` in memory, read from `path` as `info` says, with its voids
+    /// (filled in `field`) marked in `void`.
     pub fn in_memory(
         path: &Path,
-        samples: Vec<f32>,
-        width: usize,
-        height: usize,
-        geometry: GridGeometry,
-        georeference: Option<Georeference>,
-        nodata: Option<f64>,
+        field: HeightField,
+        info: RasterInfo,
         void: Option<Vec<bool>>,
     ) -> ShadeSource {
+        let (width, height, geometry) = (field.width(), field.height(), *field.geometry());
+        let samples = field.samples().to_vec();
         let bounds = CoarseBounds::of_samples(&samples, width, height);
         ShadeSource {
             path: path.to_path_buf(),
-            samples: Samples::Memory(samples),
+            samples: Samples::Memory(Arc::new(samples)),
             width,
             height,
             geometry,
-            georeference,
-            nodata,
+            info,
             bounds,
             void,
         }
+    }
+
+    /// The source placed with `spacing` (where given; else its own) and its z scale times
+    /// `z_scale`, as [`crate::input::place`] places a height field. Errors: a placement that
+    /// is not valid.
+    pub fn placed(
+        mut self,
+        spacing: Option<(f64, f64)>,
+        z_scale: f64,
+    ) -> Result<ShadeSource, RenderError> {
+        let g = self.geometry;
+        let (dx, dy) = spacing.unwrap_or((g.dx, g.dy));
+        let geometry = GridGeometry { dx, dy, z_scale: z_scale * g.z_scale, ..g };
+        geometry.validate().map_err(RenderError::Placement)?;
+        self.geometry = geometry;
+        Ok(self)
     }
 
     /// The raster's file or store.
@@ -128,12 +138,17 @@ impl ShadeSource {
 
     /// Where it lies on the earth, if it is georeferenced.
     pub fn georeference(&self) -> Option<&Georeference> {
-        self.georeference.as_ref()
+        self.info.georeference.as_ref()
     }
 
     /// Its declared nodata value.
     pub fn nodata(&self) -> Option<f64> {
-        self.nodata
+        self.info.nodata
+    }
+
+    /// What its file said of it (for a store: what the store kept of its source).
+    pub fn info(&self) -> &RasterInfo {
+        &self.info
     }
 
     /// The side of the store's tiles (`None` for a raster in memory).
@@ -179,17 +194,14 @@ impl ShadeSource {
     }
 }
 
-impl FarTerrain for ShadeSource {
-    fn bounds(&self) -> &CoarseBounds {
-        &self.bounds
-    }
-
+impl ShadeSource {
+    /// Reads columns `cols` and rows `rows` into `out`, row-major.
     fn read(
         &self,
         cols: Range<usize>,
         rows: Range<usize>,
         out: &mut Vec<f32>,
-    ) -> Result<(), ShadeError> {
+    ) -> Result<(), RenderError> {
         out.clear();
         match &self.samples {
             Samples::Memory(samples) => {
@@ -198,7 +210,40 @@ impl FarTerrain for ShadeSource {
                 }
                 Ok(())
             }
-            Samples::Store(tiles) => tiles.read(cols, rows, out),
+            Samples::Store(tiles) => Ok(tiles.read(cols, rows, out)?),
+        }
+    }
+}
+
+impl FarTerrain for ShadeSource {
+    fn bounds(&self) -> &CoarseBounds {
+        &self.bounds
+    }
+
+    fn patch(&self, col: usize, row: usize) -> Result<SamplePatch, ShadeError> {
+        match &self.samples {
+            Samples::Memory(samples) => Ok(SamplePatch {
+                samples: samples.clone(),
+                x0: 0,
+                y0: 0,
+                width: self.width,
+                height: self.height,
+            }),
+            Samples::Store(tiles) => {
+                let n = tiles.side;
+                let (tc, tr) = (col / n, row / n);
+                let samples = tiles
+                    .tile(tc as u32, tr as u32)
+                    .map_err(|e| ShadeError::Limits(format!("reading the far field: {e}")))?;
+                // The stored tile starts one sample before the tile: its ring.
+                Ok(SamplePatch {
+                    samples,
+                    x0: (tc * n) as isize - 1,
+                    y0: (tr * n) as isize - 1,
+                    width: n + 2,
+                    height: n + 2,
+                })
+            }
         }
     }
 }
@@ -227,7 +272,7 @@ impl StoreTiles {
     }
 
     /// The stored samples of level-0 tile (`col`, `row`), from the cache or the store.
-    fn tile(&self, col: u32, row: u32) -> Result<Arc<Vec<f32>>, ShadeError> {
+    fn tile(&self, col: u32, row: u32) -> Result<Arc<Vec<f32>>, relief_tiles::TileError> {
         let (tiles_x, _) = self.store.layout().tiles_of(0);
         let key = col + row * tiles_x;
         {
@@ -240,10 +285,7 @@ impl StoreTiles {
             }
         }
         let id = TileId { level: 0, col, row };
-        let samples = self
-            .store
-            .stored_samples(id)
-            .map_err(|e| ShadeError::Limits(format!("reading the far field: {e}")))?;
+        let samples = self.store.stored_samples(id)?;
         let tile = Arc::new(samples);
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         let bytes = tile.len() as u64 * 4;
@@ -268,7 +310,7 @@ impl StoreTiles {
         cols: Range<usize>,
         rows: Range<usize>,
         out: &mut Vec<f32>,
-    ) -> Result<(), ShadeError> {
+    ) -> Result<(), relief_tiles::TileError> {
         let (n, side) = (self.side, self.side + 2);
         out.resize(cols.len() * rows.len(), 0.0);
         for tr in rows.start / n..=(rows.end - 1) / n {
@@ -325,5 +367,18 @@ impl StoreTiles {
             cells[cell][1] = cells[cell][1].max(high);
         }
         Ok(CoarseBounds::new(width, height, |bx, by| cells[bx + by * cells_x]))
+    }
+}
+
+/// What a store kept of its source, as a reader would have said it.
+fn store_info(header: &relief_tiles::StoreHeader) -> RasterInfo {
+    RasterInfo {
+        format: Format::GeoTiff,
+        sample_type: relief_tiles::precision_name(header.precision).to_string(),
+        georeferenced: header.georeference.is_some(),
+        from_degrees: None,
+        nodata: header.nodata,
+        georeference: header.georeference.as_ref().map(Into::into),
+        height_unit: HeightUnit::default(),
     }
 }

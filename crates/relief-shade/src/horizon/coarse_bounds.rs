@@ -5,7 +5,7 @@
 use std::ops::Range;
 
 /// Samples along a side of the finest block of [`CoarseBounds`].
-pub const BOUND_CELL: usize = 32;
+pub const BOUND_CELL: usize = 16;
 
 /// Per block of `BOUND_CELL x BOUND_CELL` samples (and of 2, 4, ... times that), the lowest and
 /// the highest sample of a raster: a few bytes per thousand samples.

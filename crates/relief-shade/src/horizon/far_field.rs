@@ -8,57 +8,68 @@
 use super::coarse_bounds::CoarseBounds;
 use super::lane_frame::OUTSIDE;
 use super::lanes::main_split;
-use super::stencil::{Coefficients, StencilLine};
+use super::stencil::Stencil;
+use super::stencil::{Coefficients, StencilLine, Step};
 use crate::ShadeError;
 use std::ops::Range;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
-/// The whole raster around a window, read on demand: a tile store, a file, or an array in
-/// memory.
-pub trait FarTerrain: Sync {
-    /// The raster's bounds (and through them, its size).
-    fn bounds(&self) -> &CoarseBounds;
-    /// Reads the samples of columns `cols` and rows `rows` (within the raster; rows from the
-    /// south) into `out`, row-major, NaN on a void.
-    fn read(
-        &self,
-        cols: Range<usize>,
-        rows: Range<usize>,
-        out: &mut Vec<f32>,
-    ) -> Result<(), ShadeError>;
+/// A rectangle of a raster's samples, shared: a tile of a store with its ring, or a whole
+/// raster in memory. Sample (`col`, `row`) of the raster is `samples[(col - x0) + (row - y0) *
+/// width]` where it lies in the rectangle and in the raster.
+#[derive(Clone)]
+pub struct SamplePatch {
+    /// The samples, row-major, rows from the south, NaN a void.
+    pub samples: Arc<Vec<f32>>,
+    /// The raster column and row of the first sample (the first may lie just outside the
+    /// raster: a ring).
+    pub x0: isize,
+    /// See `x0`.
+    pub y0: isize,
+    /// Samples a row, and rows.
+    pub width: usize,
+    /// See `width`.
+    pub height: usize,
 }
 
-/// A raster in memory as a [`FarTerrain`].
-pub struct FarSamples<'a> {
-    samples: &'a [f32],
-    width: usize,
-    bounds: CoarseBounds,
-}
-
-impl<'a> FarSamples<'a> {
-    /// The row-major `width x height` grid `samples`.
-    pub fn new(samples: &'a [f32], width: usize, height: usize) -> FarSamples<'a> {
-        let bounds = CoarseBounds::of_samples(samples, width, height);
-        FarSamples { samples, width, bounds }
+impl SamplePatch {
+    #[inline(always)]
+    fn get(&self, col: isize, row: isize) -> Option<f32> {
+        let (x, y) = (col - self.x0, row - self.y0);
+        (x >= 0 && y >= 0 && (x as usize) < self.width && (y as usize) < self.height)
+            .then(|| self.samples[x as usize + y as usize * self.width])
     }
 }
 
-impl FarTerrain for FarSamples<'_> {
+/// The whole raster around a window, read on demand: a tile store, or an array in memory.
+pub trait FarTerrain: Sync {
+    /// The raster's bounds (and through them, its size).
+    fn bounds(&self) -> &CoarseBounds;
+    /// A patch that holds sample (`col`, `row`) of the raster (which lies in it).
+    fn patch(&self, col: usize, row: usize) -> Result<SamplePatch, ShadeError>;
+}
+
+/// A raster in memory as a [`FarTerrain`].
+pub struct FarSamples {
+    whole: SamplePatch,
+    bounds: CoarseBounds,
+}
+
+impl FarSamples {
+    /// The row-major `width x height` grid `samples`.
+    pub fn new(samples: Arc<Vec<f32>>, width: usize, height: usize) -> FarSamples {
+        let bounds = CoarseBounds::of_samples(&samples, width, height);
+        FarSamples { whole: SamplePatch { samples, x0: 0, y0: 0, width, height }, bounds }
+    }
+}
+
+impl FarTerrain for FarSamples {
     fn bounds(&self) -> &CoarseBounds {
         &self.bounds
     }
 
-    fn read(
-        &self,
-        cols: Range<usize>,
-        rows: Range<usize>,
-        out: &mut Vec<f32>,
-    ) -> Result<(), ShadeError> {
-        out.clear();
-        for r in rows {
-            out.extend_from_slice(&self.samples[r * self.width + cols.start..][..cols.len()]);
-        }
-        Ok(())
+    fn patch(&self, _col: usize, _row: usize) -> Result<SamplePatch, ShadeError> {
+        Ok(self.whole.clone())
     }
 }
 
@@ -116,23 +127,47 @@ pub(crate) struct FarLine {
     /// The window in the raster's frame: its columns and rows.
     window_x: Range<usize>,
     window_y: Range<usize>,
+    /// The line's steps over the whole raster, made on first use and dropped by
+    /// [`FarLine::release`].
+    stencil: Mutex<Option<Arc<Stencil>>>,
 }
 
-/// Samples of the raster's frame read for a stretch of steps: a rectangle, signed, with
-/// [`OUTSIDE`] beyond the raster.
+/// The patches a far walk reads its samples from, the most recent first.
 #[derive(Default)]
 pub(crate) struct Patch {
-    x0: isize,
-    y0: isize,
-    width: usize,
-    z: Vec<f32>,
-    read: Vec<f32>,
+    recent: Vec<SamplePatch>,
 }
 
+/// Patches a walk keeps at hand.
+const KEPT_PATCHES: usize = 4;
+
 impl Patch {
+    /// Sample (`col`, `row`) of the raster (which lies in it), from a patch at hand or a new
+    /// one.
     #[inline(always)]
-    fn at(&self, x: isize, y: isize) -> f32 {
-        self.z[(x - self.x0) as usize + (y - self.y0) as usize * self.width]
+    fn sample(
+        &mut self,
+        terrain: &dyn FarTerrain,
+        col: isize,
+        row: isize,
+    ) -> Result<f32, ShadeError> {
+        for (i, patch) in self.recent.iter().enumerate() {
+            if let Some(v) = patch.get(col, row) {
+                if i > 0 {
+                    self.recent.swap(0, i);
+                }
+                return Ok(v);
+            }
+        }
+        let patch = terrain.patch(col as usize, row as usize)?;
+        let v = patch.get(col, row).ok_or_else(|| {
+            ShadeError::Limits(format!("the far field's patch misses sample ({col}, {row})"))
+        })?;
+        if self.recent.len() == KEPT_PATCHES {
+            self.recent.pop();
+        }
+        self.recent.insert(0, patch);
+        Ok(v)
     }
 }
 
@@ -161,7 +196,38 @@ impl FarLine {
             frame_height,
             window_x,
             window_y,
+            stencil: Mutex::new(None),
         }
+    }
+
+    /// The line's steps over the whole raster.
+    fn stencil(&self) -> Arc<Stencil> {
+        let mut kept = self.stencil.lock().unwrap_or_else(|e| e.into_inner());
+        kept.get_or_insert_with(|| {
+            Arc::new(Stencil::new(&self.line, self.frame_width.saturating_sub(1).max(1)))
+        })
+        .clone()
+    }
+
+    /// Drops the line's steps (made again if needed).
+    pub(crate) fn release(&self) {
+        *self.stencil.lock().unwrap_or_else(|e| e.into_inner()) = None;
+    }
+
+    /// The signed sample at (`x`, `y`) of the raster's frame, [`OUTSIDE`] beyond the raster.
+    #[inline(always)]
+    fn frame_sample(
+        &self,
+        terrain: &dyn FarTerrain,
+        patch: &mut Patch,
+        x: isize,
+        y: isize,
+    ) -> Result<f32, ShadeError> {
+        if x < 0 || y < 0 || x as usize >= self.frame_width || y as usize >= self.frame_height {
+            return Ok(OUTSIDE);
+        }
+        let (col, row) = if self.transposed { (y, x) } else { (x, y) };
+        Ok(self.sign * patch.sample(terrain, col, row)?)
     }
 
     /// The columns and rows of the raster's frame that the points of steps `from..=to` of the
@@ -217,45 +283,6 @@ impl FarLine {
         }
     }
 
-    /// Reads into `patch` the samples the steps `from..=to` of the line from (`x`, `y`) read.
-    fn fill(
-        &self,
-        terrain: &dyn FarTerrain,
-        patch: &mut Patch,
-        x: usize,
-        y: usize,
-        from: usize,
-        to: usize,
-    ) -> Result<(), ShadeError> {
-        let ([x0, x1], [y0, y1]) = self.reach(x, y, from, to);
-        let (width, height) = ((x1 - x0 + 1) as usize, (y1 - y0 + 1) as usize);
-        patch.x0 = x0;
-        patch.y0 = y0;
-        patch.width = width;
-        patch.z.clear();
-        patch.z.resize(width * height, OUTSIDE);
-        let (xs, ys) = (
-            x0.max(0) as usize..(x1 + 1).clamp(0, self.frame_width as isize) as usize,
-            y0.max(0) as usize..(y1 + 1).clamp(0, self.frame_height as isize) as usize,
-        );
-        if xs.is_empty() || ys.is_empty() {
-            return Ok(());
-        }
-        let (cols, rows) =
-            if self.transposed { (ys.clone(), xs.clone()) } else { (xs.clone(), ys.clone()) };
-        terrain.read(cols.clone(), rows.clone(), &mut patch.read)?;
-        let stride = cols.len();
-        for fy in ys.clone() {
-            for fx in xs.clone() {
-                let (c, r) = if self.transposed { (fy, fx) } else { (fx, fy) };
-                let v = patch.read[(c - cols.start) + (r - rows.start) * stride];
-                let at = (fx as isize - x0) as usize + (fy as isize - y0) as usize * width;
-                patch.z[at] = self.sign * v;
-            }
-        }
-        Ok(())
-    }
-
     /// The steepest slope from the observer over frame sample (`x`, `y`), whose signed sample
     /// is `z0`, to the points of its line past the window, or `best` if none is steeper.
     pub(crate) fn raise(
@@ -272,8 +299,9 @@ impl FarLine {
             return Ok(best);
         }
         let bounds = terrain.bounds();
-        let (last, z0_64) = (steps.end - 1, f64::from(z0));
-        let line = &self.line;
+        let stencil = self.stencil();
+        let last = (steps.end - 1).min(stencil.len());
+        let z0_64 = f64::from(z0);
         let mut k = steps.start;
         let mut level = TOP_LEVEL;
         while k <= last {
@@ -288,9 +316,8 @@ impl FarLine {
                 }
                 continue;
             }
-            self.fill(terrain, patch, x, y, k, to)?;
-            for j in k..=to {
-                best = self.test_step(patch, line, x as isize, y as isize, j, z0_64, best);
+            for step in &stencil.steps[k..=to] {
+                best = self.test_step(terrain, patch, step, x as isize, y as isize, z0_64, best)?;
             }
             k = to + 1;
             level = LEAF_LEVEL + 1;
@@ -308,23 +335,22 @@ impl FarLine {
         ceiling - 1e-9 * (1.0 + z0.abs() + rise.abs())
     }
 
-    /// Raises `best` to the steepest slope of a point of step `k`.
+    /// Raises `best` to the steepest slope of a point of `step` of the line from (`x`, `y`).
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn test_step(
         &self,
-        patch: &Patch,
-        line: &StencilLine,
+        terrain: &dyn FarTerrain,
+        patch: &mut Patch,
+        step: &Step,
         x: isize,
         y: isize,
-        k: usize,
         z0: f64,
         mut best: f64,
-    ) -> f64 {
-        let (step, _) = line.step(k);
-        let sample = |offset: isize, dx: isize, dy: isize| {
+    ) -> Result<f64, ShadeError> {
+        let mut sample = |offset: isize, dx: isize, dy: isize| {
             let (c, r) = decode(offset);
-            patch.at(x + c + dx, y + r + dy)
+            self.frame_sample(terrain, patch, x + c + dx, y + r + dy)
         };
         let slope = |a: f32, b: f32, w: f64, c: &Coefficients| {
             let (da, db) = (f64::from(a) - z0, f64::from(b) - z0);
@@ -336,7 +362,7 @@ impl FarLine {
             }
             // A point beside the raster's edge reads the padding as the lanes do (at `w` 0
             // its slope is the sample's own).
-            let (a, b) = (sample(e.a, 0, 0), sample(e.b, 0, 0));
+            let (a, b) = (sample(e.a, 0, 0)?, sample(e.b, 0, 0)?);
             best = best.max(slope(a, b, e.w64, &e.coefficients));
         }
         for d in &step.diagonals {
@@ -345,8 +371,10 @@ impl FarLine {
             {
                 continue;
             }
-            let [z00, z10, z01, z11] =
-                [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(dx, dy)| sample(d.corner, dx, dy));
+            let z00 = sample(d.corner, 0, 0)?;
+            let z10 = sample(d.corner, 1, 0)?;
+            let z01 = sample(d.corner, 0, 1)?;
+            let z11 = sample(d.corner, 1, 1)?;
             let s = if main_split(z00, z10, z01, z11, self.upside_down) {
                 slope(z00, z11, d.main, &d.main_coefficients)
             } else {
@@ -354,7 +382,7 @@ impl FarLine {
             };
             best = best.max(s);
         }
-        best
+        Ok(best)
     }
 }
 

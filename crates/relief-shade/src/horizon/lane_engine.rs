@@ -106,6 +106,13 @@ impl LaneEngine {
         }
     }
 
+    /// Drops what direction `k`'s far line made (its steps over the whole raster).
+    pub(crate) fn release_far(&self, k: usize) {
+        if let Some(Some(line)) = self.far_lines.get(k) {
+            line.release();
+        }
+    }
+
     /// Samples a row of the height field.
     pub(crate) fn width(&self) -> usize {
         self.width
@@ -114,7 +121,8 @@ impl LaneEngine {
     /// Per direction, the horizon angles in radians of the samples of columns `cols` of
     /// `rows`, row by row (NaN where `void` says so; none in a direction not wanted); with
     /// `at_least_level`, `max(angle, 0)`. With `far` (the far field the engine was made for),
-    /// the lines go on to the raster's edge.
+    /// the lines go on to the raster's edge. With `only`, that direction alone (the others
+    /// have no angles).
     pub(crate) fn band(
         &self,
         rows: Range<usize>,
@@ -122,6 +130,7 @@ impl LaneEngine {
         void: Option<&[bool]>,
         at_least_level: bool,
         far: Option<&FarContext>,
+        only: Option<usize>,
     ) -> Vec<Vec<f32>> {
         let (width, count) = (self.width, rows.len() * cols.len());
         let out_width = cols.len();
@@ -131,8 +140,10 @@ impl LaneEngine {
         self.directions
             .iter()
             .zip(&self.far_lines)
-            .map(|(direction, far_line)| {
-                let Some(direction) = direction else {
+            .enumerate()
+            .map(|(k, (direction, far_line))| {
+                let Some(direction) = direction.as_ref().filter(|_| only.is_none_or(|o| o == k))
+                else {
                     return Vec::new();
                 };
                 let far = far.zip(far_line.as_ref());
@@ -231,9 +242,9 @@ mod tests {
             for facing in [Facing::Up, Facing::Down] {
                 let engine = LaneEngine::new(&field, &params, facing, &[true; 24], None);
                 for level in [false, true] {
-                    let fast = engine.band(0..h, 0..w, None, level, None);
+                    let fast = engine.band(0..h, 0..w, None, level, None, None);
                     super::super::lanes::tests::PORTABLE_ONLY.set(true);
-                    let portable = engine.band(0..h, 0..w, None, level, None);
+                    let portable = engine.band(0..h, 0..w, None, level, None, None);
                     super::super::lanes::tests::PORTABLE_ONLY.set(false);
                     let bits = |v: &Vec<Vec<f32>>| -> Vec<u32> {
                         v.iter().flatten().map(|a| a.to_bits()).collect()

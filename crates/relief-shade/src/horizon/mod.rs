@@ -18,7 +18,7 @@ pub use params::{
 };
 
 pub use coarse_bounds::{block_bounds, CoarseBounds, BOUND_CELL};
-pub use far_field::{FarField, FarSamples, FarTerrain};
+pub use far_field::{FarField, FarSamples, FarTerrain, SamplePatch};
 
 use crate::ShadeError;
 use cell_pyramid::CellPyramid;
@@ -189,11 +189,48 @@ impl<'a> HorizonEngine<'a> {
         cols: Range<usize>,
         at_least_level: bool,
     ) -> Vec<Vec<f32>> {
+        self.directions(rows, cols, at_least_level, None)
+    }
+
+    /// [`HorizonEngine::region`] in direction `k` alone: its angles (none if it is not
+    /// wanted). A window's far field is read a direction at a time this way, so that the
+    /// tiles its lines cross are read together.
+    pub fn direction(
+        &self,
+        k: usize,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        at_least_level: bool,
+    ) -> Vec<f32> {
+        let mut all = self.directions(rows, cols, at_least_level, Some(k));
+        if k < all.len() {
+            std::mem::take(&mut all[k])
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// Frees what direction `k`'s lines past the window hold (their steps over the whole
+    /// raster): once its angles are all found.
+    pub fn release_direction(&self, k: usize) {
+        if let Method::Lanes(lanes) = &self.method {
+            lanes.release_far(k);
+        }
+    }
+
+    /// The angles in every direction, or in `only`.
+    fn directions(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        at_least_level: bool,
+        only: Option<usize>,
+    ) -> Vec<Vec<f32>> {
         match &self.method {
             Method::Lanes(lanes) => {
-                lanes.band(rows, cols, self.void, at_least_level, self.far.as_ref())
+                lanes.band(rows, cols, self.void, at_least_level, self.far.as_ref(), only)
             }
-            Method::March(terrain) => self.march_band(terrain, rows, cols, at_least_level),
+            Method::March(terrain) => self.march_band(terrain, rows, cols, at_least_level, only),
         }
     }
 
@@ -210,12 +247,13 @@ impl<'a> HorizonEngine<'a> {
         rows: Range<usize>,
         cols: Range<usize>,
         at_least_level: bool,
+        only: Option<usize>,
     ) -> Vec<Vec<f32>> {
         let width = terrain.width;
         let p = &self.params;
         (0..p.azimuths as usize)
             .map(|k| {
-                if !self.wanted[k] {
+                if !self.wanted[k] || only.is_some_and(|o| o != k) {
                     return Vec::new();
                 }
                 let azimuth = p.azimuth_deg(k);

@@ -222,9 +222,30 @@ pub fn shade_map_region(
             .transpose()?,
         cols: cols.clone(),
         raster_span: raster_span.unwrap_or([field.min_sample(), field.max_sample()]),
+        angles: None,
         azimuths_deg: (0..n).map(|k| params.horizon.azimuth_deg(k)).collect(),
         insolation_suns,
     };
+    // Over a far field, the horizons are found first, a direction at a time (the progress
+    // counts them as all rows but one, the layers as the last).
+    let directions =
+        context.up.iter().chain(&context.down).map(|e| e.params().azimuths as u64).sum::<u64>();
+    let mut context = context;
+    let base = if far.is_some() && directions > 0 {
+        let scale = |done: usize| done as u64 * height as u64 / (directions + 1);
+        context.angles = Some(RegionAngles::direction_by_direction(
+            context.up.as_ref(),
+            context.down.as_ref(),
+            rows.clone(),
+            cols.clone(),
+            params.level_only(),
+            &|done| progress(scale(done)),
+        ));
+        scale(directions as usize)
+    } else {
+        0
+    };
+    let context = context;
     let done_rows = AtomicU64::new(0);
     let results: Vec<BandValues> = (0..height.div_ceil(BAND_ROWS))
         .into_par_iter()
@@ -233,7 +254,8 @@ pub fn shade_map_region(
                 rows.start + band * BAND_ROWS..rows.start + ((band + 1) * BAND_ROWS).min(height);
             let result = context.shade_rows(band_rows.clone());
             let done = band_rows.len() as u64;
-            progress(done_rows.fetch_add(done, Ordering::Relaxed) + done);
+            let rows_done = done_rows.fetch_add(done, Ordering::Relaxed) + done;
+            progress(base + rows_done * (height as u64 - base) / height as u64);
             result
         })
         .collect();
@@ -299,6 +321,53 @@ struct Context<'a> {
     cols: Range<usize>,
     /// The lowest and highest sample of the whole raster.
     raster_span: [f32; 2],
+    /// The region's horizon angles, where they are found beforehand.
+    angles: Option<RegionAngles>,
+}
+
+/// The horizon angles of every sample of a region, per direction, of the terrain and of the
+/// terrain upside down (where the layers need them).
+struct RegionAngles {
+    rows: Range<usize>,
+    up: Option<Vec<Vec<f32>>>,
+    down: Option<Vec<Vec<f32>>>,
+}
+
+impl RegionAngles {
+    /// Finds the angles of `rows` x `cols` a direction at a time, each direction's bands of
+    /// rows in parallel: the lines of one direction cross the same part of a far field, so
+    /// the tiles they read are read together. `progress` is called with the directions done.
+    fn direction_by_direction(
+        up: Option<&HorizonEngine>,
+        down: Option<&HorizonEngine>,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        level_only: bool,
+        progress: &dyn Fn(usize),
+    ) -> RegionAngles {
+        let mut done = 0;
+        let mut all = |engine: &HorizonEngine, level: bool| {
+            (0..engine.params().azimuths as usize)
+                .map(|k| {
+                    let bands: Vec<Vec<f32>> = (0..rows.len().div_ceil(BAND_ROWS))
+                        .into_par_iter()
+                        .map(|band| {
+                            let first = rows.start + band * BAND_ROWS;
+                            let band_rows = first..(first + BAND_ROWS).min(rows.end);
+                            engine.direction(k, band_rows, cols.clone(), level)
+                        })
+                        .collect();
+                    engine.release_direction(k);
+                    done += 1;
+                    progress(done);
+                    bands.concat()
+                })
+                .collect()
+        };
+        let up = up.map(|e| all(e, level_only));
+        let down = down.map(|e| all(e, false));
+        RegionAngles { rows, up, down }
+    }
 }
 
 impl Context<'_> {
@@ -308,13 +377,32 @@ impl Context<'_> {
         let width = field.width();
         let count = rows.len() * cols.len();
         let (seen_per_sun, rays) = self.suns_seen(rows.clone());
-        // Only the horizon and the positive openness need the horizons below the horizontal.
-        let level_only = !params
-            .layers
-            .iter()
-            .any(|l| matches!(l, ShadeLayer::Horizon | ShadeLayer::OpennessPos));
-        let up = self.up.as_ref().map(|e| e.region(rows.clone(), cols.clone(), level_only));
-        let down = self.down.as_ref().map(|e| e.region(rows.clone(), cols.clone(), false));
+        let level_only = params.level_only();
+        let (up, down) = match &self.angles {
+            // The region's angles, found direction by direction beforehand: this band's.
+            Some(angles) => {
+                let first = (rows.start - angles.rows.start) * cols.len();
+                let slice = |a: &Option<Vec<Vec<f32>>>| {
+                    a.as_ref().map(|per_direction| {
+                        per_direction
+                            .iter()
+                            .map(|d| {
+                                if d.is_empty() {
+                                    Vec::new()
+                                } else {
+                                    d[first..first + count].to_vec()
+                                }
+                            })
+                            .collect::<Vec<_>>()
+                    })
+                };
+                (slice(&angles.up), slice(&angles.down))
+            }
+            None => (
+                self.up.as_ref().map(|e| e.region(rows.clone(), cols.clone(), level_only)),
+                self.down.as_ref().map(|e| e.region(rows.clone(), cols.clone(), false)),
+            ),
+        };
         let n_bands: usize = params.layers.iter().map(|&l| params.bands_of(l)).sum();
         let mut bands = vec![vec![f32::NAN; count]; n_bands];
         let suns = self.rays.sun_centres.len().max(1) as f64;

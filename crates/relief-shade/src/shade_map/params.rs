@@ -260,6 +260,12 @@ impl ShadeMapParams {
         (samples.is_finite() && samples < 1e12).then(|| samples as usize + 3)
     }
 
+    /// Whether the horizons above the horizontal are all the layers need (all but the
+    /// horizon and the positive openness).
+    pub fn level_only(&self) -> bool {
+        !self.layers.iter().any(|l| matches!(l, ShadeLayer::Horizon | ShadeLayer::OpennessPos))
+    }
+
     /// Rays per sample the map casts.
     pub fn rays_per_sample(&self) -> u64 {
         let sun_rays = if self.sun_radius_deg > 0.0 { self.sun_rays } else { 1 };

@@ -2,6 +2,7 @@
 //! its georeference, CRS and nodata.
 
 pub mod args;
+mod blocks;
 pub mod when;
 
 use crate::{applies, input, memory, outputs, progress};
@@ -19,7 +20,7 @@ use when::SunTimes;
 
 /// How `relief shade` writes its layers, by the output's extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum ShadeOutput {
+pub enum ShadeOutput {
     /// A float32 GeoTIFF, one band per layer.
     GeoTiff,
     /// A 16-bit grey PNG of one layer, with a world file.
@@ -35,25 +36,27 @@ pub fn run(args: &ShadeArgs) -> Result<()> {
         bail!("{} is an MLHM scene; relief shade makes maps of height files", args.input.display());
     }
     let budget = memory::budget(args.read.max_memory);
-
-    let start = Instant::now();
-    let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
-    let samples = raster.width as u64 * raster.height as u64;
+    if args.input.is_dir() {
+        return blocks::run(args, format, params, &budget, None);
+    }
     // The field, the voids' mask, the tracer's pyramid (a third more than the field), the
-    // bands, and each horizon engine (up, and down for negative openness).
+    // bands, and each horizon engine (up, and down for negative openness): over the budget,
+    // the raster is shaded block by block.
+    let (width, height) = {
+        let rows = relief_io::open_rows(&args.input, &input::read_options(&args.read))?;
+        (rows.width(), rows.height())
+    };
+    let samples = width as u64 * height as u64;
     let bands = params.band_names().len() as u64;
     let engines = params.horizon_engines() as u64 * params.horizon.engine_bytes_per_sample();
     let needed = samples * (4 + 1 + 2 + 4 * bands + engines);
     if needed > budget.bytes {
-        bail!(
-            "shading {} x {} samples needs {}, over the {} memory limit ({})",
-            raster.width,
-            raster.height,
-            crate::memory::format_bytes(needed),
-            crate::memory::format_bytes(budget.bytes),
-            budget.origin
-        );
+        let store = blocks::temporary_store(&args.output);
+        return blocks::run(args, format, params, &budget, Some(&store));
     }
+
+    let start = Instant::now();
+    let raster = relief_io::read_raster(&args.input, &input::read_options(&args.read))?;
     let (width, height) = (raster.width, raster.height);
     let input::MappedField { field, void, voids, info } =
         input::mapped_field(raster, &args.input, &args.read, args.spacing, args.z_scale)?;

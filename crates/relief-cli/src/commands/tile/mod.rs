@@ -111,7 +111,7 @@ fn open_rows(
 }
 
 /// What the build records of an input file, so that a resumed build can tell it changed.
-fn source_file(path: &Path) -> Result<SourceFile> {
+pub(crate) fn source_file(path: &Path) -> Result<SourceFile> {
     let meta = std::fs::metadata(path).with_context(|| format!("{}", path.display()))?;
     let modified_ns = meta
         .modified()
