@@ -6,7 +6,6 @@ flythrough`'s bytes; bad chunks, halos and layers are refused with the limit in 
 
 import json
 import math
-import sys
 
 import numpy as np
 import pytest
@@ -27,36 +26,6 @@ SUNS = [(250.0, 15.0)]
 LAYERS = ["shadow", "sky", "hillshade", "horizon"]
 OPTIONS = dict(layers=LAYERS, suns=SUNS, azimuths=8)
 CLI_OPTIONS = ["--layers", ",".join(LAYERS), "--sun", "250,15", "--azimuths", "8"]
-
-
-# Until relief.shade_window and relief.source_info land (the lead's block engine), a stand-in
-# with their contract: a store is shaded as the raster it was tiled from, whole, and cropped.
-
-_TILED_FROM = {}
-
-
-def _stand_in_source_info(source):
-    raster, tile = _TILED_FROM.get(str(source), (str(source), None))
-    heights, georeference = relief.read(raster)
-    return dict(georeference, width=heights.shape[1], height=heights.shape[0], tile=tile)
-
-
-def _stand_in_shade_window(source, window, **options):
-    raster, _ = _TILED_FROM.get(str(source), (str(source), None))
-    heights, georeference = relief.read(raster)
-    col, row, width, height = window
-    layers = relief.shade(heights, georeference, **options)
-    return {name: values[..., row:row + height, col:col + width]
-            for name, values in layers.items()}
-
-
-def _install_stand_in(tiled_from):
-    if hasattr(relief, "shade_window") and not getattr(relief, "_stand_in", False):
-        return
-    _TILED_FROM.update(tiled_from)
-    relief.shade_window = _stand_in_shade_window
-    relief.source_info = _stand_in_source_info
-    relief._stand_in = True
 
 
 @pytest.fixture(scope="module")
@@ -88,25 +57,17 @@ def store(dem, client, relief_bin):
     store = folder / "dem.store"
     subprocess.run([str(relief_bin), "tile", str(path), "-o", str(store), "--tile", str(TILE)],
                    check=True, capture_output=True)
-    if not hasattr(relief, "shade_window"):
-        import cloudpickle
-
-        cloudpickle.register_pickle_by_value(sys.modules[__name__])
-        tiled_from = {str(store): (str(path), TILE)}
-        _install_stand_in(tiled_from)
-        client.run(_install_stand_in, tiled_from)
     return store
 
 
 @pytest.fixture(scope="module")
 def cli_shade(dem, store, relief_bin):
-    """`relief shade` of the store (of its raster with the stand-in), written as a GeoTIFF."""
+    """`relief shade` of the store, written as a GeoTIFF."""
     import subprocess
 
-    folder, path = dem
+    folder, _ = dem
     out = folder / "cli.tif"
-    source = path if getattr(relief, "_stand_in", False) else store
-    subprocess.run([str(relief_bin), "shade", str(source), "-o", str(out), *CLI_OPTIONS],
+    subprocess.run([str(relief_bin), "shade", str(store), "-o", str(out), *CLI_OPTIONS],
                    check=True, capture_output=True)
     return out
 
@@ -148,15 +109,63 @@ def test_the_layers_write_with_rioxarray_and_a_lock(client, store, cli_shade, tm
     out = tmp_path / "shade.tif"
     lock = distributed.Lock("relief-test-write")
     ds[["shadow", "sky", "hillshade"]].rio.to_raster(
-        out, tiled=True, blockxsize=128, blockysize=128, lock=lock, compute=True)
+        out, tiled=True, blockxsize=128, blockysize=128, lock=lock, compute=True,
+        recalc_transform=False)
     horizon = tmp_path / "horizon.tif"
-    ds["horizon"].rio.to_raster(horizon, tiled=True, lock=lock)
+    ds["horizon"].rio.to_raster(horizon, tiled=True, lock=lock, recalc_transform=False)
     with rasterio.open(out) as written, rasterio.open(cli_shade) as cli:
         assert written.crs == cli.crs and written.transform == cli.transform
+        assert written.descriptions == cli.descriptions[:3]
         assert written.block_shapes[0] == (128, 128)
         np.testing.assert_array_equal(written.read(), cli.read([1, 2, 3]))
     with rasterio.open(horizon) as written, rasterio.open(cli_shade) as cli:
         np.testing.assert_array_equal(written.read(), cli.read(list(range(4, 12))))
+
+
+def test_a_raster_file_with_voids_writes_as_the_command_line(client, run_relief, tmp_path):
+    heights = hills(150, 170) * 20.0
+    heights[60:66, 70:90] = -9999.0
+    dem = tmp_path / "voids.tif"
+    transform = rasterio.transform.from_origin(-84.4, 36.7, 1 / 1200, 1 / 1200)
+    with rasterio.open(dem, "w", driver="GTiff", width=170, height=150, count=1,
+                       dtype="float32", crs="EPSG:4326", transform=transform,
+                       nodata=-9999.0) as file:
+        file.write(heights, 1)
+    run_relief("shade", dem, "-o", tmp_path / "cli.tif", "--layers", "sky,hillshade,horizon",
+               "--azimuths", "4")
+    ds = relief.dask.shade(dem, chunks=(64, 100), layers=["sky", "hillshade", "horizon"],
+                           azimuths=4)
+    assert np.isnan(ds["sky"].values[62, 80]), "voids are NaN in memory"
+    lock = distributed.Lock("relief-test-voids")
+    ds[["sky", "hillshade"]].rio.to_raster(tmp_path / "ours.tif", lock=lock,
+                                           recalc_transform=False)
+    ds["horizon"].rio.to_raster(tmp_path / "horizon.tif", lock=lock, recalc_transform=False)
+    with rasterio.open(tmp_path / "ours.tif") as ours, \
+            rasterio.open(tmp_path / "horizon.tif") as horizon, \
+            rasterio.open(tmp_path / "cli.tif") as cli:
+        assert ours.nodata == horizon.nodata == cli.nodata == -9999.0
+        assert ours.crs == cli.crs and ours.transform == cli.transform == horizon.transform
+        assert ours.descriptions + horizon.descriptions == cli.descriptions
+        assert (cli.read(1) == -9999.0).sum() == 6 * 20
+        np.testing.assert_array_equal(ours.read(), cli.read([1, 2]))
+        np.testing.assert_array_equal(horizon.read(), cli.read([3, 4, 5, 6]))
+
+
+def test_corrupt_and_incomplete_stores_are_refused_with_the_tile_named(client, store, tmp_path):
+    import shutil
+
+    bad = tmp_path / "bad.store"
+    shutil.copytree(store, bad)
+    data = bad / "tiles.data"
+    corrupt = bytearray(data.read_bytes())
+    corrupt[4 * 300] ^= 0x55
+    data.write_bytes(bytes(corrupt))
+    with pytest.raises(relief.ReliefError, match="tile .*checksum|checksum.*tile"):
+        relief.dask.shade(bad, chunks=CHUNKS, layers=["hillshade"]).compute()
+    index = bad / "index.json"
+    index.write_text(index.read_text().replace('"complete": true', '"complete": false'))
+    with pytest.raises(relief.ReliefError, match="incomplete|not complete"):
+        relief.dask.shade(bad, chunks=CHUNKS, layers=["hillshade"])
 
 
 def test_chunks_smaller_than_a_tile_and_array_options_are_refused(store):

@@ -67,7 +67,7 @@ def shade(source: Union[str, os.PathLike, da.Array, np.ndarray, xarray.DataArray
           chunks: Chunks = None, **options: Any) -> xarray.Dataset:
     """The shade layers of a tile store, a raster file or an array, lazily, chunk by chunk,
     as an ``xarray.Dataset`` of Dask arrays: one variable per layer, as ``relief.shade``
-    returns a dict, float32, NaN at voids (``_FillValue`` NaN), dims ``(y, x)``; the
+    returns a dict, float32, NaN at voids, dims ``(y, x)``; the
     ``horizon`` dims ``(azimuth, y, x)`` with the directions in degrees clockwise from north.
     Computing it (``ds.compute()``, ``ds.rio.to_raster(...)``, ...) shades the chunks on the
     current Dask scheduler: a ``distributed.Client``'s workers where one is connected. Each
@@ -79,7 +79,12 @@ def shade(source: Union[str, os.PathLike, da.Array, np.ndarray, xarray.DataArray
     by a worker that reads ``source`` itself, so every worker must see it at the same path
     (a shared filesystem). The x and y coordinates are the pixels' centres, as
     ``rioxarray.open_rasterio`` gives them for ``relief shade``'s output, with the source's
-    CRS and transform attached (``ds.rio.crs``, ``ds.rio.transform()``). ``chunks``: samples
+    CRS and transform attached (``ds.rio.crs``, ``ds.rio.transform()``; write with
+    ``rio.to_raster(..., recalc_transform=False)`` to keep the transform exactly rather than
+    recompute it from the coordinates), and the source's nodata as the value a file gets at
+    voids (``rio.encoded_nodata``; NaN where the source has none), each band's name as
+    ``relief shade`` names it (``long_name``): ``ds.rio.to_raster`` writes the values,
+    georeference, nodata and band names ``relief shade`` writes. ``chunks``: samples
     a side, an int or ``(rows, columns)``, at least the store's tile (``relief tile
     --tile``; a multiple of it reads each tile for one chunk only); default the multiple of
     the tile nearest 2048 (2048 for a raster file). ``options``: the keywords of
@@ -189,7 +194,7 @@ def _shade_source(source, chunks, options):
         name=f"relief-shade-{token}",
     )
     x, y = _pixel_centres(info["transform"], width, height)
-    dataset = _dataset(stacked, bands, {"y": y, "x": x}, ("y", "x"))
+    dataset = _dataset(stacked, bands, {"y": y, "x": x}, ("y", "x"), info.get("nodata"))
     crs = _crs(info)
     if crs is not None:
         dataset = dataset.rio.write_crs(crs)
@@ -391,22 +396,33 @@ def _stack(shaded, layers, rows, cols):
     )
 
 
-def _dataset(stacked, bands, coords, dims):
+def _dataset(stacked, bands, coords, dims, nodata=None):
     """The Dataset of ``stacked`` (bands, rows, cols): a variable per layer of ``bands``,
-    sharing its chunks' tasks, with ``coords`` on ``dims``."""
+    sharing its chunks' tasks, with ``coords`` on ``dims``; each variable's ``long_name`` its
+    bands' names as ``relief shade`` describes them, NaN at voids, written to a file as
+    ``nodata`` (the source's; None: NaN)."""
     variables, first = {}, 0
     coords = dict(coords)
     for name, n in bands:
         if name == "horizon":
             data, var_dims = stacked[first:first + n], ("azimuth",) + tuple(dims)
-            coords["azimuth"] = np.arange(n, dtype=np.float64) * 360.0 / n
+            azimuths = np.arange(n, dtype=np.float64) * 360.0 / n
+            coords["azimuth"] = azimuths
+            long_name = tuple(f"horizon-{azimuth:05.1f}" for azimuth in azimuths)
         else:
-            data, var_dims = stacked[first], tuple(dims)
+            data, var_dims, long_name = stacked[first], tuple(dims), name
         first += n
-        variables[name] = xarray.Variable(var_dims, data, {"_FillValue": np.float32(np.nan)})
+        variables[name] = xarray.Variable(var_dims, data, {"long_name": long_name})
     dataset = xarray.Dataset(variables, coords=coords)
     if "azimuth" in dataset.coords:
         dataset["azimuth"].attrs.update(units="degrees", long_name="clockwise from north")
+    for name in dataset.data_vars:
+        if nodata is None or np.isnan(nodata):
+            dataset[name].rio.write_nodata(np.float32(np.nan), inplace=True)
+        else:
+            # NaN in memory, the source's nodata in a file (xarray's encoding), as relief
+            # shade writes the voids.
+            dataset[name].rio.write_nodata(np.float32(nodata), encoded=True, inplace=True)
     return dataset
 
 
