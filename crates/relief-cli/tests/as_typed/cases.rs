@@ -153,6 +153,8 @@ pub const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("shade {in}/f.tif -o {out}/s.tif --layers shadows", Expect::Refused("unknown layer 'shadows'")),
             ("shade {in}/f.tif -o {out}/s.png --layers shadow,sky", Expect::Refused("a PNG holds one band")),
             ("shade {in}/f.tif -o {out}/s.png --layers horizon", Expect::Refused("a PNG holds one band, not a band per direction")),
+            ("shade {in}/st -o {out}/st.tif --layers shadow,sky,hillshade --azimuths 4 --max-memory 256M", Expect::Ok),
+            ("shade {in}/st -o {out}/st.png --layers hillshade", Expect::Refused("a PNG is written whole: write a .tif")),
             ("shade {in}/f.tif -o {out}/s.jpg", Expect::Refused(".tif (GeoTIFF) or .png")),
             ("shade {in}/f.tif -o {in}/f.tif", Expect::Refused("f.tif")),
             ("shade {in}/f.tif -o {out}/s.tif --layers shadow --azimuths 8", Expect::Refused("--azimuths applies to the layers built on horizons")),
