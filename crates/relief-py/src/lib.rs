@@ -1,6 +1,7 @@
 //! The native part of relief's Python package: `open` (any input as a `Scene`, drawn by the
 //! scene layer, relief_render, as `relief render` draws it), `simulate` (an MLHM scene's
-//! erosion), and `render`, `shade`, `intersect`, `read` and `write_png` over NumPy arrays,
+//! erosion), `flight_plan` (a camera path's frames as `relief flythrough` plays it), and
+//! `render`, `shade`, `intersect`, `read` and `write_png` over NumPy arrays,
 //! with relief's errors raised as Python exceptions. The package `relief` (python/relief)
 //! re-exports them; its `_relief.pyi` holds their type stubs.
 //!
@@ -12,6 +13,7 @@
 mod arrays;
 mod camera;
 mod errors;
+mod flythrough;
 mod georeference;
 mod info;
 mod intersect;
@@ -49,6 +51,7 @@ fn _relief(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(viewshed::viewshed, m)?)?;
     m.add_function(wrap_pyfunction!(write_png::write_png, m)?)?;
     m.add_function(wrap_pyfunction!(solar::sun_position, m)?)?;
+    m.add_function(wrap_pyfunction!(flythrough::flight_plan, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -3,15 +3,21 @@
 use crate::errors::{file, invalid};
 use numpy::{PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use relief_io::PngCompression;
 use std::path::PathBuf;
 
 /// Writes ``rgb``, a uint8 array of shape (height, width, 3) such as ``render`` returns, to
-/// ``path`` as an 8-bit RGB PNG (row 0 the top row), the file written whole or not at all.
+/// ``path`` as an 8-bit RGB PNG (row 0 the top row), the file written whole or not at all,
+/// compressed as ``compression`` says: ``"none"``, ``"fast"`` (the default), ``"balanced"``
+/// or ``"high"``, as ``relief render --png-compression`` (the same bytes for the same
+/// picture).
 ///
-/// Raises ``relief.ReliefError`` for an array of another dtype or shape, ``OSError`` when the
-/// file cannot be written.
+/// Raises ``relief.ReliefError`` for an array of another dtype or shape or an unknown
+/// compression, ``OSError`` when the file cannot be written.
 #[pyfunction]
-pub fn write_png(path: PathBuf, rgb: &Bound<'_, PyAny>) -> PyResult<()> {
+#[pyo3(signature = (path, rgb, *, compression="fast"))]
+pub fn write_png(path: PathBuf, rgb: &Bound<'_, PyAny>, compression: &str) -> PyResult<()> {
+    let compression: PngCompression = compression.parse().map_err(invalid)?;
     let wrong =
         || invalid("rgb must be a uint8 array of shape (height, width, 3), as render returns");
     let array: PyReadonlyArray3<'_, u8> = rgb.extract().map_err(|_| wrong())?;
@@ -26,5 +32,6 @@ pub fn write_png(path: PathBuf, rgb: &Bound<'_, PyAny>) -> PyResult<()> {
     // Logical order, whatever the strides.
     let bytes: Vec<u8> = array.as_array().iter().copied().collect();
     let py = rgb.py();
-    py.detach(|| relief_io::write_png_rgb8(&path, w, h, &bytes)).map_err(file)
+    py.detach(|| relief_io::write_png_rgb8_compressed(&path, w, h, &bytes, compression))
+        .map_err(file)
 }

@@ -176,6 +176,22 @@ pub enum RenderError {
     /// A simulated terrain that could not be rounded to its scene's precision.
     #[error("rounding to the scene's precision")]
     Rounding(#[source] CoreError),
+    /// A camera-path file that is not one.
+    #[error("camera path {}: {reason}", .path.display())]
+    CameraPath {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A camera-path file that could not be read or written.
+    #[error("{}: {source}", .path.display())]
+    CameraPathFile {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
     /// An MLHM scene without a finite box.
     #[error("the scene has no finite bounds ({0})")]
     NoFiniteBounds(String),

@@ -9,6 +9,7 @@
 pub mod antialias;
 pub mod block_shade;
 pub mod camera;
+pub mod camera_path;
 pub mod colours;
 pub mod draw;
 pub mod error;
@@ -25,6 +26,7 @@ pub mod warnings;
 
 pub use antialias::Antialiasing;
 pub use camera::{place_camera, CameraOptions, PlacedCamera, ViewAngles, DEFAULT_FOV_DEG};
+pub use camera_path::{CameraKey, CameraPath, CAMERA_PATH_FORMAT, CAMERA_PATH_VERSION};
 pub use colours::ColourSettings;
 pub use draw::mesh::StacksDrawing;
 pub use draw::picture::Picture;

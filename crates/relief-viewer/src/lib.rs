@@ -15,7 +15,6 @@
 #![forbid(unsafe_code)]
 
 mod camera_controller;
-mod camera_path;
 mod frame;
 mod headless;
 mod hud;
@@ -31,11 +30,13 @@ mod window;
 mod winit_keys;
 
 pub use camera_controller::{CameraController, Motion, Navigation, DEFAULT_FOV_DEG};
-pub use camera_path::{CameraKey, CameraPath, CAMERA_PATH_FORMAT, CAMERA_PATH_VERSION};
 pub use frame::{blit, Cancel, Frame, FrameStats, SceneRenderer};
 pub use headless::run_headless;
 pub use input_map::{action_for, motion_from, Action, Key, KEY_HELP};
 pub use progressive::{FrameRequest, ProgressiveScheduler};
+pub use relief_render::camera_path::{
+    CameraKey, CameraPath, CAMERA_PATH_FORMAT, CAMERA_PATH_VERSION,
+};
 pub use script::{Script, ScriptFrame, SCRIPT_FRAME_S};
 pub use simulation::{SimulationControl, SimulationReport, SimulationRequest};
 pub use summary::{FrameRecord, ViewerSummary};
@@ -64,14 +65,9 @@ pub enum ViewerError {
         /// The underlying error.
         source: std::io::Error,
     },
-    /// A camera-path file that is not one.
-    #[error("camera path {path}: {reason}")]
-    CameraPath {
-        /// The file.
-        path: PathBuf,
-        /// What is wrong with it.
-        reason: String,
-    },
+    /// A camera-path file that is not one, or could not be written.
+    #[error(transparent)]
+    CameraPath(#[from] relief_render::RenderError),
     /// A screenshot could not be written.
     #[error("screenshot: {0}")]
     Screenshot(#[from] relief_io::IoError),

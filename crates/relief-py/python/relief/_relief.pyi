@@ -226,11 +226,40 @@ def intersect(
     not be unit: the hit is at ``origins + t[:, None] * directions``.
     """
 
-def write_png(path: Union[str, PathLike[str]], rgb: npt.NDArray[np.uint8]) -> None:
-    """Write a uint8 (height, width, 3) picture, as ``render`` returns it, as an RGB PNG.
+def write_png(
+    path: Union[str, PathLike[str]],
+    rgb: npt.NDArray[np.uint8],
+    *,
+    compression: Literal["none", "fast", "balanced", "high"] = "fast",
+) -> None:
+    """Write a uint8 (height, width, 3) picture, as ``render`` returns it, as an RGB PNG,
+    compressed as ``relief render --png-compression`` (the same bytes).
 
     Raises ``ReliefError`` for another dtype or shape, ``OSError`` when the file cannot be
     written.
+    """
+
+class FlightCamera(TypedDict):
+    """A fly-through frame's camera, as ``Scene.render`` takes it."""
+
+    eye: Tuple[float, float, float]
+    target: Tuple[float, float, float]
+    up: Tuple[float, float, float]
+    fov: float
+
+class FlightFrame(TypedDict):
+    """A frame of a fly-through: its number, its time on the camera path, its camera."""
+
+    frame: int
+    time_s: float
+    camera: FlightCamera
+
+def flight_plan(path: Union[str, PathLike[str]], frames: int) -> list[FlightFrame]:
+    """The frames of a ``frames``-frame fly-through of the camera path ``path`` as ``relief
+    flythrough`` plays it: times spread evenly over the path, cameras interpolated between
+    its keys by the command line's code. Raises ``ReliefError`` for a file that is not a
+    camera path, frames outside 1 to 100000 or an unusable camera (naming the frame),
+    ``OSError`` when the file cannot be read.
     """
 
 class SunPosition(TypedDict):
@@ -319,10 +348,12 @@ class Scene:
         legend: bool = False,
         scale_bar: bool = False,
         north_arrow: bool = False,
+        aa: Union[Literal["adaptive", "off"], int, None] = None,
     ) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
         """``(rgb, depth)`` as ``relief render`` draws the scene: uint8 (height, width, 3) and
         float32 (height, width), +inf for a miss, pixel for pixel the command line's; with
-        its ``--legend``, ``--scale-bar`` (orthographic cameras) and ``--north-arrow``."""
+        its ``--legend``, ``--scale-bar`` (orthographic cameras), ``--north-arrow`` and
+        ``--aa`` (``"adaptive"``, the default, ``"off"`` or N)."""
     def shade(
         self,
         layers: Sequence[ShadeLayer] = ("combined",),

@@ -2,9 +2,9 @@
 //! scripted run, by the script's frames.
 
 use super::output_files::next_free;
-use crate::camera_path::{CameraKey, CameraPath};
 use crate::script::SCRIPT_FRAME_S;
 use crate::{CameraController, ViewerError};
+use crate::{CameraKey, CameraPath};
 use std::path::Path;
 use std::time::Instant;
 

@@ -2,8 +2,8 @@
 
 use super::args::FlythroughArgs;
 use anyhow::{bail, Context, Result};
-use relief_core::{Camera, DVec3};
-use relief_viewer::CameraPath;
+use relief_core::Camera;
+use relief_render::CameraPath;
 use std::path::PathBuf;
 
 /// The cameras of the flight, one a frame, at the frames' times on the path.
@@ -20,7 +20,7 @@ pub(super) struct FlightPlan {
 
 /// Reads the camera path and makes every frame's camera: `--frames` times spread evenly
 /// over its span, each camera interpolated between the keys around it (see
-/// [`CameraPath::key_at`]). Refuses a path without keys, and names the frame whose
+/// [`CameraPath::frame_key`], which Python's `relief.flight_plan` calls too). Refuses a path without keys, and names the frame whose
 /// interpolated camera is unusable (its eye on its target, or no up vector).
 pub(super) fn plan(args: &FlythroughArgs) -> Result<FlightPlan> {
     let path = CameraPath::read(&args.path).context("--path")?;
@@ -32,11 +32,10 @@ pub(super) fn plan(args: &FlythroughArgs) -> Result<FlightPlan> {
     let mut replaced_up = 0;
     let mut cameras = Vec::with_capacity(times.len());
     for (index, &time_s) in times.iter().enumerate() {
-        let key = path.key_at(time_s).context("a path with keys has a camera at every time")?;
-        let (eye, target) = (DVec3::from(key.eye), DVec3::from(key.target));
-        let (up, replaced) = Camera::usable_up(eye, target, DVec3::from(key.up));
+        let (key, replaced) =
+            path.frame_key(time_s).context("a path with keys has a camera at every time")?;
         replaced_up += usize::from(replaced);
-        let camera = Camera::look_at(eye, target, up, key.fov_deg, w, h).with_context(|| {
+        let camera = key.camera(w, h).with_context(|| {
             format!(
                 "--path {}: frame {index} (t = {time_s} s) interpolates an unusable camera",
                 args.path.display()

@@ -1,7 +1,9 @@
 //! Camera paths: the viewer records them (R) as JSON, in the format docs/camera-path.md
-//! describes, for a fly-through to replay.
+//! describes, for a fly-through (`relief flythrough`, Python's `relief.dask.flythrough`) to
+//! replay, each frame's camera made here.
 
-use crate::ViewerError;
+use crate::RenderError;
+use relief_core::{Camera, DVec3};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -23,6 +25,16 @@ pub struct CameraKey {
     pub up: [f64; 3],
     /// Vertical field of view, degrees.
     pub fov_deg: f64,
+}
+
+impl CameraKey {
+    /// The `width x height` pinhole camera of this key; an error for a camera that cannot be
+    /// (its eye on its target, its up vector along the view).
+    pub fn camera(&self, width: u32, height: u32) -> Result<Camera, relief_core::CoreError> {
+        let (eye, target, up) =
+            (DVec3::from(self.eye), DVec3::from(self.target), DVec3::from(self.up));
+        Camera::look_at(eye, target, up, self.fov_deg, width, height)
+    }
 }
 
 /// A recorded flight: keys in time order.
@@ -55,19 +67,19 @@ impl CameraPath {
     }
 
     /// Writes the path as JSON to `path` (through a temporary file, renamed into place).
-    pub fn write(&self, path: &Path) -> Result<(), ViewerError> {
+    pub fn write(&self, path: &Path) -> Result<(), RenderError> {
         let text = serde_json::to_string_pretty(self).expect("a camera path serialises");
         let temp = path.with_extension("json.partial");
-        let io = |source| ViewerError::Io { path: path.to_path_buf(), source };
+        let io = |source| RenderError::CameraPathFile { path: path.to_path_buf(), source };
         std::fs::write(&temp, text + "\n").map_err(io)?;
         std::fs::rename(&temp, path).map_err(io)
     }
 
     /// Reads and checks a path written by [`CameraPath::write`] (or by hand).
-    pub fn read(path: &Path) -> Result<CameraPath, ViewerError> {
-        let bad = |reason: String| ViewerError::CameraPath { path: path.to_path_buf(), reason };
+    pub fn read(path: &Path) -> Result<CameraPath, RenderError> {
+        let bad = |reason: String| RenderError::CameraPath { path: path.to_path_buf(), reason };
         let text = std::fs::read_to_string(path)
-            .map_err(|source| ViewerError::Io { path: path.to_path_buf(), source })?;
+            .map_err(|source| RenderError::CameraPathFile { path: path.to_path_buf(), source })?;
         let parsed: CameraPath = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
         if parsed.format != CAMERA_PATH_FORMAT || parsed.version != CAMERA_PATH_VERSION {
             return Err(bad(format!(
@@ -83,8 +95,8 @@ impl CameraPath {
                     "key {k}: a coordinate, time or field of view is invalid"
                 )));
             }
-            let view = relief_core::DVec3::from(key.target) - relief_core::DVec3::from(key.eye);
-            if view.cross(relief_core::DVec3::from(key.up)).length_squared() == 0.0 {
+            let view = DVec3::from(key.target) - DVec3::from(key.eye);
+            if view.cross(DVec3::from(key.up)).length_squared() == 0.0 {
                 return Err(bad(format!(
                     "key {k}: its eye is its target, or its up is parallel to the view"
                 )));
@@ -131,6 +143,18 @@ impl CameraPath {
             up: mix3(a.up, b.up),
             fov_deg: mix(a.fov_deg, b.fov_deg),
         })
+    }
+
+    /// The key of a frame at `time_s` ([`CameraPath::key_at`]), its up vector replaced by north
+    /// where it is parallel to the view, as [`Camera::usable_up`] replaces it (the flag says
+    /// whether it was); `None` for a path without keys. The frame's camera is
+    /// [`CameraKey::camera`] of it, the camera `relief render` makes of those `--eye`,
+    /// `--target`, `--up` and `--fov`.
+    pub fn frame_key(&self, time_s: f64) -> Option<(CameraKey, bool)> {
+        let key = self.key_at(time_s)?;
+        let (eye, target) = (DVec3::from(key.eye), DVec3::from(key.target));
+        let (up, replaced) = Camera::usable_up(eye, target, DVec3::from(key.up));
+        Some((CameraKey { up: up.to_array(), ..key }, replaced))
     }
 
     /// The times of `frames` frames spread evenly over the path's span `t0..=t1`: frame `i`
@@ -194,6 +218,26 @@ mod tests {
         let times = odd.frame_times(7);
         assert_eq!((times[0], times[6]), (0.1, 0.3));
         assert_eq!(odd.key_at(times[6]).unwrap().eye, odd.keys[1].eye);
+    }
+
+    #[test]
+    fn a_frame_key_has_a_usable_up_and_makes_the_keys_camera() {
+        let mut path = CameraPath::default();
+        path.push(key(0.0, 1.0));
+        path.push(key(1.0, 2.0));
+        let (first, replaced) = path.frame_key(0.0).unwrap();
+        assert!(!replaced);
+        assert_eq!(first, path.keys[0]);
+        assert_eq!(path.frame_key(0.5).unwrap().0, path.key_at(0.5).unwrap());
+        // Looking straight down, up along the view: north is at the top instead.
+        path.keys[1].eye = [0.0, 0.0, 10.0];
+        let (down, replaced) = path.frame_key(3.0).unwrap();
+        assert!(replaced);
+        assert_eq!((down.up, down.time_s), ([0.0, 1.0, 0.0], 3.0));
+        let camera = down.camera(64, 48).unwrap();
+        assert_eq!((camera.eye(), camera.up()), (DVec3::new(0.0, 0.0, 10.0), DVec3::Y));
+        assert!(CameraKey { target: down.eye, ..down }.camera(64, 48).is_err());
+        assert!(CameraPath::default().frame_key(0.0).is_none());
     }
 
     #[test]
