@@ -14,9 +14,12 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::SystemTime;
 
-/// Sources opened by this process, by path and the time their index or file changed: a
-/// worker opens a store once (reading its bounds), whatever the number of its chunks.
-static OPENED: Mutex<Vec<(PathBuf, Option<SystemTime>, Arc<ShadeSource>)>> = Mutex::new(Vec::new());
+/// A source opened, by its path and the time its index or file changed.
+type Opened = (PathBuf, Option<SystemTime>, Arc<ShadeSource>);
+
+/// Sources opened by this process: a worker opens a store once (reading its bounds), whatever
+/// the number of its chunks.
+static OPENED: Mutex<Vec<Opened>> = Mutex::new(Vec::new());
 
 /// Sources kept open at most.
 const KEPT_SOURCES: usize = 4;

@@ -183,7 +183,7 @@ mod tests {
         let small =
             BlockPlan::new(2048, 2048, [0.0, 100.0], &g, &params, 256, &budget(40 << 20), 0)
                 .unwrap();
-        assert!(small.block < 2048 && small.block % 256 == 0, "{}", small.block);
+        assert!(small.block < 2048 && small.block.is_multiple_of(256), "{}", small.block);
         assert!(small.window_bytes <= 40 << 20);
         let none = BlockPlan::new(2048, 2048, [0.0, 100.0], &g, &params, 256, &budget(1 << 20), 0);
         assert!(matches!(none, Err(RenderError::ShadeOverBudget { .. })));

@@ -33,7 +33,7 @@ pub struct ShadeSource {
 
 /// Where a [`ShadeSource`]'s samples are.
 enum Samples {
-    Store(StoreTiles),
+    Store(Box<StoreTiles>),
     Memory(Arc<Vec<f32>>),
 }
 
@@ -69,7 +69,7 @@ impl ShadeSource {
             path: dir.to_path_buf(),
             geometry: header.geometry.into(),
             info: store_info(&header),
-            samples: Samples::Store(tiles),
+            samples: Samples::Store(Box::new(tiles)),
             width,
             height,
             bounds,
