@@ -41,10 +41,24 @@ impl ShadeSource {
     /// The tile store at `dir` (complete, its level-0 tiles without voids), its decoded tiles
     /// cached up to `cache_bytes`. Reads every level-0 tile once for the bounds (each checked
     /// against its checksum). Errors: a store that is not one, incomplete (with the tiles
-    /// built) or corrupt (naming the tile), or with voids.
+    /// built and the first missing tile) or corrupt (naming the tile), or with voids.
     pub fn open_store(dir: &Path, cache_bytes: u64) -> Result<ShadeSource, RenderError> {
-        let store = TileStore::open(dir)?;
+        let store = TileStore::open_any(dir)?;
         let layout = store.layout().clone();
+        let (done, total) = store.progress();
+        if !store.header().complete || done != total {
+            let missing = (0..layout.tile_count())
+                .map(|index| layout.id_at(index))
+                .find(|&id| store.record(id).is_none())
+                .map_or_else(String::new, |id| format!("; {id} is missing"));
+            return Err(RenderError::ShadeSource {
+                path: dir.to_path_buf(),
+                reason: format!(
+                    "the tile store is incomplete ({done} of {total} tiles built{missing}); run \
+                     the same `relief tile` command again to resume it"
+                ),
+            });
+        }
         let (tiles_x, tiles_y) = layout.tiles_of(0);
         for row in 0..tiles_y {
             for col in 0..tiles_x {
@@ -53,7 +67,7 @@ impl ShadeSource {
                     return Err(RenderError::ShadeSource {
                         path: dir.to_path_buf(),
                         reason: format!(
-                            "tile {id} has voids; a store is shaded without voids only (fill \
+                            "{id} has voids; a store is shaded without voids only (fill \
                              them before `relief tile`, or shade the raster in memory, which \
                              fills them)"
                         ),
