@@ -70,8 +70,13 @@ pub fn run(
     }
     params.validate()?;
     let names: Vec<String> = params.band_names().into_iter().map(|(_, name)| name).collect();
-    let fixed =
-        source.bytes() + cache + CogWriter::memory_bytes(width, height, names.len(), OUTPUT_TILE);
+    // The source's bounds, the tile cache, the writer, and a direction's steps over the whole
+    // raster while its far walks run (about 300 bytes a step).
+    let stencil = 300 * width.max(height) as u64;
+    let fixed = source.bytes()
+        + cache
+        + CogWriter::memory_bytes(width, height, names.len(), OUTPUT_TILE)
+        + stencil;
     let plan = BlockPlan::new(
         width,
         height,
