@@ -209,6 +209,12 @@ impl CogWriter {
         })
     }
 
+    /// Whether an interrupted writer of `path` left its journal beside it (which
+    /// [`create`](Self::create) resumes, or removes when the job differs).
+    pub fn interrupted_at(path: &Path) -> bool {
+        hidden_beside(path, "cog-journal").is_ok_and(|journal| journal.exists())
+    }
+
     /// Side of the internal tiles, in samples.
     pub fn tile(&self) -> usize {
         self.full.grid.tile

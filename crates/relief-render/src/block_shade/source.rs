@@ -8,11 +8,10 @@ use relief_core::{GridGeometry, HeightField};
 use relief_io::{Format, Georeference, HeightUnit, RasterInfo};
 use relief_shade::horizon::{block_bounds, CoarseBounds, FarTerrain, SamplePatch, BOUND_CELL};
 use relief_shade::ShadeError;
-use relief_tiles::{TileId, TileStore};
-use std::collections::HashMap;
+use relief_tiles::{CachedTile, TileCache, TileId, TileStore};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// Bytes of decoded tiles a store's cache keeps at most, unless told otherwise.
 pub const DEFAULT_TILE_CACHE: u64 = 256 << 20;
@@ -173,11 +172,6 @@ impl ShadeSource {
         }
     }
 
-    /// Whether some sample was a void.
-    pub fn has_voids(&self) -> bool {
-        self.void.as_ref().is_some_and(|v| v.contains(&true))
-    }
-
     /// The lowest and highest sample.
     pub fn span(&self) -> [f32; 2] {
         self.bounds.span(0..self.width, 0..self.height)
@@ -262,60 +256,46 @@ impl FarTerrain for ShadeSource {
     }
 }
 
-/// A store's level-0 tiles, decoded, in a cache of bounded size (least recently used out).
+/// A store's level-0 tiles, decoded, in the store's bounded cache (least recently used out).
 struct StoreTiles {
     store: TileStore,
     /// Samples along a tile's side (without its ring).
     side: usize,
-    cache: Mutex<TileCache>,
+    cache: TileCache<SampleTile>,
 }
 
-/// Decoded tiles by index, with when each was last used.
-struct TileCache {
-    tiles: HashMap<u32, (Arc<Vec<f32>>, u64)>,
-    clock: u64,
-    bytes: u64,
-    budget: u64,
+/// A level-0 tile's stored samples, as the cache holds them.
+struct SampleTile {
+    id: TileId,
+    samples: Arc<Vec<f32>>,
+}
+
+impl CachedTile for SampleTile {
+    fn tile_id(&self) -> TileId {
+        self.id
+    }
+    fn tile_bytes(&self) -> u64 {
+        self.samples.len() as u64 * 4
+    }
 }
 
 impl StoreTiles {
     fn new(store: TileStore, budget: u64) -> StoreTiles {
         let side = store.layout().tile() as usize;
-        let cache = TileCache { tiles: HashMap::new(), clock: 0, bytes: 0, budget };
-        StoreTiles { store, side, cache: Mutex::new(cache) }
+        StoreTiles { store, side, cache: TileCache::new(budget) }
     }
 
     /// The stored samples of level-0 tile (`col`, `row`), from the cache or the store.
     fn tile(&self, col: u32, row: u32) -> Result<Arc<Vec<f32>>, relief_tiles::TileError> {
-        let (tiles_x, _) = self.store.layout().tiles_of(0);
-        let key = col + row * tiles_x;
-        {
-            let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
-            cache.clock += 1;
-            let now = cache.clock;
-            if let Some((tile, used)) = cache.tiles.get_mut(&key) {
-                *used = now;
-                return Ok(tile.clone());
-            }
-        }
         let id = TileId { level: 0, col, row };
-        let samples = self.store.stored_samples(id)?;
-        let tile = Arc::new(samples);
-        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
-        let bytes = tile.len() as u64 * 4;
-        while cache.bytes + bytes > cache.budget && !cache.tiles.is_empty() {
-            let (&oldest, _) =
-                cache.tiles.iter().min_by_key(|(_, (_, used))| *used).expect("not empty");
-            if let Some((evicted, _)) = cache.tiles.remove(&oldest) {
-                cache.bytes -= evicted.len() as u64 * 4;
-            }
+        if let Some(tile) = self.cache.get(id) {
+            return Ok(tile.samples.clone());
         }
-        cache.clock += 1;
-        let now = cache.clock;
-        if cache.tiles.insert(key, (tile.clone(), now)).is_none() {
-            cache.bytes += bytes;
-        }
-        Ok(tile)
+        let samples = Arc::new(self.store.stored_samples(id)?);
+        // Every tile read so far may make room: the cache's frames are not a renderer's here.
+        self.cache.begin_frame();
+        self.cache.insert(Arc::new(SampleTile { id, samples: samples.clone() }));
+        Ok(samples)
     }
 
     /// Reads columns `cols` and rows `rows` of level 0 into `out`, row-major.

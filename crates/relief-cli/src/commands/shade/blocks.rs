@@ -90,7 +90,7 @@ pub fn run(
     let read_ms = elapsed_ms(start);
 
     let fingerprint = fingerprint(args, &source, &params)?;
-    let existed = leftovers(&args.output);
+    let existed = CogWriter::interrupted_at(&args.output);
     let mut writer = CogWriter::create(
         &args.output,
         width,
@@ -208,13 +208,6 @@ fn fingerprint(args: &ShadeArgs, source: &ShadeSource, params: &ShadeMapParams) 
         source.width(),
         source.height()
     ))
-}
-
-/// Whether an interrupted writer of `output` left files beside it.
-fn leftovers(output: &Path) -> bool {
-    let name =
-        output.file_name().map_or_else(Default::default, |n| n.to_string_lossy().into_owned());
-    output.with_file_name(format!(".{name}.cog-journal")).exists()
 }
 
 /// Milliseconds since `start`.
