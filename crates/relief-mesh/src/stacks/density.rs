@@ -1,6 +1,8 @@
-//! Stacks to density (section 3.2.1) and smoothing (section 3.2.2): the coverage of each
-//! lattice point's voxel by a level's layers, in channels, then a separable low-pass filter.
+//! Stacks to density (section 3.2.1) and smoothing (section 3.2.2): each lattice point's
+//! vertical distance to the nearest boundary of a level's layers, in channels, then a
+//! separable low-pass filter across the columns.
 
+use super::column_field::{column_values, BAND};
 use super::lattice::{Block, Lattice};
 use relief_core::{MaterialKind, MaterialStacks};
 
@@ -85,7 +87,13 @@ pub(crate) struct Density {
 }
 
 impl Density {
-    /// The density of `stacks` (one level, on `lattice`) over `block`, smoothed by `kernel`.
+    /// The density of `stacks` (one level, on `lattice`) over `block`, smoothed by `kernel`
+    /// along x and y.
+    ///
+    /// Channels 0 (the solids) and 1 (the liquids) hold `0.5 +` the vertical distance to the
+    /// nearest boundary of that material in each stack (see [`super::column_field`]); each
+    /// material's channel holds 1 where the point shows that material (the layer at the
+    /// nearest boundary, or the layer holding the point) and 0 elsewhere.
     pub fn new(
         stacks: &MaterialStacks,
         lattice: &Lattice,
@@ -94,10 +102,16 @@ impl Density {
         kernel: &[f32],
     ) -> Self {
         let r = (kernel.len() / 2) as i32;
-        let wide = block.grown(r);
-        let mut values = vec![vec![0f32; wide.len()]; channels.count];
+        let wide = Block {
+            min: [block.min[0] - r, block.min[1] - r, block.min[2]],
+            size: [block.size[0] + 2 * r as usize, block.size[1] + 2 * r as usize, block.size[2]],
+        };
+        let air = (0.5 - BAND) as f32;
+        let mut values: Vec<Vec<f32>> = (0..channels.count)
+            .map(|c| vec![if c < 2 { air } else { 0.0 }; wide.len()])
+            .collect();
         let [nx, ny, nz] = wide.size;
-        let (z_lo, z_hi) = (wide.min[2], wide.min[2] + nz as i32);
+        let materials = stacks.materials();
         for y in 0..ny {
             let gy = wide.min[1] + y as i32;
             if gy < 0 || gy as usize >= stacks.height() {
@@ -108,34 +122,34 @@ impl Density {
                 if gx < 0 || gx as usize >= stacks.width() {
                     continue;
                 }
+                let stack = stacks.stack(gx as usize, gy as usize);
+                if stack.is_empty() {
+                    continue;
+                }
                 let column = wide.index([x, y, 0]);
-                for layer in stacks.stack(gx as usize, gy as usize) {
-                    let (total, own) = channels.of_material[layer.material as usize];
-                    let (start, end) = (lattice.to_k(layer.start), lattice.to_k(layer.end));
-                    // Voxel k covers [k - 0.5, k + 0.5] in lattice units.
-                    let first = ((start + 0.5).floor() as i32).max(z_lo);
-                    let last = ((end + 0.5).ceil() as i32 - 1).min(z_hi - 1);
-                    for k in first..=last {
-                        let kf = k as f64;
-                        let cover = (end.min(kf + 0.5) - start.max(kf - 0.5)).max(0.0) as f32;
-                        let i = column + (k - z_lo) as usize * nx * ny;
-                        values[total][i] += cover;
-                        if let Some(own) = own {
-                            values[own][i] += cover;
+                for (total, liquid) in [(0, false), (1, true)] {
+                    let c = column_values(
+                        stack,
+                        materials,
+                        |m| m.is_liquid() == liquid,
+                        |z| lattice.to_k(z),
+                        wide.min[2],
+                        nz,
+                    );
+                    for k in 0..nz {
+                        let i = column + k * nx * ny;
+                        values[total][i] = c.density[k];
+                        if let Some(own) =
+                            c.material[k].and_then(|m| channels.of_material[m as usize].1)
+                        {
+                            values[own][i] = 1.0;
                         }
                     }
                 }
             }
         }
-        // The solid and liquid densities are smoothed; the materials' coverage, which only
-        // colours the vertices, is taken as it is.
-        let channels = values
-            .into_iter()
-            .enumerate()
-            .map(
-                |(c, v)| if c < 2 { smooth(v, wide, block, kernel) } else { crop(&v, wide, block) },
-            )
-            .collect();
+        let channels =
+            values.into_iter().map(|v| smooth_across(v, wide, block, kernel)).collect();
         Density { block, channels }
     }
 
@@ -146,31 +160,19 @@ impl Density {
     }
 }
 
-/// `values` over `wide` cut to `inner`, row by row.
-fn crop(values: &[f32], wide: Block, inner: Block) -> Vec<f32> {
-    let mut out = Vec::with_capacity(inner.len());
-    let [nx, ny, nz] = inner.size;
-    for z in 0..nz {
-        for y in 0..ny {
-            let start =
-                wide.index_of([inner.min[0], inner.min[1] + y as i32, inner.min[2] + z as i32]);
-            out.extend_from_slice(&values[start..start + nx]);
-        }
-    }
-    out
-}
-
-/// `values` over `wide` filtered along x, y and z by `kernel` and cut to `inner`: each output
-/// sums its neighbours in a fixed order, so a point gets the same value in every block. A
-/// channel with no coverage stays zero without filtering.
-fn smooth(values: Vec<f32>, wide: Block, inner: Block, kernel: &[f32]) -> Vec<f32> {
-    if values.iter().all(|&v| v == 0.0) {
-        return vec![0.0; inner.len()];
+/// `values` over `wide` filtered along x and y by `kernel` and cut to `inner` (`wide` is
+/// `inner` grown by the kernel's half-width along x and y): each output sums its neighbours
+/// in a fixed order, so a point gets the same value in every block. A constant channel is
+/// not filtered. The stacks are exact along z, so the filter leaves z alone: a layer keeps
+/// its height and its thickness.
+fn smooth_across(values: Vec<f32>, wide: Block, inner: Block, kernel: &[f32]) -> Vec<f32> {
+    if values.iter().all(|&v| v == values[0]) {
+        return vec![values[0]; inner.len()];
     }
     let r = kernel.len() / 2;
     let mut current = values;
     let mut size = wide.size;
-    for axis in 0..3 {
+    for axis in 0..2 {
         let mut to = size;
         to[axis] -= 2 * r;
         let stride = match axis {

@@ -84,6 +84,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         }
     );
     if let Some(path) = &args.stats {
+        let stacks = &scene.mesher.mipmap().levels()[0];
         let stats = json!({
             "levels": levels,
             "lod": match lod { LodChoice::Level(l) => json!(l), LodChoice::Auto => json!("auto") },
@@ -99,6 +100,12 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             "solid_faces": solid_faces,
             "water_vertices": water_vertices,
             "water_faces": water_faces,
+            "solid_m3": mesh.part("solid").map_or(0.0, |p| p.enclosed_volume()),
+            "water_m3": mesh.part("water").map_or(0.0, |p| p.enclosed_volume()),
+            "stacks_solid_m3": stacks.volume(|m| !m.is_liquid()),
+            "stacks_water_m3": stacks.volume(|m| m.is_liquid()),
+            "solid_pieces": mesh.part("solid").map_or(0, |p| p.components().len()),
+            "water_pieces": mesh.part("water").map_or(0, |p| p.components().len()),
             "load_ms": load_ms,
             "mesh_ms": mesh_ms,
             "write_ms": write_ms,

@@ -1,0 +1,209 @@
+//! One stack's density along its column of lattice points: the signed vertical distance to
+//! the nearest boundary of a channel's material, so that the iso-surface crosses every
+//! vertical lattice edge exactly where a layer starts or ends, and layers thinner than the
+//! lattice keep their thickness.
+//!
+//! A channel's layers (the solids, or the liquids) are merged into *runs*, maximal intervals
+//! of that channel. A point at lattice height `k` takes `0.5 + d`, `d` the distance from `k`
+//! to the nearest boundary of a run, positive inside, clamped to `[-BAND, BAND]`: along a
+//! column, linear interpolation of the values between two points then finds a run's end at
+//! its exact height. A run that holds at most one lattice point strictly inside could not be
+//! located that way (one point cannot carry the distances to both its ends): it is moved, its
+//! thickness kept, to be centred on the lattice point nearest its centre. The mesh then keeps
+//! a thin sand cover, a water sheet or a ledge of any thickness as a slab of that thickness,
+//! at most half a lattice step from where it is.
+
+use relief_core::{StackLayer, StackMaterial};
+
+/// How far from a run's boundary, lattice steps, the distance is kept before it is clamped.
+pub(crate) const BAND: f64 = 1.0;
+
+/// A maximal interval of one channel's material in a column, lattice units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Run {
+    /// Bottom.
+    start: f64,
+    /// Top.
+    end: f64,
+    /// The layers of the stack the run was made of (indices into the stack).
+    first_layer: usize,
+    last_layer: usize,
+}
+
+/// The values one column gives its lattice points `z_lo .. z_lo + len` for one channel: the
+/// density, and for the solid channel the material each point shows (the layer at the
+/// nearest boundary within the band, else the layer holding the point).
+pub(crate) struct ColumnValues {
+    /// `0.5 + d` per point.
+    pub density: Vec<f32>,
+    /// The material index each point shows, or `None` (air away from any run).
+    pub material: Vec<Option<u8>>,
+}
+
+/// The column of `stack` for the channel whose layers `belongs` picks, over the lattice points
+/// `z_lo .. z_lo + len`; `to_k` maps a height to lattice units.
+pub(crate) fn column_values(
+    stack: &[StackLayer],
+    materials: &[StackMaterial],
+    belongs: impl Fn(&StackMaterial) -> bool,
+    to_k: impl Fn(f32) -> f64,
+    z_lo: i32,
+    len: usize,
+) -> ColumnValues {
+    let runs = runs_of(stack, materials, &belongs, &to_k);
+    let mut best = vec![-BAND; len];
+    let mut material = vec![None; len];
+    let z_hi = z_lo + len as i32;
+    for run in &runs {
+        let first = ((run.start - BAND).floor() as i32).max(z_lo);
+        let last = ((run.end + BAND).ceil() as i32).min(z_hi - 1);
+        for k in first..=last {
+            let kf = k as f64;
+            let d = (kf - run.start).min(run.end - kf).clamp(-BAND, BAND);
+            let i = (k - z_lo) as usize;
+            if d > best[i] || (d == best[i] && material[i].is_none()) {
+                best[i] = d;
+                let near_top = run.end - kf <= kf - run.start;
+                let layer = if d > -BAND && d < BAND {
+                    if near_top {
+                        run.last_layer
+                    } else {
+                        run.first_layer
+                    }
+                } else if d >= BAND {
+                    holding_layer(stack, run, &to_k, kf)
+                } else {
+                    continue;
+                };
+                material[i] = Some(stack[layer].material);
+            }
+        }
+    }
+    ColumnValues { density: best.iter().map(|&d| (0.5 + d) as f32).collect(), material }
+}
+
+/// The runs of the channel `belongs` picks in `stack`, lattice units, thin ones moved onto
+/// their nearest lattice point, overlapping ones merged; bottom to top.
+fn runs_of(
+    stack: &[StackLayer],
+    materials: &[StackMaterial],
+    belongs: &impl Fn(&StackMaterial) -> bool,
+    to_k: &impl Fn(f32) -> f64,
+) -> Vec<Run> {
+    let mut runs: Vec<Run> = Vec::new();
+    for (i, layer) in stack.iter().enumerate() {
+        if !belongs(&materials[layer.material as usize]) {
+            continue;
+        }
+        let (start, end) = (to_k(layer.start), to_k(layer.end));
+        match runs.last_mut() {
+            Some(run) if run.last_layer + 1 == i && start <= run.end => {
+                run.end = end;
+                run.last_layer = i;
+            }
+            _ => runs.push(Run { start, end, first_layer: i, last_layer: i }),
+        }
+    }
+    for run in &mut runs {
+        // Points strictly inside: floor(start) + 1 ..= ceil(end) - 1.
+        let inside = run.end.ceil() - run.start.floor() - 1.0;
+        if inside <= 1.0 {
+            let half = 0.5 * (run.end - run.start);
+            let centre = (0.5 * (run.start + run.end)).round();
+            run.start = centre - half;
+            run.end = centre + half;
+        }
+    }
+    let mut merged: Vec<Run> = Vec::with_capacity(runs.len());
+    for run in runs {
+        match merged.last_mut() {
+            Some(last) if run.start <= last.end => {
+                last.end = last.end.max(run.end);
+                last.last_layer = run.last_layer;
+            }
+            _ => merged.push(run),
+        }
+    }
+    merged
+}
+
+/// The layer of `run` that holds lattice height `k` (the nearest one where moving a thin run
+/// left none).
+fn holding_layer(
+    stack: &[StackLayer],
+    run: &Run,
+    to_k: &impl Fn(f32) -> f64,
+    k: f64,
+) -> usize {
+    (run.first_layer..=run.last_layer)
+        .find(|&l| to_k(stack[l].end) > k)
+        .unwrap_or(run.last_layer)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn solid_column(layers: &[(f32, f32, u8)], z_lo: i32, len: usize) -> ColumnValues {
+        let stack: Vec<StackLayer> =
+            layers.iter().map(|&(s, e, m)| StackLayer::new(s, e, m)).collect();
+        column_values(
+            &stack,
+            &StackMaterial::defaults(),
+            |m| !m.is_liquid(),
+            |z| z as f64,
+            z_lo,
+            len,
+        )
+    }
+
+    /// Where linear interpolation of the column's values crosses the iso-value 1/2.
+    fn crossings(values: &[f32], z_lo: i32) -> Vec<f64> {
+        let mut out = Vec::new();
+        for k in 0..values.len() - 1 {
+            let (a, b) = (values[k] as f64, values[k + 1] as f64);
+            if (a > 0.5) != (b > 0.5) {
+                out.push(z_lo as f64 + k as f64 + (0.5 - a) / (b - a));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn thick_layers_cross_at_their_exact_ends() {
+        let c = solid_column(&[(1.25, 4.5, 0), (4.5, 4.75, 1)], -2, 12);
+        let x = crossings(&c.density, -2);
+        assert_eq!(x.len(), 2);
+        assert!((x[0] - 1.25).abs() < 1e-6 && (x[1] - 4.75).abs() < 1e-6, "{x:?}");
+        // The top shows the sand cover, the bottom the bedrock.
+        assert_eq!(c.material[(5 + 2) as usize], Some(1));
+        assert_eq!(c.material[(2 + 2) as usize], Some(0));
+    }
+
+    #[test]
+    fn a_thin_layer_keeps_its_thickness_on_its_nearest_point() {
+        for (start, end) in [(3.1f32, 3.4f32), (2.7, 3.2), (0.0, 0.5), (3.6, 4.5)] {
+            let c = solid_column(&[(start, end, 1)], -3, 12);
+            let x = crossings(&c.density, -3);
+            assert_eq!(x.len(), 2, "{start}..{end}: {x:?}");
+            let thickness = (end - start) as f64;
+            assert!((x[1] - x[0] - thickness).abs() < 1e-6, "{start}..{end}: {x:?}");
+            let centre = 0.5 * (start + end) as f64;
+            assert!((0.5 * (x[0] + x[1]) - centre).abs() <= 0.5 + 1e-9, "{x:?}");
+        }
+    }
+
+    #[test]
+    fn the_liquid_channel_sees_only_the_water() {
+        let stack = [StackLayer::new(0.0, 2.0, 0), StackLayer::new(2.0, 2.3, 2)];
+        let c = column_values(
+            &stack,
+            &StackMaterial::defaults(),
+            |m| m.is_liquid(),
+            |z| z as f64,
+            -1,
+            6,
+        );
+        assert_eq!(c.density.iter().filter(|&&v| v > 0.5).count(), 1);
+    }
+}
