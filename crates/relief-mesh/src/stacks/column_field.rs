@@ -7,16 +7,28 @@
 //! of that channel. A point at lattice height `k` takes `0.5 + d`, `d` the distance from `k`
 //! to the nearest boundary of a run, positive inside, clamped to `[-BAND, BAND]`: along a
 //! column, linear interpolation of the values between two points then finds a run's end at
-//! its exact height. A run that holds at most one lattice point strictly inside could not be
-//! located that way (one point cannot carry the distances to both its ends): it is moved, its
-//! thickness kept, to be centred on the lattice point nearest its centre. The mesh then keeps
-//! a thin sand cover, a water sheet or a ledge of any thickness as a slab of that thickness,
-//! at most half a lattice step from where it is.
+//! its exact height.
+//!
+//! A *thin* run, one that holds at most one lattice point strictly inside, could not be
+//! located that way (one point cannot carry the distances to both its ends). It is moved, its
+//! thickness `t` kept, to be centred on the lattice point nearest its centre, which takes
+//! `d = BAND` (as deep inside as a thick run's points, so that smoothing across the columns
+//! treats a sheet's rim as it treats a thick layer's); its two neighbours take
+//! `d = BAND (1 - 2 / t)`, so that interpolation crosses `t / 2` above and below it (floored
+//! where the columns are smoothed, see [`THIN_FLOOR_SMOOTHED`]). The mesh
+//! then keeps a thin sand cover, a water sheet or a ledge as a slab of its thickness, at most
+//! half a lattice step from where it is. Runs thinner than `min_thickness` are left out.
 
 use relief_core::{StackLayer, StackMaterial};
 
 /// How far from a run's boundary, lattice steps, the distance is kept before it is clamped.
 pub(crate) const BAND: f64 = 1.0;
+
+/// The lowest value a thin run's neighbours take where the columns are smoothed: below it, a
+/// very thin sheet's steep values would outweigh its neighbours' in the filter's sums and
+/// lower thick water beside it (measured: -5 to -15 % of a pond's water without it). It makes
+/// sheets thinner than two thirds of a step a little thicker.
+pub(crate) const THIN_FLOOR_SMOOTHED: f64 = -3.0 * BAND;
 
 /// A maximal interval of one channel's material in a column, lattice units.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,9 +37,12 @@ struct Run {
     start: f64,
     /// Top.
     end: f64,
-    /// The layers of the stack the run was made of (indices into the stack).
+    /// The first layer of the stack the run was made of (index into the stack).
     first_layer: usize,
+    /// The last one.
     last_layer: usize,
+    /// Whether it is thin, moved onto its nearest lattice point.
+    thin: bool,
 }
 
 /// The values one column gives its lattice points `z_lo .. z_lo + len` for one channel: the
@@ -41,30 +56,45 @@ pub(crate) struct ColumnValues {
 }
 
 /// The column of `stack` for the channel whose layers `belongs` picks, over the lattice points
-/// `z_lo .. z_lo + len`; `to_k` maps a height to lattice units.
+/// `z_lo .. z_lo + len`; `to_k` maps a height to lattice units; runs thinner than
+/// `min_thickness` lattice units are left out; a thin run's neighbours take at least
+/// `thin_floor` (see [`THIN_FLOOR_SMOOTHED`]).
 pub(crate) fn column_values(
     stack: &[StackLayer],
     materials: &[StackMaterial],
     belongs: impl Fn(&StackMaterial) -> bool,
     to_k: impl Fn(f32) -> f64,
+    min_thickness: f64,
+    thin_floor: f64,
     z_lo: i32,
     len: usize,
 ) -> ColumnValues {
-    let runs = runs_of(stack, materials, &belongs, &to_k);
-    let mut best = vec![-BAND; len];
+    let runs = runs_of(stack, materials, &belongs, &to_k, min_thickness);
+    let mut best = vec![f64::NEG_INFINITY; len];
     let mut material = vec![None; len];
     let z_hi = z_lo + len as i32;
     for run in &runs {
-        let first = ((run.start - BAND).floor() as i32).max(z_lo);
-        let last = ((run.end + BAND).ceil() as i32).min(z_hi - 1);
+        // A thin run sets its point and the two beside it; a thick one the band around it.
+        let (first, last) = if run.thin {
+            let centre = (0.5 * (run.start + run.end)).round() as i32;
+            (centre - 1, centre + 1)
+        } else {
+            ((run.start - BAND).floor() as i32, (run.end + BAND).ceil() as i32)
+        };
+        let (first, last) = (first.max(z_lo), last.min(z_hi - 1));
         for k in first..=last {
             let kf = k as f64;
-            let d = (kf - run.start).min(run.end - kf).clamp(-BAND, BAND);
+            let d = if run.thin {
+                let centre = 0.5 * (run.start + run.end);
+                (BAND - 2.0 * BAND / (run.end - run.start) * (kf - centre).abs()).max(thin_floor)
+            } else {
+                (kf - run.start).min(run.end - kf).clamp(-BAND, BAND)
+            };
             let i = (k - z_lo) as usize;
             if d > best[i] || (d == best[i] && material[i].is_none()) {
                 best[i] = d;
                 let near_top = run.end - kf <= kf - run.start;
-                let layer = if d > -BAND && d < BAND {
+                let layer = if run.thin || (d > -BAND && d < BAND) {
                     if near_top {
                         run.last_layer
                     } else {
@@ -79,7 +109,9 @@ pub(crate) fn column_values(
             }
         }
     }
-    ColumnValues { density: best.iter().map(|&d| (0.5 + d) as f32).collect(), material }
+    // Points no run reaches are air, a band's width from any boundary.
+    let density = best.iter().map(|&d| (0.5 + if d.is_finite() { d } else { -BAND }) as f32);
+    ColumnValues { density: density.collect(), material }
 }
 
 /// The runs of the channel `belongs` picks in `stack`, lattice units, thin ones moved onto
@@ -89,6 +121,7 @@ fn runs_of(
     materials: &[StackMaterial],
     belongs: &impl Fn(&StackMaterial) -> bool,
     to_k: &impl Fn(f32) -> f64,
+    min_thickness: f64,
 ) -> Vec<Run> {
     let mut runs: Vec<Run> = Vec::new();
     for (i, layer) in stack.iter().enumerate() {
@@ -101,15 +134,17 @@ fn runs_of(
                 run.end = end;
                 run.last_layer = i;
             }
-            _ => runs.push(Run { start, end, first_layer: i, last_layer: i }),
+            _ => runs.push(Run { start, end, first_layer: i, last_layer: i, thin: false }),
         }
     }
+    runs.retain(|run| run.end - run.start >= min_thickness);
     for run in &mut runs {
         // Points strictly inside: floor(start) + 1 ..= ceil(end) - 1.
         let inside = run.end.ceil() - run.start.floor() - 1.0;
         if inside <= 1.0 {
+            run.thin = true;
             let half = 0.5 * (run.end - run.start);
-            let centre = (0.5 * (run.start + run.end)).round();
+            let centre = run.end.round();
             run.start = centre - half;
             run.end = centre + half;
         }
@@ -120,6 +155,7 @@ fn runs_of(
             Some(last) if run.start <= last.end => {
                 last.end = last.end.max(run.end);
                 last.last_layer = run.last_layer;
+                last.thin = false;
             }
             _ => merged.push(run),
         }
@@ -152,6 +188,8 @@ mod tests {
             &StackMaterial::defaults(),
             |m| !m.is_liquid(),
             |z| z as f64,
+            0.0,
+            f64::NEG_INFINITY,
             z_lo,
             len,
         )
@@ -201,6 +239,8 @@ mod tests {
             &StackMaterial::defaults(),
             |m| m.is_liquid(),
             |z| z as f64,
+            0.0,
+            f64::NEG_INFINITY,
             -1,
             6,
         );

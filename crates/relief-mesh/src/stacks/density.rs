@@ -2,7 +2,7 @@
 //! vertical distance to the nearest boundary of a level's layers, in channels, then a
 //! separable low-pass filter across the columns.
 
-use super::column_field::{column_values, BAND};
+use super::column_field::{column_values, BAND, THIN_FLOOR_SMOOTHED};
 use super::lattice::{Block, Lattice};
 use relief_core::{MaterialKind, MaterialStacks};
 
@@ -25,6 +25,19 @@ pub enum Smoothing {
 }
 
 impl Smoothing {
+    /// The same filter at level `level` of the mipmap, whose cells are `2^level` finest cells
+    /// across: its width in metres kept (a Gaussian's sigma and a box's radius halved per
+    /// level; a box of radius 0, or a Gaussian narrower than 0.3 cells, whose side weights are below 0.4 %, filters nothing).
+    pub fn at_level(&self, level: usize) -> Smoothing {
+        let scale = (1u64 << level.min(62)) as f64;
+        match *self {
+            Smoothing::None => Smoothing::None,
+            Smoothing::Box { radius } => Smoothing::Box { radius: radius >> level.min(63) },
+            Smoothing::Gaussian { sigma } if sigma / scale < 0.3 => Smoothing::None,
+            Smoothing::Gaussian { sigma } => Smoothing::Gaussian { sigma: sigma / scale },
+        }
+    }
+
     /// The normalized kernel weights, `2 * radius + 1` of them.
     pub fn kernel(&self) -> Vec<f32> {
         let weights: Vec<f64> = match *self {
@@ -52,6 +65,9 @@ pub(crate) struct Channels {
     pub count: usize,
     /// The material each per-material channel (from 2 on) stands for.
     pub materials: Vec<u8>,
+    /// Layers (runs of one channel) thinner than this, metres, are left out at every level: a
+    /// tenth of the finest spacing.
+    pub min_thickness: f64,
 }
 
 impl Channels {
@@ -72,7 +88,8 @@ impl Channels {
                 }
             })
             .collect();
-        Channels { of_material, count, materials }
+        let spacing = stacks.spacing();
+        Channels { of_material, count, materials, min_thickness: 0.1 * spacing.x.min(spacing.y) }
     }
 }
 
@@ -107,6 +124,7 @@ impl Density {
             size: [block.size[0] + 2 * r as usize, block.size[1] + 2 * r as usize, block.size[2]],
         };
         let air = (0.5 - BAND) as f32;
+        let thin_floor = if r > 0 { THIN_FLOOR_SMOOTHED } else { f64::NEG_INFINITY };
         let mut values: Vec<Vec<f32>> = (0..channels.count)
             .map(|c| vec![if c < 2 { air } else { 0.0 }; wide.len()])
             .collect();
@@ -133,6 +151,8 @@ impl Density {
                         materials,
                         |m| m.is_liquid() == liquid,
                         |z| lattice.to_k(z),
+                        channels.min_thickness / lattice.step.z,
+                        thin_floor,
                         wide.min[2],
                         nz,
                     );

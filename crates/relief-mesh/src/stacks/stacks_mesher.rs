@@ -75,7 +75,9 @@ pub struct StacksMesher {
     params: StacksMeshParams,
     lattices: Vec<Lattice>,
     channels: Channels,
-    kernel: Vec<f32>,
+    /// The smoothing filter's kernel per level: the same width in metres at every level (a
+    /// coarser level's stacks are already averaged over its cells).
+    kernels: Vec<Vec<f32>>,
     colors: Vec<[f32; 3]>,
     liquid_color: [f32; 3],
     /// Lattice z of the highest layer end at level 0.
@@ -129,16 +131,17 @@ impl StacksMesher {
             .find(|m| m.kind == MaterialKind::Liquid)
             .map_or([0.03, 0.1, 0.3], |m| linear(m.color));
         let n = params.node_cells as i32;
-        let kernel = params.smoothing.kernel();
-        let reach = node_reach(&kernel);
+        let kernels: Vec<Vec<f32>> =
+            (0..lattices.len()).map(|l| params.smoothing.at_level(l).kernel()).collect();
         let node_columns = mipmap
             .levels()
             .iter()
             .zip(&lattices)
-            .map(|(s, lattice)| node_columns(s, lattice, n, reach))
+            .zip(&kernels)
+            .map(|((s, lattice), kernel)| node_columns(s, lattice, n, node_reach(kernel)))
             .collect();
         Ok(StacksMesher {
-            kernel,
+            kernels,
             top_k: (top as f64 - z0) / dz0,
             mipmap,
             params,
@@ -209,7 +212,7 @@ impl StacksMesher {
     /// How far beyond its points a node's density reaches: its cells' ring, the Sobel
     /// neighbours and the filter.
     fn reach(&self) -> i32 {
-        node_reach(&self.kernel)
+        node_reach(&self.kernels[0])
     }
 
     /// The mesh of the whole terrain at `level` (0 finest). Fails naming the level when the
@@ -370,7 +373,7 @@ impl StacksMesher {
         let o = key.origin(n);
         let levels = self.mipmap.levels();
         let density = |l: usize, block: Block| {
-            Density::new(&levels[l], &self.lattices[l], &self.channels, block, &self.kernel)
+            Density::new(&levels[l], &self.lattices[l], &self.channels, block, &self.kernels[l])
         };
         let fine = LevelField {
             level,
@@ -471,7 +474,7 @@ mod tests {
             lattice,
             &mesher.channels,
             block,
-            &mesher.kernel,
+            &mesher.kernels[0],
         );
         let solid = mesh.part("solid").unwrap();
         assert!(solid.vertex_count() > 500);
