@@ -125,9 +125,8 @@ impl Density {
         };
         let air = (0.5 - BAND) as f32;
         let thin_floor = if r > 0 { THIN_FLOOR_SMOOTHED } else { f64::NEG_INFINITY };
-        let mut values: Vec<Vec<f32>> = (0..channels.count)
-            .map(|c| vec![if c < 2 { air } else { 0.0 }; wide.len()])
-            .collect();
+        let mut values: Vec<Vec<f32>> =
+            (0..channels.count).map(|c| vec![if c < 2 { air } else { 0.0 }; wide.len()]).collect();
         let [nx, ny, nz] = wide.size;
         let materials = stacks.materials();
         for y in 0..ny {
@@ -168,8 +167,7 @@ impl Density {
                 }
             }
         }
-        let channels =
-            values.into_iter().map(|v| smooth_across(v, wide, block, kernel)).collect();
+        let channels = values.into_iter().map(|v| smooth_across(v, wide, block, kernel)).collect();
         Density { block, channels }
     }
 

@@ -67,6 +67,8 @@ pub(crate) struct NodeJob<'a> {
     pub colors: &'a [[f32; 3]],
     /// Linear colour of the liquid.
     pub liquid_color: [f32; 3],
+    /// The terrain's footprint, world x and y: its lowest corner, then its highest.
+    pub domain: [[f64; 2]; 2],
 }
 
 /// The lattice points a node's own level must cover: its cells' corners and their Sobel

@@ -80,6 +80,8 @@ pub struct StacksMesher {
     kernels: Vec<Vec<f32>>,
     colors: Vec<[f32; 3]>,
     liquid_color: [f32; 3],
+    /// The terrain's footprint, world x and y: lowest corner, highest corner.
+    domain: [[f64; 2]; 2],
     /// Lattice z of the highest layer end at level 0.
     top_k: f64,
     /// Per level: the width of its grid of node columns, and per node column where the
@@ -140,7 +142,11 @@ impl StacksMesher {
             .zip(&kernels)
             .map(|((s, lattice), kernel)| node_columns(s, lattice, n, node_reach(kernel)))
             .collect();
+        let (o, s) = (level0.origin(), level0.spacing());
+        let domain =
+            [[o.x, o.y], [o.x + s.x * level0.width() as f64, o.y + s.y * level0.height() as f64]];
         Ok(StacksMesher {
+            domain,
             kernels,
             top_k: (top as f64 - z0) / dz0,
             mipmap,
@@ -398,6 +404,7 @@ impl StacksMesher {
             coarser: &boxes,
             colors: &self.colors,
             liquid_color: self.liquid_color,
+            domain: self.domain,
         };
         mesh_node(&job, &fine, coarse.as_ref())
     }

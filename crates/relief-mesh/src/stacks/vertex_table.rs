@@ -231,7 +231,19 @@ impl<'a> VertexTable<'a> {
     ) -> u32 {
         let lattice = self.level(snapped).lattice;
         let weights = trilinear(local);
-        let position = lattice.world(std::array::from_fn(|a| base[a] as f64 + local[a]));
+        let mut position = lattice.world(std::array::from_fn(|a| base[a] as f64 + local[a]));
+        // A vertex in a cell the terrain's side crosses lies on that side: the mesh's
+        // footprint is the terrain's at every level.
+        for (a, step) in [lattice.step.x, lattice.step.y].into_iter().enumerate() {
+            for edge in [self.job.domain[0][a], self.job.domain[1][a]] {
+                let u = (edge - lattice.origin[a]) / step;
+                let cell = u.floor();
+                let at = (position[a] - lattice.origin[a]) / step;
+                if u > cell && at >= cell && at <= cell + 1.0 {
+                    position[a] = edge;
+                }
+            }
+        }
         let read = |ch: usize, q: [i32; 3]| self.read(snapped, ch, q);
         // The 4 x 4 x 4 points around the cell, read once: the Sobel gradients of its corners.
         let (block, values) = if snapped {
