@@ -486,7 +486,9 @@ mod tests {
         let solid = mesh.part("solid").unwrap();
         assert!(solid.vertex_count() > 500);
         let mut worst = 0f64;
-        for position in &solid.positions {
+        // Vertices on the terrain's sides are moved onto them, off the iso-surface.
+        let on_side = |p: &DVec3| p.x == 0.0 || p.y == 0.0 || p.x == 24.0 || p.y == 24.0;
+        for position in solid.positions.iter().filter(|p| !on_side(p)) {
             let p = (*position - lattice.origin) / lattice.step;
             let cell = [p.x.floor() as i32, p.y.floor() as i32, p.z.floor() as i32];
             let local = [p.x - cell[0] as f64, p.y - cell[1] as f64, p.z - cell[2] as f64];
