@@ -146,6 +146,21 @@ def main():
               f"| {1e3 / statistics.median(later):.2f} | {max(later):.0f} "
               f"| {statistics.median(nodes):.0f} | {statistics.median(meshed):.0f} "
               f"| {statistics.median(tris):.0f} |")
+        # The stages of each frame after the first, as the frame's note gives them.
+        stages = ["select", "mesh", "append", "raster", "resolve", "shade"]
+        times_of = {s: [] for s in stages}
+        for note in notes[1:]:
+            for stage in stages:
+                m = re.search(rf"{stage} (\d+) ms", note)
+                if m:
+                    times_of[stage].append(int(m.group(1)))
+        present = [s for s in stages if times_of[s]]
+        if present:
+            print("\nStage medians over the frames after the first, ms:\n")
+            print("| " + " | ".join(present) + " |")
+            print("|" + "---|" * len(present))
+            print("| " + " | ".join(f"{statistics.median(times_of[s]):.0f}" for s in present)
+                  + " |")
 
 
 if __name__ == "__main__":

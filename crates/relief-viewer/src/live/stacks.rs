@@ -7,6 +7,7 @@ use super::drawing::Drawing;
 use crate::{Cancel, Frame, FrameStats, SceneChoices, ViewSettings};
 use relief_core::Camera;
 use relief_render::{RenderError, StacksDrawing};
+use std::time::Instant;
 
 /// A stacks terrain with its renderer (mesher, cache and rasterizer).
 pub struct LiveStacks {
@@ -45,7 +46,9 @@ impl Drawing for LiveStacks {
         let frame = self.drawing.frame(camera)?;
         let stats = frame.stats;
         let sun = (settings.sun_azimuth_deg, settings.sun_elevation_deg);
+        let shade_started = Instant::now();
         let rgb = self.drawing.shade(&frame.gbuffer, camera, sun, settings.exposure)?;
+        let shade_ms = shade_started.elapsed().as_secs_f64() * 1e3;
         Ok(Frame {
             width: w,
             height: h,
@@ -53,7 +56,7 @@ impl Drawing for LiveStacks {
             stats: FrameStats { rays: 0, steps_per_ray: None },
             note: Some(format!(
                 "{} nodes ({} meshed), {} triangles; select {:.0} ms, mesh {:.0} ms, append {:.0} \
-                 ms, raster {:.0} ms, resolve {:.0} ms",
+                 ms, raster {:.0} ms, resolve {:.0} ms, shade {:.0} ms",
                 stats.mesh.nodes,
                 stats.mesh.meshed,
                 stats.triangles,
@@ -61,7 +64,8 @@ impl Drawing for LiveStacks {
                 stats.mesh.mesh_ms,
                 stats.mesh.join_ms,
                 stats.raster_ms,
-                stats.resolve_ms
+                stats.resolve_ms,
+                shade_ms
             )),
         })
     }
