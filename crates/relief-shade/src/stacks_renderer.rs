@@ -2,12 +2,10 @@
 //! for the camera (node meshes cached across frames) rasterized into relief's G-buffer, with
 //! the meshes' smooth normals and vertex colours, for the one deferred shading pass.
 
-use crate::render::fill_gbuffer;
+use crate::triangle_resolve::{resolve_triangles, DrawnMeshes};
 use crate::{GBuffer, Renderer, ShadeError, StageTimings};
-use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, MaterialStacks};
 use relief_mesh::{MeshStats, RasterTarget, Rasterizer, StacksMesher};
-use relief_trace::Hit;
 use std::time::Instant;
 
 /// Counts and stage timings of one stacks frame.
@@ -115,36 +113,8 @@ impl StacksRenderer {
         stats.raster_ms = ms(start);
 
         let start = Instant::now();
-        let target = &self.target;
-        // Position from the exact ray-plane hit; normal and colour interpolated.
-        let surfaces: Vec<Option<(Hit, [f32; 3])>> = (0..gbuffer.len())
-            .into_par_iter()
-            .map(|index| {
-                let id = target.triangle[index];
-                if id == RasterTarget::NO_TRIANGLE {
-                    return None;
-                }
-                let part = usize::from(id >= offsets[1]);
-                let (mesh, triangle) = (&meshes[part], id - offsets[part]);
-                let (i, j) = ((index % gbuffer.width) as u32, (index / gbuffer.width) as u32);
-                let ray = camera.ray(i, j);
-                let h = mesh.hit(triangle, &ray)?;
-                let mut a = [0f32; 6];
-                mesh.interpolate_attributes(triangle, h.barycentrics, &mut a).ok()?;
-                let smooth = DVec3::new(a[3] as f64, a[4] as f64, a[5] as f64);
-                let normal = match smooth.try_normalize() {
-                    Some(n) if n.dot(ray.dir) < 0.0 => n,
-                    _ => h.normal,
-                };
-                Some((Hit { t: h.t, position: h.position, normal }, [a[0], a[1], a[2]]))
-            })
-            .collect();
-        fill_gbuffer(gbuffer, camera, bounds, |index, _, _| surfaces[index].map(|s| s.0));
-        gbuffer.material.par_iter_mut().zip(&surfaces).for_each(|(m, s)| {
-            if let Some((_, c)) = s {
-                *m = [c[0], c[1], c[2], 1.0];
-            }
-        });
+        let drawn = DrawnMeshes { meshes: &meshes, first_ids: &offsets };
+        resolve_triangles(gbuffer, camera, bounds, &self.target, &drawn);
         stats.resolve_ms = ms(start);
         Ok(stats)
     }
