@@ -136,15 +136,17 @@ def main():
         later = times[1:]
         notes = [f.get("note") or "" for f in frames]
         nodes = [int(m.group(1)) for m in (re.search(r"(\d+) nodes", n) for n in notes) if m]
-        meshed = [int(m.group(1)) for m in (re.search(r"\((\d+) meshed\)", n) for n in notes) if m]
+        meshed = [int(m.group(1)) for m in (re.search(r"\((\d+) meshed", n) for n in notes) if m]
+        waiting = [int(m.group(1)) for m in (re.search(r"(\d+) waiting", n) for n in notes) if m]
         tris = [int(m.group(1)) for m in (re.search(r"(\d+) triangles", n) for n in notes) if m]
         print(f"## Fly-through, {len(frames)} frames at {IMAGE}, tau 10 px\n")
         print("| first frame ms | median frame ms | frames a second (median) | slowest ms "
-              "| nodes (median) | meshed a frame (median) | triangles (median) |")
-        print("|---|---|---|---|---|---|---|")
+              "| nodes (median) | meshed a frame (median) | waiting (median) | triangles (median) |")
+        print("|---|---|---|---|---|---|---|---|")
         print(f"| {times[0]:.0f} | {statistics.median(later):.0f} "
               f"| {1e3 / statistics.median(later):.2f} | {max(later):.0f} "
               f"| {statistics.median(nodes):.0f} | {statistics.median(meshed):.0f} "
+              f"| {statistics.median(waiting) if waiting else 0:.0f} "
               f"| {statistics.median(tris):.0f} |")
         # The stages of each frame after the first, as the frame's note gives them.
         stages = ["select", "mesh", "append", "raster", "resolve", "shade"]

@@ -75,6 +75,11 @@ impl StacksRenderer {
         &self.mesher
     }
 
+    /// Sets the node meshes a frame makes at most (see [`StacksMesher::set_node_budget`]).
+    pub fn set_node_budget(&mut self, budget: Option<usize>) {
+        self.mesher.set_node_budget(budget);
+    }
+
     /// Renders the view of `camera` into `gbuffer` (every pixel overwritten): the solid and
     /// the water, depth-tested together. `bounds` is the box texture coordinates span. The
     /// G-buffer's material weights hold each pixel's linear RGB colour (for
@@ -250,5 +255,46 @@ mod tests {
         }
         assert!(hits > 500, "{hits} pixels see the terrain");
         assert!(off <= 2, "{off} pixels differ from the brute-force depth");
+    }
+
+    #[test]
+    fn an_amortised_flight_catches_up_to_the_still_frame() {
+        let bounds = Aabb::new(DVec3::new(0.0, 0.0, 0.0), DVec3::new(20.0, 20.0, 10.0));
+        let camera = |x: f64| {
+            Camera::look_at(
+                DVec3::new(x, -8.0, 16.0),
+                DVec3::new(10.0, 10.0, 4.0),
+                DVec3::Z,
+                55.0,
+                64,
+                48,
+            )
+            .unwrap()
+        };
+        let still = camera(-6.0);
+        let mut fresh = StacksRenderer::new(mesher(), 3.0).unwrap();
+        let mut want = GBuffer::new(64, 48).unwrap();
+        let stats = fresh.render_into(&still, &bounds, &mut want).unwrap();
+        assert_eq!(stats.mesh.waiting, 0, "a first frame meshes every node");
+        // From far away, closing in, then holding still, 16 node meshes a frame.
+        let mut flying = StacksRenderer::new(mesher(), 3.0).unwrap();
+        flying.set_node_budget(Some(16));
+        let mut got = GBuffer::new(64, 48).unwrap();
+        let (mut waited, mut frames) = (0, 0);
+        for x in [-60.0, -40.0, -20.0] {
+            let stats = flying.render_into(&camera(x), &bounds, &mut got).unwrap();
+            waited += stats.mesh.waiting;
+            frames += 1;
+        }
+        assert!(waited > 0, "some nodes waited for their turn");
+        loop {
+            let stats = flying.render_into(&still, &bounds, &mut got).unwrap();
+            frames += 1;
+            if stats.mesh.waiting == 0 {
+                break;
+            }
+            assert!(frames < 200, "the flight never caught up");
+        }
+        assert!(got == want, "the caught-up frame differs from the still frame");
     }
 }

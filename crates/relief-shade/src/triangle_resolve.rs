@@ -4,11 +4,14 @@
 //! interpolated there.
 
 use crate::render::HitEncoder;
-use crate::{GBuffer, GBufferPixel, TILE_SIZE};
+use crate::{GBuffer, GBufferPixel};
 use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, Ray};
 use relief_mesh::{IndexedMesh, RasterTarget};
 use relief_trace::Hit;
+
+/// The side of the square blocks of pixels resolved together.
+const BLOCK: usize = 32;
 
 /// Meshes of colour (3 floats) then normal (3 floats) attributes a vertex, drawn into one
 /// target one after the other: mesh `m`'s triangle `k` has id `first_ids[m] + k`.
@@ -43,25 +46,30 @@ pub(crate) fn resolve_triangles(
     let width = gbuffer.width;
     let encoder = HitEncoder::new(bounds, camera);
     let screen_x: Vec<f64> = (0..width as u32).map(|i| camera.screen_x(i)).collect();
-    gbuffer.strips_mut(TILE_SIZE).enumerate().for_each(|(s, mut strip)| {
-        let first = s * TILE_SIZE * width;
-        for k in 0..strip.len() {
-            let index = first + k;
-            let id = target.triangle[index];
-            let surface = (id != RasterTarget::NO_TRIANGLE)
-                .then(|| {
-                    let (mesh, triangle) = drawn.triangle(id);
-                    let (i, j) = (index % width, index / width);
-                    let ray = camera.ray_through(screen_x[i], camera.screen_y(j as u32));
-                    surface_hit(mesh, triangle, &ray)
-                })
-                .flatten();
-            match surface {
-                None => strip.set(k, &GBufferPixel::MISS),
-                Some((hit, colour)) => {
-                    let mut pixel = encoder.g_buffer_pixel(Some(hit));
-                    pixel.material = [colour[0], colour[1], colour[2], 1.0];
-                    strip.set(k, &pixel);
+    // Block by block: the triangles of a block of pixels stay in the processor's caches.
+    gbuffer.strips_mut(BLOCK).enumerate().for_each(|(s, mut strip)| {
+        let rows = strip.len() / width;
+        for left in (0..width).step_by(BLOCK) {
+            for r in 0..rows {
+                let j = s * BLOCK + r;
+                let sy = camera.screen_y(j as u32);
+                for i in left..(left + BLOCK).min(width) {
+                    let k = r * width + i;
+                    let id = target.triangle[j * width + i];
+                    let surface = (id != RasterTarget::NO_TRIANGLE)
+                        .then(|| {
+                            let (mesh, triangle) = drawn.triangle(id);
+                            surface_hit(mesh, triangle, &camera.ray_through(screen_x[i], sy))
+                        })
+                        .flatten();
+                    match surface {
+                        None => strip.set(k, &GBufferPixel::MISS),
+                        Some((hit, colour)) => {
+                            let mut pixel = encoder.g_buffer_pixel(Some(hit));
+                            pixel.material = [colour[0], colour[1], colour[2], 1.0];
+                            strip.set(k, &pixel);
+                        }
+                    }
                 }
             }
         }

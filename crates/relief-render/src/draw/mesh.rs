@@ -61,6 +61,15 @@ impl StacksDrawing {
         })
     }
 
+    /// The drawing with at most `budget` node meshes made a frame beyond those nothing drawn
+    /// before stands in for (`None`: every node a frame wants; see
+    /// [`relief_mesh::StacksMesher::set_node_budget`]).
+    #[must_use]
+    pub fn with_node_budget(self, budget: Option<usize>) -> Self {
+        self.renderer.lock().expect("no render panicked").set_node_budget(budget);
+        self
+    }
+
     /// The scene in a few words.
     pub fn describe(&self) -> String {
         self.describe.clone()

@@ -55,10 +55,11 @@ impl Drawing for LiveStacks {
             rgb,
             stats: FrameStats { rays: 0, steps_per_ray: None },
             note: Some(format!(
-                "{} nodes ({} meshed), {} triangles; select {:.0} ms, mesh {:.0} ms, append {:.0} \
+                "{} nodes ({} meshed, {} waiting), {} triangles; select {:.0} ms, mesh {:.0} ms, append {:.0} \
                  ms, raster {:.0} ms, resolve {:.0} ms, shade {:.0} ms",
                 stats.mesh.nodes,
                 stats.mesh.meshed,
+                stats.mesh.waiting,
                 stats.triangles,
                 stats.mesh.select_ms,
                 stats.mesh.mesh_ms,
