@@ -7,7 +7,6 @@ use super::drawing::Drawing;
 use crate::{Cancel, Frame, FrameStats, SceneChoices, ViewSettings};
 use relief_core::Camera;
 use relief_render::{RenderError, StacksDrawing};
-use std::time::Instant;
 
 /// A stacks terrain with its renderer (mesher, cache and rasterizer).
 pub struct LiveStacks {
@@ -43,12 +42,8 @@ impl Drawing for LiveStacks {
         _cancel: &Cancel,
     ) -> Result<Frame, RenderError> {
         let (w, h) = (camera.width(), camera.height());
-        let frame = self.drawing.frame(camera)?;
-        let stats = frame.stats;
         let sun = (settings.sun_azimuth_deg, settings.sun_elevation_deg);
-        let shade_started = Instant::now();
-        let rgb = self.drawing.shade(&frame.gbuffer, camera, sun, settings.exposure)?;
-        let shade_ms = shade_started.elapsed().as_secs_f64() * 1e3;
+        let (rgb, stats, shade_ms) = self.drawing.frame_rgb(camera, sun, settings.exposure)?;
         Ok(Frame {
             width: w,
             height: h,
