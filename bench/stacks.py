@@ -136,16 +136,33 @@ def main():
         later = times[1:]
         notes = [f.get("note") or "" for f in frames]
         nodes = [int(m.group(1)) for m in (re.search(r"(\d+) nodes", n) for n in notes) if m]
-        meshed = [int(m.group(1)) for m in (re.search(r"\((\d+) meshed\)", n) for n in notes) if m]
+        meshed = [int(m.group(1)) for m in (re.search(r"\((\d+) meshed", n) for n in notes) if m]
+        waiting = [int(m.group(1)) for m in (re.search(r"(\d+) waiting", n) for n in notes) if m]
         tris = [int(m.group(1)) for m in (re.search(r"(\d+) triangles", n) for n in notes) if m]
         print(f"## Fly-through, {len(frames)} frames at {IMAGE}, tau 10 px\n")
         print("| first frame ms | median frame ms | frames a second (median) | slowest ms "
-              "| nodes (median) | meshed a frame (median) | triangles (median) |")
-        print("|---|---|---|---|---|---|---|")
+              "| nodes (median) | meshed a frame (median) | waiting (median) | triangles (median) |")
+        print("|---|---|---|---|---|---|---|---|")
         print(f"| {times[0]:.0f} | {statistics.median(later):.0f} "
               f"| {1e3 / statistics.median(later):.2f} | {max(later):.0f} "
               f"| {statistics.median(nodes):.0f} | {statistics.median(meshed):.0f} "
+              f"| {statistics.median(waiting) if waiting else 0:.0f} "
               f"| {statistics.median(tris):.0f} |")
+        # The stages of each frame after the first, as the frame's note gives them.
+        stages = ["select", "mesh", "append", "raster", "resolve", "shade"]
+        times_of = {s: [] for s in stages}
+        for note in notes[1:]:
+            for stage in stages:
+                m = re.search(rf"{stage} (\d+) ms", note)
+                if m:
+                    times_of[stage].append(int(m.group(1)))
+        present = [s for s in stages if times_of[s]]
+        if present:
+            print("\nStage medians over the frames after the first, ms:\n")
+            print("| " + " | ".join(present) + " |")
+            print("|" + "---|" * len(present))
+            print("| " + " | ".join(f"{statistics.median(times_of[s]):.0f}" for s in present)
+                  + " |")
 
 
 if __name__ == "__main__":

@@ -69,9 +69,11 @@ pub fn drawn(args: &SceneArgs) -> Drawn {
 pub fn check_scene_args(args: &SceneArgs, drawn: Drawn) -> Result<()> {
     let path = args.input.input.as_deref();
     if drawn != Drawn::Mesh && drawn != Drawn::Store {
-        for (given, option) in
-            [(args.tau.is_some(), "--tau"), (args.voxel_height.is_some(), "--voxel-height")]
-        {
+        for (given, option) in [
+            (args.tau.is_some(), "--tau"),
+            (args.voxel_height.is_some(), "--voxel-height"),
+            (args.node_budget.is_some(), "--node-budget"),
+        ] {
             if given {
                 return Err(applies::refuse(option, "--mode mesh", "the ray-cast renderers"));
             }

@@ -5,7 +5,9 @@ use crate::applies;
 use crate::args::{HybridArgs, SafetyArgs, SceneArgs, TextureFilterChoice, TileRenderArgs};
 use crate::input::terrain_settings;
 use anyhow::Result;
-use relief_render::options::{DEFAULT_CACHE_MB, DEFAULT_MAX_ERROR_PX, DEFAULT_TEXTURE_CACHE_MB};
+use relief_render::options::{
+    DEFAULT_CACHE_MB, DEFAULT_MAX_ERROR_PX, DEFAULT_NODE_BUDGET, DEFAULT_TEXTURE_CACHE_MB,
+};
 use relief_render::{
     CameraOptions, ColourSettings, HybridSettings, LightSettings, MeshSettings, MlhmSettings,
     SafetySettings, SceneOptions, StoreSettings,
@@ -32,7 +34,11 @@ pub fn scene_options(
             backtrack: scene.backtrack,
             no_ao: scene.no_ao,
         },
-        mesh: MeshSettings { tau_px: scene.tau, voxel_height: scene.voxel_height },
+        mesh: MeshSettings {
+            tau_px: scene.tau,
+            voxel_height: scene.voxel_height,
+            node_budget: scene.node_budget.map_or(Some(DEFAULT_NODE_BUDGET), |b| b.0),
+        },
         store: tiles.map(store_settings).unwrap_or_default(),
         hybrid: hybrid.map(hybrid_settings).unwrap_or_default(),
         light: LightSettings {

@@ -1,6 +1,7 @@
 //! `relief flythrough` end to end: a camera path over a raster writes one PNG a frame, each
 //! the picture `relief render` makes of the interpolated camera, the same every run; an MLHM
-//! scene flies through the same code; a tile store's flight writes its frames and the
+//! scene flies through the same code; a stacks flight with a node budget catches up, once
+//! the camera holds still, with the still render; a tile store's flight writes its frames and the
 //! per-frame figures of `--stats`; bad paths, outputs and options are refused, exit 2, with
 //! no frame written.
 
@@ -200,6 +201,45 @@ fn a_tile_store_flight_writes_frames_and_per_frame_stats() {
 }
 
 #[test]
+fn an_amortised_stacks_flight_catches_up_to_the_still_render() {
+    let stacks = scratch("fly terrain.stacks");
+    let generate = ["generate", "stacks", "--width", "96", "--height", "96", "-o", p(&stacks)];
+    stdout_of(&relief(&generate));
+    // Closing in for a second, then holding the camera for three.
+    let near = (1.0, [-20.0, -40.0, 90.0], [96.0, 96.0, 20.0], [0.0, 0.0, 1.0], 45.0);
+    let keys: [Key; 3] = [
+        (0.0, [-150.0, -150.0, 200.0], [96.0, 96.0, 20.0], [0.0, 0.0, 1.0], 45.0),
+        near,
+        (4.0, near.1, near.2, near.3, near.4),
+    ];
+    let path = write_path("fly-stacks-path", &keys);
+    let dir = fresh_dir("fly stacks frames");
+    let stats = scratch("fly-stacks-stats.json");
+    let options = ["--tau", "2", "--node-budget", "16"];
+    let mut with_stats = options.to_vec();
+    with_stats.extend(["--stats", p(&stats)]);
+    fly(&stacks, &path, 17, &dir, &with_stats);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let notes: Vec<&str> =
+        json["frames"].as_array().unwrap().iter().map(|f| f["note"].as_str().unwrap()).collect();
+    let waiting = |note: &str| -> usize {
+        let before = note.split(" waiting").next().unwrap();
+        before.rsplit(' ').next().unwrap().parse().unwrap()
+    };
+    // Frames 4 to 16 hold the camera: the first of them still draws stand-ins, the last none.
+    assert!(waiting(notes[4]) > 0, "{}", notes[4]);
+    assert_eq!(waiting(notes[16]), 0, "{}", notes[16]);
+    let rendered = render_key(&stacks, &near, "fly-stacks-render", &options[..2]);
+    assert!(frame(&dir, 4) != rendered, "frame 4 is amortised, not the still render");
+    assert!(frame(&dir, 16) == rendered, "the caught-up frame differs from relief render");
+    // Without a budget every frame is the still render of its camera.
+    let all = fresh_dir("fly stacks frames, every node");
+    fly(&stacks, &path, 17, &all, &["--tau", "2", "--node-budget", "all"]);
+    assert!(frame(&all, 4) == rendered, "frame 4 without a budget differs from relief render");
+}
+
+#[test]
 fn bad_paths_outputs_and_options_are_refused() {
     let tif = raster("fly refused");
     let path = write_path("fly-refused-path", &KEYS);
@@ -236,6 +276,7 @@ fn bad_paths_outputs_and_options_are_refused() {
     assert_refused(&run(&path, "3", &dir, &["--wait"]), "--wait applies to tile stores");
     assert_refused(&run(&path, "3", &dir, &["--cache-mb", "64"]), "--cache-mb");
     assert_refused(&run(&path, "3", &dir, &["--tracer", "hybrid"]), "hybrid");
+    assert_refused(&run(&path, "3", &dir, &["--node-budget", "8"]), "--node-budget");
     let stats = scratch("fly-refused-stats.txt");
     assert_refused(&run(&path, "3", &dir, &["--stats", p(&stats)]), ".json");
     assert!(!dir.exists(), "a refused flight made its folder");

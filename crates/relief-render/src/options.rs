@@ -103,10 +103,18 @@ pub struct MeshSettings {
     pub tau_px: Option<f64>,
     /// The height of a density voxel at the finest level, metres [default: the spacing].
     pub voxel_height: Option<f64>,
+    /// Node meshes a frame makes at most beyond those nothing drawn before stands in for
+    /// (see [`relief_mesh::StacksMesher::set_node_budget`]); `None`: every node a frame wants.
+    /// A still picture is the same either way: nothing stands in for a first frame.
+    pub node_budget: Option<usize>,
 }
 
 /// The largest screen-space size of a stacks mesh cell where none is given, pixels.
 pub const DEFAULT_TAU_PX: f64 = 10.0;
+
+/// The node meshes a frame of a stacks terrain makes at most where no budget is given (past
+/// those nothing drawn before stands in for).
+pub const DEFAULT_NODE_BUDGET: usize = 64;
 
 /// The options of a tile store.
 #[derive(Debug, Clone, PartialEq)]

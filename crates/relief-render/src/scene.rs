@@ -44,7 +44,8 @@ impl Scene {
         }
         if is_meshed(kind, options) {
             let stacks = StacksScene::open(path, options)?;
-            let drawing = StacksDrawing::new(stacks, options.mesh.tau_px, &options.light)?;
+            let drawing = StacksDrawing::new(stacks, options.mesh.tau_px, &options.light)?
+                .with_node_budget(options.mesh.node_budget);
             return Ok(Scene::Stacks(drawing));
         }
         if let (InputKind::Mlhm, Some(path)) = (kind, path) {

@@ -75,6 +75,7 @@ mod strip_render;
 mod sun;
 mod texture;
 mod tonemap;
+mod triangle_resolve;
 pub mod viewshed;
 
 pub use albedo::{Albedo, FilteredAlbedo};

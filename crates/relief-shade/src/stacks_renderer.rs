@@ -2,12 +2,10 @@
 //! for the camera (node meshes cached across frames) rasterized into relief's G-buffer, with
 //! the meshes' smooth normals and vertex colours, for the one deferred shading pass.
 
-use crate::render::fill_gbuffer;
+use crate::triangle_resolve::{resolve_triangles, DrawnMeshes};
 use crate::{GBuffer, Renderer, ShadeError, StageTimings};
-use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, MaterialStacks};
 use relief_mesh::{MeshStats, RasterTarget, Rasterizer, StacksMesher};
-use relief_trace::Hit;
 use std::time::Instant;
 
 /// Counts and stage timings of one stacks frame.
@@ -77,6 +75,11 @@ impl StacksRenderer {
         &self.mesher
     }
 
+    /// Sets the node meshes a frame makes at most (see [`StacksMesher::set_node_budget`]).
+    pub fn set_node_budget(&mut self, budget: Option<usize>) {
+        self.mesher.set_node_budget(budget);
+    }
+
     /// Renders the view of `camera` into `gbuffer` (every pixel overwritten): the solid and
     /// the water, depth-tested together. `bounds` is the box texture coordinates span. The
     /// G-buffer's material weights hold each pixel's linear RGB colour (for
@@ -115,36 +118,8 @@ impl StacksRenderer {
         stats.raster_ms = ms(start);
 
         let start = Instant::now();
-        let target = &self.target;
-        // Position from the exact ray-plane hit; normal and colour interpolated.
-        let surfaces: Vec<Option<(Hit, [f32; 3])>> = (0..gbuffer.len())
-            .into_par_iter()
-            .map(|index| {
-                let id = target.triangle[index];
-                if id == RasterTarget::NO_TRIANGLE {
-                    return None;
-                }
-                let part = usize::from(id >= offsets[1]);
-                let (mesh, triangle) = (&meshes[part], id - offsets[part]);
-                let (i, j) = ((index % gbuffer.width) as u32, (index / gbuffer.width) as u32);
-                let ray = camera.ray(i, j);
-                let h = mesh.hit(triangle, &ray)?;
-                let mut a = [0f32; 6];
-                mesh.interpolate_attributes(triangle, h.barycentrics, &mut a).ok()?;
-                let smooth = DVec3::new(a[3] as f64, a[4] as f64, a[5] as f64);
-                let normal = match smooth.try_normalize() {
-                    Some(n) if n.dot(ray.dir) < 0.0 => n,
-                    _ => h.normal,
-                };
-                Some((Hit { t: h.t, position: h.position, normal }, [a[0], a[1], a[2]]))
-            })
-            .collect();
-        fill_gbuffer(gbuffer, camera, bounds, |index, _, _| surfaces[index].map(|s| s.0));
-        gbuffer.material.par_iter_mut().zip(&surfaces).for_each(|(m, s)| {
-            if let Some((_, c)) = s {
-                *m = [c[0], c[1], c[2], 1.0];
-            }
-        });
+        let drawn = DrawnMeshes { meshes: &meshes, first_ids: &offsets };
+        resolve_triangles(gbuffer, camera, bounds, &self.target, &drawn);
         stats.resolve_ms = ms(start);
         Ok(stats)
     }
@@ -280,5 +255,46 @@ mod tests {
         }
         assert!(hits > 500, "{hits} pixels see the terrain");
         assert!(off <= 2, "{off} pixels differ from the brute-force depth");
+    }
+
+    #[test]
+    fn an_amortised_flight_catches_up_to_the_still_frame() {
+        let bounds = Aabb::new(DVec3::new(0.0, 0.0, 0.0), DVec3::new(20.0, 20.0, 10.0));
+        let camera = |x: f64| {
+            Camera::look_at(
+                DVec3::new(x, -8.0, 16.0),
+                DVec3::new(10.0, 10.0, 4.0),
+                DVec3::Z,
+                55.0,
+                64,
+                48,
+            )
+            .unwrap()
+        };
+        let still = camera(-6.0);
+        let mut fresh = StacksRenderer::new(mesher(), 3.0).unwrap();
+        let mut want = GBuffer::new(64, 48).unwrap();
+        let stats = fresh.render_into(&still, &bounds, &mut want).unwrap();
+        assert_eq!(stats.mesh.waiting, 0, "a first frame meshes every node");
+        // From far away, closing in, then holding still, 16 node meshes a frame.
+        let mut flying = StacksRenderer::new(mesher(), 3.0).unwrap();
+        flying.set_node_budget(Some(16));
+        let mut got = GBuffer::new(64, 48).unwrap();
+        let (mut waited, mut frames) = (0, 0);
+        for x in [-60.0, -40.0, -20.0] {
+            let stats = flying.render_into(&camera(x), &bounds, &mut got).unwrap();
+            waited += stats.mesh.waiting;
+            frames += 1;
+        }
+        assert!(waited > 0, "some nodes waited for their turn");
+        loop {
+            let stats = flying.render_into(&still, &bounds, &mut got).unwrap();
+            frames += 1;
+            if stats.mesh.waiting == 0 {
+                break;
+            }
+            assert!(frames < 200, "the flight never caught up");
+        }
+        assert!(got == want, "the caught-up frame differs from the still frame");
     }
 }

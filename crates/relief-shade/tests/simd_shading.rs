@@ -206,7 +206,7 @@ fn every_lane_width_gives_the_portable_bytes() {
 #[test]
 fn the_f32_picture_is_within_one_step_of_the_f64_one() {
     let mut random = Random(2026);
-    let (mut channels, mut moved, mut hits) = (0u64, 0u64, 0u64);
+    let (mut channels, mut moved, mut hits, mut coloured) = (0u64, 0u64, 0u64, 0);
     for case in 0..48 {
         let field = random_terrain(&mut random);
         let surface = if random.chance(0.5) { Surface::Triangles } else { Surface::Boxes };
@@ -218,13 +218,21 @@ fn the_f32_picture_is_within_one_step_of_the_f64_one() {
         } else {
             random_camera(&mut random, &bounds, w, h)
         };
-        let params = random_params(&mut random, &bounds);
+        let mut params = random_params(&mut random, &bounds);
         assert!(
             ShadingKernel::new(&camera, &params).is_some(),
             "case {case}: the kernel covers it"
         );
+        let (mut gbuffer, primary) = render_gbuffer(&*tracer, &camera, &bounds, &|_| {}).unwrap();
+        // One case in four, each pixel's own colour (as the stacks meshes store theirs).
+        let per_pixel = random.chance(0.25);
+        if per_pixel {
+            params.albedo = Albedo::GBufferColour { fallback: [0.3; 3] };
+            for m in &mut gbuffer.material {
+                *m = [0.0; 4].map(|_: f32| random.between(0.0, 1.0) as f32);
+            }
+        }
         let precise = ShadingParams { precise: true, ..params.clone() };
-        let (gbuffer, primary) = render_gbuffer(&*tracer, &camera, &bounds, &|_| {}).unwrap();
         let (fast, fast_shadow) = shade_to_srgb8(&gbuffer, &*tracer, &camera, &params).unwrap();
         let (slow, slow_shadow) = shade_to_srgb8(&gbuffer, &*tracer, &camera, &precise).unwrap();
         assert_eq!(fast_shadow, slow_shadow, "case {case}: the same shadow rays");
@@ -237,14 +245,18 @@ fn the_f32_picture_is_within_one_step_of_the_f64_one() {
         }
         channels += 3 * fast.len() as u64;
         hits += primary.hits;
+        if per_pixel {
+            coloured += 1;
+            continue;
+        }
         // The one-pass render takes the same kernel.
         let keep = KeptHits::default();
         let strip =
             render_to_srgb8(&*tracer, &*tracer, &camera, &bounds, &params, keep, &|_| {}).unwrap();
         assert!(strip.rgb == fast, "case {case}: the strip render is the two-pass one");
     }
-    assert!(hits > 0);
-    println!("{moved} of {channels} channels moved by one step");
+    assert!(hits > 0 && coloured > 0, "{coloured} cases of per-pixel colours");
+    println!("{moved} of {channels} channels moved by one step ({coloured} cases coloured)");
 }
 
 #[test]
@@ -269,7 +281,7 @@ fn the_kernel_leaves_what_it_does_not_cover_to_the_f64_pass() {
     assert!(ShadingKernel::new(&camera, &textured).is_none());
     let colours =
         ShadingParams { albedo: Albedo::GBufferColour { fallback: [0.5; 3] }, ..params.clone() };
-    assert!(ShadingKernel::new(&camera, &colours).is_none());
+    assert!(ShadingKernel::new(&camera, &colours).is_some());
     let eye = camera.eye();
     let orthographic = Camera::new(
         eye,

@@ -48,6 +48,13 @@ pub struct SceneArgs {
     /// voxels keep more of a DEM's relief whose spacing is coarse [default: the spacing].
     #[arg(long, value_name = "M", value_parser = parse::positive_length, allow_hyphen_values = true)]
     pub voxel_height: Option<f64>,
+    /// Stacks meshes in relief view and relief flythrough: node meshes a frame makes at most
+    /// (all: every node the frame wants). The others are drawn by what the last frame drew
+    /// in their place (the node next to other neighbours, a coarser or finer level) until a
+    /// later frame meshes them, as Löffler et al. amortise their updates; a camera that stays
+    /// put catches up. A still picture is the same either way [default: 64].
+    #[arg(long, value_name = "N|all", value_parser = node_budget)]
+    pub node_budget: Option<NodeBudget>,
     /// MLHM scenes: quality preset (Nilles & Müller 2025, section 5): low (no secondary rays,
     /// no AO), mid (water reflections and refractions with cheap absorption, sun shadows, AO
     /// of radius 1 m), high (expensive absorption, shadows and AO on reflected and refracted

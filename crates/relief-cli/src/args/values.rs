@@ -13,6 +13,18 @@ pub(crate) fn tau_px(s: &str) -> Result<f64, String> {
     parse::number_in(s, "a number of pixels", &(0.01..=1e4))
 }
 
+/// `--node-budget`: node meshes a frame makes at most; `None`: all.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NodeBudget(pub Option<usize>);
+
+/// `--node-budget`: 1 to 1000000 nodes, or `all`.
+pub(crate) fn node_budget(s: &str) -> Result<NodeBudget, String> {
+    if s == "all" {
+        return Ok(NodeBudget(None));
+    }
+    parse::whole_in(s, 1..=1_000_000, "node budget").map(|n| NodeBudget(Some(n as usize)))
+}
+
 pub(crate) fn non_negative_number(s: &str) -> Result<f64, String> {
     parse::number_in(s, "a number of pixels", &(0.0..=1e6))
 }

@@ -13,6 +13,7 @@
 //! - [`octree`]: the nodes, their selection by screen-space extent, balancing ([`NodeKey`]);
 //! - [`node_columns`]: where the layers within each node's reach lie (empty nodes skipped);
 //! - [`view_culling`]: the nodes a camera cannot see;
+//! - [`node_cache`]: node meshes kept across frames, node meshing amortised over frames;
 //! - [`node_joins`]: node meshes joined for export or appended for drawing;
 //! - [`stacks_mesher`]: the whole terrain at one level or for a camera ([`StacksMesher`]).
 
@@ -21,6 +22,7 @@ mod column_field;
 mod density;
 mod fitted_field;
 mod lattice;
+mod node_cache;
 mod node_columns;
 mod node_joins;
 mod node_mesh;

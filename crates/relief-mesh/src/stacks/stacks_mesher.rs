@@ -4,6 +4,7 @@
 
 use super::density::{Channels, Density, Smoothing};
 use super::lattice::{Block, Lattice};
+use super::node_cache::NodeCache;
 use super::node_columns::{node_columns, node_reach, ColumnRange};
 use super::node_joins::{append_for_drawing, join_part};
 use super::node_mesh::{coarse_block, fine_block, LevelField, NodeJob, NodeMesh};
@@ -13,7 +14,6 @@ use super::view_culling::outside_view;
 use crate::{IndexedMesh, MeshError, MeshPart, TerrainMesh};
 use rayon::prelude::*;
 use relief_core::{Camera, DVec3, MaterialKind, StacksMipmap};
-use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -46,6 +46,9 @@ pub struct MeshStats {
     pub nodes: usize,
     /// Nodes whose mesh was made now (not found in the cache).
     pub meshed: usize,
+    /// Nodes drawn by a stand-in, their own mesh still to make (past the node budget, see
+    /// [`StacksMesher::set_node_budget`]).
+    pub waiting: usize,
     /// Nodes per level, finest first.
     pub per_level: [usize; 16],
     /// Milliseconds choosing the nodes.
@@ -87,7 +90,7 @@ pub struct StacksMesher {
     /// Per level: the width of its grid of node columns, and per node column where the
     /// layers within its reach lie (see [`ColumnRange`]).
     node_columns: Vec<(usize, Vec<ColumnRange>)>,
-    cache: HashMap<(NodeKey, Vec<NodeKey>), Arc<NodeMesh>>,
+    cache: NodeCache,
 }
 
 impl StacksMesher {
@@ -156,7 +159,7 @@ impl StacksMesher {
             colors,
             liquid_color,
             node_columns,
-            cache: HashMap::new(),
+            cache: NodeCache::default(),
         })
     }
 
@@ -309,45 +312,60 @@ impl StacksMesher {
     }
 
     /// The selected nodes' meshes for `camera` at screen-space error `tau` pixels, from the
-    /// cache where a node with the same coarser neighbours was meshed before; the cache then
-    /// keeps the nodes of this frame.
+    /// cache where a node with the same coarser neighbours was meshed before; the others made
+    /// now, or, past the node budget (see [`StacksMesher::set_node_budget`]) when `amortised`,
+    /// drawn by stand-ins from the last frame. The cache then keeps the nodes of this frame.
     fn frame_nodes(
         &mut self,
         camera: &Camera,
         tau: f64,
         cull: bool,
+        amortised: bool,
     ) -> (Vec<Arc<NodeMesh>>, MeshStats) {
         let start = Instant::now();
         let nodes = self.select_nodes(camera, tau, cull);
         let select_ms = ms(start);
         let start = Instant::now();
-        let missing: Vec<&(NodeKey, Vec<NodeKey>)> =
-            nodes.iter().filter(|k| !self.cache.contains_key(*k)).collect();
-        let made: Vec<Arc<NodeMesh>> =
-            missing.par_iter().map(|(k, c)| Arc::new(self.mesh_one(k, c))).collect();
+        let mut cache = std::mem::take(&mut self.cache);
+        let frame = cache.frame(&nodes, amortised, |k, c| self.mesh_one(k, c));
+        self.cache = cache;
         let mut stats = MeshStats {
             nodes: nodes.len(),
-            meshed: made.len(),
+            meshed: frame.meshed,
+            waiting: frame.waiting,
             select_ms,
             mesh_ms: ms(start),
             ..Default::default()
         };
-        for (key, mesh) in missing.into_iter().zip(made) {
-            self.cache.insert(key.clone(), mesh);
-        }
         for (k, _) in &nodes {
             stats.per_level[(k.level as usize).min(15)] += 1;
         }
-        let keep: std::collections::HashSet<&(NodeKey, Vec<NodeKey>)> = nodes.iter().collect();
-        self.cache.retain(|k, _| keep.contains(k));
-        (nodes.iter().map(|k| self.cache[k].clone()).collect(), stats)
+        (frame.meshes, stats)
+    }
+
+    /// Sets how many node meshes a frame drawn by [`StacksMesher::draw_meshes_for_camera`]
+    /// makes at most beyond those nothing drawn before can stand in for (`None`, the default:
+    /// every node a frame wants). Nodes past the budget are drawn, until a later frame meshes
+    /// them, by what the last frame drew in their place: the same node's mesh next to other
+    /// neighbours, a coarser ancestor's mesh or finer descendants' meshes (as Löffler et al.
+    /// amortise their updates, with the same popping and delayed level switches). Such a
+    /// frame may show cracks and overlaps where a stand-in meets its neighbours; once the
+    /// camera stays put long enough, every node has its own mesh and the frame is the one
+    /// drawn without a budget.
+    pub fn set_node_budget(&mut self, budget: Option<usize>) {
+        self.cache.set_budget(budget);
+    }
+
+    /// The node budget of a frame (see [`StacksMesher::set_node_budget`]).
+    pub fn node_budget(&self) -> Option<usize> {
+        self.cache.budget()
     }
 
     /// The mesh for `camera` at screen-space error `tau` pixels (see
     /// [`StacksMesher::select`]), each vertex once; node meshes come from the cache where a
     /// node with the same coarser neighbours was meshed for an earlier camera.
     pub fn mesh_for_camera(&mut self, camera: &Camera, tau: f64) -> (TerrainMesh, MeshStats) {
-        let (meshes, mut stats) = self.frame_nodes(camera, tau, false);
+        let (meshes, mut stats) = self.frame_nodes(camera, tau, false, false);
         let start = Instant::now();
         let mesh = self.join(&meshes.iter().map(|m| m.as_ref()).collect::<Vec<_>>());
         stats.join_ms = ms(start);
@@ -364,7 +382,7 @@ impl StacksMesher {
         camera: &Camera,
         tau: f64,
     ) -> Result<([IndexedMesh; 2], MeshStats), MeshError> {
-        let (meshes, mut stats) = self.frame_nodes(camera, tau, true);
+        let (meshes, mut stats) = self.frame_nodes(camera, tau, true, true);
         let start = Instant::now();
         let solid = append_for_drawing(&meshes, 0)?;
         let water = append_for_drawing(&meshes, 1)?;

@@ -20,6 +20,8 @@ use std::time::Instant;
 pub struct StacksDrawing {
     /// The renderer; frames take turns.
     renderer: Mutex<StacksRenderer>,
+    /// The G-buffer of the last frame [`StacksDrawing::frame_rgb`] drew, reused by the next.
+    kept: Mutex<Option<GBuffer>>,
     /// A finite box holding the terrain.
     pub bounds: Aabb,
     /// The largest screen-space size of a mesh cell, pixels.
@@ -53,12 +55,22 @@ impl StacksDrawing {
         Ok(StacksDrawing {
             bounds: scene.bounds,
             renderer: Mutex::new(StacksRenderer::new(scene.mesher, tau_px)?),
+            kept: Mutex::new(None),
             tau_px,
             sun: light.sun,
             exposure: light.exposure,
             describe,
             warnings: scene.warnings,
         })
+    }
+
+    /// The drawing with at most `budget` node meshes made a frame beyond those nothing drawn
+    /// before stands in for (`None`: every node a frame wants; see
+    /// [`relief_mesh::StacksMesher::set_node_budget`]).
+    #[must_use]
+    pub fn with_node_budget(self, budget: Option<usize>) -> Self {
+        self.renderer.lock().expect("no render panicked").set_node_budget(budget);
+        self
     }
 
     /// The scene in a few words.
@@ -83,6 +95,32 @@ impl StacksDrawing {
         let mut renderer = self.renderer.lock().expect("no render panicked");
         let stats = renderer.render_into(camera, &self.bounds, &mut gbuffer)?;
         Ok(StacksFrame { gbuffer, stats })
+    }
+
+    /// The shaded picture of `camera` (sun at `sun`, `exposure`; see [`StacksDrawing::shade`]),
+    /// what drawing it did and the milliseconds shading took: a frame of a flight, its
+    /// G-buffer kept for the next frame of the same size.
+    pub fn frame_rgb(
+        &self,
+        camera: &Camera,
+        sun: (f64, f64),
+        exposure: f64,
+    ) -> Result<(Vec<[u8; 3]>, StacksFrameStats, f64), RenderError> {
+        let mut kept = self.kept.lock().expect("no render panicked");
+        let (w, h) = (camera.width() as usize, camera.height() as usize);
+        let mut gbuffer = match kept.take() {
+            Some(g) if (g.width, g.height) == (w, h) => g,
+            _ => GBuffer::new(w, h)?,
+        };
+        let stats = {
+            let mut renderer = self.renderer.lock().expect("no render panicked");
+            renderer.render_into(camera, &self.bounds, &mut gbuffer)?
+        };
+        let shade_started = Instant::now();
+        let rgb = self.shade(&gbuffer, camera, sun, exposure)?;
+        let shade_ms = ms_since(shade_started);
+        *kept = Some(gbuffer);
+        Ok((rgb, stats, shade_ms))
     }
 
     /// Shades a frame's `gbuffer` with the deferred pass: the vertex colours as albedo, the

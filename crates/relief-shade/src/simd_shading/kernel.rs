@@ -45,6 +45,12 @@ pub(crate) enum LaneAlbedo {
         /// The map's table.
         table: &'static MapTable,
     },
+    /// Each pixel's own linear RGB colour (the G-buffer's first three material weights),
+    /// `fallback` where a row comes without colours.
+    PerPixel {
+        /// The albedo of a row shaded without colours.
+        fallback: [f32; 3],
+    },
 }
 
 /// The per-pass constants of the kernel, in `f32`.
@@ -91,45 +97,64 @@ pub(crate) struct Lanes<const N: usize> {
     pub normal: [[f32; N]; 3],
     /// The sun's visibility (0 or 1).
     pub visibility: [f32; N],
+    /// Each pixel's own albedo, by channel (zeros when the row has none).
+    pub colour: [[f32; N]; 3],
 }
 
 impl<const N: usize> Lanes<N> {
     /// The first `N` pixels of the slices (each holds at least `N`), loaded whole so that the
     /// loads are vector loads.
     #[inline(always)]
-    fn whole(sx: &[f32], distance: &[f32], normal: &[[f32; 3]], visibility: &[f32]) -> Self {
-        let first = |v: &[f32]| -> [f32; N] { v[..N].try_into().expect("N values") };
-        let normals: &[[f32; 3]; N] = normal[..N].try_into().expect("N normals");
+    fn whole(row: &RowPixels, start: usize) -> Self {
+        let first = |v: &[f32]| -> [f32; N] { v[start..start + N].try_into().expect("N values") };
+        let normals: &[[f32; 3]; N] = row.normal[start..start + N].try_into().expect("N normals");
         let mut by_axis = [[0.0f32; N]; 3];
         for l in 0..N {
             by_axis[0][l] = normals[l][0];
             by_axis[1][l] = normals[l][1];
             by_axis[2][l] = normals[l][2];
         }
+        let mut colour = [[0.0f32; N]; 3];
+        if let Some(colours) = row.colour {
+            let colours: &[[f32; 4]; N] = colours[start..start + N].try_into().expect("N colours");
+            for l in 0..N {
+                colour[0][l] = colours[l][0];
+                colour[1][l] = colours[l][1];
+                colour[2][l] = colours[l][2];
+            }
+        }
         Lanes {
-            sx: first(sx),
-            distance: first(distance),
+            sx: first(row.sx),
+            distance: first(row.distance),
             normal: by_axis,
-            visibility: first(visibility),
+            visibility: first(row.visibility),
+            colour,
         }
     }
 
-    /// The pixels of the slices (fewer than `N`), the other lanes misses.
+    /// The pixels of the row from `start` on (fewer than `N`), the other lanes misses.
     #[inline(always)]
-    fn part(sx: &[f32], distance: &[f32], normal: &[[f32; 3]], visibility: &[f32]) -> Self {
+    fn part(row: &RowPixels, start: usize) -> Self {
         let mut lanes = Lanes {
             sx: [0.0; N],
             distance: [f32::INFINITY; N],
             normal: [[0.0; N]; 3],
             visibility: [0.0; N],
+            colour: [[0.0; N]; 3],
         };
-        for l in 0..sx.len().min(N) {
-            lanes.sx[l] = sx[l];
-            lanes.distance[l] = distance[l];
-            for (axis, value) in lanes.normal.iter_mut().zip(normal[l]) {
+        for l in 0..(row.sx.len() - start).min(N) {
+            let k = start + l;
+            lanes.sx[l] = row.sx[k];
+            lanes.distance[l] = row.distance[k];
+            for (axis, value) in lanes.normal.iter_mut().zip(row.normal[k]) {
                 axis[l] = value;
             }
-            lanes.visibility[l] = visibility[l];
+            lanes.visibility[l] = row.visibility[k];
+            if let Some(colours) = row.colour {
+                for (channel, value) in lanes.colour.iter_mut().zip(colours[k]) {
+                    channel[l] = value;
+                }
+            }
         }
         lanes
     }
@@ -149,6 +174,9 @@ pub(crate) struct RowPixels<'a> {
     pub normal: &'a [[f32; 3]],
     /// The sun's visibility (0 or 1).
     pub visibility: &'a [f32],
+    /// Each pixel's G-buffer material weights, the first three its linear RGB albedo, for
+    /// [`LaneAlbedo::PerPixel`]; `None`: the fallback albedo.
+    pub colour: Option<&'a [[f32; 4]]>,
 }
 
 /// Shades `row`, `N` pixels at a time, one byte triple a pixel into `out`.
@@ -158,26 +186,13 @@ pub(crate) fn shade_row_lanes<const N: usize>(
     row: &RowPixels,
     out: &mut [[u8; 3]],
 ) {
-    let RowPixels { sy, sx, distance, normal, visibility } = *row;
+    let sy = row.sy;
     let mut start = 0;
     while start < out.len() {
         let m = N.min(out.len() - start);
-        let lanes = if m == N {
-            Lanes::<N>::whole(
-                &sx[start..],
-                &distance[start..],
-                &normal[start..],
-                &visibility[start..],
-            )
-        } else {
-            Lanes::<N>::part(
-                &sx[start..],
-                &distance[start..],
-                &normal[start..],
-                &visibility[start..],
-            )
-        };
-        let radiance = radiance_lanes(c, sy, &lanes);
+        let lanes =
+            if m == N { Lanes::<N>::whole(row, start) } else { Lanes::<N>::part(row, start) };
+        let radiance = radiance_lanes(c, sy, &lanes, row.colour.is_some());
         // No closures here (`array::map`): they would be compiled apart from the lane width's
         // target features.
         let (red, green, blue) =
@@ -191,7 +206,12 @@ pub(crate) fn shade_row_lanes<const N: usize>(
 
 /// The exposed linear radiance of `N` pixels, by channel.
 #[inline(always)]
-fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [[f32; N]; 3] {
+fn radiance_lanes<const N: usize>(
+    c: &LaneConstants,
+    sy: f32,
+    p: &Lanes<N>,
+    has_colours: bool,
+) -> [[f32; N]; 3] {
     // The view ray, as `Camera::ray_through` makes it: normalize(forward + sx right + sy up)
     // (times the reciprocal of the length, as glam normalizes),
     // or `forward` for an orthographic camera.
@@ -219,7 +239,7 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
             sky[l] = c.horizon[ch] + (c.zenith[ch] - c.horizon[ch]) * rise;
         }
     }
-    let albedo = albedo_lanes(c, sy, p, &dir, &unit_normal);
+    let albedo = albedo_lanes(c, sy, p, &dir, &unit_normal, has_colours);
     let mut out = [[0.0f32; N]; 3];
     for l in 0..N {
         let n = [unit_normal[0][l], unit_normal[1][l], unit_normal[2][l]];
@@ -245,7 +265,7 @@ fn radiance_lanes<const N: usize>(c: &LaneConstants, sy: f32, p: &Lanes<N>) -> [
     out
 }
 
-/// The albedo of `N` pixels, by channel.
+/// The albedo of `N` pixels, by channel (`has_colours`: the lanes hold each pixel's own).
 #[inline(always)]
 fn albedo_lanes<const N: usize>(
     c: &LaneConstants,
@@ -253,6 +273,7 @@ fn albedo_lanes<const N: usize>(
     p: &Lanes<N>,
     dir: &[[f32; N]; 3],
     normal: &[[f32; N]; 3],
+    has_colours: bool,
 ) -> [[f32; N]; 3] {
     match c.albedo {
         LaneAlbedo::Uniform(rgb) => [[rgb[0]; N], [rgb[1]; N], [rgb[2]; N]],
@@ -286,6 +307,8 @@ fn albedo_lanes<const N: usize>(
             }
             table.colour_lanes(&u)
         }
+        LaneAlbedo::PerPixel { .. } if has_colours => p.colour,
+        LaneAlbedo::PerPixel { fallback } => [[fallback[0]; N], [fallback[1]; N], [fallback[2]; N]],
     }
 }
 

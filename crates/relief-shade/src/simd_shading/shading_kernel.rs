@@ -14,7 +14,8 @@ use crate::{Albedo, ShadeError, ShadingParams};
 pub const MIN_LANE_ROUGHNESS: f64 = 0.2;
 
 /// The deferred shading of one camera's picture in `f32` lanes, for the parameters it covers:
-/// a pinhole or orthographic camera, uniform, hypsometric or colour-mapped albedo, any sun and
+/// a pinhole or orthographic camera, uniform, hypsometric, colour-mapped or per-pixel
+/// ([`Albedo::GBufferColour`]) albedo, any sun and
 /// sky, GGX of roughness at least [`MIN_LANE_ROUGHNESS`] or none, fog, exposure;
 /// `ShadingParams::precise` off.
 ///
@@ -70,6 +71,7 @@ impl ShadingKernel {
                     table: map.map.table(),
                 }
             }
+            Albedo::GBufferColour { fallback } => LaneAlbedo::PerPixel { fallback: *fallback },
             _ => return None,
         };
         let lights = params.sun.is_up() && params.sun.irradiance > 0.0;
@@ -126,7 +128,6 @@ impl ShadingKernel {
     /// sun, as it does not trace a shadow ray there).
     ///
     /// Panics when the slices differ in length or the pixels lie outside the picture.
-    #[allow(unsafe_code)]
     pub fn shade_row(
         &self,
         row: usize,
@@ -142,19 +143,52 @@ impl ShadingKernel {
             "one distance, normal and visibility per pixel"
         );
         let sx = &self.screen_x[first_column..first_column + n];
-        let pixels = RowPixels { sy: self.screen_y[row], sx, distance, normal, visibility };
+        let pixels =
+            RowPixels { sy: self.screen_y[row], sx, distance, normal, visibility, colour: None };
+        self.shade_pixels(&pixels, out);
+    }
+
+    /// The pixels of image row `row` from column `first_column` on, as [`RowPixels`] holds
+    /// them, with each pixel's G-buffer material weights in `colour` (read when the albedo is
+    /// [`Albedo::GBufferColour`]).
+    pub(crate) fn row_pixels<'a>(
+        &'a self,
+        row: usize,
+        first_column: usize,
+        (distance, normal): (&'a [f32], &'a [[f32; 3]]),
+        colour: Option<&'a [[f32; 4]]>,
+        visibility: &'a [f32],
+    ) -> RowPixels<'a> {
+        let sx = &self.screen_x[first_column..first_column + distance.len()];
+        RowPixels { sy: self.screen_y[row], sx, distance, normal, visibility, colour }
+    }
+
+    /// Shades `pixels` into `out`, one per entry.
+    ///
+    /// Panics when the slices differ in length.
+    #[allow(unsafe_code)]
+    pub(crate) fn shade_pixels(&self, pixels: &RowPixels, out: &mut [[u8; 3]]) {
+        let n = out.len();
+        assert!(
+            pixels.sx.len() == n
+                && pixels.distance.len() == n
+                && pixels.normal.len() == n
+                && pixels.visibility.len() == n
+                && pixels.colour.is_none_or(|c| c.len() == n),
+            "one distance, normal, visibility and colour per pixel"
+        );
         let c = &self.constants;
         match self.width {
-            LaneWidth::Portable => shade_row_portable(c, &pixels, out),
+            LaneWidth::Portable => shade_row_portable(c, pixels, out),
             #[cfg(target_arch = "x86_64")]
             // SAFETY: a kernel holds a width only once `is_available` found it on this
             // processor (`detect` and `with_width` check it).
-            LaneWidth::Avx2 => unsafe { shade_row_avx2(c, &pixels, out) },
+            LaneWidth::Avx2 => unsafe { shade_row_avx2(c, pixels, out) },
             #[cfg(target_arch = "x86_64")]
             // SAFETY: as above.
-            LaneWidth::Avx512 => unsafe { shade_row_avx512(c, &pixels, out) },
+            LaneWidth::Avx512 => unsafe { shade_row_avx512(c, pixels, out) },
             #[cfg(not(target_arch = "x86_64"))]
-            LaneWidth::Avx2 | LaneWidth::Avx512 => shade_row_portable(c, &pixels, out),
+            LaneWidth::Avx2 | LaneWidth::Avx512 => shade_row_portable(c, pixels, out),
         }
     }
 }

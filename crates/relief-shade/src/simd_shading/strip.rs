@@ -5,7 +5,7 @@ use relief_core::DVec3;
 
 use super::ShadingKernel;
 use crate::deferred::{trace_shadows, ShadingPass};
-use crate::{shadow_ray, RayBatch, ShadingNormals, Tile, TraceStats, TILE_SIZE};
+use crate::{shadow_ray, Albedo, RayBatch, ShadingNormals, Tile, TraceStats, TILE_SIZE};
 
 /// Shades the image rows from `top` on (at most [`TILE_SIZE`], all in the pass's G-buffer)
 /// into `out` with `kernel`, and counts the shadow rays.
@@ -52,19 +52,22 @@ pub(crate) fn shade_strip_in_lanes(
     let normals = shading_normals(pass, kernel, top, rows);
     for r in 0..rows {
         let k = pass.index(0, top + r);
+        let colours = matches!(params.albedo, Albedo::GBufferColour { .. });
         let mut shade = |first: usize, n: usize| {
             let (g, pixels) = (k + first..k + first + n, r * width + first..r * width + first + n);
-            kernel.shade_row(
+            let normal = match &normals {
+                Some(normals) => &normals[pixels.clone()],
+                None => &gbuffer.normal[g.clone()],
+            };
+            let colour = colours.then(|| &gbuffer.material[g.clone()]);
+            let row = kernel.row_pixels(
                 top + r,
                 first,
-                &gbuffer.distance[g.clone()],
-                match &normals {
-                    Some(normals) => &normals[pixels.clone()],
-                    None => &gbuffer.normal[g],
-                },
+                (&gbuffer.distance[g], normal),
+                colour,
                 &visibility[pixels.clone()],
-                &mut out[pixels],
             );
+            kernel.shade_pixels(&row, &mut out[pixels]);
         };
         match pass.mask {
             None => shade(0, width),

@@ -42,26 +42,26 @@ impl Drawing for LiveStacks {
         _cancel: &Cancel,
     ) -> Result<Frame, RenderError> {
         let (w, h) = (camera.width(), camera.height());
-        let frame = self.drawing.frame(camera)?;
-        let stats = frame.stats;
         let sun = (settings.sun_azimuth_deg, settings.sun_elevation_deg);
-        let rgb = self.drawing.shade(&frame.gbuffer, camera, sun, settings.exposure)?;
+        let (rgb, stats, shade_ms) = self.drawing.frame_rgb(camera, sun, settings.exposure)?;
         Ok(Frame {
             width: w,
             height: h,
             rgb,
             stats: FrameStats { rays: 0, steps_per_ray: None },
             note: Some(format!(
-                "{} nodes ({} meshed), {} triangles; select {:.0} ms, mesh {:.0} ms, append {:.0} \
-                 ms, raster {:.0} ms, resolve {:.0} ms",
+                "{} nodes ({} meshed, {} waiting), {} triangles; select {:.0} ms, mesh {:.0} ms, append {:.0} \
+                 ms, raster {:.0} ms, resolve {:.0} ms, shade {:.0} ms",
                 stats.mesh.nodes,
                 stats.mesh.meshed,
+                stats.mesh.waiting,
                 stats.triangles,
                 stats.mesh.select_ms,
                 stats.mesh.mesh_ms,
                 stats.mesh.join_ms,
                 stats.raster_ms,
-                stats.resolve_ms
+                stats.resolve_ms,
+                shade_ms
             )),
         })
     }

@@ -1,0 +1,197 @@
+//! The node meshes kept across frames, and the amortisation of node meshing over frames
+//! (Löffler et al. 2011, section 4: "in each frame we can update ≈ 40 nodes"): with a budget
+//! of node meshes a frame, the nodes a frame wants but has no mesh for yet are drawn by what
+//! the last frame drew over their place (the same node's mesh next to other neighbours, a
+//! coarser ancestor's mesh, or finer descendants' meshes), until their turn comes. Once a
+//! camera stays put long enough, every wanted node has its own mesh and the frame is the one
+//! drawn without a budget.
+
+use super::node_mesh::NodeMesh;
+use super::octree::NodeKey;
+use rayon::prelude::*;
+use rustc_hash::{FxHashMap, FxHashSet};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// A node as a frame wants it: its key and the coarser leaves next to it (they decide its
+/// stitching, so they are part of what its mesh is).
+pub(crate) type WantedNode = (NodeKey, Vec<NodeKey>);
+
+/// The node meshes of recent frames.
+#[derive(Debug, Default)]
+pub(crate) struct NodeCache {
+    /// Meshes by node and coarser neighbours: each exactly what meshing that node there makes.
+    exact: HashMap<WantedNode, Arc<NodeMesh>>,
+    /// What the last frame drew over each node's place: the node's own mesh or a stand-in.
+    drawn: FxHashMap<NodeKey, Arc<NodeMesh>>,
+    /// Node meshes made a frame at most, past those no stand-in covers; `None`: every node.
+    budget: Option<usize>,
+}
+
+/// The meshes a frame draws and how it came by them.
+#[derive(Debug, Default)]
+pub(crate) struct FrameMeshes {
+    /// The meshes to draw, in the order of the wanted nodes (a stand-in where the first node
+    /// it stands in for is).
+    pub meshes: Vec<Arc<NodeMesh>>,
+    /// Node meshes made for this frame.
+    pub meshed: usize,
+    /// Wanted nodes drawn by a stand-in, their own meshes still to make.
+    pub waiting: usize,
+}
+
+/// What stands in for a wanted node that has no mesh of its own yet.
+#[derive(Debug, Clone)]
+enum StandIn {
+    /// Nothing the last frame drew covers it: it must be meshed now.
+    None,
+    /// The same node's mesh next to other neighbours (only the stitching differs).
+    SameNode(NodeKey),
+    /// A coarser node's mesh (the node's region is part of it).
+    Ancestor(NodeKey),
+    /// Finer nodes' meshes (the parts of the node's region the last frame drew).
+    Descendants(Vec<NodeKey>),
+}
+
+impl StandIn {
+    /// The order in which nodes get their own meshes: those nothing stands in for, then level
+    /// changes, then nodes whose neighbours changed.
+    fn rank(&self) -> u8 {
+        match self {
+            StandIn::None => 0,
+            StandIn::Ancestor(_) | StandIn::Descendants(_) => 1,
+            StandIn::SameNode(_) => 2,
+        }
+    }
+}
+
+impl NodeCache {
+    /// Sets the budget: at most `budget` node meshes made a frame beyond those nothing stands
+    /// in for (`None`: every wanted node meshed in its frame).
+    pub fn set_budget(&mut self, budget: Option<usize>) {
+        self.budget = budget;
+    }
+
+    /// The budget of node meshes a frame.
+    pub fn budget(&self) -> Option<usize> {
+        self.budget
+    }
+
+    /// The meshes of a frame that wants `wanted` (each node once, in a fixed order): nodes
+    /// meshed before (same node, same coarser neighbours) from the cache; of the others,
+    /// those nothing the last frame drew covers and, when `amortised`, the most needed within
+    /// the budget (else all of them), made now by `mesh` in parallel; the rest drawn by
+    /// stand-ins. The cache then keeps this frame's meshes.
+    pub fn frame(
+        &mut self,
+        wanted: &[WantedNode],
+        amortised: bool,
+        mesh: impl Fn(&NodeKey, &[NodeKey]) -> NodeMesh + Sync,
+    ) -> FrameMeshes {
+        let missing: Vec<usize> =
+            (0..wanted.len()).filter(|&w| !self.exact.contains_key(&wanted[w])).collect();
+        let budget = if amortised { self.budget } else { None };
+        let (to_mesh, stand_ins) = match budget {
+            Some(budget) if missing.len() > budget => self.choose(wanted, &missing, budget),
+            _ => (missing, FxHashMap::default()),
+        };
+        let made: Vec<Arc<NodeMesh>> =
+            to_mesh.par_iter().map(|&w| Arc::new(mesh(&wanted[w].0, &wanted[w].1))).collect();
+        let meshed = made.len();
+        for (&w, m) in to_mesh.iter().zip(made) {
+            self.exact.insert(wanted[w].clone(), m);
+        }
+
+        let mut frame = FrameMeshes { meshed, ..FrameMeshes::default() };
+        let mut drawn = FxHashMap::default();
+        for (w, node) in wanted.iter().enumerate() {
+            if let Some(m) = self.exact.get(node) {
+                frame.meshes.push(m.clone());
+                drawn.insert(node.0, m.clone());
+                continue;
+            }
+            frame.waiting += 1;
+            let keys = match &stand_ins[&w] {
+                StandIn::SameNode(key) | StandIn::Ancestor(key) => std::slice::from_ref(key),
+                StandIn::Descendants(keys) => keys.as_slice(),
+                StandIn::None => unreachable!("a node nothing stands in for is meshed"),
+            };
+            for key in keys {
+                if !drawn.contains_key(key) {
+                    let m = self.drawn[key].clone();
+                    frame.meshes.push(m.clone());
+                    drawn.insert(*key, m);
+                }
+            }
+        }
+        let keep: FxHashSet<&WantedNode> = wanted.iter().collect();
+        self.exact.retain(|k, _| keep.contains(k));
+        self.drawn = drawn;
+        frame
+    }
+
+    /// With more missing nodes than `budget`, which to mesh now (indices into `wanted`) and
+    /// what stands in for the others: every node nothing stands in for, then up to `budget`
+    /// more by [`StandIn::rank`], coarser levels first, then in `wanted`'s order.
+    fn choose(
+        &self,
+        wanted: &[WantedNode],
+        missing: &[usize],
+        budget: usize,
+    ) -> (Vec<usize>, FxHashMap<usize, StandIn>) {
+        let mut stand_ins: FxHashMap<usize, StandIn> =
+            missing.iter().map(|&w| (w, self.stand_in(&wanted[w].0))).collect();
+        // Nodes that only finer meshes the last frame drew can stand in for.
+        let open: FxHashMap<NodeKey, usize> = missing
+            .iter()
+            .filter(|w| matches!(stand_ins[w], StandIn::None))
+            .map(|&w| (wanted[w].0, w))
+            .collect();
+        if !open.is_empty() {
+            let mut finer: Vec<(NodeKey, usize)> = Vec::new();
+            for key in self.drawn.keys() {
+                let mut up = *key;
+                for _ in 0..16 {
+                    up = up.parent();
+                    if let Some(&w) = open.get(&up) {
+                        finer.push((*key, w));
+                        break;
+                    }
+                }
+            }
+            finer.sort();
+            for (key, w) in finer {
+                match stand_ins.get_mut(&w) {
+                    Some(StandIn::Descendants(keys)) => keys.push(key),
+                    Some(s) => *s = StandIn::Descendants(vec![key]),
+                    None => {}
+                }
+            }
+        }
+        let mut order: Vec<usize> = missing.to_vec();
+        order.sort_by_key(|&w| (stand_ins[&w].rank(), std::cmp::Reverse(wanted[w].0.level), w));
+        let mandatory = order.iter().filter(|w| matches!(stand_ins[w], StandIn::None)).count();
+        let mut to_mesh: Vec<usize> = order[..(mandatory + budget).min(order.len())].to_vec();
+        to_mesh.sort_unstable();
+        for w in &to_mesh {
+            stand_ins.remove(w);
+        }
+        (to_mesh, stand_ins)
+    }
+
+    /// What the last frame drew that stands in for node `key`: the same node, else its
+    /// nearest drawn ancestor, else nothing (descendants are found by [`NodeCache::choose`]).
+    fn stand_in(&self, key: &NodeKey) -> StandIn {
+        if self.drawn.contains_key(key) {
+            return StandIn::SameNode(*key);
+        }
+        let mut up = *key;
+        for _ in 0..16 {
+            up = up.parent();
+            if self.drawn.contains_key(&up) {
+                return StandIn::Ancestor(up);
+            }
+        }
+        StandIn::None
+    }
+}
