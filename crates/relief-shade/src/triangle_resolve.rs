@@ -54,7 +54,8 @@ pub(crate) fn resolve_triangles(
             for r in 0..rows {
                 let j = s * BLOCK + r;
                 let sy = camera.screen_y(j as u32);
-                for i in left..(left + BLOCK).min(width) {
+                let right = (left + BLOCK).min(width);
+                for (i, &sx) in screen_x.iter().enumerate().take(right).skip(left) {
                     let k = r * width + i;
                     let id = target.triangle[j * width + i];
                     if id == RasterTarget::NO_TRIANGLE {
@@ -64,7 +65,7 @@ pub(crate) fn resolve_triangles(
                     if setup.id != id {
                         setup = PlaneSetup::new(drawn, id);
                     }
-                    match setup.hit(&camera.ray_through(screen_x[i], sy)) {
+                    match setup.hit(&camera.ray_through(sx, sy)) {
                         None => strip.set(k, &GBufferPixel::MISS),
                         Some((hit, colour)) => {
                             let mut pixel = encoder.g_buffer_pixel(Some(hit));

@@ -57,7 +57,7 @@ pub(crate) struct ColumnValues {
 }
 
 /// The column of `stack` for the channel whose layers `belongs` picks, over the lattice points
-/// `z_lo .. z_lo + len`; `to_k` maps a height to lattice units; runs thinner than
+/// `points` (heights `k`); `to_k` maps a height to lattice units; runs thinner than
 /// `min_thickness` lattice units are left out; a thin run's neighbours take at least
 /// `thin_floor` (see [`THIN_FLOOR_SMOOTHED`]).
 pub(crate) fn column_values(
@@ -67,9 +67,9 @@ pub(crate) fn column_values(
     to_k: impl Fn(f32) -> f64,
     min_thickness: f64,
     thin_floor: f64,
-    z_lo: i32,
-    len: usize,
+    points: std::ops::Range<i32>,
 ) -> ColumnValues {
+    let (z_lo, len) = (points.start, points.len());
     let runs = runs_of(stack, materials, &belongs, &to_k, min_thickness);
     let mut best = vec![f64::NEG_INFINITY; len];
     let mut material = vec![None; len];
@@ -184,8 +184,7 @@ mod tests {
             |z| z as f64,
             0.0,
             f64::NEG_INFINITY,
-            z_lo,
-            len,
+            z_lo..z_lo + len as i32,
         )
     }
 
@@ -235,8 +234,7 @@ mod tests {
             |z| z as f64,
             0.0,
             f64::NEG_INFINITY,
-            -1,
-            6,
+            -1..5,
         );
         assert_eq!(c.density.iter().filter(|&&v| v > 0.5).count(), 1);
     }

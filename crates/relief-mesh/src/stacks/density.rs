@@ -152,8 +152,7 @@ impl Density {
                         |z| lattice.to_k(z),
                         channels.min_thickness / lattice.step.z,
                         thin_floor,
-                        wide.min[2],
-                        nz,
+                        wide.min[2]..wide.min[2] + nz as i32,
                     );
                     for k in 0..nz {
                         let i = column + k * nx * ny;
