@@ -31,6 +31,12 @@ pub(crate) const BAND: f64 = 1.0;
 /// sheets thinner than two thirds of a step a little thicker.
 pub(crate) const THIN_FLOOR_SMOOTHED: f64 = -3.0 * BAND;
 
+/// The value below the terrain's bottom under a run that starts there (a *grounded* run): so
+/// low that the bottom face lies a thousandth of a step under the bottom, while the point at
+/// the bottom takes the distance to the run's top, as a thick run's points do. A ground
+/// thinner than a step then keeps its top where it is, at every level.
+const BELOW_GROUND: f64 = -1000.0 * BAND;
+
 /// A maximal interval of one channel's material in a column, lattice units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Run {
@@ -44,6 +50,8 @@ struct Run {
     last_layer: usize,
     /// Whether it is thin, moved onto the lattice point nearest its top.
     thin: bool,
+    /// Whether it starts at the terrain's bottom (lattice height 0).
+    grounded: bool,
 }
 
 /// The values one column gives its lattice points `z_lo .. z_lo + len` for one channel: the
@@ -79,6 +87,8 @@ pub(crate) fn column_values(
         let (first, last) = if run.thin {
             let centre = (0.5 * (run.start + run.end)).round() as i32;
             (centre - 1, centre + 1)
+        } else if run.grounded {
+            (-2, (run.end + BAND).ceil() as i32)
         } else {
             ((run.start - BAND).floor() as i32, (run.end + BAND).ceil() as i32)
         };
@@ -88,6 +98,12 @@ pub(crate) fn column_values(
             let d = if run.thin {
                 let centre = 0.5 * (run.start + run.end);
                 (BAND - 2.0 * BAND / (run.end - run.start) * (kf - centre).abs()).max(thin_floor)
+            } else if run.grounded {
+                if k < 0 {
+                    BELOW_GROUND
+                } else {
+                    (run.end - kf).clamp(-BAND, BAND)
+                }
             } else {
                 (kf - run.start).min(run.end - kf).clamp(-BAND, BAND)
             };
@@ -135,14 +151,21 @@ fn runs_of(
                 run.end = end;
                 run.last_layer = i;
             }
-            _ => runs.push(Run { start, end, first_layer: i, last_layer: i, thin: false }),
+            _ => runs.push(Run {
+                start,
+                end,
+                first_layer: i,
+                last_layer: i,
+                thin: false,
+                grounded: start <= 0.0,
+            }),
         }
     }
     runs.retain(|run| run.end - run.start >= min_thickness);
     for run in &mut runs {
         // Points strictly inside: floor(start) + 1 ..= ceil(end) - 1.
         let inside = run.end.ceil() - run.start.floor() - 1.0;
-        if inside <= 1.0 {
+        if inside <= 1.0 && !run.grounded {
             run.thin = true;
             let half = 0.5 * (run.end - run.start);
             let centre = run.end.round();

@@ -151,7 +151,7 @@ impl Density {
                         |m| m.is_liquid() == liquid,
                         |z| lattice.to_k(z),
                         channels.min_thickness / lattice.step.z,
-                        thin_floor,
+                        if liquid { f64::NEG_INFINITY } else { thin_floor },
                         wide.min[2]..wide.min[2] + nz as i32,
                     );
                     for k in 0..nz {
@@ -166,7 +166,13 @@ impl Density {
                 }
             }
         }
-        let channels = values.into_iter().map(|v| smooth_across(v, wide, block, kernel)).collect();
+        // The liquid is not smoothed: its surface is flat already, and the filter would round
+        // its rims away (measured: 5 to 9 % of a lake's water).
+        let channels = values
+            .into_iter()
+            .enumerate()
+            .map(|(c, v)| if c == 1 { crop(&v, wide, block) } else { smooth_across(v, wide, block, kernel) })
+            .collect();
         Density { block, channels }
     }
 
@@ -175,6 +181,20 @@ impl Density {
     pub fn at(&self, channel: usize, p: [i32; 3]) -> f32 {
         self.channels[channel][self.block.index_of(p)]
     }
+}
+
+/// `values` over `wide` cut to `inner`, row by row.
+fn crop(values: &[f32], wide: Block, inner: Block) -> Vec<f32> {
+    let mut out = Vec::with_capacity(inner.len());
+    let [nx, ny, nz] = inner.size;
+    for z in 0..nz {
+        for y in 0..ny {
+            let start =
+                wide.index_of([inner.min[0], inner.min[1] + y as i32, inner.min[2] + z as i32]);
+            out.extend_from_slice(&values[start..start + nx]);
+        }
+    }
+    out
 }
 
 /// `values` over `wide` filtered along x and y by `kernel` and cut to `inner` (`wide` is
