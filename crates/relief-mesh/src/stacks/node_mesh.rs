@@ -53,6 +53,8 @@ pub(crate) struct LevelField<'a> {
     pub lattice: &'a Lattice,
     /// Its density over the block the node needs.
     pub density: Density,
+    /// Whether its liquid channel was smoothed.
+    pub smoothed: bool,
 }
 
 /// What the meshing of a node needs besides the densities.

@@ -133,7 +133,7 @@ impl<'a> VertexTable<'a> {
         for e in (0..12).filter(|&e| patches.of_edge[e] == patch) {
             let (a, b) = edge_corners(e);
             let edge_axis = (a ^ b).trailing_zeros() as usize;
-            let t = self.crossing(edge_axis, values[a], values[b]);
+            let t = self.crossing(r.snapped, edge_axis, values[a], values[b]);
             for (axis, s) in sum.iter_mut().enumerate() {
                 let from = ((a >> axis) & 1) as f64;
                 let at = from + t * (((b >> axis) & 1) as f64 - from);
@@ -201,7 +201,7 @@ impl<'a> VertexTable<'a> {
             // From the lower end, as every crossing is computed.
             let (lo, hi, vlo, vhi) = if x < y { (x, y, vx, vy) } else { (y, x, vy, vx) };
             let along = (0..3).find(|&a| lo[a] != hi[a]).expect("an edge");
-            let t = self.crossing(along, vlo, vhi);
+            let t = self.crossing(snapped, along, vlo, vhi);
             std::array::from_fn(|a| (lo[a] - face_min[a]) as f64 + t * (hi[a] - lo[a]) as f64)
         };
         let m = point(q[0], q[1], v[0], v[1]);
@@ -221,7 +221,12 @@ impl<'a> VertexTable<'a> {
         let mut q = p;
         q[axis] += 1;
         let channel = self.channel;
-        let t = self.crossing(axis, self.read(snapped, channel, p), self.read(snapped, channel, q));
+        let t = self.crossing(
+            snapped,
+            axis,
+            self.read(snapped, channel, p),
+            self.read(snapped, channel, q),
+        );
         let mut local = [0.0; 3];
         local[axis] = t;
         let v = self.add_vertex(key, true, snapped, p, local);
@@ -231,14 +236,14 @@ impl<'a> VertexTable<'a> {
 
     /// Where the iso-surface crosses the lattice edge along `axis` from a point of value
     /// `from` to its upper neighbour of value `to`, as a fraction of the edge: by linear
-    /// interpolation, except the liquid's edges across the columns, crossed half-way. The
-    /// liquid is not smoothed: its shore then lies between a wet stack and a dry one, as the
-    /// stacks have it, not where a layer's depth would put it. Its vertices are placed as
+    /// interpolation, except, at a level not smoothed (coarse levels), the liquid's edges across
+    /// the columns, crossed half-way: its shore then lies between a wet stack and a dry one,
+    /// as the stacks have it, not where a layer's depth would put it. Its vertices are placed as
     /// dual contouring's QEF places them on box-like data (Ju et al. 2002): each crossing's
     /// normal is its edge's axis, so each coordinate is the mean of the crossings on the
     /// edges along that axis, and a sheet keeps its depth up to its shore.
-    fn crossing(&self, axis: usize, from: f32, to: f32) -> f64 {
-        if self.channel == 1 && axis < 2 {
+    fn crossing(&self, snapped: bool, axis: usize, from: f32, to: f32) -> f64 {
+        if self.channel == 1 && axis < 2 && !self.level(snapped).smoothed {
             0.5
         } else {
             crossing(from, to)
