@@ -51,14 +51,14 @@ fn volumes(mesh: &TerrainMesh) -> (f64, f64) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(6))]
+    #![proptest_config(ProptestConfig::with_cases(8))]
 
-    /// At the defaults: the solid within 3 % of the stacks' at the finest level (the issue's
-    /// target, 2 %, holds on the benchmark's 128 x 128 scenes; these are smaller, their
-    /// shelf's edges weigh more) and within 8 % at the levels of a camera far from the scene (the issue asks for
-    /// 4 %: met on the benchmark's scenes and cameras, not on these, see docs/stacks.md); the
-    /// water within 15 % at the finest level (the issue asks for 5 % at both: not met); no piece of the finest
-    /// mesh missing at the camera's levels; the footprint the domain's at both.
+    /// At the defaults: the solid within 2 % of the stacks' at the finest level and within
+    /// 4 % at the levels of a camera far from the scene (the issue's targets); the water
+    /// within 10 % at the finest level and 30 % at the camera's (measured on these 96 x 96
+    /// scenes: -8 % to +2 % and -13 % to +26 %; the issue asks for 5 %, which the benchmark's
+    /// scenes meet and these do not, see docs/stacks.md); no piece of the finest mesh missing
+    /// at the camera's levels; the footprint the domain's at both.
     #[test]
     fn meshes_keep_the_volume_and_the_pieces_of_their_terrain(
         seed in 0u64..1000,
@@ -83,12 +83,13 @@ proptest! {
         .unwrap();
         let (coarse, stats) = mesher.mesh_for_camera(&camera, 10.0);
         prop_assert!(stats.per_level.iter().filter(|&&n| n > 0).count() >= 2);
-        for (mesh, solid_bound, label) in [(&fine, 0.03, "finest"), (&coarse, 0.08, "camera")] {
+        for (mesh, solid_bound, water_bound, label) in
+            [(&fine, 0.02, 0.10, "finest"), (&coarse, 0.04, 0.30, "camera")]
+        {
             let (mesh_solid, mesh_water) = volumes(mesh);
             prop_assert!((mesh_solid / solid - 1.0).abs() < solid_bound,
                 "{label}: solid {mesh_solid:.1} of {solid:.1} m3");
-            // The camera's levels' water is not bounded yet (measured: -12 % to +32 %).
-            prop_assert!(label == "camera" || (mesh_water / water - 1.0).abs() < 0.15,
+            prop_assert!((mesh_water / water - 1.0).abs() < water_bound,
                 "{label}: water {mesh_water:.1} of {water:.1} m3");
             let part = mesh.part("solid").unwrap();
             let (lo, hi) = part.positions.iter().fold(

@@ -236,7 +236,7 @@ mod tests {
 
     #[test]
     fn a_thin_layer_keeps_its_thickness_within_a_step() {
-        for (start, end) in [(3.1f32, 3.4f32), (2.7, 3.2), (0.0, 0.5), (3.6, 4.5)] {
+        for (start, end) in [(3.1f32, 3.4f32), (2.7, 3.2), (0.2, 0.5), (3.6, 4.5)] {
             let c = solid_column(&[(start, end, 1)], -3, 12);
             let x = crossings(&c.density, -3);
             assert_eq!(x.len(), 2, "{start}..{end}: {x:?}");
@@ -245,6 +245,15 @@ mod tests {
             let centre = 0.5 * (start + end) as f64;
             assert!((0.5 * (x[0] + x[1]) - centre).abs() < 1.0, "{x:?}");
         }
+    }
+
+    #[test]
+    fn a_thin_ground_keeps_its_top_and_its_bottom() {
+        let c = solid_column(&[(0.0, 0.3, 0)], -3, 8);
+        let x = crossings(&c.density, -3);
+        assert_eq!(x.len(), 2, "{x:?}");
+        assert!(x[0] < 0.0 && x[0] > -1e-3, "bottom {}", x[0]);
+        assert!((x[1] - 0.3).abs() < 1e-6, "top {}", x[1]);
     }
 
     #[test]
