@@ -133,7 +133,9 @@ impl<'a> VertexTable<'a> {
         for e in (0..12).filter(|&e| patches.of_edge[e] == patch) {
             let (a, b) = edge_corners(e);
             let edge_axis = (a ^ b).trailing_zeros() as usize;
-            let t = self.crossing(r.snapped, edge_axis, values[a], values[b]);
+            let t = self
+                .fitted_crossing(r, a, b, edge_axis)
+                .unwrap_or_else(|| self.crossing(r.snapped, edge_axis, values[a], values[b]));
             for (axis, s) in sum.iter_mut().enumerate() {
                 let from = ((a >> axis) & 1) as f64;
                 let at = from + t * (((b >> axis) & 1) as f64 - from);
@@ -232,6 +234,28 @@ impl<'a> VertexTable<'a> {
         let v = self.add_vertex(key, true, snapped, p, local);
         self.index.insert(key, v);
         v
+    }
+
+    /// Where the surface crosses the edge from corner `a` to corner `b` (along `axis`) of the
+    /// fine cell `r`, when both ends took the coarser level's values (topology fitting): at
+    /// the coarser edge's own crossing, as a fraction of the fine edge (it may lie outside it).
+    /// Fitting repeats each coarser value on two fine points, so interpolating the fine edge
+    /// would move the crossing by up to a fine step off the coarser level's (a ledge where the
+    /// levels meet) and make a sheet thinner than a coarser step a fine step thicker.
+    fn fitted_crossing(&self, r: Resolved, a: usize, b: usize, axis: usize) -> Option<f64> {
+        let coarse = self.field.coarse.filter(|_| !r.snapped)?;
+        let (pa, pb) = (corner(r.cell, a), corner(r.cell, b));
+        if !(self.field.fitted(pa) && self.field.fitted(pb)) {
+            return None;
+        }
+        let (qa, qb) = (pa.map(|c| c.div_euclid(2)), pb.map(|c| c.div_euclid(2)));
+        if qa == qb {
+            return None;
+        }
+        let read = |q: [i32; 3]| coarse.density.at(self.channel, q);
+        let t = self.crossing(true, axis, read(qa), read(qb));
+        // The coarser crossing in fine units, from the fine edge's start.
+        Some(2.0 * (qa[axis] as f64 + t) - pa[axis] as f64)
     }
 
     /// Where the iso-surface crosses the lattice edge along `axis` from a point of value
