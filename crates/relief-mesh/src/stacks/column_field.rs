@@ -54,21 +54,28 @@ struct Run {
     grounded: bool,
 }
 
-/// The values one column gives its lattice points `z_lo .. z_lo + len` for one channel: the
-/// density, and for the solid channel the material each point shows (the layer at the
-/// nearest boundary within the band, else the layer holding the point).
+/// The values one column gives its lattice points for one channel: the density, and the
+/// material each point shows (the layer at the nearest boundary within the band, else the
+/// layer holding the point). Reused from column to column, so that a node allocates once.
+#[derive(Debug, Default)]
 pub(crate) struct ColumnValues {
     /// `0.5 + d` per point.
     pub density: Vec<f32>,
     /// The material index each point shows, or `None` (air away from any run).
     pub material: Vec<Option<u8>>,
+    /// The distances, before they become densities.
+    best: Vec<f64>,
+    /// The channel's runs in the column.
+    runs: Vec<Run>,
 }
 
 /// The column of `stack` for the channel whose layers `belongs` picks, over the lattice points
 /// `points` (heights `k`); `to_k` maps a height to lattice units; runs thinner than
 /// `min_thickness` lattice units are left out; a thin run's neighbours take at least
 /// `thin_floor` (see [`THIN_FLOOR_SMOOTHED`]).
+#[allow(clippy::too_many_arguments)] // One column's inputs, each of its own kind.
 pub(crate) fn column_values(
+    out: &mut ColumnValues,
     stack: &[StackLayer],
     materials: &[StackMaterial],
     belongs: impl Fn(&StackMaterial) -> bool,
@@ -76,13 +83,16 @@ pub(crate) fn column_values(
     min_thickness: f64,
     thin_floor: f64,
     points: std::ops::Range<i32>,
-) -> ColumnValues {
+) {
     let (z_lo, len) = (points.start, points.len());
-    let runs = runs_of(stack, materials, &belongs, &to_k, min_thickness);
-    let mut best = vec![f64::NEG_INFINITY; len];
-    let mut material = vec![None; len];
+    runs_of(&mut out.runs, stack, materials, &belongs, &to_k, min_thickness);
+    let (best, material) = (&mut out.best, &mut out.material);
+    best.clear();
+    best.resize(len, f64::NEG_INFINITY);
+    material.clear();
+    material.resize(len, None);
     let z_hi = z_lo + len as i32;
-    for run in &runs {
+    for run in &out.runs {
         // A thin run sets its point and the two beside it; a thick one the band around it.
         let (first, last) = if run.thin {
             let centre = (0.5 * (run.start + run.end)).round() as i32;
@@ -127,20 +137,21 @@ pub(crate) fn column_values(
         }
     }
     // Points no run reaches are air, a band's width from any boundary.
-    let density = best.iter().map(|&d| (0.5 + if d.is_finite() { d } else { -BAND }) as f32);
-    ColumnValues { density: density.collect(), material }
+    out.density.clear();
+    out.density.extend(best.iter().map(|&d| (0.5 + if d.is_finite() { d } else { -BAND }) as f32));
 }
 
 /// The runs of the channel `belongs` picks in `stack`, lattice units, thin ones moved onto
 /// the lattice point nearest their top, overlapping ones merged; bottom to top.
 fn runs_of(
+    runs: &mut Vec<Run>,
     stack: &[StackLayer],
     materials: &[StackMaterial],
     belongs: &impl Fn(&StackMaterial) -> bool,
     to_k: &impl Fn(f32) -> f64,
     min_thickness: f64,
-) -> Vec<Run> {
-    let mut runs: Vec<Run> = Vec::new();
+) {
+    runs.clear();
     for (i, layer) in stack.iter().enumerate() {
         if !belongs(&materials[layer.material as usize]) {
             continue;
@@ -162,7 +173,7 @@ fn runs_of(
         }
     }
     runs.retain(|run| run.end - run.start >= min_thickness);
-    for run in &mut runs {
+    for run in runs.iter_mut() {
         // Points strictly inside: floor(start) + 1 ..= ceil(end) - 1.
         let inside = run.end.ceil() - run.start.floor() - 1.0;
         if inside <= 1.0 && !run.grounded {
@@ -173,18 +184,21 @@ fn runs_of(
             run.end = centre + half;
         }
     }
-    let mut merged: Vec<Run> = Vec::with_capacity(runs.len());
-    for run in runs {
-        match merged.last_mut() {
-            Some(last) if run.start <= last.end => {
-                last.end = last.end.max(run.end);
-                last.last_layer = run.last_layer;
-                last.thin = false;
-            }
-            _ => merged.push(run),
+    // Merge the runs moving made overlap, in place.
+    let mut kept = 0;
+    for i in 0..runs.len() {
+        let run = runs[i];
+        if kept > 0 && run.start <= runs[kept - 1].end {
+            let last = &mut runs[kept - 1];
+            last.end = last.end.max(run.end);
+            last.last_layer = run.last_layer;
+            last.thin = false;
+        } else {
+            runs[kept] = run;
+            kept += 1;
         }
     }
-    merged
+    runs.truncate(kept);
 }
 
 /// The layer of `run` that holds lattice height `k` (the nearest one where moving a thin run
@@ -200,7 +214,9 @@ mod tests {
     fn solid_column(layers: &[(f32, f32, u8)], z_lo: i32, len: usize) -> ColumnValues {
         let stack: Vec<StackLayer> =
             layers.iter().map(|&(s, e, m)| StackLayer::new(s, e, m)).collect();
+        let mut out = ColumnValues::default();
         column_values(
+            &mut out,
             &stack,
             &StackMaterial::defaults(),
             |m| !m.is_liquid(),
@@ -208,7 +224,8 @@ mod tests {
             0.0,
             f64::NEG_INFINITY,
             z_lo..z_lo + len as i32,
-        )
+        );
+        out
     }
 
     /// Where linear interpolation of the column's values crosses the iso-value 1/2.
@@ -259,7 +276,9 @@ mod tests {
     #[test]
     fn the_liquid_channel_sees_only_the_water() {
         let stack = [StackLayer::new(0.0, 2.0, 0), StackLayer::new(2.0, 2.3, 2)];
-        let c = column_values(
+        let mut c = ColumnValues::default();
+        column_values(
+            &mut c,
             &stack,
             &StackMaterial::defaults(),
             |m| m.is_liquid(),

@@ -2,7 +2,7 @@
 //! vertical distance to the nearest boundary of a level's layers, in channels, then a
 //! separable low-pass filter across the columns.
 
-use super::column_field::{column_values, BAND, THIN_FLOOR_SMOOTHED};
+use super::column_field::{column_values, ColumnValues, BAND, THIN_FLOOR_SMOOTHED};
 use super::lattice::{Block, Lattice};
 use super::node_mesh::ISO;
 use relief_core::{MaterialKind, MaterialStacks};
@@ -132,6 +132,9 @@ impl Density {
             (0..channels.count).map(|c| vec![if c < 2 { air } else { 0.0 }; wide.len()]).collect();
         let [nx, ny, nz] = wide.size;
         let materials = stacks.materials();
+        let mut column_out = ColumnValues::default();
+        // Which channels any column wrote to.
+        let mut touched = vec![false; channels.count];
         for y in 0..ny {
             let gy = wide.min[1] + y as i32;
             if gy < 0 || gy as usize >= stacks.height() {
@@ -148,7 +151,13 @@ impl Density {
                 }
                 let column = wide.index([x, y, 0]);
                 for (total, liquid) in [(0, false), (1, true)] {
-                    let c = column_values(
+                    if !stack.iter().any(|l| materials[l.material as usize].is_liquid() == liquid) {
+                        continue;
+                    }
+                    touched[total] = true;
+                    let c = &mut column_out;
+                    column_values(
+                        c,
                         stack,
                         materials,
                         |m| m.is_liquid() == liquid,
@@ -164,6 +173,7 @@ impl Density {
                             c.material[k].and_then(|m| channels.of_material[m as usize].1)
                         {
                             values[own][i] = 1.0;
+                            touched[own] = true;
                         }
                     }
                 }
@@ -177,6 +187,12 @@ impl Density {
             .into_iter()
             .enumerate()
             .map(|(c, v)| {
+                // A material no column wrote is 0 everywhere, smoothed or not. (The solid and
+                // the liquid are always filtered: a constant filtered is not always the same
+                // float, and a point must get the same value in every node.)
+                if c >= 2 && !touched[c] {
+                    return vec![0.0; block.len()];
+                }
                 let kernel = kernels[usize::from(c == 1)];
                 let r = (kernel.len() / 2) as i32;
                 let grown = across(block, r);
@@ -226,14 +242,13 @@ fn crop(values: &[f32], wide: Block, inner: Block) -> Vec<f32> {
 
 /// `values` over `wide` filtered along x and y by `kernel` and cut to `inner` (`wide` is
 /// `inner` grown by the kernel's half-width along x and y): each output sums its neighbours
-/// in a fixed order, so a point gets the same value in every block. A constant channel is
-/// not filtered. The stacks are exact along z, so the filter leaves z alone: a layer keeps
-/// its height and its thickness.
+/// in a fixed order, so a point gets the same value in every block. The stacks are exact
+/// along z, so the filter leaves z alone: a layer keeps its height and its thickness.
 fn smooth_across(values: Vec<f32>, wide: Block, inner: Block, kernel: &[f32]) -> Vec<f32> {
-    if values.iter().all(|&v| v == values[0]) {
-        return vec![values[0]; inner.len()];
-    }
     let r = kernel.len() / 2;
+    if r == 0 {
+        return values;
+    }
     let mut current = values;
     let mut size = wide.size;
     for axis in 0..2 {
