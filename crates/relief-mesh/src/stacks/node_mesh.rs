@@ -54,7 +54,7 @@ pub(crate) struct LevelField<'a> {
     /// Its density over the block the node needs.
     pub density: Density,
     /// Whether its liquid channel was smoothed.
-    pub smoothed: bool,
+    pub liquid_smoothed: bool,
 }
 
 /// What the meshing of a node needs besides the densities.

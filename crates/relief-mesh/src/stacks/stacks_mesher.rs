@@ -420,7 +420,7 @@ impl StacksMesher {
             level,
             lattice: &self.lattices[level],
             density: density(level, fine_block(o, n)),
-            smoothed: self.liquid_kernels[level].len() > 1,
+            liquid_smoothed: self.liquid_kernels[level].len() > 1,
         };
         let boxes: Vec<([i32; 3], [i32; 3])> = coarser
             .iter()
@@ -433,7 +433,7 @@ impl StacksMesher {
             level: level + 1,
             lattice: &self.lattices[level + 1],
             density: density(level + 1, coarse_block(o, n)),
-            smoothed: self.liquid_kernels[level + 1].len() > 1,
+            liquid_smoothed: self.liquid_kernels[level + 1].len() > 1,
         });
         let job = NodeJob {
             origin: o,

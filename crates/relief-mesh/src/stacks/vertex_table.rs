@@ -267,7 +267,7 @@ impl<'a> VertexTable<'a> {
     /// normal is its edge's axis, so each coordinate is the mean of the crossings on the
     /// edges along that axis, and a sheet keeps its depth up to its shore.
     fn crossing(&self, snapped: bool, axis: usize, from: f32, to: f32) -> f64 {
-        if self.channel == 1 && axis < 2 && !self.level(snapped).smoothed {
+        if self.channel == 1 && axis < 2 && !self.level(snapped).liquid_smoothed {
             0.5
         } else {
             crossing(from, to)
