@@ -61,10 +61,14 @@ struct Run {
 pub(crate) struct ColumnValues {
     /// `0.5 + d` per point.
     pub density: Vec<f32>,
+    /// `0.5 + d` per point, a thin run's neighbours not floored: the exact crossings.
+    pub exact: Vec<f32>,
     /// The material index each point shows, or `None` (air away from any run).
     pub material: Vec<Option<u8>>,
     /// The distances, before they become densities.
     best: Vec<f64>,
+    /// The same, not floored.
+    best_exact: Vec<f64>,
     /// The channel's runs in the column.
     runs: Vec<Run>,
 }
@@ -89,6 +93,8 @@ pub(crate) fn column_values(
     let (best, material) = (&mut out.best, &mut out.material);
     best.clear();
     best.resize(len, f64::NEG_INFINITY);
+    out.best_exact.clear();
+    out.best_exact.resize(len, f64::NEG_INFINITY);
     material.clear();
     material.resize(len, None);
     let z_hi = z_lo + len as i32;
@@ -105,9 +111,14 @@ pub(crate) fn column_values(
         let (first, last) = (first.max(z_lo), last.min(z_hi - 1));
         for k in first..=last {
             let kf = k as f64;
-            let d = if run.thin {
+            let exact = if run.thin {
                 let centre = 0.5 * (run.start + run.end);
-                (BAND - 2.0 * BAND / (run.end - run.start) * (kf - centre).abs()).max(thin_floor)
+                BAND - 2.0 * BAND / (run.end - run.start) * (kf - centre).abs()
+            } else {
+                f64::NAN
+            };
+            let d = if run.thin {
+                exact.max(thin_floor)
             } else if run.grounded {
                 if k < 0 {
                     BELOW_GROUND
@@ -120,6 +131,7 @@ pub(crate) fn column_values(
             let i = (k - z_lo) as usize;
             if d > best[i] || (d == best[i] && material[i].is_none()) {
                 best[i] = d;
+                out.best_exact[i] = if run.thin { exact } else { d };
                 let near_top = run.end - kf <= kf - run.start;
                 let layer = if run.thin || (d > -BAND && d < BAND) {
                     if near_top {
@@ -137,8 +149,11 @@ pub(crate) fn column_values(
         }
     }
     // Points no run reaches are air, a band's width from any boundary.
+    let density = |d: f64| (0.5 + if d.is_finite() { d } else { -BAND }) as f32;
     out.density.clear();
-    out.density.extend(best.iter().map(|&d| (0.5 + if d.is_finite() { d } else { -BAND }) as f32));
+    out.density.extend(best.iter().map(|&d| density(d)));
+    out.exact.clear();
+    out.exact.extend(out.best_exact.iter().map(|&d| density(d)));
 }
 
 /// The runs of the channel `belongs` picks in `stack`, lattice units, thin ones moved onto

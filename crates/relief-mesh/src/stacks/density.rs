@@ -99,7 +99,7 @@ impl Channels {
 }
 
 /// The smoothed density of one level over a block of lattice points, channel-major
-/// (`values[channel][block index]`).
+/// (`values[channel][block index]`), then the liquid unfiltered ([`Density::raw_liquid`]).
 #[derive(Debug, Clone)]
 pub(crate) struct Density {
     /// The points the values cover.
@@ -135,6 +135,7 @@ impl Density {
         let mut column_out = ColumnValues::default();
         // Which channels any column wrote to.
         let mut touched = vec![false; channels.count];
+        let mut exact_liquid = vec![air; wide.len()];
         for y in 0..ny {
             let gy = wide.min[1] + y as i32;
             if gy < 0 || gy as usize >= stacks.height() {
@@ -169,6 +170,9 @@ impl Density {
                     for k in 0..nz {
                         let i = column + k * nx * ny;
                         values[total][i] = c.density[k];
+                        if liquid {
+                            exact_liquid[i] = c.exact[k];
+                        }
                         if let Some(own) =
                             c.material[k].and_then(|m| channels.of_material[m as usize].1)
                         {
@@ -183,7 +187,11 @@ impl Density {
         // of it (a rim, a ridge, a thin arch): there the value stays just inside. The liquid's
         // smallest puddles may go (measured on the reference scene: kept, they double its
         // water's faces).
-        let channels = values
+        // The liquid before the filter, after the other channels: where it crosses an edge the
+        // filtered liquid crosses too, its exact crossing places the vertex (see
+        // `VertexTable::crossing_of`).
+        let raw_liquid = crop(&exact_liquid, wide, block);
+        let mut channels: Vec<Vec<f32>> = values
             .into_iter()
             .enumerate()
             .map(|(c, v)| {
@@ -208,7 +216,13 @@ impl Density {
                     .collect()
             })
             .collect();
+        channels.push(raw_liquid);
         Density { block, channels }
+    }
+
+    /// The channel of the liquid before the filter.
+    pub fn raw_liquid(&self) -> usize {
+        self.channels.len() - 1
     }
 
     /// The value of `channel` at lattice point `p` (which must lie in the block).

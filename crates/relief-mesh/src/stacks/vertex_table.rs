@@ -133,9 +133,10 @@ impl<'a> VertexTable<'a> {
         for e in (0..12).filter(|&e| patches.of_edge[e] == patch) {
             let (a, b) = edge_corners(e);
             let edge_axis = (a ^ b).trailing_zeros() as usize;
-            let t = self
-                .fitted_crossing(r, a, b, edge_axis)
-                .unwrap_or_else(|| self.crossing(r.snapped, edge_axis, values[a], values[b]));
+            let t = self.fitted_crossing(r, a, b, edge_axis).unwrap_or_else(|| {
+                let (pa, pb) = (corner(r.cell, a), corner(r.cell, b));
+                self.crossing_of(r.snapped, edge_axis, (pa, values[a]), (pb, values[b]))
+            });
             for (axis, s) in sum.iter_mut().enumerate() {
                 let from = ((a >> axis) & 1) as f64;
                 let at = from + t * (((b >> axis) & 1) as f64 - from);
@@ -256,6 +257,28 @@ impl<'a> VertexTable<'a> {
         let t = self.crossing(true, axis, read(qa), read(qb));
         // The coarser crossing in fine units, from the fine edge's start.
         Some(2.0 * (qa[axis] as f64 + t) - pa[axis] as f64)
+    }
+
+    /// Where the surface crosses the lattice edge along `axis` from point `a` to its upper
+    /// neighbour `b`, each with its value: for the liquid, where its values before the filter
+    /// cross there too, at their crossing (the filter decides the water's shape, the stacks
+    /// where its surfaces lie: a lake's shore then keeps its place); else as
+    /// [`VertexTable::crossing`] has it.
+    fn crossing_of(
+        &self,
+        snapped: bool,
+        axis: usize,
+        a: ([i32; 3], f32),
+        b: ([i32; 3], f32),
+    ) -> f64 {
+        if self.channel == 1 {
+            let raw = self.level(snapped).density.raw_liquid();
+            let (ra, rb) = (self.read(snapped, raw, a.0), self.read(snapped, raw, b.0));
+            if (ra > ISO) != (rb > ISO) && (a.1 > ISO) != (b.1 > ISO) {
+                return self.crossing(snapped, axis, ra, rb);
+            }
+        }
+        self.crossing(snapped, axis, a.1, b.1)
     }
 
     /// Where the iso-surface crosses the lattice edge along `axis` from a point of value
