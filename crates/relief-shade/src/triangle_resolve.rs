@@ -64,7 +64,7 @@ pub(crate) fn resolve_triangles(
                     if setup.id != id {
                         setup = PlaneSetup::new(drawn, id);
                     }
-                    match setup.hit(&camera.ray_through(screen_x[i], sy)) {
+                    match setup.hit(camera.ray_through(screen_x[i], sy)) {
                         None => strip.set(k, &GBufferPixel::MISS),
                         Some((hit, colour)) => {
                             let mut pixel = encoder.g_buffer_pixel(Some(hit));
@@ -111,16 +111,18 @@ impl PlaneSetup {
     };
 
     /// The set-up of the triangle of id `id` (one the target holds).
+    #[inline]
     fn new(drawn: &DrawnMeshes, id: u32) -> PlaneSetup {
         let (mesh, triangle) = drawn.triangle(id);
         let none = PlaneSetup { id, ..PlaneSetup::NONE };
-        let (Some([p0, p1, p2]), Some(tri)) =
-            (mesh.corners(triangle), mesh.triangles().get(triangle as usize))
-        else {
+        let Some(&tri) = mesh.triangles().get(triangle as usize) else {
             return none;
         };
+        let positions = mesh.positions();
+        let (p0, p1, p2) =
+            (positions[tri[0] as usize], positions[tri[1] as usize], positions[tri[2] as usize]);
         let mut attributes = [[0f32; 6]; 3];
-        for (out, &v) in attributes.iter_mut().zip(tri) {
+        for (out, &v) in attributes.iter_mut().zip(tri.iter()) {
             match mesh.attributes().get(v as usize * 6..v as usize * 6 + 6) {
                 Some(values) => out.copy_from_slice(values),
                 None => return none,
@@ -147,8 +149,8 @@ impl PlaneSetup {
     /// Where `ray` meets the triangle's plane, with the smooth normal facing the ray (else the
     /// geometric one) and the colour there, the attributes interpolated with the barycentrics
     /// clamped to the triangle. `None` for a degenerate triangle or a ray along its plane.
-    #[inline]
-    fn hit(&self, ray: &Ray) -> Option<(Hit, [f32; 3])> {
+    #[inline(always)]
+    fn hit(&self, ray: Ray) -> Option<(Hit, [f32; 3])> {
         if !self.valid {
             return None;
         }
@@ -156,7 +158,7 @@ impl PlaneSetup {
         if !t.is_finite() {
             return None;
         }
-        let position = ray.at(t);
+        let position = ray.origin + ray.dir * t;
         let offset = position - self.p0;
         let (b1, b2) = (offset.dot(self.to_b1), offset.dot(self.to_b2));
         let clamped = [1.0 - b1 - b2, b1, b2].map(|b| b.clamp(0.0, 1.0));
