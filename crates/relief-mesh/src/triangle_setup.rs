@@ -257,15 +257,18 @@ impl TriangleSetup {
         })
     }
 
-    /// Calls `write(i, j, distance)` for every pixel of `[x0, x1] x [y0, y1]` whose centre the
-    /// triangle covers and whose ray meets its plane at a positive, finite distance. Returns
-    /// the number of pixels written.
+    /// Calls `write(i, j, distance, edges)` for every pixel of `[x0, x1] x [y0, y1]` whose
+    /// centre the triangle covers and whose ray meets its plane at a positive, finite
+    /// distance; `edges` are the three edge functions there (non-negative, not all zero):
+    /// each over their sum is the barycentric coordinate of a corner of the point the pixel's
+    /// ray meets (the edge function of corner `k` is `det / s` times its barycentric, the
+    /// same factor for all three). Returns the number of pixels written.
     #[inline]
     pub(crate) fn scan(
         &self,
         projection: &ScreenProjection,
         [x0, y0, x1, y1]: [usize; 4],
-        mut write: impl FnMut(usize, usize, f32),
+        mut write: impl FnMut(usize, usize, f32, [f64; 3]),
     ) -> usize {
         let mut written = 0;
         let [e0, e1, e2] = self.edges;
@@ -297,10 +300,12 @@ impl TriangleSetup {
             let sy2 = 1.0 + sy * sy;
             for i in i_start..=i_end {
                 let px = i as f64 + 0.5;
-                let inside = |k: usize| {
-                    let value = self.edges[k][0] * px + rows[k];
-                    value > 0.0 || (value == 0.0 && self.top_left[k])
-                };
+                let values = [
+                    self.edges[0][0] * px + rows[0],
+                    self.edges[1][0] * px + rows[1],
+                    self.edges[2][0] * px + rows[2],
+                ];
+                let inside = |k: usize| values[k] > 0.0 || (values[k] == 0.0 && self.top_left[k]);
                 if !(inside(0) && inside(1) && inside(2)) {
                     continue;
                 }
@@ -312,7 +317,7 @@ impl TriangleSetup {
                 };
                 let distance = t as f32;
                 if t > 0.0 && distance < f32::INFINITY {
-                    write(i, j, distance);
+                    write(i, j, distance, values);
                     written += 1;
                 }
             }

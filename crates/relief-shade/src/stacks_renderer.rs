@@ -2,7 +2,7 @@
 //! for the camera (node meshes cached across frames) rasterized into relief's G-buffer, with
 //! the meshes' smooth normals and vertex colours, for the one deferred shading pass.
 
-use crate::triangle_resolve::{resolve_triangles, DrawnMeshes};
+use crate::triangle_resolve::{resolve_triangles, DrawnMeshes, ResolvedChannels};
 use crate::{GBuffer, Renderer, ShadeError, StageTimings};
 use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, MaterialStacks};
@@ -91,6 +91,29 @@ impl StacksRenderer {
         bounds: &Aabb,
         gbuffer: &mut GBuffer,
     ) -> Result<StacksFrameStats, ShadeError> {
+        self.render(camera, bounds, gbuffer, ResolvedChannels::All)
+    }
+
+    /// [`StacksRenderer::render_into`] writing only what the deferred shading of the colours
+    /// reads: each pixel's distance, normal and material weights (the other channels left as
+    /// they were). A frame of a flight, shaded and let go.
+    pub fn render_for_shading_into(
+        &mut self,
+        camera: &Camera,
+        bounds: &Aabb,
+        gbuffer: &mut GBuffer,
+    ) -> Result<StacksFrameStats, ShadeError> {
+        self.render(camera, bounds, gbuffer, ResolvedChannels::Shading)
+    }
+
+    /// Draws `camera`'s view into the `channels` of `gbuffer`.
+    fn render(
+        &mut self,
+        camera: &Camera,
+        bounds: &Aabb,
+        gbuffer: &mut GBuffer,
+        channels: ResolvedChannels,
+    ) -> Result<StacksFrameStats, ShadeError> {
         gbuffer.validate_for(camera)?;
         let start = Instant::now();
         let (meshes, mesh_stats) = self
@@ -106,7 +129,7 @@ impl StacksRenderer {
 
         let start = Instant::now();
         if (self.target.width, self.target.height) != (gbuffer.width, gbuffer.height) {
-            self.target = RasterTarget::for_camera(camera);
+            self.target = RasterTarget::with_barycentrics(gbuffer.width, gbuffer.height);
         } else {
             self.target.clear();
         }
@@ -124,7 +147,7 @@ impl StacksRenderer {
 
         let start = Instant::now();
         let drawn = DrawnMeshes { meshes: &meshes, first_ids: &offsets };
-        resolve_triangles(gbuffer, camera, bounds, &self.target, &drawn);
+        resolve_triangles(gbuffer, camera, bounds, &self.target, &drawn, channels);
         stats.resolve_ms = ms(start);
         Ok(stats)
     }
