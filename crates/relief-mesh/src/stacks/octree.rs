@@ -40,6 +40,8 @@ impl NodeKey {
 pub(crate) struct Leaves {
     set: FxHashSet<NodeKey>,
     max_level: u8,
+    /// The smallest and largest root positions: no leaf lies outside the roots.
+    roots: ([i32; 3], [i32; 3]),
 }
 
 impl Leaves {
@@ -47,6 +49,13 @@ impl Leaves {
     /// node above level 0.
     pub fn select(roots: &[NodeKey], mut split: impl FnMut(&NodeKey) -> bool) -> Self {
         let max_level = roots.first().map_or(0, |r| r.level);
+        let mut range = ([i32::MAX; 3], [i32::MIN; 3]);
+        for root in roots {
+            for a in 0..3 {
+                range.0[a] = range.0[a].min(root.at[a]);
+                range.1[a] = range.1[a].max(root.at[a]);
+            }
+        }
         let mut set = FxHashSet::default();
         let mut stack: Vec<NodeKey> = roots.to_vec();
         while let Some(node) = stack.pop() {
@@ -56,13 +65,19 @@ impl Leaves {
                 set.insert(node);
             }
         }
-        let mut leaves = Leaves { set, max_level };
+        let mut leaves = Leaves { set, max_level, roots: range };
         leaves.balance();
         leaves
     }
 
     /// The leaf covering the region of node `key` or a coarser leaf containing it, if any.
     fn covering(&self, key: &NodeKey) -> Option<NodeKey> {
+        // Outside the roots nothing covers it.
+        let up = u32::from(self.max_level.saturating_sub(key.level)).min(31);
+        let top = key.at.map(|c| c >> up);
+        if (0..3).any(|a| top[a] < self.roots.0[a] || top[a] > self.roots.1[a]) {
+            return None;
+        }
         let mut k = *key;
         loop {
             if self.set.contains(&k) {
@@ -99,10 +114,14 @@ impl Leaves {
         }
     }
 
-    /// For each leaf, the coarser leaves among its 26 neighbours (one level up, by balance).
-    pub fn coarser_neighbours(&self) -> BTreeMap<NodeKey, Vec<NodeKey>> {
+    /// For each leaf `keep` keeps, the coarser leaves among its 26 neighbours (one level up,
+    /// by balance).
+    pub fn coarser_neighbours(
+        &self,
+        keep: impl Fn(&NodeKey) -> bool,
+    ) -> BTreeMap<NodeKey, Vec<NodeKey>> {
         let mut out = BTreeMap::new();
-        for leaf in &self.set {
+        for leaf in self.set.iter().filter(|leaf| keep(leaf)) {
             let mut coarser = Vec::new();
             for d in neighbour_offsets() {
                 let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
@@ -134,8 +153,8 @@ mod tests {
             (0..2).flat_map(|x| (0..2).map(move |y| NodeKey { level: 3, at: [x, y, 0] })).collect();
         // Refine only towards the corner (0, 0, 0).
         let leaves = Leaves::select(&roots, |k| k.at == [0, 0, 0]);
-        assert!(leaves.coarser_neighbours().keys().any(|k| k.level == 0));
-        for (leaf, coarser) in leaves.coarser_neighbours() {
+        assert!(leaves.coarser_neighbours(|_| true).keys().any(|k| k.level == 0));
+        for (leaf, coarser) in leaves.coarser_neighbours(|_| true) {
             for c in coarser {
                 assert_eq!(c.level, leaf.level + 1, "{leaf:?} next to {c:?}");
             }
