@@ -291,9 +291,11 @@ impl TriangleSetup {
             if empty || lo.is_nan() || hi.is_nan() || lo > hi {
                 continue;
             }
-            // lo >= x0 - 1 and hi <= x1 + 1: truncation, one pixel wider, bounds them.
-            let i_start = ((lo as i64 - 2).max(x0 as i64)) as usize;
-            let i_end = ((hi as i64 + 2).min(x1 as i64)) as usize;
+            // lo >= x0 - 1 and hi <= x1 + 1, so truncation is the floor but between -1 and 0,
+            // which the clamp to x0 >= 0 absorbs; a pixel more on each side covers the
+            // division's rounding, far below a pixel.
+            let i_start = ((lo as i64 - 1).max(x0 as i64)) as usize;
+            let i_end = ((hi as i64 + 1).min(x1 as i64)) as usize;
             let sy = projection.sy[j];
             let den_row = self.n_forward + sy * self.n_up;
             let ortho_row = self.numerator - sy * self.n_up;
