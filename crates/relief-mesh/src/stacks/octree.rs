@@ -39,6 +39,8 @@ impl NodeKey {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Leaves {
     set: FxHashSet<NodeKey>,
+    /// The nodes split into finer ones: the ancestors of the leaves.
+    interior: FxHashSet<NodeKey>,
     max_level: u8,
     /// The smallest and largest root positions: no leaf lies outside the roots.
     roots: ([i32; 3], [i32; 3]),
@@ -56,16 +58,17 @@ impl Leaves {
                 range.1[a] = range.1[a].max(root.at[a]);
             }
         }
-        let mut set = FxHashSet::default();
+        let (mut set, mut interior) = (FxHashSet::default(), FxHashSet::default());
         let mut stack: Vec<NodeKey> = roots.to_vec();
         while let Some(node) = stack.pop() {
             if node.level > 0 && split(&node) {
+                interior.insert(node);
                 stack.extend(node.children());
             } else {
                 set.insert(node);
             }
         }
-        let mut leaves = Leaves { set, max_level, roots: range };
+        let mut leaves = Leaves { set, interior, max_level, roots: range };
         leaves.balance();
         leaves
     }
@@ -83,7 +86,8 @@ impl Leaves {
             if self.set.contains(&k) {
                 return Some(k);
             }
-            if k.level >= self.max_level {
+            // A split node's region is covered by finer leaves, and so is any node's inside it.
+            if k.level >= self.max_level || self.interior.contains(&k) {
                 return None;
             }
             k = k.parent();
@@ -92,9 +96,12 @@ impl Leaves {
 
     /// Splits leaves until no two neighbours (26-connected) differ by more than one level.
     fn balance(&mut self) {
-        loop {
+        // Splitting a node only makes covers finer, so after the first pass over every leaf
+        // only the leaves a split made can see a cover too coarse.
+        let mut work: Vec<NodeKey> = self.set.iter().copied().collect();
+        while !work.is_empty() {
             let mut to_split = BTreeSet::new();
-            for leaf in &self.set {
+            for leaf in &work {
                 for d in neighbour_offsets() {
                     let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
                     if let Some(cover) = self.covering(&NodeKey { level: leaf.level, at }) {
@@ -104,12 +111,14 @@ impl Leaves {
                     }
                 }
             }
-            if to_split.is_empty() {
-                return;
-            }
+            work.clear();
             for node in to_split {
                 self.set.remove(&node);
-                self.set.extend(node.children());
+                self.interior.insert(node);
+                for child in node.children() {
+                    self.set.insert(child);
+                    work.push(child);
+                }
             }
         }
     }
