@@ -155,20 +155,37 @@ impl Rasterizer {
             }
             DepthTile { distance, triangle, barycentrics, width: tile_w, id_offset }
         });
+        // The tiles written back band by band (a band: one row of tiles), bands in parallel.
+        let band = self.tile_size * width;
+        let mut by_band: Vec<Vec<([usize; 2], DepthTile)>> =
+            (0..target.height.div_ceil(self.tile_size)).map(|_| Vec::new()).collect();
         for (rect, tile) in tiles {
-            for row in 0..tile.distance.len() / tile.width {
-                let dst = rect[0] + (rect[1] + row) * width;
-                let src = row * tile.width;
-                target.distance[dst..dst + tile.width]
-                    .copy_from_slice(&tile.distance[src..src + tile.width]);
-                target.triangle[dst..dst + tile.width]
-                    .copy_from_slice(&tile.triangle[src..src + tile.width]);
-                if !tile.barycentrics.is_empty() {
-                    target.barycentrics[dst..dst + tile.width]
-                        .copy_from_slice(&tile.barycentrics[src..src + tile.width]);
-                }
-            }
+            by_band[rect[1] / self.tile_size].push((rect, tile));
         }
+        let barycentric_bands: Vec<Option<&mut [[f32; 2]]>> = if target.barycentrics.is_empty() {
+            by_band.iter().map(|_| None).collect()
+        } else {
+            target.barycentrics.chunks_mut(band).map(Some).collect()
+        };
+        target
+            .distance
+            .par_chunks_mut(band)
+            .zip(target.triangle.par_chunks_mut(band))
+            .zip(barycentric_bands)
+            .zip(by_band)
+            .for_each(|(((distance, triangle), mut barycentrics), tiles)| {
+                for ([x, _], tile) in tiles {
+                    let w = tile.width;
+                    for row in 0..tile.distance.len() / w {
+                        let (dst, src) = (x + row * width, row * w);
+                        distance[dst..dst + w].copy_from_slice(&tile.distance[src..src + w]);
+                        triangle[dst..dst + w].copy_from_slice(&tile.triangle[src..src + w]);
+                        if let Some(b) = barycentrics.as_deref_mut() {
+                            b[dst..dst + w].copy_from_slice(&tile.barycentrics[src..src + w]);
+                        }
+                    }
+                }
+            });
         Ok(stats)
     }
 
