@@ -166,8 +166,19 @@ def main():
                 if m:
                     times_of[stage].append(int(m.group(1)))
         present = [s for s in stages if times_of[s]]
+        # What the frame spent outside the stages its note names.
+        rest = []
+        for f, note in zip(frames[1:], notes[1:]):
+            named = [int(m.group(1)) for m in
+                     (re.search(rf"{stage} (\d+) ms", note) for stage in present) if m]
+            if len(named) == len(present):
+                rest.append(f["time_ms"] - sum(named))
+        if rest:
+            times_of["rest"] = rest
+            present.append("rest")
         if present:
-            print("\nStage medians over the frames after the first, ms:\n")
+            print("\nStage medians over the frames after the first, ms (rest: the frame's time "
+                  "outside the named stages):\n")
             print("| " + " | ".join(present) + " |")
             print("|" + "---|" * len(present))
             print("| " + " | ".join(f"{statistics.median(times_of[s]):.0f}" for s in present)
