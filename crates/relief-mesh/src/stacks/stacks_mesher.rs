@@ -285,7 +285,8 @@ impl StacksMesher {
         leaves
             .coarser_neighbours(|k| {
                 let (lo, hi) = self.node_box(k);
-                !self.is_empty(k) && !(cull && outside_view(camera, lo, hi))
+                let unseen = cull && outside_view(camera, lo, hi);
+                !(self.is_empty(k) || unseen)
             })
             .into_iter()
             .collect()
