@@ -28,7 +28,7 @@ pub enum Scene {
     Mlhm(LayeredScene),
     /// A material-stack terrain (a .stacks file, or any input in mesh mode), meshed and
     /// rasterized.
-    Stacks(StacksDrawing),
+    Stacks(Box<StacksDrawing>),
     /// A tile store, its tiles streamed for each picture.
     Store(StoreScene),
 }
@@ -46,7 +46,7 @@ impl Scene {
             let stacks = StacksScene::open(path, options)?;
             let drawing = StacksDrawing::new(stacks, options.mesh.tau_px, &options.light)?
                 .with_node_budget(options.mesh.node_budget);
-            return Ok(Scene::Stacks(drawing));
+            return Ok(Scene::Stacks(Box::new(drawing)));
         }
         if let (InputKind::Mlhm, Some(path)) = (kind, path) {
             return Ok(Scene::Mlhm(LayeredScene::open(path, options)?));

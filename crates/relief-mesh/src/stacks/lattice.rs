@@ -59,11 +59,6 @@ impl Block {
         self.size[0] * self.size[1] * self.size[2]
     }
 
-    /// The block grown by `r` points on every side.
-    pub fn grown(&self, r: i32) -> Self {
-        Block { min: self.min.map(|m| m - r), size: self.size.map(|s| s + 2 * r as usize) }
-    }
-
     /// Index of local coordinates.
     #[inline]
     pub fn index(&self, l: [usize; 3]) -> usize {

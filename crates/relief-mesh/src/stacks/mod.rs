@@ -3,6 +3,7 @@
 //! over an octree of nodes with crack-free stitching between levels of detail.
 //!
 //! - [`lattice`]: where a level's density points lie, boxes of points;
+//! - [`column_field`]: one stack's density along its column (exact layer ends, thin layers kept);
 //! - [`density`]: stacks to density and the [`Smoothing`] filter;
 //! - [`cell_patches`]: one cell's surface patches (a vertex each, edge-manifold meshes);
 //! - [`node_mesh`]: what meshing one node takes (its level's field, the job) and makes;
@@ -17,6 +18,7 @@
 //! - [`stacks_mesher`]: the whole terrain at one level or for a camera ([`StacksMesher`]).
 
 mod cell_patches;
+mod column_field;
 mod density;
 mod fitted_field;
 mod lattice;

@@ -53,6 +53,8 @@ pub(crate) struct LevelField<'a> {
     pub lattice: &'a Lattice,
     /// Its density over the block the node needs.
     pub density: Density,
+    /// Whether its liquid channel was smoothed.
+    pub smoothed: bool,
 }
 
 /// What the meshing of a node needs besides the densities.
@@ -67,6 +69,8 @@ pub(crate) struct NodeJob<'a> {
     pub colors: &'a [[f32; 3]],
     /// Linear colour of the liquid.
     pub liquid_color: [f32; 3],
+    /// The terrain's footprint, world x and y: its lowest corner, then its highest.
+    pub domain: [[f64; 2]; 2],
 }
 
 /// The lattice points a node's own level must cover: its cells' corners and their Sobel

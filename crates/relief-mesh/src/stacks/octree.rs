@@ -169,4 +169,91 @@ mod tests {
             }
         }
     }
+
+    /// Balancing by full passes over every leaf until nothing splits, covers found by walking
+    /// up to the roots: the plain algorithm the balance above must agree with.
+    fn balanced_by_full_passes(
+        roots: &[NodeKey],
+        split: impl Fn(&NodeKey) -> bool,
+    ) -> Vec<NodeKey> {
+        let max_level = roots[0].level;
+        let mut set: FxHashSet<NodeKey> = FxHashSet::default();
+        let mut stack = roots.to_vec();
+        while let Some(node) = stack.pop() {
+            if node.level > 0 && split(&node) {
+                stack.extend(node.children());
+            } else {
+                set.insert(node);
+            }
+        }
+        let covering = |set: &FxHashSet<NodeKey>, key: &NodeKey| {
+            let mut k = *key;
+            loop {
+                if set.contains(&k) {
+                    return Some(k);
+                }
+                if k.level >= max_level {
+                    return None;
+                }
+                k = k.parent();
+            }
+        };
+        loop {
+            let mut to_split = BTreeSet::new();
+            for leaf in &set {
+                for d in neighbour_offsets() {
+                    let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
+                    if let Some(cover) = covering(&set, &NodeKey { level: leaf.level, at }) {
+                        if cover.level > leaf.level + 1 {
+                            to_split.insert(cover);
+                        }
+                    }
+                }
+            }
+            if to_split.is_empty() {
+                let mut leaves: Vec<NodeKey> = set.into_iter().collect();
+                leaves.sort();
+                return leaves;
+            }
+            for node in to_split {
+                set.remove(&node);
+                set.extend(node.children());
+            }
+        }
+    }
+
+    #[test]
+    fn balancing_agrees_with_full_passes() {
+        // Roots with gaps (empty roots left out), refined towards a few random points.
+        let mut seed = 12345u64;
+        let mut next = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 33) as i32
+        };
+        for case in 0..20 {
+            let roots: Vec<NodeKey> = (0..4)
+                .flat_map(|x| (0..3).flat_map(move |y| (0..2).map(move |z| [x, y, z])))
+                .filter(|_| next() % 5 != 0)
+                .map(|at| NodeKey { level: 5, at })
+                .collect();
+            let targets: Vec<[i32; 3]> =
+                (0..3).map(|_| [next() % 128, next() % 96, next() % 64]).collect();
+            // Split while a target lies within a node's size of the node.
+            let split = |k: &NodeKey| {
+                let size = 1i32 << k.level;
+                targets.iter().any(|t| {
+                    (0..3).all(|a| {
+                        let lo = k.at[a] * size;
+                        t[a] >= lo - size && t[a] < lo + 2 * size
+                    })
+                }) && k.level > (case % 3) as u8
+            };
+            let leaves = Leaves::select(&roots, split);
+            let mut got: Vec<NodeKey> = leaves.set.iter().copied().collect();
+            got.sort();
+            assert_eq!(got, balanced_by_full_passes(&roots, split), "case {case}");
+            let all = leaves.coarser_neighbours(|_| true);
+            assert_eq!(all.len(), got.len());
+        }
+    }
 }

@@ -124,20 +124,33 @@ impl<'a> VertexTable<'a> {
             }
             _ => {}
         }
-        // The mean of the patch's edge crossings.
+        // The mean of the patch's edge crossings; for the liquid, along each axis the mean of
+        // the crossings of the edges along that axis where there are some.
         let values = values(self);
         let mut sum = [0f64; 3];
         let mut count = 0;
+        let mut along = [(0f64, 0u32); 3];
         for e in (0..12).filter(|&e| patches.of_edge[e] == patch) {
             let (a, b) = edge_corners(e);
-            let t = crossing(values[a], values[b]);
+            let edge_axis = (a ^ b).trailing_zeros() as usize;
+            let t = self
+                .fitted_crossing(r, a, b, edge_axis)
+                .unwrap_or_else(|| self.crossing(r.snapped, edge_axis, values[a], values[b]));
             for (axis, s) in sum.iter_mut().enumerate() {
                 let from = ((a >> axis) & 1) as f64;
-                *s += from + t * (((b >> axis) & 1) as f64 - from);
+                let at = from + t * (((b >> axis) & 1) as f64 - from);
+                *s += at;
+                if axis == edge_axis {
+                    along[axis].0 += at;
+                    along[axis].1 += 1;
+                }
             }
             count += 1;
         }
-        let local = sum.map(|s| s / count as f64);
+        let local: [f64; 3] = std::array::from_fn(|a| match along[a] {
+            (at, n) if self.channel == 1 && n > 0 => at / n as f64,
+            _ => sum[a] / count as f64,
+        });
         let (o, n) = (self.job.origin, self.job.n);
         let shared = r.snapped || (0..3).any(|a| r.cell[a] < o[a] || r.cell[a] >= o[a] + n - 1);
         let v = self.add_vertex(key, shared, r.snapped, r.cell, local);
@@ -189,7 +202,8 @@ impl<'a> VertexTable<'a> {
         let point = |x: [i32; 3], y: [i32; 3], vx: f32, vy: f32| -> [f64; 3] {
             // From the lower end, as every crossing is computed.
             let (lo, hi, vlo, vhi) = if x < y { (x, y, vx, vy) } else { (y, x, vy, vx) };
-            let t = crossing(vlo, vhi);
+            let along = (0..3).find(|&a| lo[a] != hi[a]).expect("an edge");
+            let t = self.crossing(snapped, along, vlo, vhi);
             std::array::from_fn(|a| (lo[a] - face_min[a]) as f64 + t * (hi[a] - lo[a]) as f64)
         };
         let m = point(q[0], q[1], v[0], v[1]);
@@ -209,12 +223,55 @@ impl<'a> VertexTable<'a> {
         let mut q = p;
         q[axis] += 1;
         let channel = self.channel;
-        let t = crossing(self.read(snapped, channel, p), self.read(snapped, channel, q));
+        let t = self.crossing(
+            snapped,
+            axis,
+            self.read(snapped, channel, p),
+            self.read(snapped, channel, q),
+        );
         let mut local = [0.0; 3];
         local[axis] = t;
         let v = self.add_vertex(key, true, snapped, p, local);
         self.index.insert(key, v);
         v
+    }
+
+    /// Where the surface crosses the edge from corner `a` to corner `b` (along `axis`) of the
+    /// fine cell `r`, when both ends took the coarser level's values (topology fitting): at
+    /// the coarser edge's own crossing, as a fraction of the fine edge (it may lie outside it).
+    /// Fitting repeats each coarser value on two fine points, so interpolating the fine edge
+    /// would move the crossing by up to a fine step off the coarser level's (a ledge where the
+    /// levels meet) and make a sheet thinner than a coarser step a fine step thicker.
+    fn fitted_crossing(&self, r: Resolved, a: usize, b: usize, axis: usize) -> Option<f64> {
+        let coarse = self.field.coarse.filter(|_| !r.snapped)?;
+        let (pa, pb) = (corner(r.cell, a), corner(r.cell, b));
+        if !(self.field.fitted(pa) && self.field.fitted(pb)) {
+            return None;
+        }
+        let (qa, qb) = (pa.map(|c| c.div_euclid(2)), pb.map(|c| c.div_euclid(2)));
+        if qa == qb {
+            return None;
+        }
+        let read = |q: [i32; 3]| coarse.density.at(self.channel, q);
+        let t = self.crossing(true, axis, read(qa), read(qb));
+        // The coarser crossing in fine units, from the fine edge's start.
+        Some(2.0 * (qa[axis] as f64 + t) - pa[axis] as f64)
+    }
+
+    /// Where the iso-surface crosses the lattice edge along `axis` from a point of value
+    /// `from` to its upper neighbour of value `to`, as a fraction of the edge: by linear
+    /// interpolation, except, at a level not smoothed (coarse levels), the liquid's edges across
+    /// the columns, crossed half-way: its shore then lies between a wet stack and a dry one,
+    /// as the stacks have it, not where a layer's depth would put it. Its vertices are placed as
+    /// dual contouring's QEF places them on box-like data (Ju et al. 2002): each crossing's
+    /// normal is its edge's axis, so each coordinate is the mean of the crossings on the
+    /// edges along that axis, and a sheet keeps its depth up to its shore.
+    fn crossing(&self, snapped: bool, axis: usize, from: f32, to: f32) -> f64 {
+        if self.channel == 1 && axis < 2 && !self.level(snapped).smoothed {
+            0.5
+        } else {
+            crossing(from, to)
+        }
     }
 
     /// Adds the vertex `key` (its caller remembers it) at `local` coordinates of the cell from
@@ -231,7 +288,19 @@ impl<'a> VertexTable<'a> {
     ) -> u32 {
         let lattice = self.level(snapped).lattice;
         let weights = trilinear(local);
-        let position = lattice.world(std::array::from_fn(|a| base[a] as f64 + local[a]));
+        let mut position = lattice.world(std::array::from_fn(|a| base[a] as f64 + local[a]));
+        // A vertex in a cell the terrain's side crosses lies on that side: the mesh's
+        // footprint is the terrain's at every level.
+        for (a, step) in [lattice.step.x, lattice.step.y].into_iter().enumerate() {
+            for edge in [self.job.domain[0][a], self.job.domain[1][a]] {
+                let u = (edge - lattice.origin[a]) / step;
+                let cell = u.floor();
+                let at = (position[a] - lattice.origin[a]) / step;
+                if u > cell && at >= cell && at <= cell + 1.0 {
+                    position[a] = edge;
+                }
+            }
+        }
         let read = |ch: usize, q: [i32; 3]| self.read(snapped, ch, q);
         // The 4 x 4 x 4 points around the cell, read once: the Sobel gradients of its corners.
         let (block, values) = if snapped {

@@ -19,9 +19,9 @@ use std::time::Instant;
 /// exposure.
 pub struct StacksDrawing {
     /// The renderer; frames take turns.
-    renderer: Mutex<Box<StacksRenderer>>,
+    renderer: Mutex<StacksRenderer>,
     /// The G-buffer of the last frame [`StacksDrawing::frame_rgb`] drew, reused by the next.
-    kept: Mutex<Option<Box<GBuffer>>>,
+    kept: Mutex<Option<GBuffer>>,
     /// A finite box holding the terrain.
     pub bounds: Aabb,
     /// The largest screen-space size of a mesh cell, pixels.
@@ -54,7 +54,7 @@ impl StacksDrawing {
         let describe = scene.describe();
         Ok(StacksDrawing {
             bounds: scene.bounds,
-            renderer: Mutex::new(Box::new(StacksRenderer::new(scene.mesher, tau_px)?)),
+            renderer: Mutex::new(StacksRenderer::new(scene.mesher, tau_px)?),
             kept: Mutex::new(None),
             tau_px,
             sun: light.sun,
@@ -110,7 +110,7 @@ impl StacksDrawing {
         let (w, h) = (camera.width() as usize, camera.height() as usize);
         let mut gbuffer = match kept.take() {
             Some(g) if (g.width, g.height) == (w, h) => g,
-            _ => Box::new(GBuffer::new(w, h)?),
+            _ => GBuffer::new(w, h)?,
         };
         let stats = {
             let mut renderer = self.renderer.lock().expect("no render panicked");

@@ -50,7 +50,7 @@ pub fn live_scene(scene: Scene, progress: &dyn Progress) -> Result<LiveScene, Re
             (Arc::new(live), settings)
         }
         Scene::Stacks(drawing) => {
-            let live = LiveStacks::new(drawing);
+            let live = LiveStacks::new(*drawing);
             let settings = live.settings();
             (Arc::new(live), settings)
         }

@@ -91,6 +91,12 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         }
     );
     if let Some(path) = &args.stats {
+        let stacks = &scene.mesher.mipmap().levels()[0];
+        // The level meshed (for --lod auto, the finest).
+        let level_stacks = match lod {
+            LodChoice::Level(level) => &scene.mesher.mipmap().levels()[level],
+            LodChoice::Auto => stacks,
+        };
         let stats = json!({
             "levels": levels,
             "lod": match lod { LodChoice::Level(l) => json!(l), LodChoice::Auto => json!("auto") },
@@ -106,6 +112,14 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             "solid_faces": solid_faces,
             "water_vertices": water_vertices,
             "water_faces": water_faces,
+            "solid_m3": mesh.part("solid").map_or(0.0, |p| p.enclosed_volume()),
+            "water_m3": mesh.part("water").map_or(0.0, |p| p.enclosed_volume()),
+            "stacks_solid_m3": stacks.volume(|m| !m.is_liquid()),
+            "stacks_water_m3": stacks.volume(|m| m.is_liquid()),
+            "level_solid_m3": level_stacks.volume(|m| !m.is_liquid()),
+            "level_water_m3": level_stacks.volume(|m| m.is_liquid()),
+            "solid_pieces": mesh.part("solid").map_or(0, |p| p.components().len()),
+            "water_pieces": mesh.part("water").map_or(0, |p| p.components().len()),
             "load_ms": load_ms,
             "mesh_ms": mesh_ms,
             "write_ms": write_ms,
