@@ -96,22 +96,29 @@ impl Leaves {
 
     /// Splits leaves until no two neighbours (26-connected) differ by more than one level.
     fn balance(&mut self) {
-        // Splitting a node only makes covers finer, so after the first pass over every leaf
-        // only the leaves a split made can see a cover too coarse.
+        // Splitting a node only makes covers finer, so a leaf whose neighbours' covers were
+        // fine stays fine: after the first pass over every leaf, only the leaves a split made
+        // and those that saw a cover too coarse (it may still be, one level finer) are checked.
         let mut work: Vec<NodeKey> = self.set.iter().copied().collect();
         while !work.is_empty() {
             let mut to_split = BTreeSet::new();
+            let mut again = Vec::new();
             for leaf in &work {
+                let mut violated = false;
                 for d in neighbour_offsets() {
                     let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
                     if let Some(cover) = self.covering(&NodeKey { level: leaf.level, at }) {
                         if cover.level > leaf.level + 1 {
                             to_split.insert(cover);
+                            violated = true;
                         }
                     }
                 }
+                if violated {
+                    again.push(*leaf);
+                }
             }
-            work.clear();
+            work = again;
             for node in to_split {
                 self.set.remove(&node);
                 self.interior.insert(node);
@@ -120,6 +127,8 @@ impl Leaves {
                     work.push(child);
                 }
             }
+            // A leaf split in this round is no leaf to check.
+            work.retain(|k| self.set.contains(k));
         }
     }
 
@@ -236,15 +245,21 @@ mod tests {
                 .filter(|_| next() % 5 != 0)
                 .map(|at| NodeKey { level: 5, at })
                 .collect();
-            let targets: Vec<[i32; 3]> =
+            // Random points, and one on the corner of roots: its finest leaves touch roots
+            // five levels coarser, which balancing splits level by level.
+            let mut targets: Vec<[i32; 3]> =
                 (0..3).map(|_| [next() % 128, next() % 96, next() % 64]).collect();
+            if case % 2 == 0 {
+                targets = vec![[32, 32, 32]];
+            }
             // Split while a target lies within a node's size of the node.
             let split = |k: &NodeKey| {
                 let size = 1i32 << k.level;
+                let reach = if case % 2 == 0 { 0 } else { size };
                 targets.iter().any(|t| {
                     (0..3).all(|a| {
                         let lo = k.at[a] * size;
-                        t[a] >= lo - size && t[a] < lo + 2 * size
+                        t[a] >= lo - reach && t[a] < lo + size + reach
                     })
                 }) && k.level > (case % 3) as u8
             };
@@ -252,8 +267,33 @@ mod tests {
             let mut got: Vec<NodeKey> = leaves.set.iter().copied().collect();
             got.sort();
             assert_eq!(got, balanced_by_full_passes(&roots, split), "case {case}");
-            let all = leaves.coarser_neighbours(|_| true);
-            assert_eq!(all.len(), got.len());
+            // The coarser neighbours by walking up from each neighbour to the roots.
+            let set: FxHashSet<NodeKey> = got.iter().copied().collect();
+            let walk = |key: &NodeKey| {
+                let mut k = *key;
+                loop {
+                    if set.contains(&k) {
+                        return Some(k);
+                    }
+                    if k.level >= 5 {
+                        return None;
+                    }
+                    k = k.parent();
+                }
+            };
+            for (leaf, coarser) in leaves.coarser_neighbours(|_| true) {
+                let mut want = Vec::new();
+                for d in neighbour_offsets() {
+                    let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
+                    if let Some(cover) = walk(&NodeKey { level: leaf.level, at }) {
+                        if cover.level > leaf.level && !want.contains(&cover) {
+                            want.push(cover);
+                        }
+                    }
+                }
+                want.sort();
+                assert_eq!(coarser, want, "case {case}, {leaf:?}");
+            }
         }
     }
 }
