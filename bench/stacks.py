@@ -9,13 +9,15 @@
   (`relief generate stacks`), its LOD mipmap against the voxel grid it stands for
   (`relief info`; the paper: 106 MB against 20 GB);
 - flight: a fly-through of FRAMES frames at 1920x1080 with tau = 10 px over that terrain
-  (`relief flythrough --mode mesh --stats`): frame time (node meshes cached across frames),
-  nodes drawn and meshed per frame, triangles.
+  (`relief flythrough --mode mesh --stats`): frame time (node meshes cached across frames,
+  their meshing amortised by --node-budget), nodes drawn, meshed and waiting per frame,
+  triangles, and the median time of each stage (from each frame's note).
 
 Each figure is the best (mesh) or the median (flight) of the runs. Not part of the tests.
 
     cargo build --release
     python3 bench/stacks.py --dir /tmp/relief-stacks
+    python3 bench/stacks.py --dir /tmp/relief-stacks --parts flight [--node-budget all]
 """
 
 import argparse
@@ -86,14 +88,14 @@ def flight_path(path, width_m, height_m, top_m):
         json.dump({"format": "relief-camera-path", "version": 1, "keys": keys}, f)
 
 
-def flight_figures(directory, stacks, frames, width_m, height_m, top_m):
+def flight_figures(directory, stacks, frames, width_m, height_m, top_m, extra):
     path = os.path.join(directory, "flight.json")
     flight_path(path, width_m, height_m, top_m)
     stats_path = os.path.join(directory, "flight-stats.json")
     out = os.path.join(directory, "frames")
     os.makedirs(out, exist_ok=True)
     run([RELIEF, "flythrough", stacks, "--path", path, "--frames", str(frames), "-o", out,
-         "--size", IMAGE, "--stats", stats_path])
+         "--size", IMAGE, "--stats", stats_path] + extra)
     return json.load(open(stats_path))["frames"]
 
 
@@ -104,7 +106,13 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--frames", type=int, default=120)
     parser.add_argument("--parts", default="mesh,memory,flight")
+    parser.add_argument("--node-budget", help="the flight's --node-budget (N or all) "
+                        "[default: relief's]")
+    parser.add_argument("--relief", help="the relief binary [default: target/release/relief]")
     args = parser.parse_args()
+    global RELIEF
+    if args.relief:
+        RELIEF = args.relief
     os.makedirs(args.dir, exist_ok=True)
     parts = args.parts.split(",")
 
@@ -131,7 +139,8 @@ def main():
     if "flight" in parts:
         heights = re.search(r"heights:\s+([-\d.]+) \.\. ([-\d.]+) m", info)
         top = float(heights.group(2)) if heights else 700.0
-        frames = flight_figures(args.dir, path, args.frames, 2.0 * width, 2.0 * height, top)
+        extra = ["--node-budget", args.node_budget] if args.node_budget else []
+        frames = flight_figures(args.dir, path, args.frames, 2.0 * width, 2.0 * height, top, extra)
         times = [f["time_ms"] for f in frames]
         later = times[1:]
         notes = [f.get("note") or "" for f in frames]
@@ -157,8 +166,19 @@ def main():
                 if m:
                     times_of[stage].append(int(m.group(1)))
         present = [s for s in stages if times_of[s]]
+        # What the frame spent outside the stages its note names.
+        rest = []
+        for f, note in zip(frames[1:], notes[1:]):
+            named = [int(m.group(1)) for m in
+                     (re.search(rf"{stage} (\d+) ms", note) for stage in present) if m]
+            if len(named) == len(present):
+                rest.append(f["time_ms"] - sum(named))
+        if rest:
+            times_of["rest"] = rest
+            present.append("rest")
         if present:
-            print("\nStage medians over the frames after the first, ms:\n")
+            print("\nStage medians over the frames after the first, ms (rest: the frame's time "
+                  "outside the named stages):\n")
             print("| " + " | ".join(present) + " |")
             print("|" + "---|" * len(present))
             print("| " + " | ".join(f"{statistics.median(times_of[s]):.0f}" for s in present)

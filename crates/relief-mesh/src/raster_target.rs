@@ -19,6 +19,11 @@ pub struct RasterTarget {
     /// Id (`id_offset + triangle index`) of the triangle each pixel shows;
     /// [`RasterTarget::NO_TRIANGLE`] where nothing was drawn.
     pub triangle: Vec<u32>,
+    /// For a target made by [`RasterTarget::with_barycentrics`] (else empty): where a pixel's
+    /// ray meets the triangle it shows, the barycentric coordinates of the triangle's corners
+    /// 1 and 2 (corner 0's is one minus their sum), from the rasterizer's edge functions.
+    /// Stale where nothing was drawn.
+    pub barycentrics: Vec<[f32; 2]>,
 }
 
 impl RasterTarget {
@@ -33,7 +38,13 @@ impl RasterTarget {
             height,
             distance: vec![f32::INFINITY; n],
             triangle: vec![Self::NO_TRIANGLE; n],
+            barycentrics: Vec::new(),
         }
+    }
+
+    /// An empty target of `width x height` pixels that also keeps each pixel's barycentrics.
+    pub fn with_barycentrics(width: usize, height: usize) -> Self {
+        RasterTarget { barycentrics: vec![[0.0; 2]; width * height], ..Self::new(width, height) }
     }
 
     /// An empty target of the camera's image size.
@@ -57,9 +68,11 @@ impl RasterTarget {
         (self.triangle[k] != Self::NO_TRIANGLE).then(|| (self.distance[k], self.triangle[k]))
     }
 
-    /// Whether the buffers hold `width * height` values each.
+    /// Whether the buffers hold `width * height` values each (the barycentrics, if kept).
     pub(crate) fn is_consistent(&self) -> bool {
         let n = self.width.checked_mul(self.height);
-        n == Some(self.distance.len()) && n == Some(self.triangle.len())
+        n == Some(self.distance.len())
+            && n == Some(self.triangle.len())
+            && (self.barycentrics.is_empty() || n == Some(self.barycentrics.len()))
     }
 }

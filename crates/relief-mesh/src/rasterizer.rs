@@ -141,24 +141,51 @@ impl Rasterizer {
         let (tiles, stats) = self.rasterize(camera, mesh, |rect, tile_w, tile_h| {
             let mut distance = vec![f32::INFINITY; tile_w * tile_h];
             let mut triangle = vec![RasterTarget::NO_TRIANGLE; tile_w * tile_h];
+            let keeps = !read_only.barycentrics.is_empty();
+            let mut barycentrics = vec![[0.0f32; 2]; if keeps { tile_w * tile_h } else { 0 }];
             for row in 0..tile_h {
                 let src = rect[0] + (rect[1] + row) * width;
                 let dst = row * tile_w;
                 distance[dst..dst + tile_w].copy_from_slice(&read_only.distance[src..src + tile_w]);
                 triangle[dst..dst + tile_w].copy_from_slice(&read_only.triangle[src..src + tile_w]);
+                if keeps {
+                    barycentrics[dst..dst + tile_w]
+                        .copy_from_slice(&read_only.barycentrics[src..src + tile_w]);
+                }
             }
-            DepthTile { distance, triangle, width: tile_w, id_offset }
+            DepthTile { distance, triangle, barycentrics, width: tile_w, id_offset }
         });
+        // The tiles written back band by band (a band: one row of tiles), bands in parallel.
+        let band = self.tile_size * width;
+        let mut by_band: Vec<Vec<([usize; 2], DepthTile)>> =
+            (0..target.height.div_ceil(self.tile_size)).map(|_| Vec::new()).collect();
         for (rect, tile) in tiles {
-            for row in 0..tile.distance.len() / tile.width {
-                let dst = rect[0] + (rect[1] + row) * width;
-                let src = row * tile.width;
-                target.distance[dst..dst + tile.width]
-                    .copy_from_slice(&tile.distance[src..src + tile.width]);
-                target.triangle[dst..dst + tile.width]
-                    .copy_from_slice(&tile.triangle[src..src + tile.width]);
-            }
+            by_band[rect[1] / self.tile_size].push((rect, tile));
         }
+        let barycentric_bands: Vec<Option<&mut [[f32; 2]]>> = if target.barycentrics.is_empty() {
+            by_band.iter().map(|_| None).collect()
+        } else {
+            target.barycentrics.chunks_mut(band).map(Some).collect()
+        };
+        target
+            .distance
+            .par_chunks_mut(band)
+            .zip(target.triangle.par_chunks_mut(band))
+            .zip(barycentric_bands)
+            .zip(by_band)
+            .for_each(|(((distance, triangle), mut barycentrics), tiles)| {
+                for ([x, _], tile) in tiles {
+                    let w = tile.width;
+                    for row in 0..tile.distance.len() / w {
+                        let (dst, src) = (x + row * width, row * w);
+                        distance[dst..dst + w].copy_from_slice(&tile.distance[src..src + w]);
+                        triangle[dst..dst + w].copy_from_slice(&tile.triangle[src..src + w]);
+                        if let Some(b) = barycentrics.as_deref_mut() {
+                            b[dst..dst + w].copy_from_slice(&tile.barycentrics[src..src + w]);
+                        }
+                    }
+                }
+            });
         Ok(stats)
     }
 
@@ -285,8 +312,8 @@ impl Rasterizer {
                     };
                     let [x0, y0, x1, y1] = entry.rect.map(|c| c as usize);
                     let rect = [ox + x0, oy + y0, ox + x1, oy + y1];
-                    fragments += setup.scan(&projection, rect, |i, j, distance| {
-                        sink.write(i - ox, j - oy, distance, entry.triangle)
+                    fragments += setup.scan(&projection, rect, |i, j, distance, edges| {
+                        sink.write(i - ox, j - oy, distance, entry.triangle, edges)
                     });
                 }
                 (([ox, oy], sink), entries, fragments)
@@ -307,27 +334,34 @@ impl Rasterizer {
 
 /// Where a tile's covered pixels go.
 trait TileSink: Send {
-    /// Pixel (i, j) of the tile is covered by `triangle` at `distance`.
-    fn write(&mut self, i: usize, j: usize, distance: f32, triangle: u32);
+    /// Pixel (i, j) of the tile is covered by `triangle` at `distance`, its edge functions
+    /// `edges` there (see `TriangleSetup::scan`).
+    fn write(&mut self, i: usize, j: usize, distance: f32, triangle: u32, edges: [f64; 3]);
 }
 
 /// A tile of a [`RasterTarget`], depth-tested.
 struct DepthTile {
     distance: Vec<f32>,
     triangle: Vec<u32>,
+    /// The barycentrics of corners 1 and 2, when the target keeps them (else empty).
+    barycentrics: Vec<[f32; 2]>,
     width: usize,
     id_offset: u32,
 }
 
 impl TileSink for DepthTile {
     #[inline(always)]
-    fn write(&mut self, i: usize, j: usize, distance: f32, triangle: u32) {
+    fn write(&mut self, i: usize, j: usize, distance: f32, triangle: u32, edges: [f64; 3]) {
         let k = i + j * self.width;
         let id = self.id_offset + triangle;
         let held = self.distance[k];
         if distance < held || (distance == held && id < self.triangle[k]) {
             self.distance[k] = distance;
             self.triangle[k] = id;
+            if !self.barycentrics.is_empty() {
+                let inverse = 1.0 / (edges[0] + edges[1] + edges[2]);
+                self.barycentrics[k] = [(edges[1] * inverse) as f32, (edges[2] * inverse) as f32];
+            }
         }
     }
 }
@@ -340,7 +374,7 @@ struct CountTile {
 
 impl TileSink for CountTile {
     #[inline(always)]
-    fn write(&mut self, i: usize, j: usize, _distance: f32, _triangle: u32) {
+    fn write(&mut self, i: usize, j: usize, _distance: f32, _triangle: u32, _edges: [f64; 3]) {
         self.counts[i + j * self.width] += 1;
     }
 }

@@ -171,6 +171,10 @@ fn ceil(x: f64) -> f64 {
     }
 }
 
+/// Rectangles narrower than this many pixels are scanned without computing each row's span
+/// (three divisions a row cost more than testing the few pixels).
+const NARROW: usize = 4;
+
 /// A triangle ready to be scanned: oriented edge functions and its plane in camera terms.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct TriangleSetup {
@@ -257,50 +261,61 @@ impl TriangleSetup {
         })
     }
 
-    /// Calls `write(i, j, distance)` for every pixel of `[x0, x1] x [y0, y1]` whose centre the
-    /// triangle covers and whose ray meets its plane at a positive, finite distance. Returns
-    /// the number of pixels written.
+    /// Calls `write(i, j, distance, edges)` for every pixel of `[x0, x1] x [y0, y1]` whose
+    /// centre the triangle covers and whose ray meets its plane at a positive, finite
+    /// distance; `edges` are the three edge functions there (non-negative, not all zero):
+    /// each over their sum is the barycentric coordinate of a corner of the point the pixel's
+    /// ray meets (the edge function of corner `k` is `det / s` times its barycentric, the
+    /// same factor for all three). Returns the number of pixels written.
     #[inline]
     pub(crate) fn scan(
         &self,
         projection: &ScreenProjection,
         [x0, y0, x1, y1]: [usize; 4],
-        mut write: impl FnMut(usize, usize, f32),
+        mut write: impl FnMut(usize, usize, f32, [f64; 3]),
     ) -> usize {
         let mut written = 0;
         let [e0, e1, e2] = self.edges;
         for j in y0..=y1 {
             let py = j as f64 + 0.5;
             let rows = [e0[1] * py + e0[2], e1[1] * py + e1[2], e2[1] * py + e2[2]];
-            // The span of the row where every edge function is non-negative, widened by a
-            // pixel on both sides; the exact test below decides.
-            let (mut lo, mut hi) = (x0 as f64 - 1.0, x1 as f64 + 1.0);
-            let mut empty = false;
-            for (e, r) in self.edges.iter().zip(rows) {
-                if e[0] > 0.0 {
-                    lo = lo.max(-r / e[0] - 0.5);
-                } else if e[0] < 0.0 {
-                    hi = hi.min(-r / e[0] - 0.5);
-                } else if r < 0.0 {
-                    empty = true;
+            // A narrow rectangle is tested pixel by pixel; a wider one only over the span of
+            // the row where every edge function is non-negative, widened by a pixel on both
+            // sides. The exact test below decides.
+            let (i_start, i_end) = if x1 - x0 < NARROW {
+                (x0, x1)
+            } else {
+                let (mut lo, mut hi) = (x0 as f64 - 1.0, x1 as f64 + 1.0);
+                let mut empty = false;
+                for (e, r) in self.edges.iter().zip(rows) {
+                    if e[0] > 0.0 {
+                        lo = lo.max(-r / e[0] - 0.5);
+                    } else if e[0] < 0.0 {
+                        hi = hi.min(-r / e[0] - 0.5);
+                    } else if r < 0.0 {
+                        empty = true;
+                    }
                 }
-            }
-            if empty || lo.is_nan() || hi.is_nan() || lo > hi {
-                continue;
-            }
-            // lo >= x0 - 1 and hi <= x1 + 1: truncation, one pixel wider, bounds them.
-            let i_start = ((lo as i64 - 2).max(x0 as i64)) as usize;
-            let i_end = ((hi as i64 + 2).min(x1 as i64)) as usize;
+                if empty || lo.is_nan() || hi.is_nan() || lo > hi {
+                    continue;
+                }
+                // lo >= x0 - 1 and hi <= x1 + 1, so truncation is the floor but between -1
+                // and 0, which the clamp to x0 >= 0 absorbs; a pixel more on each side covers
+                // the division's rounding, far below a pixel.
+                ((lo as i64 - 1).max(x0 as i64) as usize, (hi as i64 + 1).min(x1 as i64) as usize)
+            };
             let sy = projection.sy[j];
             let den_row = self.n_forward + sy * self.n_up;
             let ortho_row = self.numerator - sy * self.n_up;
             let sy2 = 1.0 + sy * sy;
             for i in i_start..=i_end {
                 let px = i as f64 + 0.5;
-                let inside = |k: usize| {
-                    let value = self.edges[k][0] * px + rows[k];
-                    value > 0.0 || (value == 0.0 && self.top_left[k])
-                };
+                let values = [
+                    self.edges[0][0] * px + rows[0],
+                    self.edges[1][0] * px + rows[1],
+                    self.edges[2][0] * px + rows[2],
+                ];
+                let inside = |k: usize| values[k] > 0.0 || (values[k] == 0.0 && self.top_left[k]);
                 if !(inside(0) && inside(1) && inside(2)) {
                     continue;
                 }
@@ -312,7 +327,7 @@ impl TriangleSetup {
                 };
                 let distance = t as f32;
                 if t > 0.0 && distance < f32::INFINITY {
-                    write(i, j, distance);
+                    write(i, j, distance, values);
                     written += 1;
                 }
             }

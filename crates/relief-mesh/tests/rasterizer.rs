@@ -272,3 +272,52 @@ fn the_result_does_not_depend_on_tiles_or_threads() {
     assert_eq!(draw(8, 2), reference);
     assert_eq!(draw(256, 3), reference);
 }
+
+#[test]
+fn kept_barycentrics_are_those_of_the_rays_hit() {
+    let mesh = jittered_grid(8, 2.0, 0.0, &[0.3, -0.7, 0.1, 0.9, -0.2], &[true, false, false]);
+    let cameras = [
+        Camera::look_at(
+            DVec3::new(0.2, -0.3, 0.3),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::Z,
+            70.0,
+            97,
+            61,
+        ),
+        Camera::new(
+            DVec3::new(1.0, 1.0, 5.0),
+            DVec3::new(1.1, 0.9, 0.0),
+            DVec3::Y,
+            Projection::Orthographic { height: 3.0 },
+            64,
+            48,
+        ),
+    ];
+    for camera in cameras.map(Result::unwrap) {
+        let mut target =
+            RasterTarget::with_barycentrics(camera.width() as usize, camera.height() as usize);
+        let mut plain = RasterTarget::for_camera(&camera);
+        Rasterizer::new().draw(&camera, &mesh, 0, &mut target).unwrap();
+        Rasterizer::new().draw(&camera, &mesh, 0, &mut plain).unwrap();
+        assert_eq!((&target.distance, &target.triangle), (&plain.distance, &plain.triangle));
+        let mut checked = 0;
+        for (k, &id) in target.triangle.iter().enumerate() {
+            if id == RasterTarget::NO_TRIANGLE {
+                continue;
+            }
+            let (i, j) = ((k % target.width) as u32, (k / target.width) as u32);
+            let hit = mesh.hit(id, &camera.ray(i, j)).unwrap();
+            let [b1, b2] = target.barycentrics[k];
+            assert!(
+                (0.0..=1.0).contains(&b1) && (0.0..=1.0).contains(&b2) && b1 + b2 <= 1.0 + 1e-6
+            );
+            let off = (b1 as f64 - hit.barycentrics[1])
+                .abs()
+                .max((b2 as f64 - hit.barycentrics[2]).abs());
+            assert!(off < 1e-5, "pixel ({i}, {j}): {:?} against {:?}", [b1, b2], hit.barycentrics);
+            checked += 1;
+        }
+        assert!(checked > 1000, "{checked} pixels checked");
+    }
+}

@@ -114,7 +114,7 @@ pub const DEFAULT_TAU_PX: f64 = 10.0;
 
 /// The node meshes a frame of a stacks terrain makes at most where no budget is given (past
 /// those nothing drawn before stands in for).
-pub const DEFAULT_NODE_BUDGET: usize = 64;
+pub const DEFAULT_NODE_BUDGET: usize = 40;
 
 /// The options of a tile store.
 #[derive(Debug, Clone, PartialEq)]

@@ -2,10 +2,11 @@
 //! for the camera (node meshes cached across frames) rasterized into relief's G-buffer, with
 //! the meshes' smooth normals and vertex colours, for the one deferred shading pass.
 
-use crate::triangle_resolve::{resolve_triangles, DrawnMeshes};
+use crate::triangle_resolve::{resolve_triangles, DrawnMeshes, ResolvedChannels};
 use crate::{GBuffer, Renderer, ShadeError, StageTimings};
+use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, MaterialStacks};
-use relief_mesh::{MeshStats, RasterTarget, Rasterizer, StacksMesher};
+use relief_mesh::{Culling, IndexedMesh, MeshStats, RasterTarget, Rasterizer, StacksMesher};
 use std::time::Instant;
 
 /// Counts and stage timings of one stacks frame.
@@ -90,6 +91,29 @@ impl StacksRenderer {
         bounds: &Aabb,
         gbuffer: &mut GBuffer,
     ) -> Result<StacksFrameStats, ShadeError> {
+        self.render(camera, bounds, gbuffer, ResolvedChannels::All)
+    }
+
+    /// [`StacksRenderer::render_into`] writing only what the deferred shading of the colours
+    /// reads: each pixel's distance, normal and material weights (the other channels left as
+    /// they were). A frame of a flight, shaded and let go.
+    pub fn render_for_shading_into(
+        &mut self,
+        camera: &Camera,
+        bounds: &Aabb,
+        gbuffer: &mut GBuffer,
+    ) -> Result<StacksFrameStats, ShadeError> {
+        self.render(camera, bounds, gbuffer, ResolvedChannels::Shading)
+    }
+
+    /// Draws `camera`'s view into the `channels` of `gbuffer`.
+    fn render(
+        &mut self,
+        camera: &Camera,
+        bounds: &Aabb,
+        gbuffer: &mut GBuffer,
+        channels: ResolvedChannels,
+    ) -> Result<StacksFrameStats, ShadeError> {
         gbuffer.validate_for(camera)?;
         let start = Instant::now();
         let (meshes, mesh_stats) = self
@@ -105,13 +129,17 @@ impl StacksRenderer {
 
         let start = Instant::now();
         if (self.target.width, self.target.height) != (gbuffer.width, gbuffer.height) {
-            self.target = RasterTarget::for_camera(camera);
+            self.target = RasterTarget::with_barycentrics(gbuffer.width, gbuffer.height);
         } else {
             self.target.clear();
         }
         let offsets = [0, meshes[0].triangle_count() as u32];
         for (m, &offset) in meshes.iter().zip(&offsets) {
+            // A closed mesh seen from outside shows only its front faces.
+            let culling =
+                if seen_from_outside(camera, m) { Culling::BackFaces } else { Culling::None };
             self.rasterizer
+                .with_culling(culling)
                 .draw(camera, m, offset, &mut self.target)
                 .map_err(|e| ShadeError::Limits(e.to_string()))?;
         }
@@ -119,7 +147,7 @@ impl StacksRenderer {
 
         let start = Instant::now();
         let drawn = DrawnMeshes { meshes: &meshes, first_ids: &offsets };
-        resolve_triangles(gbuffer, camera, bounds, &self.target, &drawn);
+        resolve_triangles(gbuffer, camera, bounds, &self.target, &drawn, channels);
         stats.resolve_ms = ms(start);
         Ok(stats)
     }
@@ -135,6 +163,28 @@ impl Renderer for StacksRenderer {
         let bounds = self.texture_bounds;
         Ok(self.render_into(camera, &bounds, gbuffer)?.timings())
     }
+}
+
+/// Whether `camera`'s eye is certainly outside the closed `mesh`: a pinhole whose eye no
+/// triangle lies over (the vertical ray up from the eye crosses none). Then every camera ray
+/// enters the solid before it leaves it, and the first surface a ray meets is a front face:
+/// drawing the front faces alone gives the same picture. Not so for an eye under an overhang,
+/// in a cave or in the water, or an orthographic camera, which draw both faces.
+fn seen_from_outside(camera: &Camera, mesh: &IndexedMesh) -> bool {
+    if camera.fov_deg().is_none() {
+        return false;
+    }
+    let eye = camera.eye();
+    let positions = mesh.positions();
+    mesh.triangles().par_iter().all(|tri| {
+        let [a, b, c] = tri.map(|v| positions[v as usize]);
+        let below = a.z < eye.z && b.z < eye.z && c.z < eye.z;
+        let beside = (a.x < eye.x && b.x < eye.x && c.x < eye.x)
+            || (a.x > eye.x && b.x > eye.x && c.x > eye.x)
+            || (a.y < eye.y && b.y < eye.y && c.y < eye.y)
+            || (a.y > eye.y && b.y > eye.y && c.y > eye.y);
+        below || beside
+    })
 }
 
 /// The box over the footprint and height range of `stacks` (a unit of height for a flat or

@@ -1,16 +1,17 @@
-//! The resolve of a rasterized frame: each pixel's triangle id (a [`RasterTarget`]) turned
-//! into a G-buffer pixel, in one parallel pass over strips of rows: the exact hit of the
-//! pixel's camera ray with the triangle's plane, the mesh's smooth normal and colour
-//! interpolated there.
+//! The resolve of a rasterized frame: each pixel's triangle id, distance and barycentrics (a
+//! [`RasterTarget`] that keeps them) turned into a G-buffer pixel, block by block in
+//! parallel: the mesh's smooth normal and colour interpolated where the pixel's ray meets the
+//! triangle, the distance the rasterizer found there.
 
 use crate::render::HitEncoder;
 use crate::{GBuffer, GBufferPixel};
 use rayon::prelude::*;
-use relief_core::{Aabb, Camera, DVec3, Ray};
+use relief_core::{Aabb, Camera, DVec3, Projection};
 use relief_mesh::{IndexedMesh, RasterTarget};
 use relief_trace::Hit;
 
-/// The side of the square blocks of pixels resolved together.
+/// The side of the square blocks of pixels resolved together (their triangles stay in the
+/// processor's caches).
 const BLOCK: usize = 32;
 
 /// Meshes of colour (3 floats) then normal (3 floats) attributes a vertex, drawn into one
@@ -31,44 +32,65 @@ impl DrawnMeshes<'_> {
     }
 }
 
-/// Writes every pixel of `gbuffer` from `target` (the same size): a pixel that shows no
-/// triangle is a miss; one that shows a triangle gets the hit of its camera ray with the
-/// triangle's plane (distance, position, texture coordinates over `bounds`, footprint), the
-/// mesh's smooth normal interpolated there (the geometric one where the smooth normal is
-/// degenerate or faces away from the ray) and its colour as material weights `[r, g, b, 1]`.
+/// Which G-buffer channels a resolve writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ResolvedChannels {
+    /// Every channel.
+    All,
+    /// What the deferred shading of the colours reads: distance, normal and material (the
+    /// others left as they were).
+    Shading,
+}
+
+/// Writes the pixels of `gbuffer` from `target` (the same size, keeping barycentrics): a pixel
+/// that shows no triangle is a miss; one that shows a triangle gets the rasterizer's distance
+/// (and the position there, texture coordinates over `bounds` and footprint with
+/// [`ResolvedChannels::All`]), the mesh's smooth normal interpolated there (the geometric one,
+/// turned to face the ray, where the smooth normal is degenerate or faces away from the ray)
+/// and its colour as material weights `[r, g, b, 1]`.
 pub(crate) fn resolve_triangles(
     gbuffer: &mut GBuffer,
     camera: &Camera,
     bounds: &Aabb,
     target: &RasterTarget,
     drawn: &DrawnMeshes,
+    channels: ResolvedChannels,
 ) {
     let width = gbuffer.width;
     let encoder = HitEncoder::new(bounds, camera);
-    let screen_x: Vec<f64> = (0..width as u32).map(|i| camera.screen_x(i)).collect();
-    // Block by block: the triangles of a block of pixels stay in the processor's caches.
+    let rays = RayParts::new(camera);
     gbuffer.strips_mut(BLOCK).enumerate().for_each(|(s, mut strip)| {
         let rows = strip.len() / width;
-        let mut setup = PlaneSetup::NONE;
+        let mut setup = TriangleAttributes::NONE;
         for left in (0..width).step_by(BLOCK) {
             for r in 0..rows {
                 let j = s * BLOCK + r;
-                let sy = camera.screen_y(j as u32);
-                let right = (left + BLOCK).min(width);
-                for (i, &sx) in screen_x.iter().enumerate().take(right).skip(left) {
-                    let k = r * width + i;
-                    let id = target.triangle[j * width + i];
+                for i in left..(left + BLOCK).min(width) {
+                    let (k, index) = (r * width + i, j * width + i);
+                    let id = target.triangle[index];
                     if id == RasterTarget::NO_TRIANGLE {
                         strip.set(k, &GBufferPixel::MISS);
                         continue;
                     }
                     if setup.id != id {
-                        setup = PlaneSetup::new(drawn, id);
+                        setup = TriangleAttributes::new(drawn, id);
                     }
-                    match setup.hit(&camera.ray_through(sx, sy)) {
-                        None => strip.set(k, &GBufferPixel::MISS),
-                        Some((hit, colour)) => {
-                            let mut pixel = encoder.g_buffer_pixel(Some(hit));
+                    let along = rays.direction(i, j);
+                    let (normal, colour) = setup.at(target.barycentrics[index], along);
+                    let distance = target.distance[index];
+                    match channels {
+                        ResolvedChannels::Shading => {
+                            strip.distance[k] = distance;
+                            strip.normal[k] = normal;
+                            strip.material[k] = [colour[0], colour[1], colour[2], 1.0];
+                        }
+                        ResolvedChannels::All => {
+                            let t = distance as f64;
+                            let position = rays.origin(i, j) + along.normalize() * t;
+                            let normal = DVec3::from(normal.map(f64::from));
+                            let mut pixel =
+                                encoder.g_buffer_pixel(Some(Hit { t, position, normal }));
+                            pixel.distance = distance;
                             pixel.material = [colour[0], colour[1], colour[2], 1.0];
                             strip.set(k, &pixel);
                         }
@@ -79,107 +101,108 @@ pub(crate) fn resolve_triangles(
     });
 }
 
-/// What the resolve needs of one triangle, made once for the run of pixels that show it.
-struct PlaneSetup {
-    /// The triangle's id ([`RasterTarget::NO_TRIANGLE`]: none).
-    id: u32,
-    /// Whether the triangle has an area and colour and normal attributes.
-    valid: bool,
-    /// Its first corner.
-    p0: DVec3,
-    /// Its normal `(p1 - p0) x (p2 - p0)`, and that normal made unit.
-    n: DVec3,
-    unit: DVec3,
-    /// `(p2 - p0) x n / |n|^2` and `n x (p1 - p0) / |n|^2`: a point's barycentrics of
-    /// corners 1 and 2 are its offset from `p0` dotted with them.
-    to_b1: DVec3,
-    to_b2: DVec3,
-    /// The corners' colour and normal attributes.
-    attributes: [[f32; 6]; 3],
+/// The parts of the camera's rays by column and row: a pixel's ray runs from `origin(i, j)`
+/// along `direction(i, j)` (not unit: `forward + sx right + sy up'` for a pinhole).
+struct RayParts {
+    eye: DVec3,
+    forward: DVec3,
+    /// `sx right` of every column.
+    across: Vec<DVec3>,
+    /// `sy up'` of every row.
+    up: Vec<DVec3>,
+    perspective: bool,
 }
 
-impl PlaneSetup {
-    /// No triangle.
-    const NONE: PlaneSetup = PlaneSetup {
-        id: RasterTarget::NO_TRIANGLE,
-        valid: false,
-        p0: DVec3::ZERO,
-        n: DVec3::ZERO,
-        unit: DVec3::ZERO,
-        to_b1: DVec3::ZERO,
-        to_b2: DVec3::ZERO,
-        attributes: [[0.0; 6]; 3],
-    };
-
-    /// The set-up of the triangle of id `id` (one the target holds).
-    fn new(drawn: &DrawnMeshes, id: u32) -> PlaneSetup {
-        let (mesh, triangle) = drawn.triangle(id);
-        let none = PlaneSetup { id, ..PlaneSetup::NONE };
-        let (Some([p0, p1, p2]), Some(tri)) =
-            (mesh.corners(triangle), mesh.triangles().get(triangle as usize))
-        else {
-            return none;
-        };
-        let mut attributes = [[0f32; 6]; 3];
-        for (out, &v) in attributes.iter_mut().zip(tri) {
-            match mesh.attributes().get(v as usize * 6..v as usize * 6 + 6) {
-                Some(values) => out.copy_from_slice(values),
-                None => return none,
-            }
-        }
-        let (e1, e2) = (p1 - p0, p2 - p0);
-        let n = e1.cross(e2);
-        let area2 = n.length_squared();
-        if area2 == 0.0 || !area2.is_finite() {
-            return none;
-        }
-        PlaneSetup {
-            id,
-            valid: true,
-            p0,
-            n,
-            unit: n / area2.sqrt(),
-            to_b1: e2.cross(n) / area2,
-            to_b2: n.cross(e1) / area2,
-            attributes,
+impl RayParts {
+    fn new(camera: &Camera) -> Self {
+        RayParts {
+            eye: camera.eye(),
+            forward: camera.forward(),
+            across: (0..camera.width()).map(|i| camera.screen_x(i) * camera.right()).collect(),
+            up: (0..camera.height()).map(|j| camera.screen_y(j) * camera.image_up()).collect(),
+            perspective: matches!(camera.projection(), Projection::Perspective { .. }),
         }
     }
 
-    /// Where `ray` meets the triangle's plane, with the smooth normal facing the ray (else the
-    /// geometric one) and the colour there, the attributes interpolated with the barycentrics
-    /// clamped to the triangle. `None` for a degenerate triangle or a ray along its plane.
-    #[inline]
-    fn hit(&self, ray: &Ray) -> Option<(Hit, [f32; 3])> {
-        if !self.valid {
-            return None;
-        }
-        let t = self.n.dot(self.p0 - ray.origin) / self.n.dot(ray.dir);
-        if !t.is_finite() {
-            return None;
-        }
-        let position = ray.at(t);
-        let offset = position - self.p0;
-        let (b1, b2) = (offset.dot(self.to_b1), offset.dot(self.to_b2));
-        let clamped = [1.0 - b1 - b2, b1, b2].map(|b| b.clamp(0.0, 1.0));
-        let sum: f64 = clamped[0] + clamped[1] + clamped[2];
-        let weights = if sum > 0.0 {
-            let inverse = 1.0 / sum;
-            clamped.map(|b| b * inverse)
+    /// The direction of pixel (i, j)'s ray, not unit.
+    #[inline(always)]
+    fn direction(&self, i: usize, j: usize) -> DVec3 {
+        if self.perspective {
+            self.forward + self.across[i] + self.up[j]
         } else {
-            [1.0 / 3.0; 3]
+            self.forward
+        }
+    }
+
+    /// The origin of pixel (i, j)'s ray.
+    #[inline(always)]
+    fn origin(&self, i: usize, j: usize) -> DVec3 {
+        if self.perspective {
+            self.eye
+        } else {
+            self.eye + self.across[i] + self.up[j]
+        }
+    }
+}
+
+/// What the resolve needs of one triangle, made once for the run of pixels that show it.
+struct TriangleAttributes {
+    /// The triangle's id ([`RasterTarget::NO_TRIANGLE`]: none).
+    id: u32,
+    /// Its unit geometric normal (zero for a degenerate triangle).
+    unit: DVec3,
+    /// The corners' colour and normal attributes (zeros where the mesh has none).
+    attributes: [[f32; 6]; 3],
+}
+
+impl TriangleAttributes {
+    /// No triangle.
+    const NONE: TriangleAttributes = TriangleAttributes {
+        id: RasterTarget::NO_TRIANGLE,
+        unit: DVec3::ZERO,
+        attributes: [[0.0; 6]; 3],
+    };
+
+    /// The attributes of the triangle of id `id`.
+    #[inline]
+    fn new(drawn: &DrawnMeshes, id: u32) -> TriangleAttributes {
+        let (mesh, triangle) = drawn.triangle(id);
+        let none = TriangleAttributes { id, ..TriangleAttributes::NONE };
+        let Some(&tri) = mesh.triangles().get(triangle as usize) else {
+            return none;
         };
-        let mut a = [0f64; 6];
-        for (corner, w) in self.attributes.iter().zip(weights) {
-            for (sum, &value) in a.iter_mut().zip(corner) {
-                *sum += w * value as f64;
+        let mut attributes = [[0f32; 6]; 3];
+        for (out, &v) in attributes.iter_mut().zip(tri.iter()) {
+            if let Some(values) = mesh.attributes().get(v as usize * 6..v as usize * 6 + 6) {
+                out.copy_from_slice(values);
             }
         }
-        let geometric = if self.unit.dot(ray.dir) > 0.0 { -self.unit } else { self.unit };
-        let smooth = DVec3::new(a[3], a[4], a[5]);
-        let normal = match smooth.try_normalize() {
-            Some(n) if n.dot(ray.dir) < 0.0 => n,
-            _ => geometric,
+        let positions = mesh.positions();
+        let (p0, p1, p2) =
+            (positions[tri[0] as usize], positions[tri[1] as usize], positions[tri[2] as usize]);
+        TriangleAttributes { id, unit: (p1 - p0).cross(p2 - p0).normalize_or_zero(), attributes }
+    }
+
+    /// The unit normal and the colour at barycentrics `[b1, b2]` (of corners 1 and 2) for a
+    /// ray along `along`: the smooth normal where it faces the ray, else the geometric one
+    /// turned to face it.
+    #[inline(always)]
+    fn at(&self, [b1, b2]: [f32; 2], along: DVec3) -> ([f32; 3], [f32; 3]) {
+        let b0 = (1.0 - b1 - b2).max(0.0);
+        let [c0, c1, c2] = &self.attributes;
+        let a: [f32; 6] = std::array::from_fn(|k| b0 * c0[k] + b1 * c1[k] + b2 * c2[k]);
+        let smooth = [a[3], a[4], a[5]];
+        let length = (smooth[0] * smooth[0] + smooth[1] * smooth[1] + smooth[2] * smooth[2]).sqrt();
+        let facing =
+            smooth[0] as f64 * along.x + smooth[1] as f64 * along.y + smooth[2] as f64 * along.z;
+        let normal = if length > 0.0 && length.is_finite() && facing < 0.0 {
+            let inverse = 1.0 / length;
+            smooth.map(|c| c * inverse)
+        } else if self.unit.dot(along) > 0.0 {
+            (-self.unit).as_vec3().to_array()
+        } else {
+            self.unit.as_vec3().to_array()
         };
-        Some((Hit { t, position, normal }, [a[0] as f32, a[1] as f32, a[2] as f32]))
+        (normal, [a[0], a[1], a[2]])
     }
 }

@@ -52,7 +52,7 @@ pub struct SceneArgs {
     /// (all: every node the frame wants). The others are drawn by what the last frame drew
     /// in their place (the node next to other neighbours, a coarser or finer level) until a
     /// later frame meshes them, as Löffler et al. amortise their updates; a camera that stays
-    /// put catches up. A still picture is the same either way [default: 64].
+    /// put catches up. A still picture is the same either way [default: 40, the paper's].
     #[arg(long, value_name = "N|all", value_parser = node_budget)]
     pub node_budget: Option<NodeBudget>,
     /// MLHM scenes: quality preset (Nilles & Müller 2025, section 5): low (no secondary rays,

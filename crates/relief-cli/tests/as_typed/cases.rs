@@ -111,6 +111,8 @@ pub const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("render {in}/f.npy --mode mesh --size 16x9 -o {out}/a.png", Expect::Ok),
             ("render {in}/f.npy --tau 4 -o {out}/a.png", Expect::Refused("--tau applies to --mode mesh only")),
             ("render {in}/f.npy --voxel-height 1 -o {out}/a.png", Expect::Refused("--voxel-height applies to --mode mesh only")),
+            ("render {in}/g.stacks --node-budget 8 --size 16x9 -o {out}/a.png", Expect::Ok),
+            ("render {in}/f.npy --node-budget all -o {out}/a.png", Expect::Refused("--node-budget applies to --mode mesh only")),
             ("render {in}/f.npy --mode mesh --tau 0 -o {out}/a.png", Expect::Refused("outside 0.01..10000")),
             ("render {in}/f.npy --mode mesh --tracer naive -o {out}/a.png", Expect::Refused("--tracer applies to the ray-cast renderers only")),
         ],
@@ -200,6 +202,8 @@ pub const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("view {in}/f.png --frames 1 --screenshot {in}/f.png", Expect::Refused("would overwrite the input")),
             ("view {in}/s.mlhm --mode mesh --tau 6 --voxel-height 4 --size 16x9 --frames 1", Expect::Ok),
             ("view {in}/f.npy --tau 4", Expect::Refused("--tau applies to --mode mesh only")),
+            ("view {in}/g.stacks --node-budget all --size 16x9 --frames 2", Expect::Ok),
+            ("view {in}/g.stacks --node-budget 0 --frames 1", Expect::Refused("node budget")),
         ],
     ),
     (
@@ -238,6 +242,7 @@ pub const CASES: &[(&str, &[(&str, Expect)])] = &[
         &[
             ("mesh {in}/s.mlhm --lod 0 -o {out}/m.glb --stats {out}/s.json", Expect::Ok),
             ("mesh {in}/g.stacks --lod 1 -o {out}/m.glb", Expect::Ok),
+            ("mesh {in}/g.stacks --node-budget 8 -o {out}/m.glb", Expect::Refused("--node-budget applies to relief view and relief flythrough")),
             ("mesh {in}/f.npy --spacing 2,3 --z-scale 3 --north-up --voxel-height 0.5 --sigma 2 --lod 1 --output {out}/m.obj", Expect::Ok),
             ("mesh --fbm-size 24 --seed 3 --eye=-40,-30,60 --target 12,12,0 --up 0,0,1 --fov 40 --size 64x36 --tau 4 -o {out}/m.ply", Expect::Ok),
             ("mesh {in}/s.mlhm --view 45,30 --lod auto -o {out}/m.glb", Expect::Ok),
@@ -347,6 +352,7 @@ pub const CASES: &[(&str, &[(&str, Expect)])] = &[
             ("flythrough {in}/s.mlhm --path {in}/p.json --frames 2 -o {out}/frames --mode smooth --sigma 1 --preset low --no-ao --size 16x9", Expect::Ok),
             ("flythrough {in}/s.mlhm --path {in}/p.json --frames 1 -o {out}/frames --tracer hierarchy --backtrack miss --hierarchy-bounds f16 --size 16x9", Expect::Ok),
             ("flythrough {in}/s.mlhm --path {in}/p.json --frames 2 -o {out}/frames --mode mesh --tau 6 --voxel-height 4 --sigma 8 --size 16x9", Expect::Ok),
+            ("flythrough {in}/g.stacks --path {in}/p.json --frames 3 -o {out}/frames --node-budget 2 --size 16x9", Expect::Ok),
             ("flythrough {in}/st --path {in}/p.json --frames 3 -o {out}/frames --max-error-px 1 --cache-mb 16 --wait --stats {out}/s.json --size 16x9", Expect::Ok),
             ("flythrough {in}/st --path {in}/p.json --frames 2 -o {out}/frames --size 16x9", Expect::Ok),
             ("flythrough {in}/stt --path {in}/p.json --frames 2 -o {out}/frames --texture-filter bilinear --texture-cache-mb 16 --size 16x9", Expect::Ok),

@@ -13,6 +13,10 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use std::collections::HashMap;
 use std::sync::Arc;
 
+/// How many levels coarser than a node its stand-in may be: a node whose nearest drawn
+/// ancestor is coarser still is meshed in its frame (cells of at most `4 τ` pixels on screen).
+const MAX_STAND_IN_LEVELS: u8 = 2;
+
 /// A node as a frame wants it: its key and the coarser leaves next to it (they decide its
 /// stitching, so they are part of what its mesh is).
 pub(crate) type WantedNode = (NodeKey, Vec<NodeKey>);
@@ -54,13 +58,15 @@ enum StandIn {
 }
 
 impl StandIn {
-    /// The order in which nodes get their own meshes: those nothing stands in for, then level
-    /// changes, then nodes whose neighbours changed.
-    fn rank(&self) -> u8 {
+    /// The order in which the nodes of `level` get their own meshes: those nothing stands in
+    /// for, then those drawn coarser than they should be (the coarser, the sooner), then finer,
+    /// then those whose neighbours changed.
+    fn rank(&self, level: u8) -> u8 {
         match self {
             StandIn::None => 0,
-            StandIn::Ancestor(_) | StandIn::Descendants(_) => 1,
-            StandIn::SameNode(_) => 2,
+            StandIn::Ancestor(up) => 1 + MAX_STAND_IN_LEVELS - (up.level - level),
+            StandIn::Descendants(_) => 2 + MAX_STAND_IN_LEVELS,
+            StandIn::SameNode(_) => 3 + MAX_STAND_IN_LEVELS,
         }
     }
 }
@@ -151,7 +157,7 @@ impl NodeCache {
             let mut finer: Vec<(NodeKey, usize)> = Vec::new();
             for key in self.drawn.keys() {
                 let mut up = *key;
-                for _ in 0..16 {
+                for _ in 0..MAX_STAND_IN_LEVELS {
                     up = up.parent();
                     if let Some(&w) = open.get(&up) {
                         finer.push((*key, w));
@@ -169,7 +175,10 @@ impl NodeCache {
             }
         }
         let mut order: Vec<usize> = missing.to_vec();
-        order.sort_by_key(|&w| (stand_ins[&w].rank(), std::cmp::Reverse(wanted[w].0.level), w));
+        order.sort_by_key(|&w| {
+            let level = wanted[w].0.level;
+            (stand_ins[&w].rank(level), std::cmp::Reverse(level), w)
+        });
         let mandatory = order.iter().filter(|w| matches!(stand_ins[w], StandIn::None)).count();
         let mut to_mesh: Vec<usize> = order[..(mandatory + budget).min(order.len())].to_vec();
         to_mesh.sort_unstable();
@@ -180,13 +189,14 @@ impl NodeCache {
     }
 
     /// What the last frame drew that stands in for node `key`: the same node, else its
-    /// nearest drawn ancestor, else nothing (descendants are found by [`NodeCache::choose`]).
+    /// nearest drawn ancestor at most [`MAX_STAND_IN_LEVELS`] coarser, else nothing
+    /// (descendants are found by [`NodeCache::choose`]).
     fn stand_in(&self, key: &NodeKey) -> StandIn {
         if self.drawn.contains_key(key) {
             return StandIn::SameNode(*key);
         }
         let mut up = *key;
-        for _ in 0..16 {
+        for _ in 0..MAX_STAND_IN_LEVELS {
             up = up.parent();
             if self.drawn.contains_key(&up) {
                 return StandIn::Ancestor(up);

@@ -39,7 +39,11 @@ impl NodeKey {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Leaves {
     set: FxHashSet<NodeKey>,
+    /// The nodes split into finer ones: the ancestors of the leaves.
+    interior: FxHashSet<NodeKey>,
     max_level: u8,
+    /// The smallest and largest root positions: no leaf lies outside the roots.
+    roots: ([i32; 3], [i32; 3]),
 }
 
 impl Leaves {
@@ -47,28 +51,43 @@ impl Leaves {
     /// node above level 0.
     pub fn select(roots: &[NodeKey], mut split: impl FnMut(&NodeKey) -> bool) -> Self {
         let max_level = roots.first().map_or(0, |r| r.level);
-        let mut set = FxHashSet::default();
+        let mut range = ([i32::MAX; 3], [i32::MIN; 3]);
+        for root in roots {
+            for a in 0..3 {
+                range.0[a] = range.0[a].min(root.at[a]);
+                range.1[a] = range.1[a].max(root.at[a]);
+            }
+        }
+        let (mut set, mut interior) = (FxHashSet::default(), FxHashSet::default());
         let mut stack: Vec<NodeKey> = roots.to_vec();
         while let Some(node) = stack.pop() {
             if node.level > 0 && split(&node) {
+                interior.insert(node);
                 stack.extend(node.children());
             } else {
                 set.insert(node);
             }
         }
-        let mut leaves = Leaves { set, max_level };
+        let mut leaves = Leaves { set, interior, max_level, roots: range };
         leaves.balance();
         leaves
     }
 
     /// The leaf covering the region of node `key` or a coarser leaf containing it, if any.
     fn covering(&self, key: &NodeKey) -> Option<NodeKey> {
+        // Outside the roots nothing covers it.
+        let up = u32::from(self.max_level.saturating_sub(key.level)).min(31);
+        let top = key.at.map(|c| c >> up);
+        if (0..3).any(|a| top[a] < self.roots.0[a] || top[a] > self.roots.1[a]) {
+            return None;
+        }
         let mut k = *key;
         loop {
             if self.set.contains(&k) {
                 return Some(k);
             }
-            if k.level >= self.max_level {
+            // A split node's region is covered by finer leaves, and so is any node's inside it.
+            if k.level >= self.max_level || self.interior.contains(&k) {
                 return None;
             }
             k = k.parent();
@@ -77,32 +96,50 @@ impl Leaves {
 
     /// Splits leaves until no two neighbours (26-connected) differ by more than one level.
     fn balance(&mut self) {
-        loop {
+        // Splitting a node only makes covers finer, so a leaf whose neighbours' covers were
+        // fine stays fine: after the first pass over every leaf, only the leaves a split made
+        // and those that saw a cover too coarse (it may still be, one level finer) are checked.
+        let mut work: Vec<NodeKey> = self.set.iter().copied().collect();
+        while !work.is_empty() {
             let mut to_split = BTreeSet::new();
-            for leaf in &self.set {
+            let mut again = Vec::new();
+            for leaf in &work {
+                let mut violated = false;
                 for d in neighbour_offsets() {
                     let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
                     if let Some(cover) = self.covering(&NodeKey { level: leaf.level, at }) {
                         if cover.level > leaf.level + 1 {
                             to_split.insert(cover);
+                            violated = true;
                         }
                     }
                 }
+                if violated {
+                    again.push(*leaf);
+                }
             }
-            if to_split.is_empty() {
-                return;
-            }
+            work = again;
             for node in to_split {
                 self.set.remove(&node);
-                self.set.extend(node.children());
+                self.interior.insert(node);
+                for child in node.children() {
+                    self.set.insert(child);
+                    work.push(child);
+                }
             }
+            // A leaf split in this round is no leaf to check.
+            work.retain(|k| self.set.contains(k));
         }
     }
 
-    /// For each leaf, the coarser leaves among its 26 neighbours (one level up, by balance).
-    pub fn coarser_neighbours(&self) -> BTreeMap<NodeKey, Vec<NodeKey>> {
+    /// For each leaf `keep` keeps, the coarser leaves among its 26 neighbours (one level up,
+    /// by balance).
+    pub fn coarser_neighbours(
+        &self,
+        keep: impl Fn(&NodeKey) -> bool,
+    ) -> BTreeMap<NodeKey, Vec<NodeKey>> {
         let mut out = BTreeMap::new();
-        for leaf in &self.set {
+        for leaf in self.set.iter().filter(|leaf| keep(leaf)) {
             let mut coarser = Vec::new();
             for d in neighbour_offsets() {
                 let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
@@ -134,10 +171,128 @@ mod tests {
             (0..2).flat_map(|x| (0..2).map(move |y| NodeKey { level: 3, at: [x, y, 0] })).collect();
         // Refine only towards the corner (0, 0, 0).
         let leaves = Leaves::select(&roots, |k| k.at == [0, 0, 0]);
-        assert!(leaves.coarser_neighbours().keys().any(|k| k.level == 0));
-        for (leaf, coarser) in leaves.coarser_neighbours() {
+        assert!(leaves.coarser_neighbours(|_| true).keys().any(|k| k.level == 0));
+        for (leaf, coarser) in leaves.coarser_neighbours(|_| true) {
             for c in coarser {
                 assert_eq!(c.level, leaf.level + 1, "{leaf:?} next to {c:?}");
+            }
+        }
+    }
+
+    /// Balancing by full passes over every leaf until nothing splits, covers found by walking
+    /// up to the roots: the plain algorithm the balance above must agree with.
+    fn balanced_by_full_passes(
+        roots: &[NodeKey],
+        split: impl Fn(&NodeKey) -> bool,
+    ) -> Vec<NodeKey> {
+        let max_level = roots[0].level;
+        let mut set: FxHashSet<NodeKey> = FxHashSet::default();
+        let mut stack = roots.to_vec();
+        while let Some(node) = stack.pop() {
+            if node.level > 0 && split(&node) {
+                stack.extend(node.children());
+            } else {
+                set.insert(node);
+            }
+        }
+        let covering = |set: &FxHashSet<NodeKey>, key: &NodeKey| {
+            let mut k = *key;
+            loop {
+                if set.contains(&k) {
+                    return Some(k);
+                }
+                if k.level >= max_level {
+                    return None;
+                }
+                k = k.parent();
+            }
+        };
+        loop {
+            let mut to_split = BTreeSet::new();
+            for leaf in &set {
+                for d in neighbour_offsets() {
+                    let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
+                    if let Some(cover) = covering(&set, &NodeKey { level: leaf.level, at }) {
+                        if cover.level > leaf.level + 1 {
+                            to_split.insert(cover);
+                        }
+                    }
+                }
+            }
+            if to_split.is_empty() {
+                let mut leaves: Vec<NodeKey> = set.into_iter().collect();
+                leaves.sort();
+                return leaves;
+            }
+            for node in to_split {
+                set.remove(&node);
+                set.extend(node.children());
+            }
+        }
+    }
+
+    #[test]
+    fn balancing_agrees_with_full_passes() {
+        // Roots with gaps (empty roots left out), refined towards a few random points.
+        let mut seed = 12345u64;
+        let mut next = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 33) as i32
+        };
+        for case in 0..20 {
+            let roots: Vec<NodeKey> = (0..4)
+                .flat_map(|x| (0..3).flat_map(move |y| (0..2).map(move |z| [x, y, z])))
+                .filter(|_| next() % 5 != 0)
+                .map(|at| NodeKey { level: 5, at })
+                .collect();
+            // Random points, and one on the corner of roots: its finest leaves touch roots
+            // five levels coarser, which balancing splits level by level.
+            let mut targets: Vec<[i32; 3]> =
+                (0..3).map(|_| [next() % 128, next() % 96, next() % 64]).collect();
+            if case % 2 == 0 {
+                targets = vec![[32, 32, 32]];
+            }
+            // Split while a target lies within a node's size of the node.
+            let split = |k: &NodeKey| {
+                let size = 1i32 << k.level;
+                let reach = if case % 2 == 0 { 0 } else { size };
+                targets.iter().any(|t| {
+                    (0..3).all(|a| {
+                        let lo = k.at[a] * size;
+                        t[a] >= lo - reach && t[a] < lo + size + reach
+                    })
+                }) && k.level > (case % 3) as u8
+            };
+            let leaves = Leaves::select(&roots, split);
+            let mut got: Vec<NodeKey> = leaves.set.iter().copied().collect();
+            got.sort();
+            assert_eq!(got, balanced_by_full_passes(&roots, split), "case {case}");
+            // The coarser neighbours by walking up from each neighbour to the roots.
+            let set: FxHashSet<NodeKey> = got.iter().copied().collect();
+            let walk = |key: &NodeKey| {
+                let mut k = *key;
+                loop {
+                    if set.contains(&k) {
+                        return Some(k);
+                    }
+                    if k.level >= 5 {
+                        return None;
+                    }
+                    k = k.parent();
+                }
+            };
+            for (leaf, coarser) in leaves.coarser_neighbours(|_| true) {
+                let mut want = Vec::new();
+                for d in neighbour_offsets() {
+                    let at = std::array::from_fn(|a| leaf.at[a] + d[a]);
+                    if let Some(cover) = walk(&NodeKey { level: leaf.level, at }) {
+                        if cover.level > leaf.level && !want.contains(&cover) {
+                            want.push(cover);
+                        }
+                    }
+                }
+                want.sort();
+                assert_eq!(coarser, want, "case {case}, {leaf:?}");
             }
         }
     }

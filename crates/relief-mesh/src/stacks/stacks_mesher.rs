@@ -309,13 +309,12 @@ impl StacksMesher {
             footprint <= 0.0 || cell / footprint > tau
         });
         leaves
-            .coarser_neighbours()
-            .into_iter()
-            .filter(|(k, _)| !self.is_empty(k))
-            .filter(|(k, _)| {
+            .coarser_neighbours(|k| {
                 let (lo, hi) = self.node_box(k);
-                !(cull && outside_view(camera, lo, hi))
+                let unseen = cull && outside_view(camera, lo, hi);
+                !(self.is_empty(k) || unseen)
             })
+            .into_iter()
             .collect()
     }
 

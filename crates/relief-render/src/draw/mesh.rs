@@ -114,7 +114,7 @@ impl StacksDrawing {
         };
         let stats = {
             let mut renderer = self.renderer.lock().expect("no render panicked");
-            renderer.render_into(camera, &self.bounds, &mut gbuffer)?
+            renderer.render_for_shading_into(camera, &self.bounds, &mut gbuffer)?
         };
         let shade_started = Instant::now();
         let rgb = self.shade(&gbuffer, camera, sun, exposure)?;

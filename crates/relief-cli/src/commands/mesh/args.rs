@@ -46,7 +46,8 @@ fn parse_lod(s: &str) -> Result<LodChoice, String> {
     mut_arg("no_shadows", |a| a.hide(true)),
     mut_arg("no_ao", |a| a.hide(true)),
     mut_arg("texture", |a| a.hide(true)),
-    mut_arg("exposure", |a| a.hide(true))
+    mut_arg("exposure", |a| a.hide(true)),
+    mut_arg("node_budget", |a| a.hide(true))
 )]
 pub struct MeshArgs {
     /// The scene and camera (the camera matters with --lod auto).

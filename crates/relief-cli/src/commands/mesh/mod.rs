@@ -38,6 +38,13 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             return Err(crate::applies::refuse(option, "relief render", "relief mesh"));
         }
     }
+    if scene.node_budget.is_some() {
+        return Err(crate::applies::refuse(
+            "--node-budget",
+            "relief view and relief flythrough",
+            "relief mesh",
+        ));
+    }
     let lod = args.lod.unwrap_or(LodChoice::Auto);
     if lod != LodChoice::Auto && args.scene.tau.is_some() {
         bail!("--tau applies to --lod auto, not to a fixed level");
