@@ -185,8 +185,8 @@ impl Density {
         }
         // The filter rounds the surfaces; it may not carve a point that is inside the solid out
         // of it (a rim, a ridge, a thin arch): there the value stays just inside. The liquid's
-        // smallest puddles may go (measured on the reference scene: kept, they double its
-        // water's faces).
+        // smallest puddles may go (measured on the reference scene: kept too, its water's
+        // faces went from 183 009 to 324 326 at the finest level, past the face budget).
         // The liquid before the filter, after the other channels: where it crosses an edge the
         // filtered liquid crosses too, its exact crossing places the vertex (see
         // `VertexTable::crossing_of`).
