@@ -41,6 +41,9 @@ pub(crate) struct LaneFrame {
     /// Per padded sample, the highest sample of the [`FOOTPRINT_ROWS`] x [`FOOTPRINT_COLS`]
     /// block whose lower left corner it is: all that a group of lanes reads in one step.
     pub footprints: Vec<f32>,
+    /// Per padded sample, the highest sample of the [`FOOTPRINT_ROWS`] x 2 block whose lower
+    /// left corner it is: all that one lane reads in one step.
+    pub lane_footprints: Vec<f32>,
 }
 
 /// Rows and columns of a footprint: a step reads up to three rows, and the lanes read
@@ -74,8 +77,9 @@ impl LaneFrame {
                 }
             }
         }
-        let footprints = footprints(&z, stride, rows);
-        LaneFrame { z, stride, width: fw, height: fh, footprints }
+        let lane_footprints = footprints(&z, stride, rows, 2);
+        let footprints = footprints(&z, stride, rows, FOOTPRINT_COLS);
+        LaneFrame { z, stride, width: fw, height: fh, footprints, lane_footprints }
     }
 
     /// Where sample (`col`, `row`) of the frame is in [`LaneFrame::z`].
@@ -109,21 +113,20 @@ impl LaneFrame {
 }
 
 /// Per sample of `z` (`stride` a row, `rows` rows), the highest of the block of
-/// [`FOOTPRINT_ROWS`] x [`FOOTPRINT_COLS`] samples from it up and to the right (cut at the
-/// edges).
-fn footprints(z: &[f32], stride: usize, rows: usize) -> Vec<f32> {
+/// [`FOOTPRINT_ROWS`] x `cols` samples from it up and to the right (cut at the edges).
+fn footprints(z: &[f32], stride: usize, rows: usize, cols: usize) -> Vec<f32> {
     let max = |a: f32, b: f32| if b > a { b } else { a };
     let mut out = z.to_vec();
-    // Along the rows: windows of 2, 4, 8, 16 columns by doubling, then 17.
+    // Along the rows: windows of 2, 4, ... columns by doubling, then the rest.
     for row in out.chunks_exact_mut(stride) {
         let mut span = 1;
-        while span < 16 {
+        while 2 * span <= cols {
             for x in 0..stride.saturating_sub(span) {
                 row[x] = max(row[x], row[x + span]);
             }
             span *= 2;
         }
-        let extra = FOOTPRINT_COLS - 16;
+        let extra = cols - span;
         for x in 0..stride.saturating_sub(extra) {
             row[x] = max(row[x], row[x + extra]);
         }

@@ -27,6 +27,69 @@ pub(crate) trait LaneVector: Copy {
     fn select_negative(a: Self, yes: Self, no: Self) -> Self;
     /// The least lane.
     fn min_lane(self) -> f32;
+    /// Bit `i` set where `a <= b` in lane `i`.
+    fn le_mask(a: Self, b: Self) -> u16 {
+        let (a, b) = (a.to_array(), b.to_array());
+        (0..LANES).fold(0, |m, i| m | (u16::from(a[i] <= b[i]) << i))
+    }
+    /// The lanes as an array.
+    fn to_array(self) -> [f32; LANES];
+
+    /// Per lane `i`, in f64: `(da + w (db - da)) * scale - lift` with `da = z[at_a + i] -
+    /// z0[i]` and `db = z[at_b + i] - z0[i]` (the exact slope of a point on an edge).
+    #[inline(always)]
+    fn exact_slopes(
+        z: &[f32],
+        at_a: usize,
+        at_b: usize,
+        [w, scale, lift]: [f64; 3],
+        z0: &[f64; LANES],
+    ) -> [f64; LANES] {
+        let (a, b) = (&z[at_a..at_a + LANES], &z[at_b..at_b + LANES]);
+        let mut slopes = [0.0; LANES];
+        for i in 0..LANES {
+            let (da, db) = (f64::from(a[i]) - z0[i], f64::from(b[i]) - z0[i]);
+            slopes[i] = (da + w * (db - da)) * scale - lift;
+        }
+        slopes
+    }
+
+    /// Per lane, `yes` where bit `i` of `mask` is set, else `no`.
+    #[inline(always)]
+    fn select_exact(mask: u16, yes: &[f64; LANES], no: &[f64; LANES]) -> [f64; LANES] {
+        std::array::from_fn(|i| if mask >> i & 1 == 1 { yes[i] } else { no[i] })
+    }
+
+    /// Raises `best` to `slopes` in the lanes where they are greater, setting those lanes'
+    /// `steps` to `step`; whether any lane was raised.
+    #[inline(always)]
+    fn raise_exact(
+        best: &mut [f64; LANES],
+        steps: &mut [u32; LANES],
+        slopes: &[f64; LANES],
+        step: u32,
+    ) -> bool {
+        let mut raised = false;
+        for i in 0..LANES {
+            if slopes[i] > best[i] {
+                (best[i], steps[i], raised) = (slopes[i], step, true);
+            }
+        }
+        raised
+    }
+
+    /// Per lane, the largest `f32` at most `exact`.
+    #[inline(always)]
+    fn round_down(exact: &[f64; LANES]) -> Self {
+        Self::from_array(exact.map(|x| {
+            let y = x as f32;
+            if f64::from(y) > x {
+                y.next_down()
+            } else {
+                y
+            }
+        }))
+    }
 }
 
 /// Lanes as a plain array.
@@ -81,6 +144,10 @@ impl LaneVector for Portable {
     #[inline(always)]
     fn min_lane(self) -> f32 {
         self.0.into_iter().fold(f32::INFINITY, |m, v| if v < m { v } else { m })
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f32; LANES] {
+        self.0
     }
 }
 
@@ -156,6 +223,94 @@ mod avx512 {
         #[inline(always)]
         fn min_lane(self) -> f32 {
             unsafe { _mm512_reduce_min_ps(self.0) }
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f32; LANES] {
+            let mut a = [0.0; LANES];
+            unsafe { _mm512_storeu_ps(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn le_mask(a: Self, b: Self) -> u16 {
+            unsafe { _mm512_cmp_ps_mask::<_CMP_LE_OQ>(a.0, b.0) }
+        }
+        #[inline(always)]
+        fn exact_slopes(
+            z: &[f32],
+            at_a: usize,
+            at_b: usize,
+            [w, scale, lift]: [f64; 3],
+            z0: &[f64; LANES],
+        ) -> [f64; LANES] {
+            let (a, b) = (&z[at_a..at_a + LANES], &z[at_b..at_b + LANES]);
+            let mut out = [0.0; LANES];
+            unsafe {
+                let (w, scale, lift) =
+                    (_mm512_set1_pd(w), _mm512_set1_pd(scale), _mm512_set1_pd(lift));
+                for half in 0..2 {
+                    let at = 8 * half;
+                    let z0 = _mm512_loadu_pd(z0.as_ptr().add(at));
+                    let da =
+                        _mm512_sub_pd(_mm512_cvtps_pd(_mm256_loadu_ps(a.as_ptr().add(at))), z0);
+                    let db =
+                        _mm512_sub_pd(_mm512_cvtps_pd(_mm256_loadu_ps(b.as_ptr().add(at))), z0);
+                    let along = _mm512_add_pd(da, _mm512_mul_pd(w, _mm512_sub_pd(db, da)));
+                    let slope = _mm512_sub_pd(_mm512_mul_pd(along, scale), lift);
+                    _mm512_storeu_pd(out.as_mut_ptr().add(at), slope);
+                }
+            }
+            out
+        }
+        #[inline(always)]
+        fn select_exact(mask: u16, yes: &[f64; LANES], no: &[f64; LANES]) -> [f64; LANES] {
+            let mut out = [0.0; LANES];
+            unsafe {
+                for half in 0..2 {
+                    let at = 8 * half;
+                    let m = (mask >> at) as u8;
+                    let (y, n) = (
+                        _mm512_loadu_pd(yes.as_ptr().add(at)),
+                        _mm512_loadu_pd(no.as_ptr().add(at)),
+                    );
+                    _mm512_storeu_pd(out.as_mut_ptr().add(at), _mm512_mask_blend_pd(m, n, y));
+                }
+            }
+            out
+        }
+        #[inline(always)]
+        fn raise_exact(
+            best: &mut [f64; LANES],
+            steps: &mut [u32; LANES],
+            slopes: &[f64; LANES],
+            step: u32,
+        ) -> bool {
+            unsafe {
+                let mut mask: u16 = 0;
+                for half in 0..2 {
+                    let at = 8 * half;
+                    let b = _mm512_loadu_pd(best.as_ptr().add(at));
+                    let s = _mm512_loadu_pd(slopes.as_ptr().add(at));
+                    let m = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(s, b);
+                    _mm512_storeu_pd(best.as_mut_ptr().add(at), _mm512_mask_blend_pd(m, b, s));
+                    mask |= u16::from(m) << at;
+                }
+                if mask == 0 {
+                    return false;
+                }
+                let old = _mm512_loadu_si512(steps.as_ptr().cast());
+                let new = _mm512_mask_mov_epi32(old, mask, _mm512_set1_epi32(step as i32));
+                _mm512_storeu_si512(steps.as_mut_ptr().cast(), new);
+                true
+            }
+        }
+        #[inline(always)]
+        fn round_down(exact: &[f64; LANES]) -> Self {
+            unsafe {
+                const DOWN: i32 = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+                let lo = _mm512_cvt_roundpd_ps::<DOWN>(_mm512_loadu_pd(exact.as_ptr()));
+                let hi = _mm512_cvt_roundpd_ps::<DOWN>(_mm512_loadu_pd(exact.as_ptr().add(8)));
+                Avx512(_mm512_insertf32x8::<1>(_mm512_castps256_ps512(lo), hi))
+            }
         }
     }
 }

@@ -96,6 +96,18 @@ fn by_split<V: LaneVector>(c: &[V; 4], upside_down: bool, main: V, other: V) -> 
     }
 }
 
+/// Bit `i` set where lane `i`'s cell of corners `c` is split along (0,0)-(1,1).
+#[inline(always)]
+fn main_mask<V: LaneVector>(c: &[V; 4], upside_down: bool) -> u16 {
+    let [z00, z10, z01, z11] = *c;
+    let (sum_main, sum_anti) = (z00.add(z11), z10.add(z01));
+    if upside_down {
+        V::le_mask(sum_anti, sum_main)
+    } else {
+        V::le_mask(sum_main, sum_anti)
+    }
+}
+
 /// Whether the cell of corners `z00, z10, z01, z11` is split along (0,0)-(1,1), as
 /// [`by_split`] decides it.
 #[inline(always)]
@@ -117,29 +129,12 @@ struct Best<V> {
     steps: [u32; LANES],
 }
 
-/// The largest `f32` at most `x`.
-#[inline(always)]
-fn round_down(x: f64) -> f32 {
-    let y = x as f32;
-    if f64::from(y) > x {
-        y.next_down()
-    } else {
-        y
-    }
-}
-
 impl<V: LaneVector> Best<V> {
     /// Raises each lane to its slope of a point of step `step` where that is larger.
     #[inline(always)]
     fn raise(&mut self, slopes: [f64; LANES], step: u32) {
-        let mut raised = false;
-        for ((b, s), at) in self.exact.iter_mut().zip(slopes).zip(&mut self.steps) {
-            if s > *b {
-                (*b, *at, raised) = (s, step, true);
-            }
-        }
-        if raised {
-            self.low = V::from_array(self.exact.map(round_down));
+        if V::raise_exact(&mut self.exact, &mut self.steps, &slopes, step) {
+            self.low = V::round_down(&self.exact);
         }
     }
 }
@@ -147,7 +142,7 @@ impl<V: LaneVector> Best<V> {
 /// The exact slopes (f64) of the points `a + w (b - a)`, `a` and `b` read from `z` at
 /// `at_a` and `at_b` for lane 0.
 #[inline(always)]
-fn exact_edge(
+fn exact_edge<V: LaneVector>(
     z: &[f32],
     at_a: usize,
     at_b: usize,
@@ -155,10 +150,7 @@ fn exact_edge(
     c: &Coefficients,
     z0: &[f64; LANES],
 ) -> [f64; LANES] {
-    std::array::from_fn(|i| {
-        let (da, db) = (f64::from(z[at_a + i]) - z0[i], f64::from(z[at_b + i]) - z0[i]);
-        (da + w * (db - da)) * c.scale64 - c.lift64
-    })
+    V::exact_slopes(z, at_a, at_b, [w, c.scale64, c.lift64], z0)
 }
 
 /// Raises the lanes' `best` slopes to the steepest over the points of `step`: each point in
@@ -171,7 +163,7 @@ fn test_step<V: LaneVector>(grid: &Grid<V>, step: &Step, j: u32, best: &mut Best
         let (slope, error) =
             edge_slopes(V::load(z, at_a), V::load(z, at_b), e.w, z0, e.coefficients);
         if V::any_greater(slope.add(error), best.low) {
-            best.raise(exact_edge(z, at_a, at_b, e.w64, &e.coefficients, z0_exact), j);
+            best.raise(exact_edge::<V>(z, at_a, at_b, e.w64, &e.coefficients, z0_exact), j);
         }
     }
     for d in &step.diagonals {
@@ -183,19 +175,10 @@ fn test_step<V: LaneVector>(grid: &Grid<V>, step: &Step, j: u32, best: &mut Best
         if V::any_greater(slope, best.low) {
             let at = offset(base, d.corner);
             let on_main =
-                exact_edge(z, at, at + stride + 1, d.main, &d.main_coefficients, z0_exact);
+                exact_edge::<V>(z, at, at + stride + 1, d.main, &d.main_coefficients, z0_exact);
             let on_anti =
-                exact_edge(z, at + stride, at + 1, d.anti, &d.anti_coefficients, z0_exact);
-            let split: [f64; LANES] = std::array::from_fn(|i| {
-                let (z00, z10) = (z[at + i], z[at + 1 + i]);
-                let (z01, z11) = (z[at + stride + i], z[at + stride + 1 + i]);
-                if main_split(z00, z10, z01, z11, upside_down) {
-                    on_main[i]
-                } else {
-                    on_anti[i]
-                }
-            });
-            best.raise(split, j);
+                exact_edge::<V>(z, at + stride, at + 1, d.anti, &d.anti_coefficients, z0_exact);
+            best.raise(V::select_exact(main_mask(&c, upside_down), &on_main, &on_anti), j);
         }
     }
 }
@@ -267,6 +250,7 @@ impl LaneGroup<'_> {
         let steps = &stencil.steps[..];
         let group = self.direction.maxima.group(self.first_col, self.row);
         let footprints = &frame.footprints[..];
+        let lane_footprints = &frame.lane_footprints[..];
         let z0_exact = std::array::from_fn(|i| f64::from(z[base + i]));
         let grid = Grid { z, base, stride, upside_down: self.upside_down, z0, z0_exact };
         // First the steps where the hints say the horizons are (three of them at most).
@@ -284,7 +268,8 @@ impl LaneGroup<'_> {
             if level > FIRST_LEVEL {
                 // A long stretch, against the maxima of the lines' bands.
                 let to = (k + (1 << level) - 1).min(last);
-                if self.band_highest(group, k, to) <= self.ceiling(z0, unwanted, k, to, best.low) {
+                let limit = self.ceiling(z0, unwanted, k, to, best.low).min_lane();
+                if self.band_highest(group, k, to) <= limit {
                     k = to + 1;
                     level = (level + 1).min(TOP_LEVEL);
                     while (k - 1) % (1 << level) != 0 {
@@ -295,16 +280,21 @@ impl LaneGroup<'_> {
                 }
                 continue;
             }
-            // Eight steps against the footprints of their points, then each step.
+            // Eight steps against the footprints of their points (all the lanes' together),
+            // then each step against each lane's own.
             let to = (k + (1 << FIRST_LEVEL) - 1).min(last);
             let block = &steps[k..=to];
             let step_highest = |step: &Step| footprints[offset(base, step.footprint)];
             let highest =
                 block.iter().map(step_highest).fold(OUTSIDE, |m, v| if v > m { v } else { m });
-            let limit = self.ceiling(z0, unwanted, k, to, best.low);
+            let limits = self.ceiling(z0, unwanted, k, to, best.low);
+            let limit = limits.min_lane();
             if highest > limit {
                 for (j, step) in (k..=to).zip(block) {
-                    if step_highest(step) > limit {
+                    let at = offset(base, step.footprint);
+                    if footprints[at] > limit
+                        && V::any_greater(V::load(lane_footprints, at), limits)
+                    {
                         grid.test(steps, j, &mut best);
                     }
                 }
@@ -338,17 +328,17 @@ impl LaneGroup<'_> {
         self.direction.maxima.highest(group, near, far)
     }
 
-    /// The highest a point of steps `from..=to` may lie without raising the horizon of a
-    /// lane whose sample is `z0` and best slope so far `best` (the least over the lanes;
-    /// `unwanted` is 0 in the lanes wanted, infinite in the others). A lane's bound is its
-    /// best line at the stretch's start, or at its end where the line descends.
+    /// Per lane, the highest a point of steps `from..=to` may lie without raising the horizon
+    /// of a lane whose sample is `z0` and best slope so far `best` (`unwanted` is 0 in the
+    /// lanes wanted, infinite in the others). A lane's bound is its best line at the
+    /// stretch's start, or at its end where the line descends.
     #[inline(always)]
-    fn ceiling<V: LaneVector>(&self, z0: V, unwanted: V, from: usize, to: usize, best: V) -> f32 {
+    fn ceiling<V: LaneVector>(&self, z0: V, unwanted: V, from: usize, to: usize, best: V) -> V {
         let steps = &self.direction.stencil.steps;
         let (near, far) = (steps[from - 1].distance, steps[to].distance);
         let t = V::select_negative(best, V::splat(far), V::splat(near));
         let rise = best.mul(t).add(V::splat(self.observer_height));
-        z0.add(rise.mul(V::splat(1.0 / self.z_scale))).add(unwanted).min_lane()
+        z0.add(rise.mul(V::splat(1.0 / self.z_scale))).add(unwanted)
     }
 
     /// The last step at which any lane's line is still over the frame.
