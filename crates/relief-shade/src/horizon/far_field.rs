@@ -188,7 +188,12 @@ impl FarLine {
         let (cols, rows) = (far.col0..far.col0 + window_width, far.row0..far.row0 + window_height);
         let (window_x, window_y) = if transposed { (rows, cols) } else { (cols, rows) };
         FarLine {
-            line: StencilLine { stride: 1 << FAR_STRIDE_BITS, radius_steps: None, ..*line },
+            line: StencilLine {
+                stride: 1 << FAR_STRIDE_BITS,
+                column_major: false,
+                radius_steps: None,
+                ..*line
+            },
             transposed,
             sign,
             upside_down: sign < 0.0,

@@ -1,15 +1,19 @@
 //! The horizon engine of a height field without holes over a flat earth: every direction's
-//! stencil and band maxima made once, then the samples' horizons found [`LANES`] at a time.
+//! stencil and its line family's band pyramid made once, then the samples' horizons found
+//! [`LANES`] at a time.
 
+use super::band_pyramid::BandPyramid;
 use super::far_field::{FarContext, FarField, FarLine, Patch};
-use super::lane_frame::{BandMaxima, LaneFrame, LANES};
+use super::lane_frame::{LaneFrame, LANES};
 use super::lanes::{angle_of, LaneDirection, LaneGroup};
 use super::march::unit_steps;
 use super::stencil::{Stencil, StencilLine};
 use super::{Facing, HorizonParams};
 use rayon::prelude::*;
 use relief_core::HeightField;
+use std::collections::HashMap;
 use std::ops::Range;
+use std::sync::Arc;
 
 /// The lanes engine of one height field seen one way up.
 pub(crate) struct LaneEngine {
@@ -62,32 +66,56 @@ impl LaneEngine {
             |t: bool| needs(t).then(|| LaneFrame::new(field.samples(), width, height, sign, t));
         let (rows, columns) = rayon::join(|| frame(false), || frame(true));
         let frames = [rows, columns];
-        let windows = frames.each_ref().map(|f| f.as_ref().map(LaneFrame::windows));
+        // One pyramid per line family: a direction and its opposite share one.
+        let family = |&(transposed, step_x, rows_per_step, _): &(bool, isize, f64, f64)| {
+            (transposed, (rows_per_step * step_x as f64).to_bits())
+        };
+        let mut families: Vec<(bool, u64)> =
+            lines.iter().zip(wanted).filter(|(_, &w)| w).map(|(l, _)| family(l)).collect();
+        families.sort_unstable();
+        families.dedup();
+        let pyramids: HashMap<(bool, u64), Arc<BandPyramid>> = [false, true]
+            .into_par_iter()
+            .flat_map(|t| {
+                let Some(frame) = frames[t as usize].as_ref() else {
+                    return Vec::new();
+                };
+                let windows = frame.band_windows();
+                families
+                    .par_iter()
+                    .filter(|f| f.0 == t)
+                    .map(|&(t, slope)| {
+                        let pyramid = BandPyramid::new(frame, &windows, f64::from_bits(slope));
+                        ((t, slope), Arc::new(pyramid))
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
         let directions = lines
             .into_par_iter()
             .zip(wanted)
-            .map(|((transposed, step_x, rows_per_step, metres_per_step), &wanted)| {
+            .map(|(l, &wanted)| {
                 if !wanted {
                     return None;
                 }
+                let (transposed, step_x, rows_per_step, metres_per_step) = l;
                 let frame = frames[transposed as usize].as_ref().expect("built when needed");
                 let line = StencilLine {
                     step_x,
                     rows_per_step,
                     metres_per_step,
                     stride: frame.stride,
+                    column_major: true,
                     radius_steps: params.radius.map(|r| r / metres_per_step),
                     z_scale: g.z_scale,
                     observer_height: params.observer_height,
                 };
                 let stencil = Stencil::new(&line, frame.width.saturating_sub(1).max(1));
-                let windows =
-                    windows[transposed as usize].as_deref().expect("built with the frame");
-                let maxima = BandMaxima::new(frame, windows, rows_per_step * step_x as f64);
+                let pyramid = pyramids[&family(&l)].clone();
                 let far = far
                     .filter(|_| params.radius.is_none())
                     .map(|far| FarLine::new(&line, transposed, sign, far, width, height));
-                Some((LaneDirection { transposed, stencil, maxima }, far))
+                Some((LaneDirection { transposed, stencil, pyramid }, far))
             })
             .collect::<Vec<_>>();
         let (directions, far_lines) = directions
@@ -152,8 +180,8 @@ impl LaneEngine {
                 let mut group = LaneGroup {
                     frame,
                     direction,
-                    first_col: 0,
-                    row: 0,
+                    u: 0,
+                    v: usize::MAX,
                     wanted: [false; LANES],
                     upside_down: self.upside_down,
                     z_scale: self.z_scale,
@@ -161,55 +189,55 @@ impl LaneEngine {
                     lowest: if at_least_level { 0.0 } else { f32::NEG_INFINITY },
                     hints: [0; LANES],
                 };
-                // Each group of lanes: its frame row, its first frame column, its frame columns'
+                let step_x = direction.stencil.step_x;
+                // Each group of lanes: its frame column, its first frame row, its frame rows'
                 // end, and where its samples are in `out` (the first and the step between).
-                let mut run = |row: usize, first: usize, end: usize, at: usize, step: usize| {
-                    group.row = row;
+                let mut run = |u: usize, first: usize, end: usize, at: usize, step: usize| {
                     group.wanted = std::array::from_fn(|i| {
-                        let col = first + i;
-                        col < end
-                            && !if direction.transposed {
-                                is_void(row, col)
-                            } else {
-                                is_void(col, row)
-                            }
+                        let v = first + i;
+                        v < end
+                            && !if direction.transposed { is_void(v, u) } else { is_void(u, v) }
                     });
-                    if group.first_col != first {
+                    if group.v != first || group.u + 1 != u {
                         group.hints = [0; LANES];
                     }
-                    group.first_col = first;
+                    (group.u, group.v) = (u, first);
                     if group.wanted.iter().any(|&w| w) {
                         let mut slopes = group.exact_slopes();
                         if let Some((far, line)) = far {
-                            let base = frame.index(first, row);
+                            let base = frame.index(u, first);
                             for (i, slope) in slopes.slopes.iter_mut().enumerate() {
                                 if group.wanted[i] {
                                     let z0 = frame.z[base + i];
-                                    *slope =
-                                        far.raise(line, &mut patch, first + i, row, z0, *slope);
+                                    *slope = far.raise(line, &mut patch, u, first + i, z0, *slope);
                                 }
                             }
                         }
                         for (i, &slope) in slopes.slopes.iter().enumerate().take(end - first) {
                             out[at + i * step] = angle_of(slope);
                         }
-                        group.hints = slopes.steps;
+                        // The next group is one column on: the same points one step nearer
+                        // (forwards) or farther.
+                        group.hints =
+                            slopes.steps.map(|j| if j == 0 { 0 } else { j.saturating_add_signed(-step_x as i32) });
+                    } else {
+                        group.hints = [0; LANES];
                     }
                 };
-                // Column by column: the lines of one row's group and the next row's lie side by
-                // side, read the same samples and have their horizons at about the same steps.
+                // Column after column: the lines of one group and the next lie side by side,
+                // read the same samples and have their horizons at about the same points.
                 if direction.transposed {
-                    for first in rows.clone().step_by(LANES) {
-                        for col in cols.clone() {
-                            let at = (first - rows.start) * out_width + col - cols.start;
-                            run(col, first, rows.end, at, out_width);
+                    for first in cols.clone().step_by(LANES) {
+                        for u in rows.clone() {
+                            let at = (u - rows.start) * out_width + first - cols.start;
+                            run(u, first, cols.end, at, 1);
                         }
                     }
                 } else {
-                    for first in cols.clone().step_by(LANES) {
-                        for row in rows.clone() {
-                            let at = (row - rows.start) * out_width + first - cols.start;
-                            run(row, first, cols.end, at, 1);
+                    for first in rows.clone().step_by(LANES) {
+                        for u in cols.clone() {
+                            let at = (first - rows.start) * out_width + u - cols.start;
+                            run(u, first, rows.end, at, out_width);
                         }
                     }
                 }

@@ -1,11 +1,13 @@
-//! The horizons of [`LANES`] neighbouring samples of a row at once: their lines are the same
-//! line translated, so they cross the surface at the same points of a [`Stencil`], each lane
-//! reading its own samples side by side (one vector load for all). The lanes walk the stencil
-//! together and skip each stretch too low to raise any of their horizons (long ones by the
-//! [`BandMaxima`], eight steps and single steps by the frame's footprints); the rest they test
-//! point by point, exactly.
+//! The horizons of [`LANES`] neighbouring samples of a frame column at once: their lines are
+//! the same line translated by whole rows, so they cross the surface at the same points of a
+//! [`Stencil`], each lane reading its own samples side by side (one vector load for all). The
+//! lanes walk the stencil together, each skipping by its own bound what cannot raise its
+//! horizon: long stretches by the [`BandPyramid`] (the lanes' lines lie in consecutive bands,
+//! so their bounds are one vector), eight steps and single steps by the frame's footprints;
+//! the rest they test point by point, exactly.
 
-use super::lane_frame::{BandMaxima, LaneFrame, FIRST_LEVEL, LANES, OUTSIDE};
+use super::band_pyramid::{BandPyramid, BASE_LEVEL};
+use super::lane_frame::{LaneFrame, LANES, OUTSIDE};
 use super::lane_vector::{LaneVector, Portable};
 use super::march::Corners;
 use super::stencil::{Coefficients, RadiusEnd, Stencil, Step};
@@ -16,24 +18,24 @@ type Lanes = [f32; LANES];
 /// Slopes below this come from the padding: no surface lies ahead.
 const NO_SURFACE: f64 = -1e18;
 
-/// Largest stretch skipped at once, in steps (as a power of two).
-const TOP_LEVEL: u32 = 12;
+/// Steps tested against the footprints at once (as a power of two).
+const BLOCK_LEVEL: u32 = 3;
 
-/// One direction of a lanes engine: its line's stencil and the maxima of its bands.
+/// One direction of a lanes engine: its line's stencil and the bounds of its line family.
 pub(crate) struct LaneDirection {
-    /// Whether the direction's frame has the height field's columns as rows.
+    /// Whether the direction's frame columns are the height field's rows (lines along y).
     pub transposed: bool,
     pub stencil: Stencil,
-    pub maxima: BandMaxima,
+    pub pyramid: std::sync::Arc<BandPyramid>,
 }
 
 /// What the lanes of one group start from.
 pub(crate) struct LaneGroup<'a> {
     pub frame: &'a LaneFrame,
     pub direction: &'a LaneDirection,
-    /// The frame's column of lane 0's sample, and its row.
-    pub first_col: usize,
-    pub row: usize,
+    /// The frame column of the lanes' samples, and lane 0's row (lane `i` is in row `v + i`).
+    pub u: usize,
+    pub v: usize,
     /// Which lanes hold a sample whose horizon is wanted.
     pub wanted: [bool; LANES],
     /// Split along (0,0)-(1,1) where `z00 + z11 <= z10 + z01` of the unsigned samples: with
@@ -43,9 +45,9 @@ pub(crate) struct LaneGroup<'a> {
     pub observer_height: f32,
     /// The lowest slope wanted (0 for horizons above the horizontal only), or -infinity.
     pub lowest: f32,
-    /// Steps where the horizons of the group one row before lie (0 for none): the lanes'
-    /// horizons are likely near, so these steps are tested first. They change how fast the
-    /// answer is found, never the answer.
+    /// Steps where the horizons of the group one column before lie (0 for none), counted
+    /// from this group's column: the lanes' horizons are likely near, so these steps are
+    /// tested first. They change how fast the answer is found, never the answer.
     pub hints: [u32; LANES],
 }
 
@@ -77,11 +79,11 @@ fn edge_slopes<V: LaneVector>(a: V, b: V, w: f32, z0: V, c: Coefficients) -> (V,
 }
 
 /// The lanes' `z00, z10, z01, z11` corners of the cell whose corner (0, 0) is `corner`
-/// from `base`.
+/// from `base` (the next column `stride` on, the next row 1).
 #[inline(always)]
 fn cell<V: LaneVector>(z: &[f32], base: usize, stride: usize, corner: isize) -> [V; 4] {
     let at = offset(base, corner);
-    [V::load(z, at), V::load(z, at + 1), V::load(z, at + stride), V::load(z, at + stride + 1)]
+    [V::load(z, at), V::load(z, at + stride), V::load(z, at + 1), V::load(z, at + stride + 1)]
 }
 
 /// Per lane, `main` where the cell of corners `c` is split along (0,0)-(1,1), else `other`.
@@ -177,7 +179,7 @@ fn test_step<V: LaneVector>(grid: &Grid<V>, step: &Step, j: u32, best: &mut Best
             let on_main =
                 exact_edge::<V>(z, at, at + stride + 1, d.main, &d.main_coefficients, z0_exact);
             let on_anti =
-                exact_edge::<V>(z, at + stride, at + 1, d.anti, &d.anti_coefficients, z0_exact);
+                exact_edge::<V>(z, at + 1, at + stride, d.anti, &d.anti_coefficients, z0_exact);
             best.raise(V::select_exact(main_mask(&c, upside_down), &on_main, &on_anti), j);
         }
     }
@@ -197,8 +199,8 @@ fn test_end<V: LaneVector>(
     let at = offset(base, end.corner);
     let (s, q) = (end.s, end.q);
     let slopes = std::array::from_fn(|i| {
-        let (z00, z10) = (z[at + i], z[at + 1 + i]);
-        let (z01, z11) = (z[at + stride + i], z[at + stride + 1 + i]);
+        let (z00, z10) = (z[at + i], z[at + stride + i]);
+        let (z01, z11) = (z[at + 1 + i], z[at + stride + 1 + i]);
         let [d00, d10, d01, d11] = [z00, z10, z01, z11].map(|v| f64::from(v) - z0_exact[i]);
         let main_diagonal = main_split(z00, z10, z01, z11, upside_down);
         let rise =
@@ -211,7 +213,7 @@ fn test_end<V: LaneVector>(
 /// Where a group of lanes reads its samples, and the lanes' own samples.
 struct Grid<'a, V> {
     z: &'a [f32],
-    /// Lane 0's sample in `z`, and samples a row.
+    /// Lane 0's sample in `z`, and samples a column.
     base: usize,
     stride: usize,
     upside_down: bool,
@@ -234,8 +236,9 @@ impl LaneGroup<'_> {
     fn slopes<V: LaneVector>(&self) -> LaneSlopes {
         let frame = self.frame;
         let stencil = &self.direction.stencil;
+        let pyramid = &*self.direction.pyramid;
         let (z, stride) = (&frame.z[..], frame.stride);
-        let base = frame.index(self.first_col, self.row);
+        let base = frame.index(self.u, self.v);
         let z0 = V::load(z, base);
         // Lanes not wanted take the largest slope (nothing raises it) and an infinite
         // ceiling.
@@ -248,9 +251,7 @@ impl LaneGroup<'_> {
         let last_over_frame = self.last_step();
         let last = last_over_frame.min(stencil.len());
         let steps = &stencil.steps[..];
-        let group = self.direction.maxima.group(self.first_col, self.row);
         let footprints = &frame.footprints[..];
-        let lane_footprints = &frame.lane_footprints[..];
         let z0_exact = std::array::from_fn(|i| f64::from(z[base + i]));
         let grid = Grid { z, base, stride, upside_down: self.upside_down, z0, z0_exact };
         // First the steps where the hints say the horizons are (three of them at most).
@@ -262,47 +263,45 @@ impl LaneGroup<'_> {
                 grid.test(steps, j, &mut best);
             }
         }
-        let mut k = 1;
-        let mut level = FIRST_LEVEL + 1;
+        // The column pair (its first column) that step `k`'s points lie between.
+        let (u0, forward) = (self.u, stencil.step_x > 0);
+        let column = |k: usize| if forward { u0 + k - 1 } else { u0 - k };
+        let band = pyramid.band(u0, self.v);
+        let top = pyramid.top_level();
+        let mut level = (BASE_LEVEL + 1).min(top);
+        let (mut k, mut fine_end) = (1, 0);
         while k <= last {
-            if level > FIRST_LEVEL {
-                // A long stretch, against the maxima of the lines' bands.
-                let to = (k + (1 << level) - 1).min(last);
-                let limit = self.ceiling(z0, unwanted, k, to, best.low).min_lane();
-                if self.band_highest(group, k, to) <= limit {
+            if k > fine_end {
+                // The rest of the node of `2^level` columns that step k is in, against each
+                // lane's bound over it.
+                let u = column(k);
+                let first = (u >> level) << level;
+                let to = if forward { k + first + (1 << level) - 1 - u } else { k + u - first };
+                let to = to.min(last);
+                let bounds = V::load(pyramid.bounds(level, u, band), 0);
+                if !V::any_greater(bounds, self.ceiling(z0, unwanted, k, to, best.low)) {
                     k = to + 1;
-                    level = (level + 1).min(TOP_LEVEL);
-                    while (k - 1) % (1 << level) != 0 {
-                        level -= 1;
-                    }
-                } else {
+                    level = (level + 1).min(top);
+                } else if level > BASE_LEVEL {
                     level -= 1;
+                } else {
+                    fine_end = to;
                 }
                 continue;
             }
-            // Eight steps against the footprints of their points (all the lanes' together),
-            // then each step against each lane's own.
-            let to = (k + (1 << FIRST_LEVEL) - 1).min(last);
+            // Eight steps against each lane's footprints of their points, then each step.
+            let to = (k + (1 << BLOCK_LEVEL) - 1).min(fine_end);
             let block = &steps[k..=to];
-            let step_highest = |step: &Step| footprints[offset(base, step.footprint)];
-            let highest =
-                block.iter().map(step_highest).fold(OUTSIDE, |m, v| if v > m { v } else { m });
-            let limits = self.ceiling(z0, unwanted, k, to, best.low);
-            let limit = limits.min_lane();
-            if highest > limit {
+            let footprint = |step: &Step| V::load(footprints, offset(base, step.footprint));
+            let highest = block.iter().fold(V::splat(OUTSIDE), |m, s| footprint(s).max(m));
+            if V::any_greater(highest, self.ceiling(z0, unwanted, k, to, best.low)) {
                 for (j, step) in (k..=to).zip(block) {
-                    let at = offset(base, step.footprint);
-                    if footprints[at] > limit
-                        && V::any_greater(V::load(lane_footprints, at), limits)
-                    {
+                    if V::any_greater(footprint(step), self.ceiling(z0, unwanted, j, j, best.low)) {
                         grid.test(steps, j, &mut best);
                     }
                 }
             }
             k = to + 1;
-            if (k - 1) % (1 << (FIRST_LEVEL + 1)) == 0 {
-                level = FIRST_LEVEL + 1;
-            }
         }
         if let Some(end) = stencil.end.as_ref().filter(|e| e.step <= last_over_frame) {
             test_end(z, base, stride, end, &grid.z0_exact, self.upside_down, &mut best);
@@ -314,18 +313,6 @@ impl LaneGroup<'_> {
             }
         }
         LaneSlopes { slopes, steps: best.steps }
-    }
-
-    /// The highest sample the lines of band group `group` read in steps `from..=to`.
-    #[inline(always)]
-    fn band_highest(&self, group: usize, from: usize, to: usize) -> f32 {
-        let first = self.first_col as isize;
-        let (near, far) = if self.direction.stencil.step_x > 0 {
-            (first + from as isize - 1, first + (LANES - 1 + to) as isize)
-        } else {
-            (first - to as isize, first + (LANES - 1) as isize - (from as isize - 1))
-        };
-        self.direction.maxima.highest(group, near, far)
     }
 
     /// Per lane, the highest a point of steps `from..=to` may lie without raising the horizon
@@ -341,19 +328,20 @@ impl LaneGroup<'_> {
         z0.add(rise.mul(V::splat(1.0 / self.z_scale))).add(unwanted)
     }
 
-    /// The last step at which any lane's line is still over the frame.
+    /// The last step at which any wanted lane's line is still over the frame.
     fn last_step(&self) -> usize {
         let (frame, stencil) = (self.frame, &self.direction.stencil);
         let across = if stencil.step_x > 0 {
-            frame.width.saturating_sub(1 + self.first_col)
+            frame.width.saturating_sub(1 + self.u)
         } else {
-            self.first_col + (LANES - 1).min(frame.width.saturating_sub(1 + self.first_col))
+            self.u
         };
         let m = stencil.rows_per_step;
+        let highest = self.v + (LANES - 1).min(frame.height.saturating_sub(1 + self.v));
         let rows = if m > 0.0 {
-            ((frame.height - 1 - self.row) as f64 / m).floor() as usize + 1
+            ((frame.height - 1 - self.v) as f64 / m).floor() as usize + 1
         } else if m < 0.0 {
-            (self.row as f64 / -m).floor() as usize + 1
+            (highest as f64 / -m).floor() as usize + 1
         } else {
             usize::MAX
         };

@@ -6,6 +6,7 @@ mod cell_pyramid;
 mod coarse_bounds;
 mod far_field;
 mod lane_engine;
+mod band_pyramid;
 mod lane_frame;
 mod lane_vector;
 mod lanes;

@@ -120,8 +120,11 @@ pub(crate) struct StencilLine {
     pub rows_per_step: f64,
     /// Horizontal metres per step.
     pub metres_per_step: f64,
-    /// Samples a row of the grid the offsets index.
+    /// Samples a row of the grid the offsets index (a column where `column_major`).
     pub stride: usize,
+    /// Whether the grid holds its columns one after the other (the lanes' frame) rather than
+    /// its rows (the far field's).
+    pub column_major: bool,
     /// Where a radius cuts the line, in steps.
     pub radius_steps: Option<f64>,
     pub z_scale: f64,
@@ -140,7 +143,14 @@ impl StencilLine {
     pub(crate) fn step(&self, k: usize) -> (Step, Option<RadiusEnd>) {
         let (m, sx, step_x) = (self.rows_per_step, self.step_x as f64, self.step_x);
         let stride = self.stride as isize;
-        let at = |col: isize, row: isize| col + row * stride;
+        let column_major = self.column_major;
+        let at = |col: isize, row: isize| {
+            if column_major {
+                col * stride + row
+            } else {
+                col + row * stride
+            }
+        };
         let snap = |v: f64| -> f64 {
             let r = v.round();
             if (v - r).abs() < ON_GRID {
