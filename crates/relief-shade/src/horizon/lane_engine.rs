@@ -74,6 +74,9 @@ impl LaneEngine {
             lines.iter().zip(wanted).filter(|(_, &w)| w).map(|(l, _)| family(l)).collect();
         families.sort_unstable();
         families.dedup();
+        // The pyramids share the quarter byte a sample and direction the estimate allows.
+        let wanted_count = wanted.iter().filter(|&&w| w).count().max(1);
+        let pyramid_bytes = wanted_count as f64 / (4.0 * families.len().max(1) as f64);
         let pyramids: HashMap<(bool, u64), Arc<BandPyramid>> = [false, true]
             .into_par_iter()
             .flat_map(|t| {
@@ -85,7 +88,8 @@ impl LaneEngine {
                     .par_iter()
                     .filter(|f| f.0 == t)
                     .map(|&(t, slope)| {
-                        let pyramid = BandPyramid::new(frame, &windows, f64::from_bits(slope));
+                        let pyramid =
+                            BandPyramid::new(frame, &windows, f64::from_bits(slope), pyramid_bytes);
                         ((t, slope), Arc::new(pyramid))
                     })
                     .collect::<Vec<_>>()
@@ -195,8 +199,7 @@ impl LaneEngine {
                 let mut run = |u: usize, first: usize, end: usize, at: usize, step: usize| {
                     group.wanted = std::array::from_fn(|i| {
                         let v = first + i;
-                        v < end
-                            && !if direction.transposed { is_void(v, u) } else { is_void(u, v) }
+                        v < end && !if direction.transposed { is_void(v, u) } else { is_void(u, v) }
                     });
                     if group.v != first || group.u + 1 != u {
                         group.hints = [0; LANES];
@@ -218,8 +221,13 @@ impl LaneEngine {
                         }
                         // The next group is one column on: the same points one step nearer
                         // (forwards) or farther.
-                        group.hints =
-                            slopes.steps.map(|j| if j == 0 { 0 } else { j.saturating_add_signed(-step_x as i32) });
+                        group.hints = slopes.steps.map(|j| {
+                            if j == 0 {
+                                0
+                            } else {
+                                j.saturating_add_signed(-step_x as i32)
+                            }
+                        });
                     } else {
                         group.hints = [0; LANES];
                     }

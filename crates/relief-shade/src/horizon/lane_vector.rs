@@ -25,8 +25,6 @@ pub(crate) trait LaneVector: Copy {
     fn select_le(a: Self, b: Self, yes: Self, no: Self) -> Self;
     /// Per lane, `yes` where `a < 0`, else `no`.
     fn select_negative(a: Self, yes: Self, no: Self) -> Self;
-    /// The least lane.
-    fn min_lane(self) -> f32;
     /// Bit `i` set where `a <= b` in lane `i`.
     fn le_mask(a: Self, b: Self) -> u16 {
         let (a, b) = (a.to_array(), b.to_array());
@@ -142,10 +140,6 @@ impl LaneVector for Portable {
         Portable(std::array::from_fn(|i| if a.0[i] < 0.0 { yes.0[i] } else { no.0[i] }))
     }
     #[inline(always)]
-    fn min_lane(self) -> f32 {
-        self.0.into_iter().fold(f32::INFINITY, |m, v| if v < m { v } else { m })
-    }
-    #[inline(always)]
     fn to_array(self) -> [f32; LANES] {
         self.0
     }
@@ -219,10 +213,6 @@ mod avx512 {
                 let m = _mm512_cmp_ps_mask::<_CMP_LT_OQ>(a.0, _mm512_setzero_ps());
                 Avx512(_mm512_mask_blend_ps(m, no.0, yes.0))
             }
-        }
-        #[inline(always)]
-        fn min_lane(self) -> f32 {
-            unsafe { _mm512_reduce_min_ps(self.0) }
         }
         #[inline(always)]
         fn to_array(self) -> [f32; LANES] {

@@ -6,7 +6,7 @@
 //! so their bounds are one vector), eight steps and single steps by the frame's footprints;
 //! the rest they test point by point, exactly.
 
-use super::band_pyramid::{BandPyramid, BASE_LEVEL};
+use super::band_pyramid::BandPyramid;
 use super::lane_frame::{LaneFrame, LANES, OUTSIDE};
 use super::lane_vector::{LaneVector, Portable};
 use super::march::Corners;
@@ -267,8 +267,8 @@ impl LaneGroup<'_> {
         let (u0, forward) = (self.u, stencil.step_x > 0);
         let column = |k: usize| if forward { u0 + k - 1 } else { u0 - k };
         let band = pyramid.band(u0, self.v);
-        let top = pyramid.top_level();
-        let mut level = (BASE_LEVEL + 1).min(top);
+        let (base_level, top) = (pyramid.base_level(), pyramid.top_level());
+        let mut level = (base_level + 1).min(top);
         let (mut k, mut fine_end) = (1, 0);
         while k <= last {
             if k > fine_end {
@@ -282,7 +282,7 @@ impl LaneGroup<'_> {
                 if !V::any_greater(bounds, self.ceiling(z0, unwanted, k, to, best.low)) {
                     k = to + 1;
                     level = (level + 1).min(top);
-                } else if level > BASE_LEVEL {
+                } else if level > base_level {
                     level -= 1;
                 } else {
                     fine_end = to;
@@ -331,11 +331,8 @@ impl LaneGroup<'_> {
     /// The last step at which any wanted lane's line is still over the frame.
     fn last_step(&self) -> usize {
         let (frame, stencil) = (self.frame, &self.direction.stencil);
-        let across = if stencil.step_x > 0 {
-            frame.width.saturating_sub(1 + self.u)
-        } else {
-            self.u
-        };
+        let across =
+            if stencil.step_x > 0 { frame.width.saturating_sub(1 + self.u) } else { self.u };
         let m = stencil.rows_per_step;
         let highest = self.v + (LANES - 1).min(frame.height.saturating_sub(1 + self.v));
         let rows = if m > 0.0 {

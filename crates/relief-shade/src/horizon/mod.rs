@@ -2,11 +2,11 @@
 //! horizon seen from every sample of a height field, to the edge of the data (or a radius),
 //! from which the sky-view factor, openness, sky illumination and insolation follow.
 
+mod band_pyramid;
 mod cell_pyramid;
 mod coarse_bounds;
 mod far_field;
 mod lane_engine;
-mod band_pyramid;
 mod lane_frame;
 mod lane_vector;
 mod lanes;

@@ -75,9 +75,9 @@ impl HorizonParams {
     }
 
     /// At most how many bytes per sample of the height field one [`super::HorizonEngine`]
-    /// with these parameters holds: two copies of the samples (rows as they are and swapped)
-    /// with their footprints' maxima, the maxima of the rows while it starts, and a little
-    /// per direction.
+    /// with these parameters holds: two copies of the samples (columns one after the other
+    /// and rows) with their footprints' maxima, the band windows while it starts, and a
+    /// quarter of a byte per direction for the band pyramids.
     pub fn engine_bytes_per_sample(&self) -> u64 {
         24 + (self.azimuths as u64).div_ceil(4)
     }
