@@ -32,6 +32,7 @@
 //! millionth of the heights' magnitude and range) is far above the rounding of any tracer.
 //! Every other target is left to the tracer.
 
+use super::unit_runs::{RunGeometry, Runs};
 use relief_core::{DVec3, HeightField, Surface};
 
 /// Direction bins of the sweep.
@@ -39,30 +40,7 @@ pub const BINS: usize = 1 << 15;
 
 /// How much a unit's interval of pseudo-angles (0 to 4 round the circle) is shrunk at each
 /// end: far more than their rounding, far less than a bin.
-const ANGLE_MARGIN: f64 = 1e-9;
-
-/// The pseudo-angle of direction (`x`, `y`) in [0, 4): 0 east, 1 north, 2 west, 3 south,
-/// growing counterclockwise with the angle.
-#[inline]
-fn diamond_angle(x: f64, y: f64) -> f64 {
-    if y >= 0.0 {
-        if x >= 0.0 {
-            y / (x + y)
-        } else {
-            1.0 - x / (y - x)
-        }
-    } else if x < 0.0 {
-        2.0 - y / (-x - y)
-    } else {
-        3.0 + x / (x - y)
-    }
-}
-
-/// The bin of pseudo-angle `a`.
-#[inline]
-fn bin_of(a: f64) -> usize {
-    ((a * (BINS as f64 / 4.0)) as usize).min(BINS - 1)
-}
+pub(crate) const ANGLE_MARGIN: f64 = 1e-9;
 
 /// One sweep's inputs: the field, its surface, the eye, the margin.
 struct Sweep<'a> {
@@ -115,6 +93,9 @@ impl Sweep<'_> {
         // The rows whose units and targets can lie in the half (with a margin of rows).
         let rows = if bins.start == 0 { re.saturating_sub(2)..h } else { 0..(re + 3).min(h) };
 
+        let geometry =
+            RunGeometry { field, surface: self.surface, eye: self.eye, margin: self.margin };
+        let mut runs = Runs::default();
         let mut bounds = vec![f64::NEG_INFINITY; BINS];
         let mut hidden = vec![false; w * h];
         // Rings of units already in the bins.
@@ -124,9 +105,11 @@ impl Sweep<'_> {
             // Every unit at least RING_LAG rings nearer than the chunk's first targets.
             let units_to = first_ring.saturating_sub(RING_LAG - 1);
             let annulus = Annulus { ce, re, w, h, rows: rows.clone() };
-            annulus.visit(units_in..units_to, |c, r| {
-                if let Some(unit) = self.unit(c, r) {
-                    let (first, last) = (unit.first.max(bins.start), unit.last.min(bins.end));
+            annulus.visit(units_in..units_to, |r, cols| {
+                runs.units(&geometry, r, cols);
+                for unit in &runs.units {
+                    let first = (unit.first as usize).max(bins.start);
+                    let last = (unit.last as usize).min(bins.end);
                     for bound in bounds.get_mut(first..last).unwrap_or_default() {
                         *bound = bound.max(unit.bound);
                     }
@@ -134,14 +117,12 @@ impl Sweep<'_> {
             });
             units_in = units_in.max(units_to);
             let targets = first_ring..(first_ring + chunk).min(rings);
-            annulus.visit(targets, |c, r| {
-                let Some(t) = target(c, r) else { return };
-                let (dx, dy) = (t.x - eye.x, t.y - eye.y);
-                let d = (dx * dx + dy * dy).sqrt();
-                let bin = bin_of(diamond_angle(dx, dy));
-                if d > 0.0 && bins.contains(&bin) {
-                    let slope = (t.z - eye.z) / d;
-                    hidden[c + r * w] = slope < bounds[bin];
+            annulus.visit(targets, |r, cols| {
+                runs.targets(&geometry, r, cols, target);
+                for t in &runs.targets {
+                    if bins.contains(&t.bin) {
+                        hidden[t.index] = t.slope < bounds[t.bin];
+                    }
                 }
             });
         }
@@ -171,10 +152,14 @@ struct Annulus {
 }
 
 impl Annulus {
-    /// Calls `visit(col, row)` for every texel whose ring lies in `rings`, row by row from the
-    /// south, west to east.
+    /// Calls `visit(row, cols)` for every run of texels whose ring lies in `rings`, row by row
+    /// from the south, west to east.
     #[inline]
-    fn visit(&self, rings: std::ops::Range<usize>, mut visit: impl FnMut(usize, usize)) {
+    fn visit(
+        &self,
+        rings: std::ops::Range<usize>,
+        mut visit: impl FnMut(usize, std::ops::Range<usize>),
+    ) {
         if rings.is_empty() {
             return;
         }
@@ -185,90 +170,13 @@ impl Annulus {
         for r in first..(re + outer + 1).min(h).min(self.rows.end) {
             let dr = r.abs_diff(re);
             if dr >= rings.start {
-                cols(ce.saturating_sub(outer), ce + outer).for_each(|c| visit(c, r));
+                visit(r, cols(ce.saturating_sub(outer), ce + outer));
             } else {
                 if let Some(inner) = ce.checked_sub(rings.start) {
-                    cols(ce.saturating_sub(outer), inner).for_each(|c| visit(c, r));
+                    visit(r, cols(ce.saturating_sub(outer), inner));
                 }
-                cols(ce + rings.start, ce + outer).for_each(|c| visit(c, r));
+                visit(r, cols(ce + rings.start, ce + outer));
             }
         }
-    }
-}
-
-/// What a unit adds to the sweep.
-struct UnitEntry {
-    /// Its bound `l` on the slope of lines of sight.
-    bound: f64,
-    /// The bins it covers whole, `first..last`.
-    first: usize,
-    last: usize,
-}
-
-impl Sweep<'_> {
-    /// The unit whose south-west sample is (`c`, `r`) (texel (`c`, `r`) for `boxes`), or
-    /// `None` for one that does not exist, touches a hole or the eye, lies across the cut of
-    /// the pseudo-angles (east of the eye) or covers no bin whole.
-    fn unit(&self, c: usize, r: usize) -> Option<UnitEntry> {
-        let field = self.field;
-        let g = field.geometry();
-        let (w, h) = (field.width(), field.height());
-        let z = |c: usize, r: usize| f64::from(field.sample(c, r)) * g.z_scale;
-        let (x0, y0, zmin) = match self.surface {
-            Surface::Triangles => {
-                if c + 1 >= w || r + 1 >= h {
-                    return None;
-                }
-                let corners = [(c, r), (c + 1, r), (c, r + 1), (c + 1, r + 1)];
-                if corners.iter().any(|&(c, r)| field.is_hole(c, r)) {
-                    return None;
-                }
-                let zmin = corners.iter().map(|&(c, r)| z(c, r)).fold(f64::INFINITY, f64::min);
-                (c as f64 + 0.5, r as f64 + 0.5, zmin)
-            }
-            Surface::Boxes => {
-                if field.is_hole(c, r) {
-                    return None;
-                }
-                (c as f64, r as f64, z(c, r))
-            }
-        };
-        let (x0, y0) = (g.origin.x + x0 * g.dx - self.eye.x, g.origin.y + y0 * g.dy - self.eye.y);
-        let (x1, y1) = (x0 + g.dx, y0 + g.dy);
-        let (near_x, near_y) = (x0.max(0.0).max(-x1), y0.max(0.0).max(-y1));
-        let dmin = (near_x * near_x + near_y * near_y).sqrt();
-        // The cut of the pseudo-angles runs east of the eye.
-        if dmin <= 0.0 || (x1 > 0.0 && y0 <= 0.0 && y1 >= 0.0) {
-            return None;
-        }
-        let (far_x, far_y) = (x0.abs().max(x1.abs()), y0.abs().max(y1.abs()));
-        let dmax = (far_x * far_x + far_y * far_y).sqrt();
-        // The directions the unit covers run from one corner to the opposite one; which two,
-        // by the quadrant it lies in (all four where it straddles an axis).
-        let (lo, hi) = if x0 >= 0.0 && y0 >= 0.0 {
-            (diamond_angle(x1, y0), diamond_angle(x0, y1))
-        } else if x1 <= 0.0 && y0 >= 0.0 {
-            (diamond_angle(x1, y1), diamond_angle(x0, y0))
-        } else if x1 <= 0.0 && y1 <= 0.0 {
-            (diamond_angle(x0, y1), diamond_angle(x1, y0))
-        } else if x0 >= 0.0 && y1 <= 0.0 {
-            (diamond_angle(x0, y0), diamond_angle(x1, y1))
-        } else {
-            let angles = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| diamond_angle(x, y));
-            let lo = angles.iter().copied().fold(f64::INFINITY, f64::min);
-            (lo, angles.iter().copied().fold(f64::NEG_INFINITY, f64::max))
-        };
-        let (lo, hi) = (lo + ANGLE_MARGIN, hi - ANGLE_MARGIN);
-        let scale = BINS as f64 / 4.0;
-        // Both are >= 0: `as` truncates, the floor.
-        let lo_bins = (lo * scale).max(0.0);
-        let first = lo_bins as usize + usize::from(lo_bins.fract() > 0.0);
-        let last = ((hi * scale).max(0.0) as usize).min(BINS);
-        if first >= last {
-            return None;
-        }
-        let rise = zmin - self.margin - self.eye.z;
-        let bound = if rise >= 0.0 { rise / dmax } else { rise / dmin };
-        Some(UnitEntry { bound, first, last })
     }
 }

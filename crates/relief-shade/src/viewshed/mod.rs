@@ -15,6 +15,7 @@
 
 pub mod hidden_sweep;
 mod observer;
+mod unit_runs;
 
 pub use observer::{Observer, DEFAULT_OBSERVER_HEIGHT};
 
