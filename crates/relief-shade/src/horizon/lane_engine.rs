@@ -113,6 +113,7 @@ impl LaneEngine {
                     radius_steps: params.radius.map(|r| r / metres_per_step),
                     z_scale: g.z_scale,
                     observer_height: params.observer_height,
+                    height_range: f64::from(field.max_sample()) - f64::from(field.min_sample()),
                 };
                 let stencil = Stencil::new(&line, frame.width.saturating_sub(1).max(1));
                 let pyramid = pyramids[&family(&l)].clone();

@@ -10,7 +10,7 @@ use super::band_pyramid::BandPyramid;
 use super::lane_frame::{LaneFrame, LANES, OUTSIDE};
 use super::lane_vector::{LaneVector, Portable};
 use super::march::Corners;
-use super::stencil::{Coefficients, RadiusEnd, Stencil, Step};
+use super::stencil::{Coefficients, RadiusEnd, Stencil, Step, F32_ERROR};
 
 /// The values of the lanes.
 type Lanes = [f32; LANES];
@@ -62,19 +62,13 @@ fn offset(base: usize, by: isize) -> usize {
     base.wrapping_add_signed(by)
 }
 
-/// A bound on the error of a slope computed in f32 below, relative to the sum of the
-/// magnitudes it is made of (each of the six roundings costs at most half an f32 epsilon
-/// of those; twice that for safety).
-const F32_ERROR: f32 = 6.0 * f32::EPSILON;
-
 /// The slopes of the points `a + w (b - a)` from the lanes' samples `z0` in f32, and a bound
 /// on how far each may lie above the exact slope.
 #[inline(always)]
 fn edge_slopes<V: LaneVector>(a: V, b: V, w: f32, z0: V, c: Coefficients) -> (V, V) {
     let (da, db) = (a.sub(z0), b.sub(z0));
     let slope = da.add(V::splat(w).mul(db.sub(da))).mul(V::splat(c.scale)).sub(V::splat(c.lift));
-    let magnitude = da.abs().max(db.abs()).mul(V::splat(c.scale)).add(slope.abs());
-    let error = magnitude.add(V::splat(c.lift)).mul(V::splat(F32_ERROR));
+    let error = slope.abs().mul(V::splat(F32_ERROR)).add(V::splat(c.error));
     (slope, error)
 }
 

@@ -68,6 +68,10 @@ pub(crate) struct RadiusEnd {
 pub(crate) struct Coefficients {
     pub scale: f32,
     pub lift: f32,
+    /// A bound on how far above the exact slope the f32 slope of a point at this distance
+    /// may lie, but for [`F32_ERROR`] times its own magnitude: [`F32_ERROR`] times the
+    /// largest magnitude of its other terms (heights differing by at most the frame's range).
+    pub error: f32,
     /// The same in f64, for the exact slope.
     pub scale64: f64,
     pub lift64: f64,
@@ -75,9 +79,19 @@ pub(crate) struct Coefficients {
 
 impl Coefficients {
     /// The coefficients of a point that is not there: every slope to it is -infinity.
-    pub const NONE: Coefficients =
-        Coefficients { scale: 0.0, lift: f32::INFINITY, scale64: 0.0, lift64: f64::INFINITY };
+    pub const NONE: Coefficients = Coefficients {
+        scale: 0.0,
+        lift: f32::INFINITY,
+        error: 0.0,
+        scale64: 0.0,
+        lift64: f64::INFINITY,
+    };
 }
+
+/// A bound on the error of a slope computed in f32 by the lanes, relative to the sum of the
+/// magnitudes it is made of (each of the six roundings costs at most half an f32 epsilon
+/// of those; twice that for safety).
+pub(crate) const F32_ERROR: f32 = 6.0 * f32::EPSILON;
 
 /// The points of one step: the crossings of column `k` and of a row (each may be
 /// [`EdgePoint::NONE`]), and of the split diagonals of the (up to two) cells between.
@@ -129,6 +143,8 @@ pub(crate) struct StencilLine {
     pub radius_steps: Option<f64>,
     pub z_scale: f64,
     pub observer_height: f64,
+    /// The highest sample of the grid minus its lowest (for the f32 slopes' error bound).
+    pub height_range: f64,
 }
 
 impl StencilLine {
@@ -136,7 +152,9 @@ impl StencilLine {
     fn coefficients(&self, kappa: f64) -> Coefficients {
         let t = kappa * self.metres_per_step;
         let (scale64, lift64) = (self.z_scale / t, self.observer_height / t);
-        Coefficients { scale: scale64 as f32, lift: lift64 as f32, scale64, lift64 }
+        let others = self.height_range * scale64.abs() + lift64.abs();
+        let error = (others * f64::from(F32_ERROR) * (1.0 + 1e-6)) as f32;
+        Coefficients { scale: scale64 as f32, lift: lift64 as f32, error, scale64, lift64 }
     }
 
     /// The points of step `k` (from 1), and the line's end at the radius if it lies in it.
