@@ -299,7 +299,9 @@ mod avx512 {
                 const DOWN: i32 = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
                 let lo = _mm512_cvt_roundpd_ps::<DOWN>(_mm512_loadu_pd(exact.as_ptr()));
                 let hi = _mm512_cvt_roundpd_ps::<DOWN>(_mm512_loadu_pd(exact.as_ptr().add(8)));
-                Avx512(_mm512_insertf32x8::<1>(_mm512_castps256_ps512(lo), hi))
+                // Both halves in one register (AVX-512 F's insert, as 64-bit lanes).
+                let low = _mm512_castps_pd(_mm512_castps256_ps512(lo));
+                Avx512(_mm512_castpd_ps(_mm512_insertf64x4::<1>(low, _mm256_castps_pd(hi))))
             }
         }
     }
