@@ -61,6 +61,16 @@ pub struct Segment {
     pub z_exit: f64,
 }
 
+impl Segment {
+    /// Whether the ray only touches the cell's footprint: it enters through a side and leaves
+    /// through a side at the same parameter (a corner, or an edge crossed at a point).
+    pub fn touches_side_only(&self) -> bool {
+        let side_entry = matches!(self.entry, Entry::Neighbour(_) | Entry::OuterFace(0 | 1));
+        let side_exit = self.t_exit == self.t_next_x || self.t_exit == self.t_next_y;
+        self.t_enter == self.t_exit && side_entry && side_exit
+    }
+}
+
 /// A surface of a height field seen as a grid of cells, with the exact per-cell ray test.
 #[derive(Debug, Clone)]
 pub struct CellGrid {
@@ -315,6 +325,9 @@ impl CellGrid {
 
     /// The exact first point of the cell-space `ray` inside the solid over cell (cx, cy), within
     /// `seg`. Returns the parameter and the normal in grid space (zero when the ray starts inside).
+    /// A segment of no length between two of the cell's sides (a ray that only touches the
+    /// footprint at a corner or along an edge) meets nothing: touching is not a hit, whichever
+    /// cells a traversal visits there.
     #[inline]
     pub fn intersect_cell(
         &self,
@@ -324,7 +337,7 @@ impl CellGrid {
         cy: usize,
         seg: &Segment,
     ) -> Option<(f64, DVec3)> {
-        if seg.t_enter > seg.t_exit || self.is_empty_cell(cx, cy) {
+        if seg.t_enter > seg.t_exit || self.is_empty_cell(cx, cy) || seg.touches_side_only() {
             return None;
         }
         match self.surface {
