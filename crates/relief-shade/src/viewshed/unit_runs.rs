@@ -184,10 +184,8 @@ impl Runs {
         let scale = BINS as f64 / 4.0;
         // Every unit's numbers first (a loop without branches, in vectors), then the units
         // that count.
-        for v in [&mut self.bound] {
-            v.clear();
-            v.resize(n, 0.0);
-        }
+        self.bound.clear();
+        self.bound.resize(n, 0.0);
         for v in [&mut self.first, &mut self.last] {
             v.clear();
             v.resize(n, 0);
