@@ -18,6 +18,10 @@ type Lanes = [f32; LANES];
 /// Slopes below this come from the padding: no surface lies ahead.
 const NO_SURFACE: f64 = -1e18;
 
+/// A bound on the relative rounding of a ceiling computed in f32 (four roundings of half an
+/// f32 epsilon each, twice that for safety).
+const CEILING_ROUNDING: f32 = 4.0 * f32::EPSILON;
+
 /// Steps tested against the footprints at once (as a power of two).
 const BLOCK_LEVEL: u32 = 3;
 
@@ -309,17 +313,23 @@ impl LaneGroup<'_> {
         LaneSlopes { slopes, steps: best.steps }
     }
 
-    /// Per lane, the highest a point of steps `from..=to` may lie without raising the horizon
-    /// of a lane whose sample is `z0` and best slope so far `best` (`unwanted` is 0 in the
-    /// lanes wanted, infinite in the others). A lane's bound is its best line at the
-    /// stretch's start, or at its end where the line descends.
+    /// Per lane, a height at most the highest a point of steps `from..=to` may lie without
+    /// raising the horizon of a lane whose sample is `z0` and best slope so far `best`
+    /// (`unwanted` is 0 in the lanes wanted, infinite in the others). A lane's bound is its
+    /// best line at the stretch's start, or at its end where the line descends.
     #[inline(always)]
     fn ceiling<V: LaneVector>(&self, z0: V, unwanted: V, from: usize, to: usize, best: V) -> V {
         let steps = &self.direction.stencil.steps;
         let (near, far) = (steps[from - 1].distance, steps[to].distance);
         let t = V::select_negative(best, V::splat(far), V::splat(near));
         let rise = best.mul(t).add(V::splat(self.observer_height));
-        z0.add(rise.mul(V::splat(1.0 / self.z_scale))).add(unwanted)
+        let lift = rise.mul(V::splat(1.0 / self.z_scale));
+        // Lowered by more than the rounding of the f32 operations above, so that a point is
+        // skipped only where it lies below the exact ceiling: how many points are tested
+        // then does not depend on how the stretches fall, and a window's horizons are the
+        // whole raster's bit for bit.
+        let rounding = z0.abs().add(lift.abs()).mul(V::splat(CEILING_ROUNDING));
+        z0.add(lift).sub(rounding).add(unwanted)
     }
 
     /// The last step at which any wanted lane's line is still over the frame.
