@@ -32,7 +32,7 @@
 //! millionth of the heights' magnitude and range) is far above the rounding of any tracer.
 //! Every other target is left to the tracer.
 
-use super::unit_runs::{RunGeometry, Runs};
+use super::unit_runs::Runs;
 use relief_core::{DVec3, HeightField, Surface};
 
 /// Direction bins of the sweep.
@@ -43,11 +43,11 @@ pub const BINS: usize = 1 << 15;
 pub(crate) const ANGLE_MARGIN: f64 = 1e-9;
 
 /// One sweep's inputs: the field, its surface, the eye, the margin.
-struct Sweep<'a> {
-    field: &'a HeightField,
-    surface: Surface,
-    eye: DVec3,
-    margin: f64,
+pub(crate) struct Sweep<'a> {
+    pub field: &'a HeightField,
+    pub surface: Surface,
+    pub eye: DVec3,
+    pub margin: f64,
 }
 
 /// Per sample (row-major), whether the segment from `eye` to the sample's target point is
@@ -93,8 +93,6 @@ impl Sweep<'_> {
         // The rows whose units and targets can lie in the half (with a margin of rows).
         let rows = if bins.start == 0 { re.saturating_sub(2)..h } else { 0..(re + 3).min(h) };
 
-        let geometry =
-            RunGeometry { field, surface: self.surface, eye: self.eye, margin: self.margin };
         let mut runs = Runs::default();
         let mut bounds = vec![f64::NEG_INFINITY; BINS];
         let mut hidden = vec![false; w * h];
@@ -106,7 +104,7 @@ impl Sweep<'_> {
             let units_to = first_ring.saturating_sub(RING_LAG - 1);
             let annulus = Annulus { ce, re, w, h, rows: rows.clone() };
             annulus.visit(units_in..units_to, |r, cols| {
-                runs.units(&geometry, r, cols);
+                runs.units(self, r, cols);
                 for unit in &runs.units {
                     let first = (unit.first as usize).max(bins.start);
                     let last = (unit.last as usize).min(bins.end);
@@ -118,7 +116,7 @@ impl Sweep<'_> {
             units_in = units_in.max(units_to);
             let targets = first_ring..(first_ring + chunk).min(rings);
             annulus.visit(targets, |r, cols| {
-                runs.targets(&geometry, r, cols, target);
+                runs.targets(self, r, cols, target);
                 for t in &runs.targets {
                     if bins.contains(&t.bin) {
                         hidden[t.index] = t.slope < bounds[t.bin];

@@ -5,8 +5,8 @@
 //! AVX-512 registers where the processor has them (chosen at run time; the same IEEE
 //! operations either way, so the same bits).
 
-use super::hidden_sweep::{ANGLE_MARGIN, BINS};
-use relief_core::{DVec3, HeightField, Surface};
+use super::hidden_sweep::{Sweep, ANGLE_MARGIN, BINS};
+use relief_core::{DVec3, Surface};
 
 /// The pseudo-angle of direction (`x`, `y`) in [0, 4): 0 east, 1 north, 2 west, 3 south,
 /// growing counterclockwise with the angle ("diamond angle", no trigonometry). Without
@@ -46,14 +46,6 @@ pub(crate) struct TargetEntry {
     pub slope: f64,
 }
 
-/// The geometry one sweep's runs share.
-pub(crate) struct RunGeometry<'a> {
-    pub field: &'a HeightField,
-    pub surface: Surface,
-    pub eye: DVec3,
-    pub margin: f64,
-}
-
 /// Scratch space of the runs, reused from run to run.
 #[derive(Default)]
 pub(crate) struct Runs {
@@ -64,11 +56,11 @@ pub(crate) struct Runs {
     corner_x: Vec<f64>,
     /// Per unit, its lowest height (NaN where it has none).
     lowest: Vec<f64>,
-    /// Per unit, its bound, its first and last bin, and whether it counts.
+    /// Per unit, its bound, its first and last bin, and whether it enters the bins.
     bound: Vec<f64>,
     first: Vec<u32>,
     last: Vec<u32>,
-    counts: Vec<bool>,
+    kept: Vec<bool>,
     /// The units of the last run that cover a bin.
     pub units: Vec<UnitEntry>,
     /// The targets of the last run.
@@ -77,13 +69,16 @@ pub(crate) struct Runs {
     target_y: Vec<f64>,
     target_z: Vec<f64>,
     target_index: Vec<usize>,
+    /// Per target, its line of sight's slope (NaN where it has no direction) and its bin.
+    target_slope: Vec<f64>,
+    target_bin: Vec<u32>,
 }
 
 impl Runs {
     /// Fills [`Runs::units`] with the units of row `r` whose south-west sample (texel, for
     /// `boxes`) lies in `cols` and that cover a bin whole.
     #[allow(unsafe_code)]
-    pub(crate) fn units(&mut self, g: &RunGeometry, r: usize, cols: std::ops::Range<usize>) {
+    pub(crate) fn units(&mut self, g: &Sweep, r: usize, cols: std::ops::Range<usize>) {
         #[cfg(target_arch = "x86_64")]
         if wide() {
             // SAFETY: the processor has AVX-512 F and VL (checked just above).
@@ -96,7 +91,7 @@ impl Runs {
     #[allow(unsafe_code)]
     pub(crate) fn targets<T: Fn(usize, usize) -> Option<DVec3>>(
         &mut self,
-        g: &RunGeometry,
+        g: &Sweep,
         r: usize,
         cols: std::ops::Range<usize>,
         target: &T,
@@ -123,7 +118,7 @@ impl Runs {
     }
 
     #[inline(always)]
-    fn units_body(&mut self, g: &RunGeometry, r: usize, cols: std::ops::Range<usize>) {
+    fn units_body(&mut self, g: &Sweep, r: usize, cols: std::ops::Range<usize>) {
         self.units.clear();
         let field = g.field;
         let geometry = field.geometry();
@@ -190,12 +185,11 @@ impl Runs {
             v.clear();
             v.resize(n, 0);
         }
-        self.counts.clear();
-        self.counts.resize(n, false);
+        self.kept.clear();
+        self.kept.resize(n, false);
         let (x, lower, upper) = (&self.corner_x[..=n], &self.lower[..=n], &self.upper[..=n]);
         let (lowest, bound) = (&self.lowest[..n], &mut self.bound[..n]);
-        let (first, last, counts) =
-            (&mut self.first[..n], &mut self.last[..n], &mut self.counts[..n]);
+        let (first, last, kept) = (&mut self.first[..n], &mut self.last[..n], &mut self.kept[..n]);
         for i in 0..n {
             let (x0, x1) = (x[i], x[i + 1]);
             let near_x = x0.max(0.0).max(-x1);
@@ -213,10 +207,10 @@ impl Runs {
             let rise = lowest[i] - g.margin - g.eye.z;
             bound[i] = rise / if rise >= 0.0 { dmax } else { dmin };
             (first[i], last[i]) = (from, to);
-            counts[i] = dmin > 0.0 && !(x1 > 0.0 && crosses_cut_row) && !rise.is_nan() && from < to;
+            kept[i] = dmin > 0.0 && !(x1 > 0.0 && crosses_cut_row) && !rise.is_nan() && from < to;
         }
         for i in 0..n {
-            if counts[i] {
+            if kept[i] {
                 self.units.push(UnitEntry { bound: bound[i], first: first[i], last: last[i] });
             }
         }
@@ -226,12 +220,12 @@ impl Runs {
     fn targets_body(&mut self) {
         self.targets.clear();
         let n = self.target_x.len();
-        self.bound.clear();
-        self.bound.resize(n, 0.0);
-        self.first.clear();
-        self.first.resize(n, 0);
+        self.target_slope.clear();
+        self.target_slope.resize(n, 0.0);
+        self.target_bin.clear();
+        self.target_bin.resize(n, 0);
         let (x, y, z) = (&self.target_x[..n], &self.target_y[..n], &self.target_z[..n]);
-        let (slopes, bins) = (&mut self.bound[..n], &mut self.first[..n]);
+        let (slopes, bins) = (&mut self.target_slope[..n], &mut self.target_bin[..n]);
         for i in 0..n {
             let (dx, dy) = (x[i], y[i]);
             let d = (dx * dx + dy * dy).sqrt();
@@ -248,7 +242,7 @@ impl Runs {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx512vl,avx2")]
-    fn units_wide(&mut self, g: &RunGeometry, r: usize, cols: std::ops::Range<usize>) {
+    fn units_wide(&mut self, g: &Sweep, r: usize, cols: std::ops::Range<usize>) {
         self.units_body(g, r, cols);
     }
 
