@@ -6,10 +6,13 @@
 //! Stretches too low to raise a horizon are skipped by the raster's [`CoarseBounds`].
 
 use super::coarse_bounds::CoarseBounds;
-use super::lane_frame::OUTSIDE;
-use super::lanes::main_split;
+use super::lane_frame::{LANES, OUTSIDE};
+use super::lane_vector::{LaneVector, Portable};
+#[cfg(target_arch = "x86_64")]
+use super::lane_vector::Avx512;
+use super::lanes::{test_step, Best, Grid};
 use super::stencil::Stencil;
-use super::stencil::{Coefficients, StencilLine, Step};
+use super::stencil::StencilLine;
 use crate::ShadeError;
 use std::ops::Range;
 use std::sync::{Arc, Mutex};
@@ -104,16 +107,6 @@ impl FarError {
 const TOP_LEVEL: u32 = 12;
 /// Steps whose points are read and tested one by one, together (as a power of two).
 const LEAF_LEVEL: u32 = 3;
-/// The stride of the offsets of a far line's points: columns are offsets modulo it.
-const FAR_STRIDE_BITS: u32 = 32;
-
-/// Splits a far line's point offset into its column and row offsets.
-#[inline]
-fn decode(offset: isize) -> (isize, isize) {
-    let row = (offset + (1 << (FAR_STRIDE_BITS - 1))) >> FAR_STRIDE_BITS;
-    (offset - (row << FAR_STRIDE_BITS), row)
-}
-
 /// One direction's line through the whole raster, as the lanes' frame of that direction sees
 /// it (rows and columns swapped where `transposed`), and the window within it.
 pub(crate) struct FarLine {
@@ -171,6 +164,29 @@ impl Patch {
     }
 }
 
+impl Patch {
+    /// A patch that holds samples `first` and `last` (column, row) of the raster (and so the
+    /// rectangle between), from those at hand or a new one; `None` where the patch of `first`
+    /// does not hold `last`.
+    #[inline(always)]
+    fn holding(
+        &mut self,
+        terrain: &dyn FarTerrain,
+        first: [isize; 2],
+        last: [isize; 2],
+    ) -> Result<Option<&SamplePatch>, ShadeError> {
+        let holds = |p: &SamplePatch| p.get(first[0], first[1]).is_some() && p.get(last[0], last[1]).is_some();
+        if let Some(i) = self.recent.iter().position(holds) {
+            if i > 0 {
+                self.recent.swap(0, i);
+            }
+            return Ok(Some(&self.recent[0]));
+        }
+        self.sample(terrain, first[0], first[1])?;
+        Ok(self.recent.first().filter(|p| holds(p)))
+    }
+}
+
 impl FarLine {
     /// The far line of a direction whose line in the window's frame is `line`, for a window of
     /// `window_width x window_height` samples placed by `far`, seen `facing` up (`sign`).
@@ -182,15 +198,20 @@ impl FarLine {
         window_width: usize,
         window_height: usize,
     ) -> FarLine {
-        let (width, height) = far.terrain.bounds().size();
+        let bounds = far.terrain.bounds();
+        let (width, height) = bounds.size();
+        // The slopes' error bound counts heights differing by the whole raster's range.
+        let [low, high] = bounds.span(0..width.max(1), 0..height.max(1));
+        let height_range = (f64::from(high) - f64::from(low)).max(line.height_range);
         let (frame_width, frame_height) =
             if transposed { (height, width) } else { (width, height) };
         let (cols, rows) = (far.col0..far.col0 + window_width, far.row0..far.row0 + window_height);
         let (window_x, window_y) = if transposed { (rows, cols) } else { (cols, rows) };
         FarLine {
             line: StencilLine {
-                stride: 1 << FAR_STRIDE_BITS,
-                column_major: false,
+                stride: COPY_STRIDE,
+                column_major: true,
+                height_range,
                 radius_steps: None,
                 ..*line
             },
@@ -236,12 +257,13 @@ impl FarLine {
     }
 
     /// The columns and rows of the raster's frame that the points of steps `from..=to` of the
-    /// line from (`x`, `y`) read (not clipped).
+    /// lines from (`x`, `y + i`), `i < LANES`, read (not clipped).
     fn reach(&self, x: usize, y: usize, from: usize, to: usize) -> ([isize; 2], [isize; 2]) {
         let (sx, m) = (self.line.step_x, self.line.rows_per_step);
         let (xa, xb) = (x as isize + sx * (from as isize - 1), x as isize + sx * to as isize);
         let (ya, yb) = (y as f64 + m * (from as f64 - 1.0), y as f64 + m * to as f64);
         let (low, high) = (ya.min(yb).floor() as isize - 1, ya.max(yb).floor() as isize + 2);
+        let high = high + LANES as isize - 1;
         ([xa.min(xb), xa.max(xb)], [low, high])
     }
 
@@ -267,7 +289,8 @@ impl FarLine {
         first..last.max(first)
     }
 
-    /// The highest signed sample the steps `from..=to` of the line from (`x`, `y`) may read.
+    /// The highest signed sample the steps `from..=to` of the lines from (`x`, `y + i`), `i <
+    /// LANES`, may read.
     fn highest(&self, bounds: &CoarseBounds, x: usize, y: usize, from: usize, to: usize) -> f32 {
         let ([x0, x1], [y0, y1]) = self.reach(x, y, from, to);
         let clip = |a: isize, b: isize, n: usize| {
@@ -288,32 +311,79 @@ impl FarLine {
         }
     }
 
-    /// The steepest slope from the observer over frame sample (`x`, `y`), whose signed sample
-    /// is `z0`, to the points of its line past the window, or `best` if none is steeper.
-    pub(crate) fn raise(
+    /// Raises the `best` slopes of the wanted lanes (lane `i` the observer over frame sample
+    /// (`x`, `y + i`), whose signed sample is `z0[i]`) to the steepest slopes to the points
+    /// of their lines past the window. The lanes walk the far steps of any of them together:
+    /// the rest of the steps read the window (whose points the lanes over the window found,
+    /// by the same arithmetic) or nothing of the raster, so they change no lane's best.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn raise_lanes(
         &self,
         terrain: &dyn FarTerrain,
         patch: &mut Patch,
         x: usize,
         y: usize,
-        z0: f32,
-        mut best: f64,
-    ) -> Result<f64, ShadeError> {
-        let steps = self.far_steps(x, y);
-        if steps.is_empty() {
-            return Ok(best);
+        z0: &[f32; LANES],
+        wanted: &[bool; LANES],
+        best: &mut [f64; LANES],
+    ) -> Result<(), ShadeError> {
+        let lanes = FarLanes { x, y, z0, wanted };
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the processor has AVX-512 F (checked just above).
+            #[allow(unsafe_code)]
+            return unsafe { self.walk_avx512(terrain, patch, &lanes, best) };
         }
+        self.walk::<Portable>(terrain, patch, &lanes, best)
+    }
+
+    /// [`FarLine::walk`] in AVX-512 registers (the same operations, no fused multiply-add:
+    /// the same bits).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx2")]
+    fn walk_avx512(
+        &self,
+        terrain: &dyn FarTerrain,
+        patch: &mut Patch,
+        lanes: &FarLanes,
+        best: &mut [f64; LANES],
+    ) -> Result<(), ShadeError> {
+        self.walk::<Avx512>(terrain, patch, lanes, best)
+    }
+
+    /// See [`FarLine::raise_lanes`]: stretches of steps are skipped by the raster's bounds,
+    /// and the points of the rest are tested as the lanes over a window test theirs, from a
+    /// copy of the samples that the stretch's points read.
+    #[inline(always)]
+    fn walk<V: LaneVector>(
+        &self,
+        terrain: &dyn FarTerrain,
+        patch: &mut Patch,
+        lanes: &FarLanes,
+        best: &mut [f64; LANES],
+    ) -> Result<(), ShadeError> {
+        let (x, y) = (lanes.x, lanes.y);
+        let steps = (0..LANES)
+            .filter(|&i| lanes.wanted[i])
+            .map(|i| self.far_steps(x, y + i))
+            .filter(|s| !s.is_empty())
+            .reduce(|a, b| a.start.min(b.start)..a.end.max(b.end));
+        let Some(steps) = steps else {
+            return Ok(());
+        };
         let bounds = terrain.bounds();
         let stencil = self.stencil();
         let last = (steps.end - 1).min(stencil.len());
-        let z0_64 = f64::from(z0);
+        let z0_exact = lanes.z0.map(f64::from);
+        let mut lanes_best = Best::<V>::new(*best);
+        let mut copy = [OUTSIDE; COPY_COLUMNS * COPY_STRIDE];
         let mut k = steps.start;
         let mut level = TOP_LEVEL;
         while k <= last {
             let to = (k + (1 << level) - 1).min(last);
             if level > LEAF_LEVEL {
-                let highest = self.highest(bounds, x, y, k, to);
-                if f64::from(highest) <= self.ceiling(z0_64, best, k, to) {
+                let highest = f64::from(self.highest(bounds, x, y, k, to));
+                if self.below_ceilings(lanes, &z0_exact, &lanes_best.exact, highest, k, to) {
                     k = to + 1;
                     level = (level + 1).min(TOP_LEVEL);
                 } else {
@@ -321,74 +391,119 @@ impl FarLine {
                 }
                 continue;
             }
-            for step in &stencil.steps[k..=to] {
-                best = self.test_step(terrain, patch, step, x as isize, y as isize, z0_64, best)?;
+            let ([x0, _], [y0, _]) = self.copy_reach(terrain, patch, x, y, k, to, &mut copy)?;
+            let grid = Grid {
+                z: &copy,
+                base: ((x as isize - x0) * COPY_STRIDE as isize + (y as isize - y0)) as usize,
+                stride: COPY_STRIDE,
+                upside_down: self.upside_down,
+                z0: V::from_array(*lanes.z0),
+                z0_exact,
+            };
+            for j in k..=to {
+                test_step(&grid, &stencil.steps[j], j as u32, &mut lanes_best);
             }
             k = to + 1;
             level = LEAF_LEVEL + 1;
         }
-        Ok(best)
+        *best = lanes_best.exact;
+        Ok(())
     }
 
-    /// The lowest a signed sample of steps `from..=to` may lie and still raise `best` from an
-    /// observer over `z0`, less a margin for rounding.
-    fn ceiling(&self, z0: f64, best: f64, from: usize, to: usize) -> f64 {
-        let line = &self.line;
-        let t = if best < 0.0 { to as f64 } else { from as f64 - 1.0 } * line.metres_per_step;
-        let rise = (best * t + line.observer_height) / line.z_scale;
-        let ceiling = z0 + rise;
-        ceiling - 1e-9 * (1.0 + z0.abs() + rise.abs())
-    }
-
-    /// Raises `best` to the steepest slope of a point of `step` of the line from (`x`, `y`).
+    /// Copies the signed samples that the points of steps `from..=to` of the lanes' lines
+    /// read into `copy` (column after column, [`COPY_STRIDE`] rows a column, [`OUTSIDE`]
+    /// beyond the raster); the first frame column and row copied.
     #[allow(clippy::too_many_arguments)]
-    #[inline]
-    fn test_step(
+    #[inline(always)]
+    fn copy_reach(
         &self,
         terrain: &dyn FarTerrain,
         patch: &mut Patch,
-        step: &Step,
-        x: isize,
-        y: isize,
-        z0: f64,
-        mut best: f64,
-    ) -> Result<f64, ShadeError> {
-        let mut sample = |offset: isize, dx: isize, dy: isize| {
-            let (c, r) = decode(offset);
-            self.frame_sample(terrain, patch, x + c + dx, y + r + dy)
-        };
-        let slope = |a: f32, b: f32, w: f64, c: &Coefficients| {
-            let (da, db) = (f64::from(a) - z0, f64::from(b) - z0);
-            (da + w * (db - da)) * c.scale64 - c.lift64
-        };
-        for e in &step.edges {
-            if e.coefficients.lift64 == f64::INFINITY {
-                continue;
-            }
-            // A point beside the raster's edge reads the padding as the lanes do (at `w` 0
-            // its slope is the sample's own).
-            let (a, b) = (sample(e.a, 0, 0)?, sample(e.b, 0, 0)?);
-            best = best.max(slope(a, b, e.w64, &e.coefficients));
-        }
-        for d in &step.diagonals {
-            if d.main_coefficients.lift64 == f64::INFINITY
-                && d.anti_coefficients.lift64 == f64::INFINITY
-            {
-                continue;
-            }
-            let z00 = sample(d.corner, 0, 0)?;
-            let z10 = sample(d.corner, 1, 0)?;
-            let z01 = sample(d.corner, 0, 1)?;
-            let z11 = sample(d.corner, 1, 1)?;
-            let s = if main_split(z00, z10, z01, z11, self.upside_down) {
-                slope(z00, z11, d.main, &d.main_coefficients)
+        x: usize,
+        y: usize,
+        from: usize,
+        to: usize,
+        copy: &mut [f32; COPY_COLUMNS * COPY_STRIDE],
+    ) -> Result<([isize; 2], [isize; 2]), ShadeError> {
+        let ([x0, x1], [y0, y1]) = self.reach(x, y, from, to);
+        let (columns, rows) = ((x1 - x0 + 1) as usize, (y1 - y0 + 1) as usize);
+        debug_assert!(columns <= COPY_COLUMNS && rows <= COPY_STRIDE);
+        let inside = x0 >= 0
+            && y0 >= 0
+            && (x1 as usize) < self.frame_width
+            && (y1 as usize) < self.frame_height;
+        let (col, row) = if self.transposed { (y0, x0) } else { (x0, y0) };
+        let (end_col, end_row) = if self.transposed { (y1, x1) } else { (x1, y1) };
+        let held = if inside { patch.holding(terrain, [col, row], [end_col, end_row])? } else { None };
+        if let Some(p) = held {
+            let at = |c: isize, r: isize| (c - p.x0) as usize + (r - p.y0) as usize * p.width;
+            if self.transposed {
+                // A frame column is a raster row: one run each.
+                for u in 0..columns {
+                    let run = &p.samples[at(col, row + u as isize)..][..rows];
+                    for (v, &z) in copy[u * COPY_STRIDE..][..rows].iter_mut().zip(run) {
+                        *v = self.sign * z;
+                    }
+                }
             } else {
-                slope(z01, z10, d.anti, &d.anti_coefficients)
-            };
-            best = best.max(s);
+                for v in 0..rows {
+                    let run = &p.samples[at(col, row + v as isize)..][..columns];
+                    for (u, &z) in run.iter().enumerate() {
+                        copy[u * COPY_STRIDE + v] = self.sign * z;
+                    }
+                }
+            }
+        } else {
+            for u in 0..columns {
+                for v in 0..rows {
+                    copy[u * COPY_STRIDE + v] =
+                        self.frame_sample(terrain, patch, x0 + u as isize, y0 + v as isize)?;
+                }
+            }
         }
-        Ok(best)
+        Ok(([x0, x1], [y0, y1]))
     }
+
+    /// Whether `highest` lies at or below every wanted lane's ceiling over steps `from..=to`:
+    /// the lowest a signed sample may lie and still raise the lane's `best`, less a margin
+    /// for rounding.
+    #[inline(always)]
+    fn below_ceilings(
+        &self,
+        lanes: &FarLanes,
+        z0: &[f64; LANES],
+        best: &[f64; LANES],
+        highest: f64,
+        from: usize,
+        to: usize,
+    ) -> bool {
+        let line = &self.line;
+        let near = (from as f64 - 1.0) * line.metres_per_step;
+        let far = to as f64 * line.metres_per_step;
+        (0..LANES).all(|i| {
+            let t = if best[i] < 0.0 { far } else { near };
+            let rise = (best[i] * t + line.observer_height) / line.z_scale;
+            let ceiling = z0[i] + rise;
+            let ceiling = ceiling - 1e-9 * (1.0 + z0[i].abs() + rise.abs());
+            !lanes.wanted[i] || highest <= ceiling
+        })
+    }
+}
+
+/// Rows a column of a stretch's copy holds: the rows of eight steps' points (at most one row
+/// a step) for sixteen lanes, with their margins.
+const COPY_STRIDE: usize = 32;
+
+/// Columns a stretch's copy holds: eight steps' and the one before.
+const COPY_COLUMNS: usize = (1 << LEAF_LEVEL) + 1;
+
+/// The lanes of a far walk: lane `i` the observer over frame sample (`x`, `y + i`), its signed
+/// sample `z0[i]`.
+pub(crate) struct FarLanes<'a> {
+    x: usize,
+    y: usize,
+    z0: &'a [f32; LANES],
+    wanted: &'a [bool; LANES],
 }
 
 /// A far field's lines, errors and scratch, for one engine.
@@ -398,41 +513,29 @@ pub(crate) struct FarContext<'a> {
 }
 
 impl FarContext<'_> {
-    /// `best` raised over the far part of the line of `line` from frame sample (`x`, `y`) of
-    /// the window (signed sample `z0`); on a read error, kept for the caller, `best`.
-    pub(crate) fn raise(
+    /// The wanted lanes' `best` slopes raised over the far parts of their lines, lane `i`
+    /// from frame sample (`x`, `y + i`) of the window (signed sample `z0[i]`); on a read
+    /// error, kept for the caller, as they were.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn raise_lanes(
         &self,
         line: &FarLine,
         patch: &mut Patch,
         x: usize,
         y: usize,
-        z0: f32,
-        best: f64,
-    ) -> f64 {
+        z0: &[f32; LANES],
+        wanted: &[bool; LANES],
+        best: &mut [f64; LANES],
+    ) {
         let (gx, gy) = if line.transposed {
             (x + self.field.row0, y + self.field.col0)
         } else {
             (x + self.field.col0, y + self.field.row0)
         };
-        match line.raise(self.field.terrain, patch, gx, gy, z0, best) {
-            Ok(best) => best,
-            Err(error) => {
-                self.error.keep(error);
-                best
-            }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn offsets_decode_to_their_column_and_row() {
-        for (c, r) in [(0, 0), (-1, 0), (5, -3), (-7, -2), (40_000, 30_000), (-40_000, 1)] {
-            let offset = c + (r << FAR_STRIDE_BITS);
-            assert_eq!(decode(offset), (c, r));
+        let mut raised = *best;
+        match line.raise_lanes(self.field.terrain, patch, gx, gy, z0, wanted, &mut raised) {
+            Ok(()) => *best = raised,
+            Err(error) => self.error.keep(error),
         }
     }
 }

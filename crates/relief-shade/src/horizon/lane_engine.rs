@@ -210,12 +210,9 @@ impl LaneEngine {
                         let mut slopes = group.exact_slopes();
                         if let Some((far, line)) = far {
                             let base = frame.index(u, first);
-                            for (i, slope) in slopes.slopes.iter_mut().enumerate() {
-                                if group.wanted[i] {
-                                    let z0 = frame.z[base + i];
-                                    *slope = far.raise(line, &mut patch, u, first + i, z0, *slope);
-                                }
-                            }
+                            let z0 = frame.z[base..base + LANES].try_into().expect("16 lanes");
+                            let (wanted, slopes) = (&group.wanted, &mut slopes.slopes);
+                            far.raise_lanes(line, &mut patch, u, first, z0, wanted, slopes);
                         }
                         for (i, &slope) in slopes.slopes.iter().enumerate().take(end - first) {
                             out[at + i * step] = angle_of(slope);

@@ -122,14 +122,20 @@ pub(crate) fn main_split(z00: f32, z10: f32, z01: f32, z11: f32, upside_down: bo
 
 /// The lanes' best slopes: exact (f64, as the definition computes them) and, for the
 /// skipping, each rounded down to f32.
-struct Best<V> {
-    exact: [f64; LANES],
+pub(crate) struct Best<V> {
+    pub exact: [f64; LANES],
     low: V,
     /// The step whose point set each lane's best (0 for none).
     steps: [u32; LANES],
 }
 
 impl<V: LaneVector> Best<V> {
+    /// The best slopes `exact` (NaN in a lane that nothing may raise).
+    #[inline(always)]
+    pub(crate) fn new(exact: [f64; LANES]) -> Best<V> {
+        Best { exact, low: V::round_down(&exact), steps: [0; LANES] }
+    }
+
     /// Raises each lane to its slope of a point of step `step` where that is larger.
     #[inline(always)]
     fn raise(&mut self, slopes: [f64; LANES], step: u32) {
@@ -156,7 +162,7 @@ fn exact_edge<V: LaneVector>(
 /// Raises the lanes' `best` slopes to the steepest over the points of `step`: each point in
 /// f32 first, and exactly where it may raise a lane.
 #[inline(always)]
-fn test_step<V: LaneVector>(grid: &Grid<V>, step: &Step, j: u32, best: &mut Best<V>) {
+pub(crate) fn test_step<V: LaneVector>(grid: &Grid<V>, step: &Step, j: u32, best: &mut Best<V>) {
     let Grid { z, base, stride, upside_down, z0, ref z0_exact } = *grid;
     for e in &step.edges {
         let (at_a, at_b) = (offset(base, e.a), offset(base, e.b));
@@ -209,14 +215,16 @@ fn test_end<V: LaneVector>(
 }
 
 /// Where a group of lanes reads its samples, and the lanes' own samples.
-struct Grid<'a, V> {
-    z: &'a [f32],
-    /// Lane 0's sample in `z`, and samples a column.
-    base: usize,
-    stride: usize,
-    upside_down: bool,
-    z0: V,
-    z0_exact: [f64; LANES],
+pub(crate) struct Grid<'a, V> {
+    pub z: &'a [f32],
+    /// Lane 0's sample in `z` (wrapping: it may lie outside `z`, whose points a stencil's
+    /// offsets from it reach), and samples a column.
+    pub base: usize,
+    pub stride: usize,
+    pub upside_down: bool,
+    /// The lanes' own signed samples, in f32 and f64.
+    pub z0: V,
+    pub z0_exact: [f64; LANES],
 }
 
 impl<V: LaneVector> Grid<'_, V> {

@@ -261,6 +261,17 @@ impl StencilLine {
         let low_row = snap(m * k0).min(snap(m * k1)).floor() as isize;
         let first_col = if step_x > 0 { k as isize - 1 } else { -(k as isize) };
         step.footprint = at(first_col, low_row);
+        // Points that are not there read the footprint's samples (which a grid holding the
+        // step's points holds), to no effect: their slopes are -infinity.
+        for e in step.edges.iter_mut().filter(|e| e.coefficients == Coefficients::NONE) {
+            (e.a, e.b) = (step.footprint, step.footprint);
+        }
+        let none = |d: &&mut DiagonalPoint| {
+            d.main_coefficients == Coefficients::NONE && d.anti_coefficients == Coefficients::NONE
+        };
+        for d in step.diagonals.iter_mut().filter(none) {
+            d.corner = step.footprint;
+        }
         step.distance = (k1 * self.metres_per_step) as f32;
         (step, end_point)
     }
