@@ -66,6 +66,7 @@ impl CoarseBounds {
 
     /// At most the lowest and at least the highest sample of columns `cols` and rows `rows`
     /// (both within the raster, not empty).
+    #[inline]
     pub fn span(&self, cols: Range<usize>, rows: Range<usize>) -> [f32; 2] {
         let (c0, c1) = (cols.start / BOUND_CELL, (cols.end - 1) / BOUND_CELL);
         let (r0, r1) = (rows.start / BOUND_CELL, (rows.end - 1) / BOUND_CELL);

@@ -7,10 +7,10 @@
 
 use super::coarse_bounds::CoarseBounds;
 use super::lane_frame::{LANES, OUTSIDE};
-use super::lane_vector::{LaneVector, Portable};
 #[cfg(target_arch = "x86_64")]
 use super::lane_vector::Avx512;
-use super::lanes::{test_step, Best, Grid};
+use super::lane_vector::{LaneVector, Portable};
+use super::lanes::{ceiling, footprint, test_step, Best, Grid};
 use super::stencil::Stencil;
 use super::stencil::StencilLine;
 use crate::ShadeError;
@@ -120,6 +120,8 @@ pub(crate) struct FarLine {
     /// The window in the raster's frame: its columns and rows.
     window_x: Range<usize>,
     window_y: Range<usize>,
+    /// The observer's height and the heights' scale, in f32 (as the lanes' ceilings take them).
+    observer_and_scale: [f32; 2],
     /// The line's steps over the whole raster, made on first use and dropped by
     /// [`FarLine::release`].
     stencil: Mutex<Option<Arc<Stencil>>>,
@@ -165,25 +167,23 @@ impl Patch {
 }
 
 impl Patch {
-    /// A patch that holds samples `first` and `last` (column, row) of the raster (and so the
-    /// rectangle between), from those at hand or a new one; `None` where the patch of `first`
-    /// does not hold `last`.
+    /// A patch that holds sample (`col`, `row`) of the raster (which lies in it), from those
+    /// at hand or a new one.
     #[inline(always)]
     fn holding(
         &mut self,
         terrain: &dyn FarTerrain,
-        first: [isize; 2],
-        last: [isize; 2],
-    ) -> Result<Option<&SamplePatch>, ShadeError> {
-        let holds = |p: &SamplePatch| p.get(first[0], first[1]).is_some() && p.get(last[0], last[1]).is_some();
-        if let Some(i) = self.recent.iter().position(holds) {
+        col: isize,
+        row: isize,
+    ) -> Result<&SamplePatch, ShadeError> {
+        if let Some(i) = self.recent.iter().position(|p| p.get(col, row).is_some()) {
             if i > 0 {
                 self.recent.swap(0, i);
             }
-            return Ok(Some(&self.recent[0]));
+        } else {
+            self.sample(terrain, col, row)?;
         }
-        self.sample(terrain, first[0], first[1])?;
-        Ok(self.recent.first().filter(|p| holds(p)))
+        Ok(&self.recent[0])
     }
 }
 
@@ -218,6 +218,7 @@ impl FarLine {
             transposed,
             sign,
             upside_down: sign < 0.0,
+            observer_and_scale: [line.observer_height as f32, line.z_scale as f32],
             frame_width,
             frame_height,
             window_x,
@@ -227,7 +228,7 @@ impl FarLine {
     }
 
     /// The line's steps over the whole raster.
-    fn stencil(&self) -> Arc<Stencil> {
+    pub(crate) fn stencil(&self) -> Arc<Stencil> {
         let mut kept = self.stencil.lock().unwrap_or_else(|e| e.into_inner());
         kept.get_or_insert_with(|| {
             Arc::new(Stencil::new(&self.line, self.frame_width.saturating_sub(1).max(1)))
@@ -240,24 +241,9 @@ impl FarLine {
         *self.stencil.lock().unwrap_or_else(|e| e.into_inner()) = None;
     }
 
-    /// The signed sample at (`x`, `y`) of the raster's frame, [`OUTSIDE`] beyond the raster.
-    #[inline(always)]
-    fn frame_sample(
-        &self,
-        terrain: &dyn FarTerrain,
-        patch: &mut Patch,
-        x: isize,
-        y: isize,
-    ) -> Result<f32, ShadeError> {
-        if x < 0 || y < 0 || x as usize >= self.frame_width || y as usize >= self.frame_height {
-            return Ok(OUTSIDE);
-        }
-        let (col, row) = if self.transposed { (y, x) } else { (x, y) };
-        Ok(self.sign * patch.sample(terrain, col, row)?)
-    }
-
     /// The columns and rows of the raster's frame that the points of steps `from..=to` of the
     /// lines from (`x`, `y + i`), `i < LANES`, read (not clipped).
+    #[inline(always)]
     fn reach(&self, x: usize, y: usize, from: usize, to: usize) -> ([isize; 2], [isize; 2]) {
         let (sx, m) = (self.line.step_x, self.line.rows_per_step);
         let (xa, xb) = (x as isize + sx * (from as isize - 1), x as isize + sx * to as isize);
@@ -269,6 +255,7 @@ impl FarLine {
 
     /// The steps of the line from frame sample (`x`, `y`) that may read a sample outside the
     /// window and inside the raster.
+    #[inline(always)]
     fn far_steps(&self, x: usize, y: usize) -> Range<usize> {
         let (sx, m) = (self.line.step_x, self.line.rows_per_step);
         let (x, y) = (x as f64, y as f64);
@@ -291,6 +278,7 @@ impl FarLine {
 
     /// The highest signed sample the steps `from..=to` of the lines from (`x`, `y + i`), `i <
     /// LANES`, may read.
+    #[inline(always)]
     fn highest(&self, bounds: &CoarseBounds, x: usize, y: usize, from: usize, to: usize) -> f32 {
         let ([x0, x1], [y0, y1]) = self.reach(x, y, from, to);
         let clip = |a: isize, b: isize, n: usize| {
@@ -311,30 +299,26 @@ impl FarLine {
         }
     }
 
-    /// Raises the `best` slopes of the wanted lanes (lane `i` the observer over frame sample
-    /// (`x`, `y + i`), whose signed sample is `z0[i]`) to the steepest slopes to the points
-    /// of their lines past the window. The lanes walk the far steps of any of them together:
-    /// the rest of the steps read the window (whose points the lanes over the window found,
-    /// by the same arithmetic) or nothing of the raster, so they change no lane's best.
-    #[allow(clippy::too_many_arguments)]
+    /// Raises the `best` slopes of the wanted `lanes` to the steepest slopes to the points of
+    /// their lines past the window (`stencil` the line's [`FarLine::stencil`]). The lanes
+    /// walk the far steps of any of them together: the rest of the steps read the window
+    /// (whose points the lanes over the window found, by the same arithmetic) or nothing of
+    /// the raster, so they change no lane's best.
     pub(crate) fn raise_lanes(
         &self,
         terrain: &dyn FarTerrain,
+        stencil: &Stencil,
         patch: &mut Patch,
-        x: usize,
-        y: usize,
-        z0: &[f32; LANES],
-        wanted: &[bool; LANES],
+        lanes: &FarLanes,
         best: &mut [f64; LANES],
-    ) -> Result<(), ShadeError> {
-        let lanes = FarLanes { x, y, z0, wanted };
+    ) -> Result<[u32; LANES], ShadeError> {
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx512f") {
             // SAFETY: the processor has AVX-512 F (checked just above).
             #[allow(unsafe_code)]
-            return unsafe { self.walk_avx512(terrain, patch, &lanes, best) };
+            return unsafe { self.walk_avx512(terrain, stencil, patch, lanes, best) };
         }
-        self.walk::<Portable>(terrain, patch, &lanes, best)
+        self.walk::<Portable>(terrain, stencil, patch, lanes, best)
     }
 
     /// [`FarLine::walk`] in AVX-512 registers (the same operations, no fused multiply-add:
@@ -344,11 +328,12 @@ impl FarLine {
     fn walk_avx512(
         &self,
         terrain: &dyn FarTerrain,
+        stencil: &Stencil,
         patch: &mut Patch,
         lanes: &FarLanes,
         best: &mut [f64; LANES],
-    ) -> Result<(), ShadeError> {
-        self.walk::<Avx512>(terrain, patch, lanes, best)
+    ) -> Result<[u32; LANES], ShadeError> {
+        self.walk::<Avx512>(terrain, stencil, patch, lanes, best)
     }
 
     /// See [`FarLine::raise_lanes`]: stretches of steps are skipped by the raster's bounds,
@@ -358,25 +343,37 @@ impl FarLine {
     fn walk<V: LaneVector>(
         &self,
         terrain: &dyn FarTerrain,
+        stencil: &Stencil,
         patch: &mut Patch,
         lanes: &FarLanes,
         best: &mut [f64; LANES],
-    ) -> Result<(), ShadeError> {
+    ) -> Result<[u32; LANES], ShadeError> {
         let (x, y) = (lanes.x, lanes.y);
-        let steps = (0..LANES)
-            .filter(|&i| lanes.wanted[i])
-            .map(|i| self.far_steps(x, y + i))
-            .filter(|s| !s.is_empty())
-            .reduce(|a, b| a.start.min(b.start)..a.end.max(b.end));
-        let Some(steps) = steps else {
-            return Ok(());
-        };
+        // The far steps of the first lane and the last: those of the lanes between lie
+        // within (where they begin and end moves monotonically with the row).
+        let (first, last_lane) = (self.far_steps(x, y), self.far_steps(x, y + LANES - 1));
+        let steps = first.start.min(last_lane.start)..first.end.max(last_lane.end);
+        if first.is_empty() && last_lane.is_empty() {
+            return Ok([0; LANES]);
+        }
         let bounds = terrain.bounds();
-        let stencil = self.stencil();
         let last = (steps.end - 1).min(stencil.len());
         let z0_exact = lanes.z0.map(f64::from);
         let mut lanes_best = Best::<V>::new(*best);
+        let unwanted = V::from_array(lanes.wanted.map(|w| if w { 0.0 } else { f32::INFINITY }));
         let mut copy = [OUTSIDE; COPY_COLUMNS * COPY_STRIDE];
+        let z0 = V::from_array(*lanes.z0);
+        // First the steps where the hints say the horizons are.
+        let mut tried = [0; 3];
+        for (slot, hint) in [0, LANES / 2, LANES - 1].into_iter().enumerate() {
+            let j = lanes.hints[hint] as usize;
+            if j >= steps.start && j <= last && !tried.contains(&j) {
+                tried[slot] = j;
+                let corner = self.copy_reach(terrain, patch, x, y, j, j, &mut copy)?;
+                let grid = self.copy_grid(&copy, corner, lanes, z0, z0_exact);
+                test_step(&grid, &stencil.steps[j], j as u32, &mut lanes_best);
+            }
+        }
         let mut k = steps.start;
         let mut level = TOP_LEVEL;
         while k <= last {
@@ -391,28 +388,59 @@ impl FarLine {
                 }
                 continue;
             }
-            let ([x0, _], [y0, _]) = self.copy_reach(terrain, patch, x, y, k, to, &mut copy)?;
-            let grid = Grid {
-                z: &copy,
-                base: ((x as isize - x0) * COPY_STRIDE as isize + (y as isize - y0)) as usize,
-                stride: COPY_STRIDE,
-                upside_down: self.upside_down,
-                z0: V::from_array(*lanes.z0),
-                z0_exact,
-            };
+            let corner = self.copy_reach(terrain, patch, x, y, k, to, &mut copy)?;
+            let grid = self.copy_grid(&copy, corner, lanes, z0, z0_exact);
+            // A step is tested where a lane's footprint rises above its ceiling.
             for j in k..=to {
-                test_step(&grid, &stencil.steps[j], j as u32, &mut lanes_best);
+                let step = &stencil.steps[j];
+                let highest = footprint::<V>(
+                    &copy,
+                    grid.base.wrapping_add_signed(step.footprint),
+                    COPY_STRIDE,
+                );
+                let ceiling = ceiling(
+                    &stencil.steps,
+                    self.observer_and_scale,
+                    grid.z0,
+                    unwanted,
+                    j..=j,
+                    lanes_best.low(),
+                );
+                if V::any_greater(highest, ceiling) {
+                    test_step(&grid, step, j as u32, &mut lanes_best);
+                }
             }
             k = to + 1;
             level = LEAF_LEVEL + 1;
         }
         *best = lanes_best.exact;
-        Ok(())
+        Ok(lanes_best.steps)
+    }
+
+    /// The lanes reading a `copy` whose first sample is frame sample `corner`.
+    #[inline(always)]
+    fn copy_grid<'c, V: LaneVector>(
+        &self,
+        copy: &'c [f32],
+        [x0, y0]: [isize; 2],
+        lanes: &FarLanes,
+        z0: V,
+        z0_exact: [f64; LANES],
+    ) -> Grid<'c, V> {
+        let (x, y) = (lanes.x as isize, lanes.y as isize);
+        Grid {
+            z: copy,
+            base: ((x - x0) * COPY_STRIDE as isize + (y - y0)) as usize,
+            stride: COPY_STRIDE,
+            upside_down: self.upside_down,
+            z0,
+            z0_exact,
+        }
     }
 
     /// Copies the signed samples that the points of steps `from..=to` of the lanes' lines
     /// read into `copy` (column after column, [`COPY_STRIDE`] rows a column, [`OUTSIDE`]
-    /// beyond the raster); the first frame column and row copied.
+    /// beyond the raster); the frame column and row of the first sample copied.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn copy_reach(
@@ -424,44 +452,47 @@ impl FarLine {
         from: usize,
         to: usize,
         copy: &mut [f32; COPY_COLUMNS * COPY_STRIDE],
-    ) -> Result<([isize; 2], [isize; 2]), ShadeError> {
+    ) -> Result<[isize; 2], ShadeError> {
         let ([x0, x1], [y0, y1]) = self.reach(x, y, from, to);
         let (columns, rows) = ((x1 - x0 + 1) as usize, (y1 - y0 + 1) as usize);
         debug_assert!(columns <= COPY_COLUMNS && rows <= COPY_STRIDE);
-        let inside = x0 >= 0
-            && y0 >= 0
-            && (x1 as usize) < self.frame_width
-            && (y1 as usize) < self.frame_height;
-        let (col, row) = if self.transposed { (y0, x0) } else { (x0, y0) };
-        let (end_col, end_row) = if self.transposed { (y1, x1) } else { (x1, y1) };
-        let held = if inside { patch.holding(terrain, [col, row], [end_col, end_row])? } else { None };
-        if let Some(p) = held {
-            let at = |c: isize, r: isize| (c - p.x0) as usize + (r - p.y0) as usize * p.width;
-            if self.transposed {
-                // A frame column is a raster row: one run each.
-                for u in 0..columns {
-                    let run = &p.samples[at(col, row + u as isize)..][..rows];
-                    for (v, &z) in copy[u * COPY_STRIDE..][..rows].iter_mut().zip(run) {
-                        *v = self.sign * z;
-                    }
-                }
-            } else {
-                for v in 0..rows {
-                    let run = &p.samples[at(col, row + v as isize)..][..columns];
-                    for (u, &z) in run.iter().enumerate() {
-                        copy[u * COPY_STRIDE + v] = self.sign * z;
-                    }
-                }
-            }
+        for column in copy.chunks_exact_mut(COPY_STRIDE).take(columns) {
+            column[..rows].fill(OUTSIDE);
+        }
+        // The raster's rows and columns of the frame's rectangle, within the raster.
+        let ([c0, c1], [r0, r1]) =
+            if self.transposed { ([y0, y1], [x0, x1]) } else { ([x0, x1], [y0, y1]) };
+        let (width, height) = if self.transposed {
+            (self.frame_height, self.frame_width)
         } else {
-            for u in 0..columns {
-                for v in 0..rows {
-                    copy[u * COPY_STRIDE + v] =
-                        self.frame_sample(terrain, patch, x0 + u as isize, y0 + v as isize)?;
+            (self.frame_width, self.frame_height)
+        };
+        let (c0, c1) = (c0.max(0), c1.min(width as isize - 1));
+        for r in r0.max(0)..=r1.min(height as isize - 1) {
+            // Row `r` from column `c0` to `c1`, a run per patch.
+            let mut c = c0;
+            while c <= c1 {
+                let p = patch.holding(terrain, c, r)?;
+                let end = c1.min(p.x0 + p.width as isize - 1);
+                let at = (c - p.x0) as usize + (r - p.y0) as usize * p.width;
+                let run = &p.samples[at..][..(end - c + 1) as usize];
+                if self.transposed {
+                    // A raster row is a frame column.
+                    let v = (c - y0) as usize;
+                    let column = &mut copy[(r - x0) as usize * COPY_STRIDE + v..][..run.len()];
+                    for (out, &z) in column.iter_mut().zip(run) {
+                        *out = self.sign * z;
+                    }
+                } else {
+                    let (u, v) = ((c - x0) as usize, (r - y0) as usize);
+                    for (i, &z) in run.iter().enumerate() {
+                        copy[(u + i) * COPY_STRIDE + v] = self.sign * z;
+                    }
                 }
+                c = end + 1;
             }
         }
-        Ok(([x0, x1], [y0, y1]))
+        Ok([x0, y0])
     }
 
     /// Whether `highest` lies at or below every wanted lane's ceiling over steps `from..=to`:
@@ -498,12 +529,16 @@ const COPY_STRIDE: usize = 32;
 const COPY_COLUMNS: usize = (1 << LEAF_LEVEL) + 1;
 
 /// The lanes of a far walk: lane `i` the observer over frame sample (`x`, `y + i`), its signed
-/// sample `z0[i]`.
+/// sample `z0[i]`, its horizon wanted where `wanted[i]`.
 pub(crate) struct FarLanes<'a> {
-    x: usize,
-    y: usize,
-    z0: &'a [f32; LANES],
-    wanted: &'a [bool; LANES],
+    pub x: usize,
+    pub y: usize,
+    pub z0: &'a [f32; LANES],
+    pub wanted: &'a [bool; LANES],
+    /// Steps where the horizons of the lanes one column before were found past the window
+    /// (0 for none): tested first, they change how fast the answer is found, never the
+    /// answer.
+    pub hints: &'a [u32; LANES],
 }
 
 /// A far field's lines, errors and scratch, for one engine.
@@ -513,29 +548,33 @@ pub(crate) struct FarContext<'a> {
 }
 
 impl FarContext<'_> {
-    /// The wanted lanes' `best` slopes raised over the far parts of their lines, lane `i`
-    /// from frame sample (`x`, `y + i`) of the window (signed sample `z0[i]`); on a read
-    /// error, kept for the caller, as they were.
-    #[allow(clippy::too_many_arguments)]
+    /// The wanted `lanes`' `best` slopes raised over the far parts of their lines (`lanes` in
+    /// the window's frame), and the steps that raised them (0 where none did); on a read
+    /// error, kept for the caller, the slopes as they were.
     pub(crate) fn raise_lanes(
         &self,
         line: &FarLine,
+        stencil: &Stencil,
         patch: &mut Patch,
-        x: usize,
-        y: usize,
-        z0: &[f32; LANES],
-        wanted: &[bool; LANES],
+        lanes: &FarLanes,
         best: &mut [f64; LANES],
-    ) {
-        let (gx, gy) = if line.transposed {
-            (x + self.field.row0, y + self.field.col0)
+    ) -> [u32; LANES] {
+        let (x, y) = if line.transposed {
+            (lanes.x + self.field.row0, lanes.y + self.field.col0)
         } else {
-            (x + self.field.col0, y + self.field.row0)
+            (lanes.x + self.field.col0, lanes.y + self.field.row0)
         };
+        let lanes = FarLanes { x, y, ..*lanes };
         let mut raised = *best;
-        match line.raise_lanes(self.field.terrain, patch, gx, gy, z0, wanted, &mut raised) {
-            Ok(()) => *best = raised,
-            Err(error) => self.error.keep(error),
+        match line.raise_lanes(self.field.terrain, stencil, patch, &lanes, &mut raised) {
+            Ok(steps) => {
+                *best = raised;
+                steps
+            }
+            Err(error) => {
+                self.error.keep(error);
+                [0; LANES]
+            }
         }
     }
 }

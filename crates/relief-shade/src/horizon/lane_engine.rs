@@ -3,7 +3,7 @@
 //! [`LANES`] at a time.
 
 use super::band_pyramid::BandPyramid;
-use super::far_field::{FarContext, FarField, FarLine, Patch};
+use super::far_field::{FarContext, FarField, FarLanes, FarLine, Patch};
 use super::lane_frame::{LaneFrame, LANES};
 use super::lanes::{angle_of, LaneDirection, LaneGroup};
 use super::march::unit_steps;
@@ -179,7 +179,7 @@ impl LaneEngine {
                 else {
                     return Vec::new();
                 };
-                let far = far.zip(far_line.as_ref());
+                let far = far.zip(far_line.as_ref()).map(|(far, line)| (far, line, line.stencil()));
                 let frame = self.frames[direction.transposed as usize].as_ref().unwrap();
                 let mut out = vec![f32::NAN; count];
                 let mut group = LaneGroup {
@@ -208,11 +208,24 @@ impl LaneEngine {
                     (group.u, group.v) = (u, first);
                     if group.wanted.iter().any(|&w| w) {
                         let mut slopes = group.exact_slopes();
-                        if let Some((far, line)) = far {
+                        if let Some((far, line, stencil)) = &far {
                             let base = frame.index(u, first);
                             let z0 = frame.z[base..base + LANES].try_into().expect("16 lanes");
-                            let (wanted, slopes) = (&group.wanted, &mut slopes.slopes);
-                            far.raise_lanes(line, &mut patch, u, first, z0, wanted, slopes);
+                            let (wanted, hints) = (&group.wanted, &group.hints);
+                            let lanes = FarLanes { x: u, y: first, z0, wanted, hints };
+                            let far_steps = far.raise_lanes(
+                                line,
+                                stencil,
+                                &mut patch,
+                                &lanes,
+                                &mut slopes.slopes,
+                            );
+                            // A step of the far walk set the horizon where it is not 0.
+                            for (step, far_step) in slopes.steps.iter_mut().zip(far_steps) {
+                                if far_step != 0 {
+                                    *step = far_step;
+                                }
+                            }
                         }
                         for (i, &slope) in slopes.slopes.iter().enumerate().take(end - first) {
                             out[at + i * step] = angle_of(slope);

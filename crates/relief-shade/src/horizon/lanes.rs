@@ -126,7 +126,7 @@ pub(crate) struct Best<V> {
     pub exact: [f64; LANES],
     low: V,
     /// The step whose point set each lane's best (0 for none).
-    steps: [u32; LANES],
+    pub steps: [u32; LANES],
 }
 
 impl<V: LaneVector> Best<V> {
@@ -134,6 +134,12 @@ impl<V: LaneVector> Best<V> {
     #[inline(always)]
     pub(crate) fn new(exact: [f64; LANES]) -> Best<V> {
         Best { exact, low: V::round_down(&exact), steps: [0; LANES] }
+    }
+
+    /// The best slopes rounded down to f32.
+    #[inline(always)]
+    pub(crate) fn low(&self) -> V {
+        self.low
     }
 
     /// Raises each lane to its slope of a point of step `step` where that is larger.
@@ -321,23 +327,11 @@ impl LaneGroup<'_> {
         LaneSlopes { slopes, steps: best.steps }
     }
 
-    /// Per lane, a height at most the highest a point of steps `from..=to` may lie without
-    /// raising the horizon of a lane whose sample is `z0` and best slope so far `best`
-    /// (`unwanted` is 0 in the lanes wanted, infinite in the others). A lane's bound is its
-    /// best line at the stretch's start, or at its end where the line descends.
+    /// See [`ceiling`].
     #[inline(always)]
     fn ceiling<V: LaneVector>(&self, z0: V, unwanted: V, from: usize, to: usize, best: V) -> V {
         let steps = &self.direction.stencil.steps;
-        let (near, far) = (steps[from - 1].distance, steps[to].distance);
-        let t = V::select_negative(best, V::splat(far), V::splat(near));
-        let rise = best.mul(t).add(V::splat(self.observer_height));
-        let lift = rise.mul(V::splat(1.0 / self.z_scale));
-        // Lowered by more than the rounding of the f32 operations above, so that a point is
-        // skipped only where it lies below the exact ceiling: how many points are tested
-        // then does not depend on how the stretches fall, and a window's horizons are the
-        // whole raster's bit for bit.
-        let rounding = z0.abs().add(lift.abs()).mul(V::splat(CEILING_ROUNDING));
-        z0.add(lift).sub(rounding).add(unwanted)
+        ceiling(steps, [self.observer_height, self.z_scale], z0, unwanted, from..=to, best)
     }
 
     /// The last step at which any wanted lane's line is still over the frame.
@@ -362,6 +356,43 @@ impl LaneGroup<'_> {
     pub(crate) fn exact_slopes(&self) -> LaneSlopes {
         dispatch(self)
     }
+}
+
+/// Per lane, a height at most the highest a point of steps `from..=to` of `steps` may lie
+/// without raising the horizon of a lane whose sample is `z0` and best slope so far `best`
+/// (`unwanted` is 0 in the lanes wanted, infinite in the others), for an observer
+/// `observer_height` over the sample and heights times `z_scale`. A lane's bound is its
+/// best line at the stretch's start, or at its end where the line descends.
+#[inline(always)]
+pub(crate) fn ceiling<V: LaneVector>(
+    steps: &[Step],
+    [observer_height, z_scale]: [f32; 2],
+    z0: V,
+    unwanted: V,
+    stretch: std::ops::RangeInclusive<usize>,
+    best: V,
+) -> V {
+    let (near, far) = (steps[stretch.start() - 1].distance, steps[*stretch.end()].distance);
+    let t = V::select_negative(best, V::splat(far), V::splat(near));
+    let rise = best.mul(t).add(V::splat(observer_height));
+    let lift = rise.mul(V::splat(1.0 / z_scale));
+    // Lowered by more than the rounding of the f32 operations above, so that a point is
+    // skipped only where it lies below the exact ceiling: how many points are tested then
+    // does not depend on how the stretches fall, and a window's horizons are the whole
+    // raster's bit for bit.
+    let rounding = z0.abs().add(lift.abs()).mul(V::splat(CEILING_ROUNDING));
+    z0.add(lift).sub(rounding).add(unwanted)
+}
+
+/// Per lane, the highest of the 2 x 3 samples from `at` in `z` (column-major, `stride`
+/// samples a column) that lane's points of a step read: its footprint.
+#[inline(always)]
+pub(crate) fn footprint<V: LaneVector>(z: &[f32], at: usize, stride: usize) -> V {
+    // No closure: one would not inherit the caller's target features.
+    let left = V::load(z, at).max(V::load(z, at + 1)).max(V::load(z, at + 2));
+    let next = at + stride;
+    let right = V::load(z, next).max(V::load(z, next + 1)).max(V::load(z, next + 2));
+    left.max(right)
 }
 
 /// The horizon angle (radians) of a line's steepest slope: 0 where no surface lies ahead.
