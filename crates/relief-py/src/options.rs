@@ -274,3 +274,20 @@ pub fn furniture(legend: bool, scale_bar: bool, north_arrow: bool) -> MapFurnitu
 pub fn shading_normals(name: &str) -> PyResult<NormalStyle> {
     name.parse::<NormalStyle>().map_err(invalid)
 }
+
+/// Runs `work` on a pool of `threads` threads (as `RAYON_NUM_THREADS` sets the command line's),
+/// or on the process's shared pool where `threads` is `None`. Errors: no thread, or a pool
+/// the system will not start.
+pub fn on_threads<T: Send>(threads: Option<usize>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
+    let Some(threads) = threads else {
+        return Ok(work());
+    };
+    if threads == 0 {
+        return Err(invalid("threads must be at least 1"));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| invalid(format!("cannot start {threads} threads: {e}")))?;
+    Ok(pool.install(work))
+}

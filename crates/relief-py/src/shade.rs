@@ -39,6 +39,8 @@ use std::sync::Arc;
 /// ``"FROM..TO"``, is the period of ``"insolation"`` and ``"sun-hours"``, every ``step``
 /// (``"15m"``); clocks ``timezone`` from UTC (``"+02:00"``, ``"Z"``), seen from ``latitude`` and
 /// ``longitude`` in degrees (an array has no georeference: both are needed with ``date``).
+/// ``threads``: how many threads shade (None: all the processor's, shared by the calls of
+/// the process; ``relief.dask`` gives each task one); the result is the same for any.
 ///
 /// Returns a dict from layer name to its array, in the order of ``layers``, NaN at a void of
 /// ``heights``, exactly as ``relief shade`` computes it.
@@ -49,7 +51,7 @@ use std::sync::Arc;
     heights, spacing=None, *, origin=None, z_scale=1.0, layers=vec!["combined".to_string()],
     suns=vec![(315.0, 45.0)], sun_radius=0.0, sun_rays=16, azimuths=32, observer_height=0.01,
     radius=None, earth_curvature=None, sky_model="overcast", date=None, time=None,
-    timezone="Z", step="15m", latitude=None, longitude=None, surface="triangles", voids="fill"
+    timezone="Z", step="15m", latitude=None, longitude=None, surface="triangles", voids="fill", threads=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn shade<'py>(
@@ -75,6 +77,7 @@ pub fn shade<'py>(
     longitude: Option<f64>,
     surface: &str,
     voids: &str,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let geometry = options::geometry(spacing, origin, z_scale)?;
     let surface = options::surface(surface)?;
@@ -86,12 +89,14 @@ pub fn shade<'py>(
     let grid = heights_array(heights)?;
 
     let map = py.detach(|| {
-        let void: Vec<bool> =
-            flip_rows(&grid.samples, grid.width).iter().map(|v| v.is_nan()).collect();
-        let field = height_field(&grid, geometry, voids)?;
-        let mask = void.contains(&true).then_some(void.as_slice());
-        shade_field(&field, surface, mask, &params)
-    });
+        crate::options::on_threads(threads, || {
+            let void: Vec<bool> =
+                flip_rows(&grid.samples, grid.width).iter().map(|v| v.is_nan()).collect();
+            let field = height_field(&grid, geometry, voids)?;
+            let mask = void.contains(&true).then_some(void.as_slice());
+            shade_field(&field, surface, mask, &params)
+        })
+    })?;
     layer_arrays(py, map.map_err(invalid)?)
 }
 

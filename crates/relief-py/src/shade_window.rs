@@ -83,7 +83,8 @@ pub fn source_info<'py>(
 ///
 /// The keywords are ``relief.shade``'s (``layers``, ``suns``, ``sun_radius``, ``sun_rays``,
 /// ``azimuths``, ``observer_height``, ``radius``, ``earth_curvature``, ``sky_model``,
-/// ``date``, ``time``, ``timezone``, ``step``, ``latitude``, ``longitude``, ``surface``); the
+/// ``date``, ``time``, ``timezone``, ``step``, ``latitude``, ``longitude``, ``surface``,
+/// ``threads``); the
 /// spacing, origin and heights come from the source. The window is shaded over itself and
 /// the halo its layers need, and its horizons are followed past it through the whole raster,
 /// so the result is, bit for bit, what ``relief shade SOURCE`` writes for those pixels,
@@ -97,7 +98,7 @@ pub fn source_info<'py>(
     source, window, *, layers=vec!["combined".to_string()], suns=vec![(315.0, 45.0)],
     sun_radius=0.0, sun_rays=16, azimuths=32, observer_height=0.01, radius=None,
     earth_curvature=None, sky_model="overcast", date=None, time=None, timezone="Z",
-    step="15m", latitude=None, longitude=None, surface="triangles", max_memory=None
+    step="15m", latitude=None, longitude=None, surface="triangles", max_memory=None, threads=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn shade_window<'py>(
@@ -121,6 +122,7 @@ pub fn shade_window<'py>(
     longitude: Option<f64>,
     surface: &str,
     max_memory: Option<u64>,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let surface = crate::options::surface(surface)?;
     let horizon = HorizonParams { azimuths, observer_height, radius, refraction: earth_curvature };
@@ -128,24 +130,26 @@ pub fn shade_window<'py>(
     let params = map_params(layers, suns, sun_radius, sun_rays, horizon, sky_model, &when)?;
     params.check_surface(surface).map_err(argument)?;
     let map = py.detach(|| {
-        let source = open_source(&source, max_memory)?;
-        let (col_off, row_off, width, height) = window;
-        let (raster_width, raster_height) = (source.width(), source.height());
-        if width == 0
-            || height == 0
-            || col_off + width > raster_width
-            || row_off + height > raster_height
-        {
-            return Err(format!(
-                "window (col_off {col_off}, row_off {row_off}, width {width}, height {height}) \
-                 is not within the {raster_width} x {raster_height} raster"
-            ));
-        }
-        let rows = raster_height - row_off - height..raster_height - row_off;
-        let halo =
-            chunk_halo(&params, source.span(), &source.geometry()).map_err(|e| e.to_string())?;
-        shade_block(&source, &params, surface, halo, col_off..col_off + width, rows, &|_| {})
-            .map_err(|e| e.to_string())
-    });
+        crate::options::on_threads(threads, || {
+            let source = open_source(&source, max_memory)?;
+            let (col_off, row_off, width, height) = window;
+            let (raster_width, raster_height) = (source.width(), source.height());
+            if width == 0
+                || height == 0
+                || col_off + width > raster_width
+                || row_off + height > raster_height
+            {
+                return Err(format!(
+                    "window (col_off {col_off}, row_off {row_off}, width {width}, height {height}) \
+                     is not within the {raster_width} x {raster_height} raster"
+                ));
+            }
+            let rows = raster_height - row_off - height..raster_height - row_off;
+            let halo = chunk_halo(&params, source.span(), &source.geometry())
+                .map_err(|e| e.to_string())?;
+            shade_block(&source, &params, surface, halo, col_off..col_off + width, rows, &|_| {})
+                .map_err(|e| e.to_string())
+        })
+    })?;
     layer_arrays(py, map.map_err(invalid)?)
 }

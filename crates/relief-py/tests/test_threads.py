@@ -54,3 +54,22 @@ def test_concurrent_calls_give_the_results_of_one_call():
         t.join()
     for rgb, depth in results:
         assert np.array_equal(rgb, alone[0]) and np.array_equal(depth, alone[1])
+
+
+def test_shade_on_any_number_of_threads_gives_the_same_bits():
+    heights = hills(96, 80)
+    layers = ["shadow", "sky", "horizon"]
+    shared = relief.shade(heights, 2.0, layers=layers, azimuths=8)
+    for threads in (1, 3):
+        own = relief.shade(heights, 2.0, layers=layers, azimuths=8, threads=threads)
+        for name in layers:
+            assert own[name].tobytes() == shared[name].tobytes(), (threads, name)
+
+
+def test_no_thread_is_refused():
+    try:
+        relief.shade(hills(16, 16), 1.0, threads=0)
+    except relief.ReliefError as error:
+        assert "threads must be at least 1" in str(error)
+    else:
+        raise AssertionError("threads=0 was accepted")

@@ -142,6 +142,7 @@ def shade_window(
     longitude: Optional[float] = None,
     surface: Surface = "triangles",
     max_memory: Optional[int] = None,
+    threads: Optional[int] = None,
 ) -> dict[str, npt.NDArray[np.float32]]:
     """The shade layers of the window ``(col_off, row_off, width, height)`` (north-up pixels)
     of a tile store or height file, bit for bit what ``relief shade SOURCE`` writes there."""
@@ -176,6 +177,7 @@ def shade(
     longitude: Optional[float] = None,
     surface: Surface = "triangles",
     voids: Voids = "fill",
+    threads: Optional[int] = None,
 ) -> dict[str, npt.NDArray[np.float32]]:
     """The shade layers of ``heights``, each shaped like it (north-up, NaN at its voids); the
     horizon a ``(azimuths, rows, columns)`` array of degrees.

@@ -71,7 +71,10 @@ def shade(source: Union[str, os.PathLike, da.Array, np.ndarray, xarray.DataArray
     ``horizon`` dims ``(azimuth, y, x)`` with the directions in degrees clockwise from north.
     Computing it (``ds.compute()``, ``ds.rio.to_raster(...)``, ...) shades the chunks on the
     current Dask scheduler: a ``distributed.Client``'s workers where one is connected. Each
-    chunk is shaded once, whatever the number of layers asked for.
+    chunk is shaded once, whatever the number of layers asked for. On a ``distributed``
+    worker a chunk is shaded on one thread (``threads=1`` unless ``options`` say otherwise),
+    since the worker runs a task on each of its threads: a worker of ``nthreads`` threads
+    uses that many cores. Elsewhere (no ``Client``) the chunks share the process's threads.
 
     **A store or a raster file** (``source`` a path: a folder written by ``relief tile``, or
     any raster ``relief shade`` reads): the layers ``relief shade SOURCE`` writes, exactly,
@@ -206,8 +209,21 @@ def _shade_window_block(*, source, layers, options, block_info=None):
     columns), computed by ``relief.shade_window`` (on a worker)."""
     (row0, row1), (col0, col1) = block_info[None]["array-location"][1:]
     window = (col0, row0, col1 - col0, row1 - row0)
-    shaded = relief.shade_window(source, window, **options)
+    shaded = relief.shade_window(source, window, **{"threads": _task_threads(), **options})
     return _stack(shaded, layers, row1 - row0, col1 - col0)
+
+
+def _task_threads():
+    """The threads a task shades with: one on a ``distributed`` worker, which runs a task on
+    each of its threads (so that its ``nthreads`` are the cores it uses); else None, the
+    process's shared pool."""
+    try:
+        from distributed import get_worker
+
+        get_worker()
+    except (ImportError, ValueError):
+        return None
+    return 1
 
 
 def _source_chunks(chunks, tile):
@@ -326,7 +342,7 @@ def _shade_overlapped_block(block, layers, depth, options, block_info=None):
     _, height, width = out["chunk-shape"]
     top = depth[0] if row > 0 else 0
     left = depth[1] if col > 0 else 0
-    shaded = relief.shade(block, **options)
+    shaded = relief.shade(block, **{"threads": _task_threads(), **options})
     stacked = _stack(shaded, layers, *block.shape)
     return stacked[:, top:top + height, left:left + width]
 
