@@ -312,6 +312,10 @@ impl FarLine {
         lanes: &FarLanes,
         best: &mut [f64; LANES],
     ) -> Result<[u32; LANES], ShadeError> {
+        #[cfg(test)]
+        if super::lanes::tests::PORTABLE_ONLY.get() {
+            return self.walk::<Portable>(terrain, stencil, patch, lanes, best);
+        }
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx512f") {
             // SAFETY: the processor has AVX-512 F (checked just above).

@@ -268,8 +268,46 @@ impl LaneEngine {
 
 #[cfg(test)]
 mod tests {
+    use super::super::far_field::{FarError, FarSamples};
     use super::*;
     use relief_core::GridGeometry;
+
+    /// A window's horizons, its lines walked past it through the whole raster, are the whole
+    /// raster's bit for bit, on plain arrays and in the widest vectors the processor has.
+    #[test]
+    fn a_window_and_its_far_walks_give_the_whole_raster_s_bits() {
+        let (w, h) = (150, 110);
+        let samples: Vec<f32> = (0..w * h)
+            .map(|k| {
+                let (c, r) = ((k % w) as f32, (k / w) as f32);
+                (c * 0.13).sin() * 7.0 + (r * 0.11 - c * 0.03).cos() * 6.0 + (k % 11) as f32 * 0.2
+            })
+            .collect();
+        let geometry = GridGeometry { dx: 1.5, dy: 0.8, z_scale: 2.0, ..GridGeometry::unit() };
+        let whole = HeightField::new(w, h, samples.clone(), geometry).unwrap();
+        let (col0, row0, ww, wh) = (40, 30, 60, 50);
+        let window_samples =
+            (row0..row0 + wh).flat_map(|r| samples[r * w + col0..r * w + col0 + ww].to_vec());
+        let window = HeightField::new(ww, wh, window_samples.collect(), geometry).unwrap();
+        let terrain = FarSamples::new(Arc::new(samples), w, h);
+        let far = FarField { terrain: &terrain, col0, row0 };
+        let params = HorizonParams { azimuths: 24, ..HorizonParams::default() };
+        let bits =
+            |v: &Vec<Vec<f32>>| -> Vec<u32> { v.iter().flatten().map(|a| a.to_bits()).collect() };
+        for facing in [Facing::Up, Facing::Down] {
+            let engine = LaneEngine::new(&whole, &params, facing, &[true; 24], None);
+            let expected = engine.band(row0..row0 + wh, col0..col0 + ww, None, false, None, None);
+            let engine = LaneEngine::new(&window, &params, facing, &[true; 24], Some(&far));
+            let context = FarContext { field: far, error: FarError::default() };
+            let fast = engine.band(0..wh, 0..ww, None, false, Some(&context), None);
+            super::super::lanes::tests::PORTABLE_ONLY.set(true);
+            let portable = engine.band(0..wh, 0..ww, None, false, Some(&context), None);
+            super::super::lanes::tests::PORTABLE_ONLY.set(false);
+            assert!(context.error.take().is_none());
+            assert_eq!(bits(&fast), bits(&expected), "{facing:?}");
+            assert_eq!(bits(&portable), bits(&expected), "{facing:?}");
+        }
+    }
 
     /// The lanes on plain arrays and in the widest vectors the processor has give the same
     /// bits, in every direction, both ways up, above the horizontal or not, with a radius.

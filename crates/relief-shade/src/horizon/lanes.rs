@@ -358,7 +358,7 @@ impl LaneGroup<'_> {
     }
 }
 
-/// Per lane, a height at most the highest a point of steps `from..=to` of `steps` may lie
+/// Per lane, a height at most the highest a point of the steps `stretch` of `steps` may lie
 /// without raising the horizon of a lane whose sample is `z0` and best slope so far `best`
 /// (`unwanted` is 0 in the lanes wanted, infinite in the others), for an observer
 /// `observer_height` over the sample and heights times `z_scale`. A lane's bound is its

@@ -198,9 +198,11 @@ fn fingerprint(args: &ShadeArgs, source: &ShadeSource, params: &ShadeMapParams) 
         .ok()
         .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
         .map_or(0, |d| d.as_nanos());
+    // The input however it is named (relative or absolute, through links).
+    let input = std::fs::canonicalize(&args.input).unwrap_or_else(|_| args.input.clone());
     Ok(format!(
         "{} {} {modified} {:?} {:?} {:?} {}x{}",
-        args.input.display(),
+        input.display(),
         meta.len(),
         params,
         args.surface,
