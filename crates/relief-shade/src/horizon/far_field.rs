@@ -3,7 +3,9 @@
 //! of the line through the whole raster, read on demand ([`FarTerrain`]). The points past the
 //! window are the lanes' points (the same [`StencilLine`]) and their slopes the same f64
 //! arithmetic, so a window's horizons are bit for bit those of the whole raster in memory.
-//! Stretches too low to raise a horizon are skipped by the raster's [`CoarseBounds`].
+//! A group's sixteen lines are walked together, as the lanes walk the window: stretches too
+//! low to raise a horizon are skipped by the raster's [`CoarseBounds`], and the samples of
+//! the rest are copied, eight steps at a time, into a small grid the lanes' step test reads.
 
 use super::coarse_bounds::CoarseBounds;
 use super::lane_frame::{LANES, OUTSIDE};
