@@ -385,8 +385,16 @@ impl FarLine {
         while k <= last {
             let to = (k + (1 << level) - 1).min(last);
             if level > LEAF_LEVEL {
-                let highest = f64::from(self.highest(bounds, x, y, k, to));
-                if self.below_ceilings(lanes, &z0_exact, &lanes_best.exact, highest, k, to) {
+                let highest = V::splat(self.highest(bounds, x, y, k, to));
+                let ceiling = ceiling(
+                    &stencil.steps,
+                    self.observer_and_scale,
+                    z0,
+                    unwanted,
+                    k..=to,
+                    lanes_best.low(),
+                );
+                if !V::any_greater(highest, ceiling) {
                     k = to + 1;
                     level = (level + 1).min(TOP_LEVEL);
                 } else {
@@ -499,31 +507,6 @@ impl FarLine {
             }
         }
         Ok([x0, y0])
-    }
-
-    /// Whether `highest` lies at or below every wanted lane's ceiling over steps `from..=to`:
-    /// the lowest a signed sample may lie and still raise the lane's `best`, less a margin
-    /// for rounding.
-    #[inline(always)]
-    fn below_ceilings(
-        &self,
-        lanes: &FarLanes,
-        z0: &[f64; LANES],
-        best: &[f64; LANES],
-        highest: f64,
-        from: usize,
-        to: usize,
-    ) -> bool {
-        let line = &self.line;
-        let near = (from as f64 - 1.0) * line.metres_per_step;
-        let far = to as f64 * line.metres_per_step;
-        (0..LANES).all(|i| {
-            let t = if best[i] < 0.0 { far } else { near };
-            let rise = (best[i] * t + line.observer_height) / line.z_scale;
-            let ceiling = z0[i] + rise;
-            let ceiling = ceiling - 1e-9 * (1.0 + z0[i].abs() + rise.abs());
-            !lanes.wanted[i] || highest <= ceiling
-        })
     }
 }
 
