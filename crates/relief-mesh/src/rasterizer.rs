@@ -246,16 +246,17 @@ impl Rasterizer {
                         continue;
                     }
                     let projected = corners(tri);
+                    // Culled triangles are skipped first (their facing costs less than their
+                    // bounds); one spanning several tiles is set up below to skip the tiles
+                    // its edges exclude.
+                    if cull && is_back_face(&projection, &projected) {
+                        continue;
+                    }
                     let Some([x0, y0, x1, y1]) = projection.pixel_bounds(&projected) else {
                         continue;
                     };
                     let world = tri.map(|v| positions[v as usize]);
                     let (tx0, ty0, tx1, ty1) = (x0 >> shift, y0 >> shift, x1 >> shift, y1 >> shift);
-                    // Culled triangles are skipped here; one spanning several tiles is set up
-                    // now to skip the tiles its edges exclude.
-                    if cull && is_back_face(&projection, &projected) {
-                        continue;
-                    }
                     let setup = if tx0 != tx1 || ty0 != ty1 {
                         match TriangleSetup::new(&projection, &projected, &world, cull) {
                             Some(setup) => Some(setup),
