@@ -163,8 +163,12 @@ impl PyScene {
     /// arrow where north does not run along the view; ``relief.ReliefError`` where the scene
     /// or the camera does not define one. ``aa``: anti-aliasing, ``"adaptive"`` (the
     /// default), ``"off"`` or N for N x N rays a pixel, as ``relief render --aa``.
+    /// ``threads``: how many threads draw (None: all the processor's, shared by the calls of
+    /// the process; ``relief.dask.flythrough`` gives each frame one); the picture is the same
+    /// for any.
     #[pyo3(signature = (
-        camera=None, size=(1280, 720), *, legend=false, scale_bar=false, north_arrow=false, aa=None
+        camera=None, size=(1280, 720), *, legend=false, scale_bar=false, north_arrow=false,
+        aa=None, threads=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
@@ -176,6 +180,7 @@ impl PyScene {
         scale_bar: bool,
         north_arrow: bool,
         aa: Option<&Bound<'py, PyAny>>,
+        threads: Option<usize>,
     ) -> PyResult<Rendered<'py>> {
         let furniture = options::furniture(legend, scale_bar, north_arrow);
         let (width, height) = options::image_size(size)?;
@@ -189,17 +194,19 @@ impl PyScene {
         let raise_with = Some("relief.open(..., max_memory=N)");
         check_image(width, height, holding, aa, max_memory, raise_with)?;
         let drawn = py.detach(|| {
-            let opened = self.locked();
-            let scene = &opened.scene;
-            let placed = scene.camera(&options)?;
-            let inside = scene.camera_warning(&placed.camera);
-            let keep = KeptHits { depth: true, normals: false };
-            let colours = scene.height_colours();
-            furniture.check(&placed.camera, colours.as_ref())?;
-            let mut picture = scene.render(&placed.camera, keep, aa, &Silent)?;
-            furniture.draw(&mut picture, &placed.camera, colours.as_ref())?;
-            Ok::<_, RenderError>(Drawn { picture, note: placed.note, inside })
-        });
+            options::on_threads(threads, || {
+                let opened = self.locked();
+                let scene = &opened.scene;
+                let placed = scene.camera(&options)?;
+                let inside = scene.camera_warning(&placed.camera);
+                let keep = KeptHits { depth: true, normals: false };
+                let colours = scene.height_colours();
+                furniture.check(&placed.camera, colours.as_ref())?;
+                let mut picture = scene.render(&placed.camera, keep, aa, &Silent)?;
+                furniture.draw(&mut picture, &placed.camera, colours.as_ref())?;
+                Ok::<_, RenderError>(Drawn { picture, note: placed.note, inside })
+            })
+        })?;
         let drawn = drawn.map_err(scene_error)?;
         warn_note(py, drawn.note.as_deref())?;
         for line in drawn.inside.iter().chain(&drawn.picture.notes) {

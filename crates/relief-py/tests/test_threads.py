@@ -73,3 +73,19 @@ def test_no_thread_is_refused():
         assert "threads must be at least 1" in str(error)
     else:
         raise AssertionError("threads=0 was accepted")
+
+
+def test_a_scene_renders_the_same_picture_on_any_number_of_threads(tmp_path):
+    np.save(tmp_path / "h.npy", hills(64, 72).astype(np.float32))
+    scene = relief.open(tmp_path / "h.npy", spacing=2.0, shadows=True)
+    rgb, depth = scene.render(size=(96, 64))
+    for threads in (1, 3):
+        own_rgb, own_depth = scene.render(size=(96, 64), threads=threads)
+        assert np.array_equal(own_rgb, rgb), threads
+        assert own_depth.tobytes() == depth.tobytes(), threads
+    try:
+        scene.render(size=(96, 64), threads=0)
+    except relief.ReliefError as error:
+        assert "threads must be at least 1" in str(error)
+    else:
+        raise AssertionError("threads=0 was accepted")

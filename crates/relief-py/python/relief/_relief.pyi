@@ -351,11 +351,13 @@ class Scene:
         scale_bar: bool = False,
         north_arrow: bool = False,
         aa: Union[Literal["adaptive", "off"], int, None] = None,
+        threads: Optional[int] = None,
     ) -> Tuple[npt.NDArray[np.uint8], npt.NDArray[np.float32]]:
         """``(rgb, depth)`` as ``relief render`` draws the scene: uint8 (height, width, 3) and
         float32 (height, width), +inf for a miss, pixel for pixel the command line's; with
         its ``--legend``, ``--scale-bar`` (orthographic cameras), ``--north-arrow`` and
-        ``--aa`` (``"adaptive"``, the default, ``"off"`` or N)."""
+        ``--aa`` (``"adaptive"``, the default, ``"off"`` or N); drawn on ``threads`` threads
+        (None: the process's shared pool), the same picture for any."""
     def shade(
         self,
         layers: Sequence[ShadeLayer] = ("combined",),

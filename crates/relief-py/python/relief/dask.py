@@ -472,13 +472,14 @@ _scenes_lock = threading.Lock()
 
 
 def _render_frame(input, options, camera, size, file, png_compression):
-    """Renders one frame of a fly-through to ``file`` (on a worker); returns the file. The
-    scene is opened once per worker process and shared by its threads."""
+    """Renders one frame of a fly-through to ``file`` (on a worker, on one thread of it: see
+    ``_task_threads``); returns the file. The scene is opened once per worker process and
+    shared by its threads."""
     key = (input, dask.base.tokenize(options))
     with _scenes_lock:
         scene = _scenes.get(key)
         if scene is None:
             scene = _scenes[key] = relief.open(input, **options)
-    rgb, _ = scene.render(camera, size, aa="off")
+    rgb, _ = scene.render(camera, size, aa="off", threads=_task_threads())
     relief.write_png(file, rgb, compression=png_compression)
     return file
