@@ -45,7 +45,7 @@
 //! assert!((hit.t - distance as f64).abs() < 1e-5 * hit.t);
 //! ```
 #![deny(missing_docs)]
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 
 mod box_mesh;
 mod clipmap;
@@ -60,6 +60,8 @@ mod raster_target;
 mod rasterizer;
 mod stacks;
 mod terrain_mesh;
+mod tile_scan;
+mod tile_sinks;
 mod triangle_setup;
 
 pub use clipmap::{Clipmap, ClipmapParams};
@@ -72,3 +74,4 @@ pub use raster_target::RasterTarget;
 pub use rasterizer::{Culling, DrawStats, Rasterizer};
 pub use stacks::{MeshStats, NodeKey, Smoothing, StacksMeshParams, StacksMesher};
 pub use terrain_mesh::{MeshPart, TerrainMesh};
+pub use tile_scan::ScanLanes;

@@ -1,7 +1,10 @@
 //! The binned, tile-parallel CPU rasterizer: triangles are projected and binned into screen
-//! tiles in parallel, then every tile is rasterized by one worker into its own pixels, so the
-//! image is the same whatever the thread count.
+//! tiles in parallel, then every row of tiles is scanned by one worker, tile after tile, each
+//! into its own pixels of the target (`tile_scan.rs`, `tile_sinks.rs`), so the image is the
+//! same whatever the thread count.
 
+use crate::tile_scan::{scan_tile, BandSink, BinEntry, ScanInput, ScanLanes};
+use crate::tile_sinks::{CountBand, DepthBand};
 use crate::triangle_setup::{is_back_face, ScreenProjection, TriangleSetup};
 use crate::{IndexedMesh, MeshError, RasterTarget};
 use rayon::prelude::*;
@@ -33,6 +36,7 @@ const BIN_CHUNK: usize = 16 * 1024;
 pub struct Rasterizer {
     tile_size: usize,
     culling: Culling,
+    lanes: ScanLanes,
 }
 
 /// Which triangles a [`Rasterizer`] skips by their facing.
@@ -60,16 +64,9 @@ pub struct DrawStats {
     pub fragments: usize,
 }
 
-/// A triangle's part of one tile: its index and its pixel bounds relative to the tile.
-#[derive(Debug, Clone, Copy)]
-struct BinEntry {
-    triangle: u32,
-    rect: [u8; 4],
-}
-
 impl Default for Rasterizer {
     fn default() -> Self {
-        Rasterizer { tile_size: 64, culling: Culling::None }
+        Rasterizer { tile_size: 64, culling: Culling::None, lanes: ScanLanes::fastest() }
     }
 }
 
@@ -94,6 +91,19 @@ impl Rasterizer {
     /// The same rasterizer with `culling`.
     pub fn with_culling(self, culling: Culling) -> Self {
         Rasterizer { culling, ..self }
+    }
+
+    /// The same rasterizer testing pixel centres the way `lanes` says (by default the
+    /// fastest this processor runs; every way draws the same image). Fails when the
+    /// processor lacks it.
+    pub fn with_lanes(self, lanes: ScanLanes) -> Result<Self, MeshError> {
+        if !lanes.is_available() {
+            return Err(MeshError::Parameter {
+                name: "lanes",
+                reason: format!("this processor does not run {lanes:?}"),
+            });
+        }
+        Ok(Rasterizer { lanes, ..self })
     }
 
     /// Which triangles are skipped by their facing.
@@ -136,56 +146,18 @@ impl Rasterizer {
                 mesh.triangle_count()
             )));
         }
-        let width = target.width;
-        let read_only: &RasterTarget = target;
-        let (tiles, stats) = self.rasterize(camera, mesh, |rect, tile_w, tile_h| {
-            let mut distance = vec![f32::INFINITY; tile_w * tile_h];
-            let mut triangle = vec![RasterTarget::NO_TRIANGLE; tile_w * tile_h];
-            let keeps = !read_only.barycentrics.is_empty();
-            let mut barycentrics = vec![[0.0f32; 2]; if keeps { tile_w * tile_h } else { 0 }];
-            for row in 0..tile_h {
-                let src = rect[0] + (rect[1] + row) * width;
-                let dst = row * tile_w;
-                distance[dst..dst + tile_w].copy_from_slice(&read_only.distance[src..src + tile_w]);
-                triangle[dst..dst + tile_w].copy_from_slice(&read_only.triangle[src..src + tile_w]);
-                if keeps {
-                    barycentrics[dst..dst + tile_w]
-                        .copy_from_slice(&read_only.barycentrics[src..src + tile_w]);
-                }
-            }
-            DepthTile { distance, triangle, barycentrics, width: tile_w, id_offset }
-        });
-        // The tiles written back band by band (a band: one row of tiles), bands in parallel.
-        let band = self.tile_size * width;
-        let mut by_band: Vec<Vec<([usize; 2], DepthTile)>> =
-            (0..target.height.div_ceil(self.tile_size)).map(|_| Vec::new()).collect();
-        for (rect, tile) in tiles {
-            by_band[rect[1] / self.tile_size].push((rect, tile));
-        }
-        let barycentric_bands: Vec<Option<&mut [[f32; 2]]>> = if target.barycentrics.is_empty() {
-            by_band.iter().map(|_| None).collect()
-        } else {
-            target.barycentrics.chunks_mut(band).map(Some).collect()
-        };
-        target
+        let (width, size) = (target.width, self.tile_size);
+        let band = size * width;
+        let mut barycentrics = target.barycentrics.chunks_mut(band);
+        let bands: Vec<DepthBand> = target
             .distance
-            .par_chunks_mut(band)
-            .zip(target.triangle.par_chunks_mut(band))
-            .zip(barycentric_bands)
-            .zip(by_band)
-            .for_each(|(((distance, triangle), mut barycentrics), tiles)| {
-                for ([x, _], tile) in tiles {
-                    let w = tile.width;
-                    for row in 0..tile.distance.len() / w {
-                        let (dst, src) = (x + row * width, row * w);
-                        distance[dst..dst + w].copy_from_slice(&tile.distance[src..src + w]);
-                        triangle[dst..dst + w].copy_from_slice(&tile.triangle[src..src + w]);
-                        if let Some(b) = barycentrics.as_deref_mut() {
-                            b[dst..dst + w].copy_from_slice(&tile.barycentrics[src..src + w]);
-                        }
-                    }
-                }
-            });
+            .chunks_mut(band)
+            .zip(target.triangle.chunks_mut(band))
+            .map(|(distance, triangle)| {
+                DepthBand::new(distance, triangle, barycentrics.next(), width, size, id_offset)
+            })
+            .collect();
+        let stats = self.rasterize(camera, mesh, bands);
         Ok(stats)
     }
 
@@ -195,27 +167,22 @@ impl Rasterizer {
     /// covered exactly once).
     pub fn coverage_counts(&self, camera: &Camera, mesh: &IndexedMesh) -> Vec<u32> {
         let (width, height) = (camera.width() as usize, camera.height() as usize);
-        let (tiles, _) =
-            self.rasterize(camera, mesh, |_, w, h| CountTile { counts: vec![0; w * h], width: w });
         let mut counts = vec![0; width * height];
-        for (rect, tile) in tiles {
-            for (row, chunk) in tile.counts.chunks_exact(tile.width).enumerate() {
-                let dst = rect[0] + (rect[1] + row) * width;
-                counts[dst..dst + tile.width].copy_from_slice(chunk);
-            }
-        }
+        let bands =
+            counts.chunks_mut(self.tile_size * width).map(|counts| CountBand { counts, width });
+        self.rasterize(camera, mesh, bands.collect());
         counts
     }
 
-    /// Projects, bins and scans `mesh`, each tile into a sink made by `make_sink(tile pixel
-    /// origin, tile width, tile height)`; returns the origin and sink of every tile some
-    /// triangle reached (the others are left as they are).
-    fn rasterize<S: TileSink>(
+    /// Projects, bins and scans `mesh` into `bands`, one per row of tiles from the top: each
+    /// tile some triangle reaches is scanned into its band's sink for it (the others are left
+    /// as they are).
+    fn rasterize<B: BandSink>(
         &self,
         camera: &Camera,
         mesh: &IndexedMesh,
-        make_sink: impl Fn([usize; 2], usize, usize) -> S + Sync,
-    ) -> (Vec<([usize; 2], S)>, DrawStats) {
+        bands: Vec<B>,
+    ) -> DrawStats {
         let projection = ScreenProjection::new(camera);
         let (width, height, size) = (projection.width, projection.height, self.tile_size);
         let (tiles_x, tiles_y) = (width.div_ceil(size), height.div_ceil(size));
@@ -246,9 +213,8 @@ impl Rasterizer {
                         continue;
                     }
                     let projected = corners(tri);
-                    // Culled triangles are skipped first (their facing costs less than their
-                    // bounds); one spanning several tiles is set up below to skip the tiles
-                    // its edges exclude.
+                    // Culled triangles are skipped here; one spanning several tiles is set up
+                    // below to skip the tiles its edges exclude.
                     if cull && is_back_face(&projection, &projected) {
                         continue;
                     }
@@ -292,90 +258,33 @@ impl Rasterizer {
         let triangles_binned = binned.iter().map(|(_, count)| count).sum();
         let bins: Vec<Vec<Vec<BinEntry>>> = binned.into_iter().map(|(bins, _)| bins).collect();
 
-        // Scanning: one worker per tile, triangles in id order.
-        let busy: Vec<usize> = (0..tiles_x * tiles_y)
-            .filter(|&tile| bins.iter().any(|chunk| !chunk[tile].is_empty()))
-            .collect();
-        let results: Vec<(([usize; 2], S), usize, usize)> = busy
+        // Scanning: one worker per band of tiles, each tile's triangles in id order.
+        let input =
+            ScanInput { projection: &projection, triangles, positions, projected: &projected };
+        let counts: Vec<(usize, usize)> = bands
             .into_par_iter()
-            .map(|tile| {
-                let (ox, oy) = ((tile % tiles_x) * size, (tile / tiles_x) * size);
-                let (tw, th) = (size.min(width - ox), size.min(height - oy));
-                let mut sink = make_sink([ox, oy], tw, th);
-                let (mut entries, mut fragments) = (0, 0);
-                for entry in bins.iter().flat_map(|chunk| &chunk[tile]) {
-                    entries += 1;
-                    let tri = &triangles[entry.triangle as usize];
-                    let world = tri.map(|v| positions[v as usize]);
-                    let Some(setup) = TriangleSetup::new(&projection, &corners(tri), &world, false)
-                    else {
+            .enumerate()
+            .map(|(ty, mut band)| {
+                let (mut scanned, mut fragments) = (0, 0);
+                for tx in 0..tiles_x {
+                    let tile = tx + ty * tiles_x;
+                    if bins.iter().all(|chunk| chunk[tile].is_empty()) {
                         continue;
-                    };
-                    let [x0, y0, x1, y1] = entry.rect.map(|c| c as usize);
-                    let rect = [ox + x0, oy + y0, ox + x1, oy + y1];
-                    fragments += setup.scan(&projection, rect, |i, j, distance, edges| {
-                        sink.write(i - ox, j - oy, distance, entry.triangle, edges)
-                    });
+                    }
+                    let (ox, oy) = (tx * size, ty * size);
+                    let (tw, th) = (size.min(width - ox), size.min(height - oy));
+                    let mut sink = band.tile(&projection, [ox, oy], tw, th);
+                    let entries = bins.iter().flat_map(|chunk| &chunk[tile]);
+                    let (s, f) = scan_tile(self.lanes, &input, [ox, oy], entries, &mut sink);
+                    (scanned, fragments) = (scanned + s, fragments + f);
                 }
-                (([ox, oy], sink), entries, fragments)
+                (scanned, fragments)
             })
             .collect();
-        let mut stats = DrawStats { triangles_binned, ..DrawStats::default() };
-        let tiles = results
-            .into_iter()
-            .map(|(tile, entries, fragments)| {
-                stats.bin_entries += entries;
-                stats.fragments += fragments;
-                tile
-            })
-            .collect();
-        (tiles, stats)
-    }
-}
-
-/// Where a tile's covered pixels go.
-trait TileSink: Send {
-    /// Pixel (i, j) of the tile is covered by `triangle` at `distance`, its edge functions
-    /// `edges` there (see `TriangleSetup::scan`).
-    fn write(&mut self, i: usize, j: usize, distance: f32, triangle: u32, edges: [f64; 3]);
-}
-
-/// A tile of a [`RasterTarget`], depth-tested.
-struct DepthTile {
-    distance: Vec<f32>,
-    triangle: Vec<u32>,
-    /// The barycentrics of corners 1 and 2, when the target keeps them (else empty).
-    barycentrics: Vec<[f32; 2]>,
-    width: usize,
-    id_offset: u32,
-}
-
-impl TileSink for DepthTile {
-    #[inline(always)]
-    fn write(&mut self, i: usize, j: usize, distance: f32, triangle: u32, edges: [f64; 3]) {
-        let k = i + j * self.width;
-        let id = self.id_offset + triangle;
-        let held = self.distance[k];
-        if distance < held || (distance == held && id < self.triangle[k]) {
-            self.distance[k] = distance;
-            self.triangle[k] = id;
-            if !self.barycentrics.is_empty() {
-                let inverse = 1.0 / (edges[0] + edges[1] + edges[2]);
-                self.barycentrics[k] = [(edges[1] * inverse) as f32, (edges[2] * inverse) as f32];
-            }
+        DrawStats {
+            triangles_binned,
+            bin_entries: counts.iter().map(|c| c.0).sum(),
+            fragments: counts.iter().map(|c| c.1).sum(),
         }
-    }
-}
-
-/// A tile of coverage counts.
-struct CountTile {
-    counts: Vec<u32>,
-    width: usize,
-}
-
-impl TileSink for CountTile {
-    #[inline(always)]
-    fn write(&mut self, i: usize, j: usize, _distance: f32, _triangle: u32, _edges: [f64; 3]) {
-        self.counts[i + j * self.width] += 1;
     }
 }
