@@ -154,7 +154,7 @@ impl Rasterizer {
             .chunks_mut(band)
             .zip(target.triangle.chunks_mut(band))
             .map(|(distance, triangle)| {
-                DepthBand::new(distance, triangle, barycentrics.next(), width, size, id_offset)
+                DepthBand::new(distance, triangle, barycentrics.next(), width, id_offset)
             })
             .collect();
         let stats = self.rasterize(camera, mesh, bands);

@@ -25,27 +25,17 @@ pub(crate) struct DepthBand<'a> {
 
 impl<'a> DepthBand<'a> {
     /// The band of a target's rows `distance`, `triangle` and `barycentrics` (`width` pixels
-    /// a row), for tiles of at most `tile_size` squared pixels whose triangle ids are offset by
-    /// `id_offset`.
+    /// a row), whose triangle ids are offset by `id_offset`. Its scratch is made by the first
+    /// tile some triangle reaches.
     pub(crate) fn new(
         distance: &'a mut [f32],
         triangle: &'a mut [u32],
         barycentrics: Option<&'a mut [[f32; 2]]>,
         width: usize,
-        tile_size: usize,
         id_offset: u32,
     ) -> Self {
-        let n = tile_size * tile_size;
-        DepthBand {
-            distance,
-            triangle,
-            barycentrics,
-            width,
-            id_offset,
-            key: vec![f64::NAN; n],
-            written: vec![false; n],
-            edges: vec![[0.0; 3]; n],
-        }
+        let (key, written, edges) = (Vec::new(), Vec::new(), Vec::new());
+        DepthBand { distance, triangle, barycentrics, width, id_offset, key, written, edges }
     }
 }
 
@@ -63,8 +53,14 @@ impl BandSink for DepthBand<'_> {
         height: usize,
     ) -> DepthTile<'t> {
         let n = width * height;
-        self.key[..n].fill(f64::NAN);
-        self.written[..n].fill(false);
+        if self.edges.len() < n {
+            // Read only where `written` says a triangle won: never reset.
+            self.edges.resize(n, [0.0; 3]);
+        }
+        self.key.clear();
+        self.key.resize(n, f64::NAN);
+        self.written.clear();
+        self.written.resize(n, false);
         DepthTile {
             distance: &mut self.distance[x..],
             triangle: &mut self.triangle[x..],

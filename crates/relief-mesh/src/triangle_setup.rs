@@ -167,10 +167,16 @@ impl TileRays<'_> {
     #[inline(always)]
     pub(crate) fn distance(&self, i: usize, j: usize, key: f64) -> f32 {
         if self.perspective {
-            ((1.0 + self.sy[j] * self.sy[j] + self.sx[i] * self.sx[i]).sqrt() / key) as f32
+            (self.ray_length(i, j) / key) as f32
         } else {
             (-key) as f32
         }
+    }
+
+    /// The length of a pinhole's ray `forward + sx right + sy up'` through pixel (i, j).
+    #[inline(always)]
+    fn ray_length(&self, i: usize, j: usize) -> f64 {
+        (1.0 + self.sy[j] * self.sy[j] + self.sx[i] * self.sx[i]).sqrt()
     }
 
     /// The depth key of the point at `distance` along the tile's pixel (i, j)'s unit ray
@@ -180,7 +186,7 @@ impl TileRays<'_> {
         if !distance.is_finite() {
             f64::NEG_INFINITY
         } else if self.perspective {
-            (1.0 + self.sy[j] * self.sy[j] + self.sx[i] * self.sx[i]).sqrt() / distance as f64
+            self.ray_length(i, j) / distance as f64
         } else {
             -(distance as f64)
         }

@@ -214,9 +214,9 @@ def _shade_window_block(*, source, layers, options, block_info=None):
 
 
 def _task_threads():
-    """The threads a task shades with: one on a ``distributed`` worker, which runs a task on
-    each of its threads (so that its ``nthreads`` are the cores it uses); else None, the
-    process's shared pool."""
+    """The threads a task shades or draws with: one on a ``distributed`` worker, which runs a
+    task on each of its threads (so that its ``nthreads`` are the cores it uses); else None,
+    the process's shared pool."""
     try:
         from distributed import get_worker
 
