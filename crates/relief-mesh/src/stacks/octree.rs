@@ -39,11 +39,83 @@ impl NodeKey {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Leaves {
     set: FxHashSet<NodeKey>,
-    /// The nodes split into finer ones: the ancestors of the leaves.
-    interior: FxHashSet<NodeKey>,
+    /// Per level, which nodes are leaves and which are split into finer ones (the leaves'
+    /// ancestors): the lookups of balancing, an array index each.
+    marks: Vec<LevelMarks>,
     max_level: u8,
     /// The smallest and largest root positions: no leaf lies outside the roots.
     roots: ([i32; 3], [i32; 3]),
+}
+
+/// What a node is in a [`Leaves`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Mark {
+    /// Neither a leaf nor split: inside a coarser leaf, or outside the roots.
+    None = 0,
+    Leaf = 1,
+    Split = 2,
+}
+
+/// The marks of one level's nodes in a box of node positions (a node outside it is
+/// [`Mark::None`]).
+#[derive(Debug, Clone, Default)]
+struct LevelMarks {
+    low: [i32; 3],
+    size: [usize; 3],
+    marks: Vec<u8>,
+}
+
+impl LevelMarks {
+    /// The marks of nodes `low..=high` (every one [`Mark::None`]).
+    fn new(low: [i32; 3], high: [i32; 3]) -> Self {
+        let size = std::array::from_fn(|a| (high[a] - low[a] + 1).max(0) as usize);
+        LevelMarks { low, size, marks: vec![Mark::None as u8; size.iter().product()] }
+    }
+
+    fn index(&self, at: [i32; 3]) -> Option<usize> {
+        let mut index = 0;
+        for a in (0..3).rev() {
+            let offset = at[a].wrapping_sub(self.low[a]) as u32 as usize;
+            if offset >= self.size[a] {
+                return None;
+            }
+            index = index * self.size[a] + offset;
+        }
+        Some(index)
+    }
+
+    fn get(&self, at: [i32; 3]) -> Mark {
+        match self.index(at).map(|i| self.marks[i]) {
+            Some(1) => Mark::Leaf,
+            Some(2) => Mark::Split,
+            _ => Mark::None,
+        }
+    }
+
+    /// Marks node `at`, the box grown to hold it where it does not (balancing can split a
+    /// leaf whose children lie outside the box chosen before it).
+    fn set(&mut self, at: [i32; 3], mark: Mark) {
+        if self.index(at).is_none() {
+            let mut grown = LevelMarks::new(
+                std::array::from_fn(|a| self.low[a].min(at[a])),
+                std::array::from_fn(|a| (self.low[a] + self.size[a] as i32 - 1).max(at[a])),
+            );
+            for (i, &m) in self.marks.iter().enumerate().filter(|(_, &m)| m != 0) {
+                let (x, y, z) = (
+                    i % self.size[0],
+                    i / self.size[0] % self.size[1],
+                    i / self.size[0] / self.size[1],
+                );
+                let at = [x, y, z].map(|c| c as i32);
+                let at = std::array::from_fn(|a| at[a] + self.low[a]);
+                let j = grown.index(at).expect("the grown box holds the old one");
+                grown.marks[j] = m;
+            }
+            *self = grown;
+        }
+        let i = self.index(at).expect("the box holds the node");
+        self.marks[i] = mark as u8;
+    }
 }
 
 impl Leaves {
@@ -58,19 +130,43 @@ impl Leaves {
                 range.1[a] = range.1[a].max(root.at[a]);
             }
         }
-        let (mut set, mut interior) = (FxHashSet::default(), FxHashSet::default());
+        let (mut set, mut interior) = (FxHashSet::default(), Vec::new());
         let mut stack: Vec<NodeKey> = roots.to_vec();
         while let Some(node) = stack.pop() {
             if node.level > 0 && split(&node) {
-                interior.insert(node);
+                interior.push(node);
                 stack.extend(node.children());
             } else {
                 set.insert(node);
             }
         }
-        let mut leaves = Leaves { set, interior, max_level, roots: range };
+        // Every node but a root is a child of a node one level up, and balancing only splits
+        // leaves: a level's box is the one over the children of the level above's nodes.
+        let mut boxes = vec![([i32::MAX; 3], [i32::MIN; 3]); max_level as usize + 1];
+        boxes[max_level as usize] = range;
+        for node in set.iter().chain(&interior).filter(|n| n.level > 0) {
+            let (low, high) = &mut boxes[node.level as usize - 1];
+            for a in 0..3 {
+                low[a] = low[a].min(2 * node.at[a]);
+                high[a] = high[a].max(2 * node.at[a] + 1);
+            }
+        }
+        let mut marks: Vec<LevelMarks> =
+            boxes.into_iter().map(|(low, high)| LevelMarks::new(low, high)).collect();
+        for node in &set {
+            marks[node.level as usize].set(node.at, Mark::Leaf);
+        }
+        for node in &interior {
+            marks[node.level as usize].set(node.at, Mark::Split);
+        }
+        let mut leaves = Leaves { set, marks, max_level, roots: range };
         leaves.balance();
         leaves
+    }
+
+    /// What node `key` is.
+    fn mark(&self, key: &NodeKey) -> Mark {
+        self.marks.get(key.level as usize).map_or(Mark::None, |m| m.get(key.at))
     }
 
     /// The leaf covering the region of node `key` or a coarser leaf containing it, if any.
@@ -83,14 +179,14 @@ impl Leaves {
         }
         let mut k = *key;
         loop {
-            if self.set.contains(&k) {
-                return Some(k);
+            match self.mark(&k) {
+                Mark::Leaf => return Some(k),
+                // A split node's region is covered by finer leaves, and so is any node's
+                // inside it.
+                Mark::Split => return None,
+                Mark::None if k.level >= self.max_level => return None,
+                Mark::None => k = k.parent(),
             }
-            // A split node's region is covered by finer leaves, and so is any node's inside it.
-            if k.level >= self.max_level || self.interior.contains(&k) {
-                return None;
-            }
-            k = k.parent();
         }
     }
 
@@ -121,9 +217,10 @@ impl Leaves {
             work = again;
             for node in to_split {
                 self.set.remove(&node);
-                self.interior.insert(node);
+                self.marks[node.level as usize].set(node.at, Mark::Split);
                 for child in node.children() {
                     self.set.insert(child);
+                    self.marks[child.level as usize].set(child.at, Mark::Leaf);
                     work.push(child);
                 }
             }
