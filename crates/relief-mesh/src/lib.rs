@@ -47,6 +47,8 @@
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
+#[cfg(target_arch = "x86_64")]
+mod block_scan;
 mod box_mesh;
 mod clipmap;
 mod error;

@@ -1,5 +1,6 @@
 //! The rasterizer's output: per pixel the distance along its camera ray and the triangle seen.
 
+use rayon::prelude::*;
 use relief_core::Camera;
 
 /// Per pixel of a `width x height` image (row-major, row 0 the image's top row): the distance
@@ -54,8 +55,11 @@ impl RasterTarget {
 
     /// Forgets everything drawn.
     pub fn clear(&mut self) {
-        self.distance.fill(f32::INFINITY);
-        self.triangle.fill(Self::NO_TRIANGLE);
+        const CHUNK: usize = 1 << 16;
+        rayon::join(
+            || self.distance.par_chunks_mut(CHUNK).for_each(|d| d.fill(f32::INFINITY)),
+            || self.triangle.par_chunks_mut(CHUNK).for_each(|t| t.fill(Self::NO_TRIANGLE)),
+        );
     }
 
     /// The distance and triangle id of pixel (i, j) (column, row from the top), if something

@@ -2,7 +2,7 @@
 //! tile's pixel centres, row by row or, where the processor has AVX-512, sixteen pixels of a
 //! 4 x 4 block at a time. Both give the same pixels, depth keys and edge values.
 
-use crate::triangle_setup::{ScreenProjection, TriangleSetup};
+use crate::triangle_setup::{ScreenProjection, TriangleSetup, BLOCK_LANES};
 use relief_core::DVec3;
 use std::sync::OnceLock;
 
@@ -13,14 +13,27 @@ pub(crate) struct BinEntry {
     pub(crate) rect: [u8; 4],
 }
 
-/// Where a tile's covered pixels go.
+/// Where a tile's covered pixels go. Pixels are relative to the tile, whose top-left pixel
+/// lies on the image's grid of 4 x 4 blocks; `entry` numbers the tile's triangles in the
+/// order they are scanned (an index into the set-ups `finish` gets).
 pub(crate) trait TileSink: Send {
-    /// Pixel (i, j) of the tile is covered by `triangle` at depth key `key` (larger is
-    /// nearer), its edge functions `edges` there (see `TriangleSetup::scan`).
-    fn write(&mut self, i: usize, j: usize, key: f64, triangle: u32, edges: [f64; 3]);
+    /// Pixel (i, j) is covered by `triangle` at depth key `key` (larger is nearer; see
+    /// `TriangleSetup::scan`).
+    fn write(&mut self, i: usize, j: usize, key: f64, entry: u32, triangle: u32);
 
-    /// Called once every triangle of the tile has been written.
-    fn finish(&mut self) {}
+    /// The block of 4 x 4 pixels from (i, j) on (a multiple of 4 each) is covered by
+    /// `triangle` where `keys` (row after row) is not NaN, at those depth keys.
+    fn write_block(
+        &mut self,
+        i: usize,
+        j: usize,
+        keys: &[f64; BLOCK_LANES],
+        entry: u32,
+        triangle: u32,
+    );
+
+    /// Called once every triangle of the tile has been written, with their set-ups by entry.
+    fn finish(&mut self, _setups: &[TriangleSetup]) {}
 }
 
 /// Where the covered pixels of one row of tiles go: a sink for each of its tiles in turn.
@@ -100,15 +113,18 @@ pub(crate) fn scan_tile<'e, S: TileSink>(
     sink: &mut S,
 ) -> (usize, usize) {
     assert!(lanes.is_available(), "{lanes:?} on a processor without it");
+    let mut setups = Vec::new();
     let counts = match lanes {
-        ScanLanes::Rows => scan_tile_with::<S, false>(input, origin, entries, sink),
+        ScanLanes::Rows => scan_tile_with::<S, false>(input, origin, entries, sink, &mut setups),
         #[cfg(target_arch = "x86_64")]
         // SAFETY: the processor runs AVX-512 F, VL and DQ (asserted above).
-        ScanLanes::Avx512Blocks => unsafe { scan_tile_avx512(input, origin, entries, sink) },
+        ScanLanes::Avx512Blocks => unsafe {
+            scan_tile_avx512(input, origin, entries, sink, &mut setups)
+        },
         #[cfg(not(target_arch = "x86_64"))]
         ScanLanes::Avx512Blocks => unreachable!("no AVX-512 off x86-64"),
     };
-    sink.finish();
+    sink.finish(&setups);
     counts
 }
 
@@ -120,17 +136,21 @@ fn scan_tile_avx512<'e, S: TileSink>(
     origin: [usize; 2],
     entries: impl Iterator<Item = &'e BinEntry>,
     sink: &mut S,
+    setups: &mut Vec<TriangleSetup>,
 ) -> (usize, usize) {
-    scan_tile_with::<S, true>(input, origin, entries, sink)
+    scan_tile_with::<S, true>(input, origin, entries, sink, setups)
 }
 
-/// The tile's scan, in blocks of pixels (`BLOCKS`) or along rows.
+/// The tile's scan, in blocks of pixels (`BLOCKS`) or along rows; each triangle's set-up is
+/// pushed to `setups`, its entry number.
 #[inline(always)]
+#[allow(unsafe_code)]
 fn scan_tile_with<'e, S: TileSink, const BLOCKS: bool>(
     input: &ScanInput,
     [ox, oy]: [usize; 2],
     entries: impl Iterator<Item = &'e BinEntry>,
     sink: &mut S,
+    setups: &mut Vec<TriangleSetup>,
 ) -> (usize, usize) {
     let (mut scanned, mut fragments) = (0, 0);
     for entry in entries {
@@ -143,14 +163,23 @@ fn scan_tile_with<'e, S: TileSink, const BLOCKS: bool>(
         };
         let [x0, y0, x1, y1] = entry.rect.map(|c| c as usize);
         let rect = [ox + x0, oy + y0, ox + x1, oy + y1];
-        let write = |i: usize, j: usize, key: f64, edges: [f64; 3]| {
-            sink.write(i - ox, j - oy, key, entry.triangle, edges)
-        };
+        let (number, triangle) = (setups.len() as u32, entry.triangle);
         fragments += if BLOCKS {
-            setup.scan_blocks(input.projection, rect, write)
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `BLOCKS` only where the processor runs AVX-512 (see `scan_tile`).
+            unsafe {
+                crate::block_scan::scan_blocks(&setup, input.projection, rect, |i, j, keys| {
+                    sink.write_block(i - ox, j - oy, keys, number, triangle)
+                })
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            unreachable!("no AVX-512 off x86-64")
         } else {
-            setup.scan(input.projection, rect, write)
+            setup.scan(input.projection, rect, |i, j, key| {
+                sink.write(i - ox, j - oy, key, number, triangle)
+            })
         };
+        setups.push(setup);
     }
     (scanned, fragments)
 }

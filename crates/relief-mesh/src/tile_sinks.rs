@@ -3,7 +3,8 @@
 //! arrays, so a tile is written in place.
 
 use crate::tile_scan::{BandSink, TileSink};
-use crate::triangle_setup::{ScreenProjection, TileRays};
+use crate::triangle_setup::{ScreenProjection, TileRays, TriangleSetup, BLOCK_LANES, BLOCK_SIDE};
+use crate::RasterTarget;
 
 /// One row of tiles of a [`crate::RasterTarget`] (its rows `tile size` at a time), with the
 /// scratch its tiles' depth test needs.
@@ -15,12 +16,12 @@ pub(crate) struct DepthBand<'a> {
     /// The image's width: the stride of the band's rows.
     width: usize,
     id_offset: u32,
-    /// One tile's depth keys (NaN: not found yet).
+    /// One tile's depth keys, triangle ids and entries (see [`DepthTile`]).
     key: Vec<f64>,
-    /// Whether a triangle of this draw won each pixel of the tile.
-    written: Vec<bool>,
-    /// The edge functions of the triangle that won each pixel (stale where none did).
-    edges: Vec<[f64; 3]>,
+    ids: Vec<u32>,
+    entry: Vec<u32>,
+    /// Whether nothing is drawn in the band yet, found by its first tile.
+    empty: Option<bool>,
 }
 
 impl<'a> DepthBand<'a> {
@@ -34,8 +35,9 @@ impl<'a> DepthBand<'a> {
         width: usize,
         id_offset: u32,
     ) -> Self {
-        let (key, written, edges) = (Vec::new(), Vec::new(), Vec::new());
-        DepthBand { distance, triangle, barycentrics, width, id_offset, key, written, edges }
+        let (key, ids, entry) = (Vec::new(), Vec::new(), Vec::new());
+        let empty = None;
+        DepthBand { distance, triangle, barycentrics, width, id_offset, key, ids, entry, empty }
     }
 }
 
@@ -52,76 +54,142 @@ impl BandSink for DepthBand<'_> {
         width: usize,
         height: usize,
     ) -> DepthTile<'t> {
-        let n = width * height;
-        if self.edges.len() < n {
-            // Read only where `written` says a triangle won: never reset.
-            self.edges.resize(n, [0.0; 3]);
-        }
+        let blocks = width.div_ceil(BLOCK_SIDE);
+        let n = blocks * height.div_ceil(BLOCK_SIDE) * BLOCK_LANES;
         self.key.clear();
-        self.key.resize(n, f64::NAN);
-        self.written.clear();
-        self.written.resize(n, false);
+        self.key.resize(n, f64::NEG_INFINITY);
+        self.ids.clear();
+        self.ids.resize(n, RasterTarget::NO_TRIANGLE);
+        self.entry.clear();
+        self.entry.resize(n, NO_ENTRY);
+        let rays = projection.tile_rays([x, y], width, height);
+        // What the target holds: its keys from its distances (`-inf` where nothing is drawn),
+        // four pixels of a block's row at a time.
+        let distance = &self.distance;
+        let empty = *self.empty.get_or_insert_with(|| distance.iter().all(|&d| d == f32::INFINITY));
+        for j in (0..height).filter(|_| !empty) {
+            let row = x + j * self.width;
+            for i in (0..width).step_by(BLOCK_SIDE) {
+                let n = BLOCK_SIDE.min(width - i);
+                let t = block_index(blocks, i, j);
+                let (distance, triangle) = (&self.distance[row + i..], &self.triangle[row + i..]);
+                for c in 0..n {
+                    self.key[t + c] = rays.key(i + c, j, distance[c]);
+                    self.ids[t + c] = triangle[c];
+                }
+            }
+        }
         DepthTile {
             distance: &mut self.distance[x..],
             triangle: &mut self.triangle[x..],
             barycentrics: self.barycentrics.as_deref_mut().map(|b| &mut b[x..]),
             stride: self.width,
             key: &mut self.key[..n],
-            written: &mut self.written[..n],
-            edges: &mut self.edges[..n],
+            ids: &mut self.ids[..n],
+            entry: &mut self.entry[..n],
+            blocks,
+            origin: [x, y],
             width,
+            height,
             id_offset: self.id_offset,
-            rays: projection.tile_rays([x, y], width, height),
+            rays,
         }
     }
 }
 
-/// One tile of a [`crate::RasterTarget`], written in place and depth-tested by depth key (see
-/// `TriangleSetup::scan`): the key of a pixel the target held is found from its distance when
-/// a triangle first reaches it; a pixel a triangle won gets its distance from its key, and
-/// its barycentrics from the winner's edge functions, once, when the tile is finished.
+/// The entry of a pixel no triangle of this draw won.
+const NO_ENTRY: u32 = u32::MAX;
+
+/// The index of a tile's pixel (i, j) in its arrays stored block after block (`blocks` blocks
+/// a row of blocks), each block's sixteen pixels row after row.
+#[inline(always)]
+fn block_index(blocks: usize, i: usize, j: usize) -> usize {
+    ((j / BLOCK_SIDE) * blocks + i / BLOCK_SIDE) * BLOCK_LANES
+        + (j % BLOCK_SIDE) * BLOCK_SIDE
+        + i % BLOCK_SIDE
+}
+
+/// One tile of a [`crate::RasterTarget`], depth-tested by depth key (see
+/// `TriangleSetup::scan`) in arrays of its own stored block after block, so that a block of
+/// pixels is tested sixteen lanes at a time: the keys and ids of what the target held, and
+/// the entry of the triangle of this draw that won each pixel. When the tile is finished, a
+/// pixel some triangle won gets its id, its distance from its key, and its barycentrics from
+/// the winner's edge functions there.
 pub(crate) struct DepthTile<'t> {
-    /// The target's arrays from the tile's top-left pixel on, rows `stride` apart.
+    /// The target's arrays from the tile's top row on, rows `stride` apart.
     distance: &'t mut [f32],
     triangle: &'t mut [u32],
     barycentrics: Option<&'t mut [[f32; 2]]>,
     stride: usize,
-    /// The tile's depth keys and won pixels, rows `width` apart.
     key: &'t mut [f64],
-    written: &'t mut [bool],
-    edges: &'t mut [[f64; 3]],
+    ids: &'t mut [u32],
+    entry: &'t mut [u32],
+    /// Blocks a row of blocks.
+    blocks: usize,
+    /// The tile's top-left pixel in the image.
+    origin: [usize; 2],
     width: usize,
+    height: usize,
     id_offset: u32,
     rays: TileRays<'t>,
 }
 
 impl TileSink for DepthTile<'_> {
     #[inline(always)]
-    fn write(&mut self, i: usize, j: usize, key: f64, triangle: u32, edges: [f64; 3]) {
-        let (k, t) = (i + j * self.stride, i + j * self.width);
+    fn write(&mut self, i: usize, j: usize, key: f64, entry: u32, triangle: u32) {
+        let t = block_index(self.blocks, i, j);
         let id = self.id_offset + triangle;
-        let mut held = self.key[t];
-        if held.is_nan() {
-            held = self.rays.key(i, j, self.distance[k]);
-            self.key[t] = held;
-        }
-        if key > held || (key == held && id < self.triangle[k]) {
+        let held = self.key[t];
+        if key > held || (key == held && id < self.ids[t]) {
             self.key[t] = key;
-            self.written[t] = true;
-            self.triangle[k] = id;
-            self.edges[t] = edges;
+            self.ids[t] = id;
+            self.entry[t] = entry;
         }
     }
 
-    fn finish(&mut self) {
-        for (t, _) in self.written.iter().enumerate().filter(|(_, &w)| w) {
-            let (i, j) = (t % self.width, t / self.width);
-            let k = i + j * self.stride;
-            self.distance[k] = self.rays.distance(i, j, self.key[t]);
-            if let Some(barycentrics) = self.barycentrics.as_deref_mut() {
-                let e = self.edges[t];
-                let inverse = 1.0 / (e[0] + e[1] + e[2]);
-                barycentrics[k] = [(e[1] * inverse) as f32, (e[2] * inverse) as f32];
+    #[inline(always)]
+    fn write_block(
+        &mut self,
+        i: usize,
+        j: usize,
+        keys: &[f64; BLOCK_LANES],
+        entry: u32,
+        triangle: u32,
+    ) {
+        let start = block_index(self.blocks, i, j);
+        let id = self.id_offset + triangle;
+        let held: &mut [f64; BLOCK_LANES] =
+            (&mut self.key[start..start + BLOCK_LANES]).try_into().expect("a whole block");
+        let ids: &mut [u32; BLOCK_LANES] =
+            (&mut self.ids[start..start + BLOCK_LANES]).try_into().expect("a whole block");
+        let entries: &mut [u32; BLOCK_LANES] =
+            (&mut self.entry[start..start + BLOCK_LANES]).try_into().expect("a whole block");
+        // Selects, not branches, so that the lanes stay lanes; a NaN key (a lane not
+        // covered) wins nothing.
+        for l in 0..BLOCK_LANES {
+            let win = (keys[l] > held[l]) | ((keys[l] == held[l]) & (id < ids[l]));
+            held[l] = if win { keys[l] } else { held[l] };
+            ids[l] = if win { id } else { ids[l] };
+            entries[l] = if win { entry } else { entries[l] };
+        }
+    }
+
+    fn finish(&mut self, setups: &[TriangleSetup]) {
+        let [x, y] = self.origin;
+        for j in 0..self.height {
+            for i in 0..self.width {
+                let t = block_index(self.blocks, i, j);
+                let Some(setup) = setups.get(self.entry[t] as usize) else {
+                    continue;
+                };
+                let k = i + j * self.stride;
+                self.triangle[k] = self.ids[t];
+                self.distance[k] = self.rays.distance(i, j, self.key[t]);
+                if let Some(barycentrics) = self.barycentrics.as_deref_mut() {
+                    let e = setup.edges_at(x + i, y + j);
+                    let inverse = 1.0 / (e[0] + e[1] + e[2]);
+                    barycentrics[k] = [(e[1] * inverse) as f32, (e[2] * inverse) as f32];
+                }
             }
         }
     }
@@ -159,7 +227,22 @@ pub(crate) struct CountTile<'t> {
 
 impl TileSink for CountTile<'_> {
     #[inline(always)]
-    fn write(&mut self, i: usize, j: usize, _key: f64, _triangle: u32, _edges: [f64; 3]) {
+    fn write(&mut self, i: usize, j: usize, _key: f64, _entry: u32, _triangle: u32) {
         self.counts[i + j * self.stride] += 1;
+    }
+
+    #[inline(always)]
+    fn write_block(
+        &mut self,
+        i: usize,
+        j: usize,
+        keys: &[f64; BLOCK_LANES],
+        _entry: u32,
+        _triangle: u32,
+    ) {
+        for (l, _) in keys.iter().enumerate().filter(|(_, key)| !key.is_nan()) {
+            let (c, r) = (l % BLOCK_SIDE, l / BLOCK_SIDE);
+            self.counts[i + c + (j + r) * self.stride] += 1;
+        }
     }
 }

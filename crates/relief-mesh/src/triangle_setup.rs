@@ -36,9 +36,9 @@ pub(crate) struct ScreenProjection {
     pub(crate) height: usize,
     /// `sx` of every column ([`Camera::screen_x`]), then [`BLOCK_SIDE`] zeros (a block of
     /// pixels may reach past the image; its lanes there are never written).
-    sx: Vec<f64>,
+    pub(crate) sx: Vec<f64>,
     /// `sy` of every row ([`Camera::screen_y`]), then [`BLOCK_SIDE`] zeros.
-    sy: Vec<f64>,
+    pub(crate) sy: Vec<f64>,
 }
 
 impl ScreenProjection {
@@ -235,14 +235,14 @@ const NARROW: usize = 4;
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct TriangleSetup {
     /// Edge functions `(a, b, c)`, oriented so that covered pixels are positive.
-    edges: [[f64; 3]; 3],
+    pub(crate) edges: [[f64; 3]; 3],
     /// Whether a pixel exactly on each edge belongs to this triangle (top-left rule).
-    top_left: [bool; 3],
+    pub(crate) top_left: [bool; 3],
     /// The depth key at a pixel is `key_row + key_up sy + key_across sx` (see
     /// [`TriangleSetup::scan`]).
-    key_row: f64,
-    key_up: f64,
-    key_across: f64,
+    pub(crate) key_row: f64,
+    pub(crate) key_up: f64,
+    pub(crate) key_across: f64,
 }
 
 #[inline(always)]
@@ -320,23 +320,20 @@ impl TriangleSetup {
         })
     }
 
-    /// Calls `write(i, j, key, edges)` for every pixel of `[x0, x1] x [y0, y1]` whose centre
-    /// the triangle covers and whose ray meets its plane in front of the eye.
+    /// Calls `write(i, j, key)` for every pixel of `[x0, x1] x [y0, y1]` whose centre the
+    /// triangle covers and whose ray meets its plane in front of the eye.
     ///
     /// `key` is the pixel's depth key there: larger is nearer along the pixel's ray, and
     /// `TileRays::distance` turns it into the distance. A pinhole's key is the inverse of the
     /// depth along the view direction, an orthographic camera's the distance negated: both
     /// are affine in the screen coordinates, so that a covered pixel costs no square root or
-    /// division. `edges` are the three edge functions there (non-negative, not all zero):
-    /// each over their sum is the barycentric coordinate of a corner of the point the pixel's
-    /// ray meets (the edge function of corner `k` is `det / s` times its barycentric, the
-    /// same factor for all three). Returns the number of pixels written.
+    /// division. Returns the number of pixels written.
     #[inline(always)]
     pub(crate) fn scan(
         &self,
         projection: &ScreenProjection,
         [x0, y0, x1, y1]: [usize; 4],
-        mut write: impl FnMut(usize, usize, f64, [f64; 3]),
+        mut write: impl FnMut(usize, usize, f64),
     ) -> usize {
         let mut written = 0;
         let [e0, e1, e2] = self.edges;
@@ -375,7 +372,7 @@ impl TriangleSetup {
                 let values = [e0[0] * px + rows[0], e1[0] * px + rows[1], e2[0] * px + rows[2]];
                 let key = key_row + projection.sx[i] * self.key_across;
                 if self.covers(values, key, key_sign) {
-                    write(i, j, key, values);
+                    write(i, j, key);
                     written += 1;
                 }
             }
@@ -383,83 +380,15 @@ impl TriangleSetup {
         written
     }
 
-    /// [`TriangleSetup::scan`] over blocks of 4 x 4 pixels, sixteen lanes an operation: each
-    /// lane computes what the row-by-row scan computes for its pixel, with the same IEEE
-    /// operations in the same order (no multiply-add is fused: Rust never contracts one), so
-    /// it writes the same pixels with the same keys and edge values. For a caller compiled for
-    /// AVX-512 (`tile_scan.rs`).
+    /// The three edge functions at pixel (i, j)'s centre, as the scans compute them there
+    /// (non-negative, not all zero where the triangle covers it): each over their sum is the
+    /// barycentric coordinate of a corner of the point the pixel's ray meets (the edge
+    /// function of corner `k` is `det / s` times its barycentric, the same factor for all
+    /// three).
     #[inline(always)]
-    pub(crate) fn scan_blocks(
-        &self,
-        projection: &ScreenProjection,
-        [x0, y0, x1, y1]: [usize; 4],
-        mut write: impl FnMut(usize, usize, f64, [f64; 3]),
-    ) -> usize {
-        const LANES: usize = BLOCK_SIDE * BLOCK_SIDE;
-        // Each lane's column and row in its block, as arrays the lanes read (so that the
-        // compiler keeps the lanes in vectors).
-        const COLUMNS: [f64; LANES] = {
-            let mut c = [0.0; LANES];
-            let mut l = 0;
-            while l < LANES {
-                c[l] = (l % BLOCK_SIDE) as f64;
-                l += 1;
-            }
-            c
-        };
-        const ROWS: [f64; LANES] = {
-            let mut r = [0.0; LANES];
-            let mut l = 0;
-            while l < LANES {
-                r[l] = (l / BLOCK_SIDE) as f64;
-                l += 1;
-            }
-            r
-        };
-        let mut written = 0;
-        let [e0, e1, e2] = self.edges;
-        let key_sign = if projection.perspective { 1.0 } else { -1.0 };
-        // `while`, not `step_by` over an inclusive range: its bookkeeping cost a tenth of the
-        // scan.
-        let mut by = y0;
-        while by <= y1 {
-            let sy: [f64; LANES] = std::array::from_fn(|l| projection.sy[by + l / BLOCK_SIDE]);
-            let (top, rows_left) = (by as f64, (y1 - by) as f64);
-            let mut bx = x0;
-            while bx <= x1 {
-                let sx: [f64; LANES] = std::array::from_fn(|l| projection.sx[bx + l % BLOCK_SIDE]);
-                let (left, columns_left) = (bx as f64, (x1 - bx) as f64);
-                let mut values = [[0.0f64; LANES]; 3];
-                let mut keys = [0.0f64; LANES];
-                let mut covered = 0u32;
-                for l in 0..LANES {
-                    // Exactly `i as f64 + 0.5` and `j as f64 + 0.5`: the integers are small.
-                    let (c, r) = (COLUMNS[l], ROWS[l]);
-                    let (px, py) = ((left + c) + 0.5, (top + r) + 0.5);
-                    let v = [
-                        e0[0] * px + (e0[1] * py + e0[2]),
-                        e1[0] * px + (e1[1] * py + e1[2]),
-                        e2[0] * px + (e2[1] * py + e2[2]),
-                    ];
-                    let key = (self.key_row + sy[l] * self.key_up) + sx[l] * self.key_across;
-                    let covers =
-                        self.covers(v, key, key_sign) & (c <= columns_left) & (r <= rows_left);
-                    (values[0][l], values[1][l], values[2][l]) = (v[0], v[1], v[2]);
-                    keys[l] = key;
-                    covered |= (covers as u32) << l;
-                }
-                written += covered.count_ones() as usize;
-                while covered != 0 {
-                    let l = covered.trailing_zeros() as usize;
-                    covered &= covered - 1;
-                    let edges = [values[0][l], values[1][l], values[2][l]];
-                    write(bx + l % BLOCK_SIDE, by + l / BLOCK_SIDE, keys[l], edges);
-                }
-                bx += BLOCK_SIDE;
-            }
-            by += BLOCK_SIDE;
-        }
-        written
+    pub(crate) fn edges_at(&self, i: usize, j: usize) -> [f64; 3] {
+        let (px, py) = (i as f64 + 0.5, j as f64 + 0.5);
+        self.edges.map(|e| e[0] * px + (e[1] * py + e[2]))
     }
 
     /// Whether a pixel centre with edge functions `v` and depth key `key` is drawn: inside
@@ -480,5 +409,8 @@ impl TriangleSetup {
     }
 }
 
-/// The side of [`TriangleSetup::scan_blocks`]'s blocks of pixels.
+/// The side of the blocks of pixels the AVX-512 scan tests at once (`block_scan.rs`).
 pub(crate) const BLOCK_SIDE: usize = 4;
+
+/// The pixels of a block.
+pub(crate) const BLOCK_LANES: usize = BLOCK_SIDE * BLOCK_SIDE;

@@ -69,7 +69,14 @@ pub(crate) fn resolve_triangles(
                     let (k, index) = (r * width + i, j * width + i);
                     let id = target.triangle[index];
                     if id == RasterTarget::NO_TRIANGLE {
-                        strip.set(k, &GBufferPixel::MISS);
+                        match channels {
+                            ResolvedChannels::Shading => {
+                                strip.distance[k] = GBufferPixel::MISS.distance;
+                                strip.normal[k] = GBufferPixel::MISS.normal;
+                                strip.material[k] = GBufferPixel::MISS.material;
+                            }
+                            ResolvedChannels::All => strip.set(k, &GBufferPixel::MISS),
+                        }
                         continue;
                     }
                     if setup.id != id {
