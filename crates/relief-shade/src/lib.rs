@@ -62,6 +62,8 @@ mod pixel_mask;
 mod ray_batch;
 mod render;
 mod renderer;
+#[cfg(target_arch = "x86_64")]
+mod resolve_lanes;
 pub mod shade_map;
 mod shading;
 mod shading_normals;

@@ -3,7 +3,10 @@
 //! parallel: the mesh's smooth normal and colour interpolated where the pixel's ray meets the
 //! triangle, the distance the rasterizer found there.
 
+use crate::gbuffer::GBufferRows;
 use crate::render::HitEncoder;
+#[cfg(target_arch = "x86_64")]
+use crate::resolve_lanes;
 use crate::{GBuffer, GBufferPixel};
 use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, Projection};
@@ -56,52 +59,128 @@ pub(crate) fn resolve_triangles(
     drawn: &DrawnMeshes,
     channels: ResolvedChannels,
 ) {
+    resolve_with(
+        gbuffer,
+        camera,
+        bounds,
+        target,
+        drawn,
+        channels,
+        lanes_for(target, drawn, channels),
+    )
+}
+
+/// Whether the lanes resolve this frame: where the processor has them, for the shading's
+/// channels of meshes they can read.
+fn lanes_for(target: &RasterTarget, drawn: &DrawnMeshes, channels: ResolvedChannels) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        channels == ResolvedChannels::Shading
+            && !target.barycentrics.is_empty()
+            && resolve_lanes::available()
+            && resolve_lanes::can_resolve(drawn)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (target, drawn, channels);
+        false
+    }
+}
+
+/// [`resolve_triangles`], the shading's channels sixteen pixels at a time with `lanes` (see
+/// [`lanes_for`]), else pixel by pixel.
+#[allow(unsafe_code)]
+fn resolve_with(
+    gbuffer: &mut GBuffer,
+    camera: &Camera,
+    bounds: &Aabb,
+    target: &RasterTarget,
+    drawn: &DrawnMeshes,
+    channels: ResolvedChannels,
+    lanes: bool,
+) {
     let width = gbuffer.width;
     let encoder = HitEncoder::new(bounds, camera);
     let rays = RayParts::new(camera);
+    #[cfg(target_arch = "x86_64")]
+    let lane_rays = lanes.then(|| resolve_lanes::LaneRays::new(camera));
     gbuffer.strips_mut(BLOCK).enumerate().for_each(|(s, mut strip)| {
         let rows = strip.len() / width;
         let mut setup = TriangleAttributes::NONE;
+        // Pixel (i, j), at `k` in the strip, pixel by pixel.
+        let mut pixel = |i: usize, j: usize, k: usize, strip: &mut GBufferRows| {
+            let index = j * width + i;
+            let id = target.triangle[index];
+            if id == RasterTarget::NO_TRIANGLE {
+                match channels {
+                    ResolvedChannels::Shading => {
+                        strip.distance[k] = GBufferPixel::MISS.distance;
+                        strip.normal[k] = GBufferPixel::MISS.normal;
+                        strip.material[k] = GBufferPixel::MISS.material;
+                    }
+                    ResolvedChannels::All => strip.set(k, &GBufferPixel::MISS),
+                }
+                return;
+            }
+            if setup.id != id {
+                setup = TriangleAttributes::new(drawn, id);
+            }
+            let along = rays.direction(i, j);
+            let (normal, colour) = setup.at(target.barycentrics[index], along);
+            let distance = target.distance[index];
+            match channels {
+                ResolvedChannels::Shading => {
+                    strip.distance[k] = distance;
+                    strip.normal[k] = normal;
+                    strip.material[k] = [colour[0], colour[1], colour[2], 1.0];
+                }
+                ResolvedChannels::All => {
+                    let t = distance as f64;
+                    let position = rays.origin(i, j) + along.normalize() * t;
+                    let normal = DVec3::from(normal.map(f64::from));
+                    let mut pixel = encoder.g_buffer_pixel(Some(Hit { t, position, normal }));
+                    pixel.distance = distance;
+                    pixel.material = [colour[0], colour[1], colour[2], 1.0];
+                    strip.set(k, &pixel);
+                }
+            }
+        };
+        #[cfg(target_arch = "x86_64")]
+        if let Some(lane_rays) = &lane_rays {
+            // Whole rows, streams the processor fetches ahead; the pixels the lanes leave
+            // pixel by pixel.
+            for r in 0..rows {
+                let j = s * BLOCK + r;
+                for start in (0..width).step_by(resolve_lanes::LANES) {
+                    let n = resolve_lanes::LANES.min(width - start);
+                    let (k, index) = (r * width + start, j * width + start);
+                    // SAFETY: `lanes_for` checked the processor, the meshes and the target;
+                    // the run lies in the row.
+                    let rest = unsafe {
+                        resolve_lanes::resolve_run(
+                            target,
+                            drawn,
+                            lane_rays,
+                            [start, j],
+                            index,
+                            n,
+                            &mut strip,
+                            k,
+                        )
+                    };
+                    for l in (0..n).filter(|l| rest >> l & 1 == 1) {
+                        pixel(start + l, j, k + l, &mut strip);
+                    }
+                }
+            }
+            return;
+        }
+        // Blocks of columns, whose triangles stay in the caches.
         for left in (0..width).step_by(BLOCK) {
             for r in 0..rows {
                 let j = s * BLOCK + r;
                 for i in left..(left + BLOCK).min(width) {
-                    let (k, index) = (r * width + i, j * width + i);
-                    let id = target.triangle[index];
-                    if id == RasterTarget::NO_TRIANGLE {
-                        match channels {
-                            ResolvedChannels::Shading => {
-                                strip.distance[k] = GBufferPixel::MISS.distance;
-                                strip.normal[k] = GBufferPixel::MISS.normal;
-                                strip.material[k] = GBufferPixel::MISS.material;
-                            }
-                            ResolvedChannels::All => strip.set(k, &GBufferPixel::MISS),
-                        }
-                        continue;
-                    }
-                    if setup.id != id {
-                        setup = TriangleAttributes::new(drawn, id);
-                    }
-                    let along = rays.direction(i, j);
-                    let (normal, colour) = setup.at(target.barycentrics[index], along);
-                    let distance = target.distance[index];
-                    match channels {
-                        ResolvedChannels::Shading => {
-                            strip.distance[k] = distance;
-                            strip.normal[k] = normal;
-                            strip.material[k] = [colour[0], colour[1], colour[2], 1.0];
-                        }
-                        ResolvedChannels::All => {
-                            let t = distance as f64;
-                            let position = rays.origin(i, j) + along.normalize() * t;
-                            let normal = DVec3::from(normal.map(f64::from));
-                            let mut pixel =
-                                encoder.g_buffer_pixel(Some(Hit { t, position, normal }));
-                            pixel.distance = distance;
-                            pixel.material = [colour[0], colour[1], colour[2], 1.0];
-                            strip.set(k, &pixel);
-                        }
-                    }
+                    pixel(i, j, r * width + i, &mut strip);
                 }
             }
         }
@@ -211,5 +290,81 @@ impl TriangleAttributes {
             self.unit.as_vec3().to_array()
         };
         (normal, [a[0], a[1], a[2]])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_mesh::Rasterizer;
+
+    /// A soup of `count` random triangles around the origin with random colours and normals
+    /// (some facing away from the camera, some zero), from `seed`.
+    fn soup(seed: u64, count: usize) -> IndexedMesh {
+        let mut state = seed;
+        let mut next = move || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut positions = Vec::new();
+        let mut attributes = Vec::new();
+        for _ in 0..count {
+            let centre = DVec3::new(next() * 8.0 - 4.0, next() * 8.0 - 4.0, next() * 2.0);
+            for _ in 0..3 {
+                positions.push(centre + DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5) * 3.0);
+                attributes.extend([next() as f32, next() as f32, next() as f32]);
+                let normal = if next() < 0.05 {
+                    [0.0; 3]
+                } else {
+                    [next() as f32 - 0.5, next() as f32 - 0.5, next() as f32 - 0.1]
+                };
+                attributes.extend(normal);
+            }
+        }
+        let triangles = (0..count as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+        IndexedMesh::new(positions, triangles).unwrap().with_attributes(6, attributes).unwrap()
+    }
+
+    /// The lanes resolve the shading's channels bit for bit as the pixel-by-pixel loop does,
+    /// two meshes drawn into one target, cameras from several sides, rows not a multiple of
+    /// the lanes wide.
+    #[test]
+    fn the_lanes_resolve_the_same_bits_as_each_pixel() {
+        let meshes = [soup(1, 300), soup(2, 200)];
+        let drawn = DrawnMeshes { meshes: &meshes, first_ids: &[0, 300] };
+        if !lanes_for(&RasterTarget::with_barycentrics(1, 1), &drawn, ResolvedChannels::Shading) {
+            eprintln!("skipped: this processor has no AVX-512 for the lanes");
+            return;
+        }
+        let bounds = Aabb::new(DVec3::splat(-6.0), DVec3::splat(6.0));
+        for (eye, size) in [
+            (DVec3::new(-3.0, -9.0, 7.0), (77, 45)),
+            (DVec3::new(8.0, 2.0, 3.0), (64, 48)),
+            (DVec3::new(0.5, 0.2, 12.0), (33, 17)),
+        ] {
+            let camera = Camera::look_at(eye, DVec3::ZERO, DVec3::Z, 50.0, size.0, size.1).unwrap();
+            let mut target = RasterTarget::with_barycentrics(size.0 as usize, size.1 as usize);
+            for (mesh, &first) in meshes.iter().zip(drawn.first_ids) {
+                Rasterizer::new().draw(&camera, mesh, first, &mut target).unwrap();
+            }
+            let hits = target.triangle.iter().filter(|&&t| t != RasterTarget::NO_TRIANGLE).count();
+            assert!(hits > target.triangle.len() / 4, "{hits} pixels see a triangle");
+            let resolve = |lanes: bool| {
+                let mut gbuffer = GBuffer::new(size.0 as usize, size.1 as usize).unwrap();
+                let channels = ResolvedChannels::Shading;
+                resolve_with(&mut gbuffer, &camera, &bounds, &target, &drawn, channels, lanes);
+                gbuffer
+            };
+            let (each, lanes) = (resolve(false), resolve(true));
+            let bits = |g: &GBuffer| -> Vec<u32> {
+                g.distance
+                    .iter()
+                    .map(|d| d.to_bits())
+                    .chain(g.normal.iter().flatten().map(|v| v.to_bits()))
+                    .chain(g.material.iter().flatten().map(|v| v.to_bits()))
+                    .collect()
+            };
+            assert!(bits(&each) == bits(&lanes), "the lanes differ from {eye}");
+        }
     }
 }
