@@ -21,10 +21,10 @@ use relief_core::{DVec3, Ray};
 /// ```
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct IndexedMesh {
-    positions: Vec<DVec3>,
-    triangles: Vec<[u32; 3]>,
-    attributes_per_vertex: usize,
-    attributes: Vec<f32>,
+    pub(crate) positions: Vec<DVec3>,
+    pub(crate) triangles: Vec<[u32; 3]>,
+    pub(crate) attributes_per_vertex: usize,
+    pub(crate) attributes: Vec<f32>,
 }
 
 /// Where a ray meets the plane of one of a mesh's triangles.

@@ -146,7 +146,7 @@ impl StacksRenderer {
         stats.raster_ms = ms(start);
 
         let start = Instant::now();
-        let drawn = DrawnMeshes { meshes: &meshes, first_ids: &offsets };
+        let drawn = DrawnMeshes { meshes, first_ids: &offsets };
         resolve_triangles(gbuffer, camera, bounds, &self.target, &drawn, channels);
         stats.resolve_ms = ms(start);
         Ok(stats)

@@ -45,12 +45,16 @@ pub(crate) fn join_part(meshes: &[&NodeMesh], p: usize, mut part: MeshPart) -> M
     part
 }
 
-/// Part `part` of every node's mesh appended into one triangle mesh with colour and normal
-/// attributes, the nodes filled in parallel at offsets from prefix sums.
+/// Part `part` of every node's mesh appended into `out`, one triangle mesh with colour and
+/// normal attributes (its buffers reused: a frame's meshes are about the last frame's size),
+/// the nodes filled and checked in parallel at offsets from prefix sums. Fails on a position
+/// or attribute that is not finite or an index out of its node's range, as
+/// [`IndexedMesh::new`] and [`IndexedMesh::with_attributes`] would.
 pub(crate) fn append_for_drawing(
     meshes: &[Arc<NodeMesh>],
     part: usize,
-) -> Result<IndexedMesh, MeshError> {
+    out: &mut IndexedMesh,
+) -> Result<(), MeshError> {
     let mut vertex_at = Vec::with_capacity(meshes.len() + 1);
     let (mut v, mut t) = (0usize, 0usize);
     for m in meshes {
@@ -59,13 +63,20 @@ pub(crate) fn append_for_drawing(
         v += p.positions.len();
         t += 2 * p.quads.len() + p.triangles.len();
     }
-    let mut positions = vec![DVec3::ZERO; v];
-    let mut triangles = vec![[0u32; 3]; t];
-    let mut attributes = vec![0f32; 6 * v];
+    if v > u32::MAX as usize || t >= u32::MAX as usize {
+        return Err(MeshError::Limits(format!(
+            "{v} vertices and {t} triangles exceed the u32 ids"
+        )));
+    }
+    // Stale values left by the last frame are all overwritten below.
+    out.positions.resize(v, DVec3::ZERO);
+    out.triangles.resize(t, [0; 3]);
+    out.attributes.resize(6 * v, 0.0);
+    out.attributes_per_vertex = 6;
     // Split the outputs into each node's share, then fill the shares in parallel.
     let mut shares = Vec::with_capacity(meshes.len());
     let (mut pos_rest, mut tri_rest, mut att_rest) =
-        (positions.as_mut_slice(), triangles.as_mut_slice(), attributes.as_mut_slice());
+        (out.positions.as_mut_slice(), out.triangles.as_mut_slice(), out.attributes.as_mut_slice());
     for (k, m) in meshes.iter().enumerate() {
         let p = &m.parts[part];
         let (pos, r1) = std::mem::take(&mut pos_rest).split_at_mut(p.positions.len());
@@ -73,26 +84,43 @@ pub(crate) fn append_for_drawing(
             std::mem::take(&mut tri_rest).split_at_mut(2 * p.quads.len() + p.triangles.len());
         let (att, r3) = std::mem::take(&mut att_rest).split_at_mut(6 * p.positions.len());
         (pos_rest, tri_rest, att_rest) = (r1, r2, r3);
-        shares.push((p, vertex_at[k] as u32, pos, tri, att));
+        shares.push((p, vertex_at[k], pos, tri, att));
     }
-    shares.into_par_iter().for_each(|(p, base, pos, tri, att)| {
+    shares.into_par_iter().try_for_each(|(p, first, pos, tri, att)| {
+        let count = p.positions.len();
+        if let Some((k, q)) = p.positions.iter().enumerate().find(|(_, q)| !q.is_finite()) {
+            return Err(MeshError::NonFinitePosition { index: first + k, x: q.x, y: q.y, z: q.z });
+        }
         pos.copy_from_slice(&p.positions);
         for (k, (c, n)) in p.colors.iter().zip(&p.normals).enumerate() {
+            if let Some(value) = c.iter().chain(n).find(|v| !v.is_finite()) {
+                return Err(MeshError::Attributes(format!(
+                    "value {value} of vertex {} is not finite",
+                    first + k
+                )));
+            }
             att[6 * k..6 * k + 3].copy_from_slice(c);
             att[6 * k + 3..6 * k + 6].copy_from_slice(n);
         }
-        let mut out = 0;
+        let mut faces = p.quads.iter().flatten().chain(p.triangles.iter().flatten());
+        if let Some(&index) = faces.find(|&&v| v as usize >= count) {
+            return Err(MeshError::Limits(format!(
+                "a node's face uses vertex {index} of its {count}"
+            )));
+        }
+        let base = first as u32;
+        let mut at = 0;
         for q in &p.quads {
             // Split as the exported mesh is.
-            let [first, second] = split_quad(*q, |v| p.positions[v as usize]);
-            tri[out] = first.map(|i| i + base);
-            tri[out + 1] = second.map(|i| i + base);
-            out += 2;
+            let [one, two] = split_quad(*q, |v| p.positions[v as usize]);
+            tri[at] = one.map(|i| i + base);
+            tri[at + 1] = two.map(|i| i + base);
+            at += 2;
         }
         for tr in &p.triangles {
-            tri[out] = tr.map(|i| i + base);
-            out += 1;
+            tri[at] = tr.map(|i| i + base);
+            at += 1;
         }
-    });
-    IndexedMesh::new(positions, triangles)?.with_attributes(6, attributes)
+        Ok(())
+    })
 }

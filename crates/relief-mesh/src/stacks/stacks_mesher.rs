@@ -95,6 +95,8 @@ pub struct StacksMesher {
     /// layers within its reach lie (see [`ColumnRange`]).
     node_columns: Vec<(usize, Vec<ColumnRange>)>,
     cache: NodeCache,
+    /// The last frame's solid and water for drawing (their buffers reused by the next).
+    drawing: [IndexedMesh; 2],
 }
 
 impl StacksMesher {
@@ -172,6 +174,7 @@ impl StacksMesher {
             liquid_color,
             node_columns,
             cache: NodeCache::default(),
+            drawing: Default::default(),
         })
     }
 
@@ -397,13 +400,14 @@ impl StacksMesher {
         &mut self,
         camera: &Camera,
         tau: f64,
-    ) -> Result<([IndexedMesh; 2], MeshStats), MeshError> {
+    ) -> Result<(&[IndexedMesh; 2], MeshStats), MeshError> {
         let (meshes, mut stats) = self.frame_nodes(camera, tau, true, true);
         let start = Instant::now();
-        let solid = append_for_drawing(&meshes, 0)?;
-        let water = append_for_drawing(&meshes, 1)?;
+        let [solid, water] = &mut self.drawing;
+        append_for_drawing(&meshes, 0, solid)?;
+        append_for_drawing(&meshes, 1, water)?;
         stats.join_ms = ms(start);
-        Ok(([solid, water], stats))
+        Ok((&self.drawing, stats))
     }
 
     /// Meshes one node of `key`'s level next to the coarser leaves `coarser`.
