@@ -116,7 +116,7 @@ fn block_index(blocks: usize, i: usize, j: usize) -> usize {
 /// pixel some triangle won gets its id, its distance from its key, and its barycentrics from
 /// the winner's edge functions there.
 pub(crate) struct DepthTile<'t> {
-    /// The target's arrays from the tile's top row on, rows `stride` apart.
+    /// The target's arrays from the tile's top-left pixel on, rows `stride` apart.
     distance: &'t mut [f32],
     triangle: &'t mut [u32],
     barycentrics: Option<&'t mut [[f32; 2]]>,

@@ -68,7 +68,7 @@ struct LevelMarks {
 impl LevelMarks {
     /// The marks of nodes `low..=high` (every one [`Mark::None`]).
     fn new(low: [i32; 3], high: [i32; 3]) -> Self {
-        let size = std::array::from_fn(|a| (high[a] - low[a] + 1).max(0) as usize);
+        let size = std::array::from_fn(|a| (high[a] as i64 - low[a] as i64 + 1).max(0) as usize);
         LevelMarks { low, size, marks: vec![Mark::None as u8; size.iter().product()] }
     }
 
@@ -96,10 +96,15 @@ impl LevelMarks {
     /// leaf whose children lie outside the box chosen before it).
     fn set(&mut self, at: [i32; 3], mark: Mark) {
         if self.index(at).is_none() {
-            let mut grown = LevelMarks::new(
-                std::array::from_fn(|a| self.low[a].min(at[a])),
-                std::array::from_fn(|a| (self.low[a] + self.size[a] as i32 - 1).max(at[a])),
-            );
+            let (low, high) = if self.marks.is_empty() {
+                (at, at)
+            } else {
+                (
+                    std::array::from_fn(|a| self.low[a].min(at[a])),
+                    std::array::from_fn(|a| (self.low[a] + self.size[a] as i32 - 1).max(at[a])),
+                )
+            };
+            let mut grown = LevelMarks::new(low, high);
             for (i, &m) in self.marks.iter().enumerate().filter(|(_, &m)| m != 0) {
                 let (x, y, z) = (
                     i % self.size[0],
@@ -273,6 +278,22 @@ mod tests {
             for c in coarser {
                 assert_eq!(c.level, leaf.level + 1, "{leaf:?} next to {c:?}");
             }
+        }
+    }
+
+    #[test]
+    fn levels_without_nodes_are_no_trouble() {
+        // No split: the levels below the roots hold no node.
+        let roots = [NodeKey { level: 4, at: [0, 0, 0] }, NodeKey { level: 4, at: [1, 0, 0] }];
+        let leaves = Leaves::select(&roots, |_| false);
+        let mut got: Vec<NodeKey> = leaves.set.iter().copied().collect();
+        got.sort();
+        assert_eq!(got, roots);
+        // One chain of splits down to level 0 beside an unsplit root: balancing splits the
+        // root level by level, into levels that held nothing before.
+        let leaves = Leaves::select(&roots, |k| k.at == [1 << (4 - k.level), 0, 0]);
+        for (leaf, coarser) in leaves.coarser_neighbours(|_| true) {
+            assert!(coarser.iter().all(|c| c.level == leaf.level + 1), "{leaf:?}");
         }
     }
 
