@@ -2,7 +2,7 @@
 //! tile's pixel centres, row by row or, where the processor has AVX-512, sixteen pixels of a
 //! 4 x 4 block at a time. Both give the same pixels, depth keys and edge values.
 
-use crate::triangle_setup::{ScreenProjection, TriangleSetup, BLOCK_LANES};
+use crate::triangle_setup::{ScreenProjection, TriangleSetup, BLOCK_LANES, BLOCK_SIDE};
 use relief_core::DVec3;
 use std::sync::OnceLock;
 
@@ -22,7 +22,9 @@ pub(crate) trait TileSink: Send {
     fn write(&mut self, i: usize, j: usize, key: f64, entry: u32, triangle: u32);
 
     /// The block of 4 x 4 pixels from (i, j) on (a multiple of 4 each) is covered by
-    /// `triangle` where `keys` (row after row) is not NaN, at those depth keys.
+    /// `triangle` where `keys` (row after row) is not NaN, at those depth keys. By default,
+    /// pixel by pixel.
+    #[inline(always)]
     fn write_block(
         &mut self,
         i: usize,
@@ -30,7 +32,11 @@ pub(crate) trait TileSink: Send {
         keys: &[f64; BLOCK_LANES],
         entry: u32,
         triangle: u32,
-    );
+    ) {
+        for (l, &key) in keys.iter().enumerate().filter(|(_, key)| !key.is_nan()) {
+            self.write(i + l % BLOCK_SIDE, j + l / BLOCK_SIDE, key, entry, triangle);
+        }
+    }
 
     /// Called once every triangle of the tile has been written, with their set-ups by entry.
     fn finish(&mut self, _setups: &[TriangleSetup]) {}

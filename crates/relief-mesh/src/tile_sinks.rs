@@ -20,7 +20,8 @@ pub(crate) struct DepthBand<'a> {
     key: Vec<f64>,
     ids: Vec<u32>,
     entry: Vec<u32>,
-    /// Whether nothing is drawn in the band yet, found by its first tile.
+    /// Whether nothing is drawn in the band yet (then its tiles need not read the target),
+    /// found by its first tile.
     empty: Option<bool>,
 }
 
@@ -35,8 +36,7 @@ impl<'a> DepthBand<'a> {
         width: usize,
         id_offset: u32,
     ) -> Self {
-        let (key, ids, entry) = (Vec::new(), Vec::new(), Vec::new());
-        let empty = None;
+        let (key, ids, entry, empty) = (Vec::new(), Vec::new(), Vec::new(), None);
         DepthBand { distance, triangle, barycentrics, width, id_offset, key, ids, entry, empty }
     }
 }
@@ -56,27 +56,22 @@ impl BandSink for DepthBand<'_> {
     ) -> DepthTile<'t> {
         let blocks = width.div_ceil(BLOCK_SIDE);
         let n = blocks * height.div_ceil(BLOCK_SIDE) * BLOCK_LANES;
+        // What the target holds: its keys from its distances (`-inf` where nothing is drawn)
+        // and its ids; no entry of this draw yet.
+        let rays = projection.tile_rays([x, y], width, height);
         self.key.clear();
         self.key.resize(n, f64::NEG_INFINITY);
         self.ids.clear();
         self.ids.resize(n, RasterTarget::NO_TRIANGLE);
         self.entry.clear();
         self.entry.resize(n, NO_ENTRY);
-        let rays = projection.tile_rays([x, y], width, height);
-        // What the target holds: its keys from its distances (`-inf` where nothing is drawn),
-        // four pixels of a block's row at a time.
         let distance = &self.distance;
         let empty = *self.empty.get_or_insert_with(|| distance.iter().all(|&d| d == f32::INFINITY));
         for j in (0..height).filter(|_| !empty) {
-            let row = x + j * self.width;
-            for i in (0..width).step_by(BLOCK_SIDE) {
-                let n = BLOCK_SIDE.min(width - i);
-                let t = block_index(blocks, i, j);
-                let (distance, triangle) = (&self.distance[row + i..], &self.triangle[row + i..]);
-                for c in 0..n {
-                    self.key[t + c] = rays.key(i + c, j, distance[c]);
-                    self.ids[t + c] = triangle[c];
-                }
+            for i in 0..width {
+                let (k, t) = (x + i + j * self.width, block_index(blocks, i, j));
+                self.key[t] = rays.key(i, j, self.distance[k]);
+                self.ids[t] = self.triangle[k];
             }
         }
         DepthTile {
@@ -229,20 +224,5 @@ impl TileSink for CountTile<'_> {
     #[inline(always)]
     fn write(&mut self, i: usize, j: usize, _key: f64, _entry: u32, _triangle: u32) {
         self.counts[i + j * self.stride] += 1;
-    }
-
-    #[inline(always)]
-    fn write_block(
-        &mut self,
-        i: usize,
-        j: usize,
-        keys: &[f64; BLOCK_LANES],
-        _entry: u32,
-        _triangle: u32,
-    ) {
-        for (l, _) in keys.iter().enumerate().filter(|(_, key)| !key.is_nan()) {
-            let (c, r) = (l % BLOCK_SIDE, l / BLOCK_SIDE);
-            self.counts[i + c + (j + r) * self.stride] += 1;
-        }
     }
 }

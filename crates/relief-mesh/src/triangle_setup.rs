@@ -397,8 +397,8 @@ impl TriangleSetup {
     /// orthographic camera).
     #[inline(always)]
     fn covers(&self, v: [f64; 3], key: f64, key_sign: f64) -> bool {
-        // `&` and `|`, not `&&` and `||`: no branch, so that lanes stay lanes. A key in
-        // front of the eye times `key_sign` (exact) is positive and finite.
+        // The same tests as the block scan's lanes (`block_scan.rs`). A key in front of the
+        // eye times `key_sign` (exact) is positive and finite.
         let [t0, t1, t2] = self.top_left;
         let ahead = key * key_sign;
         ((v[0] > 0.0) | ((v[0] == 0.0) & t0))

@@ -7,22 +7,13 @@
 #![allow(unsafe_code)]
 
 use crate::gbuffer::GBufferRows;
-use crate::triangle_resolve::DrawnMeshes;
+use crate::triangle_resolve::{DrawnMeshes, RayParts};
 use crate::GBufferPixel;
-use relief_core::{Camera, Projection};
 use relief_mesh::RasterTarget;
 use std::arch::x86_64::*;
 
 /// Pixels a run resolves at once.
 pub(crate) const LANES: usize = 16;
-
-/// Whether this processor runs the lanes.
-pub(crate) fn available() -> bool {
-    is_x86_feature_detected!("avx512f")
-        && is_x86_feature_detected!("avx512vl")
-        && is_x86_feature_detected!("avx512dq")
-        && is_x86_feature_detected!("avx512bw")
-}
 
 /// Whether the lanes can resolve pixels of `drawn`: six attributes a vertex (colour, then
 /// normal) in every mesh, and indices small enough for 32-bit gathers.
@@ -34,50 +25,19 @@ pub(crate) fn can_resolve(drawn: &DrawnMeshes) -> bool {
     })
 }
 
-/// A pinhole's ray directions by column and row, component by component (`forward + across
-/// + up`, as the pixel-by-pixel resolve adds them), or an orthographic camera's one.
-pub(crate) struct LaneRays {
-    forward: [f64; 3],
-    across: [Vec<f64>; 3],
-    up: [Vec<f64>; 3],
-    perspective: bool,
-}
-
-impl LaneRays {
-    /// The rays of `camera` (its columns padded by a run).
-    pub(crate) fn new(camera: &Camera) -> Self {
-        let (right, image_up) = (camera.right(), camera.image_up());
-        let across = |c: usize| -> Vec<f64> {
-            (0..camera.width())
-                .map(|i| (camera.screen_x(i) * right)[c])
-                .chain([0.0; LANES])
-                .collect()
-        };
-        let up = |c: usize| -> Vec<f64> {
-            (0..camera.height()).map(|j| (camera.screen_y(j) * image_up)[c]).collect()
-        };
-        LaneRays {
-            forward: camera.forward().to_array(),
-            across: [across(0), across(1), across(2)],
-            up: [up(0), up(1), up(2)],
-            perspective: matches!(camera.projection(), Projection::Perspective { .. }),
-        }
-    }
-}
-
 /// Resolves the `n` (at most [`LANES`]) pixels from column `i` of image row `j` (target index
 /// `index`) into `strip` from its pixel `k`: distance, normal and colour. Returns the lanes
 /// left to the pixel-by-pixel resolve (bit `l`: pixel `i + l`).
 ///
 /// # Safety
-/// The processor runs AVX-512 F, VL, DQ and BW ([`available`]); `drawn` passes
+/// The processor runs AVX-512 F, VL, DQ and BW (`LaneWidth::Avx512`); `drawn` passes
 /// [`can_resolve`]; `target` keeps barycentrics; the pixels lie in the target and the strip.
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw")]
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn resolve_run(
     target: &RasterTarget,
     drawn: &DrawnMeshes,
-    rays: &LaneRays,
+    rays: &RayParts,
     [i, j]: [usize; 2],
     index: usize,
     n: usize,
@@ -127,7 +87,7 @@ struct Lanes {
 unsafe fn interpolate(
     target: &RasterTarget,
     drawn: &DrawnMeshes,
-    rays: &LaneRays,
+    rays: &RayParts,
     [i, j]: [usize; 2],
     index: usize,
     ids: __m512i,

@@ -77,7 +77,7 @@ fn lanes_for(target: &RasterTarget, drawn: &DrawnMeshes, channels: ResolvedChann
     {
         channels == ResolvedChannels::Shading
             && !target.barycentrics.is_empty()
-            && resolve_lanes::available()
+            && crate::LaneWidth::Avx512.is_available()
             && resolve_lanes::can_resolve(drawn)
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -99,11 +99,11 @@ fn resolve_with(
     channels: ResolvedChannels,
     lanes: bool,
 ) {
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = lanes;
     let width = gbuffer.width;
     let encoder = HitEncoder::new(bounds, camera);
     let rays = RayParts::new(camera);
-    #[cfg(target_arch = "x86_64")]
-    let lane_rays = lanes.then(|| resolve_lanes::LaneRays::new(camera));
     gbuffer.strips_mut(BLOCK).enumerate().for_each(|(s, mut strip)| {
         let rows = strip.len() / width;
         let mut setup = TriangleAttributes::NONE;
@@ -146,7 +146,7 @@ fn resolve_with(
             }
         };
         #[cfg(target_arch = "x86_64")]
-        if let Some(lane_rays) = &lane_rays {
+        if lanes {
             // Whole rows, streams the processor fetches ahead; the pixels the lanes leave
             // pixel by pixel.
             for r in 0..rows {
@@ -160,7 +160,7 @@ fn resolve_with(
                         resolve_lanes::resolve_run(
                             target,
                             drawn,
-                            lane_rays,
+                            &rays,
                             [start, j],
                             index,
                             n,
@@ -188,33 +188,53 @@ fn resolve_with(
 }
 
 /// The parts of the camera's rays by column and row: a pixel's ray runs from `origin(i, j)`
-/// along `direction(i, j)` (not unit: `forward + sx right + sy up'` for a pinhole).
-struct RayParts {
+/// along `direction(i, j)` (not unit: `forward + sx right + sy up'` for a pinhole). Stored
+/// component by component, for the lanes too (`resolve_lanes.rs`).
+pub(crate) struct RayParts {
     eye: DVec3,
-    forward: DVec3,
-    /// `sx right` of every column.
-    across: Vec<DVec3>,
+    pub(crate) forward: DVec3,
+    /// `sx right` of every column, then [`COLUMN_PADDING`] zeros.
+    pub(crate) across: [Vec<f64>; 3],
     /// `sy up'` of every row.
-    up: Vec<DVec3>,
-    perspective: bool,
+    pub(crate) up: [Vec<f64>; 3],
+    pub(crate) perspective: bool,
 }
+
+/// Zeros past the last column of [`RayParts::across`]: the lanes read a run of sixteen
+/// columns from any column.
+const COLUMN_PADDING: usize = 16;
 
 impl RayParts {
     fn new(camera: &Camera) -> Self {
+        let across: Vec<DVec3> =
+            (0..camera.width()).map(|i| camera.screen_x(i) * camera.right()).collect();
+        let up: Vec<DVec3> =
+            (0..camera.height()).map(|j| camera.screen_y(j) * camera.image_up()).collect();
+        let component = |v: &[DVec3], c: usize, padding: usize| -> Vec<f64> {
+            v.iter().map(|p| p[c]).chain(std::iter::repeat_n(0.0, padding)).collect()
+        };
         RayParts {
             eye: camera.eye(),
             forward: camera.forward(),
-            across: (0..camera.width()).map(|i| camera.screen_x(i) * camera.right()).collect(),
-            up: (0..camera.height()).map(|j| camera.screen_y(j) * camera.image_up()).collect(),
+            across: std::array::from_fn(|c| component(&across, c, COLUMN_PADDING)),
+            up: std::array::from_fn(|c| component(&up, c, 0)),
             perspective: matches!(camera.projection(), Projection::Perspective { .. }),
         }
+    }
+
+    /// `sx right` of column `i` plus `sy up'` of row `j`, each added as a vector.
+    #[inline(always)]
+    fn across_up(&self, i: usize, j: usize) -> (DVec3, DVec3) {
+        let across = DVec3::new(self.across[0][i], self.across[1][i], self.across[2][i]);
+        (across, DVec3::new(self.up[0][j], self.up[1][j], self.up[2][j]))
     }
 
     /// The direction of pixel (i, j)'s ray, not unit.
     #[inline(always)]
     fn direction(&self, i: usize, j: usize) -> DVec3 {
         if self.perspective {
-            self.forward + self.across[i] + self.up[j]
+            let (across, up) = self.across_up(i, j);
+            self.forward + across + up
         } else {
             self.forward
         }
@@ -226,7 +246,8 @@ impl RayParts {
         if self.perspective {
             self.eye
         } else {
-            self.eye + self.across[i] + self.up[j]
+            let (across, up) = self.across_up(i, j);
+            self.eye + across + up
         }
     }
 }
