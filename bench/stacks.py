@@ -158,7 +158,7 @@ def main():
               f"| {statistics.median(waiting) if waiting else 0:.0f} "
               f"| {statistics.median(tris):.0f} |")
         # The stages of each frame after the first, as the frame's note gives them.
-        stages = ["select", "mesh", "append", "raster", "resolve", "shade"]
+        stages = ["select", "mesh", "append", "raster", "resolve and shade"]
         times_of = {s: [] for s in stages}
         for note in notes[1:]:
             for stage in stages:

@@ -64,6 +64,7 @@ mod render;
 mod renderer;
 #[cfg(target_arch = "x86_64")]
 mod resolve_lanes;
+mod resolve_shade;
 pub mod shade_map;
 mod shading;
 mod shading_normals;

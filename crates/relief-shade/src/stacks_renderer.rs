@@ -2,8 +2,9 @@
 //! for the camera (node meshes cached across frames) rasterized into relief's G-buffer, with
 //! the meshes' smooth normals and vertex colours, for the one deferred shading pass.
 
-use crate::triangle_resolve::{resolve_triangles, DrawnMeshes, ResolvedChannels};
-use crate::{GBuffer, Renderer, ShadeError, StageTimings};
+use crate::resolve_shade::{resolve_and_shade_srgb8, StripBuffers};
+use crate::triangle_resolve::{resolve_triangles, DrawnMeshes, ResolvedChannels, RowsResolve};
+use crate::{GBuffer, Renderer, ShadeError, ShadingParams, StageTimings};
 use rayon::prelude::*;
 use relief_core::{Aabb, Camera, DVec3, MaterialStacks};
 use relief_mesh::{Culling, IndexedMesh, MeshStats, RasterTarget, Rasterizer, StacksMesher};
@@ -43,6 +44,8 @@ pub struct StacksRenderer {
     rasterizer: Rasterizer,
     target: RasterTarget,
     texture_bounds: Aabb,
+    /// The small G-buffers of [`StacksRenderer::render_srgb8`]'s strips.
+    strips: StripBuffers,
 }
 
 impl StacksRenderer {
@@ -60,6 +63,7 @@ impl StacksRenderer {
             rasterizer: Rasterizer::new(),
             target: RasterTarget::new(0, 0),
             texture_bounds,
+            strips: StripBuffers::default(),
         })
     }
 
@@ -106,6 +110,27 @@ impl StacksRenderer {
         self.render(camera, bounds, gbuffer, ResolvedChannels::Shading)
     }
 
+    /// The 8-bit sRGB picture of `camera`'s view shaded with `params` (no shadows; `bounds`
+    /// is the box texture coordinates span), resolved and shaded strip by strip without a
+    /// whole-frame G-buffer: the picture [`StacksRenderer::render_for_shading_into`] and
+    /// [`crate::shade_to_srgb8`] (with no occluders) give, bit for bit. A frame of a flight.
+    /// Its `resolve_ms` counts the shading too.
+    pub fn render_srgb8(
+        &mut self,
+        camera: &Camera,
+        bounds: &Aabb,
+        params: &ShadingParams,
+    ) -> Result<(Vec<[u8; 3]>, StacksFrameStats), ShadeError> {
+        let mut strips = std::mem::take(&mut self.strips);
+        let shaded = self.render_with(camera, |target, drawn| {
+            let rows =
+                RowsResolve::for_frame(camera, bounds, target, drawn, ResolvedChannels::Shading);
+            resolve_and_shade_srgb8(&rows, camera, params, &mut strips)
+        });
+        self.strips = strips;
+        shaded
+    }
+
     /// Draws `camera`'s view into the `channels` of `gbuffer`.
     fn render(
         &mut self,
@@ -115,6 +140,21 @@ impl StacksRenderer {
         channels: ResolvedChannels,
     ) -> Result<StacksFrameStats, ShadeError> {
         gbuffer.validate_for(camera)?;
+        let ((), stats) = self.render_with(camera, |target, drawn| {
+            resolve_triangles(gbuffer, camera, bounds, target, drawn, channels);
+            Ok(())
+        })?;
+        Ok(stats)
+    }
+
+    /// Meshes and rasterizes `camera`'s view, then `resolve`s the target it drew (the time
+    /// it takes counted as the resolve's).
+    fn render_with<T>(
+        &mut self,
+        camera: &Camera,
+        resolve: impl FnOnce(&RasterTarget, &DrawnMeshes) -> Result<T, ShadeError>,
+    ) -> Result<(T, StacksFrameStats), ShadeError> {
+        let (width, height) = (camera.width() as usize, camera.height() as usize);
         let start = Instant::now();
         let (meshes, mesh_stats) = self
             .mesher
@@ -128,8 +168,8 @@ impl StacksRenderer {
         };
 
         let start = Instant::now();
-        if (self.target.width, self.target.height) != (gbuffer.width, gbuffer.height) {
-            self.target = RasterTarget::with_barycentrics(gbuffer.width, gbuffer.height);
+        if (self.target.width, self.target.height) != (width, height) {
+            self.target = RasterTarget::with_barycentrics(width, height);
         } else {
             self.target.clear();
         }
@@ -147,9 +187,10 @@ impl StacksRenderer {
 
         let start = Instant::now();
         let drawn = DrawnMeshes { meshes, first_ids: &offsets };
-        resolve_triangles(gbuffer, camera, bounds, &self.target, &drawn, channels);
+        let resolved = resolve(&self.target, &drawn)?;
         stats.resolve_ms = ms(start);
-        Ok(stats)
+        self.mesher.begin_meshing_ahead();
+        Ok((resolved, stats))
     }
 }
 
@@ -346,5 +387,39 @@ mod tests {
             assert!(frames < 200, "the flight never caught up");
         }
         assert!(got == want, "the caught-up frame differs from the still frame");
+    }
+
+    #[test]
+    fn strips_shade_the_pixels_the_whole_g_buffer_shades() {
+        let bounds = Aabb::new(DVec3::new(0.0, 0.0, 0.0), DVec3::new(20.0, 20.0, 10.0));
+        let mut params = crate::ShadingParams::for_terrain(&bounds).unwrap();
+        params.albedo = crate::Albedo::GBufferColour { fallback: [0.3; 3] };
+        params.shadows = false;
+        // Heights that leave a short last strip; an eye outside, one under the slab.
+        for (eye, size) in [((-6.0, -8.0, 16.0), (64, 61)), ((8.0, 10.0, 7.0), (50, 37))] {
+            let camera = Camera::look_at(
+                DVec3::new(eye.0, eye.1, eye.2),
+                DVec3::new(10.0, 10.0, 4.0),
+                DVec3::Z,
+                55.0,
+                size.0,
+                size.1,
+            )
+            .unwrap();
+            let mut whole = StacksRenderer::new(mesher(), 3.0).unwrap();
+            let mut gbuffer = GBuffer::new(size.0 as usize, size.1 as usize).unwrap();
+            whole.render_for_shading_into(&camera, &bounds, &mut gbuffer).unwrap();
+            let want = crate::shade_to_srgb8(
+                &gbuffer,
+                &relief_trace::adapters::NoOccluders,
+                &camera,
+                &params,
+            )
+            .unwrap()
+            .0;
+            let mut strips = StacksRenderer::new(mesher(), 3.0).unwrap();
+            let (got, _) = strips.render_srgb8(&camera, &bounds, &params).unwrap();
+            assert!(got == want, "the strips' picture differs from eye {eye:?}");
+        }
     }
 }

@@ -89,7 +89,6 @@ fn lanes_for(target: &RasterTarget, drawn: &DrawnMeshes, channels: ResolvedChann
 
 /// [`resolve_triangles`], the shading's channels sixteen pixels at a time with `lanes` (see
 /// [`lanes_for`]), else pixel by pixel.
-#[allow(unsafe_code)]
 fn resolve_with(
     gbuffer: &mut GBuffer,
     camera: &Camera,
@@ -99,12 +98,59 @@ fn resolve_with(
     channels: ResolvedChannels,
     lanes: bool,
 ) {
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = lanes;
-    let width = gbuffer.width;
-    let encoder = HitEncoder::new(bounds, camera);
-    let rays = RayParts::new(camera);
+    let rows = RowsResolve::new(camera, bounds, target, drawn, channels, lanes);
     gbuffer.strips_mut(BLOCK).enumerate().for_each(|(s, mut strip)| {
+        rows.resolve(s * BLOCK, &mut strip);
+    });
+}
+
+/// What resolving rows of a frame reads (see [`resolve_triangles`]), to resolve them strip by
+/// strip.
+pub(crate) struct RowsResolve<'a> {
+    target: &'a RasterTarget,
+    drawn: &'a DrawnMeshes<'a>,
+    channels: ResolvedChannels,
+    lanes: bool,
+    encoder: HitEncoder<'a>,
+    rays: RayParts,
+}
+
+impl<'a> RowsResolve<'a> {
+    /// The resolve of `target`'s pixels as [`resolve_triangles`] makes them.
+    pub(crate) fn for_frame(
+        camera: &'a Camera,
+        bounds: &Aabb,
+        target: &'a RasterTarget,
+        drawn: &'a DrawnMeshes<'a>,
+        channels: ResolvedChannels,
+    ) -> Self {
+        Self::new(camera, bounds, target, drawn, channels, lanes_for(target, drawn, channels))
+    }
+
+    /// The resolve of `target`'s pixels, the shading's channels sixteen pixels at a time with
+    /// `lanes` (see [`lanes_for`]), else pixel by pixel.
+    fn new(
+        camera: &'a Camera,
+        bounds: &Aabb,
+        target: &'a RasterTarget,
+        drawn: &'a DrawnMeshes<'a>,
+        channels: ResolvedChannels,
+        lanes: bool,
+    ) -> Self {
+        #[cfg(not(target_arch = "x86_64"))]
+        let lanes = {
+            let _ = lanes;
+            false
+        };
+        let (encoder, rays) = (HitEncoder::new(bounds, camera), RayParts::new(camera));
+        RowsResolve { target, drawn, channels, lanes, encoder, rays }
+    }
+
+    /// Resolves the image rows from `top` on into `strip` (whole rows of the image's width).
+    #[allow(unsafe_code)]
+    pub(crate) fn resolve(&self, top: usize, strip: &mut GBufferRows) {
+        let (target, drawn, channels, rays) = (self.target, self.drawn, self.channels, &self.rays);
+        let width = target.width;
         let rows = strip.len() / width;
         let mut setup = TriangleAttributes::NONE;
         // Pixel (i, j), at `k` in the strip, pixel by pixel.
@@ -138,7 +184,7 @@ fn resolve_with(
                     let t = distance as f64;
                     let position = rays.origin(i, j) + along.normalize() * t;
                     let normal = DVec3::from(normal.map(f64::from));
-                    let mut pixel = encoder.g_buffer_pixel(Some(Hit { t, position, normal }));
+                    let mut pixel = self.encoder.g_buffer_pixel(Some(Hit { t, position, normal }));
                     pixel.distance = distance;
                     pixel.material = [colour[0], colour[1], colour[2], 1.0];
                     strip.set(k, &pixel);
@@ -146,11 +192,11 @@ fn resolve_with(
             }
         };
         #[cfg(target_arch = "x86_64")]
-        if lanes {
+        if self.lanes {
             // Whole rows, streams the processor fetches ahead; the pixels the lanes leave
             // pixel by pixel.
             for r in 0..rows {
-                let j = s * BLOCK + r;
+                let j = top + r;
                 for start in (0..width).step_by(resolve_lanes::LANES) {
                     let n = resolve_lanes::LANES.min(width - start);
                     let (k, index) = (r * width + start, j * width + start);
@@ -160,16 +206,16 @@ fn resolve_with(
                         resolve_lanes::resolve_run(
                             target,
                             drawn,
-                            &rays,
+                            rays,
                             [start, j],
                             index,
                             n,
-                            &mut strip,
+                            strip,
                             k,
                         )
                     };
                     for l in (0..n).filter(|l| rest >> l & 1 == 1) {
-                        pixel(start + l, j, k + l, &mut strip);
+                        pixel(start + l, j, k + l, strip);
                     }
                 }
             }
@@ -178,13 +224,13 @@ fn resolve_with(
         // Blocks of columns, whose triangles stay in the caches.
         for left in (0..width).step_by(BLOCK) {
             for r in 0..rows {
-                let j = s * BLOCK + r;
+                let j = top + r;
                 for i in left..(left + BLOCK).min(width) {
-                    pixel(i, j, r * width + i, &mut strip);
+                    pixel(i, j, r * width + i, strip);
                 }
             }
         }
-    });
+    }
 }
 
 /// The parts of the camera's rays by column and row: a pixel's ray runs from `origin(i, j)`

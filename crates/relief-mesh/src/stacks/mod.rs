@@ -25,6 +25,7 @@ mod lattice;
 mod node_cache;
 mod node_columns;
 mod node_joins;
+mod node_maker;
 mod node_mesh;
 mod node_mesher;
 mod octree;

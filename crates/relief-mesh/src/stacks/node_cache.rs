@@ -11,7 +11,8 @@ use super::octree::NodeKey;
 use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 use std::collections::HashMap;
-use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, OnceLock};
 
 /// How many levels coarser than a node its stand-in may be: a node whose nearest drawn
 /// ancestor is coarser still is meshed in its frame (cells of at most `4 τ` pixels on screen).
@@ -30,6 +31,8 @@ pub(crate) struct NodeCache {
     drawn: FxHashMap<NodeKey, Arc<NodeMesh>>,
     /// Node meshes made a frame at most, past those no stand-in covers; `None`: every node.
     budget: Option<usize>,
+    /// The node meshes the last frame chose to make ahead of the next.
+    ahead: Option<Ahead>,
 }
 
 /// The meshes a frame draws and how it came by them.
@@ -84,28 +87,34 @@ impl NodeCache {
     }
 
     /// The meshes of a frame that wants `wanted` (each node once, in a fixed order): nodes
-    /// meshed before (same node, same coarser neighbours) from the cache; of the others,
-    /// those nothing the last frame drew covers and, when `amortised`, the most needed within
-    /// the budget (else all of them), made now by `mesh` in parallel; the rest drawn by
-    /// stand-ins. The cache then keeps this frame's meshes.
+    /// meshed before (same node, same coarser neighbours) from the cache, with those the last
+    /// frame chose to make ahead; of the others, those nothing the last frame drew covers made
+    /// now by `mesh` in parallel, and, when `amortised`, the most needed within the budget
+    /// chosen to make ahead for the next frame ([`NodeCache::begin_ahead`]; else all of them
+    /// made now); the rest drawn by stand-ins. The cache then keeps this frame's meshes.
     pub fn frame(
         &mut self,
         wanted: &[WantedNode],
         amortised: bool,
-        mesh: impl Fn(&NodeKey, &[NodeKey]) -> NodeMesh + Sync,
+        mesh: &NodeMaking,
     ) -> FrameMeshes {
+        let mut meshed = self.join_ahead(mesh.as_ref());
         let missing: Vec<usize> =
             (0..wanted.len()).filter(|&w| !self.exact.contains_key(&wanted[w])).collect();
         let budget = if amortised { self.budget } else { None };
-        let (to_mesh, stand_ins) = match budget {
-            Some(budget) if missing.len() > budget => self.choose(wanted, &missing, budget),
-            _ => (missing, FxHashMap::default()),
+        let (to_mesh, ahead, stand_ins) = match budget {
+            Some(budget) => self.choose(wanted, &missing, budget),
+            None => (missing, Vec::new(), FxHashMap::default()),
         };
         let made: Vec<Arc<NodeMesh>> =
             to_mesh.par_iter().map(|&w| Arc::new(mesh(&wanted[w].0, &wanted[w].1))).collect();
-        let meshed = made.len();
+        meshed += made.len();
         for (&w, m) in to_mesh.iter().zip(made) {
             self.exact.insert(wanted[w].clone(), m);
+        }
+        if !ahead.is_empty() {
+            let nodes = ahead.iter().map(|&w| wanted[w].clone()).collect();
+            self.ahead = Some(Ahead::new(nodes));
         }
 
         let mut frame = FrameMeshes { meshed, ..FrameMeshes::default() };
@@ -136,15 +145,15 @@ impl NodeCache {
         frame
     }
 
-    /// With more missing nodes than `budget`, which to mesh now (indices into `wanted`) and
-    /// what stands in for the others: every node nothing stands in for, then up to `budget`
-    /// more by [`StandIn::rank`], coarser levels first, then in `wanted`'s order.
+    /// Of the missing nodes, which to mesh now (indices into `wanted`): those nothing stands
+    /// in for; which to begin ahead: up to `budget` more by [`StandIn::rank`], coarser levels
+    /// first, then in `wanted`'s order; and what stands in for every node not meshed now.
     fn choose(
         &self,
         wanted: &[WantedNode],
         missing: &[usize],
         budget: usize,
-    ) -> (Vec<usize>, FxHashMap<usize, StandIn>) {
+    ) -> (Vec<usize>, Vec<usize>, FxHashMap<usize, StandIn>) {
         let mut stand_ins: FxHashMap<usize, StandIn> =
             missing.iter().map(|&w| (w, self.stand_in(&wanted[w].0))).collect();
         // Nodes that only finer meshes the last frame drew can stand in for.
@@ -179,13 +188,37 @@ impl NodeCache {
             let level = wanted[w].0.level;
             (stand_ins[&w].rank(level), std::cmp::Reverse(level), w)
         });
-        let mandatory = order.iter().filter(|w| matches!(stand_ins[w], StandIn::None)).count();
-        let mut to_mesh: Vec<usize> = order[..(mandatory + budget).min(order.len())].to_vec();
+        let now = order.iter().filter(|w| matches!(stand_ins[w], StandIn::None)).count();
+        let mut to_mesh: Vec<usize> = order[..now].to_vec();
         to_mesh.sort_unstable();
         for w in &to_mesh {
             stand_ins.remove(w);
         }
-        (to_mesh, stand_ins)
+        let mut ahead: Vec<usize> = order[now..(now + budget).min(order.len())].to_vec();
+        ahead.sort_unstable();
+        (to_mesh, ahead, stand_ins)
+    }
+
+    /// Begins making, on a thread of its own, the node meshes the last frame chose to make
+    /// ahead (if it has not yet): they overlap what the caller does until the next frame,
+    /// which makes what is left.
+    pub fn begin_ahead(&mut self, mesh: &NodeMaking) {
+        if let Some(ahead) = &mut self.ahead {
+            ahead.begin(mesh.clone());
+        }
+    }
+
+    /// Takes in the node meshes the last frame chose to make ahead, those not made yet made
+    /// now on every core; returns how many.
+    fn join_ahead(&mut self, mesh: &MakeNode) -> usize {
+        let Some(ahead) = self.ahead.take() else { return 0 };
+        let job = ahead.finish(mesh);
+        let count = job.nodes.len();
+        for (node, made) in job.nodes.iter().zip(&job.made) {
+            let made = made.get().expect("every node of a finished job is made");
+            self.exact.insert(node.clone(), made.clone());
+        }
+        count
     }
 
     /// What the last frame drew that stands in for node `key`: the same node, else its
@@ -203,5 +236,94 @@ impl NodeCache {
             }
         }
         StandIn::None
+    }
+}
+
+/// How a node is meshed: the node and its coarser neighbours to its mesh.
+pub(crate) type MakeNode = dyn Fn(&NodeKey, &[NodeKey]) -> NodeMesh + Send + Sync;
+
+/// [`MakeNode`], shared with the thread that meshes ahead.
+pub(crate) type NodeMaking = Arc<MakeNode>;
+
+/// Node meshes made ahead of the frame that draws them: begun by a thread of low priority
+/// once the frame that chose them is drawn (it takes what the caller leaves of the
+/// processors until the next frame), the next frame making the rest (`finish`). The same
+/// meshes whoever makes them, so frames do not depend on timing.
+#[derive(Debug)]
+struct Ahead {
+    job: Arc<AheadJob>,
+    worker: Option<std::thread::JoinHandle<()>>,
+}
+
+/// The nodes to mesh ahead and their meshes, each made by whoever takes it first.
+#[derive(Debug)]
+struct AheadJob {
+    nodes: Vec<WantedNode>,
+    /// The first node no one has taken yet.
+    next: AtomicUsize,
+    made: Vec<OnceLock<Arc<NodeMesh>>>,
+}
+
+impl AheadJob {
+    /// Takes nodes and meshes them with `mesh` until none is left.
+    fn work(&self, mesh: &MakeNode) {
+        loop {
+            let i = self.next.fetch_add(1, Ordering::Relaxed);
+            let Some((key, coarser)) = self.nodes.get(i) else { return };
+            let _ = self.made[i].set(Arc::new(mesh(key, coarser)));
+        }
+    }
+}
+
+impl Ahead {
+    /// `nodes` to mesh ahead, not begun.
+    fn new(nodes: Vec<WantedNode>) -> Ahead {
+        let made = (0..nodes.len()).map(|_| OnceLock::new()).collect();
+        Ahead { job: Arc::new(AheadJob { nodes, next: AtomicUsize::new(0), made }), worker: None }
+    }
+
+    /// Begins meshing the nodes with `mesh` on a thread of low priority, unless begun.
+    fn begin(&mut self, mesh: NodeMaking) {
+        if self.worker.is_some() {
+            return;
+        }
+        let job = self.job.clone();
+        self.worker = Some(std::thread::spawn(move || {
+            background_priority();
+            job.work(mesh.as_ref());
+        }));
+    }
+
+    /// The job done: what no one has taken yet meshed now on every core, then the worker
+    /// waited for (a panic in it goes on here).
+    fn finish(self, mesh: &MakeNode) -> Arc<AheadJob> {
+        let job = self.job;
+        (0..rayon::current_num_threads()).into_par_iter().for_each(|_| job.work(mesh));
+        if let Some(Err(panic)) = self.worker.map(|w| w.join()) {
+            std::panic::resume_unwind(panic);
+        }
+        job
+    }
+}
+
+impl Drop for NodeCache {
+    /// Stops the meshing ahead after the node its worker is making.
+    fn drop(&mut self) {
+        if let Some(ahead) = &self.ahead {
+            ahead.job.next.store(usize::MAX / 2, Ordering::Relaxed);
+        }
+    }
+}
+
+/// Lowers the calling thread's priority to the lowest (Linux's `SCHED_IDLE`: it runs only on
+/// what the frame's threads leave idle). Where the system has no such call, the thread keeps
+/// its priority.
+fn background_priority() {
+    #[cfg(target_os = "linux")]
+    #[allow(unsafe_code)]
+    // SAFETY: a system call on the calling thread (0) with a parameter that outlives it.
+    unsafe {
+        let param = libc::sched_param { sched_priority: 0 };
+        libc::sched_setscheduler(0, libc::SCHED_IDLE, &param);
     }
 }

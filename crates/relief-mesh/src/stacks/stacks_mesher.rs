@@ -2,13 +2,13 @@
 //! detail or at the levels a camera asks for, node meshes cached across frames and joined into
 //! one [`TerrainMesh`] of a `solid` and a `water` part.
 
-use super::density::{Channels, Density, Smoothing};
-use super::lattice::{Block, Lattice};
-use super::node_cache::NodeCache;
+use super::density::{Channels, Smoothing};
+use super::lattice::Lattice;
+use super::node_cache::{NodeCache, NodeMaking};
 use super::node_columns::{node_columns, node_reach, ColumnRange};
 use super::node_joins::{append_for_drawing, join_part};
-use super::node_mesh::{coarse_block, fine_block, LevelField, NodeJob, NodeMesh};
-use super::node_mesher::mesh_node;
+use super::node_maker::NodeMaker;
+use super::node_mesh::NodeMesh;
 use super::octree::{Leaves, NodeKey};
 use super::view_culling::outside_view;
 use crate::{IndexedMesh, MeshError, MeshPart, TerrainMesh};
@@ -74,21 +74,9 @@ pub struct MeshStats {
 /// ```
 #[derive(Debug)]
 pub struct StacksMesher {
-    mipmap: StacksMipmap,
+    /// What meshing a node reads (shared with the meshing done ahead, in the background).
+    maker: Arc<NodeMaker>,
     params: StacksMeshParams,
-    lattices: Vec<Lattice>,
-    channels: Channels,
-    /// The smoothing filter's kernel per level: the same width in metres at every level (a
-    /// coarser level's stacks are already averaged over its cells).
-    kernels: Vec<Vec<f32>>,
-    /// The liquid's kernel per level: the same where it is at least 3/4 of a cell wide, none
-    /// where it is narrower. Water is flat already; a narrow filter only thickens its thin
-    /// sheets (measured: +33 % of a shallow pond's water at level 1).
-    liquid_kernels: Vec<Vec<f32>>,
-    colors: Vec<[f32; 3]>,
-    liquid_color: [f32; 3],
-    /// The terrain's footprint, world x and y: lowest corner, highest corner.
-    domain: [[f64; 2]; 2],
     /// Lattice z of the highest layer end at level 0.
     top_k: f64,
     /// Per level: the width of its grid of node columns, and per node column where the
@@ -161,17 +149,21 @@ impl StacksMesher {
         let (o, s) = (level0.origin(), level0.spacing());
         let domain =
             [[o.x, o.y], [o.x + s.x * level0.width() as f64, o.y + s.y * level0.height() as f64]];
-        Ok(StacksMesher {
-            domain,
-            kernels,
-            liquid_kernels,
-            top_k: (top as f64 - z0) / dz0,
+        let maker = NodeMaker {
             mipmap,
-            params,
             lattices,
             channels,
+            kernels,
+            liquid_kernels,
             colors,
             liquid_color,
+            domain,
+            n,
+        };
+        Ok(StacksMesher {
+            maker: Arc::new(maker),
+            top_k: (top as f64 - z0) / dz0,
+            params,
             node_columns,
             cache: NodeCache::default(),
             drawing: Default::default(),
@@ -180,7 +172,7 @@ impl StacksMesher {
 
     /// The mipmap meshed.
     pub fn mipmap(&self) -> &StacksMipmap {
-        &self.mipmap
+        &self.maker.mipmap
     }
 
     /// The parameters.
@@ -190,7 +182,7 @@ impl StacksMesher {
 
     /// Number of levels of detail (the mipmap's levels).
     pub fn level_count(&self) -> usize {
-        self.mipmap.levels().len()
+        self.maker.mipmap.levels().len()
     }
 
     fn n(&self) -> i32 {
@@ -199,7 +191,7 @@ impl StacksMesher {
 
     /// The nodes of `level` that cover the terrain and the air ring around it.
     fn nodes_of_level(&self, level: usize) -> Vec<NodeKey> {
-        let s = &self.mipmap.levels()[level];
+        let s = &self.maker.mipmap.levels()[level];
         let n = self.n();
         let top = (self.top_k / (1u64 << level) as f64).ceil() as i32 + 1;
         let last = [s.width() as i32, s.height() as i32, top];
@@ -233,15 +225,10 @@ impl StacksMesher {
         all_air || all_solid
     }
 
-    /// The kernels of level `level`'s solids and liquids.
-    fn kernels(&self, level: usize) -> [&[f32]; 2] {
-        [&self.kernels[level], &self.liquid_kernels[level]]
-    }
-
     /// How far beyond its points a node's density reaches: its cells' ring, the Sobel
     /// neighbours and the filter.
     fn reach(&self) -> i32 {
-        node_reach(&self.kernels[0])
+        node_reach(&self.maker.kernels[0])
     }
 
     /// The mesh of the whole terrain at `level` (0 finest). Fails naming the level when the
@@ -265,7 +252,7 @@ impl StacksMesher {
             .collect();
         let select_ms = ms(start);
         let start = Instant::now();
-        let meshes: Vec<NodeMesh> = nodes.par_iter().map(|(k, c)| self.mesh_one(k, c)).collect();
+        let meshes: Vec<NodeMesh> = nodes.par_iter().map(|(k, c)| self.maker.make(k, c)).collect();
         let mesh_ms = ms(start);
         let start = Instant::now();
         let mesh = self.join(&meshes.iter().collect::<Vec<_>>());
@@ -301,7 +288,7 @@ impl StacksMesher {
                 return false;
             }
             let level = key.level as usize;
-            let cell = self.lattices[level].step.max_element();
+            let cell = self.maker.lattices[level].step.max_element();
             let (lo, hi) = self.node_box(key);
             if cull && outside_view(camera, lo, hi) {
                 return false;
@@ -323,7 +310,7 @@ impl StacksMesher {
 
     /// The world box around a node's cells.
     fn node_box(&self, key: &NodeKey) -> (DVec3, DVec3) {
-        let lattice = &self.lattices[key.level as usize];
+        let lattice = &self.maker.lattices[key.level as usize];
         let o = key.origin(self.n());
         let lo = lattice.world(o.map(|c| (c - 1) as f64));
         let hi = lattice.world(o.map(|c| (c + self.n() + 1) as f64));
@@ -346,7 +333,7 @@ impl StacksMesher {
         let select_ms = ms(start);
         let start = Instant::now();
         let mut cache = std::mem::take(&mut self.cache);
-        let frame = cache.frame(&nodes, amortised, |k, c| self.mesh_one(k, c));
+        let frame = cache.frame(&nodes, amortised, &self.making());
         self.cache = cache;
         let mut stats = MeshStats {
             nodes: nodes.len(),
@@ -373,6 +360,22 @@ impl StacksMesher {
     /// drawn without a budget.
     pub fn set_node_budget(&mut self, budget: Option<usize>) {
         self.cache.set_budget(budget);
+    }
+
+    /// Begins, on a thread of low priority, the node meshes the last frame drawn by
+    /// [`StacksMesher::draw_meshes_for_camera`] chose to make ahead of the next (those past
+    /// the node budget's share of this frame). Called once a frame is drawn, it overlaps
+    /// their meshing with what the caller does until the next frame, which makes whatever is
+    /// left; uncalled, the next frame makes them all. The frames are the same either way.
+    pub fn begin_meshing_ahead(&mut self) {
+        let making = self.making();
+        self.cache.begin_ahead(&making);
+    }
+
+    /// Node meshing as the cache and the thread meshing ahead call it.
+    fn making(&self) -> NodeMaking {
+        let maker = self.maker.clone();
+        Arc::new(move |key: &NodeKey, coarser: &[NodeKey]| maker.make(key, coarser))
     }
 
     /// The node budget of a frame (see [`StacksMesher::set_node_budget`]).
@@ -410,45 +413,6 @@ impl StacksMesher {
         Ok((&self.drawing, stats))
     }
 
-    /// Meshes one node of `key`'s level next to the coarser leaves `coarser`.
-    fn mesh_one(&self, key: &NodeKey, coarser: &[NodeKey]) -> NodeMesh {
-        let level = key.level as usize;
-        let n = self.n();
-        let o = key.origin(n);
-        let levels = self.mipmap.levels();
-        let density = |l: usize, block: Block| {
-            Density::new(&levels[l], &self.lattices[l], &self.channels, block, self.kernels(l))
-        };
-        let fine = LevelField {
-            level,
-            lattice: &self.lattices[level],
-            density: density(level, fine_block(o, n)),
-            liquid_smoothed: self.liquid_kernels[level].len() > 1,
-        };
-        let boxes: Vec<([i32; 3], [i32; 3])> = coarser
-            .iter()
-            .map(|c| {
-                let origin = c.origin(n);
-                (origin.map(|v| 2 * v), origin.map(|v| 2 * (v + n)))
-            })
-            .collect();
-        let coarse = (!coarser.is_empty() && level + 1 < levels.len()).then(|| LevelField {
-            level: level + 1,
-            lattice: &self.lattices[level + 1],
-            density: density(level + 1, coarse_block(o, n)),
-            liquid_smoothed: self.liquid_kernels[level + 1].len() > 1,
-        });
-        let job = NodeJob {
-            origin: o,
-            n,
-            coarser: &boxes,
-            colors: &self.colors,
-            liquid_color: self.liquid_color,
-            domain: self.domain,
-        };
-        mesh_node(&job, &fine, coarse.as_ref())
-    }
-
     /// Joins node meshes into one terrain mesh, each vertex once (by key).
     fn join(&self, meshes: &[&NodeMesh]) -> TerrainMesh {
         // The solid and the water are joined at the same time.
@@ -477,6 +441,8 @@ fn srgb_to_linear(c: u8) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::stacks::density::Density;
+    use crate::stacks::lattice::Block;
     use relief_core::{DVec2, MaterialStacks, StackLayer, StackMaterial};
 
     /// Rolling ground with an overhanging slab and a sand bank.
@@ -514,14 +480,15 @@ mod tests {
         )
         .unwrap();
         let (mesh, _) = mesher.mesh_level(0).unwrap();
-        let lattice = &mesher.lattices[0];
+        let maker = &mesher.maker;
+        let lattice = &maker.lattices[0];
         let block = Block::between([-4, -4, -4], [28, 28, 24]);
         let density = Density::new(
-            &mesher.mipmap.levels()[0],
+            &maker.mipmap.levels()[0],
             lattice,
-            &mesher.channels,
+            &maker.channels,
             block,
-            mesher.kernels(0),
+            maker.kernels(0),
         );
         let solid = mesh.part("solid").unwrap();
         assert!(solid.vertex_count() > 500);
@@ -551,5 +518,36 @@ mod tests {
         }
         println!("worst distance to the iso-surface: {worst:.3} cells");
         assert!(worst < 0.15, "a vertex lies {worst} cells off the iso-surface");
+    }
+
+    #[test]
+    fn meshing_ahead_changes_no_frame() {
+        let make = || {
+            let params = StacksMeshParams { node_cells: 4, ..Default::default() };
+            let mut mesher =
+                StacksMesher::new(StacksMipmap::new(terrain()).unwrap(), params).unwrap();
+            mesher.set_node_budget(Some(3));
+            mesher
+        };
+        let camera = |x: f64| {
+            let (eye, target) = (DVec3::new(x, -10.0, 20.0), DVec3::new(12.0, 12.0, 6.0));
+            Camera::look_at(eye, target, DVec3::Z, 55.0, 80, 60).unwrap()
+        };
+        // One mesher begins meshing ahead after every frame, the other never does.
+        let (mut ahead, mut plain) = (make(), make());
+        let mut waited = 0;
+        for x in [-90.0, -60.0, -40.0, -20.0, -8.0, -8.0, -8.0, -8.0] {
+            let (got, got_stats) = ahead.draw_meshes_for_camera(&camera(x), 3.0).unwrap();
+            let got = got.clone();
+            ahead.begin_meshing_ahead();
+            let (want, want_stats) = plain.draw_meshes_for_camera(&camera(x), 3.0).unwrap();
+            assert!(got == *want, "the frame at x = {x} differs");
+            assert_eq!(
+                (got_stats.meshed, got_stats.waiting),
+                (want_stats.meshed, want_stats.waiting)
+            );
+            waited += got_stats.waiting;
+        }
+        assert!(waited > 0, "some nodes waited for their turn");
     }
 }

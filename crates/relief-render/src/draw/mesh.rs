@@ -20,8 +20,6 @@ use std::time::Instant;
 pub struct StacksDrawing {
     /// The renderer; frames take turns.
     renderer: Mutex<StacksRenderer>,
-    /// The G-buffer of the last frame [`StacksDrawing::frame_rgb`] drew, reused by the next.
-    kept: Mutex<Option<GBuffer>>,
     /// A finite box holding the terrain.
     pub bounds: Aabb,
     /// The largest screen-space size of a mesh cell, pixels.
@@ -55,7 +53,6 @@ impl StacksDrawing {
         Ok(StacksDrawing {
             bounds: scene.bounds,
             renderer: Mutex::new(StacksRenderer::new(scene.mesher, tau_px)?),
-            kept: Mutex::new(None),
             tau_px,
             sun: light.sun,
             exposure: light.exposure,
@@ -97,30 +94,18 @@ impl StacksDrawing {
         Ok(StacksFrame { gbuffer, stats })
     }
 
-    /// The shaded picture of `camera` (sun at `sun`, `exposure`; see [`StacksDrawing::shade`]),
-    /// what drawing it did and the milliseconds shading took: a frame of a flight, its
-    /// G-buffer kept for the next frame of the same size.
+    /// The shaded picture of `camera` (sun at `sun`, `exposure`; see [`StacksDrawing::shade`])
+    /// and what drawing it did: a frame of a flight, resolved and shaded strip by strip
+    /// without a whole-frame G-buffer (the same pixels; its `resolve_ms` counts the shading).
     pub fn frame_rgb(
         &self,
         camera: &Camera,
         sun: (f64, f64),
         exposure: f64,
-    ) -> Result<(Vec<[u8; 3]>, StacksFrameStats, f64), RenderError> {
-        let mut kept = self.kept.lock().expect("no render panicked");
-        let (w, h) = (camera.width() as usize, camera.height() as usize);
-        let mut gbuffer = match kept.take() {
-            Some(g) if (g.width, g.height) == (w, h) => g,
-            _ => GBuffer::new(w, h)?,
-        };
-        let stats = {
-            let mut renderer = self.renderer.lock().expect("no render panicked");
-            renderer.render_for_shading_into(camera, &self.bounds, &mut gbuffer)?
-        };
-        let shade_started = Instant::now();
-        let rgb = self.shade(&gbuffer, camera, sun, exposure)?;
-        let shade_ms = ms_since(shade_started);
-        *kept = Some(gbuffer);
-        Ok((rgb, stats, shade_ms))
+    ) -> Result<(Vec<[u8; 3]>, StacksFrameStats), RenderError> {
+        let params = self.shading(sun, exposure)?;
+        let mut renderer = self.renderer.lock().expect("no render panicked");
+        Ok(renderer.render_srgb8(camera, &self.bounds, &params)?)
     }
 
     /// Shades a frame's `gbuffer` with the deferred pass: the vertex colours as albedo, the
@@ -132,12 +117,18 @@ impl StacksDrawing {
         sun: (f64, f64),
         exposure: f64,
     ) -> Result<Vec<[u8; 3]>, RenderError> {
+        let params = self.shading(sun, exposure)?;
+        Ok(shade_to_srgb8(gbuffer, &NoOccluders, camera, &params)?.0)
+    }
+
+    /// The shading of [`StacksDrawing::shade`].
+    fn shading(&self, sun: (f64, f64), exposure: f64) -> Result<ShadingParams, RenderError> {
         let mut params = ShadingParams::for_terrain(&self.bounds)?;
         params.sun = Sun { azimuth_deg: sun.0, elevation_deg: sun.1, ..params.sun };
         params.exposure = exposure;
         params.albedo = Albedo::GBufferColour { fallback: [0.3; 3] };
         params.shadows = false;
-        Ok(shade_to_srgb8(gbuffer, &NoOccluders, camera, &params)?.0)
+        Ok(params)
     }
 
     /// The picture of `camera`, keeping the depth and normals `keep` asks for.

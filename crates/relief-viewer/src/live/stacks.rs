@@ -43,7 +43,7 @@ impl Drawing for LiveStacks {
     ) -> Result<Frame, RenderError> {
         let (w, h) = (camera.width(), camera.height());
         let sun = (settings.sun_azimuth_deg, settings.sun_elevation_deg);
-        let (rgb, stats, shade_ms) = self.drawing.frame_rgb(camera, sun, settings.exposure)?;
+        let (rgb, stats) = self.drawing.frame_rgb(camera, sun, settings.exposure)?;
         Ok(Frame {
             width: w,
             height: h,
@@ -51,7 +51,7 @@ impl Drawing for LiveStacks {
             stats: FrameStats { rays: 0, steps_per_ray: None },
             note: Some(format!(
                 "{} nodes ({} meshed, {} waiting), {} triangles; select {:.0} ms, mesh {:.0} ms, append {:.0} \
-                 ms, raster {:.0} ms, resolve {:.0} ms, shade {:.0} ms",
+                 ms, raster {:.0} ms, resolve and shade {:.0} ms",
                 stats.mesh.nodes,
                 stats.mesh.meshed,
                 stats.mesh.waiting,
@@ -61,7 +61,6 @@ impl Drawing for LiveStacks {
                 stats.mesh.join_ms,
                 stats.raster_ms,
                 stats.resolve_ms,
-                shade_ms
             )),
         })
     }
