@@ -289,7 +289,11 @@ impl StacksMesher {
             }
             let level = key.level as usize;
             let cell = self.maker.lattices[level].step.max_element();
-            let (lo, hi) = self.node_box(key);
+            // A node of the floor's ring (it holds the solid's flat bottom) is split as the
+            // node above it is: a coarser node below would fit the lowest points of the
+            // node above to its values, where thin layers near the floor lie.
+            let (lo, hi) =
+                self.node_box(&NodeKey { at: [key.at[0], key.at[1], key.at[2].max(0)], ..*key });
             if cull && outside_view(camera, lo, hi) {
                 return false;
             }
