@@ -9,38 +9,39 @@
 //! column, linear interpolation of the values between two points then finds a run's end at
 //! its exact height.
 //!
-//! A run that holds exactly one lattice point strictly inside is *pinned*: one point cannot
-//! carry the distances to both its ends, so it takes `d = BAND` (as deep inside as a thick
-//! run's points) and its two neighbours the values that make interpolation cross at the two
-//! ends exactly, `BAND (1 - 1 / a)`, `a` the distance from the inside point to that end
-//! (floored as a thin run's neighbours are where the columns are smoothed). Measured with
-//! `bench/stacks_fidelity.py` when it replaced moving such runs as thin ones: the water at the
-//! finest level from -1.78, -2.23, -4.28, -1.94, -1.03, -4.15 % to -1.28, -1.55, -3.94,
-//! -0.60, +0.04, -1.03 % of the stacks' on the benchmark's six scenes (the shelf ponds'
-//! surface stays flat where it was moved up to half a step).
+//! A run that holds at most one lattice point strictly inside (and does not start at the
+//! terrain's bottom) is *pinned*: one point cannot carry the distances to both its ends, so it
+//! takes `d = BAND` (as deep inside as a thick run's points, so that smoothing across the
+//! columns treats a sheet's rim as it treats a thick layer's) and its two neighbours the
+//! values that make interpolation cross at the run's two ends, `BAND (1 - 1 / a)`, `a` the
+//! distance from the inside point to that end (floored where the columns are smoothed, see
+//! [`THIN_FLOOR_SMOOTHED`]). A run that holds one point stays where it is. A *thin* run, one
+//! that holds none, is first moved, its thickness kept, by the least shift that puts the
+//! lattice point nearest its top a quarter step inside it (a quarter of its thickness for a
+//! thinner run): its top moves by less than half a step, and the sheets of one flat water
+//! surface stay next to it, whatever their depth and whether they hold a point or not (a
+//! run that holds one keeps it). The mesh then keeps a thin sand cover, a water sheet or a
+//! ledge as a slab of its thickness, less than half a lattice step from where it is. Runs
+//! thinner than `min_thickness` are left out.
 //!
-//! A *thin* run, one that holds no lattice point strictly inside, could not be located that
-//! way either, nor pinned (no point lies inside to carry it). It is moved, its
-//! thickness `t` kept, to be centred on the lattice point nearest its top (so that the sheets
-//! of one flat water surface, however deep, all sit on the same point), which takes
-//! `d = BAND` (as deep inside as a thick run's points, so that smoothing across the columns
-//! treats a sheet's rim as it treats a thick layer's); its two neighbours take
-//! `d = BAND (1 - 2 / t)`, so that interpolation crosses `t / 2` above and below it (floored
-//! where the columns are smoothed, see [`THIN_FLOOR_SMOOTHED`]). The mesh
-//! then keeps a thin sand cover, a water sheet or a ledge as a slab of its thickness, less
-//! than a lattice step from where it is. Runs thinner than `min_thickness` are left out.
+//! Measured with `bench/stacks_fidelity.py` and the property test's scenes (200 random 96 x 96
+//! shelf scenes) when pinning replaced moving every run that holds at most one point so that
+//! it was centred on the point nearest its top: the water at the finest level, on the
+//! benchmark's six scenes, from -1.78, -2.23, -4.28, -1.94, -1.03, -4.15 % of the stacks' to
+//! the figures of docs/stacks.md; on the shelf scenes from -10.8 .. -0.8 % to -3.1 .. +4.0 %
+//! (at the camera's levels from -7.6 .. -0.5 % to -4.0 .. +2.6 %).
 
 use relief_core::{StackLayer, StackMaterial};
 
 /// How far from a run's boundary, lattice steps, the distance is kept before it is clamped.
 pub(crate) const BAND: f64 = 1.0;
 
-/// The lowest value a thin run's neighbours take where the columns are smoothed: below it, a
+/// The lowest value a pinned run's neighbours take where the columns are smoothed: below it, a
 /// very thin sheet's steep values would outweigh its neighbours' in the filter's sums and
 /// lower thick water beside it (measured with `bench/stacks_fidelity.py` while it was added:
 /// the shelf scenes' water at the finest level went from -5.1 %, -15.2 %, -14.6 % without it
-/// to -5.0 %, -4.4 %, -6.0 % with it). It makes sheets thinner than two thirds of a step a
-/// little thicker.
+/// to -5.0 %, -4.4 %, -6.0 % with it). It makes a pinned run whose end lies less than a
+/// quarter step from its point a little thicker.
 pub(crate) const THIN_FLOOR_SMOOTHED: f64 = -3.0 * BAND;
 
 /// The value below the terrain's bottom under a run that starts there (a *grounded* run): so
@@ -60,11 +61,9 @@ struct Run {
     first_layer: usize,
     /// The last one.
     last_layer: usize,
-    /// Whether it is thin, moved onto the lattice point nearest its top.
-    thin: bool,
-    /// Whether it holds exactly one lattice point inside (and is not grounded): it stays
-    /// where it is, that point taking its distance to the nearer end and its two neighbours
-    /// the values that put both ends where they are.
+    /// Whether it is *pinned* (see the module's docs): it holds one lattice point inside,
+    /// which takes the full depth, its two neighbours the values that put both ends where
+    /// the run's are.
     pinned: bool,
     /// Whether it starts at the terrain's bottom (lattice height 0).
     grounded: bool,
@@ -77,7 +76,7 @@ struct Run {
 pub(crate) struct ColumnValues {
     /// `0.5 + d` per point.
     pub density: Vec<f32>,
-    /// `0.5 + d` per point, a thin run's neighbours not floored: the exact crossings.
+    /// `0.5 + d` per point, a pinned run's neighbours not floored: the exact crossings.
     pub exact: Vec<f32>,
     /// The material index each point shows, or `None` (air away from any run).
     pub material: Vec<Option<u8>>,
@@ -91,7 +90,7 @@ pub(crate) struct ColumnValues {
 
 /// The column of `stack` for the channel whose layers `belongs` picks, over the lattice points
 /// `points` (heights `k`); `to_k` maps a height to lattice units; runs thinner than
-/// `min_thickness` lattice units are left out; a thin run's neighbours take at least
+/// `min_thickness` lattice units are left out; a pinned run's neighbours take at least
 /// `thin_floor` (see [`THIN_FLOOR_SMOOTHED`]).
 #[allow(clippy::too_many_arguments)] // One column's inputs, each of its own kind.
 pub(crate) fn column_values(
@@ -115,11 +114,8 @@ pub(crate) fn column_values(
     material.resize(len, None);
     let z_hi = z_lo + len as i32;
     for run in &out.runs {
-        // A thin run sets its point and the two beside it; a thick one the band around it.
-        let (first, last) = if run.thin {
-            let centre = (0.5 * (run.start + run.end)).round() as i32;
-            (centre - 1, centre + 1)
-        } else if run.pinned {
+        // A pinned run sets its point and the two beside it; a thick one the band around it.
+        let (first, last) = if run.pinned {
             let inside = run.start.floor() as i32 + 1;
             (inside - 1, inside + 1)
         } else if run.grounded {
@@ -130,23 +126,19 @@ pub(crate) fn column_values(
         let (first, last) = (first.max(z_lo), last.min(z_hi - 1));
         for k in first..=last {
             let kf = k as f64;
-            let exact = if run.thin {
-                let centre = 0.5 * (run.start + run.end);
-                BAND - 2.0 * BAND / (run.end - run.start) * (kf - centre).abs()
-            } else if run.pinned {
+            let exact = if run.pinned {
                 let inside = run.start.floor() + 1.0;
-                let d = BAND;
                 if kf < inside {
-                    d * (1.0 - 1.0 / (inside - run.start))
+                    BAND * (1.0 - 1.0 / (inside - run.start))
                 } else if kf > inside {
-                    d * (1.0 - 1.0 / (run.end - inside))
+                    BAND * (1.0 - 1.0 / (run.end - inside))
                 } else {
-                    d
+                    BAND
                 }
             } else {
                 f64::NAN
             };
-            let d = if run.thin || run.pinned {
+            let d = if run.pinned {
                 exact.max(thin_floor)
             } else if run.grounded {
                 if k < 0 {
@@ -160,9 +152,9 @@ pub(crate) fn column_values(
             let i = (k - z_lo) as usize;
             if d > best[i] || (d == best[i] && material[i].is_none()) {
                 best[i] = d;
-                out.best_exact[i] = if run.thin || run.pinned { exact } else { d };
+                out.best_exact[i] = if run.pinned { exact } else { d };
                 let near_top = run.end - kf <= kf - run.start;
-                let layer = if run.thin || run.pinned || (d > -BAND && d < BAND) {
+                let layer = if run.pinned || (d > -BAND && d < BAND) {
                     if near_top {
                         run.last_layer
                     } else {
@@ -185,8 +177,9 @@ pub(crate) fn column_values(
     out.exact.extend(out.best_exact.iter().map(|&d| density(d)));
 }
 
-/// The runs of the channel `belongs` picks in `stack`, lattice units, thin ones moved onto
-/// the lattice point nearest their top, overlapping ones merged; bottom to top.
+/// The runs of the channel `belongs` picks in `stack`, lattice units, those holding at most
+/// one lattice point pinned (thin ones moved onto the point nearest their top), overlapping
+/// ones merged; bottom to top.
 fn runs_of(
     runs: &mut Vec<Run>,
     stack: &[StackLayer],
@@ -211,7 +204,6 @@ fn runs_of(
                 end,
                 first_layer: i,
                 last_layer: i,
-                thin: false,
                 pinned: false,
                 grounded: start <= 0.0,
             }),
@@ -221,14 +213,17 @@ fn runs_of(
     for run in runs.iter_mut() {
         // Points strictly inside: floor(start) + 1 ..= ceil(end) - 1.
         let inside = run.end.ceil() - run.start.floor() - 1.0;
-        if inside == 1.0 && !run.grounded {
+        if inside <= 1.0 && !run.grounded {
             run.pinned = true;
-        } else if inside <= 1.0 && !run.grounded {
-            run.thin = true;
-            let half = 0.5 * (run.end - run.start);
-            let centre = run.end.round();
-            run.start = centre - half;
-            run.end = centre + half;
+        }
+        if inside < 1.0 && !run.grounded {
+            // No point inside: moved onto the point nearest its top, as little as holding it
+            // a quarter step (a quarter of its thickness) inside allows.
+            let thickness = run.end - run.start;
+            let point = run.end.round();
+            let margin = (0.25f64).min(0.25 * thickness);
+            run.end = run.end.clamp(point + margin, point + thickness - margin);
+            run.start = run.end - thickness;
         }
     }
     // Merge the runs moving made overlap, in place.
@@ -239,7 +234,6 @@ fn runs_of(
             let last = &mut runs[kept - 1];
             last.end = last.end.max(run.end);
             last.last_layer = run.last_layer;
-            last.thin = false;
             last.pinned = false;
         } else {
             runs[kept] = run;
