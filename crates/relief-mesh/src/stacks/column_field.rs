@@ -18,11 +18,12 @@
 //! [`THIN_FLOOR_SMOOTHED`]). A run that holds one point stays where it is. A *thin* run, one
 //! that holds none, is first moved, its thickness kept, by the least shift that puts the
 //! lattice point nearest its top a quarter step inside it (a quarter of its thickness for a
-//! thinner run): its top moves by less than half a step, and the sheets of one flat water
-//! surface stay next to it, whatever their depth and whether they hold a point or not (a
-//! run that holds one keeps it). The mesh then keeps a thin sand cover, a water sheet or a
-//! ledge as a slab of its thickness, less than half a lattice step from where it is. Runs
-//! thinner than `min_thickness` are left out.
+//! thinner run): its top moves by less than half a step plus a quarter of its thickness (half
+//! its thickness when it was centred on that point), and a run that holds a point keeps its
+//! place, so the sheets of one flat water surface stay near it, whatever their depth. The
+//! mesh then keeps a thin sand cover, a water sheet or a ledge as a slab of its thickness,
+//! less than a lattice step from where it is. Runs thinner than `min_thickness` are left
+//! out.
 //!
 //! Measured with `bench/stacks_fidelity.py` and the property test's scenes (200 random 96 x 96
 //! shelf scenes) when pinning replaced moving every run that holds at most one point so that
