@@ -2,9 +2,10 @@
 //! (Löffler et al. 2011, section 4: "in each frame we can update ≈ 40 nodes"): with a budget
 //! of node meshes a frame, the nodes a frame wants but has no mesh for yet are drawn by what
 //! the last frame drew over their place (the same node's mesh next to other neighbours, a
-//! coarser ancestor's mesh, or finer descendants' meshes), until their turn comes. Once a
-//! camera stays put long enough, every wanted node has its own mesh and the frame is the one
-//! drawn without a budget.
+//! coarser ancestor's mesh, or finer descendants' meshes), until their turn comes: the
+//! budget's nodes are made ahead, in the background once the frame that chose them is drawn,
+//! for the next frame. Once a camera stays put long enough, every wanted node has its own
+//! mesh and the frame is the one drawn without a budget.
 
 use super::node_mesh::NodeMesh;
 use super::octree::NodeKey;
@@ -252,7 +253,8 @@ pub(crate) type NodeMaking = Arc<MakeNode>;
 #[derive(Debug)]
 struct Ahead {
     job: Arc<AheadJob>,
-    worker: Option<std::thread::JoinHandle<()>>,
+    /// Whether a thread works on it.
+    begun: bool,
 }
 
 /// The nodes to mesh ahead and their meshes, each made by whoever takes it first.
@@ -279,35 +281,37 @@ impl Ahead {
     /// `nodes` to mesh ahead, not begun.
     fn new(nodes: Vec<WantedNode>) -> Ahead {
         let made = (0..nodes.len()).map(|_| OnceLock::new()).collect();
-        Ahead { job: Arc::new(AheadJob { nodes, next: AtomicUsize::new(0), made }), worker: None }
+        Ahead { job: Arc::new(AheadJob { nodes, next: AtomicUsize::new(0), made }), begun: false }
     }
 
     /// Begins meshing the nodes with `mesh` on a thread of low priority, unless begun.
     fn begin(&mut self, mesh: NodeMaking) {
-        if self.worker.is_some() {
+        if std::mem::replace(&mut self.begun, true) {
             return;
         }
         let job = self.job.clone();
-        self.worker = Some(std::thread::spawn(move || {
+        std::thread::spawn(move || {
             background_priority();
             job.work(mesh.as_ref());
-        }));
+        });
     }
 
-    /// The job done: what no one has taken yet meshed now on every core, then the worker
-    /// waited for (a panic in it goes on here).
+    /// The job done on every core: the nodes no one has taken yet, then any the thread took
+    /// and has not finished, made again rather than waited for (at its priority, a busy
+    /// machine could keep it waiting long; the mesh is the same, and the thread's copy is
+    /// dropped when it is done).
     fn finish(self, mesh: &MakeNode) -> Arc<AheadJob> {
         let job = self.job;
         (0..rayon::current_num_threads()).into_par_iter().for_each(|_| job.work(mesh));
-        if let Some(Err(panic)) = self.worker.map(|w| w.join()) {
-            std::panic::resume_unwind(panic);
-        }
+        job.made.par_iter().zip(&job.nodes).for_each(|(made, (key, coarser))| {
+            made.get_or_init(|| Arc::new(mesh(key, coarser)));
+        });
         job
     }
 }
 
 impl Drop for NodeCache {
-    /// Stops the meshing ahead after the node its worker is making.
+    /// Stops the meshing ahead after the node its thread is making.
     fn drop(&mut self) {
         if let Some(ahead) = &self.ahead {
             ahead.job.next.store(usize::MAX / 2, Ordering::Relaxed);

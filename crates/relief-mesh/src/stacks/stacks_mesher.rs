@@ -44,7 +44,8 @@ impl Default for StacksMeshParams {
 pub struct MeshStats {
     /// Nodes selected (those that may hold surface).
     pub nodes: usize,
-    /// Nodes whose mesh was made now (not found in the cache).
+    /// Nodes whose mesh was made for this frame (not found in the cache): now, or ahead
+    /// since the last frame (see [`StacksMesher::begin_meshing_ahead`]).
     pub meshed: usize,
     /// Nodes drawn by a stand-in, their own mesh still to make (past the node budget, see
     /// [`StacksMesher::set_node_budget`]).
