@@ -59,15 +59,7 @@ pub(crate) fn resolve_triangles(
     drawn: &DrawnMeshes,
     channels: ResolvedChannels,
 ) {
-    resolve_with(
-        gbuffer,
-        camera,
-        bounds,
-        target,
-        drawn,
-        channels,
-        lanes_for(target, drawn, channels),
-    )
+    RowsResolve::for_frame(camera, bounds, target, drawn, channels).resolve_into(gbuffer);
 }
 
 /// Whether the lanes resolve this frame: where the processor has them, for the shading's
@@ -85,23 +77,6 @@ fn lanes_for(target: &RasterTarget, drawn: &DrawnMeshes, channels: ResolvedChann
         let _ = (target, drawn, channels);
         false
     }
-}
-
-/// [`resolve_triangles`], the shading's channels sixteen pixels at a time with `lanes` (see
-/// [`lanes_for`]), else pixel by pixel.
-fn resolve_with(
-    gbuffer: &mut GBuffer,
-    camera: &Camera,
-    bounds: &Aabb,
-    target: &RasterTarget,
-    drawn: &DrawnMeshes,
-    channels: ResolvedChannels,
-    lanes: bool,
-) {
-    let rows = RowsResolve::new(camera, bounds, target, drawn, channels, lanes);
-    gbuffer.strips_mut(BLOCK).enumerate().for_each(|(s, mut strip)| {
-        rows.resolve(s * BLOCK, &mut strip);
-    });
 }
 
 /// What resolving rows of a frame reads (see [`resolve_triangles`]), to resolve them strip by
@@ -144,6 +119,13 @@ impl<'a> RowsResolve<'a> {
         };
         let (encoder, rays) = (HitEncoder::new(bounds, camera), RayParts::new(camera));
         RowsResolve { target, drawn, channels, lanes, encoder, rays }
+    }
+
+    /// Resolves every pixel into `gbuffer` (the target's size), strips of rows in parallel.
+    fn resolve_into(&self, gbuffer: &mut GBuffer) {
+        gbuffer.strips_mut(BLOCK).enumerate().for_each(|(s, mut strip)| {
+            self.resolve(s * BLOCK, &mut strip);
+        });
     }
 
     /// Resolves the image rows from `top` on into `strip` (whole rows of the image's width).
@@ -419,7 +401,8 @@ mod tests {
             let resolve = |lanes: bool| {
                 let mut gbuffer = GBuffer::new(size.0 as usize, size.1 as usize).unwrap();
                 let channels = ResolvedChannels::Shading;
-                resolve_with(&mut gbuffer, &camera, &bounds, &target, &drawn, channels, lanes);
+                RowsResolve::new(&camera, &bounds, &target, &drawn, channels, lanes)
+                    .resolve_into(&mut gbuffer);
                 gbuffer
             };
             let (each, lanes) = (resolve(false), resolve(true));
