@@ -10,7 +10,7 @@ mod hillshade;
 mod horizon_layers;
 mod layer;
 mod params;
-mod surface_ray;
+pub(crate) mod surface_ray;
 
 pub use directions::disc_directions;
 pub use hillshade::{horn_normal, lambert};

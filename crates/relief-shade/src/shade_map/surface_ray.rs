@@ -38,20 +38,51 @@ pub fn surface_origin(field: &HeightField, col: usize, row: usize) -> DVec3 {
 /// [`surface_origin`] for a `field` that is a window of a raster whose lowest and highest
 /// samples are `span`: the lift is the raster's, so that a window's rays are the raster's.
 pub fn surface_origin_within(field: &HeightField, col: usize, row: usize, span: [f32; 2]) -> DVec3 {
-    let g = field.geometry();
-    let grid = DVec3::new(col as f64 + 0.5, row as f64 + 0.5, field.sample(col, row) as f64);
-    let point = g.point_to_world(grid);
-    let relief = (span[1] - span[0]) as f64 * g.z_scale;
-    let lift = SURFACE_LIFT * g.dx.min(g.dy)
-        + RELIEF_LIFT * relief
-        + COORDINATE_LIFT * point.abs().max_element();
-    let inward = |k: usize, n: usize| -> f64 {
-        match (k, n) {
-            (_, 1) => 0.0,
-            (0, _) => lift,
-            (k, n) if k + 1 == n => -lift,
-            _ => 0.0,
-        }
-    };
-    point + DVec3::new(inward(col, field.width()), inward(row, field.height()), lift)
+    SurfaceLift::new(field, span).origin(field, col, row)
+}
+
+/// The part of the lift of [`SURFACE_LIFT`] that is the same for every sample of a field,
+/// made once: [`SurfaceLift::origin`] is [`surface_origin_within`], bit for bit.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SurfaceLift {
+    /// The cells' and the terrain's range's share of the lift.
+    base: f64,
+}
+
+impl SurfaceLift {
+    /// The lift of `field`'s samples, `span` its raster's lowest and highest samples.
+    pub(crate) fn new(field: &HeightField, span: [f32; 2]) -> SurfaceLift {
+        let g = field.geometry();
+        let relief = (span[1] - span[0]) as f64 * g.z_scale;
+        SurfaceLift { base: SURFACE_LIFT * g.dx.min(g.dy) + RELIEF_LIFT * relief }
+    }
+
+    /// The lift over world point `point`.
+    #[inline(always)]
+    pub(crate) fn at(self, point: DVec3) -> f64 {
+        self.base + COORDINATE_LIFT * point.abs().max_element()
+    }
+
+    /// The ray origin of sample (`col`, `row`) of `field`: see [`surface_origin`].
+    #[inline]
+    pub(crate) fn origin(self, field: &HeightField, col: usize, row: usize) -> DVec3 {
+        let g = field.geometry();
+        let grid = DVec3::new(col as f64 + 0.5, row as f64 + 0.5, field.sample(col, row) as f64);
+        let point = g.point_to_world(grid);
+        let lift = self.at(point);
+        point
+            + DVec3::new(inward(col, field.width(), lift), inward(row, field.height(), lift), lift)
+    }
+}
+
+/// How far a ray from sample `k` of `n` along one axis starts inside the grid: `lift` on the
+/// first, `-lift` on the last, 0 elsewhere (and on a grid one sample wide).
+#[inline(always)]
+pub(crate) fn inward(k: usize, n: usize, lift: f64) -> f64 {
+    match (k, n) {
+        (_, 1) => 0.0,
+        (0, _) => lift,
+        (k, n) if k + 1 == n => -lift,
+        _ => 0.0,
+    }
 }

@@ -32,6 +32,7 @@
 //! millionth of the heights' magnitude and range) is far above the rounding of any tracer.
 //! Every other target is left to the tracer.
 
+use super::target_points::TargetPoints;
 use super::unit_runs::Runs;
 use relief_core::{DVec3, HeightField, Surface};
 
@@ -52,13 +53,13 @@ pub(crate) struct Sweep<'a> {
 
 /// Per sample (row-major), whether the segment from `eye` to the sample's target point is
 /// proven to pass inside the solid of `surface` of `field` (see the module's documentation).
-/// `target(col, row)` is the target point, `None` for a sample not asked about (a void, or
-/// out of the radius).
-pub fn proven_hidden<T: Fn(usize, usize) -> Option<DVec3> + Sync>(
+/// `targets` are the target points (none for a sample not asked about: a void, or out of the
+/// radius).
+pub(crate) fn proven_hidden(
     field: &HeightField,
     surface: Surface,
     eye: DVec3,
-    target: &T,
+    targets: &TargetPoints,
 ) -> Vec<bool> {
     let g = field.geometry();
     let lo = f64::from(field.min_sample()) * g.z_scale;
@@ -68,7 +69,7 @@ pub fn proven_hidden<T: Fn(usize, usize) -> Option<DVec3> + Sync>(
     // The directions north of the eye (pseudo-angles 0 to 2) and south of it (2 to 4) share
     // no bin: two sweeps side by side, each over its half of the grid.
     let (mut north, south) =
-        rayon::join(|| sweep.half(0..BINS / 2, target), || sweep.half(BINS / 2..BINS, target));
+        rayon::join(|| sweep.half(0..BINS / 2, targets), || sweep.half(BINS / 2..BINS, targets));
     for (a, b) in north.iter_mut().zip(south) {
         *a |= b;
     }
@@ -78,11 +79,7 @@ pub fn proven_hidden<T: Fn(usize, usize) -> Option<DVec3> + Sync>(
 impl Sweep<'_> {
     /// [`proven_hidden`] for the targets whose direction's bin lies in `bins` (half of them),
     /// from the units over those bins.
-    fn half<T: Fn(usize, usize) -> Option<DVec3> + Sync>(
-        &self,
-        bins: std::ops::Range<usize>,
-        target: &T,
-    ) -> Vec<bool> {
+    fn half(&self, bins: std::ops::Range<usize>, targets: &TargetPoints) -> Vec<bool> {
         let (field, eye) = (self.field, self.eye);
         let g = field.geometry();
         let (w, h) = (field.width(), field.height());
@@ -114,9 +111,9 @@ impl Sweep<'_> {
                 }
             });
             units_in = units_in.max(units_to);
-            let targets = first_ring..(first_ring + chunk).min(rings);
-            annulus.visit(targets, |r, cols| {
-                runs.targets(self, r, cols, target);
+            let rings_decided = first_ring..(first_ring + chunk).min(rings);
+            annulus.visit(rings_decided, |r, cols| {
+                runs.targets(self, r, cols, targets);
                 for t in &runs.targets {
                     if bins.contains(&t.bin) {
                         hidden[t.index] = t.slope < bounds[t.bin];

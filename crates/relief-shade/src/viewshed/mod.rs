@@ -13,13 +13,13 @@
 //! them hidden, exactly, from lower bounds of the terrain's horizon; the answer is the one the
 //! tracer would give.
 
-pub mod hidden_sweep;
+mod hidden_sweep;
 mod observer;
+mod target_points;
 mod unit_runs;
 
 pub use observer::{Observer, DEFAULT_OBSERVER_HEIGHT};
 
-use crate::shade_map::surface_origin;
 use crate::ShadeError;
 use rayon::prelude::*;
 use relief_core::{DVec3, HeightField, Ray};
@@ -138,6 +138,7 @@ pub fn viewshed(
     })?;
     counts.resize(samples, 0u32);
 
+    let targets = target_points::TargetPoints::new(field, void, params);
     let done_rows = AtomicU64::new(0);
     let mut rays = 0;
     // The sweeps are one pass each: those of several observers run side by side, as many at
@@ -147,11 +148,8 @@ pub fn viewshed(
         let sweeps: Vec<SightLines> = eyes
             .par_iter()
             .map(|&eye| {
-                let mut sights =
-                    SightLines { field, tracer, void, eye, params, hidden: Vec::new() };
-                let target = |col, row| sights.target_point(col, row);
-                sights.hidden = hidden_sweep::proven_hidden(field, tracer.surface(), eye, &target);
-                sights
+                let hidden = hidden_sweep::proven_hidden(field, tracer.surface(), eye, &targets);
+                SightLines { field, tracer, targets: &targets, eye, hidden }
             })
             .collect();
         for sights in &sweeps {
@@ -187,9 +185,8 @@ pub fn viewshed(
 struct SightLines<'a> {
     field: &'a HeightField,
     tracer: &'a dyn Tracer,
-    void: Option<&'a [bool]>,
+    targets: &'a target_points::TargetPoints<'a>,
     eye: DVec3,
-    params: &'a ViewshedParams,
     /// Per sample, whether its line of sight is proven hidden without tracing.
     hidden: Vec<bool>,
 }
@@ -216,30 +213,13 @@ impl SightLines<'_> {
         cast
     }
 
-    /// The target point of sample (`col`, `row`): its sample point raised by the target
-    /// height (and the lift), or `None` when the sample is void or out of the radius.
-    fn target_point(&self, col: usize, row: usize) -> Option<DVec3> {
-        let index = col + row * self.field.width();
-        if self.field.is_hole(col, row) || self.void.is_some_and(|v| v[index]) {
-            return None;
-        }
-        let target =
-            surface_origin(self.field, col, row) + DVec3::new(0.0, 0.0, self.params.target_height);
-        if let Some(radius) = self.params.radius {
-            if (target.x - self.eye.x).hypot(target.y - self.eye.y) > radius {
-                return None;
-            }
-        }
-        Some(target)
-    }
-
     /// The ray from the eye to the target point of sample (`col`, `row`), or `None` when
     /// the sample is void, out of the radius, or proven hidden.
     fn sight_line(&self, col: usize, row: usize) -> Option<Ray> {
         if self.hidden.get(col + row * self.field.width()) == Some(&true) {
             return None;
         }
-        let target = self.target_point(col, row)?;
+        let target = self.targets.point(col, row, self.eye)?;
         Some(Ray::new(self.eye, target - self.eye).with_range(0.0, 1.0))
     }
 }

@@ -6,7 +6,8 @@
 //! operations either way, so the same bits).
 
 use super::hidden_sweep::{Sweep, ANGLE_MARGIN, BINS};
-use relief_core::{DVec3, Surface};
+use super::target_points::TargetPoints;
+use relief_core::Surface;
 
 /// The pseudo-angle of direction (`x`, `y`) in [0, 4): 0 east, 1 north, 2 west, 3 south,
 /// growing counterclockwise with the angle ("diamond angle", no trigonometry). Without
@@ -68,7 +69,8 @@ pub(crate) struct Runs {
     target_x: Vec<f64>,
     target_y: Vec<f64>,
     target_z: Vec<f64>,
-    target_index: Vec<usize>,
+    /// The sample index of the run's first target (the others follow it).
+    target_first: usize,
     /// Per target, its line of sight's slope (NaN where it has no direction) and its bin.
     target_slope: Vec<f64>,
     target_bin: Vec<u32>,
@@ -87,28 +89,20 @@ impl Runs {
         self.units_body(g, r, cols)
     }
 
-    /// Fills [`Runs::targets`] with the targets of row `r` in `cols` that `target` gives.
+    /// Fills [`Runs::targets`] with the targets of row `r` in `cols` that `points` gives.
     #[allow(unsafe_code)]
-    pub(crate) fn targets<T: Fn(usize, usize) -> Option<DVec3>>(
+    pub(crate) fn targets(
         &mut self,
         g: &Sweep,
         r: usize,
         cols: std::ops::Range<usize>,
-        target: &T,
+        points: &TargetPoints,
     ) {
-        let width = g.field.width();
-        self.target_x.clear();
-        self.target_y.clear();
-        self.target_z.clear();
-        self.target_index.clear();
-        for c in cols {
-            if let Some(t) = target(c, r) {
-                self.target_x.push(t.x - g.eye.x);
-                self.target_y.push(t.y - g.eye.y);
-                self.target_z.push(t.z - g.eye.z);
-                self.target_index.push(c + r * width);
-            }
+        for v in [&mut self.target_x, &mut self.target_y, &mut self.target_z] {
+            v.clear();
         }
+        self.target_first = cols.start + r * g.field.width();
+        points.run(r, cols, g.eye, [&mut self.target_x, &mut self.target_y, &mut self.target_z]);
         #[cfg(target_arch = "x86_64")]
         if wide() {
             // SAFETY: the processor has AVX-512 F and VL (checked just above).
@@ -234,7 +228,7 @@ impl Runs {
         }
         for i in 0..n {
             if !slopes[i].is_nan() {
-                let (index, bin, slope) = (self.target_index[i], bins[i] as usize, slopes[i]);
+                let (index, bin, slope) = (self.target_first + i, bins[i] as usize, slopes[i]);
                 self.targets.push(TargetEntry { index, bin, slope });
             }
         }

@@ -1,0 +1,113 @@
+//! The target points of a viewshed's samples: each sample point raised by the target height and
+//! by the lift every shade-map ray starts with ([`crate::shade_map::SURFACE_LIFT`]), made from
+//! what the samples share (their columns' x, their rows' y, the field's lift) for every
+//! observer and every run of a row, with the same bits as
+//! [`crate::shade_map::surface_origin`] plus the target height.
+
+use super::ViewshedParams;
+use crate::shade_map::surface_ray::{inward, SurfaceLift};
+use relief_core::{DVec3, HeightField};
+
+/// The target points of a field's samples for one viewshed's parameters.
+pub(crate) struct TargetPoints<'a> {
+    field: &'a HeightField,
+    void: Option<&'a [bool]>,
+    lift: SurfaceLift,
+    target_height: f64,
+    radius: Option<f64>,
+    /// Per column, the sample points' world x; per row, their world y.
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+}
+
+impl<'a> TargetPoints<'a> {
+    /// The target points of `field`'s samples (none on its holes and on the samples `void`
+    /// flags) for `params`'s target height and radius.
+    pub(crate) fn new(
+        field: &'a HeightField,
+        void: Option<&'a [bool]>,
+        params: &ViewshedParams,
+    ) -> TargetPoints<'a> {
+        let g = field.geometry();
+        // As `GridGeometry::point_to_world` places them.
+        let xs = (0..field.width()).map(|c| (c as f64 + 0.5) * g.dx + g.origin.x).collect();
+        let ys = (0..field.height()).map(|r| (r as f64 + 0.5) * g.dy + g.origin.y).collect();
+        TargetPoints {
+            field,
+            void,
+            lift: SurfaceLift::new(field, [field.min_sample(), field.max_sample()]),
+            target_height: params.target_height,
+            radius: params.radius,
+            xs,
+            ys,
+        }
+    }
+
+    /// The target point of sample (`col`, `row`), whatever the eye.
+    #[inline(always)]
+    fn unchecked(&self, col: usize, row: usize, z: f32) -> DVec3 {
+        let field = self.field;
+        let point =
+            DVec3::new(self.xs[col], self.ys[row], z as f64 * field.geometry().z_scale + 0.0);
+        let lift = self.lift.at(point);
+        DVec3::new(
+            point.x + inward(col, field.width(), lift),
+            point.y + inward(row, field.height(), lift),
+            (point.z + lift) + self.target_height,
+        )
+    }
+
+    /// Whether sample (`col`, `row`) is a hole or flagged void.
+    #[inline(always)]
+    fn is_gap(&self, col: usize, row: usize) -> bool {
+        self.field.is_hole(col, row) || self.void.is_some_and(|v| v[col + row * self.field.width()])
+    }
+
+    /// Whether a target `x` east and `y` north of the eye lies beyond the radius.
+    #[inline(always)]
+    fn beyond(&self, x: f64, y: f64) -> bool {
+        self.radius.is_some_and(|r| x.hypot(y) > r)
+    }
+
+    /// The target point of sample (`col`, `row`) seen from `eye`, or `None` where the sample
+    /// is a gap or lies beyond the radius.
+    pub(crate) fn point(&self, col: usize, row: usize, eye: DVec3) -> Option<DVec3> {
+        if self.is_gap(col, row) {
+            return None;
+        }
+        let target = self.unchecked(col, row, self.field.sample(col, row));
+        (!self.beyond(target.x - eye.x, target.y - eye.y)).then_some(target)
+    }
+
+    /// Appends to `x`, `y` and `z` the target points of the samples of row `row` in `cols`
+    /// less `eye`: NaN in `z` where [`TargetPoints::point`] gives none.
+    #[inline(always)]
+    pub(crate) fn run(
+        &self,
+        row: usize,
+        cols: std::ops::Range<usize>,
+        eye: DVec3,
+        [x, y, z]: [&mut Vec<f64>; 3],
+    ) {
+        if cols.is_empty() {
+            return;
+        }
+        let field = self.field;
+        let samples = &field.samples()[row * field.width()..][cols.clone()];
+        for (col, &sample) in cols.clone().zip(samples) {
+            let t = self.unchecked(col, row, sample);
+            x.push(t.x - eye.x);
+            y.push(t.y - eye.y);
+            z.push(t.z - eye.z);
+        }
+        let gaps = field.holes().is_some() || self.void.is_some();
+        if gaps || self.radius.is_some() {
+            let start = z.len() - cols.len();
+            for (i, col) in cols.enumerate() {
+                if (gaps && self.is_gap(col, row)) || self.beyond(x[start + i], y[start + i]) {
+                    z[start + i] = f64::NAN;
+                }
+            }
+        }
+    }
+}
