@@ -60,7 +60,13 @@ impl SurfaceLift {
     /// The lift over world point `point`.
     #[inline(always)]
     pub(crate) fn at(self, point: DVec3) -> f64 {
-        self.base + COORDINATE_LIFT * point.abs().max_element()
+        self.at_largest(point.abs().max_element())
+    }
+
+    /// The lift over a world point whose largest coordinate in magnitude is `largest`.
+    #[inline(always)]
+    pub(crate) fn at_largest(self, largest: f64) -> f64 {
+        self.base + COORDINATE_LIFT * largest
     }
 
     /// The ray origin of sample (`col`, `row`) of `field`: see [`surface_origin`].

@@ -4,6 +4,7 @@
 //! observer and every run of a row, with the same bits as
 //! [`crate::shade_map::surface_origin`] plus the target height.
 
+use super::unit_runs::{prefetch_run, ROWS_AHEAD};
 use super::ViewshedParams;
 use crate::shade_map::surface_ray::{inward, SurfaceLift};
 use relief_core::{DVec3, HeightField};
@@ -18,6 +19,10 @@ pub(crate) struct TargetPoints<'a> {
     /// Per column, the sample points' world x; per row, their world y.
     xs: Vec<f64>,
     ys: Vec<f64>,
+    /// Per column and per row, which way the border's lift moves a target inward: 1, -1 or
+    /// 0 times the lift (see [`inward`]).
+    col_inward: Vec<f64>,
+    row_inward: Vec<f64>,
 }
 
 impl<'a> TargetPoints<'a> {
@@ -32,7 +37,10 @@ impl<'a> TargetPoints<'a> {
         // As `GridGeometry::point_to_world` places them.
         let xs = (0..field.width()).map(|c| (c as f64 + 0.5) * g.dx + g.origin.x).collect();
         let ys = (0..field.height()).map(|r| (r as f64 + 0.5) * g.dy + g.origin.y).collect();
+        let sides = |n: usize| (0..n).map(|k| inward(k, n, 1.0)).collect();
         TargetPoints {
+            col_inward: sides(field.width()),
+            row_inward: sides(field.height()),
             field,
             void,
             lift: SurfaceLift::new(field, [field.min_sample(), field.max_sample()]),
@@ -93,19 +101,31 @@ impl<'a> TargetPoints<'a> {
             return;
         }
         let field = self.field;
+        prefetch_run(field.samples(), field.width(), row + ROWS_AHEAD, cols.clone());
+        let (n, start) = (cols.len(), z.len());
+        for v in [&mut *x, &mut *y, &mut *z] {
+            v.resize(start + n, 0.0);
+        }
         let samples = &field.samples()[row * field.width()..][cols.clone()];
-        for (col, &sample) in cols.clone().zip(samples) {
-            let t = self.unchecked(col, row, sample);
-            x.push(t.x - eye.x);
-            y.push(t.y - eye.y);
-            z.push(t.z - eye.z);
+        let (xs, sides) = (&self.xs[cols.clone()], &self.col_inward[cols.clone()]);
+        let (py, row_side) = (self.ys[row], self.row_inward[row]);
+        let (zs, th) = (field.geometry().z_scale, self.target_height);
+        let (x, y, z) = (&mut x[start..], &mut y[start..], &mut z[start..]);
+        // [`TargetPoints::unchecked`] in a loop without branches: a side's factor times the
+        // lift is the lift, its opposite or 0, as `inward` gives them.
+        for i in 0..n {
+            let (px, pz) = (xs[i], samples[i] as f64 * zs + 0.0);
+            let larger = |a: f64, b: f64| if a > b { a } else { b };
+            let lift = self.lift.at_largest(larger(px.abs(), larger(py.abs(), pz.abs())));
+            x[i] = (px + sides[i] * lift) - eye.x;
+            y[i] = (py + row_side * lift) - eye.y;
+            z[i] = ((pz + lift) + th) - eye.z;
         }
         let gaps = field.holes().is_some() || self.void.is_some();
         if gaps || self.radius.is_some() {
-            let start = z.len() - cols.len();
             for (i, col) in cols.enumerate() {
-                if (gaps && self.is_gap(col, row)) || self.beyond(x[start + i], y[start + i]) {
-                    z[start + i] = f64::NAN;
+                if (gaps && self.is_gap(col, row)) || self.beyond(x[i], y[i]) {
+                    z[i] = f64::NAN;
                 }
             }
         }

@@ -102,13 +102,12 @@ impl Runs {
             v.clear();
         }
         self.target_first = cols.start + r * g.field.width();
-        points.run(r, cols, g.eye, [&mut self.target_x, &mut self.target_y, &mut self.target_z]);
         #[cfg(target_arch = "x86_64")]
         if wide() {
             // SAFETY: the processor has AVX-512 F and VL (checked just above).
-            return unsafe { self.targets_wide() };
+            return unsafe { self.targets_wide(g, r, cols, points) };
         }
-        self.targets_body()
+        self.targets_body(g, r, cols, points)
     }
 
     #[inline(always)]
@@ -125,6 +124,7 @@ impl Runs {
         if cols.is_empty() {
             return;
         }
+        prefetch_run(field.samples(), w, r + 1 + ROWS_AHEAD, cols.start..cols.end + 1);
         let n = cols.len();
         // The lowest height of each unit.
         self.lowest.clear();
@@ -211,7 +211,14 @@ impl Runs {
     }
 
     #[inline(always)]
-    fn targets_body(&mut self) {
+    fn targets_body(
+        &mut self,
+        g: &Sweep,
+        r: usize,
+        cols: std::ops::Range<usize>,
+        points: &TargetPoints,
+    ) {
+        points.run(r, cols, g.eye, [&mut self.target_x, &mut self.target_y, &mut self.target_z]);
         self.targets.clear();
         let n = self.target_x.len();
         self.target_slope.clear();
@@ -242,9 +249,47 @@ impl Runs {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx512vl,avx2")]
-    fn targets_wide(&mut self) {
-        self.targets_body();
+    fn targets_wide(
+        &mut self,
+        g: &Sweep,
+        r: usize,
+        cols: std::ops::Range<usize>,
+        points: &TargetPoints,
+    ) {
+        self.targets_body(g, r, cols, points);
     }
+}
+
+/// Rows ahead of the one being visited whose samples a run asks the processor to fetch: the
+/// sweep visits the rows in order, a short run of each, too scattered for the hardware to
+/// guess.
+pub(crate) const ROWS_AHEAD: usize = 2;
+
+/// A hint that the samples `cols` of row `row` of `samples` (`width` a row; any row, in
+/// bounds or not) will be read soon.
+#[inline(always)]
+#[allow(unsafe_code)]
+pub(crate) fn prefetch_run(
+    samples: &[f32],
+    width: usize,
+    row: usize,
+    cols: std::ops::Range<usize>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let base = samples.as_ptr().wrapping_add(row.wrapping_mul(width));
+        // One hint a cache line of 16 samples, and the run's last.
+        for c in cols.clone().step_by(16).chain(cols.end.checked_sub(1)) {
+            // SAFETY: prefetching is a hint that never faults and reads nothing into the
+            // program; SSE is part of x86-64.
+            unsafe {
+                use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+                _mm_prefetch::<_MM_HINT_T0>(base.wrapping_add(c) as *const i8);
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (samples, width, row, cols);
 }
 
 /// Whether the processor has the AVX-512 the wide runs are compiled for.
