@@ -308,7 +308,10 @@ impl LaneGroup<'_> {
             let highest = block.iter().fold(V::splat(OUTSIDE), |m, s| footprint(s).max(m));
             if V::any_greater(highest, self.ceiling(z0, unwanted, k, to, best.low)) {
                 for (j, step) in (k..=to).zip(block) {
-                    if V::any_greater(footprint(step), self.ceiling(z0, unwanted, j, j, best.low)) {
+                    // A hinted step was tested already: testing it again raises nothing.
+                    if V::any_greater(footprint(step), self.ceiling(z0, unwanted, j, j, best.low))
+                        && !tried.contains(&j)
+                    {
                         grid.test(steps, j, &mut best);
                     }
                 }
