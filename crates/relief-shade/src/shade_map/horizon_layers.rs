@@ -61,10 +61,33 @@ impl std::str::FromStr for SkyModel {
 pub fn sky_view_factor(angles: impl Iterator<Item = f64>) -> f64 {
     let (mut sum, mut n) = (0.0, 0usize);
     for h in angles {
-        sum += h.max(0.0).sin();
+        sum += sin_of_elevation(h.max(0.0));
         n += 1;
     }
     1.0 - sum / n.max(1) as f64
+}
+
+/// The sine of an elevation angle `h` from 0 to pi/2 (radians), to four f64 epsilons: its
+/// Taylor series to the 21st power, in Horner's form. Several times faster than the library's
+/// `sin`, which reduces any argument; the sky-view factors need millions of them.
+#[inline]
+fn sin_of_elevation(h: f64) -> f64 {
+    // 1 / (2k + 1)! with alternating signs, from the 21st power down to the 3rd.
+    const C: [f64; 10] = [
+        1.0 / 51_090_942_171_709_440_000.0,
+        -1.0 / 121_645_100_408_832_000.0,
+        1.0 / 355_687_428_096_000.0,
+        -1.0 / 1_307_674_368_000.0,
+        1.0 / 6_227_020_800.0,
+        -1.0 / 39_916_800.0,
+        1.0 / 362_880.0,
+        -1.0 / 5_040.0,
+        1.0 / 120.0,
+        -1.0 / 6.0,
+    ];
+    let x2 = h * h;
+    let p = C.iter().fold(0.0, |p, &c| p * x2 + c);
+    h + h * x2 * p
 }
 
 /// The anisotropic sky-view factor: `1 - sum(w sin(max(h, 0))) / sum(w)` over the directions
@@ -77,7 +100,7 @@ pub fn anisotropic_sky_view_factor(
     let (mut sum, mut weights) = (0.0, 0.0);
     for (h, &azimuth) in angles.zip(azimuths_deg) {
         let w = anisotropy.weight(azimuth);
-        sum += w * h.max(0.0).sin();
+        sum += w * sin_of_elevation(h.max(0.0));
         weights += w;
     }
     1.0 - sum / weights
@@ -174,6 +197,15 @@ mod tests {
 
     fn directions(n: usize) -> Vec<f64> {
         (0..n).map(|k| k as f64 * 360.0 / n as f64).collect()
+    }
+
+    #[test]
+    fn the_elevation_sine_is_the_library_s() {
+        for i in 0..=100_000 {
+            let h = FRAC_PI_2 * i as f64 / 100_000.0;
+            let (got, want) = (super::sin_of_elevation(h), h.sin());
+            assert!((got - want).abs() <= 4.0 * f64::EPSILON * want, "sin({h}): {got}, not {want}");
+        }
     }
 
     #[test]
