@@ -131,3 +131,57 @@ impl<'a> TargetPoints<'a> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shade_map::surface_origin;
+    use crate::viewshed::Observer;
+    use relief_core::{DVec2, GridGeometry};
+
+    /// A run's points are `point`'s, which are `surface_origin`'s raised by the target height,
+    /// bit for bit: on the borders, far from the origin, beside holes, voids and a radius.
+    #[test]
+    fn runs_and_points_are_surface_origins_raised() {
+        let (w, h) = (23, 17);
+        let samples = (0..w * h).map(|i| ((i * 37) % 101) as f32 * 0.73 - 20.0).collect();
+        let origin = DVec2::new(512_345.25, 4_101_007.5);
+        let geometry = GridGeometry { dx: 1.7, dy: 2.3, z_scale: 1.5, origin };
+        let holes = (0..w * h).map(|i| i % 29 == 3).collect();
+        let field = HeightField::new(w, h, samples, geometry).unwrap().with_holes(holes).unwrap();
+        let void: Vec<bool> = (0..w * h).map(|i| i % 31 == 5).collect();
+        let eye = DVec3::new(origin.x + 11.1, origin.y + 13.3, 40.0);
+        for radius in [None, Some(20.0)] {
+            let params = ViewshedParams {
+                observers: vec![Observer::new(eye.x, eye.y, 1.0)],
+                target_height: 0.37,
+                radius,
+            };
+            let targets = TargetPoints::new(&field, Some(&void), &params);
+            for row in 0..h {
+                let (mut x, mut y, mut z) = (Vec::new(), Vec::new(), Vec::new());
+                targets.run(row, 2..w, eye, [&mut x, &mut y, &mut z]);
+                for col in 0..w {
+                    let index = col + row * w;
+                    let wanted = !field.is_hole(col, row) && !void[index];
+                    let expected = wanted
+                        .then(|| surface_origin(&field, col, row) + DVec3::new(0.0, 0.0, 0.37))
+                        .filter(|t| radius.is_none_or(|r| (t.x - eye.x).hypot(t.y - eye.y) <= r));
+                    assert_eq!(targets.point(col, row, eye), expected, "({col}, {row})");
+                    if col < 2 {
+                        continue;
+                    }
+                    let i = col - 2;
+                    match expected {
+                        Some(t) => {
+                            let got = [x[i], y[i], z[i]].map(f64::to_bits);
+                            let want = [t.x - eye.x, t.y - eye.y, t.z - eye.z].map(f64::to_bits);
+                            assert_eq!(got, want, "run at ({col}, {row})");
+                        }
+                        None => assert!(z[i].is_nan(), "({col}, {row}) is not a target"),
+                    }
+                }
+            }
+        }
+    }
+}
