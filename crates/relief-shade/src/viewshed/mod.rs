@@ -9,7 +9,7 @@
 //! is not hidden by the surface it lies on, and the segment is traced by the exact tracer
 //! handed in, as one ray from the eye to the target.
 //!
-//! Most hidden samples are not traced: a sweep outward from the eye ([`hidden_sweep`]) proves
+//! Most hidden samples are not traced: a sweep outward from the eye (`hidden_sweep.rs`) proves
 //! them hidden, exactly, from lower bounds of the terrain's horizon; the answer is the one the
 //! tracer would give.
 
