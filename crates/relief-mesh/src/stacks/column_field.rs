@@ -214,10 +214,11 @@ fn runs_of(
     for run in runs.iter_mut() {
         // Points strictly inside: floor(start) + 1 ..= ceil(end) - 1.
         let inside = run.end.ceil() - run.start.floor() - 1.0;
-        if inside <= 1.0 && !run.grounded {
-            run.pinned = true;
+        if inside > 1.0 || run.grounded {
+            continue;
         }
-        if inside < 1.0 && !run.grounded {
+        run.pinned = true;
+        if inside < 1.0 {
             // No point inside: moved onto the point nearest its top, as little as holding it
             // a quarter step (a quarter of its thickness) inside allows.
             let thickness = run.end - run.start;

@@ -187,7 +187,7 @@ impl StacksMesher {
     }
 
     fn n(&self) -> i32 {
-        self.params.node_cells as i32
+        self.maker.n
     }
 
     /// The nodes of `level` that cover the terrain and the air ring around it.

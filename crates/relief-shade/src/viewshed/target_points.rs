@@ -51,20 +51,6 @@ impl<'a> TargetPoints<'a> {
         }
     }
 
-    /// The target point of sample (`col`, `row`), whatever the eye.
-    #[inline(always)]
-    fn unchecked(&self, col: usize, row: usize, z: f32) -> DVec3 {
-        let field = self.field;
-        let point =
-            DVec3::new(self.xs[col], self.ys[row], z as f64 * field.geometry().z_scale + 0.0);
-        let lift = self.lift.at(point);
-        DVec3::new(
-            point.x + inward(col, field.width(), lift),
-            point.y + inward(row, field.height(), lift),
-            (point.z + lift) + self.target_height,
-        )
-    }
-
     /// Whether sample (`col`, `row`) is a hole or flagged void.
     #[inline(always)]
     fn is_gap(&self, col: usize, row: usize) -> bool {
@@ -83,7 +69,8 @@ impl<'a> TargetPoints<'a> {
         if self.is_gap(col, row) {
             return None;
         }
-        let target = self.unchecked(col, row, self.field.sample(col, row));
+        let target =
+            self.lift.origin(self.field, col, row) + DVec3::new(0.0, 0.0, self.target_height);
         (!self.beyond(target.x - eye.x, target.y - eye.y)).then_some(target)
     }
 
@@ -111,8 +98,8 @@ impl<'a> TargetPoints<'a> {
         let (py, row_side) = (self.ys[row], self.row_inward[row]);
         let (zs, th) = (field.geometry().z_scale, self.target_height);
         let (x, y, z) = (&mut x[start..], &mut y[start..], &mut z[start..]);
-        // [`TargetPoints::unchecked`] in a loop without branches: a side's factor times the
-        // lift is the lift, its opposite or 0, as `inward` gives them.
+        // `SurfaceLift::origin` raised by the target height, in a loop without branches: a
+        // side's factor times the lift is the lift, its opposite or 0, as `inward` gives them.
         for i in 0..n {
             let (px, pz) = (xs[i], samples[i] as f64 * zs + 0.0);
             let larger = |a: f64, b: f64| if a > b { a } else { b };
